@@ -1,0 +1,81 @@
+// A typed device buffer: element count, upload/download, fill (used to poison outputs in tests).
+// OpenCL forbids zero-sized buffers, so an empty Buffer still owns one element.
+#pragma once
+
+#include <algorithm>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <CL/opencl.hpp>
+#include <fmt/format.h>
+
+#include "host/cl/context.h"
+#include "host/cl/error.h"
+#include "host/cl/profiler.h"
+
+namespace penumbra {
+
+template <class T>
+class Buffer {
+ public:
+  Buffer() = default;
+  Buffer(Context& ctx, size_t count, cl_mem_flags flags = CL_MEM_READ_WRITE) { allocate(ctx, count, flags); }
+  Buffer(Context& ctx, std::span<const T> data, cl_mem_flags flags = CL_MEM_READ_WRITE) {
+    allocate(ctx, data.size(), flags);
+    upload(ctx, data);
+  }
+
+  void allocate(Context& ctx, size_t count, cl_mem_flags flags = CL_MEM_READ_WRITE) {
+    if (count > ctx.info().maxAllocBytes / sizeof(T))
+      throw ClError(CL_INVALID_BUFFER_SIZE, fmt::format("clCreateBuffer({} bytes, device max alloc {} bytes)",
+                                                        count * sizeof(T), ctx.info().maxAllocBytes));
+    cl_int err = CL_SUCCESS;
+    buffer_ = cl::Buffer(ctx.context(), flags, std::max<size_t>(count, 1) * sizeof(T), nullptr, &err);
+    clCheck(err, "clCreateBuffer");
+    count_ = count;
+  }
+
+  size_t size() const { return count_; }
+  size_t bytes() const { return count_ * sizeof(T); }
+  bool empty() const { return count_ == 0; }
+  const cl::Buffer& get() const { return buffer_; }
+
+  void upload(Context& ctx, std::span<const T> data, size_t offset = 0) {
+    if (data.empty()) return;
+    if (offset + data.size() > count_) throw std::out_of_range("Buffer::upload past the end");
+    record(ctx, "upload", [&](cl::Event* event) {
+      return ctx.queue().enqueueWriteBuffer(buffer_, CL_TRUE, offset * sizeof(T), data.size_bytes(), data.data(),
+                                            nullptr, event);
+    });
+  }
+
+  std::vector<T> download(Context& ctx) const {
+    std::vector<T> data(count_);
+    if (count_ == 0) return data;
+    record(ctx, "download", [&](cl::Event* event) {
+      return ctx.queue().enqueueReadBuffer(buffer_, CL_TRUE, 0, bytes(), data.data(), nullptr, event);
+    });
+    return data;
+  }
+
+  void fill(Context& ctx, const T& value) {
+    if (count_ == 0) return;
+    record(ctx, "fill", [&](cl::Event* event) {
+      return ctx.queue().enqueueFillBuffer(buffer_, value, 0, bytes(), nullptr, event);
+    });
+  }
+
+ private:
+  template <class Call>
+  static void record(Context& ctx, const char* what, Call&& call) {
+    cl::Event event;
+    clCheck(call(&event), std::string("Buffer::") + what, {}, "transfer");
+    if (ctx.profiler() != nullptr) ctx.profiler()->record(std::string("transfer/") + what, event);
+  }
+
+  cl::Buffer buffer_;
+  size_t count_ = 0;
+};
+
+}  // namespace penumbra

@@ -1,0 +1,116 @@
+// Context: device, queue, and the program cache (memory, then optional disk cache in PENUMBRA_CACHE_DIR).
+#include "host/cl/context.h"
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "host/cl/embedded_sources.h"
+#include "host/cl/error.h"
+
+namespace penumbra {
+namespace fs = std::filesystem;
+
+uint64_t fnv1a64(std::string_view text, uint64_t seed) {
+  uint64_t hash = seed;
+  for (unsigned char c : text) {
+    hash ^= c;
+    hash *= 1099511628211ull;
+  }
+  return hash;
+}
+
+namespace {
+
+std::string readFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Where a binary for this key lives, or empty when the disk cache is off.
+fs::path cachePath(const DeviceInfo& info, uint64_t sourceHash, const std::string& options) {
+  const char* dir = std::getenv("PENUMBRA_CACHE_DIR");
+  if (dir == nullptr || *dir == '\0') return {};
+  std::string key = fmt::format("{}|{}|{}|{}|{}", info.platformName, info.name, info.driverVersion,
+                                info.deviceVersion, options);
+  return fs::path(dir) / fmt::format("{:016x}-{:016x}.bin", sourceHash, fnv1a64(key));
+}
+
+std::string buildLog(const cl::Program& program, const cl::Device& device) {
+  std::string log;
+  program.getBuildInfo(device, CL_PROGRAM_BUILD_LOG, &log);
+  return log;
+}
+
+}  // namespace
+
+Context::Context(const std::string& deviceSpec) : Context(selectDevice(deviceSpec)) {}
+
+Context::Context(DeviceInfo device) : info_(std::move(device)), device_(info_.device, true) {
+  cl_int err = CL_SUCCESS;
+  context_ = cl::Context(device_, nullptr, nullptr, nullptr, &err);
+  clCheck(err, "clCreateContext", {}, "runtime");
+  queue_ = cl::CommandQueue(context_, device_, CL_QUEUE_PROFILING_ENABLE, &err);
+  clCheck(err, "clCreateCommandQueue", {}, "runtime");
+}
+
+std::string Context::buildOptions(const std::string& options) const {
+  // Kernels are OpenCL C 1.2; everything newer is detected and passed in as a macro.
+  std::string all = "-cl-std=CL1.2";
+  if (info_.fp64) all += " -DPENUMBRA_HAS_FP64=1";
+  if (info_.int64Atomics) all += " -DPENUMBRA_HAS_INT64_ATOMICS=1";
+  if (!options.empty()) all += " " + options;
+  return all;
+}
+
+const cl::Program& Context::program(const std::string& sourceName, const std::string& options) {
+  std::lock_guard lock(mutex_);
+  const std::string all = buildOptions(options);
+  auto key = std::make_tuple(sourceName, all);
+  if (auto it = programs_.find(key); it != programs_.end()) return *it->second;
+  const std::string source = resolveKernelSource(sourceName);
+  auto program = std::make_unique<cl::Program>(buildProgram(sourceName, source, all, fnv1a64(source)));
+  return *programs_.emplace(key, std::move(program)).first->second;
+}
+
+cl::Program Context::buildProgram(const std::string& sourceName, const std::string& source,
+                                  const std::string& options, uint64_t sourceHash) {
+  cl_int err = CL_SUCCESS;
+  const fs::path cached = cachePath(info_, sourceHash, options);
+  if (!cached.empty() && fs::is_regular_file(cached)) {
+    std::string bytes = readFile(cached);
+    cl::Program::Binaries binaries{std::vector<unsigned char>(bytes.begin(), bytes.end())};
+    cl::Program program(context_, {device_}, binaries, nullptr, &err);
+    if (err == CL_SUCCESS && program.build({device_}, options.c_str()) == CL_SUCCESS) return program;
+    // A stale or foreign binary: fall through and rebuild from source.
+  }
+  cl::Program program(context_, source, false, &err);
+  clCheck(err, "clCreateProgramWithSource", sourceName, "runtime");
+  err = program.build({device_}, options.c_str());
+  if (err == CL_BUILD_PROGRAM_FAILURE || err == CL_INVALID_BUILD_OPTIONS)
+    throw BuildError(sourceName, info_.name, options, buildLog(program, device_));
+  clCheck(err, "clBuildProgram", sourceName, "runtime");
+  ++programsBuilt_;
+  if (!cached.empty()) {
+    std::vector<std::vector<unsigned char>> binaries;
+    if (program.getInfo(CL_PROGRAM_BINARIES, &binaries) == CL_SUCCESS && binaries.size() == 1 &&
+        !binaries[0].empty()) {
+      std::error_code ec;
+      fs::create_directories(cached.parent_path(), ec);
+      const fs::path temp = cached.string() + fmt::format(".{}.tmp", static_cast<const void*>(this));
+      std::ofstream(temp, std::ios::binary)
+          .write(reinterpret_cast<const char*>(binaries[0].data()), static_cast<std::streamsize>(binaries[0].size()));
+      fs::rename(temp, cached, ec);  // atomic publish; a failure only loses the cache entry
+    }
+  }
+  return program;
+}
+
+void Context::finish() { clCheck(queue_.finish(), "clFinish", {}, "runtime"); }
+
+}  // namespace penumbra

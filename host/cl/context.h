@@ -1,0 +1,67 @@
+// The explicit OpenCL context every stage receives: one device, its context, an in-order profiling queue,
+// the device's limits and a program cache. No global state: two Contexts (two devices) can live side by
+// side in one process.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <tuple>
+
+#include <CL/opencl.hpp>
+
+#include "host/cl/device.h"
+
+namespace penumbra {
+
+class Context {
+ public:
+  // Opens the device chosen by `deviceSpec` (see selectDevice). Throws NoDeviceError / ClError.
+  explicit Context(const std::string& deviceSpec = {});
+  explicit Context(DeviceInfo device);
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  const DeviceInfo& info() const { return info_; }
+  const cl::Context& context() const { return context_; }
+  const cl::Device& device() const { return device_; }
+  cl::CommandQueue& queue() { return queue_; }
+
+  // The program built from the embedded source `sourceName` (see embedded_sources.h) with `options`,
+  // built once per (source text hash, options) and kept. With PENUMBRA_CACHE_DIR set, binaries are also
+  // stored on disk, keyed by the source hash, options, platform, device and driver version.
+  // Throws BuildError with the build log on failure.
+  const cl::Program& program(const std::string& sourceName, const std::string& options = {});
+
+  // Options every program gets: -cl-std=CL1.2, feature macros
+  // (PENUMBRA_HAS_FP64, PENUMBRA_HAS_INT64_ATOMICS) and the caller's options.
+  std::string buildOptions(const std::string& options) const;
+
+  size_t programsBuilt() const { return programsBuilt_; }  // compiled here, not loaded from a cache
+  void finish();
+
+  // Where launches report their events (nullptr: nowhere). Owned by the caller.
+  void setProfiler(class Profiler* profiler) { profiler_ = profiler; }
+  class Profiler* profiler() const { return profiler_; }
+
+ private:
+  cl::Program buildProgram(const std::string& sourceName, const std::string& source, const std::string& options,
+                           uint64_t sourceHash);
+
+  DeviceInfo info_;
+  cl::Device device_;
+  cl::Context context_;
+  cl::CommandQueue queue_;
+  std::mutex mutex_;
+  std::map<std::tuple<std::string, std::string>, std::unique_ptr<cl::Program>> programs_;
+  size_t programsBuilt_ = 0;
+  class Profiler* profiler_ = nullptr;
+};
+
+// 64-bit FNV-1a: the program cache key. Not cryptographic; collisions only rebuild or, with a disk cache,
+// are guarded by storing the full key beside the binary.
+uint64_t fnv1a64(std::string_view text, uint64_t seed = 14695981039346656037ull);
+
+}  // namespace penumbra

@@ -1,0 +1,58 @@
+// OpenCL platforms and devices: what each can do (the facts our kernels depend on) and how a user picks
+// one (`--device` / PENUMBRA_DEVICE). Platforms are ordered by name, never by the loader's order, so
+// "PLATFORM:DEVICE" indices are stable between runs and machines with the same drivers.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <CL/cl.h>
+#include <nlohmann/json_fwd.hpp>
+
+namespace penumbra {
+
+struct DeviceInfo {
+  cl_platform_id platform = nullptr;
+  cl_device_id device = nullptr;
+  unsigned platformIndex = 0;  // position among platforms sorted by name
+  unsigned deviceIndex = 0;    // position within the platform, as the platform reports it
+  std::string platformName, platformVersion;
+  std::string name, vendor, driverVersion, deviceVersion, openclCVersion;
+  cl_device_type type = 0;
+  int openclCMajor = 1, openclCMinor = 2;  // highest OpenCL C version the device compiles
+  unsigned computeUnits = 0;
+  unsigned maxClockMHz = 0;
+  size_t maxWorkGroupSize = 0;
+  std::array<size_t, 3> maxWorkItemSizes{};
+  uint64_t localMemBytes = 0;
+  bool localMemDedicated = false;  // CL_LOCAL vs emulated in global memory (CPU devices)
+  uint64_t globalMemBytes = 0;
+  uint64_t maxAllocBytes = 0;
+  bool fp64 = false;
+  bool fp16 = false;
+  bool int64Atomics = false;  // cl_khr_int64_base_atomics
+  bool subGroups = false;     // cl_khr_subgroups or OpenCL 3.0 max sub-groups > 0
+  bool nonUniformWorkGroups = false;
+  std::vector<std::string> extensions;
+
+  bool isGpu() const { return (type & CL_DEVICE_TYPE_GPU) != 0; }
+  bool isCpu() const { return (type & CL_DEVICE_TYPE_CPU) != 0; }
+  bool hasExtension(const std::string& name) const;
+  std::string typeName() const;  // "GPU", "CPU", "ACCELERATOR", ...
+};
+
+// Every device of every platform, platforms sorted by name. Empty when there is no ICD or no platform.
+std::vector<DeviceInfo> listDevices();
+
+// Picks a device by spec: "auto" (first GPU, else first CPU, else first device), "cpu", "gpu", a
+// case-insensitive name substring matched against device and platform names ("H100", "pthread"), or
+// "P:D" where P is a platform index or platform-name substring and D a device index. An empty spec
+// means PENUMBRA_DEVICE, else "auto". Throws NoDeviceError with the list of devices when none matches.
+DeviceInfo selectDevice(const std::string& spec);
+
+nlohmann::json toJson(const DeviceInfo& info);
+std::string describeDevices(const std::vector<DeviceInfo>& devices);  // the `penumbra devices` table
+
+}  // namespace penumbra

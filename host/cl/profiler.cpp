@@ -1,0 +1,33 @@
+// Per-pass device times from OpenCL profiling events.
+#include "host/cl/profiler.h"
+
+#include <algorithm>
+
+#include "host/cl/error.h"
+
+namespace penumbra {
+
+void Profiler::record(std::string name, cl::Event event) { events_.emplace_back(std::move(name), std::move(event)); }
+
+std::vector<PassTime> Profiler::resolve() const {
+  std::vector<PassTime> passes;
+  for (const auto& [name, event] : events_) {
+    clCheck(event.wait(), "clWaitForEvents", name, "profiler");
+    cl_ulong start = 0, end = 0;
+    clCheck(event.getProfilingInfo(CL_PROFILING_COMMAND_START, &start), "clGetEventProfilingInfo", name, "profiler");
+    clCheck(event.getProfilingInfo(CL_PROFILING_COMMAND_END, &end), "clGetEventProfilingInfo", name, "profiler");
+    auto it = std::find_if(passes.begin(), passes.end(), [&](const PassTime& p) { return p.name == name; });
+    if (it == passes.end()) it = passes.insert(passes.end(), PassTime{name, 0.0, 0});
+    it->ms += end >= start ? static_cast<double>(end - start) * 1e-6 : 0.0;
+    ++it->count;
+  }
+  return passes;
+}
+
+double Profiler::totalMs() const {
+  double total = 0;
+  for (const PassTime& pass : resolve()) total += pass.ms;
+  return total;
+}
+
+}  // namespace penumbra

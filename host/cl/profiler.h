@@ -1,0 +1,31 @@
+// Collects named OpenCL events (one per launch or transfer) and turns them into per-pass device times
+// from CL_PROFILING_COMMAND_START/END. Plan-then-record: every launch has a name that shows up here.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <CL/opencl.hpp>
+
+namespace penumbra {
+
+struct PassTime {
+  std::string name;  // "stage/kernel", e.g. "raster/raster_fine"
+  double ms = 0;     // summed device time of all events with that name
+  int count = 0;     // number of events summed
+};
+
+class Profiler {
+ public:
+  void record(std::string name, cl::Event event);
+  // Waits for all recorded events and returns their times by name, in first-recorded order.
+  std::vector<PassTime> resolve() const;
+  double totalMs() const;
+  void clear() { events_.clear(); }
+  bool empty() const { return events_.empty(); }
+
+ private:
+  std::vector<std::pair<std::string, cl::Event>> events_;
+};
+
+}  // namespace penumbra

@@ -1,0 +1,43 @@
+// A scene flattened for rendering: world-space triangles (glTF world space, never recentred or rescaled),
+// per-vertex normals and a per-triangle object id, plus the cameras and lights a scene file names.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "host/scene/camera.h"
+#include "host/scene/light.h"
+
+namespace penumbra {
+
+struct Bounds {
+  glm::vec3 min{std::numeric_limits<float>::infinity()};
+  glm::vec3 max{-std::numeric_limits<float>::infinity()};
+
+  bool empty() const { return !(min.x <= max.x && min.y <= max.y && min.z <= max.z); }
+  void grow(const glm::vec3& p) { min = glm::min(min, p), max = glm::max(max, p); }
+  void grow(const Bounds& b) { min = glm::min(min, b.min), max = glm::max(max, b.max); }
+  glm::vec3 center() const { return 0.5f * (min + max); }
+  float radius() const { return 0.5f * glm::length(max - min); }  // of the bounding sphere around center()
+};
+
+struct Scene {
+  std::vector<glm::vec3> positions;   // world space
+  std::vector<glm::vec3> normals;     // world space, unit length, one per position
+  std::vector<glm::uvec3> triangles;  // indices into positions, counter-clockwise front faces
+  std::vector<uint32_t> objectIds;    // one per triangle: index into objectNames
+  std::vector<std::string> objectNames;  // one per object (mesh primitive instance, or procedural part)
+  std::vector<Camera> cameras;        // from a scene file; may be empty
+  std::vector<Light> lights;          // from a scene file; may be empty
+
+  size_t triangleCount() const { return triangles.size(); }
+  Bounds bounds() const;
+  // Appends another scene's geometry (object ids renumbered after ours), cameras and lights.
+  void append(const Scene& other);
+};
+
+}  // namespace penumbra

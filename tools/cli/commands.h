@@ -1,0 +1,25 @@
+// The subcommands of the `penumbra` tool. Each lives in its own file, registers its options on the app and
+// returns the function that runs it once the command line is parsed.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+namespace penumbra::cli {
+
+struct Command {
+  CLI::App* app;             // the subcommand
+  std::function<int()> run;  // returns the process exit code
+};
+
+Command addDevicesCommand(CLI::App& app);
+Command addRenderCommand(CLI::App& app);
+
+// The registry: one line per command.
+inline std::vector<Command> registerCommands(CLI::App& app) {
+  return {addDevicesCommand(app), addRenderCommand(app)};
+}
+
+}  // namespace penumbra::cli

@@ -1,0 +1,37 @@
+// `penumbra`: the command-line tool. Subcommands live in their own files (devices.cpp, render.cpp, ...);
+// this file parses the command line and maps exceptions to exit codes: 0 ok, 1 failure, 2 usage error,
+// 69 no OpenCL device.
+#include <cstdio>
+#include <exception>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "host/cl/error.h"
+#include "tools/cli/commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"penumbra: filtered and soft shadows for glTF scenes, every stage an OpenCL kernel"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "penumbra " PENUMBRA_VERSION);
+  const std::vector<penumbra::cli::Command> commands = penumbra::cli::registerCommands(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;
+  }
+  try {
+    for (const penumbra::cli::Command& command : commands)
+      if (command.app->parsed()) return command.run();
+    return 2;
+  } catch (const penumbra::NoDeviceError& e) {
+    fmt::print(stderr, "penumbra: {}\n", e.what());
+    return penumbra::kExitNoDevice;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "penumbra: {}\n", e.what());
+    return 1;
+  }
+}
