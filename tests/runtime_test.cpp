@@ -1,0 +1,224 @@
+// Tests of the OpenCL runtime (host/cl): error names, device selection, program cache (memory and disk),
+// build errors with logs, kernel launch checks and padding, buffers, profiling, two contexts at once.
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "host/cl/buffer.h"
+#include "host/cl/context.h"
+#include "host/cl/device.h"
+#include "host/cl/embedded_sources.h"
+#include "host/cl/error.h"
+#include "host/cl/kernel.h"
+#include "host/cl/profiler.h"
+#include "tests/support/cl_test.h"
+
+namespace penumbra {
+namespace {
+namespace fs = std::filesystem;
+using test::ClTest;
+using test::kPoison;
+
+// Sets an environment variable for the lifetime of the guard.
+class EnvGuard {
+ public:
+  EnvGuard(const char* name, const std::string& value) : name_(name) {
+    if (const char* old = std::getenv(name)) old_ = old;
+    setenv(name, value.c_str(), 1);
+  }
+  ~EnvGuard() { old_.empty() ? unsetenv(name_) : setenv(name_, old_.c_str(), 1); }
+
+ private:
+  const char* name_;
+  std::string old_;
+};
+
+fs::path freshDir(const std::string& name) {
+  fs::path dir = fs::temp_directory_path() / fmt::format("penumbra-{}-{}", name, ::getpid());
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+TEST(RuntimeErrors, NamesKnownAndUnknownCodes) {
+  EXPECT_EQ(clErrorName(CL_INVALID_WORK_GROUP_SIZE), "CL_INVALID_WORK_GROUP_SIZE");
+  EXPECT_EQ(clErrorName(CL_OUT_OF_RESOURCES), "CL_OUT_OF_RESOURCES");
+  EXPECT_EQ(clErrorName(-1001), "CL_PLATFORM_NOT_FOUND_KHR");
+  EXPECT_EQ(clErrorName(-12345), "CL_UNKNOWN_ERROR(-12345)");
+}
+
+TEST(RuntimeErrors, MessageCarriesCallKernelAndStage) {
+  ClError error(CL_INVALID_KERNEL_ARGS, "clEnqueueNDRangeKernel", "blur_rows", "blur");
+  const std::string message = error.what();
+  EXPECT_NE(message.find("CL_INVALID_KERNEL_ARGS"), std::string::npos) << message;
+  EXPECT_NE(message.find("clEnqueueNDRangeKernel"), std::string::npos) << message;
+  EXPECT_NE(message.find("blur_rows"), std::string::npos) << message;
+  EXPECT_NE(message.find("'blur'"), std::string::npos) << message;
+  EXPECT_THROW(clCheck(CL_INVALID_VALUE, "x"), ClError);
+  EXPECT_NO_THROW(clCheck(CL_SUCCESS, "x"));
+}
+
+TEST(RuntimeDevices, ListsAtLeastOneDeviceWithLimits) {
+  const std::vector<DeviceInfo> devices = listDevices();
+  ASSERT_FALSE(devices.empty()) << "no OpenCL device: install pocl-opencl-icd";
+  for (const DeviceInfo& d : devices) {
+    EXPECT_FALSE(d.name.empty());
+    EXPECT_GT(d.maxWorkGroupSize, 0u);
+    EXPECT_GT(d.localMemBytes, 0u);
+    EXPECT_GE(d.openclCMajor, 1);
+    EXPECT_EQ(toJson(d)["name"], d.name);
+  }
+  EXPECT_NE(describeDevices(devices).find(devices[0].name), std::string::npos);
+}
+
+TEST(RuntimeDevices, SelectsBySpec) {
+  const DeviceInfo cpu = selectDevice("cpu");
+  EXPECT_TRUE(cpu.isCpu());
+  EXPECT_NO_THROW(selectDevice("auto"));
+  EXPECT_EQ(selectDevice(fmt::format("{}:{}", cpu.platformIndex, cpu.deviceIndex)).name, cpu.name);
+  EXPECT_EQ(selectDevice(cpu.platformName.substr(0, 8) + ":" + std::to_string(cpu.deviceIndex)).name, cpu.name);
+  EXPECT_EQ(selectDevice(cpu.name.substr(0, 5)).name, cpu.name);  // name substring, any case
+}
+
+TEST(RuntimeDevices, UnknownSpecListsDevices) {
+  try {
+    selectDevice("no-such-device-anywhere");
+    FAIL() << "expected NoDeviceError";
+  } catch (const NoDeviceError& e) {
+    EXPECT_NE(std::string(e.what()).find("available devices"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(selectDevice("0:x"), NoDeviceError);
+  EXPECT_THROW(selectDevice("99:0"), NoDeviceError);
+}
+
+TEST(RuntimeSources, ResolvesIncludesFromTheEmbeddedTable) {
+  const std::string source = resolveKernelSource("kernels/fill.cl");
+  EXPECT_NE(source.find("PENUMBRA_KERNELS_SHARED_COMMON_H"), std::string::npos);
+  EXPECT_NE(source.find("fill_float"), std::string::npos);
+  EXPECT_EQ(source.find("#include \""), std::string::npos);
+  EXPECT_THROW(resolveKernelSource("kernels/does_not_exist.cl"), std::runtime_error);
+}
+
+class Runtime : public ClTest {};
+
+TEST_F(Runtime, ProgramCacheBuildsOnce) {
+  const size_t before = ctx().programsBuilt();
+  const cl::Program& a = ctx().program("kernels/fill.cl", "-DUNIQUE_FOR_CACHE_TEST=1");
+  const cl::Program& b = ctx().program("kernels/fill.cl", "-DUNIQUE_FOR_CACHE_TEST=1");
+  EXPECT_EQ(&a, &b);
+  EXPECT_EQ(ctx().programsBuilt(), before + 1);
+  ctx().program("kernels/fill.cl", "-DUNIQUE_FOR_CACHE_TEST=2");  // other options: another program
+  EXPECT_EQ(ctx().programsBuilt(), before + 2);
+}
+
+TEST_F(Runtime, DiskCacheIsReusedByANewContext) {
+  const fs::path dir = freshDir("cache");
+  EnvGuard cache("PENUMBRA_CACHE_DIR", dir.string());
+  {
+    Context first(ctx().info());
+    first.program("kernels/fill.cl", "-DDISK_CACHE_TEST=1");
+    EXPECT_EQ(first.programsBuilt(), 1u);
+  }
+  EXPECT_FALSE(fs::is_empty(dir));
+  Context second(ctx().info());
+  second.program("kernels/fill.cl", "-DDISK_CACHE_TEST=1");
+  EXPECT_EQ(second.programsBuilt(), 0u) << "the binary should come from " << dir;
+  fs::remove_all(dir);
+}
+
+TEST_F(Runtime, BuildErrorCarriesTheLog) {
+  const fs::path dir = freshDir("kernels");
+  fs::create_directories(dir / "kernels");
+  std::ofstream(dir / "kernels" / "fill.cl") << "__kernel void broken(__global float* x) { x[0] = undeclared; }\n";
+  EnvGuard kernels("PENUMBRA_KERNEL_DIR", dir.string());
+  try {
+    ctx().program("kernels/fill.cl", "-DBUILD_ERROR_TEST=1");
+    FAIL() << "expected BuildError";
+  } catch (const BuildError& e) {
+    EXPECT_NE(e.log().find("undeclared"), std::string::npos) << e.log();
+    EXPECT_NE(std::string(e.what()).find("-DBUILD_ERROR_TEST=1"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find(ctx().info().name), std::string::npos);
+  }
+  fs::remove_all(dir);
+}
+
+TEST_F(Runtime, LaunchPadsTheGlobalSizeAndKernelsBoundCheck) {
+  constexpr uint32_t kCount = 1000;  // not a multiple of the work-group
+  Buffer<float> out(ctx(), 1024);
+  out.fill(ctx(), kPoison);
+  Kernel fill(ctx(), "kernels/fill.cl", "fill_float", "test");
+  fill.args(out, kCount, 3.5f).launch(kCount, 64);
+  const std::vector<float> host = out.download(ctx());
+  for (uint32_t i = 0; i < 1024; ++i) ASSERT_EQ(host[i], i < kCount ? 3.5f : kPoison) << "at " << i;
+}
+
+TEST_F(Runtime, LaunchChecksWorkGroupAndLocalMemoryLimits) {
+  Buffer<float> out(ctx(), 16);
+  Kernel fill(ctx(), "kernels/fill.cl", "fill_float", "test");
+  fill.args(out, 16u, 0.0f);
+  try {
+    fill.launch(16, fill.maxWorkGroupSize() + 1);
+    FAIL() << "expected ClError";
+  } catch (const ClError& e) {
+    EXPECT_EQ(e.code(), CL_INVALID_WORK_GROUP_SIZE);
+    EXPECT_EQ(e.kernel(), "fill_float");
+    EXPECT_EQ(e.stage(), "test");
+  }
+  Kernel local(ctx(), "kernels/fill.cl", "fill_local_test", "test");
+  local.args(out, 16u, LocalMem{static_cast<size_t>(ctx().info().localMemBytes) + 4});
+  try {
+    local.launch(16, 16);
+    FAIL() << "expected ClError";
+  } catch (const ClError& e) {
+    EXPECT_EQ(e.code(), CL_OUT_OF_RESOURCES);
+  }
+}
+
+TEST_F(Runtime, EmptyLaunchAndEmptyBuffers) {
+  Buffer<float> empty(ctx(), 0);
+  EXPECT_TRUE(empty.download(ctx()).empty());
+  Kernel fill(ctx(), "kernels/fill.cl", "fill_float", "test");
+  cl::Event done = fill.args(empty, 0u, 1.0f).launch(0, 64);
+  EXPECT_EQ(done.wait(), CL_SUCCESS);
+}
+
+TEST_F(Runtime, BufferRoundTripAndProfiling) {
+  Profiler profiler;
+  ctx().setProfiler(&profiler);
+  std::vector<cl_float4> data(333);
+  for (size_t i = 0; i < data.size(); ++i) data[i] = {{float(i), -float(i), 0.5f, 1e30f}};
+  Buffer<cl_float4> in(ctx(), std::span<const cl_float4>(data));
+  Buffer<cl_float4> out(ctx(), data.size());
+  Kernel copy(ctx(), "kernels/fill.cl", "copy_float4", "test");
+  copy.args(in, out, uint32_t(data.size())).launch(data.size(), 32);
+  const std::vector<cl_float4> back = out.download(ctx());
+  ctx().setProfiler(nullptr);
+  for (size_t i = 0; i < data.size(); ++i)
+    for (int c = 0; c < 4; ++c) ASSERT_EQ(back[i].s[c], data[i].s[c]);
+  const std::vector<PassTime> passes = profiler.resolve();
+  ASSERT_EQ(passes.size(), 3u);
+  EXPECT_EQ(passes[0].name, "transfer/upload");
+  EXPECT_EQ(passes[1].name, "test/copy_float4");
+  EXPECT_EQ(passes[2].name, "transfer/download");
+  for (const PassTime& pass : passes) EXPECT_GE(pass.ms, 0.0);
+}
+
+TEST_F(Runtime, TwoContextsInOneProcess) {
+  Context other(ctx().info());
+  Buffer<float> a(ctx(), 8), b(other, 8);
+  Kernel fillA(ctx(), "kernels/fill.cl", "fill_float", "test");
+  Kernel fillB(other, "kernels/fill.cl", "fill_float", "test");
+  fillA.args(a, 8u, 1.0f).launch(8, 8);
+  fillB.args(b, 8u, 2.0f).launch(8, 8);
+  EXPECT_EQ(a.download(ctx())[7], 1.0f);
+  EXPECT_EQ(b.download(other)[7], 2.0f);
+}
+
+}  // namespace
+}  // namespace penumbra
