@@ -1,0 +1,235 @@
+// EXR I/O through the OpenEXR 3 C++ API (Imf::Header / FrameBuffer / OutputFile / InputFile).
+// Reading uses FLOAT slices and lets InputFile convert from any file type; OutputFile does not
+// convert, so half channels go through half buffers. OpenEXR's Iex exceptions are caught here and
+// rethrown as std::runtime_error with the path in front.
+#include "host/io/exr.h"
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <climits>
+#include <cstring>
+#include <fstream>
+#include <new>
+#include <stdexcept>
+#include <string_view>
+
+#include <IexBaseExc.h>
+#include <ImfChannelList.h>
+#include <ImfCompression.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+#include <ImfStdIO.h>
+#include <ImfStringAttribute.h>
+#include <ImfTestFile.h>
+#include <fmt/format.h>
+#include <half.h>
+
+#include "host/io/atomic_file.h"
+
+namespace penumbra {
+namespace {
+
+// Header fields OpenEXR defines with non-string types or a fixed meaning; a user string attribute
+// of the same name would be refused by Imf::Header or corrupt the file's layout.
+constexpr std::array<std::string_view, 14> kReservedAttributes = {
+    "channels",           "compression",       "dataWindow", "displayWindow", "lineOrder", "pixelAspectRatio",
+    "screenWindowCenter", "screenWindowWidth", "tiles",      "type",          "name",      "version",
+    "chunkCount",         "maxSamplesPerPixel"};
+
+// The first four bytes of every EXR file (20000630 little-endian).
+constexpr std::array<unsigned char, 4> kExrMagic = {0x76, 0x2f, 0x31, 0x01};
+
+[[noreturn]] void fail(const std::filesystem::path& path, std::string_view what) {
+  throw std::runtime_error(fmt::format("{}: {}", path.string(), what));
+}
+
+Imf::Header makeHeader(const std::filesystem::path& path, const Image& image, const ExrOptions& options) {
+  if (image.empty()) fail(path, fmt::format("cannot write an empty {}x{} image", image.width(), image.height()));
+  if (image.channels().empty()) fail(path, "cannot write an image without channels");
+  for (const std::string& name : options.halfChannels)
+    if (image.find(name) == nullptr) fail(path, fmt::format("half channel '{}' is not in the image", name));
+
+  Imf::Header header(image.width(), image.height());
+  header.compression() = Imf::ZIP_COMPRESSION;
+  for (const ImageChannel& channel : image.channels()) {
+    const bool half = options.halfChannels.count(channel.name) != 0;
+    header.channels().insert(channel.name, Imf::Channel(half ? Imf::HALF : Imf::FLOAT));
+  }
+  for (const auto& [name, value] : image.attributes()) {
+    if (name.empty()) fail(path, "attribute with an empty name");
+    if (std::find(kReservedAttributes.begin(), kReservedAttributes.end(), name) != kReservedAttributes.end())
+      fail(path, fmt::format("attribute name '{}' is reserved by OpenEXR", name));
+    header.insert(name, Imf::StringAttribute(value));
+  }
+  return header;
+}
+
+// Opens the file ourselves first so that "no such file" and "permission denied" come with the
+// system's reason, and so that a non-EXR file is named as such instead of as a parse error.
+void checkReadable(const std::filesystem::path& path) {
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  if (!std::filesystem::exists(status)) fail(path, "no such file");
+  if (std::filesystem::is_directory(status)) fail(path, "is a directory, not an EXR file");
+  errno = 0;
+  std::ifstream probe(path, std::ios::binary);
+  if (!probe) fail(path, fmt::format("cannot open: {}", std::strerror(errno)));
+  std::array<unsigned char, 4> magic{};
+  probe.read(reinterpret_cast<char*>(magic.data()), magic.size());
+  if (probe.gcount() != static_cast<std::streamsize>(magic.size()) || magic != kExrMagic)
+    fail(path, "not an OpenEXR file (bad magic number)");
+  bool tiled = false, deep = false, multiPart = false;
+  if (!Imf::isOpenExrFile(path.c_str(), tiled, deep, multiPart)) fail(path, "not a readable OpenEXR file");
+  if (deep) fail(path, "deep EXR images are not supported");
+}
+
+ExrWindow toWindow(const Imath::Box2i& box) { return {box.min.x, box.min.y, box.max.x, box.max.y}; }
+
+ExrPixelType toPixelType(Imf::PixelType type) {
+  switch (type) {
+    case Imf::UINT:
+      return ExrPixelType::Uint;
+    case Imf::HALF:
+      return ExrPixelType::Half;
+    default:
+      return ExrPixelType::Float;
+  }
+}
+
+const char* compressionName(Imf::Compression compression) {
+  switch (compression) {
+    case Imf::NO_COMPRESSION:
+      return "none";
+    case Imf::RLE_COMPRESSION:
+      return "rle";
+    case Imf::ZIPS_COMPRESSION:
+      return "zips";
+    case Imf::ZIP_COMPRESSION:
+      return "zip";
+    case Imf::PIZ_COMPRESSION:
+      return "piz";
+    case Imf::PXR24_COMPRESSION:
+      return "pxr24";
+    case Imf::B44_COMPRESSION:
+      return "b44";
+    case Imf::B44A_COMPRESSION:
+      return "b44a";
+    case Imf::DWAA_COMPRESSION:
+      return "dwaa";
+    case Imf::DWAB_COMPRESSION:
+      return "dwab";
+    default:
+      return "unknown";
+  }
+}
+
+std::vector<ImageChannel> readChannels(const std::filesystem::path& path, Imf::InputFile& input, int width,
+                                       int height) {
+  const Imf::Header& header = input.header();
+  const Imath::Box2i dataWindow = header.dataWindow();
+  std::vector<ImageChannel> channels;
+  for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
+    if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
+      fail(path, fmt::format("channel '{}' is subsampled ({}x{}), which is not supported", it.name(),
+                             it.channel().xSampling, it.channel().ySampling));
+    channels.push_back({it.name(), std::vector<float>(static_cast<size_t>(width) * height)});
+  }
+  Imf::FrameBuffer frame;
+  for (ImageChannel& channel : channels)
+    frame.insert(channel.name,
+                 Imf::Slice::Make(Imf::FLOAT, channel.data.data(), dataWindow, sizeof(float), sizeof(float) * width));
+  input.setFrameBuffer(frame);
+  if (!channels.empty()) input.readPixels(dataWindow.min.y, dataWindow.max.y);
+  return channels;
+}
+
+}  // namespace
+
+const char* exrPixelTypeName(ExrPixelType type) {
+  switch (type) {
+    case ExrPixelType::Uint:
+      return "uint";
+    case ExrPixelType::Half:
+      return "half";
+    case ExrPixelType::Float:
+      return "float";
+  }
+  return "unknown";
+}
+
+void writeExr(const std::filesystem::path& path, const Image& image, const ExrOptions& options) {
+  const Imf::Header header = makeHeader(path, image, options);
+  // OutputFile converts nothing: a HALF channel needs a HALF slice, so those are converted here.
+  std::vector<std::vector<half>> halfCopies;
+  halfCopies.reserve(options.halfChannels.size());
+  Imf::FrameBuffer frame;
+  for (const ImageChannel& channel : image.channels()) {
+    const void* pixels = channel.data.data();
+    const bool isHalf = options.halfChannels.count(channel.name) != 0;
+    if (isHalf) pixels = halfCopies.emplace_back(channel.data.begin(), channel.data.end()).data();
+    const size_t pixelSize = isHalf ? sizeof(half) : sizeof(float);
+    frame.insert(channel.name,
+                 Imf::Slice::Make(isHalf ? Imf::HALF : Imf::FLOAT, pixels, Imath::V2i(0, 0), image.width(),
+                                  image.height(), pixelSize, pixelSize * static_cast<size_t>(image.width())));
+  }
+  PendingFile file(path);
+  try {
+    // The stream is named after the target so OpenEXR's own messages do not mention the temp file.
+    Imf::StdOFStream stream(file.stream(), path.c_str());
+    Imf::OutputFile output(stream, header);
+    output.setFrameBuffer(frame);
+    output.writePixels(image.height());
+  } catch (const Iex::BaseExc& e) {  // the destructor of OutputFile has written the offset table
+    fail(path, fmt::format("cannot write EXR: {}", e.what()));
+  }
+  file.commit();
+}
+
+Image readExr(const std::filesystem::path& path) {
+  checkReadable(path);
+  try {
+    Imf::InputFile input(path.c_str());
+    const ExrWindow window = toWindow(input.header().dataWindow());
+    const long long width = static_cast<long long>(window.maxX) - window.minX + 1;
+    const long long height = static_cast<long long>(window.maxY) - window.minY + 1;
+    if (width <= 0 || height <= 0 || width > INT_MAX || height > INT_MAX)
+      fail(path,
+           fmt::format("invalid data window ({}, {}) - ({}, {})", window.minX, window.minY, window.maxX, window.maxY));
+    Image image(static_cast<int>(width), static_cast<int>(height), path.string());
+    for (ImageChannel& channel : readChannels(path, input, image.width(), image.height()))
+      image.add(std::move(channel.name), std::move(channel.data));
+    for (auto it = input.header().begin(); it != input.header().end(); ++it)
+      if (const auto* text = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
+        image.attributes()[it.name()] = text->value();
+    return image;
+  } catch (const Iex::BaseExc& e) {
+    fail(path, fmt::format("cannot read EXR: {}", e.what()));
+  } catch (const std::bad_alloc&) {
+    fail(path, "cannot read EXR: out of memory for its data window");
+  } catch (const std::length_error&) {
+    fail(path, "cannot read EXR: data window too large");
+  }
+}
+
+ExrInfo readExrInfo(const std::filesystem::path& path) {
+  checkReadable(path);
+  try {
+    Imf::InputFile input(path.c_str());
+    const Imf::Header& header = input.header();
+    ExrInfo info;
+    info.dataWindow = toWindow(header.dataWindow());
+    info.displayWindow = toWindow(header.displayWindow());
+    info.compression = compressionName(header.compression());
+    info.tiled = header.hasTileDescription();
+    for (auto it = header.channels().begin(); it != header.channels().end(); ++it)
+      info.channels.push_back({it.name(), toPixelType(it.channel().type)});
+    return info;
+  } catch (const Iex::BaseExc& e) {
+    fail(path, fmt::format("cannot read EXR header: {}", e.what()));
+  }
+}
+
+}  // namespace penumbra

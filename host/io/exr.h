@@ -1,0 +1,60 @@
+// OpenEXR output and input of Image: lossless ZIP, 32-bit float channels (half on request), string
+// attributes for provenance (technique, parameters, device). Writes are all-or-nothing (temp file +
+// rename). Every failure is a std::runtime_error that starts with the path and says why.
+#pragma once
+
+#include <filesystem>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "host/io/image.h"
+
+namespace penumbra {
+
+struct ExrOptions {
+  // Channels stored as 16-bit half instead of 32-bit float (e.g. previews of "R", "G", "B").
+  // Values beyond +-65504 become +-Inf and small ones lose precision; every name must be a channel
+  // of the image (a typo is an error, not a silent float channel).
+  std::set<std::string> halfChannels;
+};
+
+// Writes every channel of `image` (which must be non-empty and have at least one channel) and
+// each of its attributes as an EXR string attribute. Attribute names that EXR reserves for
+// its own header fields (channels, compression, dataWindow, ...) are refused.
+void writeExr(const std::filesystem::path& path, const Image& image, const ExrOptions& options = {});
+
+// Reads every channel of a flat (non-deep) EXR, whatever its pixel type (half, float, uint), as
+// float, plus every string attribute. The image covers the data window: its row 0 is the data
+// window's top row, wherever the window sits (readExrInfo() tells where). Part 0 of multi-part
+// files. Subsampled channels are refused. image.source() is set to `path`.
+Image readExr(const std::filesystem::path& path);
+
+enum class ExrPixelType { Uint, Half, Float };
+
+struct ExrWindow {  // inclusive pixel bounds, as in the EXR header
+  int minX = 0, minY = 0, maxX = -1, maxY = -1;
+  int width() const { return maxX - minX + 1; }
+  int height() const { return maxY - minY + 1; }
+};
+
+struct ExrChannelInfo {
+  std::string name;
+  ExrPixelType type = ExrPixelType::Float;
+};
+
+// What an EXR header says, without reading pixels: for checks of how a file was written and for
+// tools that print file summaries.
+struct ExrInfo {
+  ExrWindow dataWindow;
+  ExrWindow displayWindow;
+  std::string compression;  // "none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"
+  bool tiled = false;
+  std::vector<ExrChannelInfo> channels;  // sorted by name, as EXR stores them
+};
+
+ExrInfo readExrInfo(const std::filesystem::path& path);
+
+const char* exrPixelTypeName(ExrPixelType type);  // "uint", "half", "float"
+
+}  // namespace penumbra
