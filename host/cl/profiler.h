@@ -28,4 +28,17 @@ class Profiler {
   std::vector<std::pair<std::string, cl::Event>> events_;
 };
 
+// Attaches a profiler to a context for the lifetime of the scope (also when an exception leaves it).
+template <class Ctx>
+class ProfilerScope {
+ public:
+  ProfilerScope(Ctx& ctx, Profiler& profiler) : ctx_(ctx) { ctx_.setProfiler(&profiler); }
+  ~ProfilerScope() { ctx_.setProfiler(nullptr); }
+  ProfilerScope(const ProfilerScope&) = delete;
+  ProfilerScope& operator=(const ProfilerScope&) = delete;
+
+ private:
+  Ctx& ctx_;
+};
+
 }  // namespace penumbra

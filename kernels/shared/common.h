@@ -1,15 +1,32 @@
-// Definitions shared by every kernel and by the host: fixed-width types and the PENUMBRA_HOST switch.
-// Valid as OpenCL C 1.2 and as C++20; layout-carrying structs live in their own headers with
-// static_asserts on the host side.
+// Definitions shared by every kernel and by the host: fixed-width types, vector types and the
+// PENUMBRA_HOST switch. Valid as OpenCL C 1.2 and as C++20; layout-carrying structs live in their own
+// headers with static_asserts on the host side.
 #ifndef PENUMBRA_KERNELS_SHARED_COMMON_H
 #define PENUMBRA_KERNELS_SHARED_COMMON_H
 
 #ifdef __OPENCL_C_VERSION__
 #define PENUMBRA_HOST 0
+typedef float4 pn_float4;
+typedef uint4 pn_uint4;
+
+// Vector types by channel count, for kernels built for 1, 2 or 4 interleaved channels with a -D option:
+// PN_VEC(float, 2) is float2, PN_VEC(float, 1) is float; PN_CONVERT(float, 2) is convert_float2.
+#define PN_CAT_(a, b) a##b
+#define PN_CAT(a, b) PN_CAT_(a, b)
+#define PN_VEC_1(t) t
+#define PN_VEC_2(t) t##2
+#define PN_VEC_4(t) t##4
+#define PN_VEC(t, n) PN_CAT(PN_VEC_, n)(t)
+#define PN_CONVERT(t, n) PN_CAT(convert_, PN_VEC(t, n))
 #else
 #define PENUMBRA_HOST 1
+#include <CL/cl_platform.h>
+
+#include <cstddef>
 #include <cstdint>
 typedef uint32_t uint;
+typedef cl_float4 pn_float4;
+typedef cl_uint4 pn_uint4;
 #endif
 
 #endif

@@ -1,6 +1,6 @@
 // `penumbra`: the command-line tool. Subcommands live in their own files (devices.cpp, render.cpp, ...);
 // this file parses the command line and maps exceptions to exit codes: 0 ok, 1 failure, 2 usage error,
-// 69 no OpenCL device.
+// 69 no OpenCL device. Library code reports bad option values as std::invalid_argument.
 #include <cstdio>
 #include <exception>
 
@@ -26,6 +26,9 @@ int main(int argc, char** argv) {
   try {
     for (const penumbra::cli::Command& command : commands)
       if (command.app->parsed()) return command.run();
+    return 2;
+  } catch (const std::invalid_argument& e) {  // a bad option value: a usage error
+    fmt::print(stderr, "penumbra: {}\n", e.what());
     return 2;
   } catch (const penumbra::NoDeviceError& e) {
     fmt::print(stderr, "penumbra: {}\n", e.what());

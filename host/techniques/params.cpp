@@ -1,0 +1,59 @@
+// Parameter parsing and validation.
+#include "host/techniques/params.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+namespace penumbra {
+
+Params::Params(const std::vector<ParamSpec>& specs) : specs_(specs) {
+  for (const ParamSpec& spec : specs_) values_[spec.name] = spec.defaultValue;
+}
+
+void Params::set(const std::string& name, const std::string& text) {
+  auto spec = std::find_if(specs_.begin(), specs_.end(), [&](const ParamSpec& s) { return s.name == name; });
+  if (spec == specs_.end()) throw std::invalid_argument(fmt::format("unknown parameter '{}'", name));
+  if (!spec->choices.empty()) {
+    auto choice = std::find(spec->choices.begin(), spec->choices.end(), text);
+    if (choice == spec->choices.end())
+      throw std::invalid_argument(
+          fmt::format("--{}: '{}' is not one of {}", name, text, fmt::join(spec->choices, ", ")));
+    values_[name] = static_cast<double>(choice - spec->choices.begin());
+    return;
+  }
+  size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size() || !std::isfinite(value))
+    throw std::invalid_argument(fmt::format("--{}: '{}' is not a finite number", name, text));
+  if (value < spec->min || value > spec->max)
+    throw std::invalid_argument(fmt::format("--{}: {} is outside [{}, {}]", name, text, spec->min, spec->max));
+  values_[name] = value;
+}
+
+double Params::get(const std::string& name) const {
+  auto it = values_.find(name);
+  if (it == values_.end()) throw std::out_of_range(fmt::format("parameter '{}' is not declared", name));
+  return it->second;
+}
+
+std::string Params::describe() const {
+  std::string text;
+  for (const ParamSpec& spec : specs_) {
+    if (!text.empty()) text += ' ';
+    const double value = values_.at(spec.name);
+    text += spec.choices.empty() ? fmt::format("{}={}", spec.name, value)
+                                 : fmt::format("{}={}", spec.name, spec.choices.at(static_cast<size_t>(value)));
+  }
+  return text;
+}
+
+}  // namespace penumbra

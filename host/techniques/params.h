@@ -1,0 +1,37 @@
+// Technique parameters: each technique declares its parameters (name, default, range, help) so the CLI
+// can offer them as options and the EXR header can record them, without the library knowing about CLI11.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace penumbra {
+
+struct ParamSpec {
+  std::string name;     // option name without dashes, e.g. "pcf-radius"
+  double defaultValue;  // numeric parameters only; choices are encoded as indices into `choices`
+  double min, max;      // inclusive valid range
+  std::string help;
+  std::vector<std::string> choices = {};  // non-empty: a named choice ("uniform", "adaptive")
+};
+
+// Values by name, validated against their specs.
+class Params {
+ public:
+  Params() = default;
+  explicit Params(const std::vector<ParamSpec>& specs);  // every parameter at its default
+
+  // Sets a value from text ("0.002", or a choice name). Throws std::invalid_argument naming the parameter,
+  // the value and the valid range/choices.
+  void set(const std::string& name, const std::string& text);
+  double get(const std::string& name) const;  // throws std::out_of_range for an undeclared name
+  int getInt(const std::string& name) const { return static_cast<int>(get(name)); }
+  std::string describe() const;  // "bias=0.002 pcf-radius=2", for provenance
+
+ private:
+  std::vector<ParamSpec> specs_;
+  std::map<std::string, double> values_;
+};
+
+}  // namespace penumbra

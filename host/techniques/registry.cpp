@@ -1,0 +1,28 @@
+// The list of techniques `penumbra render --technique` knows.
+#include "host/techniques/registry.h"
+
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace penumbra {
+
+const std::vector<TechniqueInfo>& techniques() {
+  static const std::vector<TechniqueInfo> kTechniques = {
+      smTechnique(),
+      pcfTechnique(),
+      pcssTechnique(),
+  };
+  return kTechniques;
+}
+
+const TechniqueInfo& findTechnique(const std::string& name) {
+  std::string known;
+  for (const TechniqueInfo& info : techniques()) {
+    if (info.name == name) return info;
+    known += (known.empty() ? "" : ", ") + info.name;
+  }
+  throw std::invalid_argument(fmt::format("unknown technique '{}' (known: {})", name, known));
+}
+
+}  // namespace penumbra

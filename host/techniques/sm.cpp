@@ -1,0 +1,35 @@
+// `sm`: hard shadow mapping with constant, slope-scaled and normal-offset bias (kernels/sm.cl).
+#include "host/techniques/registry.h"
+#include "host/techniques/shadow_map.h"
+
+namespace penumbra {
+namespace {
+
+class HardShadowMap final : public Technique {
+ public:
+  explicit HardShadowMap(const Params& params) : params_(params) {}
+
+  void render(ShadowFrame& frame, Buffer<float>& visibility) override {
+    renderShadowMap(frame, params_.getInt("map-size"), map_);
+    const GBuffer& g = frame.gbuffer;
+    const BiasArgs bias = biasArgs(params_);
+    const uint32_t count = static_cast<uint32_t>(g.width) * static_cast<uint32_t>(g.height);
+    Kernel kernel(frame.ctx, "kernels/sm.cl", "sm_visibility", "shade");
+    kernel.args(g.position, g.normal, count, map_.targets.depth, map_.gpu, bias.constant, bias.slope,
+                bias.normalOffset, visibility)
+        .launch(count, kPixelGroup);
+  }
+
+ private:
+  Params params_;
+  ShadowMap map_;
+};
+
+}  // namespace
+
+TechniqueInfo smTechnique() {
+  return {"sm", "Hard shadow map with constant, slope-scaled and normal-offset bias", shadowMapParams(),
+          [](const Params& p) { return std::make_unique<HardShadowMap>(p); }};
+}
+
+}  // namespace penumbra

@@ -1,0 +1,52 @@
+// A shadow technique: composes stages (shadow map, filtering, ...) and a visibility kernel. Each technique
+// lives in its own files (host/techniques/NAME.cpp + kernels/NAME.cl) and one line of the registry.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "host/cl/buffer.h"
+#include "host/cl/context.h"
+#include "host/io/image.h"
+#include "host/scene/scene.h"
+#include "host/techniques/params.h"
+#include "raster/rasterizer.h"
+
+namespace penumbra {
+
+// What a technique gets for one frame: the device, the rasterizer holding the scene, the light and the
+// camera's G-buffer (world positions and normals per pixel).
+struct ShadowFrame {
+  Context& ctx;
+  Rasterizer& raster;
+  const Scene& scene;
+  const Light& light;
+  const Camera& camera;
+  const GBuffer& gbuffer;
+};
+
+class Technique {
+ public:
+  virtual ~Technique() = default;
+  // Writes per-pixel visibility (fraction of the light reaching the point, 0..1; 1 for background) into
+  // `visibility`, which holds gbuffer.width * gbuffer.height elements. Never NaN.
+  virtual void render(ShadowFrame& frame, Buffer<float>& visibility) = 0;
+  // Debug channels ("blocker.Z", "moments.R", ...) from the last render, rows bottom-up like the G-buffer.
+  virtual void addDebugChannels(Context& /*ctx*/, Image& /*image*/) {}
+};
+
+struct TechniqueInfo {
+  std::string name;  // --technique NAME
+  std::string description;
+  std::vector<ParamSpec> params;
+  std::function<std::unique_ptr<Technique>(const Params&)> create;
+};
+
+// The registry, in the order `penumbra render --help` lists them.
+const std::vector<TechniqueInfo>& techniques();
+// Throws std::invalid_argument listing the known names.
+const TechniqueInfo& findTechnique(const std::string& name);
+
+}  // namespace penumbra

@@ -1,0 +1,33 @@
+// The shaded preview: a grey Lambertian surface lit by the shadowing light (visibility x cos x spot cone)
+// plus a dim hemispherical ambient term so shadowed regions keep their shape. Linear RGB, A = coverage.
+#include "kernels/shared/light_view.h"
+
+#define SHADE_ALBEDO 0.75f
+#define SHADE_AMBIENT 0.12f  // sky irradiance relative to the light
+
+// Smooth spot cone: full inside 90% of the half angle, zero outside it. Directional lights: 1.
+inline float shade_cone(__constant const LightViewGpu* lv, float3 toLight, float cosHalfFov) {
+  if (lv->kind != LIGHT_KIND_SPOT) return 1.0f;
+  float c = dot(-toLight, lv->axis.xyz);
+  float inner = cos(acos(cosHalfFov) * 0.9f);
+  return clamp((c - cosHalfFov) / max(inner - cosHalfFov, 1e-6f), 0.0f, 1.0f);
+}
+
+__kernel void shade_preview(__global const float4* position, __global const float4* normal,
+                            __global const float* visibility, uint count, __constant const LightViewGpu* lv,
+                            float4 eye, float cosHalfFov, __global float4* rgba) {
+  uint i = get_global_id(0);
+  if (i >= count) return;
+  float4 p = position[i];
+  if (p.w == 0.0f) {
+    rgba[i] = (float4)(0.0f);
+    return;
+  }
+  float3 n = normal[i].xyz;
+  if (dot(n, eye.xyz - p.xyz) < 0.0f) n = -n;  // two-sided: shade the side the camera sees
+  float3 toLight = lv_to_light(lv, p.xyz);
+  float direct = max(dot(n, toLight), 0.0f) * shade_cone(lv, toLight, cosHalfFov) * visibility[i];
+  float sky = 0.5f + 0.5f * n.y;
+  float value = SHADE_ALBEDO * (direct + SHADE_AMBIENT * sky);
+  rgba[i] = (float4)(value, value, value, 1.0f);
+}

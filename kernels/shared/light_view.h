@@ -1,0 +1,61 @@
+// The light's view as the shading kernels see it: world -> light eye -> clip, the map size, and what the
+// filters need to turn world sizes into texels (light size, texel footprint). Shared by host and kernels.
+#ifndef PENUMBRA_KERNELS_SHARED_LIGHT_VIEW_H
+#define PENUMBRA_KERNELS_SHARED_LIGHT_VIEW_H
+
+#include "kernels/shared/common.h"
+
+#define LIGHT_KIND_SPOT 0         // perspective projection from a point / disk
+#define LIGHT_KIND_DIRECTIONAL 1  // orthographic projection
+
+typedef struct LightViewGpu {
+  pn_float4 view[4];        // rows of the world -> light-eye matrix
+  pn_float4 projection[4];  // rows of the light-eye -> clip matrix
+  pn_float4 position;       // xyz: light position (spot) ; w unused
+  pn_float4 axis;           // xyz: unit direction the light travels along its axis
+  float zNear, zFar;        // light-eye depth range of the map (linear, world units)
+  float texelScale;         // spot: texel width / depth (2 tan(fov/2) / size); dir: texel width in world units
+  float lightSize;          // spot: disk radius in world units; dir: tan(angular radius)
+  float frustumWidth;       // spot: 2 tan(fov/2) (width of the frustum per unit depth); dir: world width
+  int kind;                 // LIGHT_KIND_*
+  int width, height;        // shadow-map size in texels
+} LightViewGpu;
+
+#if PENUMBRA_HOST
+static_assert(sizeof(LightViewGpu) == 4 * 16 * 2 + 2 * 16 + 8 * 4, "LightViewGpu layout must match OpenCL C");
+static_assert(offsetof(LightViewGpu, zNear) == 160, "LightViewGpu layout must match OpenCL C");
+#else
+// Row-major matrix times column vector.
+inline float4 lv_transform(__constant const float4* rows, float4 p) {
+  return (float4)(dot(rows[0], p), dot(rows[1], p), dot(rows[2], p), dot(rows[3], p));
+}
+
+// World position -> (shadow-map texel x, texel y, linear light depth). Texel row 0 is the bottom row.
+inline float3 lv_project(__constant const LightViewGpu* lv, float3 world) {
+  float4 eye = lv_transform(lv->view, (float4)(world, 1.0f));
+  float4 clip = lv_transform(lv->projection, eye);
+  float2 ndc = clip.xy / clip.w;
+  return (float3)((ndc.x * 0.5f + 0.5f) * lv->width, (ndc.y * 0.5f + 0.5f) * lv->height, -eye.z);
+}
+
+// World-space width of one texel at light depth `depth`.
+inline float lv_texel_world(__constant const LightViewGpu* lv, float depth) {
+  return lv->kind == LIGHT_KIND_SPOT ? lv->texelScale * depth : lv->texelScale;
+}
+
+// Texels (at the receiver's depth) covered by the half-width of the penumbra that an occluder at light
+// depth `occluder` casts on a receiver at light depth `receiver`, by similar triangles (Fernando 2005):
+// spot disk of radius R: R (z_r - z_o) / z_o in world units at the receiver; sun disk: (z_r - z_o) tan(alpha).
+inline float lv_penumbra_texels(__constant const LightViewGpu* lv, float receiver, float occluder) {
+  float world = lv->kind == LIGHT_KIND_SPOT ? lv->lightSize * (receiver - occluder) / max(occluder, 1e-20f)
+                                            : lv->lightSize * (receiver - occluder);
+  return max(world, 0.0f) / lv_texel_world(lv, receiver);
+}
+
+// Unit vector from a world point towards the light.
+inline float3 lv_to_light(__constant const LightViewGpu* lv, float3 world) {
+  return lv->kind == LIGHT_KIND_SPOT ? normalize(lv->position.xyz - world) : -lv->axis.xyz;
+}
+#endif
+
+#endif

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Shared by demo.sh and test.sh: installs the Debian packages penumbra needs (only the missing ones; uses
+# sudo when not root), then configures and builds penumbra (Release) into ./build.
+# Environment: BUILD_DIR (default build), BUILD_TYPE (default Release), JOBS (default nproc).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+PACKAGES=(
+  cmake g++ make pkg-config
+  pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo
+  libopenexr-dev libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libcli11-dev libfmt-dev
+  libgtest-dev libbenchmark-dev
+  assimp-testmodels  # malformed glTF files the test suite feeds the loader
+)
+
+missing=()
+for pkg in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")
+done
+if ((${#missing[@]})); then
+  echo "==> installing Debian packages: ${missing[*]}"
+  SUDO=""
+  if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+  $SUDO apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+BUILD_DIR=${BUILD_DIR:-build}
+BUILD_TYPE=${BUILD_TYPE:-Release}
+JOBS=${JOBS:-$(nproc)}
+echo "==> configuring ($BUILD_TYPE) in $BUILD_DIR"
+cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE="$BUILD_TYPE" "$@" >/dev/null
+echo "==> building with $JOBS jobs"
+cmake --build "$BUILD_DIR" -j "$JOBS"
