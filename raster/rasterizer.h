@@ -30,7 +30,10 @@ struct Scissor {
 
 struct RasterView {
   glm::mat4 view{1.0f};        // world -> eye
-  glm::mat4 projection{1.0f};  // eye -> clip (perspective or orthographic, OpenGL convention)
+  // eye -> clip, OpenGL convention, perspective (glm::perspective/frustum: w_c = -k z_eye) or orthographic
+  // (glm::ortho: w_c constant); x_c may depend on x_eye and z_eye only, y_c on y_eye and z_eye, z_c on z_eye.
+  // Near and far come from it. draw() throws std::invalid_argument for other matrices or a bad size.
+  glm::mat4 projection{1.0f};
   int width = 0, height = 0;   // 1x1 .. 8192x8192
   DepthMode depthMode = DepthMode::kViewZ;
   bool cullBackFaces = false;  // counter-clockwise front faces
@@ -59,6 +62,21 @@ struct RasterStats {
   int retries = 0;  // grow-and-retry rounds after a capacity overflow
 };
 
+// Queue capacities in entries. The rasterizer starts from `initial` (0: sized from the scene and view), grows a
+// queue to what a run asked for and re-runs when one overflows, and throws ClError (CL_OUT_OF_RESOURCES, stage
+// "raster", naming the queue and both sizes) when a queue would need more than `maxEntries` or the device's
+// largest allocation. Tests set tiny initial capacities to force the grow-and-retry path.
+struct RasterCapacities {
+  size_t extraTriangles = 0;  // set-up records beyond one per input triangle (clipping fans)
+  size_t binEntries = 0;      // (triangle, bin) pairs
+  size_t tileEntries = 0;     // (triangle, tile) pairs
+  size_t maxEntries = size_t{1} << 31;  // hard maximum of each queue (entries are 4 bytes, records 88)
+};
+
+// The float world -> clip matrix the snapping spec starts from (raster/setup.cl): projection * view, composed in
+// double and rounded once.
+glm::mat4 rasterClipMatrix(const RasterView& view);
+
 class Rasterizer {
  public:
   explicit Rasterizer(Context& ctx);
@@ -75,6 +93,9 @@ class Rasterizer {
   void drawGBuffer(const RasterView& view, GBuffer& gbuffer);
 
   const RasterStats& stats() const;
+
+  // Initial queue capacities and the hard maximum (see RasterCapacities); takes effect at the next draw.
+  void setCapacities(const RasterCapacities& capacities);
 
  private:
   struct Impl;

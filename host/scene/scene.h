@@ -40,4 +40,8 @@ struct Scene {
   void append(const Scene& other);
 };
 
+// Applies an affine transform to the geometry (positions; normals by the inverse-transpose, renormalised;
+// winding flipped when the transform mirrors). Cameras and lights are left alone.
+void transformGeometry(Scene& scene, const glm::mat4& transform);
+
 }  // namespace penumbra

@@ -1,0 +1,37 @@
+// File access for scene loading: paths named inside a scene (buffer URIs, model paths) must stay inside
+// the scene's folder, and every read is a regular file under per-file and per-load size caps.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "host/scene/load_options.h"
+
+namespace penumbra::detail {
+
+// The canonical path of `relative` under `root` (a canonical directory). Throws SceneError (message
+// without a file prefix) for an empty path, a URI scheme, an absolute path, a ".." component, a missing
+// file, a symlink that leads outside `root`, or something that is not a regular file.
+std::filesystem::path resolveInside(const std::filesystem::path& root, std::string_view relative);
+
+// The canonical path of a file the user named directly (no containment); throws SceneError naming the
+// path when it does not exist or is not a regular file.
+std::filesystem::path resolveUserFile(const std::string& path);
+
+// Reads whole files for one load, enforcing LoadOptions::maxFileBytes per file and maxTotalBytes overall.
+class FileReader {
+ public:
+  explicit FileReader(const LoadOptions& options)
+      : maxFileBytes_(options.maxFileBytes), remainingBytes_(options.maxTotalBytes) {}
+  // Throws SceneError (message without a file prefix) when the file is too big or cannot be read.
+  std::vector<unsigned char> read(const std::filesystem::path& path);
+
+ private:
+  uint64_t maxFileBytes_;
+  uint64_t remainingBytes_;
+};
+
+}  // namespace penumbra::detail

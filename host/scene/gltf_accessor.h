@@ -1,0 +1,36 @@
+// Reading glTF accessors into plain arrays with every range checked first: accessor -> bufferView ->
+// buffer bounds, stride and count overflow, component types, and sparse substitution.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <tiny_gltf.h>
+
+#include "host/scene/load_options.h"
+
+namespace penumbra::detail {
+
+struct GltfContext {
+  const tinygltf::Model& model;
+  const std::string& file;  // for messages: "FILE: accessor 3: ..."
+  const LoadOptions& options;
+  // No accessor may hold more elements than this (bounds the memory an accessor without bufferView asks for).
+  uint64_t maxElements() const { return std::max(options.maxVertices, 3 * options.maxTriangles + 2); }
+};
+
+[[noreturn]] void failGltf(const GltfContext& ctx, const std::string& message);
+
+// The accessor, or SceneError "FILE: accessor N does not exist".
+const tinygltf::Accessor& accessorAt(const GltfContext& ctx, int index);
+
+// A VEC3 FLOAT accessor (POSITION, NORMAL); `semantic` names it in messages. Non-finite values are kept.
+std::vector<glm::vec3> readVec3(const GltfContext& ctx, int index, const char* semantic);
+
+// A SCALAR UNSIGNED_BYTE / UNSIGNED_SHORT / UNSIGNED_INT accessor, widened to 32 bits.
+std::vector<uint32_t> readIndices(const GltfContext& ctx, int index);
+
+}  // namespace penumbra::detail

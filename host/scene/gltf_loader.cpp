@@ -1,0 +1,133 @@
+// glTF loading pipeline: read (contained, capped) -> GLB container check -> JSON schema and required
+// extensions -> tinygltf -> node forest -> primitives read once per mesh (instances share them) ->
+// limits checked -> every instance transformed into world space.
+#include "host/scene/gltf_loader.h"
+
+#include <cmath>
+#include <map>
+#include <set>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "host/scene/geometry.h"
+#include "host/scene/gltf_glb.h"
+#include "host/scene/gltf_mesh.h"
+#include "host/scene/gltf_nodes.h"
+#include "host/scene/gltf_schema.h"
+#include "host/scene/gltf_tinygltf.h"
+
+namespace penumbra {
+namespace detail {
+namespace {
+
+using PrimitiveKey = std::pair<int, int>;  // mesh, primitive
+using PrimitiveCache = std::map<PrimitiveKey, LocalPrimitive>;
+
+tinygltf::Model parseFile(const std::vector<unsigned char>& bytes, const std::filesystem::path& path,
+                          const std::string& display, const LoadOptions& options, FileReader& reader) {
+  const bool binary = hasGlbMagic(bytes) || path.extension() == ".glb" || path.extension() == ".GLB";
+  const std::string_view json = binary ? parseGlb(bytes, display).json
+                                       : std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  checkGltfJson(parseJson(display, json, false, options.maxJsonValues), display);
+  return parseWithTinygltf(bytes, binary, path.parent_path(), reader, display, options);
+}
+
+void warnIgnoredFeatures(const GltfContext& ctx) {
+  bool morphs = false;
+  for (const auto& mesh : ctx.model.meshes)
+    for (const auto& prim : mesh.primitives) morphs = morphs || !prim.targets.empty();
+  if (morphs) emitWarning(ctx.options, ctx.file + ": morph targets are ignored (base shapes are used)");
+  if (!ctx.model.skins.empty()) emitWarning(ctx.options, ctx.file + ": skins are ignored (bind shapes are used)");
+}
+
+// Reads each primitive of every instanced mesh once and checks the flattened totals against the limits.
+PrimitiveCache readPrimitives(const GltfContext& ctx, const std::vector<NodeInstance>& instances) {
+  PrimitiveCache cache;
+  uint64_t triangles = 0, vertices = 0;
+  for (const NodeInstance& inst : instances) {
+    const int mesh = ctx.model.nodes[static_cast<size_t>(inst.node)].mesh;
+    if (mesh < 0) continue;
+    if (static_cast<size_t>(mesh) >= ctx.model.meshes.size())
+      failGltf(ctx, fmt::format("node {}: mesh {} does not exist", inst.node, mesh));
+    for (size_t p = 0; p < ctx.model.meshes[static_cast<size_t>(mesh)].primitives.size(); ++p) {
+      const PrimitiveKey key{mesh, static_cast<int>(p)};
+      auto it = cache.find(key);
+      if (it == cache.end()) it = cache.emplace(key, readPrimitive(ctx, mesh, static_cast<int>(p))).first;
+      triangles += it->second.triangles.size();
+      vertices += it->second.positions.size();
+      if (triangles > ctx.options.maxTriangles || vertices > ctx.options.maxVertices)
+        failGltf(ctx, fmt::format("the scene flattens to more than {} triangles or {} vertices (the limits)",
+                                  ctx.options.maxTriangles, ctx.options.maxVertices));
+    }
+  }
+  return cache;
+}
+
+std::string objectName(const tinygltf::Model& model, int node, int mesh, int primitive) {
+  const std::string& nodeName = model.nodes[static_cast<size_t>(node)].name;
+  const std::string& meshName = model.meshes[static_cast<size_t>(mesh)].name;
+  return fmt::format("{}/{}/{}", nodeName.empty() ? std::to_string(node) : nodeName,
+                     meshName.empty() ? std::to_string(mesh) : meshName, primitive);
+}
+
+void appendInstance(Scene& scene, const LocalPrimitive& prim, const glm::dmat4& world, uint32_t objectId) {
+  const size_t vbase = scene.positions.size(), tbase = scene.triangles.size();
+  scene.positions.insert(scene.positions.end(), prim.positions.begin(), prim.positions.end());
+  scene.normals.insert(scene.normals.end(), prim.normals.begin(), prim.normals.end());
+  for (const glm::uvec3& t : prim.triangles) scene.triangles.push_back(t + glm::uvec3(static_cast<uint32_t>(vbase)));
+  scene.objectIds.insert(scene.objectIds.end(), prim.triangles.size(), objectId);
+  transformRange(scene, world, vbase, tbase);
+}
+
+Scene buildScene(const GltfContext& ctx, const std::vector<NodeInstance>& instances, const PrimitiveCache& cache) {
+  Scene scene;
+  std::set<PrimitiveKey> warnedNormals;
+  for (const NodeInstance& inst : instances) {
+    const int mesh = ctx.model.nodes[static_cast<size_t>(inst.node)].mesh;
+    if (mesh < 0) continue;
+    for (size_t p = 0; p < ctx.model.meshes[static_cast<size_t>(mesh)].primitives.size(); ++p) {
+      const PrimitiveKey key{mesh, static_cast<int>(p)};
+      const LocalPrimitive& prim = cache.at(key);
+      if (prim.triangles.empty()) continue;
+      const size_t vbase = scene.positions.size(), tbase = scene.triangles.size();
+      appendInstance(scene, prim, inst.world, static_cast<uint32_t>(scene.objectNames.size()));
+      scene.objectNames.push_back(objectName(ctx.model, inst.node, mesh, key.second));
+      const size_t repaired = repairNormals(scene, vbase, tbase);
+      if (repaired > 0 && warnedNormals.insert(key).second)
+        emitWarning(ctx.options, fmt::format("{}: mesh {} primitive {}: {} zero or non-finite normals replaced by "
+                                             "face normals",
+                                             ctx.file, key.first, key.second, repaired));
+      for (size_t i = vbase; i < scene.positions.size(); ++i)
+        if (!std::isfinite(scene.positions[i].x) || !std::isfinite(scene.positions[i].y) ||
+            !std::isfinite(scene.positions[i].z))
+          failGltf(ctx, fmt::format("node {}: world position overflows", inst.node));
+    }
+  }
+  return scene;
+}
+
+}  // namespace
+
+Scene loadGltfResolved(const std::filesystem::path& path, const std::string& display, const LoadOptions& options,
+                       FileReader& reader) {
+  std::vector<unsigned char> bytes = reader.read(path);  // its errors name the path
+  const tinygltf::Model model = parseFile(bytes, path, display, options, reader);
+  bytes = {};
+  const GltfContext ctx{model, display, options};
+  warnIgnoredFeatures(ctx);
+  const std::vector<NodeInstance> instances = flattenNodes(ctx);
+  const PrimitiveCache cache = readPrimitives(ctx, instances);
+  Scene scene = buildScene(ctx, instances, cache);
+  if (scene.triangles.empty()) failGltf(ctx, "no triangles (nothing in the scene can cast or receive shadows)");
+  return scene;
+}
+
+}  // namespace detail
+
+Scene loadGltf(const std::string& path, const LoadOptions& options) {
+  detail::FileReader reader(options);
+  return detail::loadGltfResolved(detail::resolveUserFile(path), path, options, reader);
+}
+
+}  // namespace penumbra

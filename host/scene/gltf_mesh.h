@@ -1,0 +1,24 @@
+// One glTF mesh primitive in its local space as an indexed triangle list: attributes read and checked,
+// indices range-checked, strips and fans converted, flat normals made when NORMAL is absent.
+#pragma once
+
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "host/scene/gltf_accessor.h"
+
+namespace penumbra::detail {
+
+struct LocalPrimitive {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;  // one per position; may hold zero or non-finite ones (repaired later)
+  std::vector<glm::uvec3> triangles;
+  bool isTriangles = true;  // false: points or lines, skipped (a warning was emitted)
+};
+
+// Throws SceneError for a missing POSITION, wrong accessor types, mismatched counts, non-finite positions,
+// indices out of range, a triangle list whose count is not a multiple of 3, or an unknown mode.
+LocalPrimitive readPrimitive(const GltfContext& ctx, int meshIndex, int primitiveIndex);
+
+}  // namespace penumbra::detail

@@ -1,0 +1,244 @@
+// Table-free glTF 2.0 schema checks: one small function per object type, helpers for the property kinds
+// (non-negative integers, ids into a top-level array, fixed-size number arrays). Unknown keys are allowed
+// (the glTF schema allows them); known keys must have the right type.
+#include "host/scene/gltf_schema.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string_view>
+
+#include <fmt/format.h>
+
+namespace penumbra::detail {
+namespace {
+
+constexpr std::array<std::string_view, 4> kIgnorableExtensionPrefixes = {"KHR_materials_", "KHR_texture_",
+                                                                         "EXT_texture_", "KHR_lights_punctual"};
+
+struct Checker {
+  const Json& root;
+  const std::string& file;
+
+  [[noreturn]] void fail(const std::string& ptr, const std::string& msg) const { failAt(file, ptr, msg); }
+
+  // The object itself, its "name" and its "extensions" (an object of objects).
+  void object(const Json& o, const std::string& ptr) const {
+    if (!o.is_object()) fail(ptr, "expected an object, got " + brief(o));
+    if (o.contains("name") && !o["name"].is_string()) fail(pointerTo(ptr, "name"), "expected a string");
+    if (!o.contains("extensions")) return;
+    const Json& ext = o["extensions"];
+    if (!ext.is_object()) fail(pointerTo(ptr, "extensions"), "expected an object");
+    for (auto it = ext.begin(); it != ext.end(); ++it)
+      if (!it.value().is_object()) fail(pointerTo(pointerTo(ptr, "extensions"), it.key()), "expected an object");
+  }
+
+  const Json* get(const Json& o, const char* key, const std::string& ptr, bool required) const {
+    if (o.contains(key)) return &o[key];
+    if (required) fail(pointerTo(ptr, key), "missing required property");
+    return nullptr;
+  }
+
+  void kind(const Json& o, const char* key, const std::string& ptr, bool ok, const char* expected) const {
+    if (!ok) fail(pointerTo(ptr, key), fmt::format("expected {}, got {}", expected, brief(o[key])));
+  }
+
+  uint64_t uint(const Json& o, const char* key, const std::string& ptr, bool required = false) const {
+    const Json* v = get(o, key, ptr, required);
+    if (!v) return 0;
+    kind(o, key, ptr, v->is_number_unsigned(), "a non-negative integer");
+    return v->get<uint64_t>();
+  }
+
+  void number(const Json& o, const char* key, const std::string& ptr) const {
+    if (const Json* v = get(o, key, ptr, false))
+      kind(o, key, ptr, v->is_number() && std::isfinite(v->get<double>()), "a finite number");
+  }
+
+  void string(const Json& o, const char* key, const std::string& ptr, bool required = false) const {
+    if (const Json* v = get(o, key, ptr, required)) kind(o, key, ptr, v->is_string(), "a string");
+  }
+
+  void boolean(const Json& o, const char* key, const std::string& ptr) const {
+    if (const Json* v = get(o, key, ptr, false)) kind(o, key, ptr, v->is_boolean(), "true or false");
+  }
+
+  // An index into the top-level array `array` ("accessors"), given at o[key] or as o itself (key null).
+  void idValue(const Json& v, const char* array, const std::string& ptr) const {
+    if (!v.is_number_unsigned()) fail(ptr, "expected an index (a non-negative integer), got " + brief(v));
+    const size_t n = root.contains(array) && root[array].is_array() ? root[array].size() : 0;
+    if (v.get<uint64_t>() >= n)
+      fail(ptr, fmt::format("no element {} in {} (the file has {})", v.get<uint64_t>(), array, n));
+  }
+  void id(const Json& o, const char* key, const char* array, const std::string& ptr, bool required = false) const {
+    if (const Json* v = get(o, key, ptr, required)) idValue(*v, array, pointerTo(ptr, key));
+  }
+  void ids(const Json& o, const char* key, const char* array, const std::string& ptr) const {
+    const Json* v = get(o, key, ptr, false);
+    if (!v) return;
+    kind(o, key, ptr, v->is_array(), "an array");
+    for (size_t i = 0; i < v->size(); ++i) idValue((*v)[i], array, pointerTo(pointerTo(ptr, key), i));
+  }
+
+  void numbers(const Json& o, const char* key, size_t size, const std::string& ptr) const {
+    const Json* v = get(o, key, ptr, false);
+    if (!v) return;
+    kind(o, key, ptr, v->is_array() && (size == 0 || v->size() == size),
+         size ? fmt::format("an array of {} numbers", size).c_str() : "an array of numbers");
+    for (size_t i = 0; i < v->size(); ++i)
+      if (!(*v)[i].is_number() || !std::isfinite((*v)[i].get<double>()))
+        fail(pointerTo(pointerTo(ptr, key), i), "expected a finite number, got " + brief((*v)[i]));
+  }
+
+  // Calls fn(element, pointer) for every element of the top-level array `key`, each an object.
+  template <class Fn>
+  void each(const Json& o, const char* key, const std::string& ptr, Fn fn) const {
+    const Json* v = get(o, key, ptr, false);
+    if (!v) return;
+    kind(o, key, ptr, v->is_array(), "an array");
+    for (size_t i = 0; i < v->size(); ++i) {
+      const std::string p = pointerTo(pointerTo(ptr, key), i);
+      object((*v)[i], p);
+      fn((*v)[i], p);
+    }
+  }
+  template <class Fn>
+  void child(const Json& o, const char* key, const std::string& ptr, bool required, Fn fn) const {
+    if (const Json* v = get(o, key, ptr, required)) {
+      object(*v, pointerTo(ptr, key));
+      fn(*v, pointerTo(ptr, key));
+    }
+  }
+
+  void node(const Json& n, const std::string& p) const {
+    id(n, "camera", "cameras", p), id(n, "skin", "skins", p), id(n, "mesh", "meshes", p);
+    ids(n, "children", "nodes", p);
+    numbers(n, "matrix", 16, p), numbers(n, "rotation", 4, p), numbers(n, "scale", 3, p);
+    numbers(n, "translation", 3, p), numbers(n, "weights", 0, p);
+  }
+
+  void attributeMap(const Json& a, const std::string& p) const {
+    if (!a.is_object()) fail(p, "expected an object");
+    for (auto it = a.begin(); it != a.end(); ++it) idValue(it.value(), "accessors", pointerTo(p, it.key()));
+  }
+
+  void primitive(const Json& pr, const std::string& p) const {
+    const Json* attributes = get(pr, "attributes", p, true);
+    attributeMap(*attributes, pointerTo(p, "attributes"));
+    id(pr, "indices", "accessors", p), id(pr, "material", "materials", p);
+    if (uint(pr, "mode", p) > 6) fail(pointerTo(p, "mode"), "expected a primitive mode 0..6");
+    if (const Json* targets = get(pr, "targets", p, false)) {
+      kind(pr, "targets", p, targets->is_array(), "an array");
+      for (size_t i = 0; i < targets->size(); ++i) attributeMap((*targets)[i], pointerTo(pointerTo(p, "targets"), i));
+    }
+  }
+
+  void mesh(const Json& m, const std::string& p) const {
+    const Json* prims = get(m, "primitives", p, true);
+    kind(m, "primitives", p, prims->is_array() && !prims->empty(), "a non-empty array");
+    each(m, "primitives", p, [&](const Json& pr, const std::string& pp) { primitive(pr, pp); });
+    numbers(m, "weights", 0, p);
+  }
+
+  void accessor(const Json& a, const std::string& p) const {
+    id(a, "bufferView", "bufferViews", p), uint(a, "byteOffset", p), boolean(a, "normalized", p);
+    const uint64_t type = uint(a, "componentType", p, true);
+    if (type < 5120 || type > 5126 || type == 5124)
+      fail(pointerTo(p, "componentType"), fmt::format("invalid component type {}", type));
+    if (uint(a, "count", p, true) == 0) fail(pointerTo(p, "count"), "must be at least 1");
+    string(a, "type", p, true);
+    static constexpr std::array<std::string_view, 7> kTypes = {"SCALAR", "VEC2", "VEC3", "VEC4",
+                                                               "MAT2",   "MAT3", "MAT4"};
+    if (std::find(kTypes.begin(), kTypes.end(), a["type"].get<std::string>()) == kTypes.end())
+      fail(pointerTo(p, "type"), "invalid accessor type " + brief(a["type"]));
+    numbers(a, "min", 0, p), numbers(a, "max", 0, p);
+    child(a, "sparse", p, false, [&](const Json& s, const std::string& sp) {
+      if (uint(s, "count", sp, true) == 0) fail(pointerTo(sp, "count"), "must be at least 1");
+      child(s, "indices", sp, true, [&](const Json& i, const std::string& ip) {
+        id(i, "bufferView", "bufferViews", ip, true), uint(i, "byteOffset", ip), uint(i, "componentType", ip, true);
+      });
+      child(s, "values", sp, true, [&](const Json& v, const std::string& vp) {
+        id(v, "bufferView", "bufferViews", vp, true), uint(v, "byteOffset", vp);
+      });
+    });
+  }
+
+  void textureInfo(const Json& m, const char* key, const std::string& p) const {
+    child(m, key, p, false, [&](const Json& t, const std::string& tp) {
+      uint(t, "texCoord", tp), number(t, "scale", tp), number(t, "strength", tp), id(t, "index", "textures", tp, true);
+    });
+  }
+
+  void material(const Json& m, const std::string& p) const {
+    child(m, "pbrMetallicRoughness", p, false, [&](const Json& pbr, const std::string& pp) {
+      numbers(pbr, "baseColorFactor", 4, pp), number(pbr, "metallicFactor", pp), number(pbr, "roughnessFactor", pp);
+      textureInfo(pbr, "baseColorTexture", pp), textureInfo(pbr, "metallicRoughnessTexture", pp);
+    });
+    textureInfo(m, "normalTexture", p), textureInfo(m, "occlusionTexture", p), textureInfo(m, "emissiveTexture", p);
+    numbers(m, "emissiveFactor", 3, p), string(m, "alphaMode", p), number(m, "alphaCutoff", p),
+        boolean(m, "doubleSided", p);
+  }
+
+  void document() const {
+    object(root, "");
+    child(root, "asset", "", true, [&](const Json& a, const std::string& p) {
+      string(a, "version", p, true);
+      if (a["version"].get<std::string>().rfind("2.", 0) != 0)
+        fail(pointerTo(p, "version"),
+             "glTF version " + a["version"].get<std::string>() + " is not supported (2.x only)");
+    });
+    id(root, "scene", "scenes", "");
+    each(root, "scenes", "", [&](const Json& s, const std::string& p) { ids(s, "nodes", "nodes", p); });
+    each(root, "nodes", "", [&](const Json& n, const std::string& p) { node(n, p); });
+    each(root, "meshes", "", [&](const Json& m, const std::string& p) { mesh(m, p); });
+    each(root, "accessors", "", [&](const Json& a, const std::string& p) { accessor(a, p); });
+    each(root, "bufferViews", "", [&](const Json& v, const std::string& p) {
+      id(v, "buffer", "buffers", p, true), uint(v, "byteOffset", p), uint(v, "byteStride", p), uint(v, "target", p);
+      if (uint(v, "byteLength", p, true) == 0) fail(pointerTo(p, "byteLength"), "must be at least 1");
+    });
+    each(root, "buffers", "",
+         [&](const Json& b, const std::string& p) { string(b, "uri", p), uint(b, "byteLength", p, true); });
+    each(root, "materials", "", [&](const Json& m, const std::string& p) { material(m, p); });
+    each(root, "textures", "",
+         [&](const Json& t, const std::string& p) { id(t, "sampler", "samplers", p), id(t, "source", "images", p); });
+    each(root, "images", "", [&](const Json& i, const std::string& p) {
+      string(i, "uri", p), string(i, "mimeType", p), id(i, "bufferView", "bufferViews", p);
+    });
+    each(root, "samplers", "", [&](const Json& s, const std::string& p) {
+      uint(s, "magFilter", p), uint(s, "minFilter", p), uint(s, "wrapS", p), uint(s, "wrapT", p);
+    });
+    each(root, "cameras", "", [&](const Json& c, const std::string& p) { string(c, "type", p, true); });
+    each(root, "skins", "", [](const Json&, const std::string&) {});
+    each(root, "animations", "", [](const Json&, const std::string&) {});
+  }
+
+  void requiredExtensions() const {
+    for (const char* key : {"extensionsUsed", "extensionsRequired"}) {
+      const Json* v = get(root, key, "", false);
+      if (v && (!v->is_array() || !std::all_of(v->begin(), v->end(), [](const Json& e) { return e.is_string(); })))
+        fail(pointerTo("", key), "expected an array of strings");
+    }
+    if (!root.contains("extensionsRequired")) return;
+    for (const Json& e : root["extensionsRequired"]) {
+      const std::string name = e.get<std::string>();
+      const bool ignorable = std::any_of(kIgnorableExtensionPrefixes.begin(), kIgnorableExtensionPrefixes.end(),
+                                         [&](std::string_view prefix) { return name.rfind(prefix, 0) == 0; });
+      if (!ignorable)
+        throw SceneError(
+            fmt::format("{}: extension {} is required but not supported (only material, texture and "
+                        "light extensions can be ignored)",
+                        file, name));
+    }
+  }
+};
+
+}  // namespace
+
+void checkGltfJson(const Json& doc, const std::string& file) {
+  const Checker checker{doc, file};
+  if (!doc.is_object()) failAt(file, "", "expected a glTF JSON object");
+  checker.requiredExtensions();
+  checker.document();
+}
+
+}  // namespace penumbra::detail

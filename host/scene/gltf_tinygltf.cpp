@@ -1,0 +1,95 @@
+// tinygltf's implementation lives in this translation unit only (TINYGLTF_IMPLEMENTATION), built without
+// stb_image and without external images: this loader needs geometry, never pixels. Also holds the
+// file-system callbacks that keep buffer URIs inside the scene's folder.
+#define TINYGLTF_IMPLEMENTATION
+#define TINYGLTF_NO_STB_IMAGE
+#define TINYGLTF_NO_STB_IMAGE_WRITE
+#define TINYGLTF_NO_EXTERNAL_IMAGE
+#include "host/scene/gltf_tinygltf.h"
+
+#include <sstream>
+
+#include <fmt/format.h>
+
+namespace penumbra::detail {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct FsContext {
+  fs::path root;
+  std::string prefix;  // root + "/": tinygltf joins it with the URI
+  FileReader* reader;
+  std::string error;  // why the last read was refused
+};
+
+bool fileExists(const std::string& path, void* user) {
+  // Only candidates under our root "exist"; tinygltf's fallback to the working directory never does.
+  return path.rfind(static_cast<FsContext*>(user)->prefix, 0) == 0;
+}
+
+std::string expandFilePath(const std::string& path, void*) { return path; }  // no ~ or $VAR expansion
+
+bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+  auto* ctx = static_cast<FsContext*>(user);
+  try {
+    if (path.rfind(ctx->prefix, 0) != 0) throw SceneError(fmt::format("\"{}\": outside the scene's folder", path));
+    *out = ctx->reader->read(resolveInside(ctx->root, std::string_view(path).substr(ctx->prefix.size())));
+    return true;
+  } catch (const SceneError& e) {
+    ctx->error = e.what();
+    if (err) *err = e.what();
+    return false;
+  }
+}
+
+bool writeWholeFile(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+  if (err) *err = "writing is disabled";
+  return false;
+}
+
+// Images are neither decoded nor needed; accepting them keeps textured files loadable.
+bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+  return true;
+}
+
+std::string firstLine(const std::string& text) {
+  std::string line = text.substr(0, text.find('\n'));
+  return line.empty() ? "tinygltf reported an error without a message" : line;
+}
+
+void forwardWarnings(const std::string& warn, const std::string& file, const LoadOptions& options) {
+  std::istringstream lines(warn);
+  for (std::string line; std::getline(lines, line);)
+    if (!line.empty()) emitWarning(options, fmt::format("{}: {}", file, line));
+}
+
+}  // namespace
+
+tinygltf::Model parseWithTinygltf(const std::vector<unsigned char>& bytes, bool binary, const fs::path& root,
+                                  FileReader& reader, const std::string& file, const LoadOptions& options) {
+  FsContext ctx{root, root.string(), &reader, {}};
+  if (ctx.prefix.empty() || ctx.prefix.back() != '/') ctx.prefix += '/';
+  tinygltf::TinyGLTF loader;
+  loader.SetFsCallbacks({&fileExists, &expandFilePath, &readWholeFile, &writeWholeFile, &ctx});
+  loader.SetImageLoader(&ignoreImage, nullptr);
+  tinygltf::Model model;
+  std::string err, warn;
+  bool ok = false;
+  try {
+    const auto size = static_cast<unsigned int>(bytes.size());  // callers cap files far below 4 GiB
+    ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), size, root.string())
+                : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()), size,
+                                             root.string());
+  } catch (const std::exception& e) {
+    throw SceneError(fmt::format("{}: {}", file, e.what()));
+  }
+  if (!ok) {
+    if (!ctx.error.empty()) throw SceneError(fmt::format("{}: buffer {}", file, ctx.error));
+    throw SceneError(fmt::format("{}: {}", file, firstLine(err)));
+  }
+  forwardWarnings(warn, file, options);
+  return model;
+}
+
+}  // namespace penumbra::detail

@@ -1,0 +1,81 @@
+// Spot (optionally disk area) and directional (optionally sun disk) lights: the centre axis and the
+// strict parsing and printing of "spot:PX,PY,PZ:TX,TY,TZ:FOV_DEG[:RADIUS]" and "dir:DX,DY,DZ[:ANG_DEG]".
+#include "host/scene/light.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "host/scene/spec_parse.h"
+
+namespace penumbra {
+namespace {
+
+constexpr float kMaxAngularRadiusDeg = 45.0f;  // exclusive; a sun disk wider than this is not a "sun"
+
+Light parseSpot(const std::vector<std::string_view>& parts) {
+  if (parts.size() != 4 && parts.size() != 5)
+    throw std::invalid_argument("expected spot:PX,PY,PZ:TX,TY,TZ:FOV_DEG[:RADIUS]");
+  Light light;
+  light.type = LightType::Spot;
+  light.position = detail::parseVec3(parts[1], "position");
+  light.target = detail::parseVec3(parts[2], "target");
+  if (light.position == light.target) throw std::invalid_argument("position equals target");
+  light.fovDeg = detail::parseFiniteFloat(parts[3], "fov");
+  if (!(light.fovDeg > 0.0f && light.fovDeg < 180.0f))
+    throw std::invalid_argument(fmt::format("fov: {} degrees is outside (0, 180)", light.fovDeg));
+  if (parts.size() == 5) {
+    light.radius = detail::parseFiniteFloat(parts[4], "radius");
+    if (light.radius < 0.0f) throw std::invalid_argument(fmt::format("radius: {} is negative", light.radius));
+  }
+  return light;
+}
+
+Light parseDirectional(const std::vector<std::string_view>& parts) {
+  if (parts.size() != 2 && parts.size() != 3) throw std::invalid_argument("expected dir:DX,DY,DZ[:ANGULAR_RADIUS_DEG]");
+  Light light;
+  light.type = LightType::Directional;
+  const glm::vec3 d = detail::parseVec3(parts[1], "direction");
+  const float len = glm::length(d);
+  if (!(len > 0.0f) || !std::isfinite(len)) throw std::invalid_argument("direction: zero or overflowing vector");
+  light.direction = d / len;
+  if (parts.size() == 3) {
+    light.angularRadiusDeg = detail::parseFiniteFloat(parts[2], "angular radius");
+    if (!(light.angularRadiusDeg >= 0.0f && light.angularRadiusDeg < kMaxAngularRadiusDeg))
+      throw std::invalid_argument(
+          fmt::format("angular radius: {} degrees is outside [0, {})", light.angularRadiusDeg, kMaxAngularRadiusDeg));
+  }
+  return light;
+}
+
+}  // namespace
+
+glm::vec3 Light::axis() const {
+  const glm::vec3 d = type == LightType::Spot ? target - position : direction;
+  const float len = glm::length(d);
+  return len > 0.0f ? d / len : glm::vec3(0, -1, 0);
+}
+
+std::string Light::describe() const {
+  if (type == LightType::Spot) {
+    std::string s =
+        "spot:" + detail::formatVec3(position) + ":" + detail::formatVec3(target) + ":" + detail::formatFloat(fovDeg);
+    return radius > 0.0f ? s + ":" + detail::formatFloat(radius) : s;
+  }
+  std::string s = "dir:" + detail::formatVec3(direction);
+  return angularRadiusDeg > 0.0f ? s + ":" + detail::formatFloat(angularRadiusDeg) : s;
+}
+
+Light parseLight(std::string_view spec) {
+  try {
+    const auto parts = detail::splitParts(spec, ':');
+    if (parts[0] == "spot") return parseSpot(parts);
+    if (parts[0] == "dir") return parseDirectional(parts);
+    throw std::invalid_argument(fmt::format("unknown light type \"{}\" (expected spot or dir)", parts[0]));
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(fmt::format("light \"{}\": {}", spec, e.what()));
+  }
+}
+
+}  // namespace penumbra

@@ -1,0 +1,138 @@
+// Composition of a JSON scene: models (loaded, then placed), built-in scenes, the ground plane sized from
+// everything before it, then the views. Errors from a model's own file are wrapped with the pointer of
+// the model entry that named it.
+#include "host/scene/scene_file.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "host/scene/gltf_loader.h"
+#include "host/scene/json_util.h"
+#include "host/scene/procedural.h"
+#include "host/scene/procedural_mesh.h"
+#include "host/scene/scene_file_parts.h"
+
+namespace penumbra::detail {
+namespace {
+
+struct FileContext {
+  const std::filesystem::path& folder;
+  const std::string& file;
+  const LoadOptions& options;
+  FileReader& reader;
+};
+
+// Calls fn(element, pointer) for each element of root[key], which must be an array.
+template <class Fn>
+void forEach(ObjectReader& root, const char* key, Fn fn) {
+  const Json* list = root.find(key);
+  if (!list) return;
+  if (!list->is_array()) root.fail(key, "expected an array");
+  for (size_t i = 0; i < list->size(); ++i) fn((*list)[i], pointerTo(root.pointer(key), i));
+}
+
+bool isGltfPath(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".gltf" || ext == ".glb";
+}
+
+Scene readModel(const FileContext& ctx, const Json& value, const std::string& pointer) {
+  ObjectReader r(value, ctx.file, pointer);
+  const std::string path = r.string("path");
+  if (!isGltfPath(path)) r.fail("path", fmt::format("\"{}\" is not a .gltf or .glb file", path));
+  const glm::mat4 placement = readPlacement(r);
+  r.finish();
+  std::filesystem::path resolved;
+  try {
+    resolved = resolveInside(ctx.folder, path);
+  } catch (const SceneError& e) {
+    r.fail("path", e.what());
+  }
+  Scene model;
+  try {
+    model = loadGltfResolved(resolved, path, ctx.options, ctx.reader);
+  } catch (const SceneError& e) {
+    failAt(ctx.file, pointer, e.what());
+  }
+  transformGeometry(model, placement);
+  for (const glm::vec3& p : model.positions)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      failAt(ctx.file, pointer, "placed geometry overflows (scale too large?)");
+  return model;
+}
+
+Scene readProcedural(const FileContext& ctx, const Json& value, const std::string& pointer) {
+  ObjectReader r(value, ctx.file, pointer);
+  const std::string name = r.string("name");
+  ProceduralParams params;
+  for (auto it = value.begin(); it != value.end(); ++it) {
+    if (it.key() == "name") continue;
+    if (!it.value().is_number()) r.fail(it.key(), "expected a number, got " + brief(it.value()));
+    params[it.key()] = it.value().get<double>();
+  }
+  try {
+    return makeProcedural(name, params);
+  } catch (const SceneError& e) {
+    failAt(ctx.file, pointer, e.what());
+  }
+}
+
+void readGround(const FileContext& ctx, ObjectReader& root, Scene& scene) {
+  const Json* value = root.find("ground");
+  if (!value) return;
+  ObjectReader r(*value, ctx.file, root.pointer("ground"));
+  const bool enabled = r.boolean("enabled", true);
+  const auto margin = static_cast<float>(r.number("margin", 0, 1000, "[0, 1000]", 1.0));
+  const Bounds bounds = scene.bounds();
+  const Json* y = r.find("y");
+  if (y && (!y->is_number() || !std::isfinite(y->get<double>()))) r.fail("y", "expected a number, got " + brief(*y));
+  r.finish();
+  if (!enabled) return;
+  if (bounds.empty()) failAt(ctx.file, root.pointer("ground"), "no models or built-in scenes to place a ground under");
+  addGroundPlane(scene, bounds, margin, y ? static_cast<float>(y->get<double>()) : bounds.min.y);
+}
+
+void readViews(const FileContext& ctx, ObjectReader& root, Scene& scene) {
+  std::vector<Camera> cameras;
+  std::vector<Light> lights;
+  if (const Json* c = root.find("camera")) cameras.push_back(readCamera(*c, ctx.file, root.pointer("camera")));
+  forEach(root, "cameras", [&](const Json& v, const std::string& p) { cameras.push_back(readCamera(v, ctx.file, p)); });
+  forEach(root, "lights", [&](const Json& v, const std::string& p) { lights.push_back(readLight(v, ctx.file, p)); });
+  if (root.has("lights") && lights.empty())
+    root.fail("lights", "is empty (leave it out to keep the built-in scenes' lights)");
+  if (!cameras.empty()) scene.cameras = std::move(cameras);
+  if (!lights.empty()) scene.lights = std::move(lights);
+}
+
+}  // namespace
+
+Scene loadSceneFileResolved(const std::filesystem::path& path, const std::string& display, const LoadOptions& options,
+                            FileReader& reader) {
+  std::vector<unsigned char> bytes = reader.read(path);  // its errors name the path
+  const Json doc = parseJson(display, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), true,
+                             options.maxJsonValues);
+  const std::filesystem::path folder = path.parent_path();
+  const FileContext ctx{folder, display, options, reader};
+  ObjectReader root(doc, display, "");
+  Scene scene;
+  forEach(root, "models", [&](const Json& v, const std::string& p) { scene.append(readModel(ctx, v, p)); });
+  forEach(root, "procedural", [&](const Json& v, const std::string& p) { scene.append(readProcedural(ctx, v, p)); });
+  readGround(ctx, root, scene);
+  readViews(ctx, root, scene);
+  root.finish();
+  if (scene.triangles.empty()) failAt(display, "", "no triangles (add \"models\" or \"procedural\")");
+  return scene;
+}
+
+}  // namespace penumbra::detail
+
+namespace penumbra {
+
+Scene loadSceneFile(const std::string& path, const LoadOptions& options) {
+  detail::FileReader reader(options);
+  return detail::loadSceneFileResolved(detail::resolveUserFile(path), path, options, reader);
+}
+
+}  // namespace penumbra

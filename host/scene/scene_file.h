@@ -1,0 +1,33 @@
+// JSON scene descriptions: glTF models placed in the world, built-in scenes, an optional ground plane,
+// cameras and lights. Every key is checked (unknown keys are errors, so typos are never silent).
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "host/scene/contained_fs.h"
+#include "host/scene/load_options.h"
+#include "host/scene/scene.h"
+
+namespace penumbra {
+
+// The format:
+//
+// {"models": [{"path": "AntiqueCamera.glb", "translation": [x, y, z], "rotation_deg": [x, y, z] (or
+//   "rotation_quat": [x, y, z, w]), "scale": s or [x, y, z]}],
+//  "procedural": [{"name": "box", "size": 1.0}],            // built-in scenes, with their parameters
+//  "ground": {"enabled": true, "margin": 1.0, "y": 0.0},    // y defaults to the geometry's min y
+//  "camera": {"eye": [..], "target": [..], "fovy_deg": 45, "size": [1280, 720]}, "cameras": [...],
+//  "lights": [{"type": "spot", "position": [..], "target": [..], "fov_deg": 60, "radius": 0.5},
+//             {"type": "dir", "direction": [..], "angular_radius_deg": 0.5}]}
+//
+// Model paths are relative to the JSON file's folder and must stay inside it. Cameras and lights given in
+// the file replace those the built-in scenes bring. Throws SceneError "FILE: /json/pointer: message".
+Scene loadSceneFile(const std::string& path, const LoadOptions& options = {});
+
+namespace detail {
+Scene loadSceneFileResolved(const std::filesystem::path& path, const std::string& display, const LoadOptions& options,
+                            FileReader& reader);
+}  // namespace detail
+
+}  // namespace penumbra

@@ -1,0 +1,132 @@
+// Blur stage host wrapper: plans the passes (direct weights or box radii), then records them. Gaussians
+// of large sigma use the three-box approximation of Wells (1986) with Kovesi's choice of widths.
+#include "host/stages/blur.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "host/cl/kernel.h"
+#include "kernels/shared/blur.h"
+
+namespace penumbra {
+namespace {
+
+constexpr int kGaussianBoxes = 3;  // three boxes match a Gaussian's variance to within one texel width
+
+// Widths of n boxes whose variances sum to sigma^2 as closely as odd widths allow.
+std::vector<int> gaussianBoxRadii(double sigma) {
+  const int n = kGaussianBoxes;
+  int lower = static_cast<int>(std::floor(std::sqrt(12.0 * sigma * sigma / n + 1.0)));
+  if (lower % 2 == 0) --lower;
+  const double m = (12.0 * sigma * sigma - n * lower * lower - 4.0 * n * lower - 3.0 * n) / (-4.0 * lower - 4.0);
+  const int smaller = static_cast<int>(std::lround(m));
+  std::vector<int> radii;
+  for (int i = 0; i < n; ++i) radii.push_back(((i < smaller ? lower : lower + 2) - 1) / 2);
+  return radii;
+}
+
+std::vector<float> gaussianWeights(double sigma, int radius) {
+  std::vector<double> w(2 * radius + 1);
+  double total = 0.0;
+  for (int k = -radius; k <= radius; ++k) total += w[k + radius] = std::exp(-0.5 * k * k / (sigma * sigma));
+  std::vector<float> out;
+  for (double v : w) out.push_back(static_cast<float>(v / total));
+  return out;
+}
+
+// Rows of a blur_columns tile: as many as fit a 32 KiB block (leaves room for two work-groups per SM).
+int columnTileRows(int radius, size_t texelBytes, uint64_t localLimit) {
+  const uint64_t budget = std::min<uint64_t>(32 * 1024, localLimit);
+  int rows = 64;
+  while (rows > BLUR_ROWS && uint64_t(rows + 2 * radius) * BLUR_COLUMN_TILE * texelBytes > budget) rows /= 2;
+  return rows;
+}
+
+}  // namespace
+
+BlurPlan planBlur(const BlurConfig& config) {
+  const double scale = config.scale;
+  if (!std::isfinite(scale) || scale < 0.0) throw std::invalid_argument(fmt::format("blur: scale {}", scale));
+  BlurPlan plan;
+  if (config.filter == BlurFilter::Gaussian) {
+    const double sigma = double(config.sigma) * scale;
+    if (!std::isfinite(sigma) || sigma < 0.0) throw std::invalid_argument(fmt::format("blur: sigma {}", sigma));
+    plan.radius = static_cast<int>(std::ceil(3.0 * sigma));
+    plan.direct = config.method == BlurMethod::Direct ||
+                  (config.method == BlurMethod::Auto && plan.radius <= BLUR_MAX_DIRECT_RADIUS);
+    if (plan.radius == 0)
+      plan.weights = {1.0f};
+    else if (plan.direct)
+      plan.weights = gaussianWeights(sigma, plan.radius);
+    else
+      plan.boxRadii = gaussianBoxRadii(sigma);
+  } else {
+    if (config.radius < 0) throw std::invalid_argument(fmt::format("blur: box radius {}", config.radius));
+    plan.radius = static_cast<int>(std::lround(config.radius * scale));
+    plan.direct = config.method == BlurMethod::Direct ||
+                  (config.method == BlurMethod::Auto && plan.radius <= BLUR_MAX_DIRECT_RADIUS);
+    if (plan.direct)
+      plan.weights.assign(2 * plan.radius + 1, 1.0f / float(2 * plan.radius + 1));
+    else
+      plan.boxRadii = {plan.radius};
+  }
+  plan.direct = plan.direct || plan.radius == 0;
+  if (plan.direct && plan.radius > BLUR_DIRECT_RADIUS_LIMIT)
+    throw std::invalid_argument(
+        fmt::format("blur: direct radius {} above {}; use running sums", plan.radius, BLUR_DIRECT_RADIUS_LIMIT));
+  if (plan.direct) plan.boxRadii.clear();
+  return plan;
+}
+
+std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>& out, Buffer<float>& scratch,
+                            const ImageShape& shape, const BlurConfig& config) {
+  checkShape(shape, "blur");
+  checkBufferSize(in.size(), shape.count(), "blur", "input");
+  checkBufferSize(out.size(), shape.count(), "blur", "output");
+  checkBufferSize(scratch.size(), shape.count(), "blur", "scratch");
+  const BlurPlan plan = planBlur(config);
+  if (shape.texels() == 0) return {};
+  const std::string options = fmt::format("-DBLUR_CHANNELS={}", shape.channels);
+  const size_t texelBytes = sizeof(float) * shape.channels;
+  const uint32_t w = shape.width, h = shape.height;
+  std::vector<cl::Event> events;
+
+  if (plan.direct) {
+    Buffer<float> weights(ctx, std::span<const float>(plan.weights), CL_MEM_READ_ONLY);
+    const int r = plan.radius;
+    Kernel rows(ctx, "kernels/blur.cl", "blur_rows", "blur", options);
+    rows.args(in, scratch, w, h, r, weights, LocalMem{size_t(BLUR_ROWS) * (BLUR_ROW_TILE + 2 * r) * texelBytes});
+    events.push_back(rows.launch(Range(w, h), Range(BLUR_ROW_TILE, BLUR_ROWS)));
+    const int tileRows = columnTileRows(r, texelBytes, ctx.info().localMemBytes);
+    Kernel columns(ctx, "kernels/blur.cl", "blur_columns", "blur", options);
+    columns.args(scratch, out, w, h, r, weights, tileRows,
+                 LocalMem{size_t(tileRows + 2 * r) * BLUR_COLUMN_TILE * texelBytes});
+    const size_t groupsY = (h + tileRows - 1) / tileRows;
+    events.push_back(columns.launch(Range(w, groupsY * BLUR_ROWS), Range(BLUR_COLUMN_TILE, BLUR_ROWS)));
+    return events;
+  }
+
+  // Running sums ping-pong in -> scratch -> out -> scratch ... so that the last pass writes `out`.
+  Kernel rows(ctx, "kernels/blur.cl", "blur_box_rows", "blur", options);
+  Kernel columns(ctx, "kernels/blur.cl", "blur_box_columns", "blur", options);
+  const size_t passes = 2 * plan.boxRadii.size();
+  const Buffer<float>* src = &in;
+  for (size_t pass = 0; pass < passes; ++pass) {
+    Buffer<float>* dst = (passes - pass) % 2 == 1 ? &out : &scratch;
+    const int r = plan.boxRadii[pass % plan.boxRadii.size()];
+    const int segment = std::max(BLUR_SEGMENT, 2 * r + 1);
+    if (pass < plan.boxRadii.size()) {
+      rows.args(*src, *dst, w, h, r, segment);
+      events.push_back(rows.launch(Range((w + segment - 1) / segment, h), Range(1, 64)));
+    } else {
+      columns.args(*src, *dst, w, h, r, segment);
+      events.push_back(columns.launch(Range(w, (h + segment - 1) / segment), Range(64, 1)));
+    }
+    src = dst;
+  }
+  return events;
+}
+
+}  // namespace penumbra

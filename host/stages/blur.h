@@ -1,0 +1,43 @@
+// Blur stage: separable Gaussian or box filter with clamp-to-edge over 1-, 2- or 4-channel float images.
+// Small footprints run a direct weighted sum through local memory; large ones run box running sums whose
+// cost does not depend on the radius (a Gaussian becomes three boxes, Wells 1986). Kernels: kernels/blur.cl.
+#pragma once
+
+#include <CL/opencl.hpp>
+#include <vector>
+
+#include "host/cl/buffer.h"
+#include "host/cl/context.h"
+#include "host/stages/image_shape.h"
+
+namespace penumbra {
+
+enum class BlurFilter { Gaussian, Box };
+enum class BlurMethod { Auto, Direct, RunningSums };
+
+struct BlurConfig {
+  BlurFilter filter = BlurFilter::Gaussian;
+  float sigma = 1.0f;  // Gaussian standard deviation in texels (taps out to ceil(3 sigma))
+  int radius = 1;      // box half-width in texels: 2 radius + 1 taps
+  float scale = 1.0f;  // per-split footprint scale (a parallel split's zoom): multiplies sigma and radius
+  BlurMethod method = BlurMethod::Auto;
+};
+
+// What a configuration runs, computed on the host before anything is enqueued.
+struct BlurPlan {
+  bool direct = true;
+  int radius = 0;              // direct: taps are [-radius, radius]
+  std::vector<float> weights;  // direct: 2 radius + 1 normalised weights
+  std::vector<int> boxRadii;   // running sums: one box per pass, applied along rows then columns
+};
+
+// Throws std::invalid_argument for non-finite or negative sizes, or a direct radius above
+// BLUR_DIRECT_RADIUS_LIMIT.
+BlurPlan planBlur(const BlurConfig& config);
+
+// Blurs `in` into `out` (which may be the same buffer) through `scratch`; all hold shape.count() floats.
+// Launches "blur/blur_rows" + "blur/blur_columns", or "blur/blur_box_rows" + "blur/blur_box_columns" per box.
+std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>& out, Buffer<float>& scratch,
+                            const ImageShape& shape, const BlurConfig& config);
+
+}  // namespace penumbra

@@ -1,0 +1,92 @@
+// Moments stage host wrapper: validates the configuration, fills MomentsParams and launches the kernel of
+// the requested encoding over one work-item per texel.
+#include "host/stages/moments.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "host/cl/kernel.h"
+#include "host/stages/image_shape.h"
+
+namespace penumbra {
+namespace {
+
+const char* entryPoint(MomentKind kind) {
+  switch (kind) {
+    case MomentKind::Vsm:
+      return "moments_vsm";
+    case MomentKind::Evsm2:
+      return "moments_evsm2";
+    case MomentKind::Evsm4:
+      return "moments_evsm4";
+    case MomentKind::Lvsm:
+      return "moments_lvsm";
+    case MomentKind::Msm:
+      return "moments_msm";
+  }
+  throw std::invalid_argument("moments: unknown moment kind");
+}
+
+void validate(const MomentsConfig& config) {
+  if (!std::isfinite(config.depthNear) || !std::isfinite(config.depthFar) || !(config.depthFar > config.depthNear))
+    throw std::invalid_argument(
+        fmt::format("moments: depth range [{}, {}] must be finite with far > near", config.depthNear, config.depthFar));
+  if (config.kind != MomentKind::Lvsm) return;
+  if (config.layers.empty() || config.layers.size() > MOMENTS_MAX_LAYERS)
+    throw std::invalid_argument(
+        fmt::format("moments: {} LVSM layers (1..{})", config.layers.size(), MOMENTS_MAX_LAYERS));
+  for (size_t i = 0; i < config.layers.size(); ++i)
+    if (!(config.layers[i].q > config.layers[i].p))
+      throw std::invalid_argument(
+          fmt::format("moments: LVSM layer {} has q {} <= p {}", i, config.layers[i].q, config.layers[i].p));
+}
+
+}  // namespace
+
+float evsmMaxExponent(MomentStorage storage) {
+  return storage == MomentStorage::Float16 ? MOMENTS_EVSM_MAX_EXPONENT_FP16 : MOMENTS_EVSM_MAX_EXPONENT_FP32;
+}
+
+float evsmClampExponent(float exponent, MomentStorage storage) {
+  if (std::isnan(exponent)) return 0.0f;
+  return std::clamp(exponent, 0.0f, evsmMaxExponent(storage));
+}
+
+uint32_t momentChannels(MomentKind kind) { return kind == MomentKind::Evsm4 || kind == MomentKind::Msm ? 4 : 2; }
+
+uint32_t momentPlanes(const MomentsConfig& config) {
+  return config.kind == MomentKind::Lvsm ? static_cast<uint32_t>(config.layers.size()) : 1;
+}
+
+cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
+                         const MomentsConfig& config, Buffer<float>& out) {
+  validate(config);
+  checkShape({width, height, 1}, "moments");
+  const size_t texels = size_t(width) * height;
+  checkBufferSize(depth.size(), texels, "moments", "depth");
+  checkBufferSize(out.size(), texels * momentChannels(config.kind) * momentPlanes(config), "moments", "output");
+
+  MomentsParams params{};
+  params.width = width;
+  params.height = height;
+  params.layerCount = momentPlanes(config);
+  params.depthNear = config.depthNear;
+  params.depthInvRange = 1.0f / (config.depthFar - config.depthNear);
+  params.expPositive = evsmClampExponent(config.evsmPositive, config.storage);
+  params.expNegative = evsmClampExponent(config.evsmNegative, config.storage);
+  if (!std::isfinite(params.depthInvRange)) throw std::invalid_argument("moments: depth range too small for fp32");
+
+  Kernel kernel(ctx, "kernels/moments.cl", entryPoint(config.kind), "moments");
+  const Range global(width, height), local(16, 8);
+  if (config.kind != MomentKind::Lvsm) return kernel.args(depth, out, params).launch(global, local);
+
+  std::vector<cl_float2> layers(config.layers.size());
+  for (size_t i = 0; i < layers.size(); ++i) layers[i] = {{config.layers[i].p, config.layers[i].q}};
+  Buffer<cl_float2> layerBuffer(ctx, std::span<const cl_float2>(layers), CL_MEM_READ_ONLY);
+  return kernel.args(depth, out, layerBuffer, params).launch(global, local);
+}
+
+}  // namespace penumbra

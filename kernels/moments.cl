@@ -1,0 +1,56 @@
+// Moment generation from a rasterized light depth map: one kernel per encoding (VSM, EVSM2, EVSM4, LVSM,
+// MSM), one work-item per texel. Warps and the invalid-depth convention live in shared/moments.h;
+// outputs are interleaved float2/float4 texels, LVSM as one float2 plane per layer.
+#include "kernels/shared/moments.h"
+
+#define MOMENTS_TEXEL(p)                                  \
+  uint x = get_global_id(0), y = get_global_id(1);        \
+  if (x >= (p).width || y >= (p).height) return;          \
+  uint texel = y * (p).width + x
+
+// VSM (Donnelly & Lauritzen 2006): (d, d^2).
+__kernel void moments_vsm(__global const float* depth, __global float2* out, MomentsParams p) {
+  MOMENTS_TEXEL(p);
+  float d = moments_normalize(depth[texel], p.depthNear, p.depthInvRange);
+  out[texel] = (float2)(d, d * d);
+}
+
+// EVSM2: the positive warp only, (e^(c+ x), e^(2 c+ x)).
+__kernel void moments_evsm2(__global const float* depth, __global float2* out, MomentsParams p) {
+  MOMENTS_TEXEL(p);
+  float d = moments_normalize(depth[texel], p.depthNear, p.depthInvRange);
+  float w = moments_evsm_warp(d, p.expPositive, p.expNegative).x;
+  out[texel] = (float2)(w, w * w);
+}
+
+// EVSM4: both warps, (pos, pos^2, neg, neg^2).
+__kernel void moments_evsm4(__global const float* depth, __global float4* out, MomentsParams p) {
+  MOMENTS_TEXEL(p);
+  float d = moments_normalize(depth[texel], p.depthNear, p.depthInvRange);
+  float2 w = moments_evsm_warp(d, p.expPositive, p.expNegative);
+  out[texel] = (float4)(w.x, w.x * w.x, w.y, w.y * w.y);
+}
+
+// LVSM: plane `l` holds (phi_l(d), phi_l(d)^2) for the layer [p_l, q_l] given in normalised depth.
+__kernel void moments_lvsm(__global const float* depth, __global float2* out, __constant float2* layers,
+                           MomentsParams p) {
+  MOMENTS_TEXEL(p);
+  float d = moments_normalize(depth[texel], p.depthNear, p.depthInvRange);
+  uint plane = p.width * p.height;
+  for (uint l = 0; l < p.layerCount; ++l) {
+    float w = moments_layer_warp(d, layers[l]);
+    out[l * plane + texel] = (float2)(w, w * w);
+  }
+}
+
+// MSM: four power moments through the quantization transform.
+__kernel void moments_msm(__global const float* depth, __global float4* out, MomentsParams p) {
+  MOMENTS_TEXEL(p);
+  out[texel] = moments_msm_encode(moments_normalize(depth[texel], p.depthNear, p.depthInvRange));
+}
+
+// Test hook: decodes optimized MSM moments back to power moments (used by tests and shading kernels).
+__kernel void moments_msm_decode_test(__global const float4* in, __global float4* out, uint count) {
+  uint i = get_global_id(0);
+  if (i < count) out[i] = moments_msm_decode(in[i]);
+}

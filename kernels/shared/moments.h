@@ -1,0 +1,81 @@
+// Moment shadow-map encodings shared by the moments stage and the techniques that shade with them: the
+// depth normalisation (invalid depth -> far), the EVSM exponential warps (Lauritzen, Salvi; GPU Pro 4 /
+// "Exponential VSM", 2008), the LVSM layer warp (Lauritzen & McCool 2008, eq. 6) and the MSM 4-moment
+// quantization transform (Peters & Klein 2015, "Moment Shadow Mapping", sec. 4 / supplementary listing).
+#ifndef PENUMBRA_KERNELS_SHARED_MOMENTS_H
+#define PENUMBRA_KERNELS_SHARED_MOMENTS_H
+
+#include "kernels/shared/common.h"
+
+// Largest EVSM exponent c such that the second warped moment e^(2c) (depth remapped to [-1,1]) and its
+// filtered sums stay finite: e^(2*42) = 3.0e36 leaves a factor ~100 of headroom below FLT_MAX (3.4e38)
+// for box sums; e^(2*5.54) = 65,000 is just below the largest half (65,504).
+#define MOMENTS_EVSM_MAX_EXPONENT_FP32 42.0f
+#define MOMENTS_EVSM_MAX_EXPONENT_FP16 5.54f
+#define MOMENTS_MAX_LAYERS 16u  // LVSM layers per map (one float2 plane each)
+
+// Arguments of every moments_* kernel (passed by value). Depth `d` is light depth as rasterized;
+// normalised depth is clamp((d - depthNear) * depthInvRange, 0, 1); NaN and +-INFINITY (background:
+// nothing drawn) normalise to 1, the far end, i.e. "no occluder".
+typedef struct MomentsParams {
+  uint width, height;  // texels; the output has width*height texels per plane
+  uint layerCount;     // LVSM: number of [p, q] layers (planes); otherwise 1
+  uint pad0;
+  float depthNear;      // light depth mapped to 0
+  float depthInvRange;  // 1 / (depthFar - depthNear), finite and > 0
+  float expPositive;    // EVSM c+ (already clamped on the host; the kernel clamps again)
+  float expNegative;    // EVSM c-
+} MomentsParams;
+
+#if PENUMBRA_HOST
+static_assert(sizeof(MomentsParams) == 32, "MomentsParams layout is shared with OpenCL C");
+static_assert(offsetof(MomentsParams, depthNear) == 16 && offsetof(MomentsParams, expNegative) == 28);
+#else
+
+// Normalised depth in [0, 1]; every invalid depth is the far value 1 (handled before any warp, so NaN
+// never reaches a filter).
+inline float moments_normalize(float depth, float depthNear, float depthInvRange) {
+  if (!isfinite(depth)) return 1.0f;
+  float d = (depth - depthNear) * depthInvRange;
+  return isnan(d) ? 1.0f : clamp(d, 0.0f, 1.0f);
+}
+
+// EVSM warps of normalised depth d: (e^(c+ x), -e^(-c- x)) with x = 2d - 1 in [-1, 1].
+inline float2 moments_evsm_warp(float d, float expPositive, float expNegative) {
+  float x = 2.0f * d - 1.0f;
+  float cp = clamp(expPositive, 0.0f, MOMENTS_EVSM_MAX_EXPONENT_FP32);
+  float cn = clamp(expNegative, 0.0f, MOMENTS_EVSM_MAX_EXPONENT_FP32);
+  return (float2)(exp(cp * x), -exp(-cn * x));
+}
+
+// LVSM layer warp (Lauritzen & McCool eq. 6): 0 below p, 1 above q, linear between.
+inline float moments_layer_warp(float d, float2 layer) {
+  return clamp((d - layer.x) / (layer.y - layer.x), 0.0f, 1.0f);
+}
+
+// MSM: the four power moments of d through the optimized quantization transform (row vector times
+// matrix, then +0.035955884801 on the first channel), so the moments survive 16-bit storage.
+inline float4 moments_msm_encode(float d) {
+  float d2 = d * d;
+  float4 b = (float4)(d, d2, d2 * d, d2 * d2);
+  float4 q;
+  q.x = dot(b, (float4)(-2.07224649f, 32.23703778f, -68.571074599f, 39.3703274134f)) + 0.035955884801f;
+  q.y = dot(b, (float4)(13.7948857237f, -59.4683975703f, 82.0359750338f, -35.364903257f));
+  q.z = dot(b, (float4)(0.105877704f, -1.9077466311f, 9.3496555107f, -6.6543490743f));
+  q.w = dot(b, (float4)(9.7924062118f, -33.7652110555f, 47.9456096605f, -23.9728048165f));
+  return q;
+}
+
+// Inverse of moments_msm_encode (filtered optimized moments back to power moments b1..b4).
+inline float4 moments_msm_decode(float4 q) {
+  q.x -= 0.035955884801f;
+  float4 b;
+  b.x = dot(q, (float4)(0.2227744146f, 0.0771972861f, 0.7926986636f, 0.0319417555f));
+  b.y = dot(q, (float4)(0.1549679261f, 0.1394629426f, 0.7963415838f, -0.1722823173f));
+  b.z = dot(q, (float4)(0.1451988946f, 0.2120202157f, 0.7258694464f, -0.2758014811f));
+  b.w = dot(q, (float4)(0.163127443f, 0.2591432266f, 0.6539092497f, -0.3376131734f));
+  return b;
+}
+
+#endif
+#endif

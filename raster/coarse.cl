@@ -1,0 +1,118 @@
+// Coarse rasterization, stage 3 of 4 (Laine & Karras 2011, section 4.3): one work-group per 128x128-pixel bin,
+// whose RASTER_COARSE_WG work-items walk the bin queue triangle by triangle and enter each triangle into the
+// queues of the 8x8 tiles whose samples it may cover. Work is proportional to the entries made, not to
+// tiles x triangles, so a bin crowded with small triangles stays cheap. Two passes keep memory bounded without
+// allocation: coarse_count counts entries per tile in local memory (local atomics) and writes each tile's count
+// and the bin's total (bin_scan then places bins in the tile queue); coarse_fill scans the counts inside the bin
+// and writes the entries below tileCapacity. Afterwards work-item i owns tile i of the bin. The order inside a
+// tile queue depends on local atomics, which the fine stage's total depth order makes irrelevant.
+#include "raster/constants.h"
+#include "raster/coverage.h"
+#include "raster/types.h"
+
+typedef struct {
+  int bin;            // index in the bin grid
+  int tileX0, tileY0; // the bin's first tile
+  int tile;           // this work-item's tile in the tile grid, -1 outside the viewport
+  uint begin, count;  // the bin's queue range, cut to the capacity
+} CoarseBin;
+
+static CoarseBin coarseBin(const RasterViewParams* p, __global const uint* binCount, __global const uint* binOffset) {
+  CoarseBin b;
+  const int group = get_group_id(0), lid = get_local_id(0);
+  const int bx = p->binX0 + group % p->binsAcross, by = p->binY0 + group / p->binsAcross;
+  b.bin = by * p->binsX + bx;
+  b.tileX0 = bx << RASTER_BIN_LOG2, b.tileY0 = by << RASTER_BIN_LOG2;
+  const int tx = b.tileX0 + (lid & (RASTER_BIN_TILES - 1)), ty = b.tileY0 + (lid >> RASTER_BIN_LOG2);
+  b.tile = tx < p->tilesX && ty < p->tilesY ? ty * p->tilesX + tx : -1;
+  const uint offset = binOffset[b.bin];
+  b.begin = offset;
+  b.count = offset < p->binCapacity ? min(binCount[b.bin], p->binCapacity - offset) : 0;
+  return b;
+}
+
+// Calls BODY(localTile) for every tile of bin `b` whose samples the record `t` may cover. The candidate box lies
+// inside the scissor, so cutting each tile to the box keeps the test inside the scissor too.
+#define COARSE_FOR_EACH_TILE(t, b, BODY)                                                                    \
+  do {                                                                                                      \
+    const int tx0_ = max((int)(t).bbox[0] >> RASTER_TILE_LOG2, (b).tileX0);                                 \
+    const int ty0_ = max((int)(t).bbox[1] >> RASTER_TILE_LOG2, (b).tileY0);                                 \
+    const int tx1_ = min((int)(t).bbox[2] >> RASTER_TILE_LOG2, (b).tileX0 + RASTER_BIN_TILES - 1);          \
+    const int ty1_ = min((int)(t).bbox[3] >> RASTER_TILE_LOG2, (b).tileY0 + RASTER_BIN_TILES - 1);          \
+    for (int ty_ = ty0_; ty_ <= ty1_; ++ty_)                                                                \
+      for (int tx_ = tx0_; tx_ <= tx1_; ++tx_) {                                                            \
+        const int px_ = tx_ << RASTER_TILE_LOG2, py_ = ty_ << RASTER_TILE_LOG2;                             \
+        bool hit_;                                                                                          \
+        RASTER_RECT_OVERLAPS(t, px_, py_, px_ + RASTER_TILE_SIZE - 1, py_ + RASTER_TILE_SIZE - 1, hit_);    \
+        if (hit_) BODY(((ty_ - (b).tileY0) << RASTER_BIN_LOG2) + (tx_ - (b).tileX0));                       \
+      }                                                                                                     \
+  } while (0)
+
+// Inclusive work-group scan of `value` (Hillis-Steele in local memory); every work-item must call it.
+static ulong coarseScan(ulong value, __local ulong* sums) {
+  const uint lid = get_local_id(0);
+  barrier(CLK_LOCAL_MEM_FENCE);
+  sums[lid] = value;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (uint step = 1; step < RASTER_COARSE_WG; step <<= 1) {
+    ulong add = lid >= step ? sums[lid - step] : 0;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    sums[lid] += add;
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+  return sums[lid];
+}
+
+// Writes tileCount[tile] for the bin's tiles inside the viewport and binTileTotal[bin] (saturated to 2^32 - 1).
+__kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coarse_count(
+    __global const RasterTriangle* tris, __global const uint* binEntries, __global const uint* binCount,
+    __global const uint* binOffset, __global uint* tileCount, __global uint* binTileTotal, const RasterViewParams p) {
+  __local uint hits[RASTER_COARSE_WG];
+  __local ulong sums[RASTER_COARSE_WG];
+  const CoarseBin b = coarseBin(&p, binCount, binOffset);
+  const uint lid = get_local_id(0);
+  hits[lid] = 0;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (uint j = lid; j < b.count; j += RASTER_COARSE_WG) {
+    const RasterTriangle t = tris[binEntries[b.begin + j]];
+#define COARSE_COUNT_ONE(localTile) atomic_inc(&hits[localTile])
+    COARSE_FOR_EACH_TILE(t, b, COARSE_COUNT_ONE);
+#undef COARSE_COUNT_ONE
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  const uint own = hits[lid];
+  if (b.tile >= 0) tileCount[b.tile] = own;
+  const ulong total = coarseScan(own, sums);
+  if (lid == RASTER_COARSE_WG - 1) binTileTotal[b.bin] = total < RASTER_SATURATED ? (uint)total : RASTER_SATURATED;
+}
+
+// Writes tileOffset[tile] = binTileBase[bin] + the entries of the bin's tiles before it, and the tile's entries
+// (indices of set-up records) at tileEntries[tileOffset ...], below tileCapacity.
+__kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coarse_fill(
+    __global const RasterTriangle* tris, __global const uint* binEntries, __global const uint* binCount,
+    __global const uint* binOffset, __global const uint* tileCount, __global const uint* binTileBase,
+    __global uint* tileOffset, __global uint* tileEntries, const RasterViewParams p) {
+  __local uint base[RASTER_COARSE_WG], cursor[RASTER_COARSE_WG];
+  __local ulong sums[RASTER_COARSE_WG];
+  const CoarseBin b = coarseBin(&p, binCount, binOffset);
+  const uint lid = get_local_id(0);
+  const uint own = b.tile >= 0 ? tileCount[b.tile] : 0;
+  const ulong before = coarseScan(own, sums) - own + binTileBase[b.bin];
+  const uint offset = before < RASTER_SATURATED ? (uint)before : RASTER_SATURATED;
+  if (b.tile >= 0) tileOffset[b.tile] = offset;
+  base[lid] = offset;
+  cursor[lid] = 0;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  const uint capacity = p.tileCapacity;
+  for (uint j = lid; j < b.count; j += RASTER_COARSE_WG) {
+    const uint index = binEntries[b.begin + j];
+    const RasterTriangle t = tris[index];
+#define COARSE_FILL_ONE(localTile)                                           \
+  do {                                                                       \
+    const uint slot_ = atomic_inc(&cursor[localTile]), at_ = base[localTile]; \
+    if (at_ < capacity && slot_ < capacity - at_) tileEntries[at_ + slot_] = index; \
+  } while (0)
+    COARSE_FOR_EACH_TILE(t, b, COARSE_FILL_ONE);
+#undef COARSE_FILL_ONE
+  }
+}

@@ -1,0 +1,41 @@
+// Coverage tests shared by the bin, coarse and fine kernels (OpenCL C only): exact 64-bit edge functions on
+// snapped subpixel coordinates with the top-left fill rule, and the conservative "can this triangle cover any
+// sample of a pixel rectangle" test (the maximum of a linear edge function over a rectangle of samples is at
+// one of its corners, so one evaluation per edge decides it exactly).
+#ifndef PENUMBRA_RASTER_COVERAGE_H
+#define PENUMBRA_RASTER_COVERAGE_H
+
+#include "raster/constants.h"
+#include "raster/types.h"
+
+// Subpixel coordinate of the centre of pixel column/row `pixel` (< 2^21 for pixels < 8192).
+static inline int rasterSample(int pixel) { return (pixel << RASTER_SUBPIXEL_LOG2) + RASTER_SAMPLE_OFFSET; }
+
+// e_k at a sample: |a * x|, |b * y| < 2^51 and |c| < 2^59, so the sum is exact. 32 x 32 -> 64-bit products (one
+// wide multiply on GPUs).
+static inline long rasterEdgeAt(int a, int b, long c, int x, int y) { return (long)a * (long)x + (long)b * (long)y + c; }
+
+// Whether edge k accepts a sample with edge value e: inside, or on an edge that owns its samples.
+static inline bool rasterEdgeAccepts(long e, uint flags, int k) {
+  return e > 0 || (e == 0 && (flags & (RASTER_FLAG_OWNS_EDGE0 << k)) != 0);
+}
+
+// Whether some sample of pixels [x0, x1] x [y0, y1] (inclusive, non-empty) passes edge k.
+static inline bool rasterEdgeReaches(int a, int b, long c, uint flags, int k, int x0, int y0, int x1, int y1) {
+  int x = rasterSample(a > 0 ? x1 : x0), y = rasterSample(b > 0 ? y1 : y0);
+  return rasterEdgeAccepts(rasterEdgeAt(a, b, c, x, y), flags, k);
+}
+
+// The rectangle test for a triangle record in any address space: the rectangle is first cut to the triangle's
+// candidate box; every edge must reach the rest. Not exact (the three half-planes may each reach a different
+// sample), only conservative, which is all binning needs.
+#define RASTER_RECT_OVERLAPS(t, rx0, ry0, rx1, ry1, result)                                                    \
+  do {                                                                                                       \
+    int ox0_ = max((int)(t).bbox[0], (rx0)), oy0_ = max((int)(t).bbox[1], (ry0));                           \
+    int ox1_ = min((int)(t).bbox[2], (rx1)), oy1_ = min((int)(t).bbox[3], (ry1));                           \
+    (result) = ox0_ <= ox1_ && oy0_ <= oy1_;                                                                 \
+    for (int k_ = 0; k_ < 3 && (result); ++k_)                                                               \
+      (result) = rasterEdgeReaches((t).a[k_], (t).b[k_], (t).c[k_], (t).flags, k_, ox0_, oy0_, ox1_, oy1_); \
+  } while (0)
+
+#endif

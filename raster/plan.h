@@ -1,0 +1,33 @@
+// Planning one draw of the rasterizer (plan, then record): the validated view turned into the kernels' parameter
+// block, the bin and tile grids and the launched ranges, and the per-device work-group table row.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "host/cl/device.h"
+#include "raster/rasterizer.h"
+#include "raster/types.h"
+
+namespace penumbra::raster {
+
+// One row of the work-group table in raster/constants.h.
+struct WorkGroups {
+  size_t setup = 0, bin = 0, gbuffer = 0;
+};
+WorkGroups workGroupsFor(const DeviceInfo& device);
+
+struct Plan {
+  RasterViewParams params{};  // everything but the capacities, which the recording fills in
+  size_t pixels = 0;          // width * height
+  size_t bins = 0, tiles = 0;                  // grid sizes over the whole viewport
+  size_t launchedBins = 0, launchedTiles = 0;  // those overlapping the scissor (coarse / fine work-groups)
+  size_t scissorPixels = 0;                    // pixels inside the scissor (G-buffer work-items)
+  bool empty() const { return scissorPixels == 0; }
+};
+
+// Validates `view` (std::invalid_argument naming the problem) and plans a draw of `triangleCount` triangles over
+// `vertexCount` vertices.
+Plan makePlan(const RasterView& view, uint32_t triangleCount, uint32_t vertexCount);
+
+}  // namespace penumbra::raster

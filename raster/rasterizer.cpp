@@ -1,0 +1,186 @@
+// The rasterizer's host side: scene upload and validation, queue sizing, and the bounded-memory loop of
+// nvdiffrast's RasterImpl::drawTriangles: record every stage, read the counters once, grow whatever overflowed to
+// what the run asked for and re-run; a clean error past the hard maximum.
+#include "raster/rasterizer.h"
+
+#include <algorithm>
+#include <limits>
+#include <span>
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "host/cl/error.h"
+#include "raster/plan.h"
+#include "raster/stages.h"
+
+namespace penumbra {
+namespace {
+
+constexpr int kMaxRounds = 8;  // 3 queues, each grows at most twice (once more when an upstream queue overflowed)
+
+template <class T>
+void ensureTarget(Context& ctx, Buffer<T>& buffer, size_t count, const T& background) {
+  if (buffer.size() == count) return;
+  buffer.allocate(ctx, count);
+  buffer.fill(ctx, background);  // pixels outside a scissor are defined from the start
+}
+
+std::span<const float> floats(const std::vector<glm::vec3>& v) {
+  static_assert(sizeof(glm::vec3) == 3 * sizeof(float));
+  return {reinterpret_cast<const float*>(v.data()), v.size() * 3};
+}
+
+void validateScene(const Scene& scene) {
+  if (scene.triangles.size() >= RASTER_NO_TRIANGLE || scene.positions.size() > RASTER_NO_TRIANGLE)
+    throw std::invalid_argument(fmt::format("raster scene: {} triangles over {} vertices exceed 32-bit ids",
+                                            scene.triangles.size(), scene.positions.size()));
+  if (!scene.normals.empty() && scene.normals.size() != scene.positions.size())
+    throw std::invalid_argument(fmt::format("raster scene: {} normals for {} positions", scene.normals.size(),
+                                            scene.positions.size()));
+  if (!scene.objectIds.empty() && scene.objectIds.size() != scene.triangles.size())
+    throw std::invalid_argument(fmt::format("raster scene: {} object ids for {} triangles", scene.objectIds.size(),
+                                            scene.triangles.size()));
+  for (size_t t = 0; t < scene.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      if (scene.triangles[t][k] >= scene.positions.size())
+        throw std::invalid_argument(fmt::format("raster scene: triangle {} index {} out of range (vertex count {})",
+                                                t, scene.triangles[t][k], scene.positions.size()));
+}
+
+}  // namespace
+
+struct Rasterizer::Impl {
+  explicit Impl(Context& context) : ctx(context), stages(context) { upload(Scene{}); }
+
+  void upload(const Scene& scene);
+  void run(const raster::Plan& plan, Buffer<float>& depth, Buffer<uint32_t>& triangleIds);
+  void sizeQueues(const raster::Plan& plan);
+  bool grow(const char* queue, const char* kernel, uint32_t& capacity, uint64_t requested, size_t recordBytes);
+
+  Context& ctx;
+  raster::Stages stages;
+  raster::SceneBuffers scene;
+  raster::Queues queues;
+  RasterCapacities capacities;
+  bool capacitiesChosen = false;  // false: size from the next draw (initial or automatic)
+  RasterStats stats;
+};
+
+void Rasterizer::Impl::upload(const Scene& s) {
+  validateScene(s);
+  scene.vertexCount = static_cast<uint32_t>(s.positions.size());
+  scene.triangleCount = static_cast<uint32_t>(s.triangles.size());
+  scene.positions = Buffer<float>(ctx, floats(s.positions), CL_MEM_READ_ONLY);
+  std::vector<glm::vec3> zeroNormals;
+  if (s.normals.empty()) zeroNormals.assign(s.positions.size(), glm::vec3(0));  // G-buffer: geometric normals
+  scene.normals = Buffer<float>(ctx, floats(s.normals.empty() ? zeroNormals : s.normals), CL_MEM_READ_ONLY);
+  static_assert(sizeof(glm::uvec3) == 3 * sizeof(uint32_t));
+  scene.triangles = Buffer<uint32_t>(
+      ctx, std::span<const uint32_t>(reinterpret_cast<const uint32_t*>(s.triangles.data()), s.triangles.size() * 3),
+      CL_MEM_READ_ONLY);
+  std::vector<uint32_t> objectIds = s.objectIds;
+  objectIds.resize(s.triangles.size(), 0);
+  scene.objectIds = Buffer<uint32_t>(ctx, std::span<const uint32_t>(objectIds), CL_MEM_READ_ONLY);
+  capacitiesChosen = false;
+}
+
+// Capacities: the caller's initial ones, else estimates from the scene and grid; then buffers to match.
+void Rasterizer::Impl::sizeQueues(const raster::Plan& plan) {
+  raster::Queues& q = queues;
+  if (!capacitiesChosen) {
+    const size_t t = scene.triangleCount;
+    auto pick = [](size_t chosen, size_t estimate) {
+      return static_cast<uint32_t>(std::min<size_t>(chosen != 0 ? chosen : estimate, RASTER_SATURATED - 1));
+    };
+    q.extraCapacity = pick(capacities.extraTriangles, 1024 + t / 8);
+    q.binCapacity = pick(capacities.binEntries, 4096 + 2 * t);
+    q.tileCapacity = pick(capacities.tileEntries, 16384 + 4 * t + 2 * plan.tiles);
+    capacitiesChosen = true;
+  }
+  const size_t records = size_t{scene.triangleCount} + q.extraCapacity;
+  if (q.records.size() != records) q.records.allocate(ctx, records);
+  if (q.counters.empty()) {
+    q.counters.allocate(ctx, 1);
+    for (Buffer<uint32_t>* b : {&q.binCount, &q.binOffset, &q.binCursor, &q.binTileTotal, &q.binTileBase})
+      b->allocate(ctx, RASTER_MAX_BINS);
+  }
+  if (q.tileCount.size() < plan.tiles) {
+    q.tileCount.allocate(ctx, plan.tiles);
+    q.tileOffset.allocate(ctx, plan.tiles);
+  }
+  if (q.binEntries.size() != q.binCapacity) q.binEntries.allocate(ctx, q.binCapacity);
+  if (q.tileEntries.size() != q.tileCapacity) q.tileEntries.allocate(ctx, q.tileCapacity);
+}
+
+// Grows `capacity` when the run asked for more; throws past the hard maximum. Returns whether it grew.
+bool Rasterizer::Impl::grow(const char* queue, const char* kernel, uint32_t& capacity, uint64_t requested,
+                            size_t recordBytes) {
+  if (requested <= capacity) return false;
+  const uint64_t hardMax = std::min<uint64_t>({capacities.maxEntries, ctx.info().maxAllocBytes / recordBytes,
+                                               RASTER_SATURATED - 1});
+  if (requested > hardMax)
+    throw ClError(CL_OUT_OF_RESOURCES,
+                  fmt::format("{} queue needs {} entries (capacity {}), more than the hard maximum {}", queue,
+                              requested, capacity, hardMax),
+                  kernel, "raster");
+  capacity = static_cast<uint32_t>(std::min<uint64_t>(requested + requested / 4, hardMax));
+  return true;
+}
+
+void Rasterizer::Impl::run(const raster::Plan& plan, Buffer<float>& depth, Buffer<uint32_t>& triangleIds) {
+  stats = RasterStats{};
+  stats.trianglesIn = scene.triangleCount;
+  if (plan.empty()) return;
+  for (int round = 0;; ++round) {
+    if (round == kMaxRounds)
+      throw std::logic_error(fmt::format("raster: queues still overflow after {} rounds", kMaxRounds));
+    sizeQueues(plan);
+    stages.record(plan, scene, queues, depth, triangleIds);
+    const RasterCounters counters = queues.counters.download(ctx).front();
+    stats.trianglesSetUp = counters.setUp;
+    stats.binEntries = counters.binEntries;
+    stats.tileEntries = counters.tileEntries;
+    bool grew = grow("extra triangle", "setup_triangles", queues.extraCapacity, counters.extraTriangles,
+                     sizeof(RasterTriangle));
+    grew |= grow("bin", "bin_fill", queues.binCapacity, counters.binEntries, sizeof(uint32_t));
+    grew |= grow("tile", "coarse_fill", queues.tileCapacity, counters.tileEntries, sizeof(uint32_t));
+    if (!grew) return;
+    ++stats.retries;
+  }
+}
+
+Rasterizer::Rasterizer(Context& ctx) : impl_(std::make_unique<Impl>(ctx)) {}
+Rasterizer::~Rasterizer() = default;
+
+void Rasterizer::setScene(const Scene& scene) { impl_->upload(scene); }
+
+void Rasterizer::setCapacities(const RasterCapacities& capacities) {
+  impl_->capacities = capacities;
+  impl_->capacitiesChosen = false;
+}
+
+const RasterStats& Rasterizer::stats() const { return impl_->stats; }
+
+void Rasterizer::draw(const RasterView& view, RasterTargets& targets) {
+  const raster::Plan plan = raster::makePlan(view, impl_->scene.triangleCount, impl_->scene.vertexCount);
+  ensureTarget(impl_->ctx, targets.depth, plan.pixels, std::numeric_limits<float>::infinity());
+  ensureTarget(impl_->ctx, targets.triangleId, plan.pixels, kNoTriangle);
+  impl_->run(plan, targets.depth, targets.triangleId);
+}
+
+void Rasterizer::drawGBuffer(const RasterView& view, GBuffer& g) {
+  const raster::Plan plan = raster::makePlan(view, impl_->scene.triangleCount, impl_->scene.vertexCount);
+  Context& ctx = impl_->ctx;
+  g.width = view.width, g.height = view.height;
+  ensureTarget(ctx, g.depth, plan.pixels, std::numeric_limits<float>::infinity());
+  ensureTarget(ctx, g.triangleId, plan.pixels, kNoTriangle);
+  ensureTarget(ctx, g.position, plan.pixels, cl_float4{});
+  ensureTarget(ctx, g.normal, plan.pixels, cl_float4{});
+  ensureTarget(ctx, g.objectId, plan.pixels, kNoTriangle);
+  impl_->run(plan, g.depth, g.triangleId);
+  if (!plan.empty()) impl_->stages.gbuffer(plan, impl_->scene, g);
+}
+
+}  // namespace penumbra

@@ -1,0 +1,209 @@
+// Triangle setup, stage 1 of 4 (Laine & Karras 2011, section 4.1): world -> clip transform, clipping against the
+// near plane and the guard band, snapping to 1/256 pixel, culling, and the exact edge functions of each triangle.
+// One work-item per input triangle. The first triangle it yields goes to the input triangle's own record (written
+// even when dropped, as invalid); further fan triangles from clipping are appended past triangleCount through
+// counters->extraTriangles, written only below extraCapacity (the host grows the buffer and re-runs).
+//
+// The snapping spec, bit-exact on every device with fp64 (tests/reference/raster_ref.cpp implements it on its own):
+//   clip = ((M[0] x + M[1] y) + M[2] z) + M[3] in double, from the float matrix and float position: every product
+//          is exact, so no compiler's fused multiply-add can change the result;
+//   clipping: Sutherland-Hodgman against z_c + w_c >= 0, then x_c + G w_c >= 0, G w_c - x_c >= 0, the same for y;
+//          an edge is cut from its inside vertex, v = v_in + t (v_out - v_in) with t = d_in / (d_in - d_out), so a
+//          shared edge is cut identically in both triangles (no cracks); fan from polygon vertex 0;
+//   X = rint((x_c / w_c + 1) * width * 128), Y likewise, in subpixels (double division is correctly rounded).
+// Supported range: viewports up to 8192^2, coordinates up to 2^19 .. 2^20 pixels beyond the viewport (guard band,
+// raster/constants.h). Without fp64 the same steps run in float: still watertight, but not bit-equal to the
+// reference, and clipping far outside the view loses depth accuracy (1e-3 relative at 2e5 units).
+#include "raster/constants.h"
+#include "raster/types.h"
+
+#ifdef PENUMBRA_HAS_FP64
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+typedef double real;
+typedef double4 real4;
+#else
+typedef float real;
+typedef float4 real4;
+#endif
+// The clip interpolation v_in + t (v_out - v_in) is the one place where a fused multiply-add would round
+// differently; keep the device and the reference on the same arithmetic.
+#pragma OPENCL FP_CONTRACT OFF
+
+static real setupRow(const RasterViewParams* p, int row, float3 v) {
+  return (((real)p->clip[row] * (real)v.x + (real)p->clip[4 + row] * (real)v.y) + (real)p->clip[8 + row] * (real)v.z) +
+         (real)p->clip[12 + row];
+}
+
+static real4 setupTransform(const RasterViewParams* p, float3 v) {
+  return (real4)(setupRow(p, 0, v), setupRow(p, 1, v), setupRow(p, 2, v), setupRow(p, 3, v));
+}
+
+// Signed distance to clip plane `plane` (>= 0 inside): near, then the guard band left, right, bottom, top.
+static real setupPlaneDistance(real4 v, int plane, real gx, real gy) {
+  switch (plane) {
+    case 0: return v.z + v.w;
+    case 1: return v.x + gx * v.w;
+    case 2: return gx * v.w - v.x;
+    case 3: return v.y + gy * v.w;
+    default: return gy * v.w - v.y;
+  }
+}
+
+// One Sutherland-Hodgman pass; returns the output vertex count (at most n + 1).
+static int setupClipPlane(const real4* in, int n, real4* out, int plane, real gx, real gy) {
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    real4 p = in[i], q = in[i + 1 < n ? i + 1 : 0];
+    real dp = setupPlaneDistance(p, plane, gx, gy), dq = setupPlaneDistance(q, plane, gx, gy);
+    if (dp >= 0) out[m++] = p;
+    if ((dp >= 0) != (dq >= 0)) {
+      real4 vin = dp >= 0 ? p : q, vout = dp >= 0 ? q : p;
+      real din = dp >= 0 ? dp : dq, dout = dp >= 0 ? dq : dp;
+      real t = din / (din - dout);
+      out[m++] = vin + t * (vout - vin);
+    }
+  }
+  return m;
+}
+
+// Snapped window position in subpixels.
+static int2 setupSnap(real4 v, real sx, real sy) {
+  real x = rint((v.x / v.w + (real)1) * sx), y = rint((v.y / v.w + (real)1) * sy);
+  x = clamp(x, (real)-RASTER_COORD_LIMIT, (real)RASTER_COORD_LIMIT);
+  y = clamp(y, (real)-RASTER_COORD_LIMIT, (real)RASTER_COORD_LIMIT);
+  return (int2)((int)x, (int)y);
+}
+
+// Builds the record of one clip-space triangle; returns false (record invalid) when it is dropped: w <= 0,
+// zero snapped area, back-facing with culling on, or no pixel centre of the scissor inside its bounds.
+static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, uint id, RasterTriangle* r) {
+  r->flags = 0;
+  r->triangleId = id;
+  if (!(v0.w > 0 && v1.w > 0 && v2.w > 0)) return false;
+  const real sx = (real)p->width * (RASTER_SUBPIXELS / 2), sy = (real)p->height * (RASTER_SUBPIXELS / 2);
+  real4 v[3] = {v0, v1, v2};
+  int2 s[3] = {setupSnap(v0, sx, sy), setupSnap(v1, sx, sy), setupSnap(v2, sx, sy)};
+  long area = (long)(s[1].x - s[0].x) * (s[2].y - s[0].y) - (long)(s[2].x - s[0].x) * (s[1].y - s[0].y);
+  if (area == 0 || (p->cullBackFaces && area < 0)) return false;
+  if (area < 0) {  // make it counter-clockwise: edge functions positive inside
+    int2 ts = s[1]; s[1] = s[2]; s[2] = ts;
+    real4 tv = v[1]; v[1] = v[2]; v[2] = tv;
+  }
+  // Pixels whose centre can be inside: ceil((min - 128) / 256) .. floor((max - 128) / 256), cut to the scissor.
+  int minX = min(s[0].x, min(s[1].x, s[2].x)), maxX = max(s[0].x, max(s[1].x, s[2].x));
+  int minY = min(s[0].y, min(s[1].y, s[2].y)), maxY = max(s[0].y, max(s[1].y, s[2].y));
+  int x0 = max(-((RASTER_SAMPLE_OFFSET - minX) >> RASTER_SUBPIXEL_LOG2), p->rectX0);
+  int y0 = max(-((RASTER_SAMPLE_OFFSET - minY) >> RASTER_SUBPIXEL_LOG2), p->rectY0);
+  int x1 = min((maxX - RASTER_SAMPLE_OFFSET) >> RASTER_SUBPIXEL_LOG2, p->rectX1 - 1);
+  int y1 = min((maxY - RASTER_SAMPLE_OFFSET) >> RASTER_SUBPIXEL_LOG2, p->rectY1 - 1);
+  if (x0 > x1 || y0 > y1) return false;
+  r->bbox[0] = (ushort)x0, r->bbox[1] = (ushort)y0, r->bbox[2] = (ushort)x1, r->bbox[3] = (ushort)y1;
+  uint flags = RASTER_FLAG_VALID;
+  for (int k = 0; k < 3; ++k) {
+    int j = k == 2 ? 0 : k + 1, o = k == 0 ? 2 : k - 1;  // edge k: vertex k -> j, opposite vertex o
+    int dx = s[j].x - s[k].x, dy = s[j].y - s[k].y;
+    r->a[k] = -dy;
+    r->b[k] = dx;
+    r->c[k] = (long)s[k].x * s[j].y - (long)s[j].x * s[k].y;
+    // Top-left rule (y up, counter-clockwise): left edges run downwards, top edges run leftwards.
+    if (dy < 0 || (dy == 0 && dx < 0)) flags |= RASTER_FLAG_OWNS_EDGE0 << k;
+    real viewZ = p->viewZFromClip[0] * v[o].z + p->viewZFromClip[1] * v[o].w + p->viewZFromClip[2];
+    r->invW[k] = (float)((real)1 / v[o].w);
+    r->viewZOverW[k] = (float)(viewZ / v[o].w);
+  }
+  r->flags = flags;
+  return true;
+}
+
+// Near-plane and guard-band clipping into a fan: the first triangle goes to `out[t]`, the others are appended.
+// Returns how many are drawn.
+static uint setupClipped(real4 c0, real4 c1, real4 c2, const RasterViewParams* p, uint t,
+                         __global RasterTriangle* out, __global RasterCounters* counters) {
+  real4 poly[RASTER_MAX_CLIP_VERTICES], next[RASTER_MAX_CLIP_VERTICES];
+  poly[0] = c0, poly[1] = c1, poly[2] = c2;
+  int n = 3;
+  for (int plane = 0; plane < RASTER_CLIP_PLANES && n >= 3; ++plane) {
+    n = setupClipPlane(poly, n, next, plane, (real)p->guardX, (real)p->guardY);
+    for (int i = 0; i < n; ++i) poly[i] = next[i];
+  }
+  RasterTriangle r;
+  uint drawn = 0;
+  if (n < 3) {
+    r.flags = 0;
+    r.triangleId = t;
+    out[t] = r;
+    return 0;
+  }
+  drawn += setupEmit(poly[0], poly[1], poly[2], p, t, &r);
+  out[t] = r;
+  for (int k = 2; k + 1 < n; ++k) {
+    if (!setupEmit(poly[0], poly[k], poly[k + 1], p, t, &r)) continue;
+    uint slot = atomic_inc(&counters->extraTriangles);
+    if (slot < p->extraCapacity) out[p->triangleCount + slot] = r;
+    ++drawn;
+  }
+  return drawn;
+}
+
+static bool setupOutside(real4 v, int plane) {  // trivial reject against the view volume's sides and far plane
+  switch (plane) {
+    case 0: return v.z + v.w < 0;
+    case 1: return v.z > v.w;
+    case 2: return v.x < -v.w;
+    case 3: return v.x > v.w;
+    case 4: return v.y < -v.w;
+    default: return v.y > v.w;
+  }
+}
+
+static uint setupTriangle(__global const float* positions, __global const uint* triangles, uint t,
+                          const RasterViewParams* p, __global RasterTriangle* out, __global RasterCounters* counters) {
+  RasterTriangle r;
+  r.flags = 0;
+  r.triangleId = t;
+  uint3 idx = vload3(t, triangles);
+  if (idx.x >= p->vertexCount || idx.y >= p->vertexCount || idx.z >= p->vertexCount) {
+    out[t] = r;
+    return 0;
+  }
+  float3 q0 = vload3(idx.x, positions), q1 = vload3(idx.y, positions), q2 = vload3(idx.z, positions);
+  if (!all(isfinite(q0) && isfinite(q1) && isfinite(q2))) {  // NaN or infinite vertices are dropped
+    out[t] = r;
+    return 0;
+  }
+  real4 c0 = setupTransform(p, q0), c1 = setupTransform(p, q1), c2 = setupTransform(p, q2);
+  if (!all(isfinite(c0) && isfinite(c1) && isfinite(c2))) {  // overflow (float-only devices)
+    out[t] = r;
+    return 0;
+  }
+  for (int plane = 0; plane < 6; ++plane)
+    if (setupOutside(c0, plane) && setupOutside(c1, plane) && setupOutside(c2, plane)) {
+      out[t] = r;
+      return 0;
+    }
+  const real gx = p->guardX, gy = p->guardY;
+  bool clip = false;
+  for (int plane = 0; plane < RASTER_CLIP_PLANES; ++plane)
+    clip = clip || setupPlaneDistance(c0, plane, gx, gy) < 0 || setupPlaneDistance(c1, plane, gx, gy) < 0 ||
+           setupPlaneDistance(c2, plane, gx, gy) < 0;
+  if (clip) return setupClipped(c0, c1, c2, p, t, out, counters);
+  bool drawn = setupEmit(c0, c1, c2, p, t, &r);
+  out[t] = r;
+  return drawn ? 1 : 0;
+}
+
+// out: triangleCount + extraCapacity records. counters->extraTriangles must be 0 and counters->setUp 0 on entry.
+__kernel __attribute__((reqd_work_group_size(RASTER_WG_SETUP, 1, 1))) void setup_triangles(
+    __global const float* positions, __global const uint* triangles, __global RasterTriangle* out,
+    __global RasterCounters* counters, const RasterViewParams p) {
+  __local uint drawn;
+  if (get_local_id(0) == 0) drawn = 0;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  const uint t = get_global_id(0);
+  if (t < p.triangleCount) {
+    uint n = setupTriangle(positions, triangles, t, &p, out, counters);
+    if (n != 0) atomic_add(&drawn, n);
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (get_local_id(0) == 0 && drawn != 0) atomic_add(&counters->setUp, drawn);
+}

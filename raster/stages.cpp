@@ -1,0 +1,75 @@
+// Kernel wrappers of the rasterizer: the pass list of one draw, in order, every launch named raster/<kernel>.
+#include "raster/stages.h"
+
+#include <string>
+
+#include <fmt/format.h>
+
+namespace penumbra::raster {
+namespace {
+
+std::string buildOptions(const WorkGroups& groups) {
+  return fmt::format("-DRASTER_WG_SETUP={} -DRASTER_WG_BIN={} -DRASTER_WG_GBUFFER={}", groups.setup, groups.bin,
+                     groups.gbuffer);
+}
+
+Kernel makeKernel(Context& ctx, const WorkGroups& groups, const char* source, const char* entry) {
+  return Kernel(ctx, source, entry, "raster", buildOptions(groups));
+}
+
+}  // namespace
+
+Stages::Stages(Context& ctx)
+    : ctx_(ctx),
+      groups_(workGroupsFor(ctx.info())),
+      setup_(makeKernel(ctx, groups_, "raster/setup.cl", "setup_triangles")),
+      binCount_(makeKernel(ctx, groups_, "raster/bin.cl", "bin_count")),
+      binScan_(makeKernel(ctx, groups_, "raster/bin.cl", "bin_scan")),
+      binFill_(makeKernel(ctx, groups_, "raster/bin.cl", "bin_fill")),
+      coarseCount_(makeKernel(ctx, groups_, "raster/coarse.cl", "coarse_count")),
+      coarseFill_(makeKernel(ctx, groups_, "raster/coarse.cl", "coarse_fill")),
+      fine_(makeKernel(ctx, groups_, "raster/fine.cl", "fine_raster")),
+      gbuffer_(makeKernel(ctx, groups_, "raster/gbuffer.cl", "gbuffer_resolve")) {}
+
+RasterViewParams Stages::params(const Plan& plan, const Queues& queues) const {
+  RasterViewParams p = plan.params;
+  p.extraCapacity = queues.extraCapacity;
+  p.binCapacity = queues.binCapacity;
+  p.tileCapacity = queues.tileCapacity;
+  return p;
+}
+
+void Stages::record(const Plan& plan, const SceneBuffers& scene, Queues& q, Buffer<float>& depth,
+                    Buffer<uint32_t>& triangleIds) {
+  const RasterViewParams p = params(plan, q);
+  const size_t records = size_t{scene.triangleCount} + q.extraCapacity;
+  const cl_uint bins = static_cast<cl_uint>(plan.bins);
+  q.counters.fill(ctx_, RasterCounters{});
+  q.binCount.fill(ctx_, 0u);
+  q.binTileTotal.fill(ctx_, 0u);
+  setup_.args(scene.positions, scene.triangles, q.records, q.counters, p).launch(scene.triangleCount, groups_.setup);
+  binCount_.args(q.records, q.counters, q.binCount, p).launch(records, groups_.bin);
+  binScan_.args(q.binCount, q.binOffset, q.binCursor, bins, q.counters, cl_uint{0})
+      .launch(RASTER_SCAN_WG, RASTER_SCAN_WG);
+  binFill_.args(q.records, q.counters, q.binOffset, q.binCursor, q.binEntries, p).launch(records, groups_.bin);
+  const size_t coarseItems = plan.launchedBins * RASTER_COARSE_WG;
+  coarseCount_.args(q.records, q.binEntries, q.binCount, q.binOffset, q.tileCount, q.binTileTotal, p)
+      .launch(coarseItems, RASTER_COARSE_WG);
+  binScan_.args(q.binTileTotal, q.binTileBase, q.binCursor, bins, q.counters, cl_uint{1})
+      .launch(RASTER_SCAN_WG, RASTER_SCAN_WG);
+  coarseFill_
+      .args(q.records, q.binEntries, q.binCount, q.binOffset, q.tileCount, q.binTileBase, q.tileOffset,
+            q.tileEntries, p)
+      .launch(coarseItems, RASTER_COARSE_WG);
+  fine_.args(q.records, q.tileEntries, q.tileCount, q.tileOffset, depth, triangleIds, p)
+      .launch(plan.launchedTiles * RASTER_FINE_WG, RASTER_FINE_WG);
+}
+
+void Stages::gbuffer(const Plan& plan, const SceneBuffers& scene, GBuffer& g) {
+  gbuffer_
+      .args(scene.positions, scene.normals, scene.triangles, scene.objectIds, g.triangleId, g.depth, g.position,
+            g.normal, g.objectId, plan.params)
+      .launch(plan.scissorPixels, groups_.gbuffer);
+}
+
+}  // namespace penumbra::raster

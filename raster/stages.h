@@ -1,0 +1,52 @@
+// The rasterizer's kernels behind one typed wrapper per launch (plan, then record): each sets its arguments in
+// one place, sizes its ND-range from the Plan and reports to the profiler as raster/<kernel>. Also the device
+// buffers a draw works on: the scene, and the queues with their counters and capacities.
+#pragma once
+
+#include <cstdint>
+
+#include "host/cl/buffer.h"
+#include "host/cl/context.h"
+#include "host/cl/kernel.h"
+#include "raster/plan.h"
+#include "raster/rasterizer.h"
+#include "raster/types.h"
+
+namespace penumbra::raster {
+
+// The scene on the device, flattened: 3 floats per position and normal, 3 indices per triangle.
+struct SceneBuffers {
+  Buffer<float> positions, normals;
+  Buffer<uint32_t> triangles, objectIds;
+  uint32_t vertexCount = 0, triangleCount = 0;
+};
+
+// Queues of one draw. Per-bin arrays always hold RASTER_MAX_BINS entries; per-tile arrays at least plan.tiles.
+struct Queues {
+  Buffer<RasterTriangle> records;    // triangleCount + extraCapacity set-up records
+  Buffer<RasterCounters> counters;   // one
+  Buffer<uint32_t> binCount, binOffset, binCursor, binTileTotal, binTileBase;
+  Buffer<uint32_t> tileCount, tileOffset;
+  Buffer<uint32_t> binEntries, tileEntries;  // binCapacity, tileCapacity entries
+  uint32_t extraCapacity = 0, binCapacity = 0, tileCapacity = 0;
+};
+
+class Stages {
+ public:
+  explicit Stages(Context& ctx);
+
+  // Clears the counters, then: setup, bin (count, scan, fill), coarse (count, scan, fill), fine into depth/ids.
+  void record(const Plan& plan, const SceneBuffers& scene, Queues& queues, Buffer<float>& depth,
+              Buffer<uint32_t>& triangleIds);
+  // Position, normal and object id from the triangle ids `record` wrote into gbuffer.
+  void gbuffer(const Plan& plan, const SceneBuffers& scene, GBuffer& gbuffer);
+
+ private:
+  RasterViewParams params(const Plan& plan, const Queues& queues) const;
+
+  Context& ctx_;
+  WorkGroups groups_;
+  Kernel setup_, binCount_, binScan_, binFill_, coarseCount_, coarseFill_, fine_, gbuffer_;
+};
+
+}  // namespace penumbra::raster

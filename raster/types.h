@@ -1,0 +1,79 @@
+// Records shared by the rasterizer's host code and kernels (valid OpenCL C 1.2 and C++20): the set-up triangle,
+// the queue counters and the per-draw parameters. Only 4- and 8-byte scalars, ordered largest first, so both
+// compilers lay them out identically; the host static_asserts sizes and offsets.
+#ifndef PENUMBRA_RASTER_TYPES_H
+#define PENUMBRA_RASTER_TYPES_H
+
+#include "kernels/shared/common.h"
+#include "raster/constants.h"
+
+#if PENUMBRA_HOST
+typedef int64_t raster_long;
+typedef uint64_t raster_ulong;
+typedef uint16_t raster_ushort;
+#else
+typedef long raster_long;
+typedef ulong raster_ulong;
+typedef ushort raster_ushort;
+#endif
+
+// One triangle after setup (clipped, snapped, oriented counter-clockwise in window space). Edge k runs from
+// vertex k to vertex k+1; its edge function e_k(x, y) = a[k] * x + b[k] * y + c[k] over subpixel coordinates
+// is exact in 64 bits, positive inside, and the vertex opposite edge k has barycentric weight e_k / sum(e).
+// A sample is covered when every e_k > 0, or e_k == 0 on an edge that owns it (top-left rule).
+typedef struct {
+  raster_long c[3];         // edge constants, subpixels^2 (|c| < 2^59)
+  int a[3], b[3];           // edge coefficients, subpixels (|a|, |b| < 2^30)
+  float invW[3];            // 1 / w_clip of the vertex opposite edge k
+  float viewZOverW[3];      // -z_eye / w_clip of the vertex opposite edge k (eye units)
+  uint triangleId;          // index into Scene::triangles
+  uint flags;               // RASTER_FLAG_VALID | RASTER_FLAG_OWNS_EDGE0 << k
+  raster_ushort bbox[4];    // candidate pixels: x0, y0, x1, y1 inclusive, inside the scissor
+} RasterTriangle;
+
+// Queue counters: kernels count every request, write only below the capacity; the host grows and re-runs.
+typedef struct {
+  raster_ulong binEntries;   // bin queue entries requested (sum over bins, from the scan)
+  raster_ulong tileEntries;  // tile queue entries requested (sum over tiles, from the scan)
+  uint extraTriangles;       // set-up records requested beyond one per input triangle (clipping fans)
+  uint setUp;                // records that are drawn (valid) after clipping, culling and dropping
+  uint pad[2];
+} RasterCounters;
+
+// Everything a draw's kernels need, passed by value. Pixel rectangles are [x0, x1) x [y0, y1).
+typedef struct {
+  float clip[16];            // world -> clip, column-major (the float matrix the snapping spec starts from)
+  float invView[12];         // eye -> world: rotation columns 0..2, translation column 3 (x, y, z each)
+  // Projection terms of the supported form (x_c = P00 x + P20 z + P30, y_c = P11 y + P21 z + P31,
+  // z_c = P22 z + P32, w_c = P23 z + P33, z = z_eye), for depth conversion and pixel rays.
+  float p00, p11, p20, p21, p30, p31, p22, p32, p23, p33;
+  float viewZFromClip[3];    // -z_eye = [0] z_c + [1] w_c + [2]
+  float farViewZ;            // fragments with -z_eye > farViewZ are discarded (the far plane)
+  float guardX, guardY;      // guard-band planes |x_c| <= guardX w_c, |y_c| <= guardY w_c
+  int width, height;         // viewport, pixels
+  int rectX0, rectY0, rectX1, rectY1;  // scissor clamped to the viewport, pixels
+  int tilesX, tilesY;        // tile grid over the viewport
+  int binsX, binsY;          // bin grid over the viewport
+  int binX0, binY0, binsAcross;     // launched bins: those overlapping the scissor, row by row
+  int tileX0, tileY0, tilesAcross;  // launched tiles: those overlapping the scissor, row by row
+  int depthMode;             // RASTER_DEPTH_*
+  int cullBackFaces;         // 1: drop triangles clockwise in window space
+  uint triangleCount;        // input triangles (Scene::triangles)
+  uint vertexCount;          // input vertices
+  uint extraCapacity;        // set-up records beyond triangleCount
+  uint binCapacity;          // bin queue entries
+  uint tileCapacity;         // tile queue entries
+  uint pad;
+} RasterViewParams;
+
+#if PENUMBRA_HOST
+#include <cstddef>
+static_assert(sizeof(RasterTriangle) == 88, "RasterTriangle layout must match OpenCL C");
+static_assert(offsetof(RasterTriangle, a) == 24 && offsetof(RasterTriangle, invW) == 48);
+static_assert(offsetof(RasterTriangle, triangleId) == 72 && offsetof(RasterTriangle, bbox) == 80);
+static_assert(sizeof(RasterCounters) == 32 && offsetof(RasterCounters, extraTriangles) == 16);
+static_assert(offsetof(RasterViewParams, p00) == 112 && offsetof(RasterViewParams, width) == 176);
+static_assert(sizeof(RasterViewParams) == 272, "RasterViewParams layout must match OpenCL C");
+#endif
+
+#endif

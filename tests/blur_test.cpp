@@ -1,0 +1,178 @@
+// Blur stage against the double reference: Gaussian and box, direct and running sums, 1/2/4 channels,
+// 1x1, prime and thin sizes, radii larger than the image, per-split scale, constant and huge-range input.
+#include "host/stages/blur.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "host/cl/buffer.h"
+#include "tests/reference/blur_ref.h"
+#include "tests/support/cl_test.h"
+#include "tests/support/compare.h"
+
+namespace penumbra {
+namespace {
+using test::kPoison;
+using test::Tolerance;
+
+// Direct sums of <= 2*32+1 fp32 products per pass of data in [0, 1]: <= 65 roundings of ~6e-8, twice.
+constexpr Tolerance kDirectTol{5e-6, 1e-6};
+// Running sums add and subtract one texel per step over segments of >= 128 steps: the drift is bounded
+// by steps * eps relative to the window mean (~8e-6), three boxes per axis.
+constexpr Tolerance kRunningTol{5e-5, 1e-5};
+// Positive data spanning 1e20..1e30: only relative error is meaningful.
+constexpr Tolerance kHugeRangeTol{0.0, 1e-5};
+// Three boxes approximate the Gaussian: for data in [0, 1] the filtered values differ by a few percent
+// of the local contrast at most (Wells 1986; Kovesi 2010).
+constexpr Tolerance kBoxesVsGaussianTol{0.03, 0.0};
+
+enum class Input { Random, Constant, HugeRange };
+
+struct Case {
+  std::string name;
+  uint32_t width, height, channels;
+  BlurConfig config;
+  Input input = Input::Random;
+};
+
+std::vector<double> makeInput(const ImageShape& shape, Input kind, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<double> out(shape.count());
+  for (double& v : out) {
+    if (kind == Input::Constant)
+      v = 0.625;
+    else if (kind == Input::HugeRange)
+      v = std::pow(10.0, 20.0 + 10.0 * unit(rng));
+    else
+      v = float(unit(rng));  // exactly representable in fp32
+  }
+  return out;
+}
+
+// What the kernels should compute: the plan's taps (direct) or its boxes (running sums).
+std::vector<double> expected(const std::vector<double>& image, const ImageShape& shape, const BlurConfig& config) {
+  const BlurPlan plan = planBlur(config);
+  if (plan.direct)
+    return ref::convolveSeparable(image, shape,
+                                  config.filter == BlurFilter::Gaussian ? ref::gaussianTaps(config.sigma * config.scale)
+                                                                        : ref::boxTaps(plan.radius));
+  std::vector<double> out = image;
+  for (int r : plan.boxRadii) out = ref::convolveSeparable(out, shape, ref::boxTaps(r));
+  return out;
+}
+
+std::vector<float> run(test::ClTest& fixture, Context& ctx, const std::vector<double>& image, const ImageShape& shape,
+                       const BlurConfig& config) {
+  (void)fixture;
+  const std::vector<float> input(image.begin(), image.end());
+  Buffer<float> in(ctx, std::span<const float>(input)), out(ctx, shape.count()), scratch(ctx, shape.count());
+  out.fill(ctx, kPoison);
+  scratch.fill(ctx, kPoison);
+  blur(ctx, in, out, scratch, shape, config);
+  return out.download(ctx);
+}
+
+class BlurTest : public test::ClTestWithParam<Case> {};
+
+TEST_P(BlurTest, MatchesReference) {
+  const Case& c = GetParam();
+  const ImageShape shape{c.width, c.height, c.channels};
+  const std::vector<double> image = makeInput(shape, c.input, c.width * 7 + c.height + c.channels);
+  const std::vector<float> actual = run(*this, ctx(), image, shape, c.config);
+  const Tolerance tol = c.input == Input::HugeRange ? kHugeRangeTol
+                        : planBlur(c.config).direct ? kDirectTol
+                                                    : kRunningTol;
+  EXPECT_TRUE(test::allNear(std::span<const float>(actual), std::span<const double>(expected(image, shape, c.config)),
+                            tol, c.width * c.channels));
+}
+
+BlurConfig gaussian(float sigma, float scale = 1.0f, BlurMethod method = BlurMethod::Auto) {
+  return {BlurFilter::Gaussian, sigma, 0, scale, method};
+}
+BlurConfig box(int radius, BlurMethod method = BlurMethod::Auto) {
+  return {BlurFilter::Box, 0.0f, radius, 1.0f, method};
+}
+
+const Case kCases[] = {
+    {"Gauss1p5_97x61_c1", 97, 61, 1, gaussian(1.5f)},
+    {"Gauss1p5_97x61_c2", 97, 61, 2, gaussian(1.5f)},
+    {"Gauss1p5_97x61_c4", 97, 61, 4, gaussian(1.5f)},
+    {"Gauss10_97x61_c2", 97, 61, 2, gaussian(10.0f)},
+    {"Gauss2_scale2_3x200_c2", 3, 200, 2, gaussian(2.0f, 2.0f)},
+    {"Gauss0_identity_5x4_c1", 5, 4, 1, gaussian(0.0f)},
+    {"Gauss14_boxes_97x61_c1", 97, 61, 1, gaussian(14.0f)},
+    {"Gauss40_boxes_300x2_c2", 300, 2, 2, gaussian(40.0f)},
+    {"Box3_1x1_c2", 1, 1, 2, box(3)},
+    {"Box7_256x3_c1", 256, 3, 1, box(7)},
+    {"Box40_running_97x61_c2", 97, 61, 2, box(40)},
+    {"Box5_running_130x70_c4", 130, 70, 4, box(5, BlurMethod::RunningSums)},
+    {"Box100_direct_40x9_c1", 40, 9, 1, box(100, BlurMethod::Direct)},
+    {"Box33_constant_61x67_c4", 61, 67, 4, box(33), Input::Constant},
+    {"Gauss2_hugerange_50x37_c1", 50, 37, 1, gaussian(2.0f), Input::HugeRange},
+};
+
+INSTANTIATE_TEST_SUITE_P(Blur, BlurTest, ::testing::ValuesIn(kCases),
+                         [](const ::testing::TestParamInfo<Case>& p) { return p.param.name; });
+
+TEST(BlurPlan, BoxesMatchGaussianVariance) {
+  for (float sigma : {11.0f, 14.0f, 25.0f, 80.0f}) {
+    const BlurPlan plan = planBlur(gaussian(sigma));
+    ASSERT_FALSE(plan.direct);
+    double variance = 0.0;
+    for (int r : plan.boxRadii) variance += ((2.0 * r + 1) * (2.0 * r + 1) - 1.0) / 12.0;
+    // Odd widths move the variance in steps of ~2 * width / 12: within one box width of sigma^2.
+    EXPECT_NEAR(variance, double(sigma) * sigma, 2.0 * sigma) << "sigma " << sigma;
+  }
+  EXPECT_TRUE(planBlur(gaussian(10.0f)).direct);
+  EXPECT_EQ(planBlur(gaussian(2.0f, 1.5f)).radius, 9);
+  EXPECT_EQ(planBlur(box(4)).weights.size(), 9u);
+  EXPECT_THROW(planBlur(gaussian(-1.0f)), std::invalid_argument);
+  EXPECT_THROW(planBlur(box(200, BlurMethod::Direct)), std::invalid_argument);
+  EXPECT_THROW(planBlur(gaussian(1.0f, std::nanf(""))), std::invalid_argument);
+}
+
+class BlurKernels : public test::ClTest {};
+
+TEST_F(BlurKernels, BoxesApproximateTheGaussian) {
+  // Away from the borders only: clamping after every box is not clamping the Gaussian once.
+  constexpr int kSigma = 12, kMargin = 4 * kSigma;
+  const ImageShape shape{2 * kMargin + 37, 2 * kMargin + 23, 1};
+  const std::vector<double> image = makeInput(shape, Input::Random, 5);
+  const std::vector<float> actual = run(*this, ctx(), image, shape, gaussian(float(kSigma)));
+  const std::vector<double> exact = ref::convolveSeparable(image, shape, ref::gaussianTaps(kSigma));
+  std::vector<float> inner;
+  std::vector<double> innerExact;
+  for (uint32_t y = kMargin; y + kMargin < shape.height; ++y)
+    for (uint32_t x = kMargin; x + kMargin < shape.width; ++x) {
+      inner.push_back(actual[y * shape.width + x]);
+      innerExact.push_back(exact[y * shape.width + x]);
+    }
+  EXPECT_TRUE(test::allNear(std::span<const float>(inner), std::span<const double>(innerExact), kBoxesVsGaussianTol));
+}
+
+TEST_F(BlurKernels, InPlaceMatchesOutOfPlace) {
+  const ImageShape shape{45, 29, 2};
+  const std::vector<double> image = makeInput(shape, Input::Random, 9);
+  const std::vector<float> input(image.begin(), image.end());
+  for (const BlurConfig& config : {gaussian(3.0f), gaussian(15.0f)}) {
+    Buffer<float> buffer(ctx(), std::span<const float>(input)), scratch(ctx(), shape.count());
+    blur(ctx(), buffer, buffer, scratch, shape, config);
+    const std::vector<float> inPlace = buffer.download(ctx());
+    const std::vector<float> outOfPlace = run(*this, ctx(), image, shape, config);
+    EXPECT_EQ(inPlace, outOfPlace);
+  }
+}
+
+TEST_F(BlurKernels, RejectsSmallBuffers) {
+  Buffer<float> small(ctx(), 10), big(ctx(), 100);
+  EXPECT_THROW(blur(ctx(), small, big, big, {5, 5, 1}, gaussian(1.0f)), std::invalid_argument);
+  EXPECT_THROW(blur(ctx(), big, big, big, {5, 5, 3}, gaussian(1.0f)), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace penumbra

@@ -1,0 +1,161 @@
+// Moments stage against the double reference: every encoding on random depth with background (+inf),
+// NaN, -inf and out-of-range texels, constant images, 1x1 and prime sizes; exponent clamps; MSM round trip.
+#include "host/stages/moments.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <tuple>
+#include <vector>
+
+#include "host/cl/buffer.h"
+#include "host/cl/kernel.h"
+#include "tests/reference/moments_ref.h"
+#include "tests/support/cl_test.h"
+#include "tests/support/compare.h"
+
+namespace penumbra {
+namespace {
+using test::ClTestWithParam;
+using test::kPoison;
+using test::Tolerance;
+
+// fp32 normalisation ((d - near) * 1/range) is within ~3 ulp of the double value; squares double it.
+constexpr Tolerance kVsmTol{1e-6, 1e-6};
+// exp(c x) with c = 42 amplifies the ~2e-7 error of x by c: 1e-5 relative, 2e-5 for the square.
+constexpr Tolerance kEvsmTol{1e-30, 3e-5};
+// The MSM transform sums terms up to ~80 with cancellation: absolute error ~ 80 * 4 * 6e-8.
+constexpr Tolerance kMsmTol{5e-5, 0.0};
+// The published 10-digit matrices are inverse to about 1e-7 (conditioning ~1e3 for b3, b4).
+constexpr double kMsmRoundTripTol = 2e-4;
+
+constexpr float kNear = 2.0f, kFar = 10.0f;
+
+// Light depths over [near - 1, far + 1] with background, NaN, -inf and a few huge values mixed in.
+std::vector<float> randomDepth(size_t count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> depth(kNear - 1.0f, kFar + 1.0f);
+  std::vector<float> out(count);
+  for (size_t i = 0; i < count; ++i) {
+    switch (rng() % 16) {
+      case 0:
+        out[i] = std::numeric_limits<float>::infinity();
+        break;
+      case 1:
+        out[i] = std::numeric_limits<float>::quiet_NaN();
+        break;
+      case 2:
+        out[i] = -std::numeric_limits<float>::infinity();
+        break;
+      case 3:
+        out[i] = (rng() % 2 ? 1.0f : -1.0f) * 3e38f;
+        break;
+      default:
+        out[i] = depth(rng);
+    }
+  }
+  return out;
+}
+
+MomentsConfig config(MomentKind kind) {
+  MomentsConfig c;
+  c.kind = kind;
+  c.depthNear = kNear;
+  c.depthFar = kFar;
+  c.evsmPositive = 100.0f;  // clamped to 42: the worst case for the fp32 range
+  c.evsmNegative = 7.5f;
+  c.layers = {{0.0f, 0.3f}, {0.25f, 0.6f}, {0.55f, 1.0f}};
+  return c;
+}
+
+Tolerance tolerance(MomentKind kind) {
+  if (kind == MomentKind::Evsm2 || kind == MomentKind::Evsm4) return kEvsmTol;
+  return kind == MomentKind::Msm ? kMsmTol : kVsmTol;
+}
+
+struct Case {
+  MomentKind kind;
+  uint32_t width, height;
+  bool constant;
+};
+
+class MomentsTest : public ClTestWithParam<Case> {};
+
+TEST_P(MomentsTest, MatchesReference) {
+  const Case c = GetParam();
+  const MomentsConfig cfg = config(c.kind);
+  std::vector<float> depth = randomDepth(size_t(c.width) * c.height, c.width * 131 + c.height);
+  if (c.constant) std::fill(depth.begin(), depth.end(), 5.0f);
+  Buffer<float> depthBuffer(ctx(), std::span<const float>(depth));
+  Buffer<float> out(ctx(), depth.size() * momentChannels(c.kind) * momentPlanes(cfg));
+  out.fill(ctx(), kPoison);
+  computeMoments(ctx(), depthBuffer, c.width, c.height, cfg, out);
+  const std::vector<float> actual = out.download(ctx());
+  const std::vector<double> expected = ref::moments(depth, cfg);
+  EXPECT_TRUE(test::allNear(std::span<const float>(actual), std::span<const double>(expected), tolerance(c.kind)));
+}
+
+std::vector<Case> cases() {
+  std::vector<Case> out;
+  for (MomentKind kind : {MomentKind::Vsm, MomentKind::Evsm2, MomentKind::Evsm4, MomentKind::Lvsm, MomentKind::Msm})
+    for (auto [w, h, constant] : {std::tuple{1u, 1u, false}, {97u, 61u, false}, {64u, 32u, false}, {13u, 7u, true}})
+      out.push_back({kind, w, h, constant});
+  return out;
+}
+
+std::string caseName(const ::testing::TestParamInfo<Case>& info) {
+  static const char* const kNames[] = {"Vsm", "Evsm2", "Evsm4", "Lvsm", "Msm"};
+  return fmt::format("{}_{}x{}{}", kNames[int(info.param.kind)], info.param.width, info.param.height,
+                     info.param.constant ? "_constant" : "");
+}
+
+INSTANTIATE_TEST_SUITE_P(Moments, MomentsTest, ::testing::ValuesIn(cases()), caseName);
+
+TEST(MomentsConfig, ClampsExponentsToStorage) {
+  EXPECT_EQ(evsmClampExponent(100.0f, MomentStorage::Float32), 42.0f);
+  EXPECT_EQ(evsmClampExponent(100.0f, MomentStorage::Float16), 5.54f);
+  EXPECT_EQ(evsmClampExponent(-3.0f, MomentStorage::Float32), 0.0f);
+  EXPECT_EQ(evsmClampExponent(std::nanf(""), MomentStorage::Float32), 0.0f);
+  EXPECT_EQ(evsmClampExponent(3.0f, MomentStorage::Float16), 3.0f);
+  // The clamps keep the second moment finite in the storage format.
+  EXPECT_TRUE(std::isfinite(std::exp(2.0f * evsmMaxExponent(MomentStorage::Float32))));
+  EXPECT_LT(std::exp(2.0 * evsmMaxExponent(MomentStorage::Float16)), 65504.0);
+}
+
+class MomentsKernels : public test::ClTest {};
+
+TEST_F(MomentsKernels, RejectsBadConfiguration) {
+  Buffer<float> depth(ctx(), 4), out(ctx(), 64);
+  MomentsConfig bad = config(MomentKind::Vsm);
+  bad.depthFar = bad.depthNear;
+  EXPECT_THROW(computeMoments(ctx(), depth, 2, 2, bad, out), std::invalid_argument);
+  bad = config(MomentKind::Lvsm);
+  bad.layers = {{0.5f, 0.5f}};
+  EXPECT_THROW(computeMoments(ctx(), depth, 2, 2, bad, out), std::invalid_argument);
+  EXPECT_THROW(computeMoments(ctx(), depth, 4, 4, config(MomentKind::Vsm), out), std::invalid_argument);
+}
+
+TEST_F(MomentsKernels, MsmDecodeInvertsEncode) {
+  constexpr int kCount = 257;
+  std::vector<cl_float4> encoded(kCount);
+  std::vector<double> expected;
+  for (int i = 0; i < kCount; ++i) {
+    const double d = double(i) / (kCount - 1);
+    double q[4];
+    ref::msmEncode(d, q);
+    encoded[i] = {{float(q[0]), float(q[1]), float(q[2]), float(q[3])}};
+    for (int k = 1; k <= 4; ++k) expected.push_back(std::pow(d, k));
+  }
+  Buffer<cl_float4> in(ctx(), std::span<const cl_float4>(encoded)), out(ctx(), kCount);
+  Kernel(ctx(), "kernels/moments.cl", "moments_msm_decode_test", "moments")
+      .args(in, out, uint32_t(kCount))
+      .launch(kCount, 64);
+  const std::vector<cl_float4> decoded = out.download(ctx());
+  const std::span<const float> flat(&decoded[0].s[0], kCount * 4);
+  EXPECT_TRUE(test::allNear(flat, std::span<const double>(expected), {kMsmRoundTripTol, 0.0}));
+}
+
+}  // namespace
+}  // namespace penumbra

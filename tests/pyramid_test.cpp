@@ -1,0 +1,118 @@
+// Pyramid stage against the double reference: moment mip chains (1/2/4 channels, odd, prime, thin and
+// 1x1 sizes; every level keeps the mean) and the min-max depth pyramid with background and NaN texels.
+#include "host/stages/pyramid.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "host/cl/buffer.h"
+#include "tests/reference/pyramid_ref.h"
+#include "tests/support/cl_test.h"
+#include "tests/support/compare.h"
+
+namespace penumbra {
+namespace {
+using test::kPoison;
+using test::Tolerance;
+
+// Each level is <= 9 fp32 products of the previous one (data in [0, 1]); errors add over <= 8 levels.
+constexpr Tolerance kMipTol{2e-6, 1e-6};
+// The mean of a level (a double sum of fp32 texels) drifts by the per-level rounding only.
+constexpr double kMeanTol = 1e-5;
+
+struct Case {
+  uint32_t width, height, channels;
+};
+
+std::string caseName(const ::testing::TestParamInfo<Case>& p) {
+  return fmt::format("{}x{}_c{}", p.param.width, p.param.height, p.param.channels);
+}
+
+class PyramidMips : public test::ClTestWithParam<Case> {};
+
+TEST_P(PyramidMips, MatchesReferenceAndKeepsTheMean) {
+  const Case c = GetParam();
+  const ImageShape shape{c.width, c.height, c.channels};
+  std::mt19937 rng(c.width * 3 + c.height);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<float> base(shape.count());
+  for (float& v : base) v = unit(rng);
+  const PyramidLayout layout = pyramidLayout(c.width, c.height, 1);
+  Buffer<float> in(ctx(), std::span<const float>(base)), mips(ctx(), std::max<size_t>(1, layout.texels * c.channels));
+  mips.fill(ctx(), kPoison);
+  computeMomentMips(ctx(), in, shape, mips);
+  const std::vector<float> actual = mips.download(ctx());
+  const auto expected = ref::momentMips(std::vector<double>(base.begin(), base.end()), shape);
+  ASSERT_EQ(expected.size(), layout.levels.size());
+  double baseMean = 0.0;
+  for (float v : base) baseMean += v;
+  baseMean /= double(base.size());
+  for (size_t l = 0; l < expected.size(); ++l) {
+    const PyramidLevel& level = layout.levels[l];
+    const std::span<const float> got(actual.data() + size_t(level.offset) * c.channels, expected[l].size());
+    EXPECT_TRUE(test::allNear(got, std::span<const double>(expected[l]), kMipTol, level.width * c.channels))
+        << "level " << l + 1;
+    double mean = 0.0;
+    for (float v : got) mean += v;
+    EXPECT_NEAR(mean / double(got.size()), baseMean, kMeanTol) << "level " << l + 1;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Pyramid, PyramidMips,
+                         ::testing::Values(Case{1, 1, 2}, Case{97, 61, 2}, Case{64, 64, 1}, Case{2, 17, 4},
+                                           Case{300, 1, 1}, Case{45, 23, 4}),
+                         caseName);
+
+class PyramidMinMax : public test::ClTestWithParam<Case> {};
+
+TEST_P(PyramidMinMax, MatchesReference) {
+  const Case c = GetParam();
+  std::mt19937 rng(c.width + 5 * c.height);
+  std::uniform_real_distribution<float> depth(1.0f, 50.0f);
+  std::vector<float> base(size_t(c.width) * c.height);
+  for (float& v : base) v = rng() % 5 == 0 ? INFINITY : rng() % 29 == 0 ? NAN : depth(rng);
+  if (c.channels == 0) std::fill(base.begin(), base.end(), INFINITY);  // an empty map
+  const PyramidLayout layout = pyramidLayout(c.width, c.height, 0);
+  Buffer<float> in(ctx(), std::span<const float>(base));
+  Buffer<cl_float2> out(ctx(), layout.texels);
+  out.fill(ctx(), {{kPoison, kPoison}});
+  computeMinMaxPyramid(ctx(), in, c.width, c.height, out);
+  const std::vector<cl_float2> actual = out.download(ctx());
+  const auto expected = ref::minMaxPyramid(base, c.width, c.height);
+  ASSERT_EQ(expected.size(), layout.levels.size());
+  for (size_t l = 0; l < expected.size(); ++l) {
+    size_t mismatches = 0;
+    for (size_t i = 0; i < expected[l].size(); ++i) {
+      const cl_float2 got = actual[layout.levels[l].offset + i];
+      mismatches += got.s[0] != expected[l][i].first || got.s[1] != expected[l][i].second;
+    }
+    EXPECT_EQ(mismatches, 0u) << "level " << l << " (min and max are exact)";
+  }
+}
+
+// channels == 0 marks an all-background map.
+INSTANTIATE_TEST_SUITE_P(Pyramid, PyramidMinMax,
+                         ::testing::Values(Case{1, 1, 1}, Case{97, 61, 1}, Case{128, 64, 1}, Case{3, 41, 1},
+                                           Case{13, 9, 0}),
+                         caseName);
+
+TEST(PyramidLayoutTest, LevelsAndOffsets) {
+  const PyramidLayout full = pyramidLayout(97, 61, 0);
+  ASSERT_EQ(full.levels.size(), 7u);  // 97x61 48x30 24x15 12x7 6x3 3x1 1x1
+  EXPECT_EQ(full.levels[5].width, 3u);
+  EXPECT_EQ(full.levels[5].height, 1u);
+  EXPECT_EQ(full.levels[1].offset, 97u * 61u);
+  EXPECT_EQ(full.texels, 97u * 61 + 48 * 30 + 24 * 15 + 12 * 7 + 6 * 3 + 3 + 1);
+  const PyramidLayout mips = pyramidLayout(97, 61, 1);
+  EXPECT_EQ(mips.levels.size(), 6u);
+  EXPECT_EQ(mips.levels[0].offset, 0u);
+  EXPECT_TRUE(pyramidLayout(1, 1, 1).levels.empty());
+  EXPECT_EQ(pyramidLayout(4096, 4096, 0).levels.size(), 13u);
+}
+
+}  // namespace
+}  // namespace penumbra

@@ -1,0 +1,21 @@
+// Double-precision reference of the moments stage, written from the papers independently of the kernels:
+// depth normalisation with invalid -> far, VSM, EVSM2/4, LVSM layer warps, MSM quantization transform.
+#pragma once
+
+#include <vector>
+
+#include "host/stages/moments.h"
+
+namespace penumbra::ref {
+
+// Normalised depth in [0, 1]; NaN and infinities are 1 (no occluder).
+double normalizeDepth(double depth, double depthNear, double depthFar);
+
+// Same layout as computeMoments: planes x texels x momentChannels(kind) values.
+std::vector<double> moments(const std::vector<float>& depth, const MomentsConfig& config);
+
+// Peters & Klein 2015: the optimized 4-moment quantization and its inverse.
+void msmEncode(double d, double out[4]);
+void msmDecode(const double q[4], double out[4]);
+
+}  // namespace penumbra::ref

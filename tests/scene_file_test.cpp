@@ -1,0 +1,214 @@
+// JSON scene files: composition (placed models, built-in scenes, ground, views), ground placement, every
+// bundled scene file (the camera sees the model, the light's cone holds it), and the errors for unknown
+// keys and bad values, each naming the file and the JSON pointer.
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "host/scene/scene_file.h"
+#include "scene_test_util.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+using test::throwsWith;
+
+constexpr float kPlacementTolerance = 1e-5f;  // float round-off of composed placements on unit inputs
+
+// A temporary folder holding triangle.gltf/.bin; JSON scene files are written next to them.
+class SceneFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    static std::atomic<int> counter{0};
+    dir_ = fs::temp_directory_path() /
+           ("penumbra_scene_file_test_" + std::to_string(getpid()) + "_" + std::to_string(counter++));
+    fs::create_directories(dir_);
+    for (const char* f : {"triangle.gltf", "triangle.bin"}) fs::copy_file(test::sceneData(f), dir_ / f);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& json, const std::string& name = "scene.json") {
+    std::ofstream(dir_ / name) << json;
+    return (dir_ / name).string();
+  }
+  Scene load(const std::string& json) { return loadSceneFile(write(json)); }
+  ::testing::AssertionResult refused(const std::string& json, const std::vector<std::string>& parts) {
+    std::vector<std::string> all = parts;
+    all.push_back("scene.json: ");
+    return throwsWith([&] { loadSceneFile(write(json)); }, all);
+  }
+  fs::path dir_;
+};
+
+TEST_F(SceneFile, ComposesModelsBuiltinsGroundAndViews) {
+  const Scene s = load(R"({
+    "models": [{"path": "triangle.gltf", "translation": [10, 0, 0]},
+               {"path": "triangle.gltf", "rotation_deg": [0, 90, 0], "scale": 2},
+               {"path": "triangle.gltf", "rotation_quat": [0, 0, 0, 1], "scale": [-1, 1, 1]}],
+    "procedural": [{"name": "box", "size": 0.5}],
+    "camera": {"eye": [0, 5, 10], "target": [0, 0, 0], "fovy_deg": 50, "size": [640, 480]},
+    "cameras": [{"eye": [1, 1, 1], "target": [0, 0, 0]}],
+    "lights": [{"type": "spot", "position": [0, 10, 0], "target": [0, 0, 0], "fov_deg": 40, "radius": 0.5},
+               {"type": "dir", "direction": [0, -2, 0], "angular_radius_deg": 0.25}]
+  })");
+  EXPECT_EQ(s.triangleCount(), 3u + 2u + 12u);  // three placed triangles, box ground and box
+  EXPECT_TRUE(test::wellFormed(s));
+  EXPECT_TRUE(test::windingMatchesNormals(s, 0.999f));
+  EXPECT_EQ(s.positions[s.triangles[0].y], glm::vec3(11, 0, 0));
+  EXPECT_NEAR(glm::distance(s.positions[s.triangles[1].y], glm::vec3(0, 0, -2)), 0.0f, kPlacementTolerance);
+  EXPECT_EQ(s.positions[s.triangles[2].z], glm::vec3(-1, 0, 0));  // mirrored: winding reversed
+  ASSERT_EQ(s.cameras.size(), 2u);                                // replace the box's own camera
+  EXPECT_EQ(s.cameras[0].width, 640);
+  EXPECT_EQ(s.cameras[0].fovYDeg, 50.0f);
+  EXPECT_EQ(s.cameras[1].width, 1280);
+  ASSERT_EQ(s.lights.size(), 2u);
+  EXPECT_EQ(s.lights[1].direction, glm::vec3(0, -1, 0));
+}
+
+TEST_F(SceneFile, BuiltinViewsStayWhenTheFileGivesNone) {
+  const Scene s = load(R"({"procedural": [{"name": "staircase"}]})");
+  EXPECT_EQ(s.cameras.size(), 1u);
+  EXPECT_EQ(s.lights.size(), 1u);
+}
+
+TEST_F(SceneFile, GroundUnderTheModels) {
+  const Scene s = load(R"({"models": [{"path": "triangle.gltf", "translation": [0, 2, 0]}], "ground": {}})");
+  ASSERT_EQ(s.objectNames.back(), "ground");
+  ASSERT_EQ(s.triangleCount(), 3u);
+  Bounds ground;
+  for (size_t t = 1; t < 3; ++t)
+    for (int k = 0; k < 3; ++k) ground.grow(s.positions[s.triangles[t][k]]);
+  EXPECT_EQ(ground.min, glm::vec3(-1, 2, -1));  // margin 1 x max(width 1, depth 0) on each side
+  EXPECT_EQ(ground.max, glm::vec3(2, 2, 1));
+  for (size_t v = 3; v < s.positions.size(); ++v) EXPECT_EQ(s.normals[v], glm::vec3(0, 1, 0));
+  EXPECT_TRUE(test::windingMatchesNormals(s, 0.999f));
+  const Scene low = load(R"({"models": [{"path": "triangle.gltf"}], "ground": {"y": -1.5, "margin": 0.5}})");
+  EXPECT_EQ(low.bounds().min, glm::vec3(-0.5f, -1.5f, -0.5f));
+  EXPECT_EQ(load(R"({"models": [{"path": "triangle.gltf"}], "ground": {"enabled": false}})").triangleCount(), 1u);
+}
+
+struct BadFile {
+  const char* json;
+  std::vector<std::string> parts;
+};
+
+class SceneFileBad : public SceneFile, public ::testing::WithParamInterface<BadFile> {};
+
+TEST_P(SceneFileBad, RefusedNamingThePointer) { EXPECT_TRUE(refused(GetParam().json, GetParam().parts)); }
+
+INSTANTIATE_TEST_SUITE_P(
+    SceneFile, SceneFileBad,
+    ::testing::Values(
+        BadFile{"{}", {"no triangles"}}, BadFile{"[]", {"(root): expected an object"}},
+        BadFile{"{\"models\": [", {"invalid JSON"}}, BadFile{R"({"modles": []})", {"/modles: unknown key"}},
+        BadFile{R"({"models": [{"path": "triangle.gltf", "translaton": [1, 2, 3]}]})",
+                {"/models/0/translaton: unknown key"}},
+        BadFile{R"({"models": {"path": "triangle.gltf"}})", {"/models: expected an array"}},
+        BadFile{R"({"models": [{"path": "triangle.gltf"}], "models": []})", {"duplicate key \"models\""}},
+        BadFile{R"({"models": [{}]})", {"/models/0/path: missing"}},
+        BadFile{R"({"models": [{"path": "../triangle.gltf"}]})", {"/models/0/path", "\"..\" components"}},
+        BadFile{R"({"models": [{"path": "/etc/triangle.gltf"}]})", {"/models/0/path", "absolute paths"}},
+        BadFile{R"({"models": [{"path": "nothere.glb"}]})", {"/models/0/path", "file not found"}},
+        BadFile{R"({"models": [{"path": "triangle.obj"}]})", {"/models/0/path", "not a .gltf or .glb"}},
+        BadFile{R"({"models": [{"path": "triangle.gltf", "translation": [1, 2]}]})",
+                {"/models/0/translation", "3 finite numbers"}},
+        BadFile{R"({"models": [{"path": "triangle.gltf", "scale": 0}]})", {"/models/0/scale", "non-zero"}},
+        BadFile{R"({"models": [{"path": "triangle.gltf", "rotation_deg": [0, 0, 0], "rotation_quat": [0, 0, 0, 1]}]})",
+                {"/models/0/rotation_quat", "not both"}},
+        BadFile{R"({"models": [{"path": "triangle.gltf", "rotation_quat": [0, 0, 0, 0]}]})", {"zero quaternion"}},
+        BadFile{R"({"procedural": [{"name": "box", "size": 1e30}]})", {"/procedural/0", "size = 1e+30 is outside"}},
+        BadFile{R"({"procedural": [{"name": "boxx"}]})", {"/procedural/0", "unknown built-in scene"}},
+        BadFile{R"({"procedural": [{"name": "box", "size": "big"}]})", {"/procedural/0/size: expected a number"}},
+        BadFile{R"({"procedural": [{"name": "box", "colour": 1}]})", {"/procedural/0", "unknown parameter \"colour\""}},
+        BadFile{R"({"ground": {}})", {"/ground", "no models"}},
+        BadFile{R"({"procedural": [{"name": "box"}], "ground": {"margin": -1}})",
+                {"/ground/margin: expected a number in [0, 1000]"}},
+        BadFile{R"({"procedural": [{"name": "box"}], "ground": {"enabled": 1}})",
+                {"/ground/enabled: expected true or false"}},
+        BadFile{R"({"procedural": [{"name": "box"}], "ground": {"heigth": 1}})", {"/ground/heigth: unknown key"}},
+        BadFile{R"({"procedural": [{"name": "box"}], "camera": {"eye": [0, 1, 0], "target": [0, 1, 0]}})",
+                {"/camera/target: equals eye"}},
+        BadFile{
+            R"({"procedural": [{"name": "box"}], "camera": {"eye": [0, 1, 5], "target": [0, 0, 0], "fovy_deg": 180}})",
+            {"/camera/fovy_deg: expected a number in (0, 180)"}},
+        BadFile{
+            R"({"procedural": [{"name": "box"}], "camera": {"eye": [0, 1, 5], "target": [0, 0, 0], "size": [0, 720]}})",
+            {"/camera/size: expected [width, height]"}},
+        BadFile{R"({"procedural": [{"name": "box"}], "cameras": [{"eye": [0, 1, 5]}]})",
+                {"/cameras/0/target: missing"}},
+        BadFile{R"({"procedural": [{"name": "box"}], "lights": []})", {"/lights: is empty"}},
+        BadFile{R"({"procedural": [{"name": "box"}], "lights": [{"type": "spot", "position": [0, 5, 0], )"
+                R"("target": [0, 0, 0], "fov_deg": 200}]})",
+                {"/lights/0/fov_deg: expected a number in (0, 180)"}},
+        BadFile{R"({"procedural": [{"name": "box"}], "lights": [{"type": "spot", "position": [0, 5, 0], )"
+                R"("target": [0, 0, 0], "radius": -1}]})",
+                {"/lights/0/radius: expected a number in [0, inf)"}},
+        BadFile{R"({"procedural": [{"name": "box"}], "lights": [{"type": "dir", "direction": [0, 0, 0]}]})",
+                {"/lights/0/direction: must not be the zero vector"}},
+        BadFile{
+            R"({"procedural": [{"name": "box"}], "lights": [{"type": "dir", "direction": [0, -1, 0], "radius": 1}]})",
+            {"/lights/0/radius: unknown key"}},
+        BadFile{R"({"procedural": [{"name": "box"}], "lights": [{"type": "dir", "direction": [0, -1, 0], )"
+                R"("angular_radius_deg": 45}]})",
+                {"/lights/0/angular_radius_deg: expected a number in [0, 45)"}},
+        BadFile{R"({"procedural": [{"name": "box"}], "lights": [{"type": "point"}]})",
+                {"/lights/0/type: expected \"spot\" or \"dir\""}}));
+
+TEST_F(SceneFile, ModelErrorsNameTheEntryAndTheModel) {
+  std::ofstream(dir_ / "broken.gltf") << "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 5}";
+  EXPECT_TRUE(throwsWith([&] { loadSceneFile(write(R"({"models": [{"path": "broken.gltf"}]})")); },
+                         {"scene.json: /models/0: broken.gltf: /scene: no element 5 in scenes"}));
+}
+
+// Every bundled scene file: the model and a ground, a 1280x720 camera that sees the whole model, and a
+// soft spot light whose cone holds the model.
+class SceneFileBundled : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SceneFileBundled, CameraAndLightFrameTheModel) {
+  const Scene s = loadSceneFile(test::bundledScene(GetParam()));
+  EXPECT_TRUE(test::wellFormed(s));
+  ASSERT_EQ(s.objectNames.back(), "ground");
+  Bounds model;
+  for (size_t t = 0; t < s.triangleCount(); ++t)
+    if (s.objectNames[s.objectIds[t]] != "ground")
+      for (int k = 0; k < 3; ++k) model.grow(s.positions[s.triangles[t][k]]);
+  ASSERT_FALSE(s.cameras.empty());
+  ASSERT_FALSE(s.lights.empty());
+  const Camera& c = s.cameras[0];
+  EXPECT_EQ(c.width, 1280);
+  EXPECT_EQ(c.height, 720);
+  const Light& l = s.lights[0];
+  EXPECT_EQ(l.type, LightType::Spot);
+  EXPECT_GT(l.radius, 0.0f);
+  const glm::mat4 viewProjection = c.projection(0.1f, 1000.0f) * c.view();
+  for (int i = 0; i < 8; ++i) {
+    const glm::vec3 corner(i & 1 ? model.max.x : model.min.x, i & 2 ? model.max.y : model.min.y,
+                           i & 4 ? model.max.z : model.min.z);
+    const glm::vec4 clip = viewProjection * glm::vec4(corner, 1);
+    EXPECT_LT(std::max(std::abs(clip.x), std::abs(clip.y)), clip.w) << "corner " << i << " is outside the image";
+    const float angle = glm::degrees(std::acos(glm::dot(glm::normalize(corner - l.position), l.axis())));
+    EXPECT_LT(angle, l.fovDeg / 2) << "corner " << i << " is outside the light's cone";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(SceneFile, SceneFileBundled,
+                         ::testing::Values("default.json", "lantern.json", "suzanne.json", "milk-truck.json"),
+                         [](const auto& test_info) {
+                           std::string n = test_info.param.substr(0, test_info.param.find('.'));
+                           std::replace(n.begin(), n.end(), '-', '_');
+                           return n;
+                         });
+
+TEST(SceneFileDefault, IsTheAntiqueCameraOnAGround) {
+  const Scene s = loadSceneFile(test::bundledScene("default.json"));
+  EXPECT_EQ(s.triangleCount(), 20066u + 2u);
+  EXPECT_NEAR(s.bounds().min.y, -0.000806f, 1e-6f);  // the ground sits at the model's lowest point
+}
+
+}  // namespace
+}  // namespace penumbra

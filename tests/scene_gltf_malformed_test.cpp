@@ -1,0 +1,161 @@
+// glTF files broken in one way each (tests/data/scenes/malformed/, written by make_test_files.py) must be
+// refused with a SceneError naming the file and the element; plus cases built at run time: symlinks out
+// of the folder, directories, size limits, empty and garbage files.
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "host/scene/gltf_loader.h"
+#include "scene_test_util.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+using test::sceneData;
+using test::throwsWith;
+
+struct Broken {
+  const char* file;
+  std::vector<std::string> parts;  // the message must contain each
+};
+
+class GltfMalformed : public ::testing::TestWithParam<Broken> {};
+
+TEST_P(GltfMalformed, IsRefusedWithAClearMessage) {
+  const std::string path = sceneData(GetParam().file);
+  std::vector<std::string> parts = GetParam().parts;
+  parts.push_back(path);  // every message names the file
+  EXPECT_TRUE(throwsWith([&] { loadGltf(path); }, parts));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Gltf, GltfMalformed,
+    ::testing::Values(
+        Broken{"malformed/truncated.glb", {"GLB", "header says 752 bytes but the file has 376"}},
+        Broken{"malformed/header_only.glb", {"GLB", "the file has 12"}},
+        Broken{"malformed/bad_json_chunk_length.glb", {"chunk 0", "runs past the end"}},
+        Broken{"malformed/bad_bin_chunk_length.glb", {"chunk 1", "runs past the end"}},
+        Broken{"malformed/bin_not_aligned.glb", {"chunk 1", "not a multiple of 4"}},
+        Broken{"malformed/wrong_version.glb", {"container version 1"}},
+        Broken{"malformed/length_mismatch.glb", {"header says 752 bytes but the file has 756"}},
+        Broken{"malformed/no_bin_chunk.glb", {"BIN"}},
+        Broken{"malformed/traversal.gltf", {"buffer \"../triangle.bin\"", "\"..\" components are not allowed"}},
+        Broken{"malformed/traversal_encoded.gltf", {"\"..\" components are not allowed"}},
+        Broken{"sub/inner.gltf", {"\"..\" components are not allowed"}},
+        Broken{"malformed/absolute_uri.gltf", {"/etc/passwd", "absolute paths are not allowed"}},
+        Broken{"malformed/file_uri.gltf", {"URI schemes"}},
+        Broken{"malformed/missing_bin.gltf", {"nowhere.bin", "file not found"}},
+        Broken{"malformed/count_overflow.gltf", {"accessor 0", "count 18446744073709551615"}},
+        Broken{"malformed/index_out_of_range.gltf", {"accessor 2: index 16256 out of range (vertex count 3)"}},
+        Broken{"malformed/node_cycle.gltf", {"cycle", "node 1 -> node 2 -> node 3 -> node 1"}},
+        Broken{"malformed/two_parents.gltf", {"node 2: has two parents (node 0 and node 1)"}},
+        Broken{"malformed/draco_required.gltf", {"KHR_draco_mesh_compression is required but not supported"}},
+        Broken{"malformed/meshopt_required.gltf", {"EXT_meshopt_compression is required but not supported"}},
+        Broken{"malformed/nan_matrix.gltf", {"invalid JSON", "1e999"}},
+        Broken{"malformed/nan_token.gltf", {"invalid JSON"}},
+        Broken{"malformed/non_affine_matrix.gltf", {"node 0: matrix is not affine"}},
+        Broken{"malformed/matrix_length.gltf", {"/nodes/0/matrix", "16 numbers"}},
+        Broken{"malformed/world_overflow.gltf", {"node 1: world transform overflows"}},
+        Broken{"malformed/missing_position.gltf", {"mesh 0 primitive 0: missing required attribute POSITION"}},
+        Broken{"malformed/position_type.gltf", {"accessor 0: POSITION must be VEC3 of FLOAT", "UNSIGNED_SHORT"}},
+        Broken{"malformed/index_type.gltf", {"accessor 2: indices must be SCALAR", "FLOAT"}},
+        Broken{"malformed/view_past_buffer.gltf", {"bufferView 1", "past the end of buffer 0 (80 bytes)"}},
+        Broken{"malformed/accessor_past_view.gltf", {"accessor 0", "need 84 bytes, bufferView 0 has 72"}},
+        Broken{"malformed/stride_too_small.gltf", {"accessor 0: byteStride 8"}},
+        Broken{"malformed/bad_mode.gltf", {"/meshes/0/primitives/0/mode"}},
+        Broken{"malformed/bad_scene.gltf", {"/scene", "no element 3 in scenes"}},
+        Broken{"malformed/normal_count.gltf", {"NORMAL has 2 elements but POSITION has 3"}}),
+    [](const auto& test_info) {
+      std::string name = fs::path(test_info.param.file).stem().string();
+      for (char& c : name) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+      return name;
+    });
+
+// A fresh folder per test, removed afterwards; files are written into it at run time.
+class GltfRuntime : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    static std::atomic<int> counter{0};
+    dir_ = fs::temp_directory_path() /
+           ("penumbra_scene_test_" + std::to_string(getpid()) + "_" + std::to_string(counter++));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& bytes) {
+    std::ofstream(dir_ / name, std::ios::binary) << bytes;
+    return (dir_ / name).string();
+  }
+  std::string copyTriangle(const std::string& binName) {
+    std::ifstream in(sceneData("triangle.gltf"));
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    text.replace(text.find("triangle.bin"), 12, binName);
+    return write("scene.gltf", text);
+  }
+  fs::path dir_;
+};
+
+TEST_F(GltfRuntime, SymlinkOutOfTheFolderIsRefused) {
+  fs::create_symlink(sceneData("triangle.bin"), dir_ / "link.bin");
+  EXPECT_TRUE(throwsWith([&] { loadGltf(copyTriangle("link.bin")); }, {"link.bin", "outside the scene's folder"}));
+}
+
+TEST_F(GltfRuntime, SymlinkInsideTheFolderIsFine) {
+  fs::copy_file(sceneData("triangle.bin"), dir_ / "real.bin");
+  fs::create_symlink(dir_ / "real.bin", dir_ / "link.bin");
+  EXPECT_EQ(loadGltf(copyTriangle("link.bin")).triangleCount(), 1u);
+}
+
+TEST_F(GltfRuntime, DirectoryAsBufferIsRefused) {
+  fs::create_directories(dir_ / "folder.bin");
+  EXPECT_TRUE(throwsWith([&] { loadGltf(copyTriangle("folder.bin")); }, {"not a regular file"}));
+}
+
+TEST_F(GltfRuntime, FileSizeLimits) {
+  fs::copy_file(sceneData("triangle.bin"), dir_ / "triangle.bin");
+  const std::string path = copyTriangle("triangle.bin");
+  LoadOptions small;
+  small.maxFileBytes = 100;  // the .gltf is about 1 kB, the .bin 80 bytes
+  EXPECT_TRUE(throwsWith([&] { loadGltf(path, small); }, {"over the limit of 100 bytes"}));
+  LoadOptions total;
+  total.maxTotalBytes = 1050;  // the .gltf (1013 bytes) fits, the .gltf and .bin together do not
+  EXPECT_TRUE(throwsWith([&] { loadGltf(path, total); }, {"triangle.bin", "limit on bytes read per load"}));
+}
+
+TEST_F(GltfRuntime, TriangleLimit) {
+  LoadOptions options;
+  options.maxTriangles = 1000;
+  EXPECT_TRUE(throwsWith([&] { loadGltf(test::bundledScene("Suzanne.glb"), options); }, {"limit"}));
+}
+
+TEST_F(GltfRuntime, JsonValueLimit) {
+  LoadOptions options;
+  options.maxJsonValues = 10;  // triangle.gltf has about 60
+  EXPECT_TRUE(throwsWith([&] { loadGltf(sceneData("triangle.gltf"), options); }, {"more than 10 JSON values"}));
+}
+
+TEST_F(GltfRuntime, CountTimesStrideOverflowIsCaught) {
+  LoadOptions options;
+  options.maxVertices = ~uint64_t{0};  // let the count through to the byte-range arithmetic
+  EXPECT_TRUE(throwsWith([&] { loadGltf(sceneData("malformed/count_overflow.gltf"), options); },
+                         {"accessor 0: count 18446744073709551615 x stride 12 overflows"}));
+}
+
+TEST_F(GltfRuntime, EmptyGarbageAndMissingFiles) {
+  EXPECT_TRUE(throwsWith([&] { loadGltf(write("empty.gltf", "")); }, {"empty.gltf", "invalid JSON"}));
+  EXPECT_TRUE(throwsWith([&] { loadGltf(write("empty.glb", "")); }, {"empty.glb", "GLB"}));
+  EXPECT_TRUE(throwsWith([&] { loadGltf(write("garbage.gltf", "{\"asset\": [")); }, {"garbage.gltf", "invalid JSON"}));
+  EXPECT_TRUE(
+      throwsWith([&] { loadGltf(write("array.gltf", "[1, 2]")); }, {"array.gltf", "expected a glTF JSON object"}));
+  EXPECT_TRUE(throwsWith([&] { loadGltf(write("v1.gltf", "{\"asset\": {\"version\": \"1.0\"}}")); }, {"version 1.0"}));
+  EXPECT_TRUE(throwsWith([&] { loadGltf(write("deep.gltf", std::string(100000, '[') + std::string(100000, ']'))); },
+                         {"deep.gltf", "nested deeper than 64 levels"}));
+  EXPECT_TRUE(throwsWith([&] { loadGltf((dir_ / "missing.gltf").string()); }, {"missing.gltf", "file not found"}));
+  EXPECT_TRUE(throwsWith([&] { loadGltf(dir_.string()); }, {"not a regular file"}));
+}
+
+}  // namespace
+}  // namespace penumbra

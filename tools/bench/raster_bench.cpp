@@ -1,0 +1,156 @@
+// Google Benchmark of the binned rasterizer (raster/): device time per kernel from OpenCL profiling events (warm-up
+// and queue growth excluded) and triangles/s, for shadow maps (orthographic light views) of FlightHelmet on a
+// ground plane, the 1M-triangle MetalRoughSpheres and a procedural 262k-triangle field of spheres, at 2048^2 and
+// 4096^2, plus a perspective camera view. Device: PENUMBRA_DEVICE (or "auto"). Scenes: PENUMBRA_SCENES_DIR, else
+// ../shared/scenes beside the source tree; missing files skip their cases.
+//   build/tools/bench/raster_bench --benchmark_counters_tabular=true
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "host/cl/context.h"
+#include "host/cl/profiler.h"
+#include "host/scene/gltf_loader.h"
+#include "raster/rasterizer.h"
+
+namespace penumbra {
+namespace {
+
+std::string scenePath(const std::string& name) {
+  for (const std::string& dir : {std::string(PENUMBRA_SOURCE_DIR) + "/scenes",
+                                 std::string(PENUMBRA_SOURCE_DIR) + "/../shared/scenes"})
+    if (std::filesystem::exists(dir + "/" + name)) return dir + "/" + name;
+  return {};
+}
+
+// A square ground plane under the scene, three times its extent.
+Scene withGround(Scene scene) {
+  const Bounds b = scene.bounds();
+  const float r = 1.5f * glm::length(b.max - b.min), y = b.min.y - 0.01f * (b.max.y - b.min.y);
+  const glm::vec3 c = b.center();
+  const uint32_t base = static_cast<uint32_t>(scene.positions.size());
+  for (glm::vec2 d : {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(1, 1), glm::vec2(-1, 1)}) {
+    scene.positions.emplace_back(c.x + r * d.x, y, c.z - r * d.y);
+    scene.normals.emplace_back(0, 1, 0);
+  }
+  scene.triangles.emplace_back(base, base + 1, base + 2);
+  scene.triangles.emplace_back(base, base + 2, base + 3);
+  scene.objectIds.resize(scene.triangles.size(), static_cast<uint32_t>(scene.objectNames.size()));
+  scene.objectNames.push_back("ground");
+  return scene;
+}
+
+// 16 x 16 UV spheres of 16 x 32 quads, two triangles each (the pole ones degenerate): 262,144 triangles.
+Scene sphereField() {
+  Scene s;
+  const int stacks = 16;
+  for (int gx = 0; gx < 16; ++gx)
+    for (int gz = 0; gz < 16; ++gz) {
+      const glm::vec3 centre(gx * 2.5f, 1.0f, gz * 2.5f);
+      const uint32_t base = static_cast<uint32_t>(s.positions.size());
+      for (int i = 0; i <= stacks; ++i)
+        for (int j = 0; j <= 32; ++j) {
+          const float theta = glm::pi<float>() * i / stacks, phi = 2 * glm::pi<float>() * j / 32;
+          const glm::vec3 d(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+          s.positions.push_back(centre + d);
+          s.normals.push_back(d);
+        }
+      for (int i = 0; i < stacks; ++i)
+        for (int j = 0; j < 32; ++j) {
+          const uint32_t a = base + i * 33 + j, b = a + 33;
+          s.triangles.emplace_back(a, a + 1, b);
+          s.triangles.emplace_back(a + 1, b + 1, b);
+        }
+    }
+  s.objectIds.assign(s.triangles.size(), 0);
+  s.objectNames = {"spheres"};
+  return s;
+}
+
+// A directional light's shadow map: orthographic, fitted to the scene's bounding sphere.
+RasterView lightView(const Scene& scene, int size) {
+  const Bounds b = scene.bounds();
+  const glm::vec3 c = b.center(), dir = glm::normalize(glm::vec3(0.35f, -1.0f, 0.25f));
+  const float r = b.radius();
+  RasterView v;
+  v.view = glm::lookAt(c - 2.0f * r * dir, c, glm::vec3(0, 0, 1));
+  v.projection = glm::ortho(-r, r, -r, r, 0.5f * r, 3.5f * r);
+  v.width = v.height = size;
+  v.depthMode = DepthMode::kViewZ;
+  return v;
+}
+
+RasterView cameraView(const Scene& scene, int size) {
+  const Bounds b = scene.bounds();
+  const glm::vec3 c = b.center();
+  const float r = b.radius();
+  RasterView v;
+  v.view = glm::lookAt(c + glm::vec3(0.6f, 0.5f, 1.2f) * r, c, glm::vec3(0, 1, 0));
+  v.projection = glm::perspective(glm::radians(50.0f), 1.0f, 0.05f * r, 6.0f * r);
+  v.width = v.height = size;
+  return v;
+}
+
+void addCase(Context& ctx, const std::string& name, std::shared_ptr<const Scene> scene, RasterView view) {
+  benchmark::RegisterBenchmark(
+      fmt::format("raster/{}/{}", name, view.width).c_str(),
+      [&ctx, scene, view](benchmark::State& state) {
+        Rasterizer raster(ctx);
+        raster.setScene(*scene);
+        RasterTargets targets;
+        raster.draw(view, targets);  // warm-up: builds kernels, grows the queues
+        std::map<std::string, double> perKernel;
+        double totalMs = 0;
+        for (auto _ : state) {
+          Profiler profiler;
+          ProfilerScope scope(ctx, profiler);
+          raster.draw(view, targets);
+          double ms = 0;
+          for (const PassTime& pass : profiler.resolve()) {
+            ms += pass.ms;  // kernels, the counter clears and the counter read-back
+            perKernel[pass.name] += pass.ms;
+          }
+          totalMs += ms;
+          state.SetIterationTime(ms * 1e-3);
+        }
+        const double n = static_cast<double>(state.iterations());
+        for (const auto& [pass, ms] : perKernel)
+          state.counters[pass.substr(pass.find('/') + 1) + "_us"] = benchmark::Counter(ms * 1e3 / n);
+        state.counters["Mtri/s"] = benchmark::Counter(scene->triangleCount() / (totalMs * 1e-3 / n) * 1e-6);
+        state.counters["triangles"] = benchmark::Counter(static_cast<double>(scene->triangleCount()));
+        state.counters["set_up"] = benchmark::Counter(static_cast<double>(raster.stats().trianglesSetUp));
+        state.counters["tile_entries"] = benchmark::Counter(static_cast<double>(raster.stats().tileEntries));
+      })
+      ->UseManualTime()
+      ->Unit(benchmark::kMicrosecond);
+}
+
+}  // namespace
+}  // namespace penumbra
+
+int main(int argc, char** argv) {
+  using namespace penumbra;
+  benchmark::Initialize(&argc, argv);
+  Context ctx;
+  std::fprintf(stderr, "device: %s (%s)\n", ctx.info().name.c_str(), ctx.info().platformName.c_str());
+  std::vector<std::pair<std::string, std::shared_ptr<const Scene>>> scenes;
+  if (std::string p = scenePath("FlightHelmet.glb"); !p.empty())
+    scenes.emplace_back("FlightHelmetGround", std::make_shared<const Scene>(withGround(loadGltf(p))));
+  if (std::string p = scenePath("MetalRoughSpheresNoTextures.glb"); !p.empty())
+    scenes.emplace_back("MetalRoughSpheres", std::make_shared<const Scene>(loadGltf(p)));
+  scenes.emplace_back("SphereField262k", std::make_shared<const Scene>(sphereField()));
+  for (const auto& [name, scene] : scenes)
+    for (int size : {2048, 4096}) addCase(ctx, "shadow/" + name, scene, lightView(*scene, size));
+  for (const auto& [name, scene] : scenes) addCase(ctx, "camera/" + name, scene, cameraView(*scene, 2048));
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,210 @@
+// Google Benchmark of the filtering stages (moments, blur, SAT, pyramid, reduce) on 2048^2 and 4096^2
+// float2 images: device time from OpenCL profiling events (warm-up excluded) beside the bandwidth floor,
+// i.e. the minimum bytes a stage must move divided by the device copy bandwidth measured here first.
+// Device: PENUMBRA_DEVICE (or "auto"). With Boost.Compute available, its inclusive_scan over the same
+// data runs side by side with the SAT.
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "host/cl/buffer.h"
+#include "host/cl/context.h"
+#include "host/cl/kernel.h"
+#include "host/cl/profiler.h"
+#include "host/stages/blur.h"
+#include "host/stages/moments.h"
+#include "host/stages/pyramid.h"
+#include "host/stages/reduce.h"
+#include "host/stages/sat.h"
+
+#if __has_include(<boost/compute/algorithm/inclusive_scan.hpp>)
+#define PENUMBRA_BENCH_BOOST_COMPUTE 1
+#include <boost/compute/algorithm/inclusive_scan.hpp>
+#include <boost/compute/command_queue.hpp>
+#include <boost/compute/container/vector.hpp>
+#endif
+
+namespace penumbra {
+namespace {
+
+// Device time in ms of everything `work` enqueues.
+double deviceMs(Context& ctx, const std::function<void()>& work) {
+  Profiler profiler;
+  ProfilerScope scope(ctx, profiler);
+  work();
+  ctx.finish();
+  double ms = 0.0;
+  for (const PassTime& pass : profiler.resolve())
+    if (pass.name.rfind("transfer/", 0) != 0) ms += pass.ms;
+  return ms;
+}
+
+// Host wall-clock ms of `work` until the queue drains: for code whose launches bypass our profiler
+// (Boost.Compute) and for a like-for-like comparison with it.
+double wallMs(Context& ctx, const std::function<void()>& work) {
+  ctx.finish();
+  const auto start = std::chrono::steady_clock::now();
+  work();
+  ctx.finish();
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Copy bandwidth in bytes/s: copy_float4 over 256 MiB (64 MiB on CPUs), best of 5.
+double copyBandwidth(Context& ctx) {
+  const size_t count = (ctx.info().isGpu() ? 256u : 64u) * 1024 * 1024 / 16;
+  Buffer<cl_float4> in(ctx, count), out(ctx, count);
+  in.fill(ctx, {{1.0f, 2.0f, 3.0f, 4.0f}});
+  Kernel copy(ctx, "kernels/fill.cl", "copy_float4", "bench");
+  double best = 1e30;
+  for (int i = 0; i < 6; ++i) {
+    const double ms = deviceMs(ctx, [&] { copy.args(in, out, uint32_t(count)).launch(count, 256); });
+    if (i > 0) best = std::min(best, ms);  // the first run warms up
+  }
+  return 2.0 * count * 16 / (best * 1e-3);
+}
+
+struct Setup {
+  Context& ctx;
+  double bandwidth;  // bytes/s
+};
+
+// Registers `name/size` timing `work` (after one warm-up) against a floor of `floorBytes` moved.
+void add(Setup& setup, const std::string& name, uint32_t size, double floorBytes,
+         std::function<std::function<void()>(uint32_t)> prepare, bool wallClock = false) {
+  benchmark::RegisterBenchmark(fmt::format("{}/{}", name, size).c_str(),
+                               [&setup, size, floorBytes, prepare, wallClock](benchmark::State& state) {
+                                 const std::function<void()> work = prepare(size);
+                                 const auto time = wallClock ? wallMs : deviceMs;
+                                 time(setup.ctx, work);
+                                 double totalMs = 0.0;
+                                 for (auto _ : state) {
+                                   const double ms = time(setup.ctx, work);
+                                   totalMs += ms;
+                                   state.SetIterationTime(ms * 1e-3);
+                                 }
+                                 const double meanUs = totalMs * 1e3 / double(state.iterations());
+                                 const double floorUs = floorBytes / setup.bandwidth * 1e6;
+                                 state.counters["floor_us"] = floorUs;
+                                 state.counters["x_floor"] = meanUs / floorUs;  // 1 = at the bandwidth floor
+                                 state.counters["floor_GB/s"] = floorBytes / (meanUs * 1e3);
+                               })
+      ->UseManualTime()
+      ->Unit(benchmark::kMicrosecond);
+}
+
+std::vector<float> randomData(size_t count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<float> out(count);
+  for (float& v : out) v = unit(rng);
+  return out;
+}
+
+template <class T>
+void addSat(Setup& s, const std::string& name, uint32_t size, SatConfig config, bool wallClock = false) {
+  const double texels = double(size) * size;
+  add(s, name, size, texels * (8 + 2 * sizeof(T)), [&s, config](uint32_t n) {
+    const ImageShape shape{n, n, 2};
+    auto image = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(shape.count(), n)));
+    auto table = std::make_shared<Buffer<T>>(s.ctx, shape.count());
+    auto offset = std::make_shared<Buffer<float>>(s.ctx, 4);
+    return std::function<void()>(
+        [&s, image, table, offset, shape, config] { computeSat(s.ctx, *image, shape, *table, *offset, config); });
+  });
+}
+
+void registerAll(Setup& s) {
+  for (uint32_t size : {2048u, 4096u}) {
+    const double texels = double(size) * size;
+    add(s, "moments_vsm", size, texels * 12, [&s](uint32_t n) {
+      auto depth = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(size_t(n) * n, 1)));
+      auto out = std::make_shared<Buffer<float>>(s.ctx, size_t(n) * n * 2);
+      return std::function<void()>([&s, depth, out, n] { computeMoments(s.ctx, *depth, n, n, {}, *out); });
+    });
+    for (float sigma : {2.0f, 8.0f, 16.0f}) {
+      add(s, fmt::format("blur_gauss_sigma{}", sigma), size, texels * 16, [&s, sigma](uint32_t n) {
+        const ImageShape shape{n, n, 2};
+        auto in = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(shape.count(), 2)));
+        auto out = std::make_shared<Buffer<float>>(s.ctx, shape.count());
+        auto scratch = std::make_shared<Buffer<float>>(s.ctx, shape.count());
+        BlurConfig config;
+        config.sigma = sigma;
+        return std::function<void()>(
+            [&s, in, out, scratch, shape, config] { blur(s.ctx, *in, *out, *scratch, shape, config); });
+      });
+    }
+    SatConfig offsetGiven;
+    offsetGiven.offset = std::array<float, 4>{0.5f, 0.5f, 0.0f, 0.0f};
+    addSat<float>(s, "sat_tiled_fp32_offset", size, offsetGiven);
+    addSat<float>(s, "sat_tiled_fp32_zeromean", size, {});
+    addSat<uint32_t>(s, "sat_tiled_fixed32", size, {});
+    addSat<uint64_t>(s, "sat_tiled_fixed64", size, {});
+    if (s.ctx.info().fp64) addSat<double>(s, "sat_tiled_fp64", size, {});
+    SatConfig hensley = offsetGiven;
+    hensley.algorithm = SatAlgorithm::Hensley;
+    addSat<float>(s, "sat_hensley_fp32_offset", size, hensley);
+#ifdef PENUMBRA_BENCH_BOOST_COMPUTE
+    // Side by side on wall clock: Boost.Compute's launches bypass our profiler. Its 1-D scan of the same
+    // 2 n^2 floats does less work than a SAT (one axis, no carries across rows).
+    addSat<float>(s, "sat_tiled_fp32_offset_wall", size, offsetGiven, /*wallClock=*/true);
+    add(s, "boost_compute_inclusive_scan_wall", size, texels * 16, [&s](uint32_t n) {
+      namespace bc = boost::compute;
+      auto queue = std::make_shared<bc::command_queue>(s.ctx.queue().get(), true);
+      const std::vector<float> host = randomData(size_t(n) * n * 2, 3);
+      auto data = std::make_shared<bc::vector<float>>(host.begin(), host.end(), *queue);
+      auto out = std::make_shared<bc::vector<float>>(data->size(), queue->get_context());
+      return std::function<void()>(
+          [queue, data, out] { bc::inclusive_scan(data->begin(), data->end(), out->begin(), *queue); });
+    });
+#endif
+    add(s, "pyramid_mips_float2", size, texels * (8 + 8.0 / 3), [&s](uint32_t n) {
+      const ImageShape shape{n, n, 2};
+      auto base = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(shape.count(), 4)));
+      auto mips = std::make_shared<Buffer<float>>(s.ctx, pyramidLayout(n, n, 1).texels * 2);
+      return std::function<void()>([&s, base, mips, shape] { computeMomentMips(s.ctx, *base, shape, *mips); });
+    });
+    add(s, "pyramid_minmax", size, texels * (4 + 8 * 4.0 / 3), [&s](uint32_t n) {
+      auto depth = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(size_t(n) * n, 5)));
+      auto out = std::make_shared<Buffer<cl_float2>>(s.ctx, pyramidLayout(n, n, 0).texels);
+      return std::function<void()>([&s, depth, out, n] { computeMinMaxPyramid(s.ctx, *depth, n, n, *out); });
+    });
+    add(s, "reduce_lloyd_k4", size, texels * 8, [&s](uint32_t n) {
+      const size_t count = size_t(n) * n;
+      auto x = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(count, 6)));
+      auto w = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(count, 7)));
+      const std::vector<float> splits{0.25f, 0.5f, 0.75f};
+      auto boundaries = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(splits));
+      auto out = std::make_shared<Buffer<LloydStats>>(s.ctx, 4);
+      return std::function<void()>(
+          [&s, x, w, boundaries, out, count] { reduceLloydStats(s.ctx, *x, *w, count, *boundaries, 4, *out); });
+    });
+  }
+}
+
+}  // namespace
+}  // namespace penumbra
+
+int main(int argc, char** argv) {
+  try {
+    benchmark::Initialize(&argc, argv);
+    penumbra::Context ctx;
+    const double bandwidth = penumbra::copyBandwidth(ctx);
+    std::printf("device: %s\ncopy bandwidth: %.1f GB/s (floor = minimum bytes / this)\n", ctx.info().name.c_str(),
+                bandwidth * 1e-9);
+    penumbra::Setup setup{ctx, bandwidth};
+    penumbra::registerAll(setup);
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "stages_bench: %s\n", e.what());
+    return 1;
+  }
+}
