@@ -6,8 +6,8 @@
 
 // Average depth of blockers in a square of half-width `radius` texels sampled on a taps x taps grid;
 // returns 0 when no texel blocks.
-inline float pcss_blocker_depth(__global const float* map, __constant const LightViewGpu* lv, Receiver r,
-                                float radius, int taps) {
+inline float pcss_blocker_depth(__global const float* map, __constant const LightViewGpu* lv, Receiver r, float radius,
+                                int taps) {
   float sum = 0.0f;
   int found = 0;
   float step = taps > 1 ? 2.0f * radius / (float)(taps - 1) : 0.0f;
@@ -27,8 +27,8 @@ inline float pcss_blocker_depth(__global const float* map, __constant const Ligh
 
 __kernel void pcss_visibility(__global const float4* position, __global const float4* normal, uint count,
                               __global const float* map, __constant const LightViewGpu* lv, float biasConstant,
-                              float biasSlope, float normalOffset, int searchTaps, int filterTaps,
-                              float maxRadius, __global float* visibility, __global float* blockerOut) {
+                              float biasSlope, float normalOffset, int searchTaps, int filterTaps, float maxRadius,
+                              __global float* blockerOut, __global float* visibility) {
   uint i = get_global_id(0);
   if (i >= count) return;
   float4 p = position[i];

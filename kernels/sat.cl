@@ -2,7 +2,8 @@
 // summed-area tables", alg. SAT): (1) per 32x32 tile, row and column sums and the tile total; (2) one
 // launch scanning those across tiles into carries (plus one work-group for the 2-D prefix of totals);
 // (3) per tile, the in-tile 2-D scan with the carries added: the image is read twice and written once,
-// no inter-group synchronisation. Hensley et al. 2005 recursive doubling is the O(n log n) baseline.
+// no inter-group synchronisation. Line scans suit CPUs; Hensley et al. 2005 recursive doubling is the
+// O(n log n) baseline.
 #include "kernels/shared/sat.h"
 
 inline float4 sat_widen(SAT_F v) {
@@ -160,6 +161,37 @@ __kernel __attribute__((reqd_work_group_size(SAT_TILE, SAT_GROUP_Y, 1))) void sa
   for (uint r = ly; r < SAT_TILE; r += SAT_GROUP_Y) {
     const uint yy = ty * SAT_TILE + r;
     if (x < t.width && yy < t.height) out[(size_t)yy * t.width + x] = tile[r][lx];
+  }
+}
+
+// Line scans for CPU devices: a serial scan per row, then per column in place. Neighbouring work-items
+// take neighbouring columns, which the CPU compilers vectorize; twice the traffic of the tiled scan,
+// but no barriers, which CPU implementations turn into loops over the work-group.
+__kernel void sat_lines_rows(__global const SAT_F* in, SatTableDesc t, __global const float* offsetBuffer,
+                             __global SAT_T* out) {
+  const uint y = get_global_id(0);
+  if (y >= t.height) return;
+  const SAT_F offset = sat_offset(offsetBuffer);
+  const size_t row = (size_t)y * t.width;
+  SAT_T running = 0;
+  for (uint x = 0; x < t.width; ++x) out[row + x] = running += SAT_LOAD(in[row + x], offset, t.scale);
+}
+
+// One work-item per SAT_LINE_BLOCK neighbouring columns: each row step touches one contiguous run,
+// which the compiler turns into vector loads within the work-item.
+__kernel void sat_lines_columns(SatTableDesc t, __global SAT_T* table) {
+  const uint x0 = get_global_id(0) * SAT_LINE_BLOCK;
+  if (x0 >= t.width) return;
+  const uint n = min((uint)SAT_LINE_BLOCK, t.width - x0);
+  SAT_T running[SAT_LINE_BLOCK];
+  for (int c = 0; c < SAT_LINE_BLOCK; ++c) running[c] = 0;
+  for (uint y = 0; y < t.height; ++y) {
+    __global SAT_T* row = table + (size_t)y * t.width + x0;
+    if (n == SAT_LINE_BLOCK) {
+      for (int c = 0; c < SAT_LINE_BLOCK; ++c) row[c] = running[c] += row[c];
+    } else {
+      for (uint c = 0; c < n; ++c) row[c] = running[c] += row[c];
+    }
   }
 }
 

@@ -14,8 +14,8 @@ inline float shade_cone(__constant const LightViewGpu* lv, float3 toLight, float
 }
 
 __kernel void shade_preview(__global const float4* position, __global const float4* normal,
-                            __global const float* visibility, uint count, __constant const LightViewGpu* lv,
-                            float4 eye, float cosHalfFov, __global float4* rgba) {
+                            __global const float* visibility, uint count, __constant const LightViewGpu* lv, float4 eye,
+                            float cosHalfFov, __global float4* rgba) {
   uint i = get_global_id(0);
   if (i >= count) return;
   float4 p = position[i];

@@ -3,8 +3,8 @@
 #include "kernels/shared/shadow_common.h"
 
 __kernel void sm_visibility(__global const float4* position, __global const float4* normal, uint count,
-                            __global const float* map, __constant const LightViewGpu* lv, float biasConstant, float biasSlope, float normalOffset,
-                            __global float* visibility) {
+                            __global const float* map, __constant const LightViewGpu* lv, float biasConstant,
+                            float biasSlope, float normalOffset, __global float* visibility) {
   uint i = get_global_id(0);
   if (i >= count) return;
   float4 p = position[i];

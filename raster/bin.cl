@@ -18,21 +18,21 @@ static uint binRecordCount(const RasterViewParams* p, __global const RasterCount
 }
 
 // Calls BODY(bin) for every bin of the view whose samples the record `t` may cover.
-#define BIN_FOR_EACH(t, p, BODY)                                                                         \
-  do {                                                                                                   \
-    int bx0_ = (t).bbox[0] >> RASTER_BIN_PIXEL_LOG2, by0_ = (t).bbox[1] >> RASTER_BIN_PIXEL_LOG2;       \
-    int bx1_ = (t).bbox[2] >> RASTER_BIN_PIXEL_LOG2, by1_ = (t).bbox[3] >> RASTER_BIN_PIXEL_LOG2;       \
-    bool single_ = bx0_ == bx1_ && by0_ == by1_;                                                         \
-    for (int by_ = by0_; by_ <= by1_; ++by_)                                                             \
-      for (int bx_ = bx0_; bx_ <= bx1_; ++bx_) {                                                         \
-        bool hit_ = single_;                                                                             \
-        if (!hit_) {                                                                                     \
-          int px_ = bx_ << RASTER_BIN_PIXEL_LOG2, py_ = by_ << RASTER_BIN_PIXEL_LOG2;                    \
-          int span_ = (1 << RASTER_BIN_PIXEL_LOG2) - 1;                                                  \
-          RASTER_RECT_OVERLAPS(t, px_, py_, px_ + span_, py_ + span_, hit_);                             \
-        }                                                                                                \
-        if (hit_) BODY(by_ * (p).binsX + bx_);                                                           \
-      }                                                                                                  \
+#define BIN_FOR_EACH(t, p, BODY)                                                                  \
+  do {                                                                                            \
+    int bx0_ = (t).bbox[0] >> RASTER_BIN_PIXEL_LOG2, by0_ = (t).bbox[1] >> RASTER_BIN_PIXEL_LOG2; \
+    int bx1_ = (t).bbox[2] >> RASTER_BIN_PIXEL_LOG2, by1_ = (t).bbox[3] >> RASTER_BIN_PIXEL_LOG2; \
+    bool single_ = bx0_ == bx1_ && by0_ == by1_;                                                  \
+    for (int by_ = by0_; by_ <= by1_; ++by_)                                                      \
+      for (int bx_ = bx0_; bx_ <= bx1_; ++bx_) {                                                  \
+        bool hit_ = single_;                                                                      \
+        if (!hit_) {                                                                              \
+          int px_ = bx_ << RASTER_BIN_PIXEL_LOG2, py_ = by_ << RASTER_BIN_PIXEL_LOG2;             \
+          int span_ = (1 << RASTER_BIN_PIXEL_LOG2) - 1;                                           \
+          RASTER_RECT_OVERLAPS(t, px_, py_, px_ + span_, py_ + span_, hit_);                      \
+        }                                                                                         \
+        if (hit_) BODY(by_*(p).binsX + bx_);                                                      \
+      }                                                                                           \
   } while (0)
 
 // binCount[binsX * binsY] must be zero on entry.
@@ -51,9 +51,11 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_BIN, 1, 1))) void bin_cou
 // Exclusive scan of counts[n] (n <= RASTER_MAX_BINS) in one work-group: offsets[i] (RASTER_SATURATED from
 // 2^32 - 1 on, past every capacity), zero[i] = 0 (the fill pass's cursors), and the 64-bit total into
 // counters->binEntries (which == 0) or counters->tileEntries (which == 1).
-__kernel __attribute__((reqd_work_group_size(RASTER_SCAN_WG, 1, 1))) void bin_scan(
-    __global const uint* counts, __global uint* offsets, __global uint* zero, uint n,
-    __global RasterCounters* counters, uint which) {
+__kernel __attribute__((reqd_work_group_size(RASTER_SCAN_WG, 1, 1))) void bin_scan(__global const uint* counts,
+                                                                                   __global uint* offsets,
+                                                                                   __global uint* zero, uint n,
+                                                                                   __global RasterCounters* counters,
+                                                                                   uint which) {
   __local ulong sums[RASTER_SCAN_WG];
   const uint lid = get_local_id(0), first = lid * RASTER_SCAN_ITEMS;
   ulong own = 0;
@@ -90,11 +92,10 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_BIN, 1, 1))) void bin_fil
   if (i >= binRecordCount(&p, counters)) return;
   const RasterTriangle t = tris[i];
   if ((t.flags & RASTER_FLAG_VALID) == 0) return;
-#define BIN_FILL_ONE(bin)                                                 \
-  do {                                                                    \
-    uint slot_ = atomic_inc(&binCursor[bin]), offset_ = binOffset[bin];   \
-    if (offset_ < p.binCapacity && slot_ < p.binCapacity - offset_)       \
-      binEntries[offset_ + slot_] = i;                                    \
+#define BIN_FILL_ONE(bin)                                                                            \
+  do {                                                                                               \
+    uint slot_ = atomic_inc(&binCursor[bin]), offset_ = binOffset[bin];                              \
+    if (offset_ < p.binCapacity && slot_ < p.binCapacity - offset_) binEntries[offset_ + slot_] = i; \
   } while (0)
   BIN_FOR_EACH(t, p, BIN_FILL_ONE);
 #undef BIN_FILL_ONE

@@ -11,10 +11,10 @@
 #include "raster/types.h"
 
 typedef struct {
-  int bin;            // index in the bin grid
-  int tileX0, tileY0; // the bin's first tile
-  int tile;           // this work-item's tile in the tile grid, -1 outside the viewport
-  uint begin, count;  // the bin's queue range, cut to the capacity
+  int bin;             // index in the bin grid
+  int tileX0, tileY0;  // the bin's first tile
+  int tile;            // this work-item's tile in the tile grid, -1 outside the viewport
+  uint begin, count;   // the bin's queue range, cut to the capacity
 } CoarseBin;
 
 static CoarseBin coarseBin(const RasterViewParams* p, __global const uint* binCount, __global const uint* binOffset) {
@@ -33,19 +33,19 @@ static CoarseBin coarseBin(const RasterViewParams* p, __global const uint* binCo
 
 // Calls BODY(localTile) for every tile of bin `b` whose samples the record `t` may cover. The candidate box lies
 // inside the scissor, so cutting each tile to the box keeps the test inside the scissor too.
-#define COARSE_FOR_EACH_TILE(t, b, BODY)                                                                    \
-  do {                                                                                                      \
-    const int tx0_ = max((int)(t).bbox[0] >> RASTER_TILE_LOG2, (b).tileX0);                                 \
-    const int ty0_ = max((int)(t).bbox[1] >> RASTER_TILE_LOG2, (b).tileY0);                                 \
-    const int tx1_ = min((int)(t).bbox[2] >> RASTER_TILE_LOG2, (b).tileX0 + RASTER_BIN_TILES - 1);          \
-    const int ty1_ = min((int)(t).bbox[3] >> RASTER_TILE_LOG2, (b).tileY0 + RASTER_BIN_TILES - 1);          \
-    for (int ty_ = ty0_; ty_ <= ty1_; ++ty_)                                                                \
-      for (int tx_ = tx0_; tx_ <= tx1_; ++tx_) {                                                            \
-        const int px_ = tx_ << RASTER_TILE_LOG2, py_ = ty_ << RASTER_TILE_LOG2;                             \
-        bool hit_;                                                                                          \
-        RASTER_RECT_OVERLAPS(t, px_, py_, px_ + RASTER_TILE_SIZE - 1, py_ + RASTER_TILE_SIZE - 1, hit_);    \
-        if (hit_) BODY(((ty_ - (b).tileY0) << RASTER_BIN_LOG2) + (tx_ - (b).tileX0));                       \
-      }                                                                                                     \
+#define COARSE_FOR_EACH_TILE(t, b, BODY)                                                                 \
+  do {                                                                                                   \
+    const int tx0_ = max((int)(t).bbox[0] >> RASTER_TILE_LOG2, (b).tileX0);                              \
+    const int ty0_ = max((int)(t).bbox[1] >> RASTER_TILE_LOG2, (b).tileY0);                              \
+    const int tx1_ = min((int)(t).bbox[2] >> RASTER_TILE_LOG2, (b).tileX0 + RASTER_BIN_TILES - 1);       \
+    const int ty1_ = min((int)(t).bbox[3] >> RASTER_TILE_LOG2, (b).tileY0 + RASTER_BIN_TILES - 1);       \
+    for (int ty_ = ty0_; ty_ <= ty1_; ++ty_)                                                             \
+      for (int tx_ = tx0_; tx_ <= tx1_; ++tx_) {                                                         \
+        const int px_ = tx_ << RASTER_TILE_LOG2, py_ = ty_ << RASTER_TILE_LOG2;                          \
+        bool hit_;                                                                                       \
+        RASTER_RECT_OVERLAPS(t, px_, py_, px_ + RASTER_TILE_SIZE - 1, py_ + RASTER_TILE_SIZE - 1, hit_); \
+        if (hit_) BODY(((ty_ - (b).tileY0) << RASTER_BIN_LOG2) + (tx_ - (b).tileX0));                    \
+      }                                                                                                  \
   } while (0)
 
 // Inclusive work-group scan of `value` (Hillis-Steele in local memory); every work-item must call it.
@@ -107,9 +107,9 @@ __kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coar
   for (uint j = lid; j < b.count; j += RASTER_COARSE_WG) {
     const uint index = binEntries[b.begin + j];
     const RasterTriangle t = tris[index];
-#define COARSE_FILL_ONE(localTile)                                           \
-  do {                                                                       \
-    const uint slot_ = atomic_inc(&cursor[localTile]), at_ = base[localTile]; \
+#define COARSE_FILL_ONE(localTile)                                                  \
+  do {                                                                              \
+    const uint slot_ = atomic_inc(&cursor[localTile]), at_ = base[localTile];       \
     if (at_ < capacity && slot_ < capacity - at_) tileEntries[at_ + slot_] = index; \
   } while (0)
     COARSE_FOR_EACH_TILE(t, b, COARSE_FILL_ONE);

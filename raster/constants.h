@@ -7,59 +7,62 @@
 // ---- Fixed point -------------------------------------------------------------------------------------------
 // Window coordinates are snapped to 1/256 pixel. A pixel (i, j) samples its centre at subpixel
 // (256 i + 128, 256 j + 128); row 0 is the bottom row (y up, as NDC).
-#define RASTER_SUBPIXEL_LOG2 8                                // subpixel bits per pixel
-#define RASTER_SUBPIXELS (1 << RASTER_SUBPIXEL_LOG2)           // subpixels per pixel (256)
-#define RASTER_SAMPLE_OFFSET (RASTER_SUBPIXELS / 2)           // pixel centre inside its pixel, subpixels
+#define RASTER_SUBPIXEL_LOG2 8                        // subpixel bits per pixel
+#define RASTER_SUBPIXELS (1 << RASTER_SUBPIXEL_LOG2)  // subpixels per pixel (256)
+#define RASTER_SAMPLE_OFFSET (RASTER_SUBPIXELS / 2)   // pixel centre inside its pixel, subpixels
 // Guard band: triangles are clipped in homogeneous clip space to |x_c| <= G w_c (same for y) with the power of
 // two G = 2^RASTER_GUARD_LOG2 / 2^ceil(log2(size)), i.e. 2^19 .. 2^20 pixels beyond each side of the viewport
 // (a power of two, so G w_c is exact and the clip tests cannot depend on fused multiply-adds).
-#define RASTER_GUARD_LOG2 21                                  // G * size <= 2^21 NDC units * pixels
+#define RASTER_GUARD_LOG2 21  // G * size <= 2^21 NDC units * pixels
 // |snapped coordinate| <= RASTER_COORD_LIMIT subpixels ((G + 1) * size / 2 * 256 <= 2^28 + 2^20): coordinate
 // differences fit in 31 bits, edge-function products and constants in 61 bits, so 64-bit edge functions are exact.
-#define RASTER_COORD_LIMIT (1 << 29)                          // subpixels
+#define RASTER_COORD_LIMIT (1 << 29)  // subpixels
 
 // ---- Screen hierarchy ----------------------------------------------------------------------------------------
-#define RASTER_MAX_VIEWPORT 8192                              // pixels per axis (1 .. 8192 supported)
-#define RASTER_TILE_LOG2 3                                    // tile = 8x8 pixels
-#define RASTER_TILE_SIZE (1 << RASTER_TILE_LOG2)              // pixels per tile side
-#define RASTER_TILE_PIXELS (RASTER_TILE_SIZE * RASTER_TILE_SIZE)  // pixels per tile (64)
-#define RASTER_BIN_LOG2 4                                     // bin = 16x16 tiles (BinSize / TileSize)
-#define RASTER_BIN_TILES (1 << RASTER_BIN_LOG2)               // tiles per bin side
-#define RASTER_BIN_PIXEL_LOG2 (RASTER_BIN_LOG2 + RASTER_TILE_LOG2)  // bin = 128x128 pixels
+#define RASTER_MAX_VIEWPORT 8192                                     // pixels per axis (1 .. 8192 supported)
+#define RASTER_TILE_LOG2 3                                           // tile = 8x8 pixels
+#define RASTER_TILE_SIZE (1 << RASTER_TILE_LOG2)                     // pixels per tile side
+#define RASTER_TILE_PIXELS (RASTER_TILE_SIZE * RASTER_TILE_SIZE)     // pixels per tile (64)
+#define RASTER_BIN_LOG2 4                                            // bin = 16x16 tiles (BinSize / TileSize)
+#define RASTER_BIN_TILES (1 << RASTER_BIN_LOG2)                      // tiles per bin side
+#define RASTER_BIN_PIXEL_LOG2 (RASTER_BIN_LOG2 + RASTER_TILE_LOG2)   // bin = 128x128 pixels
 #define RASTER_BIN_TILE_COUNT (RASTER_BIN_TILES * RASTER_BIN_TILES)  // tiles per bin (256)
 #define RASTER_MAX_BINS_PER_AXIS (RASTER_MAX_VIEWPORT >> RASTER_BIN_PIXEL_LOG2)  // 64
-#define RASTER_MAX_BINS (RASTER_MAX_BINS_PER_AXIS * RASTER_MAX_BINS_PER_AXIS)   // 4096 = what one scan covers
+#define RASTER_MAX_BINS (RASTER_MAX_BINS_PER_AXIS * RASTER_MAX_BINS_PER_AXIS)    // 4096 = what one scan covers
 
 // ---- Clipping ------------------------------------------------------------------------------------------------
 // Near plane + 4 guard-band planes: a triangle becomes a convex polygon of at most 3 + 5 vertices, fanned into at
 // most 6 triangles (a near-plane crossing alone gives at most 2).
 #define RASTER_CLIP_PLANES 5
-#define RASTER_MAX_CLIP_VERTICES (3 + RASTER_CLIP_PLANES)     // polygon vertices after clipping
+#define RASTER_MAX_CLIP_VERTICES (3 + RASTER_CLIP_PLANES)         // polygon vertices after clipping
 #define RASTER_MAX_CLIP_TRIANGLES (RASTER_MAX_CLIP_VERTICES - 2)  // fan triangles per input triangle
 
 // ---- Work-group sizes ----------------------------------------------------------------------------------------
 // Structural (fixed by the layout above, not tunable):
-#define RASTER_COARSE_WG RASTER_BIN_TILE_COUNT               // coarse: one work-group per bin, one item per tile
+#define RASTER_COARSE_WG RASTER_BIN_TILE_COUNT                // coarse: one work-group per bin, one item per tile
 #define RASTER_FINE_WG RASTER_TILE_PIXELS                     // fine: one work-group per tile, one item per pixel
 #define RASTER_SCAN_WG 256                                    // scan: one work-group over every bin
 #define RASTER_SCAN_ITEMS (RASTER_MAX_BINS / RASTER_SCAN_WG)  // bins per scan work-item (16)
-// Tunable (work-items per group), one row per device class; the host picks a row (rasterWorkGroups()) and
-// passes it as -DRASTER_WG_SETUP=... -DRASTER_WG_BIN=... -DRASTER_WG_GBUFFER=...; a row counts only after
-// the Raster* tests pass with it.
-//                                       setup  bin  gbuffer
-#define RASTER_WG_ROW_DEFAULT            64,    64,  64      // any device
-#define RASTER_WG_ROW_NVIDIA            128,   128, 128      // NVIDIA H100 (OpenCL 3.0 driver)
-#define RASTER_WG_ROW_POCL              128,   256,  32      // PoCL 3.1 CPU (work-group loops, fewer is cheaper)
+// Tunable (work-items per group), one row per device class; the host picks a row (raster::workGroupsFor(),
+// raster/plan.cpp) and passes it as -DRASTER_WG_SETUP=... -DRASTER_WG_BIN=... -DRASTER_WG_GBUFFER=...; a row
+// counts only after the Raster* tests pass with it (PoCL: checked with 64/64/64 and 128/256/32; NVIDIA: not yet
+// run on the device).
+// clang-format off
+//                               setup  bin  gbuffer
+#define RASTER_WG_ROW_DEFAULT      64,   64,   64   // any device
+#define RASTER_WG_ROW_NVIDIA      128,  128,  128   // NVIDIA H100 (OpenCL 3.0 driver)
+#define RASTER_WG_ROW_POCL         64,   64,   64   // PoCL 3.1 CPU (work-group loops: small groups suffice)
+// clang-format on
 
 // ---- Record values -------------------------------------------------------------------------------------------
-#define RASTER_NO_TRIANGLE 0xffffffffu                        // triangle id of background pixels
-#define RASTER_SATURATED 0xffffffffu                          // a queue offset past every capacity: write nothing
-#define RASTER_FLAG_VALID 1u                                  // RasterTriangle.flags: the record is drawn
-#define RASTER_FLAG_OWNS_EDGE0 2u                             // edge k owns its samples (top-left): bit 1 << (k+1)
+#define RASTER_NO_TRIANGLE 0xffffffffu  // triangle id of background pixels
+#define RASTER_SATURATED 0xffffffffu    // a queue offset past every capacity: write nothing
+#define RASTER_FLAG_VALID 1u            // RasterTriangle.flags: the record is drawn
+#define RASTER_FLAG_OWNS_EDGE0 2u       // edge k owns its samples (top-left): bit 1 << (k+1)
 
 // DepthMode (raster/rasterizer.h) as the kernels see it.
-#define RASTER_DEPTH_NDC 0                                    // window depth in [0, 1]
-#define RASTER_DEPTH_VIEW_Z 1                                 // -z_eye, eye-space units
-#define RASTER_DEPTH_DISTANCE 2                               // |p_eye|, eye-space units
+#define RASTER_DEPTH_NDC 0       // window depth in [0, 1]
+#define RASTER_DEPTH_VIEW_Z 1    // -z_eye, eye-space units
+#define RASTER_DEPTH_DISTANCE 2  // |p_eye|, eye-space units
 
 #endif

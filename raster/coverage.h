@@ -13,7 +13,9 @@ static inline int rasterSample(int pixel) { return (pixel << RASTER_SUBPIXEL_LOG
 
 // e_k at a sample: |a * x|, |b * y| < 2^51 and |c| < 2^59, so the sum is exact. 32 x 32 -> 64-bit products (one
 // wide multiply on GPUs).
-static inline long rasterEdgeAt(int a, int b, long c, int x, int y) { return (long)a * (long)x + (long)b * (long)y + c; }
+static inline long rasterEdgeAt(int a, int b, long c, int x, int y) {
+  return (long)a * (long)x + (long)b * (long)y + c;
+}
 
 // Whether edge k accepts a sample with edge value e: inside, or on an edge that owns its samples.
 static inline bool rasterEdgeAccepts(long e, uint flags, int k) {
@@ -29,12 +31,12 @@ static inline bool rasterEdgeReaches(int a, int b, long c, uint flags, int k, in
 // The rectangle test for a triangle record in any address space: the rectangle is first cut to the triangle's
 // candidate box; every edge must reach the rest. Not exact (the three half-planes may each reach a different
 // sample), only conservative, which is all binning needs.
-#define RASTER_RECT_OVERLAPS(t, rx0, ry0, rx1, ry1, result)                                                    \
-  do {                                                                                                       \
+#define RASTER_RECT_OVERLAPS(t, rx0, ry0, rx1, ry1, result)                                                 \
+  do {                                                                                                      \
     int ox0_ = max((int)(t).bbox[0], (rx0)), oy0_ = max((int)(t).bbox[1], (ry0));                           \
     int ox1_ = min((int)(t).bbox[2], (rx1)), oy1_ = min((int)(t).bbox[3], (ry1));                           \
-    (result) = ox0_ <= ox1_ && oy0_ <= oy1_;                                                                 \
-    for (int k_ = 0; k_ < 3 && (result); ++k_)                                                               \
+    (result) = ox0_ <= ox1_ && oy0_ <= oy1_;                                                                \
+    for (int k_ = 0; k_ < 3 && (result); ++k_)                                                              \
       (result) = rasterEdgeReaches((t).a[k_], (t).b[k_], (t).c[k_], (t).flags, k_, ox0_, oy0_, ox1_, oy1_); \
   } while (0)
 

@@ -9,7 +9,6 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
-#include <glm/gtc/matrix_access.hpp>
 
 namespace penumbra {
 
@@ -33,8 +32,8 @@ bool finite(const glm::mat4& m) {
 
 // The projection terms the kernels use; throws unless the matrix has the supported form (rasterizer.h).
 void projectionTerms(const glm::mat4& P, RasterViewParams& p) {
-  const bool separable = P[1][0] == 0 && P[0][1] == 0 && P[0][2] == 0 && P[1][2] == 0 &&
-                         P[0][3] == 0 && P[1][3] == 0 && P[0][0] != 0 && P[1][1] != 0;
+  const bool separable = P[1][0] == 0 && P[0][1] == 0 && P[0][2] == 0 && P[1][2] == 0 && P[0][3] == 0 && P[1][3] == 0 &&
+                         P[0][0] != 0 && P[1][1] != 0;
   const bool perspective = P[2][3] < 0 && P[3][3] == 0 && P[3][2] != 0;
   const bool orthographic = P[2][3] == 0 && P[3][3] > 0 && P[2][2] != 0;
   if (!separable || !(perspective || orthographic))

@@ -18,8 +18,8 @@ struct WorkGroups {
 WorkGroups workGroupsFor(const DeviceInfo& device);
 
 struct Plan {
-  RasterViewParams params{};  // everything but the capacities, which the recording fills in
-  size_t pixels = 0;          // width * height
+  RasterViewParams params{};                   // everything but the capacities, which the recording fills in
+  size_t pixels = 0;                           // width * height
   size_t bins = 0, tiles = 0;                  // grid sizes over the whole viewport
   size_t launchedBins = 0, launchedTiles = 0;  // those overlapping the scissor (coarse / fine work-groups)
   size_t scissorPixels = 0;                    // pixels inside the scissor (G-buffer work-items)

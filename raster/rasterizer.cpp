@@ -37,16 +37,16 @@ void validateScene(const Scene& scene) {
     throw std::invalid_argument(fmt::format("raster scene: {} triangles over {} vertices exceed 32-bit ids",
                                             scene.triangles.size(), scene.positions.size()));
   if (!scene.normals.empty() && scene.normals.size() != scene.positions.size())
-    throw std::invalid_argument(fmt::format("raster scene: {} normals for {} positions", scene.normals.size(),
-                                            scene.positions.size()));
+    throw std::invalid_argument(
+        fmt::format("raster scene: {} normals for {} positions", scene.normals.size(), scene.positions.size()));
   if (!scene.objectIds.empty() && scene.objectIds.size() != scene.triangles.size())
-    throw std::invalid_argument(fmt::format("raster scene: {} object ids for {} triangles", scene.objectIds.size(),
-                                            scene.triangles.size()));
+    throw std::invalid_argument(
+        fmt::format("raster scene: {} object ids for {} triangles", scene.objectIds.size(), scene.triangles.size()));
   for (size_t t = 0; t < scene.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k)
       if (scene.triangles[t][k] >= scene.positions.size())
-        throw std::invalid_argument(fmt::format("raster scene: triangle {} index {} out of range (vertex count {})",
-                                                t, scene.triangles[t][k], scene.positions.size()));
+        throw std::invalid_argument(fmt::format("raster scene: triangle {} index {} out of range (vertex count {})", t,
+                                                scene.triangles[t][k], scene.positions.size()));
 }
 
 }  // namespace
@@ -57,7 +57,8 @@ struct Rasterizer::Impl {
   void upload(const Scene& scene);
   void run(const raster::Plan& plan, Buffer<float>& depth, Buffer<uint32_t>& triangleIds);
   void sizeQueues(const raster::Plan& plan);
-  bool grow(const char* queue, const char* kernel, uint32_t& capacity, uint64_t requested, size_t recordBytes);
+  bool grow(const char* queue, const char* kernel, uint32_t& capacity, uint64_t requested, size_t recordBytes,
+            uint64_t indexLimit);
 
   Context& ctx;
   raster::Stages stages;
@@ -91,12 +92,13 @@ void Rasterizer::Impl::sizeQueues(const raster::Plan& plan) {
   raster::Queues& q = queues;
   if (!capacitiesChosen) {
     const size_t t = scene.triangleCount;
-    auto pick = [](size_t chosen, size_t estimate) {
-      return static_cast<uint32_t>(std::min<size_t>(chosen != 0 ? chosen : estimate, RASTER_SATURATED - 1));
+    auto pick = [&](size_t chosen, size_t estimate, size_t limit) {
+      return static_cast<uint32_t>(std::min({chosen != 0 ? chosen : estimate, capacities.maxEntries, limit}));
     };
-    q.extraCapacity = pick(capacities.extraTriangles, 1024 + t / 8);
-    q.binCapacity = pick(capacities.binEntries, 4096 + 2 * t);
-    q.tileCapacity = pick(capacities.tileEntries, 16384 + 4 * t + 2 * plan.tiles);
+    const size_t limit = RASTER_SATURATED - 1;  // positions are 32-bit
+    q.extraCapacity = pick(capacities.extraTriangles, 1024 + t / 8, limit - t);
+    q.binCapacity = pick(capacities.binEntries, 4096 + 2 * t, limit);
+    q.tileCapacity = pick(capacities.tileEntries, 16384 + 4 * t + 2 * plan.tiles, limit);
     capacitiesChosen = true;
   }
   const size_t records = size_t{scene.triangleCount} + q.extraCapacity;
@@ -115,11 +117,12 @@ void Rasterizer::Impl::sizeQueues(const raster::Plan& plan) {
 }
 
 // Grows `capacity` when the run asked for more; throws past the hard maximum. Returns whether it grew.
+// `indexLimit`: the most entries whose positions the kernels can form in 32 bits.
 bool Rasterizer::Impl::grow(const char* queue, const char* kernel, uint32_t& capacity, uint64_t requested,
-                            size_t recordBytes) {
+                            size_t recordBytes, uint64_t indexLimit) {
   if (requested <= capacity) return false;
-  const uint64_t hardMax = std::min<uint64_t>({capacities.maxEntries, ctx.info().maxAllocBytes / recordBytes,
-                                               RASTER_SATURATED - 1});
+  const uint64_t hardMax =
+      std::min<uint64_t>({capacities.maxEntries, ctx.info().maxAllocBytes / recordBytes, indexLimit});
   if (requested > hardMax)
     throw ClError(CL_OUT_OF_RESOURCES,
                   fmt::format("{} queue needs {} entries (capacity {}), more than the hard maximum {}", queue,
@@ -142,10 +145,11 @@ void Rasterizer::Impl::run(const raster::Plan& plan, Buffer<float>& depth, Buffe
     stats.trianglesSetUp = counters.setUp;
     stats.binEntries = counters.binEntries;
     stats.tileEntries = counters.tileEntries;
+    const uint64_t indexLimit = RASTER_SATURATED - 1;  // record and queue positions are 32-bit
     bool grew = grow("extra triangle", "setup_triangles", queues.extraCapacity, counters.extraTriangles,
-                     sizeof(RasterTriangle));
-    grew |= grow("bin", "bin_fill", queues.binCapacity, counters.binEntries, sizeof(uint32_t));
-    grew |= grow("tile", "coarse_fill", queues.tileCapacity, counters.tileEntries, sizeof(uint32_t));
+                     sizeof(RasterTriangle), indexLimit - scene.triangleCount);
+    grew |= grow("bin", "bin_fill", queues.binCapacity, counters.binEntries, sizeof(uint32_t), indexLimit);
+    grew |= grow("tile", "coarse_fill", queues.tileCapacity, counters.tileEntries, sizeof(uint32_t), indexLimit);
     if (!grew) return;
     ++stats.retries;
   }

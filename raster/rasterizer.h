@@ -67,9 +67,9 @@ struct RasterStats {
 // "raster", naming the queue and both sizes) when a queue would need more than `maxEntries` or the device's
 // largest allocation. Tests set tiny initial capacities to force the grow-and-retry path.
 struct RasterCapacities {
-  size_t extraTriangles = 0;  // set-up records beyond one per input triangle (clipping fans)
-  size_t binEntries = 0;      // (triangle, bin) pairs
-  size_t tileEntries = 0;     // (triangle, tile) pairs
+  size_t extraTriangles = 0;            // set-up records beyond one per input triangle (clipping fans)
+  size_t binEntries = 0;                // (triangle, bin) pairs
+  size_t tileEntries = 0;               // (triangle, tile) pairs
   size_t maxEntries = size_t{1} << 31;  // hard maximum of each queue (entries are 4 bytes, records 88)
 };
 

@@ -41,11 +41,16 @@ static real4 setupTransform(const RasterViewParams* p, float3 v) {
 // Signed distance to clip plane `plane` (>= 0 inside): near, then the guard band left, right, bottom, top.
 static real setupPlaneDistance(real4 v, int plane, real gx, real gy) {
   switch (plane) {
-    case 0: return v.z + v.w;
-    case 1: return v.x + gx * v.w;
-    case 2: return gx * v.w - v.x;
-    case 3: return v.y + gy * v.w;
-    default: return gy * v.w - v.y;
+    case 0:
+      return v.z + v.w;
+    case 1:
+      return v.x + gx * v.w;
+    case 2:
+      return gx * v.w - v.x;
+    case 3:
+      return v.y + gy * v.w;
+    default:
+      return gy * v.w - v.y;
   }
 }
 
@@ -86,8 +91,12 @@ static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, u
   long area = (long)(s[1].x - s[0].x) * (s[2].y - s[0].y) - (long)(s[2].x - s[0].x) * (s[1].y - s[0].y);
   if (area == 0 || (p->cullBackFaces && area < 0)) return false;
   if (area < 0) {  // make it counter-clockwise: edge functions positive inside
-    int2 ts = s[1]; s[1] = s[2]; s[2] = ts;
-    real4 tv = v[1]; v[1] = v[2]; v[2] = tv;
+    int2 ts = s[1];
+    s[1] = s[2];
+    s[2] = ts;
+    real4 tv = v[1];
+    v[1] = v[2];
+    v[2] = tv;
   }
   // Pixels whose centre can be inside: ceil((min - 128) / 256) .. floor((max - 128) / 256), cut to the scissor.
   int minX = min(s[0].x, min(s[1].x, s[2].x)), maxX = max(s[0].x, max(s[1].x, s[2].x));
@@ -117,8 +126,8 @@ static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, u
 
 // Near-plane and guard-band clipping into a fan: the first triangle goes to `out[t]`, the others are appended.
 // Returns how many are drawn.
-static uint setupClipped(real4 c0, real4 c1, real4 c2, const RasterViewParams* p, uint t,
-                         __global RasterTriangle* out, __global RasterCounters* counters) {
+static uint setupClipped(real4 c0, real4 c1, real4 c2, const RasterViewParams* p, uint t, __global RasterTriangle* out,
+                         __global RasterCounters* counters) {
   real4 poly[RASTER_MAX_CLIP_VERTICES], next[RASTER_MAX_CLIP_VERTICES];
   poly[0] = c0, poly[1] = c1, poly[2] = c2;
   int n = 3;
@@ -147,12 +156,18 @@ static uint setupClipped(real4 c0, real4 c1, real4 c2, const RasterViewParams* p
 
 static bool setupOutside(real4 v, int plane) {  // trivial reject against the view volume's sides and far plane
   switch (plane) {
-    case 0: return v.z + v.w < 0;
-    case 1: return v.z > v.w;
-    case 2: return v.x < -v.w;
-    case 3: return v.x > v.w;
-    case 4: return v.y < -v.w;
-    default: return v.y > v.w;
+    case 0:
+      return v.z + v.w < 0;
+    case 1:
+      return v.z > v.w;
+    case 2:
+      return v.x < -v.w;
+    case 3:
+      return v.x > v.w;
+    case 4:
+      return v.y < -v.w;
+    default:
+      return v.y > v.w;
   }
 }
 

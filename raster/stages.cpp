@@ -58,8 +58,8 @@ void Stages::record(const Plan& plan, const SceneBuffers& scene, Queues& q, Buff
   binScan_.args(q.binTileTotal, q.binTileBase, q.binCursor, bins, q.counters, cl_uint{1})
       .launch(RASTER_SCAN_WG, RASTER_SCAN_WG);
   coarseFill_
-      .args(q.records, q.binEntries, q.binCount, q.binOffset, q.tileCount, q.binTileBase, q.tileOffset,
-            q.tileEntries, p)
+      .args(q.records, q.binEntries, q.binCount, q.binOffset, q.tileCount, q.binTileBase, q.tileOffset, q.tileEntries,
+            p)
       .launch(coarseItems, RASTER_COARSE_WG);
   fine_.args(q.records, q.tileEntries, q.tileCount, q.tileOffset, depth, triangleIds, p)
       .launch(plan.launchedTiles * RASTER_FINE_WG, RASTER_FINE_WG);

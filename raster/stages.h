@@ -23,8 +23,8 @@ struct SceneBuffers {
 
 // Queues of one draw. Per-bin arrays always hold RASTER_MAX_BINS entries; per-tile arrays at least plan.tiles.
 struct Queues {
-  Buffer<RasterTriangle> records;    // triangleCount + extraCapacity set-up records
-  Buffer<RasterCounters> counters;   // one
+  Buffer<RasterTriangle> records;   // triangleCount + extraCapacity set-up records
+  Buffer<RasterCounters> counters;  // one
   Buffer<uint32_t> binCount, binOffset, binCursor, binTileTotal, binTileBase;
   Buffer<uint32_t> tileCount, tileOffset;
   Buffer<uint32_t> binEntries, tileEntries;  // binCapacity, tileCapacity entries

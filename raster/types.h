@@ -22,13 +22,13 @@ typedef ushort raster_ushort;
 // is exact in 64 bits, positive inside, and the vertex opposite edge k has barycentric weight e_k / sum(e).
 // A sample is covered when every e_k > 0, or e_k == 0 on an edge that owns it (top-left rule).
 typedef struct {
-  raster_long c[3];         // edge constants, subpixels^2 (|c| < 2^59)
-  int a[3], b[3];           // edge coefficients, subpixels (|a|, |b| < 2^30)
-  float invW[3];            // 1 / w_clip of the vertex opposite edge k
-  float viewZOverW[3];      // -z_eye / w_clip of the vertex opposite edge k (eye units)
-  uint triangleId;          // index into Scene::triangles
-  uint flags;               // RASTER_FLAG_VALID | RASTER_FLAG_OWNS_EDGE0 << k
-  raster_ushort bbox[4];    // candidate pixels: x0, y0, x1, y1 inclusive, inside the scissor
+  raster_long c[3];       // edge constants, subpixels^2 (|c| < 2^59)
+  int a[3], b[3];         // edge coefficients, subpixels (|a|, |b| < 2^30)
+  float invW[3];          // 1 / w_clip of the vertex opposite edge k
+  float viewZOverW[3];    // -z_eye / w_clip of the vertex opposite edge k (eye units)
+  uint triangleId;        // index into Scene::triangles
+  uint flags;             // RASTER_FLAG_VALID | RASTER_FLAG_OWNS_EDGE0 << k
+  raster_ushort bbox[4];  // candidate pixels: x0, y0, x1, y1 inclusive, inside the scissor
 } RasterTriangle;
 
 // Queue counters: kernels count every request, write only below the capacity; the host grows and re-runs.
@@ -42,27 +42,27 @@ typedef struct {
 
 // Everything a draw's kernels need, passed by value. Pixel rectangles are [x0, x1) x [y0, y1).
 typedef struct {
-  float clip[16];            // world -> clip, column-major (the float matrix the snapping spec starts from)
-  float invView[12];         // eye -> world: rotation columns 0..2, translation column 3 (x, y, z each)
+  float clip[16];     // world -> clip, column-major (the float matrix the snapping spec starts from)
+  float invView[12];  // eye -> world: rotation columns 0..2, translation column 3 (x, y, z each)
   // Projection terms of the supported form (x_c = P00 x + P20 z + P30, y_c = P11 y + P21 z + P31,
   // z_c = P22 z + P32, w_c = P23 z + P33, z = z_eye), for depth conversion and pixel rays.
   float p00, p11, p20, p21, p30, p31, p22, p32, p23, p33;
-  float viewZFromClip[3];    // -z_eye = [0] z_c + [1] w_c + [2]
-  float farViewZ;            // fragments with -z_eye > farViewZ are discarded (the far plane)
-  float guardX, guardY;      // guard-band planes |x_c| <= guardX w_c, |y_c| <= guardY w_c
-  int width, height;         // viewport, pixels
+  float viewZFromClip[3];              // -z_eye = [0] z_c + [1] w_c + [2]
+  float farViewZ;                      // fragments with -z_eye > farViewZ are discarded (the far plane)
+  float guardX, guardY;                // guard-band planes |x_c| <= guardX w_c, |y_c| <= guardY w_c
+  int width, height;                   // viewport, pixels
   int rectX0, rectY0, rectX1, rectY1;  // scissor clamped to the viewport, pixels
-  int tilesX, tilesY;        // tile grid over the viewport
-  int binsX, binsY;          // bin grid over the viewport
-  int binX0, binY0, binsAcross;     // launched bins: those overlapping the scissor, row by row
-  int tileX0, tileY0, tilesAcross;  // launched tiles: those overlapping the scissor, row by row
-  int depthMode;             // RASTER_DEPTH_*
-  int cullBackFaces;         // 1: drop triangles clockwise in window space
-  uint triangleCount;        // input triangles (Scene::triangles)
-  uint vertexCount;          // input vertices
-  uint extraCapacity;        // set-up records beyond triangleCount
-  uint binCapacity;          // bin queue entries
-  uint tileCapacity;         // tile queue entries
+  int tilesX, tilesY;                  // tile grid over the viewport
+  int binsX, binsY;                    // bin grid over the viewport
+  int binX0, binY0, binsAcross;        // launched bins: those overlapping the scissor, row by row
+  int tileX0, tileY0, tilesAcross;     // launched tiles: those overlapping the scissor, row by row
+  int depthMode;                       // RASTER_DEPTH_*
+  int cullBackFaces;                   // 1: drop triangles clockwise in window space
+  uint triangleCount;                  // input triangles (Scene::triangles)
+  uint vertexCount;                    // input vertices
+  uint extraCapacity;                  // set-up records beyond triangleCount
+  uint binCapacity;                    // bin queue entries
+  uint tileCapacity;                   // tile queue entries
   uint pad;
 } RasterViewParams;
 

@@ -1,15 +1,14 @@
 // Technique parameters: defaults, validation of text values, choices, provenance text; and the registry.
+#include "host/techniques/params.h"
+
 #include <gtest/gtest.h>
 
-#include "host/techniques/params.h"
 #include "host/techniques/technique.h"
 
 namespace penumbra {
 namespace {
 
-std::vector<ParamSpec> specs() {
-  return {{"radius", 2, 0, 16, "r"}, {"mode", 1, 0, 1, "m", {"uniform", "adaptive"}}};
-}
+std::vector<ParamSpec> specs() { return {{"radius", 2, 0, 16, "r"}, {"mode", 1, 0, 1, "m", {"uniform", "adaptive"}}}; }
 
 TEST(Params, DefaultsAndValidatedValues) {
   Params params(specs());

@@ -209,8 +209,12 @@ TEST_F(RasterCoverageTest, TriangleBehindEyeIsClippedIntoTwo) {
 
 TEST_F(RasterCoverageTest, HugeTrianglesUseTheGuardBand) {
   // Vertices a million units out: far beyond the fixed-point range, so they are clipped to the guard band.
-  const Scene scene = makeScene({{-1e6f, -1e6f, -1}, {1e6f, -1e6f, -1}, {0, 1e6f, -1},          // ortho: everywhere
-                                 {-2e5f, -0.3f, 2e5f}, {2e5f, -0.3f, 2e5f}, {0, -0.3f, -2e5f}},  // a vast floor
+  const Scene scene = makeScene({{-1e6f, -1e6f, -1},
+                                 {1e6f, -1e6f, -1},
+                                 {0, 1e6f, -1},  // ortho: everywhere
+                                 {-2e5f, -0.3f, 2e5f},
+                                 {2e5f, -0.3f, 2e5f},
+                                 {0, -0.3f, -2e5f}},  // a vast floor
                                 {{0, 1, 2}, {3, 4, 5}});
   const RasterView persp = perspectiveView(90, 70, {0, 0.5f, 3}, {0, 0, 0}, 60.0f, 0.1f, 1e6f);
   const RasterView ortho = orthoView(70, 90, {0, 0, 3}, {0, 0, 0}, {-2, 2, -3, 3}, 0.5f, 10.0f);

@@ -1,9 +1,9 @@
 // Bounded memory and hostile input: tiny queue capacities force the grow-and-retry path (results identical to a
 // run that never overflowed), the hard maximum gives a clean error, and degenerate, NaN and infinite vertices,
 // everything in one tile and many tiny triangles neither crash nor write out of bounds.
-#include <gtest/gtest.h>
-
 #include <string>
+
+#include <gtest/gtest.h>
 
 #include "host/cl/error.h"
 #include "host/cl/profiler.h"
@@ -81,12 +81,21 @@ TEST_F(RasterOverflowTest, HardMaximumIsACleanError) {
 
 TEST_F(RasterOverflowTest, HostileVerticesAreDropped) {
   const float nan = std::nanf(""), inf = INFINITY;
-  Scene scene = makeScene({{-1, -1, 0}, {1, -1, 0}, {0, 1, 0},          // 0: a good triangle
-                           {nan, 0, 0}, {1, 1, 0}, {-1, 1, 0},          // 1: NaN
-                           {inf, 0, 0}, {0, -inf, 0}, {0.5f, 0.5f, 0},  // 2: infinities
-                           {0.2f, 0.2f, 0.5f}, {0.2f, 0.2f, 0.5f},      // 3: a point
-                           {-1, 0, 0.2f}, {0, 0, 0.2f}, {1, 0, 0.2f},   // 4: collinear
-                           {3e38f, -3e38f, 1}},                         // 5: overflows in clip space
+  Scene scene = makeScene({{-1, -1, 0},
+                           {1, -1, 0},
+                           {0, 1, 0},  // 0: a good triangle
+                           {nan, 0, 0},
+                           {1, 1, 0},
+                           {-1, 1, 0},  // 1: NaN
+                           {inf, 0, 0},
+                           {0, -inf, 0},
+                           {0.5f, 0.5f, 0},  // 2: infinities
+                           {0.2f, 0.2f, 0.5f},
+                           {0.2f, 0.2f, 0.5f},  // 3: a point
+                           {-1, 0, 0.2f},
+                           {0, 0, 0.2f},
+                           {1, 0, 0.2f},         // 4: collinear
+                           {3e38f, -3e38f, 1}},  // 5: overflows in clip space
                           {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}, {9, 10, 9}, {11, 12, 13}, {14, 0, 1}});
   const RasterView view = perspectiveView(61, 47, {0, 0, 3}, {0, 0, 0}, 60.0f, 0.1f, 10.0f);
   Rasterizer raster(ctx());
@@ -153,8 +162,8 @@ TEST_F(RasterOverflowTest, EveryLaunchIsProfiledUnderRaster) {
   drawPoisoned(ctx(), raster, clippedView());
   std::vector<std::string> names;
   for (const PassTime& pass : profiler.resolve()) names.push_back(pass.name);
-  for (const char* kernel : {"setup_triangles", "bin_count", "bin_scan", "bin_fill", "coarse_count", "coarse_fill",
-                             "fine_raster"})
+  for (const char* kernel :
+       {"setup_triangles", "bin_count", "bin_scan", "bin_fill", "coarse_count", "coarse_fill", "fine_raster"})
     EXPECT_NE(std::find(names.begin(), names.end(), std::string("raster/") + kernel), names.end()) << kernel;
 }
 

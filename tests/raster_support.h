@@ -10,8 +10,8 @@
 #include <vector>
 
 #include <fmt/format.h>
-#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "host/cl/context.h"
 #include "raster/rasterizer.h"
@@ -22,7 +22,7 @@ namespace penumbra::test {
 
 constexpr double kUlp = 1.0 / (1 << 24);  // float unit roundoff at 1 (2^-24)
 // Fine-stage view depth: float sums of positive terms e_k / w_k, one division, the float rounding of the clip
-// matrix and per-vertex terms: measured <= 8 ulp, bound 16 ulp relative (raster/fine.cl).
+// matrix and per-vertex terms: measured <= 5 ulp, bound 16 ulp relative (raster/fine.cl).
 constexpr double kViewZRel = 16 * kUlp;
 // Distance = |origin + v dir| in float on top of the view depth: 8 more ulp.
 constexpr double kDistanceRel = 24 * kUlp;
@@ -97,14 +97,16 @@ inline Scene gridScene(int nx, int ny, glm::vec2 lo, glm::vec2 hi, float z, floa
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
       const uint32_t a = j * (nx + 1) + i, b = a + 1, c = a + nx + 1, d = c + 1;
-      if ((i + j) % 2 == 0) t.emplace_back(a, b, d), t.emplace_back(a, d, c);
-      else t.emplace_back(a, b, c), t.emplace_back(b, d, c);
+      if ((i + j) % 2 == 0)
+        t.emplace_back(a, b, d), t.emplace_back(a, d, c);
+      else
+        t.emplace_back(a, b, c), t.emplace_back(b, d, c);
     }
   return makeScene(std::move(p), std::move(t));
 }
 
-inline RasterView perspectiveView(int w, int h, glm::vec3 eye, glm::vec3 target, float fovDeg, float zNear,
-                                  float zFar, DepthMode mode = DepthMode::kViewZ) {
+inline RasterView perspectiveView(int w, int h, glm::vec3 eye, glm::vec3 target, float fovDeg, float zNear, float zFar,
+                                  DepthMode mode = DepthMode::kViewZ) {
   RasterView v;
   v.view = glm::lookAt(eye, target, glm::vec3(0, 1, 0));
   v.projection = glm::perspective(glm::radians(fovDeg), float(w) / float(h), zNear, zFar);
@@ -139,17 +141,17 @@ inline RasterOutput drawPoisoned(Context& ctx, Rasterizer& raster, const RasterV
 }
 
 struct RasterComparison {
-  size_t covered = 0;     // pixels the reference covers
-  size_t ambiguous = 0;   // different ids, but a depth tie (or a fragment at the far plane) within tolerance
+  size_t covered = 0;    // pixels the reference covers
+  size_t ambiguous = 0;  // different ids, but a depth tie (or a fragment at the far plane) within tolerance
   size_t mismatches = 0;
-  double worstUlps = 0;   // largest depth error of matching pixels, in ulps of the reference value
+  double worstUlps = 0;  // largest depth error of matching pixels, in ulps of the reference value
   std::string report;
 };
 
 // Compares a draw with the reference: ids exactly (except ties), depths within the mode's tolerance, untouched
 // poison outside the scissor. `depthScale`: the scene's largest |view depth| (absolute floor of the tolerance).
-inline RasterComparison compareWithReference(const RasterOutput& out, const RefRasterizer& ref,
-                                             const RasterView& view, double depthScale) {
+inline RasterComparison compareWithReference(const RasterOutput& out, const RefRasterizer& ref, const RasterView& view,
+                                             double depthScale) {
   const RefRaster& r = ref.result();
   const Scissor s = view.scissor.value_or(Scissor{0, 0, view.width, view.height});
   const double viewAbs = kViewZAbsUlps * kUlp * depthScale;
@@ -159,9 +161,12 @@ inline RasterComparison compareWithReference(const RasterOutput& out, const RefR
   };
   auto depthTol = [&](double e) {
     switch (view.depthMode) {
-      case DepthMode::kNdc: return kNdcAbs;
-      case DepthMode::kViewZ: return kViewZRel * std::abs(e) + viewAbs;
-      case DepthMode::kDistance: break;
+      case DepthMode::kNdc:
+        return kNdcAbs;
+      case DepthMode::kViewZ:
+        return kViewZRel * std::abs(e) + viewAbs;
+      case DepthMode::kDistance:
+        break;
     }
     return kDistanceRel * std::abs(e) + viewAbs;
   };
@@ -205,8 +210,8 @@ inline RasterComparison compareWithReference(const RasterOutput& out, const RefR
 inline ::testing::AssertionResult matchesReference(const RasterComparison& c, size_t maxAmbiguous = 0) {
   if (c.mismatches == 0 && c.ambiguous <= maxAmbiguous) return ::testing::AssertionSuccess();
   return ::testing::AssertionFailure() << c.mismatches << " mismatching pixels, " << c.ambiguous
-                                       << " depth ties (allowed " << maxAmbiguous << "), " << c.covered
-                                       << " covered" << c.report;
+                                       << " depth ties (allowed " << maxAmbiguous << "), " << c.covered << " covered"
+                                       << c.report;
 }
 
 }  // namespace penumbra::test

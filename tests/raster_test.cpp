@@ -33,8 +33,7 @@ class RasterSoupTest : public ClTestWithParam<SoupCase> {};
 
 RasterView soupView(const SoupCase& c) {
   if (c.orthographic)
-    return orthoView(c.width, c.height, {0.5f, 1.0f, 6.0f}, {0, 0, 0}, {-2.2f, 2.0f, -1.9f, 2.1f}, 1.0f, 11.0f,
-                     c.mode);
+    return orthoView(c.width, c.height, {0.5f, 1.0f, 6.0f}, {0, 0, 0}, {-2.2f, 2.0f, -1.9f, 2.1f}, 1.0f, 11.0f, c.mode);
   return perspectiveView(c.width, c.height, {0.5f, 1.0f, 6.0f}, {0, 0, 0}, 50.0f, 0.5f, 20.0f, c.mode);
 }
 
@@ -52,20 +51,18 @@ TEST_P(RasterSoupTest, MatchesReference) {
   EXPECT_EQ(raster.stats().trianglesIn, scene.triangleCount());
   EXPECT_EQ(raster.stats().retries, 0);
   RecordProperty("worst_depth_ulps", static_cast<int>(cmp.worstUlps));
-  fmt::print("DEBUG covered {} ambiguous {} worst {:.2f} setup {} bins {} tiles {}\n", cmp.covered, cmp.ambiguous, cmp.worstUlps, raster.stats().trianglesSetUp, raster.stats().binEntries, raster.stats().tileEntries);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    RasterSoups, RasterSoupTest,
-    ::testing::Values(SoupCase{1, 1, false, DepthMode::kViewZ, 50, 2.0f},
-                      SoupCase{37, 19, false, DepthMode::kViewZ, 200, 0.6f},
-                      SoupCase{37, 19, true, DepthMode::kNdc, 200, 0.6f},
-                      SoupCase{131, 97, false, DepthMode::kDistance, 400, 0.4f},
-                      SoupCase{131, 97, true, DepthMode::kViewZ, 400, 0.4f},
-                      SoupCase{200, 130, false, DepthMode::kNdc, 600, 0.3f},
-                      SoupCase{257, 129, true, DepthMode::kDistance, 300, 0.5f},
-                      SoupCase{64, 256, false, DepthMode::kViewZ, 2000, 0.08f}),
-    soupName);
+INSTANTIATE_TEST_SUITE_P(RasterSoups, RasterSoupTest,
+                         ::testing::Values(SoupCase{1, 1, false, DepthMode::kViewZ, 50, 2.0f},
+                                           SoupCase{37, 19, false, DepthMode::kViewZ, 200, 0.6f},
+                                           SoupCase{37, 19, true, DepthMode::kNdc, 200, 0.6f},
+                                           SoupCase{131, 97, false, DepthMode::kDistance, 400, 0.4f},
+                                           SoupCase{131, 97, true, DepthMode::kViewZ, 400, 0.4f},
+                                           SoupCase{200, 130, false, DepthMode::kNdc, 600, 0.3f},
+                                           SoupCase{257, 129, true, DepthMode::kDistance, 300, 0.5f},
+                                           SoupCase{64, 256, false, DepthMode::kViewZ, 2000, 0.08f}),
+                         soupName);
 
 TEST_F(RasterTest, EmptySceneClearsToBackground) {
   Rasterizer raster(ctx());

@@ -1,14 +1,13 @@
 // Tests of the OpenCL runtime (host/cl): error names, device selection, program cache (memory and disk),
 // build errors with logs, kernel launch checks and padding, buffers, profiling, two contexts at once.
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <vector>
-
-#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "host/cl/buffer.h"
 #include "host/cl/context.h"

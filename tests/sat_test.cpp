@@ -119,6 +119,10 @@ TEST_P(SatTest, MatchesReference) {
   }
 }
 
+const char* algorithmName(SatAlgorithm algorithm) {
+  return algorithm == SatAlgorithm::Tiled ? "Tiled" : algorithm == SatAlgorithm::Lines ? "Lines" : "Hensley";
+}
+
 std::vector<Case> cases() {
   struct Size {
     uint32_t w, h;
@@ -129,10 +133,9 @@ std::vector<Case> cases() {
   const char* modeNames[] = {"Fp32", "Fixed32", "Fixed64", "Fp64"};
   std::vector<Case> out;
   for (auto [mode, channels] : modes)
-    for (SatAlgorithm algorithm : {SatAlgorithm::Tiled, SatAlgorithm::Hensley})
+    for (SatAlgorithm algorithm : {SatAlgorithm::Tiled, SatAlgorithm::Lines, SatAlgorithm::Hensley})
       for (Size s : sizes)
-        out.push_back({fmt::format("{}_{}_{}x{}_c{}", modeNames[mode],
-                                   algorithm == SatAlgorithm::Tiled ? "Tiled" : "Hensley", s.w, s.h, channels),
+        out.push_back({fmt::format("{}_{}_{}x{}_c{}", modeNames[mode], algorithmName(algorithm), s.w, s.h, channels),
                        s.w, s.h, channels, mode, algorithm});
   // Adversarial inputs and the other channel counts, tiled (the production path).
   out.push_back({"Fp32_Tiled_97x61_c1_raw", 97, 61, 1, SAT_MODE_FP32, SatAlgorithm::Tiled, Input::Random, false});
@@ -241,6 +244,12 @@ TEST(SatDesc, ValidatesAndDescribes) {
   EXPECT_EQ(satFractionBits(SAT_MODE_FIXED64, 4096.0 * 4096.0, 1.0), 38);
   EXPECT_THROW(satFractionBits(SAT_MODE_FIXED32, 1e6, 1e4), std::invalid_argument);
   EXPECT_THROW(satFractionBits(SAT_MODE_FP32, 1.0, 1.0), std::invalid_argument);
+  DeviceInfo cpu, gpu;
+  cpu.type = CL_DEVICE_TYPE_CPU;
+  gpu.type = CL_DEVICE_TYPE_GPU;
+  EXPECT_EQ(resolveSatAlgorithm(SatAlgorithm::Auto, cpu), SatAlgorithm::Lines);
+  EXPECT_EQ(resolveSatAlgorithm(SatAlgorithm::Auto, gpu), SatAlgorithm::Tiled);
+  EXPECT_EQ(resolveSatAlgorithm(SatAlgorithm::Hensley, gpu), SatAlgorithm::Hensley);
 }
 
 class SatKernels : public test::ClTest {};

@@ -1,9 +1,9 @@
 // End-to-end tests of the shadow techniques on PoCL, against analytic answers: a square occluder over a
 // ground plane under a point light (the hard edge lands on the right pixels), planes that must stay fully
 // lit (no acne, also at grazing light angles), and no NaN or out-of-range visibility on any built-in scene.
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "host/pipeline/renderer.h"
 #include "host/scene/procedural.h"
@@ -57,14 +57,15 @@ class Techniques : public ClTest, public ::testing::WithParamInterface<std::stri
 
 TEST_P(Techniques, HardEdgeOfASquareOccluderLandsOnTheRightPixels) {
   // The light at y = 4 projects the occluder's edge |x| = 1 at y = 2 to |x| = 2 on the ground.
-  RenderResult result = renderWith(ctx(), squareOverPlane(), topDown(), pointAbove(), GetParam(), {{"map-size", "1024"}});
+  RenderResult result =
+      renderWith(ctx(), squareOverPlane(), topDown(), pointAbove(), GetParam(), {{"map-size", "1024"}});
   const Image& image = result.image;
   const auto &vis = image.require("visibility.Y").data, &px = image.require("P.X").data,
              &py = image.require("P.Y").data, &pz = image.require("P.Z").data, &a = image.require("A").data;
   constexpr float kEdgeBand = 0.08f;  // world units on the ground: ~6 texels of 0.014, covers filter widths and bias
   int shadowed = 0, lit = 0, wrong = 0;
   for (size_t i = 0; i < vis.size(); ++i) {
-    if (a[i] == 0.0f || py[i] > 0.5f) continue;  // background, or the occluder itself
+    if (a[i] == 0.0f || py[i] > 0.5f) continue;                            // background, or the occluder itself
     const float edge = std::max(std::abs(px[i]), std::abs(pz[i])) - 2.0f;  // < 0 inside the shadow
     if (std::abs(edge) < kEdgeBand) continue;
     const float expected = edge < 0 ? 0.0f : 1.0f;

@@ -2,13 +2,13 @@
 // OpenCL forbids zero-sized buffers, so an empty Buffer still owns one element.
 #pragma once
 
+#include <fmt/format.h>
+
+#include <CL/opencl.hpp>
 #include <algorithm>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <CL/opencl.hpp>
-#include <fmt/format.h>
 
 #include "host/cl/context.h"
 #include "host/cl/error.h"
@@ -61,9 +61,8 @@ class Buffer {
 
   void fill(Context& ctx, const T& value) {
     if (count_ == 0) return;
-    record(ctx, "fill", [&](cl::Event* event) {
-      return ctx.queue().enqueueFillBuffer(buffer_, value, 0, bytes(), nullptr, event);
-    });
+    record(ctx, "fill",
+           [&](cl::Event* event) { return ctx.queue().enqueueFillBuffer(buffer_, value, 0, bytes(), nullptr, event); });
   }
 
  private:

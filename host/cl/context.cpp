@@ -1,12 +1,12 @@
 // Context: device, queue, and the program cache (memory, then optional disk cache in PENUMBRA_CACHE_DIR).
 #include "host/cl/context.h"
 
+#include <fmt/format.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-
-#include <fmt/format.h>
 
 #include "host/cl/embedded_sources.h"
 #include "host/cl/error.h"
@@ -36,8 +36,8 @@ std::string readFile(const fs::path& path) {
 fs::path cachePath(const DeviceInfo& info, uint64_t sourceHash, const std::string& options) {
   const char* dir = std::getenv("PENUMBRA_CACHE_DIR");
   if (dir == nullptr || *dir == '\0') return {};
-  std::string key = fmt::format("{}|{}|{}|{}|{}", info.platformName, info.name, info.driverVersion,
-                                info.deviceVersion, options);
+  std::string key =
+      fmt::format("{}|{}|{}|{}|{}", info.platformName, info.name, info.driverVersion, info.deviceVersion, options);
   return fs::path(dir) / fmt::format("{:016x}-{:016x}.bin", sourceHash, fnv1a64(key));
 }
 
@@ -78,8 +78,8 @@ const cl::Program& Context::program(const std::string& sourceName, const std::st
   return *programs_.emplace(key, std::move(program)).first->second;
 }
 
-cl::Program Context::buildProgram(const std::string& sourceName, const std::string& source,
-                                  const std::string& options, uint64_t sourceHash) {
+cl::Program Context::buildProgram(const std::string& sourceName, const std::string& source, const std::string& options,
+                                  uint64_t sourceHash) {
   cl_int err = CL_SUCCESS;
   const fs::path cached = cachePath(info_, sourceHash, options);
   if (!cached.empty() && fs::is_regular_file(cached)) {
@@ -98,8 +98,7 @@ cl::Program Context::buildProgram(const std::string& sourceName, const std::stri
   ++programsBuilt_;
   if (!cached.empty()) {
     std::vector<std::vector<unsigned char>> binaries;
-    if (program.getInfo(CL_PROGRAM_BINARIES, &binaries) == CL_SUCCESS && binaries.size() == 1 &&
-        !binaries[0].empty()) {
+    if (program.getInfo(CL_PROGRAM_BINARIES, &binaries) == CL_SUCCESS && binaries.size() == 1 && !binaries[0].empty()) {
       std::error_code ec;
       fs::create_directories(cached.parent_path(), ec);
       const fs::path temp = cached.string() + fmt::format(".{}.tmp", static_cast<const void*>(this));

@@ -3,14 +3,13 @@
 // side in one process.
 #pragma once
 
+#include <CL/opencl.hpp>
 #include <cstdint>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <string>
 #include <tuple>
-
-#include <CL/opencl.hpp>
 
 #include "host/cl/device.h"
 
@@ -44,7 +43,9 @@ class Context {
 
   // Where launches report their events (nullptr: nowhere). Owned by the caller.
   void setProfiler(class Profiler* profiler) { profiler_ = profiler; }
-  class Profiler* profiler() const { return profiler_; }
+  class Profiler* profiler() const {
+    return profiler_;
+  }
 
  private:
   cl::Program buildProgram(const std::string& sourceName, const std::string& source, const std::string& options,

@@ -1,15 +1,15 @@
 // Enumerates OpenCL devices through the C API and picks one from a user's spec.
 #include "host/cl/device.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <sstream>
-
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "host/cl/error.h"
 
@@ -74,8 +74,8 @@ DeviceInfo describe(cl_platform_id platform, cl_device_id device) {
   info.computeUnits = deviceValue<cl_uint>(device, CL_DEVICE_MAX_COMPUTE_UNITS);
   info.maxClockMHz = deviceValue<cl_uint>(device, CL_DEVICE_MAX_CLOCK_FREQUENCY);
   info.maxWorkGroupSize = deviceValue<size_t>(device, CL_DEVICE_MAX_WORK_GROUP_SIZE);
-  clGetDeviceInfo(device, CL_DEVICE_MAX_WORK_ITEM_SIZES, sizeof(info.maxWorkItemSizes),
-                  info.maxWorkItemSizes.data(), nullptr);
+  clGetDeviceInfo(device, CL_DEVICE_MAX_WORK_ITEM_SIZES, sizeof(info.maxWorkItemSizes), info.maxWorkItemSizes.data(),
+                  nullptr);
   info.localMemBytes = deviceValue<cl_ulong>(device, CL_DEVICE_LOCAL_MEM_SIZE);
   info.localMemDedicated = deviceValue<cl_device_local_mem_type>(device, CL_DEVICE_LOCAL_MEM_TYPE) == CL_LOCAL;
   info.globalMemBytes = deviceValue<cl_ulong>(device, CL_DEVICE_GLOBAL_MEM_SIZE);
@@ -83,13 +83,13 @@ DeviceInfo describe(cl_platform_id platform, cl_device_id device) {
   std::istringstream words(deviceString(device, CL_DEVICE_EXTENSIONS));
   for (std::string word; words >> word;) info.extensions.push_back(word);
   std::sort(info.extensions.begin(), info.extensions.end());
-  info.fp64 = info.hasExtension("cl_khr_fp64") ||
-              deviceValue<cl_device_fp_config>(device, CL_DEVICE_DOUBLE_FP_CONFIG) != 0;
+  info.fp64 =
+      info.hasExtension("cl_khr_fp64") || deviceValue<cl_device_fp_config>(device, CL_DEVICE_DOUBLE_FP_CONFIG) != 0;
   info.fp16 = info.hasExtension("cl_khr_fp16");
   info.int64Atomics = info.hasExtension("cl_khr_int64_base_atomics");
   // OpenCL 3.0 queries; a 1.2 device rejects them and the fallback (0 / false) stands.
-  info.subGroups = info.hasExtension("cl_khr_subgroups") ||
-                   deviceValue<cl_uint>(device, CL_DEVICE_MAX_NUM_SUB_GROUPS) > 0;
+  info.subGroups =
+      info.hasExtension("cl_khr_subgroups") || deviceValue<cl_uint>(device, CL_DEVICE_MAX_NUM_SUB_GROUPS) > 0;
   info.nonUniformWorkGroups = deviceValue<cl_bool>(device, CL_DEVICE_NON_UNIFORM_WORK_GROUP_SUPPORT) != 0;
   return info;
 }
@@ -112,8 +112,8 @@ std::string knownDevices(const std::vector<DeviceInfo>& devices) {
            "/etc/OpenCL/vendors or OCL_ICD_VENDORS?)";
   std::string text = "available devices:";
   for (const DeviceInfo& d : devices)
-    text += fmt::format("\n  {}:{}  {} — {} ({})", d.platformIndex, d.deviceIndex, d.platformName, d.name,
-                        d.typeName());
+    text +=
+        fmt::format("\n  {}:{}  {} — {} ({})", d.platformIndex, d.deviceIndex, d.platformName, d.name, d.typeName());
   return text;
 }
 
@@ -176,8 +176,8 @@ DeviceInfo selectDevice(const std::string& requested) {
     if (!isIndex(device))
       throw NoDeviceError(fmt::format("device spec '{}': the part after ':' must be a device index", spec));
     chosen = first([&](const DeviceInfo& d) {
-      bool platformMatches = isIndex(platform) ? d.platformIndex == std::stoul(platform)
-                                               : contains(d.platformName, platform);
+      bool platformMatches =
+          isIndex(platform) ? d.platformIndex == std::stoul(platform) : contains(d.platformName, platform);
       return platformMatches && d.deviceIndex == std::stoul(device);
     });
   } else {
@@ -219,8 +219,8 @@ std::string describeDevices(const std::vector<DeviceInfo>& devices) {
   if (devices.empty()) return knownDevices(devices) + "\n";
   std::string text;
   for (const DeviceInfo& d : devices) {
-    text += fmt::format("{}:{}  {}  [{}]  platform '{}' ({})\n", d.platformIndex, d.deviceIndex, d.name,
-                        d.typeName(), d.platformName, d.platformVersion);
+    text += fmt::format("{}:{}  {}  [{}]  platform '{}' ({})\n", d.platformIndex, d.deviceIndex, d.name, d.typeName(),
+                        d.platformName, d.platformVersion);
     text += fmt::format("      driver {}, {}, {} compute units @ {} MHz\n", d.driverVersion, d.openclCVersion,
                         d.computeUnits, d.maxClockMHz);
     text += fmt::format("      global {:.1f} GiB (max alloc {:.1f} GiB), local {} KiB ({}), max work-group {}\n",

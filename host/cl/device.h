@@ -3,13 +3,13 @@
 // "PLATFORM:DEVICE" indices are stable between runs and machines with the same drivers.
 #pragma once
 
+#include <CL/cl.h>
+
 #include <array>
 #include <cstdint>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
-
-#include <CL/cl.h>
-#include <nlohmann/json_fwd.hpp>
 
 namespace penumbra {
 

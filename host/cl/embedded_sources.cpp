@@ -1,14 +1,14 @@
 // Resolves `#include "..."` in embedded OpenCL sources so that the device compiler never touches the disk.
 #include "host/cl/embedded_sources.h"
 
+#include <fmt/format.h>
+
 #include <cstdlib>
 #include <fstream>
 #include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 namespace penumbra {
 namespace {

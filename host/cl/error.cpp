@@ -83,8 +83,7 @@ std::string clErrorName(cl_int code) {
 
 namespace {
 
-std::string describe(cl_int code, const std::string& call, const std::string& kernel,
-                     const std::string& stage) {
+std::string describe(cl_int code, const std::string& call, const std::string& kernel, const std::string& stage) {
   std::string where;
   if (!stage.empty()) where += fmt::format(" in stage '{}'", stage);
   if (!kernel.empty()) where += fmt::format(" (kernel '{}')", kernel);
@@ -101,8 +100,8 @@ ClError::ClError(cl_int code, std::string call, std::string kernel, std::string 
       stage_(std::move(stage)) {}
 
 BuildError::BuildError(std::string source, std::string device, std::string options, std::string log)
-    : std::runtime_error(fmt::format("OpenCL build of '{}' failed on '{}' with options '{}':\n{}", source,
-                                     device, options, log)),
+    : std::runtime_error(
+          fmt::format("OpenCL build of '{}' failed on '{}' with options '{}':\n{}", source, device, options, log)),
       log_(std::move(log)) {}
 
 }  // namespace penumbra

@@ -3,11 +3,11 @@
 // device, the options and the whole build log.
 #pragma once
 
+#include <CL/cl.h>
+
 #include <stdexcept>
 #include <string>
 #include <string_view>
-
-#include <CL/cl.h>
 
 namespace penumbra {
 
@@ -45,8 +45,7 @@ class NoDeviceError : public std::runtime_error {
 inline constexpr int kExitNoDevice = 69;
 
 // Throws ClError unless code == CL_SUCCESS.
-inline void clCheck(cl_int code, std::string_view call, std::string_view kernel = {},
-                    std::string_view stage = {}) {
+inline void clCheck(cl_int code, std::string_view call, std::string_view kernel = {}, std::string_view stage = {}) {
   if (code != CL_SUCCESS) throw ClError(code, std::string(call), std::string(kernel), std::string(stage));
 }
 

@@ -13,8 +13,8 @@ Kernel::Kernel(Context& ctx, const std::string& source, const std::string& entry
   clCheck(kernel_.getWorkGroupInfo(ctx.device(), CL_KERNEL_WORK_GROUP_SIZE, &maxWorkGroupSize_),
           "clGetKernelWorkGroupInfo", entry_, stage_);
   cl_ulong staticLocal = 0;
-  clCheck(kernel_.getWorkGroupInfo(ctx.device(), CL_KERNEL_LOCAL_MEM_SIZE, &staticLocal),
-          "clGetKernelWorkGroupInfo", entry_, stage_);
+  clCheck(kernel_.getWorkGroupInfo(ctx.device(), CL_KERNEL_LOCAL_MEM_SIZE, &staticLocal), "clGetKernelWorkGroupInfo",
+          entry_, stage_);
   staticLocalBytes_ = staticLocal;
 }
 
@@ -23,8 +23,8 @@ void Kernel::checkLimits(const Range& local) const {
   if (local.count() == 0) throw ClError(CL_INVALID_WORK_GROUP_SIZE, "launch (empty work-group)", entry_, stage_);
   if (local.count() > maxWorkGroupSize_)
     throw ClError(CL_INVALID_WORK_GROUP_SIZE,
-                  fmt::format("launch (work-group of {} > kernel limit {})", local.count(), maxWorkGroupSize_),
-                  entry_, stage_);
+                  fmt::format("launch (work-group of {} > kernel limit {})", local.count(), maxWorkGroupSize_), entry_,
+                  stage_);
   for (unsigned d = 0; d < local.dims; ++d)
     if (local.size[d] > info.maxWorkItemSizes[d])
       throw ClError(CL_INVALID_WORK_ITEM_SIZE,
@@ -33,8 +33,8 @@ void Kernel::checkLimits(const Range& local) const {
                     entry_, stage_);
   if (staticLocalBytes_ + localBytes_ > info.localMemBytes)
     throw ClError(CL_OUT_OF_RESOURCES,
-                  fmt::format("launch (local memory {} + {} bytes > device limit {})", staticLocalBytes_,
-                              localBytes_, info.localMemBytes),
+                  fmt::format("launch (local memory {} + {} bytes > device limit {})", staticLocalBytes_, localBytes_,
+                              info.localMemBytes),
                   entry_, stage_);
 }
 

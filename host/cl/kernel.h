@@ -4,13 +4,13 @@
 // OpenCL and PoCL 3.1 lack non-uniform work-groups), and reports the launch's event to the profiler.
 #pragma once
 
+#include <fmt/format.h>
+
+#include <CL/opencl.hpp>
 #include <array>
 #include <string>
 #include <type_traits>
 #include <vector>
-
-#include <CL/opencl.hpp>
-#include <fmt/format.h>
 
 #include "host/cl/buffer.h"
 #include "host/cl/context.h"

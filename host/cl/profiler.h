@@ -2,10 +2,9 @@
 // from CL_PROFILING_COMMAND_START/END. Plan-then-record: every launch has a name that shows up here.
 #pragma once
 
+#include <CL/opencl.hpp>
 #include <string>
 #include <vector>
-
-#include <CL/opencl.hpp>
 
 namespace penumbra {
 

@@ -1,9 +1,9 @@
 // One frame: G-buffer, technique, preview shading, download into an Image.
 #include "host/pipeline/renderer.h"
 
-#include <cmath>
-
 #include <fmt/format.h>
+
+#include <cmath>
 
 #include "host/cl/kernel.h"
 #include "host/pipeline/views.h"
@@ -76,12 +76,11 @@ RenderResult Renderer::render(const Camera& camera, const Light& light, const Te
   auto& attributes = image.attributes();
   attributes["penumbra:technique"] = technique.name;
   attributes["penumbra:parameters"] = params.describe();
-  attributes["penumbra:device"] = fmt::format("{} ({}, {})", ctx_.info().name, ctx_.info().platformName,
-                                             ctx_.info().driverVersion);
+  attributes["penumbra:device"] =
+      fmt::format("{} ({}, {})", ctx_.info().name, ctx_.info().platformName, ctx_.info().driverVersion);
   attributes["penumbra:light"] = light.describe();
-  attributes["penumbra:camera"] =
-      fmt::format("{},{},{}:{},{},{}:{}", camera.eye.x, camera.eye.y, camera.eye.z, camera.target.x,
-                  camera.target.y, camera.target.z, camera.fovYDeg);
+  attributes["penumbra:camera"] = fmt::format("{},{},{}:{},{},{}:{}", camera.eye.x, camera.eye.y, camera.eye.z,
+                                              camera.target.x, camera.target.y, camera.target.z, camera.fovYDeg);
   result.passes = profiler.resolve();
   return result;
 }

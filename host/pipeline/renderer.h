@@ -27,8 +27,7 @@ class Renderer {
   // Uploads the scene's triangles once; render() may be called for many cameras, lights and techniques.
   Renderer(Context& ctx, const Scene& scene);
 
-  RenderResult render(const Camera& camera, const Light& light, const TechniqueInfo& technique,
-                      const Params& params);
+  RenderResult render(const Camera& camera, const Light& light, const TechniqueInfo& technique, const Params& params);
 
  private:
   Context& ctx_;

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-
 #include <glm/gtc/matrix_transform.hpp>
 
 namespace penumbra {
@@ -37,26 +36,6 @@ void setRows(pn_float4 rows[4], const glm::mat4& m) {
 }
 
 }  // namespace
-
-Camera defaultCamera(const Bounds& bounds) {
-  Camera camera;
-  const float radius = std::max(bounds.radius(), 1e-6f);
-  const glm::vec3 direction = glm::normalize(glm::vec3(0.9f, 0.7f, 1.4f));
-  camera.target = bounds.center();
-  camera.eye = camera.target + direction * (radius / std::tan(glm::radians(camera.fovYDeg) * 0.5f) * 1.05f);
-  return camera;
-}
-
-Light defaultLight(const Bounds& bounds) {
-  Light light;
-  const float radius = std::max(bounds.radius(), 1e-6f);
-  light.type = LightType::Spot;
-  light.target = bounds.center();
-  light.position = light.target + glm::normalize(glm::vec3(-0.6f, 1.6f, 0.5f)) * (radius * 3.0f);
-  light.fovDeg = glm::degrees(2.0f * std::asin(1.0f / 3.0f)) * 1.1f;  // the bounding sphere, with a margin
-  light.radius = 0.08f * radius;
-  return light;
-}
 
 RasterView cameraView(const Camera& camera, const Bounds& bounds) {
   RasterView view;
@@ -99,8 +78,8 @@ LightView fitLightView(const Light& light, const Bounds& bounds, int size) {
     const float extent = std::max(hi.x - lo.x, hi.y - lo.y) * 1.01f;  // square texels
     const glm::vec2 mid = 0.5f * (lo + hi);
     depthRange(raster.view, bounds, zNear, zFar);
-    raster.projection = glm::ortho(mid.x - extent / 2, mid.x + extent / 2, mid.y - extent / 2, mid.y + extent / 2,
-                                   zNear, zFar);
+    raster.projection =
+        glm::ortho(mid.x - extent / 2, mid.x + extent / 2, mid.y - extent / 2, mid.y + extent / 2, zNear, zFar);
     gpu.kind = LIGHT_KIND_DIRECTIONAL;
     gpu.frustumWidth = extent;
     gpu.texelScale = extent / static_cast<float>(size);

@@ -1,6 +1,6 @@
-// Where the camera and the light look: default views framing a scene, the camera's near/far fitted to the
-// scene bounds, and the light's view (perspective for spot lights, orthographic for directional lights)
-// fitted to the geometry that can cast or receive a shadow inside the light's frustum.
+// Where the camera and the light look: the camera's near/far fitted to the scene bounds, and the light's
+// view (perspective for spot lights, orthographic for directional lights) fitted to the scene bounds.
+// Fitting the light to the visible receivers and their casters only is issue 5's shadow-map fitting.
 #pragma once
 
 #include "host/scene/scene.h"
@@ -8,9 +8,6 @@
 #include "raster/rasterizer.h"
 
 namespace penumbra {
-
-Camera defaultCamera(const Bounds& bounds);
-Light defaultLight(const Bounds& bounds);
 
 // The camera's raster view with near/far fitted to the bounds (near clamped to far * 1e-4).
 RasterView cameraView(const Camera& camera, const Bounds& bounds);

@@ -56,6 +56,15 @@ void tiled(Context& ctx, const std::string& options, const Buffer<float>& image,
 }
 
 template <class T>
+void lines(Context& ctx, const std::string& options, const Buffer<float>& image, const SatTableDesc& d,
+           const Buffer<float>& offset, Buffer<T>& table, std::vector<cl::Event>& events) {
+  Kernel rows(ctx, "kernels/sat.cl", "sat_lines_rows", "sat", options);
+  events.push_back(rows.args(image, d, offset, table).launch(d.height, 16));
+  Kernel columns(ctx, "kernels/sat.cl", "sat_lines_columns", "sat", options);
+  events.push_back(columns.args(d, table).launch(ceilDiv(d.width, SAT_LINE_BLOCK), 1));
+}
+
+template <class T>
 void hensley(Context& ctx, const std::string& options, const Buffer<float>& image, const SatTableDesc& d,
              const Buffer<float>& offset, Buffer<T>& table, std::vector<cl::Event>& events) {
   Buffer<T> temp(ctx, size_t(d.width) * d.height * d.channels);
@@ -107,6 +116,11 @@ int satFractionBits(uint32_t mode, double maxBoxTexels, double maxAbsValue) {
                                           maxBoxTexels, maxAbsValue));
 }
 
+SatAlgorithm resolveSatAlgorithm(SatAlgorithm requested, const DeviceInfo& device) {
+  if (requested != SatAlgorithm::Auto) return requested;
+  return device.isCpu() ? SatAlgorithm::Lines : SatAlgorithm::Tiled;
+}
+
 std::string satBuildOptions(const SatTableDesc& desc) {
   return fmt::format("-DSAT_MODE={} -DSAT_CHANNELS={}", desc.mode, desc.channels);
 }
@@ -125,10 +139,17 @@ std::vector<cl::Event> computeSat(Context& ctx, const Buffer<float>& image, cons
   if (shape.texels() == 0) return events;
   const std::string options = satBuildOptions(desc);
   computeOffset(ctx, options, image, shape, mode, config, offset, events);
-  if (config.algorithm == SatAlgorithm::Tiled)
-    tiled(ctx, options, image, desc, offset, table, events);
-  else
-    hensley(ctx, options, image, desc, offset, table, events);
+  switch (resolveSatAlgorithm(config.algorithm, ctx.info())) {
+    case SatAlgorithm::Lines:
+      lines(ctx, options, image, desc, offset, table, events);
+      break;
+    case SatAlgorithm::Hensley:
+      hensley(ctx, options, image, desc, offset, table, events);
+      break;
+    default:
+      tiled(ctx, options, image, desc, offset, table, events);
+      break;
+  }
   return events;
 }
 

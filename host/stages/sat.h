@@ -16,10 +16,12 @@
 
 namespace penumbra {
 
-enum class SatAlgorithm { Tiled, Hensley };
+// Auto: Tiled on GPUs and accelerators, Lines on CPUs (where barriers are loops and line scans vectorize
+// across columns); Hensley is the textbook baseline.
+enum class SatAlgorithm { Auto, Tiled, Lines, Hensley };
 
 struct SatConfig {
-  SatAlgorithm algorithm = SatAlgorithm::Tiled;
+  SatAlgorithm algorithm = SatAlgorithm::Auto;
   // Fixed point: values are stored as round(x * 2^fractionBits); -1 picks 16 (32-bit) or 32 (64-bit).
   // Box sums are exact while |sum| * 2^fractionBits < 2^31 (resp. 2^63).
   int fractionBits = -1;
@@ -58,13 +60,16 @@ SatTableDesc satDesc(const ImageShape& shape, uint32_t mode, int fractionBits = 
 // when not even integers fit. E.g. 32-bit, values in [0, 1], boxes up to 255^2 texels: 15 bits.
 int satFractionBits(uint32_t mode, double maxBoxTexels, double maxAbsValue);
 
+// The algorithm `requested` runs as on `device` (Auto resolved).
+SatAlgorithm resolveSatAlgorithm(SatAlgorithm requested, const DeviceInfo& device);
+
 // The -D options a kernel including kernels/shared/sat.h needs to read this table.
 std::string satBuildOptions(const SatTableDesc& desc);
 
 // Computes the table of `image` into `table` (shape.count() elements of T) and the fp32 offset into
 // `offset` (4 floats; zeros for the other modes). Launch names "sat/sat_tile_sums", "sat/sat_carry",
-// "sat/sat_tile_scan" (tiled) or "sat/sat_hensley_*", plus "sat/sat_mean_*" for the zero-mean offset.
-// fp64 throws std::runtime_error on devices without it.
+// "sat/sat_tile_scan" (tiled), "sat/sat_lines_*" or "sat/sat_hensley_*", plus "sat/sat_mean_*" for the zero-mean
+// offset. fp64 throws std::runtime_error on devices without it.
 template <class T>
 std::vector<cl::Event> computeSat(Context& ctx, const Buffer<float>& image, const ImageShape& shape, Buffer<T>& table,
                                   Buffer<float>& offset, const SatConfig& config = {});

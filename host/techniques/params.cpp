@@ -1,12 +1,12 @@
 // Parameter parsing and validation.
 #include "host/techniques/params.h"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-
-#include <fmt/format.h>
-#include <fmt/ranges.h>
 
 namespace penumbra {
 

@@ -12,15 +12,10 @@ class PercentageCloserSoft final : public Technique {
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     renderShadowMap(frame, params_.getInt("map-size"), map_);
-    const GBuffer& g = frame.gbuffer;
-    const BiasArgs bias = biasArgs(params_);
-    const uint32_t count = static_cast<uint32_t>(g.width) * static_cast<uint32_t>(g.height);
-    if (blocker_.size() != count) blocker_.allocate(frame.ctx, count);
-    Kernel kernel(frame.ctx, "kernels/pcss.cl", "pcss_visibility", "shade");
-    kernel.args(g.position, g.normal, count, map_.targets.depth, map_.gpu, bias.constant, bias.slope,
-                bias.normalOffset, params_.getInt("pcss-search-taps"), params_.getInt("pcss-filter-taps"),
-                static_cast<float>(params_.get("pcss-max-radius")), visibility, blocker_)
-        .launch(count, kPixelGroup);
+    blocker_.allocate(frame.ctx, visibility.size());
+    launchVisibility(frame, map_, params_, "kernels/pcss.cl", "pcss_visibility", visibility,
+                     params_.getInt("pcss-search-taps"), params_.getInt("pcss-filter-taps"),
+                     static_cast<float>(params_.get("pcss-max-radius")), blocker_);
   }
 
   void addDebugChannels(Context& ctx, Image& image) override { image.add("blocker.Z", blocker_.download(ctx)); }

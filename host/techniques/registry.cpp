@@ -1,9 +1,9 @@
 // The list of techniques `penumbra render --technique` knows.
 #include "host/techniques/registry.h"
 
-#include <stdexcept>
-
 #include <fmt/format.h>
+
+#include <stdexcept>
 
 namespace penumbra {
 

@@ -2,18 +2,22 @@
 // depth rasterized by our rasterizer, and the shared bias parameters.
 #pragma once
 
+#include <string>
 #include <vector>
 
+#include "host/cl/kernel.h"
 #include "host/pipeline/views.h"
 #include "host/techniques/params.h"
 #include "host/techniques/technique.h"
 
 namespace penumbra {
 
+inline constexpr size_t kPixelGroup = 64;  // work-group size of the per-pixel visibility kernels
+
 struct ShadowMap {
   LightView view;
-  RasterTargets targets;       // depth: linear light depth, +INFINITY where empty
-  Buffer<LightViewGpu> gpu;    // view.gpu on the device (one element) for __constant arguments
+  RasterTargets targets;     // depth: linear light depth, +INFINITY where empty
+  Buffer<LightViewGpu> gpu;  // view.gpu on the device (one element) for __constant arguments
 };
 
 // map-size, bias, slope-bias, normal-offset.
@@ -25,5 +29,20 @@ struct BiasArgs {
   float constant, slope, normalOffset;
 };
 BiasArgs biasArgs(const Params& params);
+
+// Launches a per-pixel visibility kernel of the shadow-map family. Every such kernel takes
+// (position, normal, count, map, light view, bias, slope bias, normal offset, EXTRA..., visibility).
+template <class... Extra>
+void launchVisibility(ShadowFrame& frame, const ShadowMap& map, const Params& params, const std::string& source,
+                      const std::string& entry, Buffer<float>& visibility, const Extra&... extra) {
+  const GBuffer& g = frame.gbuffer;
+  const BiasArgs bias = biasArgs(params);
+  const uint32_t count = static_cast<uint32_t>(g.width) * static_cast<uint32_t>(g.height);
+  Kernel kernel(frame.ctx, source, entry, "shade");
+  kernel
+      .args(g.position, g.normal, count, map.targets.depth, map.gpu, bias.constant, bias.slope, bias.normalOffset,
+            extra..., visibility)
+      .launch(count, kPixelGroup);
+}
 
 }  // namespace penumbra

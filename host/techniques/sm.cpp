@@ -11,13 +11,7 @@ class HardShadowMap final : public Technique {
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     renderShadowMap(frame, params_.getInt("map-size"), map_);
-    const GBuffer& g = frame.gbuffer;
-    const BiasArgs bias = biasArgs(params_);
-    const uint32_t count = static_cast<uint32_t>(g.width) * static_cast<uint32_t>(g.height);
-    Kernel kernel(frame.ctx, "kernels/sm.cl", "sm_visibility", "shade");
-    kernel.args(g.position, g.normal, count, map_.targets.depth, map_.gpu, bias.constant, bias.slope,
-                bias.normalOffset, visibility)
-        .launch(count, kPixelGroup);
+    launchVisibility(frame, map_, params_, "kernels/sm.cl", "sm_visibility", visibility);
   }
 
  private:

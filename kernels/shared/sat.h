@@ -11,6 +11,7 @@
 #define SAT_GROUP_Y 8         // work-group y size of the tile kernels: each work-item covers SAT_TILE / 8 rows
 #define SAT_CARRY_GROUP 64    // work-group size of sat_carry
 #define SAT_REDUCE_GROUP 256  // work-group size of the mean reduction
+#define SAT_LINE_BLOCK 32     // columns per work-item in sat_lines_columns (best of 16/32/64 on PoCL)
 
 // Storage modes. Fixed-point tables hold round(x * 2^fractionBits) summed modulo 2^32 or 2^64: the
 // table itself wraps, but every box sum (a difference of corners) is exact while it fits the signed range.

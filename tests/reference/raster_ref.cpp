@@ -11,7 +11,7 @@ namespace penumbra::test {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr int kSubpixels = 256;         // 1/256-pixel snapping
+constexpr int kSubpixels = 256;          // 1/256-pixel snapping
 constexpr double kCoordLimit = 1 << 29;  // subpixels
 
 // The guard band factor: a power of two, 2^21 / 2^ceil(log2(size)).
@@ -82,11 +82,16 @@ void RefRasterizer::addTriangle(uint32_t id, const Vertex (&v)[3]) {
   const double gx = guardFactor(view_.width), gy = guardFactor(view_.height);
   auto distance = [&](const Vertex& p, int plane) {
     switch (plane) {
-      case 0: return p.z + p.w;
-      case 1: return p.x + gx * p.w;
-      case 2: return gx * p.w - p.x;
-      case 3: return p.y + gy * p.w;
-      default: return gy * p.w - p.y;
+      case 0:
+        return p.z + p.w;
+      case 1:
+        return p.x + gx * p.w;
+      case 2:
+        return gx * p.w - p.x;
+      case 3:
+        return p.y + gy * p.w;
+      default:
+        return gy * p.w - p.y;
     }
   };
   std::vector<Vertex> poly(v, v + 3);
@@ -125,8 +130,8 @@ void RefRasterizer::addSnapped(uint32_t id, const Vertex& a, const Vertex& b, co
   }
   const int64_t area = orient(t.X[0], t.Y[0], t.X[1], t.Y[1], t.X[2], t.Y[2]);
   if (area == 0 || (view_.cullBackFaces && area < 0)) return;
-  if (area < 0) std::swap(t.X[1], t.X[2]), std::swap(t.Y[1], t.Y[2]), std::swap(t.w[1], t.w[2]),
-      std::swap(t.eyeZ[1], t.eyeZ[2]);
+  if (area < 0)
+    std::swap(t.X[1], t.X[2]), std::swap(t.Y[1], t.Y[2]), std::swap(t.w[1], t.w[2]), std::swap(t.eyeZ[1], t.eyeZ[2]);
   const double minX = std::min({t.X[0], t.X[1], t.X[2]}), maxX = std::max({t.X[0], t.X[1], t.X[2]});
   const double minY = std::min({t.Y[0], t.Y[1], t.Y[2]}), maxY = std::max({t.Y[0], t.Y[1], t.Y[2]});
   t.x0 = std::max<int>(sx0_, static_cast<int>(std::ceil((minX - kSubpixels / 2) / kSubpixels)));
@@ -164,12 +169,14 @@ std::optional<double> RefRasterizer::viewZOf(uint32_t id, int x, int y) const {
 double RefRasterizer::depthOf(double v, int x, int y) const {
   const glm::dmat4 P(view_.projection);
   switch (view_.depthMode) {
-    case DepthMode::kViewZ: return v;
+    case DepthMode::kViewZ:
+      return v;
     case DepthMode::kNdc: {
       const glm::dvec4 c = P * glm::dvec4(0, 0, -v, 1);
       return 0.5 * c.z / c.w + 0.5;
     }
-    case DepthMode::kDistance: break;
+    case DepthMode::kDistance:
+      break;
   }
   const glm::dmat4 inv = glm::inverse(P);
   const double xn = (2.0 * x + 1.0) / view_.width - 1.0, yn = (2.0 * y + 1.0) / view_.height - 1.0;

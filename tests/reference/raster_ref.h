@@ -41,9 +41,9 @@ class RefRasterizer {
   };
   struct Tri {
     uint32_t id;
-    int64_t X[3], Y[3];   // snapped, counter-clockwise
+    int64_t X[3], Y[3];  // snapped, counter-clockwise
     double w[3], eyeZ[3];
-    int x0, y0, x1, y1;   // pixel box inside the scissor
+    int x0, y0, x1, y1;  // pixel box inside the scissor
   };
 
   void addTriangle(uint32_t id, const Vertex (&v)[3]);

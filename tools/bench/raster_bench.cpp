@@ -4,9 +4,6 @@
 // 4096^2, plus a perspective camera view. Device: PENUMBRA_DEVICE (or "auto"). Scenes: PENUMBRA_SCENES_DIR, else
 // ../shared/scenes beside the source tree; missing files skip their cases.
 //   build/tools/bench/raster_bench --benchmark_counters_tabular=true
-#include <benchmark/benchmark.h>
-#include <fmt/format.h>
-
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -14,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "host/cl/context.h"
@@ -25,8 +24,8 @@ namespace penumbra {
 namespace {
 
 std::string scenePath(const std::string& name) {
-  for (const std::string& dir : {std::string(PENUMBRA_SOURCE_DIR) + "/scenes",
-                                 std::string(PENUMBRA_SOURCE_DIR) + "/../shared/scenes"})
+  for (const std::string& dir :
+       {std::string(PENUMBRA_SOURCE_DIR) + "/scenes", std::string(PENUMBRA_SOURCE_DIR) + "/../shared/scenes"})
     if (std::filesystem::exists(dir + "/" + name)) return dir + "/" + name;
   return {};
 }

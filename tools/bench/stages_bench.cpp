@@ -11,6 +11,7 @@
 #include <functional>
 #include <memory>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,7 @@ double deviceMs(Context& ctx, const std::function<void()>& work) {
   ProfilerScope scope(ctx, profiler);
   work();
   ctx.finish();
+  if (profiler.empty()) throw std::runtime_error("deviceMs: the work enqueued nothing on the profiled queue");
   double ms = 0.0;
   for (const PassTime& pass : profiler.resolve())
     if (pass.name.rfind("transfer/", 0) != 0) ms += pass.ms;
@@ -110,14 +112,17 @@ std::vector<float> randomData(size_t count, unsigned seed) {
 template <class T>
 void addSat(Setup& s, const std::string& name, uint32_t size, SatConfig config, bool wallClock = false) {
   const double texels = double(size) * size;
-  add(s, name, size, texels * (8 + 2 * sizeof(T)), [&s, config](uint32_t n) {
-    const ImageShape shape{n, n, 2};
-    auto image = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(shape.count(), n)));
-    auto table = std::make_shared<Buffer<T>>(s.ctx, shape.count());
-    auto offset = std::make_shared<Buffer<float>>(s.ctx, 4);
-    return std::function<void()>(
-        [&s, image, table, offset, shape, config] { computeSat(s.ctx, *image, shape, *table, *offset, config); });
-  });
+  add(
+      s, name, size, texels * (8 + 2 * sizeof(T)),
+      [&s, config](uint32_t n) {
+        const ImageShape shape{n, n, 2};
+        auto image = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(shape.count(), n)));
+        auto table = std::make_shared<Buffer<T>>(s.ctx, shape.count());
+        auto offset = std::make_shared<Buffer<float>>(s.ctx, 4);
+        return std::function<void()>(
+            [&s, image, table, offset, shape, config] { computeSat(s.ctx, *image, shape, *table, *offset, config); });
+      },
+      wallClock);
 }
 
 void registerAll(Setup& s) {
@@ -140,29 +145,41 @@ void registerAll(Setup& s) {
             [&s, in, out, scratch, shape, config] { blur(s.ctx, *in, *out, *scratch, shape, config); });
       });
     }
-    SatConfig offsetGiven;
+    SatConfig offsetGiven;  // the production path on this device (Auto), with a known offset
     offsetGiven.offset = std::array<float, 4>{0.5f, 0.5f, 0.0f, 0.0f};
-    addSat<float>(s, "sat_tiled_fp32_offset", size, offsetGiven);
-    addSat<float>(s, "sat_tiled_fp32_zeromean", size, {});
-    addSat<uint32_t>(s, "sat_tiled_fixed32", size, {});
-    addSat<uint64_t>(s, "sat_tiled_fixed64", size, {});
-    if (s.ctx.info().fp64) addSat<double>(s, "sat_tiled_fp64", size, {});
+    SatConfig tiledConfig = offsetGiven, linesConfig = offsetGiven;
+    tiledConfig.algorithm = SatAlgorithm::Tiled;
+    linesConfig.algorithm = SatAlgorithm::Lines;
+    addSat<float>(s, "sat_tiled_fp32_offset_explicit", size, tiledConfig);
+    addSat<float>(s, "sat_lines_fp32_offset_explicit", size, linesConfig);
+    addSat<float>(s, "sat_auto_fp32_offset", size, offsetGiven);
+    addSat<float>(s, "sat_auto_fp32_zeromean", size, {});
+    addSat<uint32_t>(s, "sat_auto_fixed32", size, {});
+    addSat<uint64_t>(s, "sat_auto_fixed64", size, {});
+    if (s.ctx.info().fp64) addSat<double>(s, "sat_auto_fp64", size, {});
     SatConfig hensley = offsetGiven;
     hensley.algorithm = SatAlgorithm::Hensley;
     addSat<float>(s, "sat_hensley_fp32_offset", size, hensley);
 #ifdef PENUMBRA_BENCH_BOOST_COMPUTE
     // Side by side on wall clock: Boost.Compute's launches bypass our profiler. Its 1-D scan of the same
     // 2 n^2 floats does less work than a SAT (one axis, no carries across rows).
-    addSat<float>(s, "sat_tiled_fp32_offset_wall", size, offsetGiven, /*wallClock=*/true);
-    add(s, "boost_compute_inclusive_scan_wall", size, texels * 16, [&s](uint32_t n) {
-      namespace bc = boost::compute;
-      auto queue = std::make_shared<bc::command_queue>(s.ctx.queue().get(), true);
-      const std::vector<float> host = randomData(size_t(n) * n * 2, 3);
-      auto data = std::make_shared<bc::vector<float>>(host.begin(), host.end(), *queue);
-      auto out = std::make_shared<bc::vector<float>>(data->size(), queue->get_context());
-      return std::function<void()>(
-          [queue, data, out] { bc::inclusive_scan(data->begin(), data->end(), out->begin(), *queue); });
-    });
+    addSat<float>(s, "sat_auto_fp32_offset_wall", size, offsetGiven, /*wallClock=*/true);
+    add(
+        s, "boost_compute_inclusive_scan_wall", size, texels * 16,
+        [&s](uint32_t n) {
+          namespace bc = boost::compute;
+          // Its own context and queue on our device: Boost.Compute on a wrapped foreign queue hung on PoCL.
+          const bc::device device(s.ctx.device()(), true);
+          auto queue = std::make_shared<bc::command_queue>(bc::context(device), device);
+          const std::vector<float> host = randomData(size_t(n) * n * 2, 3);
+          auto data = std::make_shared<bc::vector<float>>(host.begin(), host.end(), *queue);
+          auto out = std::make_shared<bc::vector<float>>(data->size(), queue->get_context());
+          return std::function<void()>([queue, data, out] {
+            bc::inclusive_scan(data->begin(), data->end(), out->begin(), *queue);
+            queue->finish();
+          });
+        },
+        /*wallClock=*/true);
 #endif
     add(s, "pyramid_mips_float2", size, texels * (8 + 8.0 / 3), [&s](uint32_t n) {
       const ImageShape shape{n, n, 2};

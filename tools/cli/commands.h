@@ -2,10 +2,9 @@
 // returns the function that runs it once the command line is parsed.
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <functional>
 #include <vector>
-
-#include <CLI/CLI.hpp>
 
 namespace penumbra::cli {
 
@@ -18,8 +17,6 @@ Command addDevicesCommand(CLI::App& app);
 Command addRenderCommand(CLI::App& app);
 
 // The registry: one line per command.
-inline std::vector<Command> registerCommands(CLI::App& app) {
-  return {addDevicesCommand(app), addRenderCommand(app)};
-}
+inline std::vector<Command> registerCommands(CLI::App& app) { return {addDevicesCommand(app), addRenderCommand(app)}; }
 
 }  // namespace penumbra::cli

@@ -1,8 +1,8 @@
 // `penumbra devices [--json]`: the OpenCL platforms and devices with the facts our kernels depend on.
+#include <fmt/format.h>
+
 #include <cstdio>
 #include <memory>
-
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "host/cl/device.h"

@@ -1,11 +1,11 @@
 // `penumbra`: the command-line tool. Subcommands live in their own files (devices.cpp, render.cpp, ...);
 // this file parses the command line and maps exceptions to exit codes: 0 ok, 1 failure, 2 usage error,
 // 69 no OpenCL device. Library code reports bad option values as std::invalid_argument.
-#include <cstdio>
-#include <exception>
+#include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
-#include <fmt/format.h>
+#include <cstdio>
+#include <exception>
 
 #include "host/cl/error.h"
 #include "tools/cli/commands.h"

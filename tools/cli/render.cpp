@@ -1,19 +1,20 @@
 // `penumbra render SCENE [options] -o out.exr`: renders a scene with one technique entirely in OpenCL
 // kernels, writes the EXR (all channels + provenance) and a PNG preview, and prints per-pass device times.
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <map>
 #include <memory>
 #include <set>
 
-#include <fmt/format.h>
-#include <fmt/ranges.h>
-
 #include "host/cl/context.h"
 #include "host/io/exr.h"
 #include "host/io/png.h"
 #include "host/pipeline/renderer.h"
 #include "host/pipeline/views.h"
+#include "host/scene/framing.h"
 #include "host/scene/load.h"
 #include "host/techniques/technique.h"
 #include "tools/cli/commands.h"
@@ -37,8 +38,7 @@ void addTechniqueOptions(CLI::App* sub, RenderOptions& options) {
       std::string help = spec.help + (spec.choices.empty() ? fmt::format(" [default {}]", spec.defaultValue)
                                                            : fmt::format(" ({})", fmt::join(spec.choices, "|")));
       sub->add_option_function<std::string>(
-             "--" + spec.name, [&options, name = spec.name](const std::string& v) { options.params[name] = v; },
-             help)
+             "--" + spec.name, [&options, name = spec.name](const std::string& v) { options.params[name] = v; }, help)
           ->group("Technique parameters");
     }
 }
@@ -46,7 +46,8 @@ void addTechniqueOptions(CLI::App* sub, RenderOptions& options) {
 Params techniqueParams(const TechniqueInfo& info, const RenderOptions& options) {
   Params params(info.params);
   for (const auto& [name, value] : options.params) {
-    bool known = std::any_of(info.params.begin(), info.params.end(), [&](const ParamSpec& s) { return s.name == name; });
+    bool known =
+        std::any_of(info.params.begin(), info.params.end(), [&](const ParamSpec& s) { return s.name == name; });
     if (!known) throw std::invalid_argument(fmt::format("--{} does not apply to technique '{}'", name, info.name));
     params.set(name, value);
   }
@@ -58,10 +59,10 @@ int run(const RenderOptions& options) {
   const Params params = techniqueParams(technique, options);
   Scene scene = loadScene(options.scene);
   const Bounds bounds = scene.bounds();
-  Camera camera = options.camera.empty() ? (scene.cameras.empty() ? defaultCamera(bounds) : scene.cameras.front())
+  Camera camera = options.camera.empty() ? (scene.cameras.empty() ? framingCamera(bounds) : scene.cameras.front())
                                          : parseCamera(options.camera);
   if (!options.size.empty()) parseSize(options.size, camera.width, camera.height);
-  const Light light = options.light.empty() ? (scene.lights.empty() ? defaultLight(bounds) : scene.lights.front())
+  const Light light = options.light.empty() ? (scene.lights.empty() ? framingLight(bounds) : scene.lights.front())
                                             : parseLight(options.light);
 
   Context ctx(options.device);
@@ -72,8 +73,8 @@ int run(const RenderOptions& options) {
   const std::filesystem::path exr = options.output;
   if (exr.has_parent_path()) std::filesystem::create_directories(exr.parent_path());
   writeExr(exr, result.image);
-  const std::filesystem::path png = options.png.empty() ? std::filesystem::path(exr).replace_extension(".png")
-                                                        : std::filesystem::path(options.png);
+  const std::filesystem::path png =
+      options.png.empty() ? std::filesystem::path(exr).replace_extension(".png") : std::filesystem::path(options.png);
   writePngPreview(png, result.image);
   if (!options.quiet) {
     fmt::print("{} on {}: {}x{}, {} triangles, technique {} ({})\n", options.scene, ctx.info().name, camera.width,

@@ -1,10 +1,10 @@
 // Formats per-pass device times (OpenCL profiling events) as the table `render` and `bench` print.
 #pragma once
 
+#include <fmt/format.h>
+
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "host/cl/profiler.h"
 
