@@ -278,6 +278,7 @@ double worstBoxMeanError(Context& ctx, const std::vector<float>& image, const Im
   Buffer<float> in(ctx, std::span<const float>(image)), offset(ctx, 4);
   Buffer<T> table(ctx, shape.count());
   SatConfig config;
+  config.algorithm = SatAlgorithm::Tiled;  // the production (GPU) path
   config.zeroMean = zeroMean;
   config.fractionBits = fractionBits;
   computeSat(ctx, in, shape, table, offset, config);

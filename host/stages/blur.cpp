@@ -2,9 +2,9 @@
 // of large sigma use the three-box approximation of Wells (1986) with Kovesi's choice of widths.
 #include "host/stages/blur.h"
 
-#include <algorithm>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 

@@ -1,9 +1,9 @@
 // Pyramid stage host wrapper: plans the level layout, then records one downsampling launch per level.
 #include "host/stages/pyramid.h"
 
-#include <algorithm>
-
 #include <fmt/format.h>
+
+#include <algorithm>
 
 #include "host/cl/kernel.h"
 

@@ -1,10 +1,10 @@
 // Reduce stage host wrapper: fixes the work split from the sample count, then records the two passes.
 #include "host/stages/reduce.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 #include "host/cl/kernel.h"
 #include "host/stages/image_shape.h"

@@ -1,12 +1,14 @@
 // SAT stage: summed-area tables of 1-, 2- or 4-channel float images by a tiled three-pass scan (Nehab et
-// al. 2011) or Hensley et al. 2005 recursive doubling, stored as fp32 (offset to zero mean), 32- or 64-bit
-// fixed point (exact, modular) or fp64. Box lookups: kernels/shared/sat.h. Precision: docs/sat-precision.md.
+// al. 2011; GPUs), line scans (CPUs) or Hensley et al. 2005 recursive doubling, stored as fp32 (offset to
+// zero mean), 32- or 64-bit fixed point (exact, modular) or fp64. Box lookups: kernels/shared/sat.h.
+// Precision by mode, size and filter width: docs/sat-precision.md.
 #pragma once
 
 #include <CL/opencl.hpp>
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "host/cl/buffer.h"
