@@ -9,7 +9,7 @@ PACKAGES=(
   cmake g++ make pkg-config
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo
   libopenexr-dev libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libcli11-dev libfmt-dev
-  libgtest-dev libbenchmark-dev
+  libgtest-dev libbenchmark-dev libboost-dev  # Boost.Compute: the scan baseline of stages_bench
   assimp-testmodels  # malformed glTF files the test suite feeds the loader
 )
 
