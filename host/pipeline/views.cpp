@@ -15,11 +15,6 @@ std::array<glm::vec3, 8> corners(const Bounds& b) {
   return c;
 }
 
-// An up vector that is not parallel to `forward`.
-glm::vec3 upFor(const glm::vec3& forward) {
-  return std::abs(glm::normalize(forward).y) > 0.99f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
-}
-
 // Linear depth range (-z_eye) of the bounds seen through `view`, widened by 1% and kept positive.
 void depthRange(const glm::mat4& view, const Bounds& bounds, float& zNear, float& zFar) {
   float lo = INFINITY, hi = -INFINITY;
@@ -58,7 +53,7 @@ LightView fitLightView(const Light& light, const Bounds& bounds, int size) {
   const glm::vec3 axis = light.axis();
   float zNear, zFar;
   if (light.type == LightType::Spot) {
-    raster.view = glm::lookAt(light.position, light.target, upFor(axis));
+    raster.view = glm::lookAt(light.position, light.target, chooseUp(axis));
     depthRange(raster.view, bounds, zNear, zFar);
     const float fov = glm::radians(light.fovDeg);
     raster.projection = glm::perspective(fov, 1.0f, zNear, zFar);
@@ -69,7 +64,7 @@ LightView fitLightView(const Light& light, const Bounds& bounds, int size) {
   } else {
     const float radius = std::max(bounds.radius(), 1e-6f);
     const glm::vec3 center = bounds.center();
-    raster.view = glm::lookAt(center - axis * (2.0f * radius), center, upFor(axis));
+    raster.view = glm::lookAt(center - axis * (2.0f * radius), center, chooseUp(axis));
     glm::vec2 lo(INFINITY), hi(-INFINITY);
     for (const glm::vec3& c : corners(bounds)) {
       const glm::vec4 e = raster.view * glm::vec4(c, 1.0f);
