@@ -49,7 +49,9 @@ RenderResult Renderer::render(const Camera& camera, const Light& light, const Te
 
   Buffer<float> visibility(ctx_, count);
   std::unique_ptr<Technique> shadows = technique.create(params);
-  ShadowFrame frame{ctx_, raster_, scene_, light, camera, gbuffer_};
+  const ReceiverBounds receivers =
+      reduceReceivers(ctx_, gbuffer_, lightEyeMatrix(light, bounds), light.type == LightType::Spot);
+  ShadowFrame frame{ctx_, raster_, scene_, light, camera, gbuffer_, receivers};
   shadows->render(frame, visibility);
 
   // The preview needs only the light's position, axis and cone, not a map: a 1-texel view suffices.
@@ -74,6 +76,7 @@ RenderResult Renderer::render(const Camera& camera, const Light& light, const Te
   image.flipRows();  // the rasterizer's row 0 is the bottom row
 
   auto& attributes = image.attributes();
+  attributes.insert(frame.attributes.begin(), frame.attributes.end());
   attributes["penumbra:technique"] = technique.name;
   attributes["penumbra:parameters"] = params.describe();
   attributes["penumbra:device"] =

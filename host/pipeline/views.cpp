@@ -1,4 +1,4 @@
-// Camera and light views fitted to a scene's bounds.
+// Camera and light views: the camera fitted to the scene's bounds, the light to the visible receivers.
 #include "host/pipeline/views.h"
 
 #include <algorithm>
@@ -30,6 +30,28 @@ void setRows(pn_float4 rows[4], const glm::mat4& m) {
   for (int r = 0; r < 4; ++r) rows[r] = {{m[0][r], m[1][r], m[2][r], m[3][r]}};
 }
 
+// Square box [center - extent/2, center + extent/2]^2 of the map in the light's x/y units.
+struct MapWindow {
+  glm::vec2 center;
+  float extent;
+};
+
+// The receivers' box clamped to `full`, squared, and widened by `marginTexels` texels of the result:
+// extent' = extent + 2 m extent' / size, so extent' = extent / (1 - 2 m / size). Falls back to `full` when
+// there is nothing to crop to or the crop would not be smaller.
+MapWindow cropWindow(const MapWindow& full, const ReceiverBounds* receivers, int size, float marginTexels) {
+  if (receivers == nullptr || receivers->empty) return full;
+  const glm::vec2 fullLo = full.center - 0.5f * full.extent, fullHi = full.center + 0.5f * full.extent;
+  const glm::vec2 lo = glm::max(receivers->lo, fullLo), hi = glm::min(receivers->hi, fullHi);
+  if (!(lo.x <= hi.x && lo.y <= hi.y)) return full;  // every receiver outside the cone: nothing is lit anyway
+  const float fraction = 2.0f * std::max(marginTexels, 0.0f) / static_cast<float>(size);
+  if (fraction >= 0.5f) return full;
+  // A receiver box of zero size (one pixel, a line) still gets a map of a few texels' footprint.
+  const float extent = std::max({hi.x - lo.x, hi.y - lo.y, full.extent * 1e-4f}) / (1.0f - fraction);
+  if (extent >= full.extent) return full;
+  return {0.5f * (lo + hi), extent};
+}
+
 }  // namespace
 
 RasterView cameraView(const Camera& camera, const Bounds& bounds) {
@@ -44,44 +66,46 @@ RasterView cameraView(const Camera& camera, const Bounds& bounds) {
   return view;
 }
 
-LightView fitLightView(const Light& light, const Bounds& bounds, int size) {
+LightView fitLightView(const Light& light, const Bounds& scene, int size, const ReceiverBounds* receivers,
+                       float marginTexels) {
   LightView lv{};
   RasterView& raster = lv.raster;
   LightViewGpu& gpu = lv.gpu;
   raster.width = raster.height = size;
   raster.depthMode = DepthMode::kViewZ;
-  const glm::vec3 axis = light.axis();
+  raster.view = lightEyeMatrix(light, scene);
   float zNear, zFar;
+  depthRange(raster.view, scene, zNear, zFar);
+  if (receivers != nullptr && !receivers->empty && receivers->depthMax > 0.0f)
+    zFar = std::max(std::min(zFar, receivers->depthMax * 1.01f), zNear * 1.0001f);
+  MapWindow full;
   if (light.type == LightType::Spot) {
-    raster.view = glm::lookAt(light.position, light.target, chooseUp(axis));
-    depthRange(raster.view, bounds, zNear, zFar);
-    const float fov = glm::radians(light.fovDeg);
-    raster.projection = glm::perspective(fov, 1.0f, zNear, zFar);
-    gpu.kind = LIGHT_KIND_SPOT;
-    gpu.frustumWidth = 2.0f * std::tan(fov * 0.5f);
-    gpu.texelScale = gpu.frustumWidth / static_cast<float>(size);
-    gpu.lightSize = light.radius;
+    full = {glm::vec2(0.0f), 2.0f * std::tan(glm::radians(light.fovDeg) * 0.5f)};
   } else {
-    const float radius = std::max(bounds.radius(), 1e-6f);
-    const glm::vec3 center = bounds.center();
-    raster.view = glm::lookAt(center - axis * (2.0f * radius), center, chooseUp(axis));
     glm::vec2 lo(INFINITY), hi(-INFINITY);
-    for (const glm::vec3& c : corners(bounds)) {
+    for (const glm::vec3& c : corners(scene)) {
       const glm::vec4 e = raster.view * glm::vec4(c, 1.0f);
       lo = glm::min(lo, glm::vec2(e)), hi = glm::max(hi, glm::vec2(e));
     }
-    const float extent = std::max(hi.x - lo.x, hi.y - lo.y) * 1.01f;  // square texels
-    const glm::vec2 mid = 0.5f * (lo + hi);
-    depthRange(raster.view, bounds, zNear, zFar);
-    raster.projection =
-        glm::ortho(mid.x - extent / 2, mid.x + extent / 2, mid.y - extent / 2, mid.y + extent / 2, zNear, zFar);
+    full = {0.5f * (lo + hi), std::max({hi.x - lo.x, hi.y - lo.y, 1e-6f}) * 1.01f};  // square texels
+  }
+  const MapWindow window = cropWindow(full, receivers, size, marginTexels);
+  const glm::vec2 lo = window.center - 0.5f * window.extent, hi = window.center + 0.5f * window.extent;
+  if (light.type == LightType::Spot) {
+    // An off-centre perspective frustum whose window at depth n spans the tangent box times n.
+    raster.projection = glm::frustum(lo.x * zNear, hi.x * zNear, lo.y * zNear, hi.y * zNear, zNear, zFar);
+    gpu.kind = LIGHT_KIND_SPOT;
+    gpu.lightSize = light.radius;
+  } else {
+    raster.projection = glm::ortho(lo.x, hi.x, lo.y, hi.y, zNear, zFar);
     gpu.kind = LIGHT_KIND_DIRECTIONAL;
-    gpu.frustumWidth = extent;
-    gpu.texelScale = extent / static_cast<float>(size);
     gpu.lightSize = std::tan(glm::radians(light.angularRadiusDeg));
   }
+  gpu.frustumWidth = window.extent;
+  gpu.texelScale = window.extent / static_cast<float>(size);
   setRows(gpu.view, raster.view);
   setRows(gpu.projection, raster.projection);
+  const glm::vec3 axis = light.axis();
   gpu.position = {{light.position.x, light.position.y, light.position.z, 1.0f}};
   gpu.axis = {{axis.x, axis.y, axis.z, 0.0f}};
   gpu.zNear = zNear;

@@ -1,8 +1,9 @@
 // Where the camera and the light look: the camera's near/far fitted to the scene bounds, and the light's
-// view (perspective for spot lights, orthographic for directional lights) fitted to the scene bounds.
-// Fitting the light to the visible receivers and their casters only is issue 5's shadow-map fitting.
+// view (perspective for spot lights, orthographic for directional lights) fitted to what can matter: the
+// receivers the camera sees (host/pipeline/light_fit.h) and the casters between them and the light.
 #pragma once
 
+#include "host/pipeline/light_fit.h"
 #include "host/scene/scene.h"
 #include "kernels/shared/light_view.h"
 #include "raster/rasterizer.h"
@@ -17,6 +18,14 @@ struct LightView {
   RasterView raster;
   LightViewGpu gpu;
 };
-LightView fitLightView(const Light& light, const Bounds& bounds, int size);
+//
+// Without receivers (nullptr or empty) the view covers the whole scene (directional) or the whole cone
+// (spot). With receivers, x/y are cropped to the receivers' light-space box (never beyond the scene or the
+// cone), squared, and widened so `marginTexels` texels of the final map lie around it on every side: a
+// filter that reads up to that many texels from a receiver's own texel stays inside the map. The far plane
+// is the deepest receiver (casters behind every receiver shadow nothing visible); the near plane keeps every
+// caster between the light and the scene. Texel and depth units of the result are in `gpu`.
+LightView fitLightView(const Light& light, const Bounds& scene, int size, const ReceiverBounds* receivers = nullptr,
+                       float marginTexels = 0.0f);
 
 }  // namespace penumbra

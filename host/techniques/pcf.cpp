@@ -10,7 +10,7 @@ class PercentageCloser final : public Technique {
   explicit PercentageCloser(const Params& params) : params_(params) {}
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
-    renderShadowMap(frame, params_.getInt("map-size"), map_);
+    renderShadowMap(frame, params_, map_, static_cast<float>(params_.getInt("pcf-radius")));
     launchVisibility(frame, map_, params_, "kernels/pcf.cl", "pcf_visibility", visibility,
                      params_.getInt("pcf-radius"));
   }

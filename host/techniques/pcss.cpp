@@ -11,7 +11,7 @@ class PercentageCloserSoft final : public Technique {
   explicit PercentageCloserSoft(const Params& params) : params_(params) {}
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
-    renderShadowMap(frame, params_.getInt("map-size"), map_);
+    renderShadowMap(frame, params_, map_, static_cast<float>(params_.get("pcss-max-radius")));
     blocker_.allocate(frame.ctx, visibility.size());
     launchVisibility(frame, map_, params_, "kernels/pcss.cl", "pcss_visibility", visibility,
                      params_.getInt("pcss-search-taps"), params_.getInt("pcss-filter-taps"),

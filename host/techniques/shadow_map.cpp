@@ -1,11 +1,16 @@
 // Shadow-map rendering shared by sm, pcf, pcss and the moment-based techniques.
 #include "host/techniques/shadow_map.h"
 
+#include <fmt/format.h>
+
+#include "host/pipeline/light_fit.h"
+
 namespace penumbra {
 
 std::vector<ParamSpec> shadowMapParams() {
   return {
       {"map-size", 2048, 16, 8192, "Shadow-map width and height in texels"},
+      {"fit", 1, 0, 1, "Light frustum fitted to the whole scene, or to the receivers the camera sees", {"scene", "receivers"}},
       {"bias", 1.0, 0, 100, "Constant depth bias, in texel footprints at the receiver"},
       {"slope-bias", 1.0, 0, 100, "Slope-scaled depth bias, in texel footprints times tan(angle to the light)"},
       {"normal-offset", 1.0, 0, 100, "Receiver offset along its normal, in texel footprints"},
@@ -17,9 +22,18 @@ BiasArgs biasArgs(const Params& params) {
           static_cast<float>(params.get("normal-offset"))};
 }
 
-void renderShadowMap(ShadowFrame& frame, int size, ShadowMap& map) {
-  map.view = fitLightView(frame.light, frame.scene.bounds(), size);
+void renderShadowMap(ShadowFrame& frame, const Params& params, ShadowMap& map, float reachTexels) {
+  const int size = params.getInt("map-size");
+  const bool toReceivers = params.getInt("fit") == 1;
+  const float margin = reachTexels + static_cast<float>(params.get("normal-offset")) + 1.0f;
+  map.view = fitLightView(frame.light, frame.scene.bounds(), size, toReceivers ? &frame.receivers : nullptr, margin);
   frame.raster.draw(map.view.raster, map.targets);
+  const DepthRange drawn = reduceDepthRange(frame.ctx, map.targets.depth, static_cast<size_t>(size) * size);
+  if (drawn.min > map.view.gpu.zNear && drawn.min < map.view.gpu.zFar) map.view.gpu.zNear = drawn.min;
+  const LightViewGpu& gpu = map.view.gpu;
+  frame.attributes["penumbra:light-fit"] =
+      fmt::format("{} {}x{} texel {:.4g}{} depth {:.6g}..{:.6g}", toReceivers ? "receivers" : "scene", size, size,
+                  gpu.texelScale, gpu.kind == LIGHT_KIND_SPOT ? "/depth" : "", gpu.zNear, gpu.zFar);
   if (map.gpu.empty()) map.gpu.allocate(frame.ctx, 1, CL_MEM_READ_ONLY);
   map.gpu.upload(frame.ctx, std::span<const LightViewGpu>(&map.view.gpu, 1));
 }

@@ -1,5 +1,5 @@
-// The single shadow map most techniques start from: the light's view fitted to the scene, its linear
-// depth rasterized by our rasterizer, and the shared bias parameters.
+// The single shadow map most techniques start from: the light's view fitted to the visible receivers and
+// their casters, its linear depth rasterized by our rasterizer, and the shared bias parameters.
 #pragma once
 
 #include <string>
@@ -20,9 +20,14 @@ struct ShadowMap {
   Buffer<LightViewGpu> gpu;  // view.gpu on the device (one element) for __constant arguments
 };
 
-// map-size, bias, slope-bias, normal-offset.
+// map-size, fit, bias, slope-bias, normal-offset.
 std::vector<ParamSpec> shadowMapParams();
-void renderShadowMap(ShadowFrame& frame, int size, ShadowMap& map);
+
+// Fits the light's view (per the "fit" parameter: the whole scene, or the visible receivers with a margin
+// around them of `reachTexels`, the farthest any of the technique's taps reaches from a receiver's texel,
+// plus the normal offset and one texel for bilinear taps), rasterizes it, and tightens view.gpu.zNear to the nearest caster actually drawn, so depth ranges
+// (moment normalisation, blocker search) start where the occluders do.
+void renderShadowMap(ShadowFrame& frame, const Params& params, ShadowMap& map, float reachTexels);
 
 // The three bias parameters as kernel arguments, in sc_receiver's order.
 struct BiasArgs {

@@ -10,7 +10,7 @@ class HardShadowMap final : public Technique {
   explicit HardShadowMap(const Params& params) : params_(params) {}
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
-    renderShadowMap(frame, params_.getInt("map-size"), map_);
+    renderShadowMap(frame, params_, map_, 0.0f);
     launchVisibility(frame, map_, params_, "kernels/sm.cl", "sm_visibility", visibility);
   }
 

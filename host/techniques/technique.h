@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -10,14 +11,16 @@
 #include "host/cl/buffer.h"
 #include "host/cl/context.h"
 #include "host/io/image.h"
+#include "host/pipeline/light_fit.h"
 #include "host/scene/scene.h"
 #include "host/techniques/params.h"
 #include "raster/rasterizer.h"
 
 namespace penumbra {
 
-// What a technique gets for one frame: the device, the rasterizer holding the scene, the light and the
-// camera's G-buffer (world positions and normals per pixel).
+// What a technique gets for one frame: the device, the rasterizer holding the scene, the light, the
+// camera's G-buffer (world positions and normals per pixel) and the light-space box of the receivers it
+// sees (what the light's map is fitted to).
 struct ShadowFrame {
   Context& ctx;
   Rasterizer& raster;
@@ -25,6 +28,9 @@ struct ShadowFrame {
   const Light& light;
   const Camera& camera;
   const GBuffer& gbuffer;
+  const ReceiverBounds& receivers;
+  // Provenance the technique records for the output's header ("penumbra:light-fit", ...).
+  std::map<std::string, std::string> attributes = {};
 };
 
 class Technique {

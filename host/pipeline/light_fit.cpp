@@ -1,0 +1,78 @@
+// Device reductions for the light fit: one work-group per fixed chunk, a few partials finished on the host.
+#include "host/pipeline/light_fit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <vector>
+
+#include "host/cl/kernel.h"
+#include "host/scene/camera.h"
+
+namespace penumbra {
+namespace {
+
+constexpr size_t kFitGroup = 256;    // FIT_GROUP in kernels/fit.cl
+constexpr size_t kMaxGroups = 1024;  // partials the host finishes
+
+// Chunk per group so that at most kMaxGroups groups cover `count` items, each chunk a multiple of the group.
+uint32_t chunkFor(size_t count) {
+  const size_t perGroup = (count + kMaxGroups - 1) / kMaxGroups;
+  return static_cast<uint32_t>(std::max(kFitGroup, roundUp(perGroup, kFitGroup)));
+}
+
+cl_float4 row(const glm::mat4& m, int r) { return {{m[0][r], m[1][r], m[2][r], m[3][r]}}; }
+
+}  // namespace
+
+glm::mat4 lightEyeMatrix(const Light& light, const Bounds& scene) {
+  const glm::vec3 axis = light.axis();
+  if (light.type == LightType::Spot) return glm::lookAt(light.position, light.target, chooseUp(axis));
+  const float radius = std::max(scene.radius(), 1e-6f);
+  const glm::vec3 center = scene.center();
+  return glm::lookAt(center - axis * (2.0f * radius), center, chooseUp(axis));
+}
+
+ReceiverBounds reduceReceivers(Context& ctx, const GBuffer& gbuffer, const glm::mat4& lightEye, bool perspective) {
+  ReceiverBounds bounds;
+  const size_t count = static_cast<size_t>(gbuffer.width) * static_cast<size_t>(gbuffer.height);
+  if (count == 0) return bounds;
+  const uint32_t chunk = chunkFor(count);
+  const size_t groups = (count + chunk - 1) / chunk;
+  Buffer<cl_float4> partial(ctx, 2 * groups);
+  Kernel kernel(ctx, "kernels/fit.cl", "fit_receivers_partial", "fit");
+  kernel
+      .args(gbuffer.position, static_cast<uint32_t>(count), chunk, row(lightEye, 0), row(lightEye, 1),
+            row(lightEye, 2), static_cast<int>(perspective), partial)
+      .launch(groups * kFitGroup, kFitGroup);
+  const std::vector<cl_float4> parts = partial.download(ctx);
+  glm::vec3 lo(INFINITY), hi(-INFINITY);
+  for (size_t g = 0; g < groups; ++g) {
+    lo = glm::min(lo, glm::vec3(parts[2 * g].s[0], parts[2 * g].s[1], parts[2 * g].s[2]));
+    hi = glm::max(hi, glm::vec3(parts[2 * g + 1].s[0], parts[2 * g + 1].s[1], parts[2 * g + 1].s[2]));
+  }
+  if (!(lo.z <= hi.z)) return bounds;  // nothing covered (or nothing in front of a spot light)
+  bounds.empty = false;
+  bounds.lo = glm::vec2(lo);
+  bounds.hi = glm::vec2(hi);
+  bounds.depthMin = lo.z;
+  bounds.depthMax = hi.z;
+  return bounds;
+}
+
+DepthRange reduceDepthRange(Context& ctx, const Buffer<float>& depth, size_t count) {
+  DepthRange range{INFINITY, -INFINITY};
+  if (count == 0) return range;
+  const uint32_t chunk = chunkFor(count);
+  const size_t groups = (count + chunk - 1) / chunk;
+  Buffer<cl_float2> partial(ctx, groups);
+  Kernel kernel(ctx, "kernels/fit.cl", "fit_depth_partial", "fit");
+  kernel.args(depth, static_cast<uint32_t>(count), chunk, partial).launch(groups * kFitGroup, kFitGroup);
+  for (const cl_float2& p : partial.download(ctx)) {
+    range.min = std::min(range.min, p.s[0]);
+    range.max = std::max(range.max, p.s[1]);
+  }
+  return range;
+}
+
+}  // namespace penumbra

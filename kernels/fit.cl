@@ -1,0 +1,72 @@
+// Bounds reductions for fitting the light's frustum (host/pipeline/light_fit.cpp): the light-space box of the
+// receivers the camera sees (G-buffer positions) and the depth range of a rasterized map. Two passes without
+// atomics: every work-group reduces a fixed chunk in local memory and writes one partial; the host reduces
+// the few partials. Min and max only, so the result does not depend on the order.
+
+#define FIT_GROUP 256
+
+// Min (lo) and max (hi) over the work-group; valid in every work-item afterwards.
+inline void fit_group_minmax(float4* lo, float4* hi, __local float4* los, __local float4* his) {
+  const uint lid = get_local_id(0);
+  los[lid] = *lo;
+  his[lid] = *hi;
+  for (uint active = FIT_GROUP / 2; active > 0; active /= 2) {
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (lid < active) {
+      los[lid] = fmin(los[lid], los[lid + active]);
+      his[lid] = fmax(his[lid], his[lid + active]);
+    }
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  *lo = los[0];
+  *hi = his[0];
+}
+
+// Light-eye box of the covered G-buffer pixels (position.w != 0). With `perspective`, x and y are the
+// tangents x/d and y/d at light depth d = -z_eye (what a perspective map's texels are uniform in); points
+// at or behind the light (d <= 0) cannot be in a spot light's map and are skipped. Per group:
+// partial[2g] = (min x, min y, min d, 0), partial[2g+1] = (max x, max y, max d, 0); empty = (+inf, -inf).
+__kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_receivers_partial(
+    __global const float4* position, uint count, uint chunk, float4 row0, float4 row1, float4 row2, int perspective,
+    __global float4* partial) {
+  __local float4 los[FIT_GROUP], his[FIT_GROUP];
+  float4 lo = (float4)(INFINITY, INFINITY, INFINITY, 0.0f), hi = (float4)(-INFINITY, -INFINITY, -INFINITY, 0.0f);
+  const uint begin = get_group_id(0) * chunk, end = min(begin + chunk, count);
+  for (uint i = begin + get_local_id(0); i < end; i += FIT_GROUP) {
+    float4 p = position[i];
+    if (p.w == 0.0f) continue;
+    p.w = 1.0f;
+    float d = -dot(row2, p);
+    float2 xy = (float2)(dot(row0, p), dot(row1, p));
+    if (perspective) {
+      if (!(d > 0.0f)) continue;
+      xy /= d;
+    }
+    float4 e = (float4)(xy, d, 0.0f);
+    if (!all(isfinite(e.xyz))) continue;
+    lo = fmin(lo, e);
+    hi = fmax(hi, e);
+  }
+  fit_group_minmax(&lo, &hi, los, his);
+  if (get_local_id(0) == 0) {
+    partial[2 * get_group_id(0)] = lo;
+    partial[2 * get_group_id(0) + 1] = hi;
+  }
+}
+
+// Finite depth range of a rasterized map (background is +INFINITY). Per group: partial[g] = (min, max).
+__kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_depth_partial(__global const float* depth,
+                                                                                        uint count, uint chunk,
+                                                                                        __global float2* partial) {
+  __local float4 los[FIT_GROUP], his[FIT_GROUP];
+  float4 lo = (float4)(INFINITY), hi = (float4)(-INFINITY);
+  const uint begin = get_group_id(0) * chunk, end = min(begin + chunk, count);
+  for (uint i = begin + get_local_id(0); i < end; i += FIT_GROUP) {
+    float d = depth[i];
+    if (!isfinite(d)) continue;
+    lo.x = fmin(lo.x, d);
+    hi.x = fmax(hi.x, d);
+  }
+  fit_group_minmax(&lo, &hi, los, his);
+  if (get_local_id(0) == 0) partial[get_group_id(0)] = (float2)(lo.x, hi.x);
+}
