@@ -12,6 +12,13 @@ const std::vector<TechniqueInfo>& techniques() {
       smTechnique(),
       pcfTechnique(),
       pcssTechnique(),
+      vsmTechnique(),
+      evsm2Technique(),
+      evsm4Technique(),
+      esmTechnique(),
+      msmTechnique(),
+      savsmTechnique(),
+      vssmTechnique(),
   };
   return kTechniques;
 }

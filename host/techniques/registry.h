@@ -8,5 +8,12 @@ namespace penumbra {
 TechniqueInfo smTechnique();
 TechniqueInfo pcfTechnique();
 TechniqueInfo pcssTechnique();
+TechniqueInfo vsmTechnique();    // vsm.cpp
+TechniqueInfo evsm2Technique();  // evsm.cpp
+TechniqueInfo evsm4Technique();  // evsm.cpp
+TechniqueInfo esmTechnique();    // esm.cpp
+TechniqueInfo msmTechnique();    // msm.cpp
+TechniqueInfo savsmTechnique();  // savsm.cpp
+TechniqueInfo vssmTechnique();   // vssm.cpp
 
 }  // namespace penumbra

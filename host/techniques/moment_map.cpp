@@ -1,0 +1,169 @@
+// Moment shadow map pipeline shared by vsm, evsm2/4, esm and msm: plans the buffers, then records
+// renderShadowMap, moments, blur, mips and the visibility kernel as named passes.
+#include "host/techniques/moment_map.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "host/cl/kernel.h"
+#include "host/stages/blur.h"
+#include "host/stages/pyramid.h"
+
+namespace penumbra {
+namespace {
+
+enum BlurChoice { kGaussian = 0, kBox = 1 };
+enum SamplingChoice { kBilinear = 0, kTrilinear = 1 };
+
+}  // namespace
+
+std::vector<ParamSpec> momentFilterParams() {
+  return {
+      {"blur-radius", 2, 0, 64,
+       "Moment blur half-width r in texels: a box of 2r+1 taps or a Gaussian of the same variance; 0 = off"},
+      {"blur-filter", kGaussian, 0, 1, "Moment blur filter", {"gaussian", "box"}},
+      {"moment-filtering",
+       kBilinear,
+       0,
+       1,
+       "Moment lookups: bilinear, or trilinear over a mip chain with the pixel's footprint in the map",
+       {"bilinear", "trilinear"}},
+      filterBiasParam(),
+  };
+}
+
+ParamSpec filterBiasParam() {
+  return {"filter-bias", 1.5, 0, 10,
+          "Receiver-plane bias: the receiver's depth slope times this many standard deviations of the filter"};
+}
+
+std::vector<ParamSpec> filteredMomentParams(const std::vector<ParamSpec>& extra) {
+  std::vector<ParamSpec> params = shadowMapParams();
+  for (const std::vector<ParamSpec>& more : {momentFilterParams(), extra})
+    params.insert(params.end(), more.begin(), more.end());
+  return params;
+}
+
+ParamSpec bleedingParam() {
+  return {"bleeding-reduction", 0, 0, 0.99,
+          "Light-bleeding reduction: visibility below this amount becomes 0, the rest is rescaled; 0 = off"};
+}
+
+std::vector<ParamSpec> chebyshevParams() {
+  return {{"min-variance", 1e-6, 0, 1, "Chebyshev minimum variance, in normalised light depth squared"},
+          bleedingParam()};
+}
+
+void setChebyshevShade(const Params& params, MomentShade& shade) {
+  shade.minVariance = static_cast<float>(params.get("min-variance"));
+  shade.bleeding = static_cast<float>(params.get("bleeding-reduction"));
+}
+
+MomentShade momentShade(const ShadowFrame& frame, const ShadowMap& map, const Params& params, uint32_t channels) {
+  MomentShade s{};
+  s.width = static_cast<uint32_t>(frame.gbuffer.width);
+  s.height = static_cast<uint32_t>(frame.gbuffer.height);
+  s.channels = channels;
+  s.levels = 1;
+  s.depthNear = map.view.gpu.zNear;
+  s.depthInvRange = 1.0f / (map.view.gpu.zFar - map.view.gpu.zNear);  // the moments stage's normalisation
+  const BiasArgs bias = biasArgs(params);
+  s.bias = bias.constant;
+  s.slopeBias = bias.slope;
+  s.normalOffset = bias.normalOffset;
+  s.filterWidth = s.maxWidth = 1.0f;
+  s.filterBias = static_cast<float>(params.get("filter-bias"));
+  return s;
+}
+
+void MomentDebug::allocate(Context& ctx, size_t pixels) {
+  moments.allocate(ctx, pixels);
+  stats.allocate(ctx, pixels);
+}
+
+void MomentDebug::addChannels(Context& ctx, Image& image, uint32_t channels, bool variance, bool width) const {
+  const std::vector<cl_float4> m = moments.download(ctx);
+  for (uint32_t c = 0; c < channels; ++c) {
+    std::vector<float> channel(m.size());
+    for (size_t i = 0; i < m.size(); ++i) channel[i] = m[i].s[c];
+    image.add(fmt::format("moments.M{}", c + 1), std::move(channel));
+  }
+  const std::vector<cl_float2> st = stats.download(ctx);
+  for (int c = 0; c < 2; ++c) {
+    if (!(c == 0 ? variance : width)) continue;
+    std::vector<float> channel(st.size());
+    for (size_t i = 0; i < st.size(); ++i) channel[i] = st[i].s[c];
+    image.add(c == 0 ? "variance.Y" : "filterWidth.Y", std::move(channel));
+  }
+}
+
+void MomentTechnique::render(ShadowFrame& frame, Buffer<float>& visibility) {
+  Context& ctx = frame.ctx;
+  const int size = params_.getInt("map-size");
+  renderShadowMap(frame, params_, map_, blurReach());
+  channels_ = momentChannels(spec_.kind);
+  MomentsConfig config;
+  config.kind = spec_.kind;
+  config.depthNear = map_.view.gpu.zNear;
+  config.depthFar = map_.view.gpu.zFar;
+  MomentShade shade = momentShade(frame, map_, params_, channels_);
+  if (spec_.configure) spec_.configure(params_, config, shade);
+
+  const ImageShape shape{static_cast<uint32_t>(size), static_cast<uint32_t>(size), channels_};
+  moments_.allocate(ctx, shape.count());
+  computeMoments(ctx, map_.targets.depth, shape.width, shape.height, config, moments_);
+  filterMoments(ctx, shape);
+  shade.levels = static_cast<uint32_t>(mipLevels_.size()) + 1;
+  shade.blurSigma = params_.getInt("blur-radius") > 0 ? blurConfig().sigma : 0.0f;
+
+  const GBuffer& g = frame.gbuffer;
+  const size_t pixels = size_t(shade.width) * shade.height;
+  debug_.allocate(ctx, pixels);
+  Kernel kernel(ctx, spec_.source, spec_.entry, "shade");
+  kernel
+      .args(g.position, g.normal, map_.gpu, moments_, mips_, mipLevels_, shade, visibility, debug_.moments,
+            debug_.stats)
+      .launch(pixels, kPixelGroup);
+}
+
+// A box of 2r+1 taps, or a Gaussian of the same variance r(r+1)/3.
+BlurConfig MomentTechnique::blurConfig() const {
+  BlurConfig config;
+  const int radius = params_.getInt("blur-radius");
+  config.filter = params_.getInt("blur-filter") == kBox ? BlurFilter::Box : BlurFilter::Gaussian;
+  config.radius = radius;
+  config.sigma = static_cast<float>(std::sqrt(radius * (radius + 1.0) / 3.0));
+  return config;
+}
+
+float MomentTechnique::blurReach() const {
+  if (params_.getInt("blur-radius") == 0) return 0.0f;
+  const BlurConfig config = blurConfig();
+  return config.filter == BlurFilter::Box ? static_cast<float>(config.radius) : std::ceil(3.0f * config.sigma);
+}
+
+// The blur, then the mip chain if asked for.
+void MomentTechnique::filterMoments(Context& ctx, const ImageShape& shape) {
+  if (params_.getInt("blur-radius") > 0) {
+    scratch_.allocate(ctx, shape.count());
+    blur(ctx, moments_, moments_, scratch_, shape, blurConfig());
+  }
+  if (params_.getInt("moment-filtering") != kTrilinear) {
+    mips_.allocate(ctx, 0);  // no levels: the kernel takes the buffers either way (one element each)
+    mipLevels_.allocate(ctx, 0, CL_MEM_READ_ONLY);
+    return;
+  }
+  const PyramidLayout layout = pyramidLayout(shape.width, shape.height, 1);
+  mips_.allocate(ctx, layout.texels * shape.channels);
+  computeMomentMips(ctx, moments_, shape, mips_);
+  mipLevels_.allocate(ctx, layout.levels.size(), CL_MEM_READ_ONLY);
+  mipLevels_.upload(ctx, std::span<const PyramidLevel>(layout.levels));
+}
+
+void MomentTechnique::addDebugChannels(Context& ctx, Image& image) {
+  const uint32_t shown = spec_.debugMoments == 0 ? channels_ : spec_.debugMoments;
+  debug_.addChannels(ctx, image, shown, spec_.hasVariance, params_.getInt("moment-filtering") == kTrilinear);
+}
+
+}  // namespace penumbra

@@ -1,0 +1,117 @@
+// `savsm`: summed-area variance shadow maps (Lauritzen, GPU Gems 3 ch. 8, sec. 8.5): VSM moments ->
+// summed-area table in the selected precision (host/stages/sat.h) -> one box lookup per pixel whose width
+// is fixed, follows the light's penumbra at a typical occluder distance, or the pixel footprint
+// (kernels/savsm.cl).
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+#include "host/cl/kernel.h"
+#include "host/stages/sat.h"
+#include "host/techniques/moment_map.h"
+#include "host/techniques/registry.h"
+
+namespace penumbra {
+namespace {
+
+enum Precision { kFloat = 0, kFixed32 = 1, kFixed64 = 2, kDouble = 3 };
+
+class SummedAreaVsm final : public Technique {
+ public:
+  explicit SummedAreaVsm(const Params& params) : params_(params) {
+    if (params.get("savsm-width") > params.get("savsm-max-width"))
+      throw std::invalid_argument(fmt::format("--savsm-width {} is larger than --savsm-max-width {}",
+                                              params.get("savsm-width"), params.get("savsm-max-width")));
+  }
+
+  void render(ShadowFrame& frame, Buffer<float>& visibility) override {
+    const int size = params_.getInt("map-size");
+    renderShadowMap(frame, params_, map_, 0.5f * static_cast<float>(params_.get("savsm-max-width")));
+    MomentsConfig config;
+    config.depthNear = map_.view.gpu.zNear;
+    config.depthFar = map_.view.gpu.zFar;
+    shape_ = {static_cast<uint32_t>(size), static_cast<uint32_t>(size), 2};
+    moments_.allocate(frame.ctx, shape_.count());
+    computeMoments(frame.ctx, map_.targets.depth, shape_.width, shape_.height, config, moments_);
+    switch (params_.getInt("sat-precision")) {
+      case kFixed32:
+        return shade<uint32_t>(frame, visibility);
+      case kFixed64:
+        return shade<uint64_t>(frame, visibility);
+      case kDouble:
+        return shade<double>(frame, visibility);
+      default:
+        return shade<float>(frame, visibility);
+    }
+  }
+
+  void addDebugChannels(Context& ctx, Image& image) override { debug_.addChannels(ctx, image, 2, true, true); }
+
+ private:
+  // SAT of the moments in storage T, then the visibility kernel built for that storage.
+  template <class T>
+  void shade(ShadowFrame& frame, Buffer<float>& visibility) {
+    Context& ctx = frame.ctx;
+    MomentShade s = momentShade(frame, map_, params_, 2);
+    setChebyshevShade(params_, s);
+    s.widthMode = static_cast<uint32_t>(params_.getInt("savsm-width-from"));
+    s.filterWidth = static_cast<float>(params_.get("savsm-width"));
+    s.maxWidth = static_cast<float>(params_.get("savsm-max-width"));
+    s.occluderDistance = static_cast<float>(params_.get("savsm-occluder-distance"));
+
+    SatConfig satConfig;
+    constexpr uint32_t mode = satMode<T>();
+    if (mode == SAT_MODE_FIXED32 || mode == SAT_MODE_FIXED64) {
+      const double side = s.maxWidth + 2.0;  // a box plus the texels its fractional corners touch
+      satConfig.fractionBits = satFractionBits(mode, side * side, 1.0);  // moments lie in [0, 1]
+    }
+    Buffer<T> table(ctx, shape_.count());
+    Buffer<float> offset(ctx, 4);
+    computeSat(ctx, moments_, shape_, table, offset, satConfig);
+    const SatTableDesc desc = satDesc(shape_, mode, satConfig.fractionBits);
+
+    const GBuffer& g = frame.gbuffer;
+    const size_t pixels = size_t(s.width) * s.height;
+    debug_.allocate(ctx, pixels);
+    Kernel kernel(ctx, "kernels/savsm.cl", "savsm_visibility", "shade", satBuildOptions(desc));
+    kernel.args(g.position, g.normal, map_.gpu, table, desc, offset, s, visibility, debug_.moments, debug_.stats)
+        .launch(pixels, kPixelGroup);
+  }
+
+  Params params_;
+  ShadowMap map_;
+  ImageShape shape_;
+  Buffer<float> moments_;
+  MomentDebug debug_;
+};
+
+}  // namespace
+
+TechniqueInfo savsmTechnique() {
+  std::vector<ParamSpec> params = shadowMapParams();
+  const std::vector<ParamSpec> chebyshev = chebyshevParams();
+  params.insert(params.end(), chebyshev.begin(), chebyshev.end());
+  params.push_back(filterBiasParam());
+  params.push_back(
+      {"savsm-width-from",
+       MOMENT_WIDTH_LIGHT,
+       0,
+       2,
+       "SAVSM filter width: fixed, the light's penumbra at savsm-occluder-distance, or the pixel footprint",
+       {"fixed", "light", "footprint"}});
+  params.push_back(
+      {"savsm-width", 3, 1, 4096, "SAVSM filter width in texels (fixed), and the smallest width otherwise"});
+  params.push_back({"savsm-max-width", 64, 1, 4096, "Largest SAVSM filter width in texels"});
+  params.push_back({"savsm-occluder-distance", 1.0, 0, 1e6,
+                    "Typical occluder-to-receiver distance along the light axis (world units) for the light width"});
+  params.push_back({"sat-precision",
+                    kFixed32,
+                    0,
+                    3,
+                    "Summed-area table storage (double needs a device with fp64)",
+                    {"float", "fixed32", "fixed64", "double"}});
+  return {"savsm", "Summed-area variance shadow maps with a per-pixel filter width", params,
+          [](const Params& p) { return std::make_unique<SummedAreaVsm>(p); }};
+}
+
+}  // namespace penumbra

@@ -1,0 +1,185 @@
+// Shading side of the moment shadow maps (vsm, evsm2/4, esm, msm, savsm): the parameters every moment
+// visibility kernel takes, the receiver in normalised depth, the filter footprint from neighbouring G-buffer
+// pixels (OpenCL has no ddx/ddy), and bilinear / trilinear lookups of 2- or 4-channel moment textures with
+// clamp-to-edge (the blur stage's edge rule). Shared by host and kernels.
+#ifndef PENUMBRA_KERNELS_SHARED_MOMENT_MAP_H
+#define PENUMBRA_KERNELS_SHARED_MOMENT_MAP_H
+
+#include "kernels/shared/common.h"
+#include "kernels/shared/pyramid.h"
+
+#define MOMENT_WIDTH_FIXED 0      // savsm: filter width = filterWidth texels
+#define MOMENT_WIDTH_LIGHT 1      // savsm: penumbra of an occluder occluderDistance in front of the receiver
+#define MOMENT_WIDTH_FOOTPRINT 2  // savsm: the pixel's footprint in the map
+
+// A G-buffer neighbour counts for the footprint only when it lies near the pixel's tangent plane:
+// |n . (q - p)| <= MOMENT_PLANE_TOLERANCE |q - p| (about 15 degrees), so silhouettes do not blow up the filter.
+#define MOMENT_PLANE_TOLERANCE 0.25f
+
+// Arguments of every moment visibility kernel (passed by value).
+typedef struct MomentShade {
+  uint width, height;              // G-buffer pixels (row 0 at the bottom)
+  uint channels;                   // floats per moment texel: 2 or 4
+  uint levels;                     // moment mip levels including the base; 1 = bilinear lookups only
+  float depthNear, depthInvRange;  // the moments stage's normalisation (kernels/shared/moments.h)
+  float bias, slopeBias;           // ShadowBias: texel footprints at the receiver
+  float normalOffset;
+  float minVariance;       // Chebyshev variance clamp, normalised depth^2
+  float bleeding;          // light-bleeding reduction amount (linstep), 0 = off
+  float expPositive;       // EVSM c+ / ESM c, already clamped to the storage
+  float expNegative;       // EVSM c-
+  float momentBias;        // MSM alpha
+  uint widthMode;          // savsm: MOMENT_WIDTH_*
+  float filterWidth;       // savsm: fixed width, and the smallest width of the other modes (texels)
+  float maxWidth;          // savsm: largest filter width (texels)
+  float occluderDistance;  // savsm, light mode: typical occluder-receiver distance (world units)
+  float blurSigma;         // standard deviation of the moment blur in texels (0: none)
+  float filterBias;        // receiver-plane bias in standard deviations of the filter footprint
+} MomentShade;
+
+#if PENUMBRA_HOST
+static_assert(sizeof(MomentShade) == 80, "MomentShade layout is shared with OpenCL C");
+static_assert(offsetof(MomentShade, depthNear) == 16 && offsetof(MomentShade, widthMode) == 56);
+#else
+#include "kernels/shared/shadow_common.h"
+
+// A receiver ready for a moment lookup.
+typedef struct MomentReceiver {
+  float2 uv;        // continuous texel coordinates in the base level
+  float t;          // biased receiver depth, normalised like the moments, at most 1 (background)
+  float tSlope;     // normalised depth change of the receiver's plane per texel of filter offset
+  float depth;      // linear light depth of the receiver (world units)
+  float footprint;  // the pixel's size in base texels (0 when no neighbour qualifies)
+  int valid;        // 0: background, behind the light or outside the map -> fully lit
+} MomentReceiver;
+
+// Shadow-map offset to G-buffer neighbour j, or 0 when j is background or off the pixel's plane.
+inline float2 mm_neighbour_delta(__global const float4* position, __constant const LightViewGpu* lv, float3 p, float3 n,
+                                 float2 uv, uint j) {
+  float4 q = position[j];
+  float3 d = q.xyz - p;
+  if (q.w == 0.0f || fabs(dot(n, d)) > MOMENT_PLANE_TOLERANCE * length(d)) return (float2)(0.0f);
+  float2 delta = lv_project(lv, q.xyz).xy - uv;
+  return all(isfinite(delta)) ? delta : (float2)(0.0f);
+}
+
+// The pixel footprint in base texels: the longer of the screen-x and screen-y steps in the map, each taken
+// towards the +1 neighbour, else the -1 neighbour (finite differences standing in for ddx/ddy).
+inline float mm_footprint(__global const float4* position, __constant const LightViewGpu* lv, MomentShade s, uint i,
+                          float3 p, float3 n) {
+  uint x = i % s.width, y = i / s.width;
+  float2 uv = lv_project(lv, p).xy;
+  float2 dx = x + 1 < s.width ? mm_neighbour_delta(position, lv, p, n, uv, i + 1) : (float2)(0.0f);
+  if (all(dx == 0.0f) && x > 0) dx = mm_neighbour_delta(position, lv, p, n, uv, i - 1);
+  float2 dy = y + 1 < s.height ? mm_neighbour_delta(position, lv, p, n, uv, i + s.width) : (float2)(0.0f);
+  if (all(dy == 0.0f) && y > 0) dy = mm_neighbour_delta(position, lv, p, n, uv, i - s.width);
+  return max(length(dx), length(dy));
+}
+
+// Receiver set-up: normal offset and depth bias as for sm/pcf (sc_receiver), depth normalised like the
+// moments. Points outside the map are lit: nothing beyond the fitted frustum casts shadows.
+inline MomentReceiver mm_receiver(__global const float4* position, __global const float4* normal,
+                                  __constant const LightViewGpu* lv, MomentShade s, uint i) {
+  MomentReceiver m;
+  m.valid = 0;
+  m.footprint = 0.0f;
+  float4 p = position[i];
+  if (p.w == 0.0f) return m;
+  float3 n = normal[i].xyz;
+  ShadowBias bias = {s.bias, s.slopeBias, s.normalOffset};
+  Receiver r = sc_receiver(lv, p.xyz, n, bias);
+  m.uv = r.uv;
+  m.depth = r.depth;
+  // Not clamped below: the bias may take t under the nearest occluder, and must keep it there.
+  m.t = clamp((r.depth - r.bias - s.depthNear) * s.depthInvRange, -1.0f, 1.0f);
+  m.tSlope = r.biasSlope * s.depthInvRange;
+  m.valid = r.valid && r.uv.x >= 0.0f && r.uv.y >= 0.0f && r.uv.x <= (float)lv->width && r.uv.y <= (float)lv->height &&
+            isfinite(m.t);
+  if (m.valid) m.footprint = mm_footprint(position, lv, s, i, p.xyz, n);
+  return m;
+}
+
+// One moment texel (unused channels 0), clamped to the level's edge.
+inline float4 mm_fetch(__global const float* data, uint channels, PyramidLevel l, int x, int y) {
+  x = clamp(x, 0, (int)l.width - 1);
+  y = clamp(y, 0, (int)l.height - 1);
+  __global const float* texel = data + ((size_t)l.offset + (size_t)y * l.width + (size_t)x) * channels;
+  return channels == 4 ? vload4(0, texel) : (float4)(vload2(0, texel), 0.0f, 0.0f);
+}
+
+// Bilinear lookup at continuous texel coordinates `uv` of level `l` (texel centres at +0.5).
+inline float4 mm_bilinear(__global const float* data, uint channels, PyramidLevel l, float2 uv) {
+  float2 t = uv - 0.5f;
+  float2 base = floor(t);
+  float2 f = t - base;
+  int x = (int)base.x, y = (int)base.y;
+  float4 bottom = mix(mm_fetch(data, channels, l, x, y), mm_fetch(data, channels, l, x + 1, y), f.x);
+  float4 top = mix(mm_fetch(data, channels, l, x, y + 1), mm_fetch(data, channels, l, x + 1, y + 1), f.x);
+  return mix(bottom, top, f.y);
+}
+
+// Level `k` of the chain: the base buffer for 0, `mips` (levels 1..) otherwise.
+inline PyramidLevel mm_level(__constant const LightViewGpu* lv, __constant const PyramidLevel* mipLevels, int k) {
+  if (k == 0) {
+    PyramidLevel base = {0u, (uint)lv->width, (uint)lv->height, 0u};
+    return base;
+  }
+  return mipLevels[k - 1];
+}
+
+// Trilinear lookup (isotropic, Williams 1983): level log2(footprint) between its two nearest levels, with uv
+// scaled to each level's size. Footprints up to one texel read the base level bilinearly.
+inline float mm_lod(MomentShade s, float footprint) {
+  return s.levels > 1 && footprint > 1.0f ? min(log2(footprint), (float)(s.levels - 1)) : 0.0f;
+}
+
+inline float4 mm_sample(__global const float* base, __global const float* mips,
+                        __constant const PyramidLevel* mipLevels, __constant const LightViewGpu* lv, MomentShade s,
+                        float2 uv, float footprint) {
+  float lod = mm_lod(s, footprint);
+  int k = min((int)lod, (int)s.levels - 1);
+  float f = lod - (float)k;
+  PyramidLevel l0 = mm_level(lv, mipLevels, k);
+  float2 scale0 = (float2)((float)l0.width / (float)lv->width, (float)l0.height / (float)lv->height);
+  float4 m = mm_bilinear(k == 0 ? base : mips, s.channels, l0, uv * scale0);
+  if (f <= 0.0f || k + 1 >= (int)s.levels) return m;
+  PyramidLevel l1 = mm_level(lv, mipLevels, k + 1);
+  float2 scale1 = (float2)((float)l1.width / (float)lv->width, (float)l1.height / (float)lv->height);
+  return mix(m, mm_bilinear(mips, s.channels, l1, uv * scale1), f);
+}
+
+// The receiver-plane bias of a filtered lookup: over a filter footprint whose offsets have standard
+// deviation `sigma` texels, a tilted receiver's own depth spreads by tSlope * sigma around t. PCF adds the
+// same slope per texel of tap offset (kernels/pcf.cl); here `filterBias` standard deviations keep a planar
+// receiver in front of its own filtered depths. MSM needs this: its bound at t = mean is not 0 (about 0.1
+// for a uniform spread, 0 from about one standard deviation in front); it also absorbs clamp-to-edge
+// errors of coarse mip levels at the map's border.
+inline float mm_filtered_t(MomentReceiver r, MomentShade s, float sigma) {
+  return r.t - s.filterBias * r.tSlope * sigma;
+}
+
+// Lookup for receiver `r` with the technique's sampling. Reports the filter width used (texels) and moves
+// r->t in front of the receiver's own spread over the blur and mip footprint.
+inline float4 mm_lookup(__global const float* base, __global const float* mips,
+                        __constant const PyramidLevel* mipLevels, __constant const LightViewGpu* lv, MomentShade s,
+                        MomentReceiver* r, float* width) {
+  float lod = mm_lod(s, r->footprint);
+  float size = exp2(floor(lod)), f = lod - floor(lod);
+  *width = size * (1.0f + f);
+  // Variances add: the blur, then a level-k texel (a box of 2^k base texels: 2^2k / 12) read through the
+  // bilinear tent (2^2k / 6), blended with level k+1 (twice the size) by the fraction f.
+  float sigma = sqrt(s.blurSigma * s.blurSigma + 0.25f * size * size * (1.0f + 3.0f * f));
+  r->t = mm_filtered_t(*r, s, sigma);
+  return mm_sample(base, mips, mipLevels, lv, s, r->uv, r->footprint);
+}
+
+// Per-pixel outputs: visibility and the debug layers (filtered moments; variance and filter width).
+inline void mm_store(uint i, float lit, float4 moments, float variance, float width, __global float* visibility,
+                     __global float4* debugMoments, __global float2* debugStats) {
+  visibility[i] = isnan(lit) ? 1.0f : clamp(lit, 0.0f, 1.0f);
+  debugMoments[i] = moments;
+  debugStats[i] = (float2)(variance, width);
+}
+
+#endif
+#endif
