@@ -10,6 +10,7 @@ PACKAGES=(
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo
   libopenexr-dev libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libcli11-dev libfmt-dev
   libgtest-dev libbenchmark-dev libboost-dev  # Boost.Compute: the scan baseline of stages_bench
+  libembree-dev  # Embree 3: the ray-traced reference of `penumbra reference` (tools/reference/ only)
   assimp-testmodels  # malformed glTF files the test suite feeds the loader
 )
 

@@ -15,8 +15,12 @@ struct Command {
 
 Command addDevicesCommand(CLI::App& app);
 Command addRenderCommand(CLI::App& app);
+Command addReferenceCommand(CLI::App& app);
+Command addCompareCommand(CLI::App& app);
 
 // The registry: one line per command.
-inline std::vector<Command> registerCommands(CLI::App& app) { return {addDevicesCommand(app), addRenderCommand(app)}; }
+inline std::vector<Command> registerCommands(CLI::App& app) {
+  return {addDevicesCommand(app), addRenderCommand(app), addReferenceCommand(app), addCompareCommand(app)};
+}
 
 }  // namespace penumbra::cli

@@ -1,0 +1,43 @@
+// The light model of the ray-traced reference, the same as the techniques' (host/scene/light.h,
+// kernels/shared/light_view.h): a spot light is a point at `position`, or a disk of `radius` there facing along
+// the axis (sampled uniformly by area); a directional light is parallel rays, or a sun disk of angular radius
+// alpha (directions uniform over the cone's solid angle). The spot cone is not part of visibility.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include "host/scene/light.h"
+
+namespace penumbra::reference {
+
+// Shirley & Chiu's concentric map ("A Low Distortion Map Between Disk and Square", JGT 1997): [0,1]^2 onto the
+// unit disk, area-preserving and continuous, so a stratified square stays a stratified disk.
+glm::vec2 concentricDisk(glm::vec2 u);
+
+struct ShadowRay {
+  glm::vec3 direction;  // towards the light; not unit length for spot lights (it reaches the light point)
+  float tfar;           // in units of |direction|: just short of the light point, or infinity
+};
+
+class LightSampler {
+ public:
+  explicit LightSampler(const Light& light);
+
+  // A point light or parallel rays: one ray gives the exact answer.
+  bool exact() const { return exact_; }
+  // Unit vector from `p` towards the light's centre (what the ray origin is offset towards).
+  glm::vec3 towardsCentre(const glm::vec3& p) const;
+  // The ray from `origin` to the light point or direction that `u` in [0,1)^2 selects; `u` is ignored when exact().
+  ShadowRay ray(const glm::vec3& origin, glm::vec2 u) const;
+
+ private:
+  LightType type_;
+  bool exact_;
+  glm::vec3 centre_;               // spot: light position
+  glm::vec3 toLight_;              // directional: unit direction towards the light (-axis)
+  glm::vec3 tangent_, bitangent_;  // orthonormal basis of the disk / cone, perpendicular to the axis
+  float radius_;                   // spot: disk radius (world units)
+  float oneMinusCos_;              // directional: 1 - cos(angular radius)
+};
+
+}  // namespace penumbra::reference

@@ -1,0 +1,101 @@
+// The reference frame: rasterize the G-buffer (host/pipeline/views.h cameraView, as the Renderer does, so the
+// pixels match `render` exactly), turn covered pixels into receivers with their triangle's geometric normal,
+// trace, scatter back (background: visibility 1, stderr 0) and shade the preview with the same kernel.
+#include "tools/reference/reference.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "host/pipeline/frame_image.h"
+#include "host/pipeline/views.h"
+#include "raster/rasterizer.h"
+
+namespace penumbra::reference {
+namespace {
+
+// The geometric normal of the triangle a pixel sees (its shading normal if the triangle is degenerate).
+glm::vec3 geometricNormal(const Scene& scene, uint32_t triangle, const cl_float4& shading) {
+  const glm::uvec3 t = scene.triangles[triangle];
+  const glm::vec3 n =
+      glm::cross(scene.positions[t[1]] - scene.positions[t[0]], scene.positions[t[2]] - scene.positions[t[0]]);
+  const float len = glm::length(n);
+  return len > 0.0f && std::isfinite(len) ? n / len : glm::vec3(shading.s[0], shading.s[1], shading.s[2]);
+}
+
+struct Receivers {
+  std::vector<ShadowPoint> points;
+  std::vector<size_t> pixels;  // G-buffer index (rows bottom-up) of each point
+};
+
+Receivers receivers(Context& ctx, const Scene& scene, const GBuffer& gbuffer) {
+  const std::vector<cl_float4> position = gbuffer.position.download(ctx), normal = gbuffer.normal.download(ctx);
+  const std::vector<uint32_t> triangle = gbuffer.triangleId.download(ctx);
+  Receivers r;
+  for (size_t i = 0; i < position.size(); ++i) {
+    if (position[i].s[3] == 0.0f || triangle[i] >= scene.triangles.size()) continue;
+    r.points.push_back(
+        {{position[i].s[0], position[i].s[1], position[i].s[2]}, geometricNormal(scene, triangle[i], normal[i])});
+    r.pixels.push_back(i);
+  }
+  return r;
+}
+
+void summarise(ReferenceResult& result, const std::vector<float>& standardError) {
+  double sum = 0, sumSq = 0, max = 0;
+  for (float e : standardError) sum += e, sumSq += double{e} * e, max = std::max(max, double{e});
+  const double n = static_cast<double>(std::max<size_t>(standardError.size(), 1));
+  result.stderrMean = sum / n;
+  result.stderrRms = std::sqrt(sumSq / n);
+  result.stderrMax = max;
+}
+
+}  // namespace
+
+ReferenceResult renderReference(Context& ctx, const Scene& scene, const Camera& camera, const Light& light,
+                                const TraceSettings& settings) {
+  using Clock = std::chrono::steady_clock;
+  ReferenceResult result;
+  const Bounds bounds = scene.bounds();
+  const Clock::time_point start = Clock::now();
+  Rasterizer raster(ctx);
+  raster.setScene(scene);
+  GBuffer gbuffer;
+  raster.drawGBuffer(cameraView(camera, bounds), gbuffer);
+  const Receivers r = receivers(ctx, scene, gbuffer);
+  result.rasterSeconds = std::chrono::duration<double>(Clock::now() - start).count();
+
+  const ShadowTracer tracer(scene);
+  const TraceResult traced = tracer.trace(r.points, light, settings);
+  const size_t count = static_cast<size_t>(gbuffer.width) * static_cast<size_t>(gbuffer.height);
+  std::vector<float> visibility(count, 1.0f), standardError(count, 0.0f);
+  for (size_t k = 0; k < r.pixels.size(); ++k) {
+    visibility[r.pixels[k]] = traced.visibility[k];
+    standardError[r.pixels[k]] = traced.standardError[k];
+  }
+  Buffer<float> visibilityGpu(ctx, std::span<const float>(visibility));
+  result.image = frameImage(ctx, gbuffer, visibilityGpu, camera, light, bounds);
+  result.image.add("stderr.Y", std::move(standardError));
+  result.image.flipRows();  // the rasterizer's row 0 is the bottom row
+
+  result.covered = r.points.size();
+  result.rays = traced.rays;
+  result.spp = traced.spp;
+  result.threads = traced.threads;
+  result.buildSeconds = tracer.buildSeconds();
+  result.traceSeconds = traced.seconds;
+  summarise(result, traced.standardError);
+  auto& attributes = result.image.attributes();
+  attributes["penumbra:technique"] = "reference";
+  attributes["penumbra:parameters"] =
+      fmt::format("spp={} seed={} ray-offset={}", result.spp, settings.seed, ShadowTracer::kRayOffset);
+  attributes["penumbra:stderr-mean"] = fmt::format("{:.6g}", result.stderrMean);
+  attributes["penumbra:stderr-rms"] = fmt::format("{:.6g}", result.stderrRms);
+  attributes["penumbra:stderr-max"] = fmt::format("{:.6g}", result.stderrMax);
+  attributes["penumbra:rays"] = fmt::format("{}", result.rays);
+  return result;
+}
+
+}  // namespace penumbra::reference

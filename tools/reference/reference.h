@@ -1,0 +1,29 @@
+// `penumbra reference` as a function: the camera's G-buffer from our rasterizer (the same pixels `render`
+// shades), Embree shadow rays from every covered pixel to the light, and the Image with the same channels as
+// `render` plus the per-pixel standard error "stderr.Y".
+#pragma once
+
+#include <cstddef>
+
+#include "host/cl/context.h"
+#include "host/io/image.h"
+#include "host/scene/scene.h"
+#include "tools/reference/tracer.h"
+
+namespace penumbra::reference {
+
+struct ReferenceResult {
+  // R,G,B,A, visibility.Y, stderr.Y, P.*, N.*, depth.Z; rows top-down; provenance in the attributes
+  // (penumbra:technique = "reference", penumbra:parameters, penumbra:stderr-mean/-rms/-max, penumbra:rays).
+  Image image;
+  size_t covered = 0;  // pixels that see a surface (the ones traced)
+  uint64_t rays = 0;
+  int spp = 1, threads = 0;
+  double rasterSeconds = 0, buildSeconds = 0, traceSeconds = 0;  // wall times
+  double stderrMean = 0, stderrRms = 0, stderrMax = 0;           // of stderr.Y over covered pixels
+};
+
+ReferenceResult renderReference(Context& ctx, const Scene& scene, const Camera& camera, const Light& light,
+                                const TraceSettings& settings);
+
+}  // namespace penumbra::reference
