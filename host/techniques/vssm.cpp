@@ -1,0 +1,127 @@
+// `vssm`: variance soft shadow mapping (Yang et al., PG 2010) with kernel subdivision: shadow map -> VSM moments
+// -> SAT and min-max HSM (vssm_maps.h) -> kernels/vssm.cl per pixel. Debug channels: blocker depth, penumbra
+// width, sub-kernels visited and the path each pixel took.
+#include "host/techniques/vssm.h"
+
+#include <fmt/format.h>
+
+#include "host/techniques/registry.h"
+#include "host/techniques/shadow_map.h"
+#include "host/techniques/vssm_maps.h"
+
+namespace penumbra {
+namespace {
+
+enum Subdivision { kNone = 0, kUniform = 1, kAdaptive = 2, kMixed = 3 };
+
+class VarianceSoftShadows final : public Technique {
+ public:
+  explicit VarianceSoftShadows(const Params& params) : params_(params) {}
+
+  void render(ShadowFrame& frame, Buffer<float>& visibility) override {
+    const VssmMapConfig config = vssmMapConfig(params_);
+    renderShadowMap(frame, params_, map_, config.maxRadius);
+    const LightViewGpu& lv = map_.view.gpu;
+    maps_.build(frame.ctx, map_.targets.depth, static_cast<uint32_t>(lv.width), static_cast<uint32_t>(lv.height),
+                lv.zNear, lv.zFar, config);
+    const VssmParams shade = vssmParams(params_, maps_, frame.scene.bounds().radius());
+    const GBuffer& g = frame.gbuffer;
+    const uint32_t count = static_cast<uint32_t>(g.width) * static_cast<uint32_t>(g.height);
+    debug_.allocate(frame.ctx, count);
+    const BiasArgs bias = biasArgs(params_);
+    Kernel kernel(frame.ctx, "kernels/vssm.cl", "vssm_visibility", "shade", maps_.buildOptions());
+    std::visit(
+        [&](const auto& sat) {
+          kernel
+              .args(g.position, g.normal, count, map_.targets.depth, map_.gpu, bias.constant, bias.slope,
+                    bias.normalOffset, sat, maps_.satDesc(), maps_.satOffset(), maps_.hsm(), maps_.levels(),
+                    maps_.nodes(), shade, debug_, visibility)
+              .launch(count, kPixelGroup);
+        },
+        maps_.sat());
+  }
+
+  void addDebugChannels(Context& ctx, Image& image) override {
+    const std::vector<cl_float4> debug = debug_.download(ctx);
+    const char* names[] = {"blocker.Z", "penumbra.Z", "subkernels.Z", "path.Z"};
+    for (int c = 0; c < 4; ++c) {
+      std::vector<float> channel(debug.size());
+      for (size_t i = 0; i < debug.size(); ++i) channel[i] = debug[i].s[c];
+      image.add(names[c], std::move(channel));
+    }
+  }
+
+ private:
+  Params params_;
+  ShadowMap map_;
+  VssmMaps maps_;
+  Buffer<cl_float4> debug_;
+};
+
+}  // namespace
+
+VssmMapConfig vssmMapConfig(const Params& params) {
+  VssmMapConfig config;
+  config.sat = static_cast<VssmSatMode>(params.getInt("vssm-sat"));
+  config.maxRadius = static_cast<float>(params.get("vssm-max-radius"));
+  config.treeHeight = static_cast<uint32_t>(params.getInt("vssm-levels"));
+  return config;
+}
+
+VssmParams vssmParams(const Params& params, const VssmMaps& maps, float sceneRadius) {
+  VssmParams p{};
+  p.depthNear = maps.depthNear();
+  p.depthInvRange = maps.depthInvRange();
+  // Sec. 6.5 compares sigma^2 with 0.0001 r. A variance is a squared depth, so we read the threshold as
+  // (0.0001 r) * r: identical for r = 1 and independent of the scene's scale. Normalised like the moments.
+  const double r = sceneRadius, inv = p.depthInvRange;
+  p.litVariance = static_cast<float>(params.get("vssm-lit-threshold") * r * r * inv * inv);
+  p.contactDepth = static_cast<float>(params.get("vssm-contact") * r);  // sec. 6.4: epsilon = 0.01 r
+  p.maxRadius = static_cast<float>(params.get("vssm-max-radius"));
+  p.minVariance = static_cast<float>(params.get("vssm-min-variance"));
+  const int scheme = params.getInt("vssm-subdivision");
+  p.searchScheme = scheme == kNone       ? VSSM_SCHEME_NONE
+                   : scheme == kAdaptive ? VSSM_SCHEME_ADAPTIVE
+                                         : VSSM_SCHEME_UNIFORM;
+  p.shadeScheme = scheme == kNone ? VSSM_SCHEME_NONE : scheme == kUniform ? VSSM_SCHEME_UNIFORM : VSSM_SCHEME_ADAPTIVE;
+  p.searchDivisions = static_cast<uint32_t>(params.getInt("vssm-m"));
+  p.shadeDivisions = static_cast<uint32_t>(params.getInt("vssm-n"));
+  p.leafTaps = static_cast<uint32_t>(params.getInt("vssm-leaf-taps"));
+  p.nodeCount = maps.nodeCount();
+  p.pyramidLevels = maps.levelCount();
+  p.planarMaxLit = static_cast<float>(params.get("vssm-p-guard"));
+  return p;
+}
+
+std::vector<ParamSpec> vssmParamSpecs() {
+  return {
+      {"vssm-subdivision",
+       kMixed,
+       0,
+       3,
+       "Non-planarity kernels: none (lit, as SAVSM), uniform (m x m search, n x n shading), adaptive (quad-tree of "
+       "height H for both) or mixed (uniform search, adaptive shading; the paper's choice)",
+       {"none", "uniform", "adaptive", "mixed"}},
+      {"vssm-m", 5, 1, 16, "Uniform blocker-search subdivision: m x m sub-kernels"},
+      {"vssm-n", 8, 1, 16, "Uniform shading subdivision: n x n sub-kernels"},
+      {"vssm-levels", 3, 1, VSSM_MAX_LEVELS, "Adaptive subdivision: quad-tree height H (up to 4^H leaf sub-kernels)"},
+      {"vssm-leaf-taps", 2, 1, 8, "PCF taps per side in a non-planarity leaf sub-kernel"},
+      {"vssm-lit-threshold", 1e-4, 0, 1,
+       "Fully-lit sub-kernel threshold: sigma^2 < threshold * r^2, r the scene's bounding-sphere radius"},
+      {"vssm-contact", 0.01, 0, 1, "Contact shadows: 3x3 jittered PCF where d - z_occ < contact * r; 0 = off"},
+      {"vssm-max-radius", 128, 1, 4096, "Largest blocker-search / penumbra half-width in texels"},
+      {"vssm-p-guard", 0.9, 0, 1,
+       "Eq. 4 divides by 1 - P: a search kernel whose Chebyshev P exceeds this is subdivided; 1 = only z_avg >= t"},
+      {"vssm-min-variance", 1e-6, 0, 1, "Chebyshev minimum variance, in normalised light depth squared"},
+      {"vssm-sat", 0, 0, 3, "SAT storage of the moments", {"fixed64", "fixed32", "fp32", "fp64"}},
+  };
+}
+
+TechniqueInfo vssmTechnique() {
+  std::vector<ParamSpec> params = shadowMapParams();
+  for (ParamSpec& spec : vssmParamSpecs()) params.push_back(std::move(spec));
+  return {"vssm", "Variance soft shadow mapping (SAT moments, min-max HSM, kernel subdivision) for area lights", params,
+          [](const Params& p) { return std::make_unique<VarianceSoftShadows>(p); }};
+}
+
+}  // namespace penumbra

@@ -1,0 +1,116 @@
+// VSSM map preparation: plans the buffers, SAT storage and quad-tree, then records moments -> SAT and
+// normalised depth -> min-max pyramid as named passes.
+#include "host/techniques/vssm_maps.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "host/cl/kernel.h"
+#include "host/stages/image_shape.h"
+#include "host/stages/moments.h"
+#include "host/stages/pyramid.h"
+#include "host/stages/sat.h"
+
+namespace penumbra {
+namespace {
+
+constexpr size_t kNormalizeGroup = 64;
+
+// Fraction bits of a fixed-point table: every box the shading kernel reads sums (z, z^2) in [0, 1] over at most
+// the whole map (fixed64) or a (2 maxRadius + 2)^2 box (fixed32: the corners of the widest kernel).
+int fractionBits(VssmSatMode mode, uint32_t width, uint32_t height, float maxRadius) {
+  const double texels = double(width) * height;
+  if (mode == VssmSatMode::Fixed64) return satFractionBits(SAT_MODE_FIXED64, texels, 1.0);
+  if (mode != VssmSatMode::Fixed32) return -1;
+  const double side = 2.0 * std::ceil(maxRadius) + 2.0;
+  return satFractionBits(SAT_MODE_FIXED32, std::min(texels, side * side), 1.0);
+}
+
+}  // namespace
+
+std::vector<VssmNode> vssmQuadTree(uint32_t height) {
+  if (height < 1 || height > VSSM_MAX_LEVELS)
+    throw std::invalid_argument(fmt::format("vssm: quad-tree height {} outside 1..{}", height, VSSM_MAX_LEVELS));
+  std::vector<VssmNode> nodes;
+  // Depth-first: a node's first child follows it, and its Next is whatever follows its whole subtree.
+  auto add = [&](auto& self, uint32_t x, uint32_t y, uint32_t level) -> void {
+    const uint32_t index = static_cast<uint32_t>(nodes.size());
+    nodes.push_back({x | (y << 16), level, VSSM_NO_NODE, 0});
+    if (level < height) {
+      nodes[index].child = index + 1;
+      for (uint32_t k = 0; k < 4; ++k) self(self, 2 * x + (k & 1), 2 * y + (k >> 1), level + 1);
+    }
+    nodes[index].next = static_cast<uint32_t>(nodes.size());
+  };
+  add(add, 0, 0, 0);
+  return nodes;
+}
+
+std::string VssmMaps::buildOptions() const { return satBuildOptions(desc_); }
+
+template <class T>
+void VssmMaps::buildSat(Context& ctx, int fractionBits) {
+  const ImageShape shape{desc_.width, desc_.height, 2};
+  desc_ = penumbra::satDesc(shape, satMode<T>(), fractionBits);
+  if (!std::holds_alternative<Buffer<T>>(sat_) || std::get<Buffer<T>>(sat_).size() != shape.count())
+    sat_ = Buffer<T>(ctx, shape.count());
+  SatConfig config;
+  config.fractionBits = fractionBits;
+  computeSat(ctx, moments_, shape, std::get<Buffer<T>>(sat_), satOffset_, config);
+}
+
+void VssmMaps::build(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height, float zNear, float zFar,
+                     const VssmMapConfig& config) {
+  // Plan: sizes, layouts, link table.
+  const ImageShape shape{width, height, 2};
+  checkShape(shape, "vssm");
+  checkBufferSize(depth.size(), shape.texels(), "vssm", "depth");
+  const PyramidLayout layout = pyramidLayout(width, height, 0);
+  if (moments_.size() != shape.count()) moments_.allocate(ctx, shape.count());
+  if (normalized_.size() != shape.texels()) normalized_.allocate(ctx, shape.texels());
+  if (hsm_.size() != layout.texels) hsm_.allocate(ctx, layout.texels);
+  if (satOffset_.empty()) satOffset_.allocate(ctx, 4);
+  levels_ = Buffer<PyramidLevel>(ctx, std::span<const PyramidLevel>(layout.levels), CL_MEM_READ_ONLY);
+  levelCount_ = static_cast<uint32_t>(layout.levels.size());
+  if (treeHeight_ != config.treeHeight || nodes_.empty()) {
+    const std::vector<VssmNode> tree = vssmQuadTree(config.treeHeight);
+    nodes_ = Buffer<VssmNode>(ctx, std::span<const VssmNode>(tree), CL_MEM_READ_ONLY);
+    nodeCount_ = static_cast<uint32_t>(tree.size());
+    treeHeight_ = config.treeHeight;
+  }
+  zNear_ = zNear;
+  invRange_ = 1.0f / (zFar - zNear);
+  desc_.width = width;
+  desc_.height = height;
+  const int bits = fractionBits(config.sat, width, height, config.maxRadius);
+
+  // Record: L2 moments, L3 SAT, L4 HSM.
+  MomentsConfig moments;
+  moments.kind = MomentKind::Vsm;
+  moments.depthNear = zNear;
+  moments.depthFar = zFar;
+  computeMoments(ctx, depth, width, height, moments, moments_);
+  switch (config.sat) {
+    case VssmSatMode::Fixed64:
+      buildSat<uint64_t>(ctx, bits);
+      break;
+    case VssmSatMode::Fixed32:
+      buildSat<uint32_t>(ctx, bits);
+      break;
+    case VssmSatMode::Float32:
+      buildSat<float>(ctx, bits);
+      break;
+    case VssmSatMode::Float64:
+      buildSat<double>(ctx, bits);
+      break;
+  }
+  const uint32_t texels = static_cast<uint32_t>(shape.texels());
+  Kernel normalize(ctx, "kernels/vssm.cl", "vssm_normalize_depth", "vssm", buildOptions());
+  normalize.args(depth, normalized_, texels, zNear_, invRange_).launch(texels, kNormalizeGroup);
+  computeMinMaxPyramid(ctx, normalized_, width, height, hsm_);
+}
+
+}  // namespace penumbra

@@ -1,0 +1,72 @@
+// The per-map inputs of variance soft shadow mapping (Yang et al. 2010, Algorithm 1 L1-L5): the light's depth ->
+// VSM moments normalised over [zNear, zFar] (host/stages/moments.h) -> their summed-area table
+// (host/stages/sat.h, storage selectable) and the normalised depth -> its min-max pyramid, the mip-map HSM of
+// sec. 6.1 (host/stages/pyramid.h); plus the Child/Next link table of the adaptive subdivision's quad-tree.
+#pragma once
+
+#include <CL/opencl.hpp>
+#include <cstdint>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "host/cl/buffer.h"
+#include "host/cl/context.h"
+#include "kernels/shared/pyramid.h"
+#include "kernels/shared/sat.h"
+#include "kernels/shared/vssm.h"
+
+namespace penumbra {
+
+// SAT storage (sec. 6.4 and docs/sat-precision.md): 64-bit fixed point is exact for every box of any map up to
+// 32768^2, 32-bit fixed point (the paper's, after Lauritzen 2007) exact only with fewer fraction bits as boxes
+// grow, fp32 offset to zero mean, fp64 on devices that have it.
+enum class VssmSatMode { Fixed64 = 0, Fixed32 = 1, Float32 = 2, Float64 = 3 };
+
+struct VssmMapConfig {
+  VssmSatMode sat = VssmSatMode::Fixed64;
+  float maxRadius = 128.0f;  // texels: the widest box looked up, which bounds fixed32's fraction bits
+  uint32_t treeHeight = 3;   // H of the adaptive subdivision, 1..VSSM_MAX_LEVELS
+};
+
+// Nodes of the full quad-tree of height H in depth-first order, with Child and Next links (sec. 5.3, Fig. 5(b)).
+std::vector<VssmNode> vssmQuadTree(uint32_t height);
+
+class VssmMaps {
+ public:
+  using SatBuffer = std::variant<Buffer<uint64_t>, Buffer<uint32_t>, Buffer<float>, Buffer<double>>;
+
+  // Records "moments/moments_vsm", "vssm/vssm_normalize_depth", the "sat/..." passes and the
+  // "pyramid/pyramid_minmax_*" passes for a width x height map of linear light depth (+INFINITY empty).
+  // Throws std::runtime_error for fp64 on a device without it.
+  void build(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height, float zNear, float zFar,
+             const VssmMapConfig& config);
+
+  const SatTableDesc& satDesc() const { return desc_; }
+  const SatBuffer& sat() const { return sat_; }
+  const Buffer<float>& satOffset() const { return satOffset_; }
+  const Buffer<cl_float2>& hsm() const { return hsm_; }
+  const Buffer<PyramidLevel>& levels() const { return levels_; }
+  const Buffer<VssmNode>& nodes() const { return nodes_; }
+  uint32_t levelCount() const { return levelCount_; }
+  uint32_t nodeCount() const { return nodeCount_; }
+  float depthNear() const { return zNear_; }
+  float depthInvRange() const { return invRange_; }
+  // -D options of kernels/vssm.cl for this SAT.
+  std::string buildOptions() const;
+
+ private:
+  template <class T>
+  void buildSat(Context& ctx, int fractionBits);
+
+  Buffer<float> moments_, normalized_, satOffset_;
+  SatBuffer sat_;
+  SatTableDesc desc_{};
+  Buffer<cl_float2> hsm_;
+  Buffer<PyramidLevel> levels_;
+  Buffer<VssmNode> nodes_;
+  uint32_t levelCount_ = 0, nodeCount_ = 0, treeHeight_ = 0;
+  float zNear_ = 0.0f, invRange_ = 1.0f;
+};
+
+}  // namespace penumbra

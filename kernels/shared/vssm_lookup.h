@@ -1,0 +1,108 @@
+// VSSM lookups (Yang et al. 2010): mean moments of a box from the SAT (sec. 4.1, Alg. 1 L3), the depth range of
+// a box from the min-max hierarchical shadow map (sec. 6.1, mip-map HSM), point and bilinear PCF taps
+// (sec. 5.1 option 2, sec. 6.4) and the jitter of the contact PCF. OpenCL C only; include after
+// kernels/shared/sat.h with SAT_CHANNELS=2.
+#ifndef PENUMBRA_KERNELS_SHARED_VSSM_LOOKUP_H
+#define PENUMBRA_KERNELS_SHARED_VSSM_LOOKUP_H
+
+#include "kernels/shared/pyramid.h"
+#include "kernels/shared/sat.h"
+#include "kernels/shared/shadow_common.h"
+#include "kernels/shared/vssm.h"
+
+// Everything one pixel reads.
+typedef struct VssmMaps {
+  __global const SAT_T* sat;        // SAT of the normalised VSM moments (z, z^2)
+  __global const float* satOffset;  // fp32 tables: the offset; unused otherwise
+  __global const float* depth;      // the light's linear depth map (+INFINITY where empty)
+  __global const float2* hsm;       // min-max pyramid of normalised depth
+  __constant const PyramidLevel* levels;
+  __constant const VssmNode* nodes;
+  __constant const LightViewGpu* lv;
+  SatTableDesc desc;
+  VssmParams p;
+} VssmMaps;
+
+// The receiver in both depth spaces: world for PCF taps (as pcf/pcss compare), normalised for the moments.
+typedef struct VssmReceiver {
+  float2 uv;        // texel coordinates
+  float depth;      // linear light depth, world units
+  float bias;       // constant bias at the centre, world units
+  float biasSlope;  // bias per texel of offset from uv, world units
+  float t;          // normalised (depth - bias)
+  float tSlope;     // normalised biasSlope
+  uint seed;        // pixel index: jitter of the contact PCF
+} VssmReceiver;
+
+// Mean (E(x), E(x^2)) over [lo, hi] (texels). Texels outside the map hold no occluder: normalised depth 1, as
+// sc_fetch's +INFINITY is for the PCF taps, so a kernel that leaves the map is not darkened by its inside part.
+inline float2 vssm_box_moments(const VssmMaps* m, float2 lo, float2 hi) {
+  const float2 size = (float2)((float)m->desc.width, (float)m->desc.height);
+  const float2 a = clamp(lo, (float2)(0.0f), size), b = clamp(hi, a, size);
+  const float inside = (b.x - a.x) * (b.y - a.y), area = (hi.x - lo.x) * (hi.y - lo.y);
+  float2 sum = inside > 0.0f ? sat_box_sum(m->sat, m->desc, m->satOffset, a, b) : (float2)(0.0f);
+  return (sum + (float2)(area - inside)) / area;
+}
+
+// Texels of HSM level `l` covering base interval [a, b] along one axis: level texel x covers at least the base
+// interval [x W0/Wl, (x+1) W0/Wl] (pyramid_taps footprints are conservative), widened by 1e-3 level texels
+// against rounding.
+inline int2 vssm_hsm_span(float a, float b, uint base, uint level) {
+  const float s = (float)level / (float)base;
+  return (int2)(max((int)floor(a * s - 1e-3f), 0), min((int)floor(b * s + 1e-3f), (int)level - 1));
+}
+
+// (min, max) of normalised depth over every texel [lo, hi] touches: the finest HSM level where the box covers at
+// most 2 x 2 texels. Parts outside the map count as depth 1.
+inline float2 vssm_hsm_range(const VssmMaps* m, float2 lo, float2 hi) {
+  const float2 size = (float2)((float)m->desc.width, (float)m->desc.height);
+  float2 range = (float2)(INFINITY, -INFINITY);
+  if (any(lo < (float2)(0.0f)) || any(hi > size)) range = (float2)(1.0f);
+  const float2 a = clamp(lo, (float2)(0.0f), size), b = clamp(hi, a, size);
+  if (!(b.x > a.x && b.y > a.y)) return range;
+  uint l = 0;
+  int2 sx, sy;
+  for (;; ++l) {
+    sx = vssm_hsm_span(a.x, b.x, m->desc.width, m->levels[l].width);
+    sy = vssm_hsm_span(a.y, b.y, m->desc.height, m->levels[l].height);
+    if ((sx.y - sx.x <= 1 && sy.y - sy.x <= 1) || l + 1 >= m->p.pyramidLevels) break;
+  }
+  const PyramidLevel level = m->levels[l];
+  for (int y = sy.x; y <= sy.y; ++y)
+    for (int x = sx.x; x <= sx.y; ++x) {
+      const float2 v = m->hsm[level.offset + (size_t)y * level.width + x];
+      range = (float2)(fmin(range.x, v.x), fmax(range.y, v.y));
+    }
+  return range;
+}
+
+// World depth a tap at texel position `pos` compares with: the PCF bias grows with the tap offset (pcf.cl).
+inline float vssm_tap_depth(const VssmReceiver* r, float2 pos) {
+  return r->depth - r->bias - r->biasSlope * length(pos - r->uv);
+}
+
+// Low-bias 32-bit integer hash (Wellons' "lowbias32" constants) to a uniform float in [0, 1).
+inline float vssm_hash01(uint x) {
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return (float)(x >> 8) * (1.0f / 16777216.0f);
+}
+
+// Sec. 6.4: 3 x 3 jittered bilinear PCF (Bavoil 2008) over [lo, hi]: one bilinear comparison at a random
+// point of each of 3 x 3 cells. Returns the lit fraction.
+inline float vssm_contact_pcf(const VssmMaps* m, const VssmReceiver* r, float2 lo, float2 hi) {
+  const float2 cell = (hi - lo) / 3.0f;
+  float lit = 0.0f;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      const uint tap = r->seed * 18u + (uint)(j * 3 + i) * 2u;
+      const float2 pos = lo + cell * (float2)((float)i + vssm_hash01(tap), (float)j + vssm_hash01(tap + 1u));
+      lit += sc_compare_bilinear(m->depth, m->lv->width, m->lv->height, pos, vssm_tap_depth(r, pos));
+    }
+  return lit / 9.0f;
+}
+
+#endif

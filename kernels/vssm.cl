@@ -1,0 +1,164 @@
+// Variance soft shadow mapping (Yang, Dong, Feng, Seidel, Kautz, "Variance Soft Shadow Mapping", PG 2010),
+// Algorithm 1 per pixel: blocker-search kernel from the light size (L7), lit/umbra early-out from the min-max
+// HSM (L8-L10), average blocker depth from the SAT moments by eq. 4 (L15) or kernel subdivision (L12-L13),
+// penumbra kernel by similar triangles (L16), contact PCF (sec. 6.4), visibility by the Chebyshev bound (L20)
+// or subdivision (L18). Built with -DSAT_MODE=... -DSAT_CHANNELS=2 for the SAT's storage.
+#include "kernels/shared/chebyshev.h"
+#include "kernels/shared/moments.h"
+#include "kernels/shared/vssm_subdivide.h"
+
+// The HSM's input: light depth normalised as the moments stage does (background and NaN -> 1, no occluder).
+__kernel void vssm_normalize_depth(__global const float* depth, __global float* out, uint count, float depthNear,
+                                   float depthInvRange) {
+  const uint i = get_global_id(0);
+  if (i < count) out[i] = moments_normalize(depth[i], depthNear, depthInvRange);
+}
+
+// Sec. 4.2, eq. 4 with z_unocc = t: z_occ = (z_Avg - P t) / (1 - P) with P = sigma^2 / (sigma^2 + (t - mu)^2)
+// (eq. 1). Rearranged to the identical mu - sigma^2 / (t - mu), which needs no division by 1 - P as P -> 1;
+// callers clamp it into [zmin, t]. Requires mu < t.
+inline float vssm_occluder(float2 e, float t, float minVariance) {
+  return e.x - cheb_variance(e, minVariance) / (t - e.x);
+}
+
+// Alg. 1 L11-L15: the average blocker depth (normalised) over the search kernel [lo, hi], or -1 when nothing
+// blocks. A "non-planarity" kernel is subdivided (sec. 5.2): d1 from the normal group (eq. 5, then eq. 4),
+// d2 from the PCF leaves, combined weighted by their blocker areas.
+inline float vssm_blocker_depth(const VssmMaps* m, const VssmReceiver* r, float2 lo, float2 hi, float zmin,
+                                int* subdivided, int* visited) {
+  const float minVariance = m->p.minVariance;
+  const float2 e = vssm_box_moments(m, lo, hi);
+  // L15 on a planar kernel (z_Avg < t), guarded: as P -> 1 (the limit z_Avg -> t of the non-planarity case) eq. 4
+  // amplifies the bound's error by 1 / (1 - P), so above planarMaxLit the kernel is subdivided as well.
+  const int planar = e.x < r->t, none = m->p.searchScheme == VSSM_SCHEME_NONE;
+  if (planar && (none || cheb_upper_bound(e, r->t, minVariance) <= m->p.planarMaxLit))
+    return clamp(vssm_occluder(e, r->t, minVariance), zmin, r->t);
+  if (none) return -1.0f;  // z_Avg >= t read as "no blocker", as VSM does
+  *subdivided = 1;
+  VssmAccum acc = vssm_accum_zero();
+  if (m->p.searchScheme == VSSM_SCHEME_UNIFORM)
+    vssm_uniform(m, r, lo, hi, m->p.searchDivisions, 1, &acc);
+  else
+    vssm_adaptive(m, r, lo, hi, 1, &acc);
+  *visited += acc.visited;
+  float blocked = acc.pcfBlocked, depthSum = acc.pcfDepth;
+  if (acc.vsmArea > 0.0f) {
+    const float2 g = (float2)(acc.m1, acc.m2) / acc.vsmArea;
+    const float area = (1.0f - cheb_upper_bound(g, r->t, minVariance)) * acc.vsmArea;
+    if (area > 0.0f) {
+      const float d1 = vssm_occluder(g, r->t, minVariance) - acc.shift / acc.vsmArea;
+      blocked += area;
+      depthSum += clamp(d1, zmin, r->t) * area;
+    }
+  }
+  return blocked > 0.0f ? depthSum / blocked : -1.0f;
+}
+
+// Alg. 1 L17-L20 and Alg. 2 L28-L31: visibility over the penumbra kernel [lo, hi]: the Chebyshev bound L of
+// the normal group weighted by VSMArea, 1 by LitArea and the PCF result L1 by PCFArea.
+inline float vssm_shade(const VssmMaps* m, const VssmReceiver* r, float2 lo, float2 hi, int* subdivided, int* visited) {
+  const float2 e = vssm_box_moments(m, lo, hi);
+  if (e.x < r->t) return cheb_upper_bound(e, r->t, m->p.minVariance);
+  if (m->p.shadeScheme == VSSM_SCHEME_NONE) return 1.0f;
+  *subdivided = 1;
+  VssmAccum acc = vssm_accum_zero();
+  if (m->p.shadeScheme == VSSM_SCHEME_UNIFORM)
+    vssm_uniform(m, r, lo, hi, m->p.shadeDivisions, 0, &acc);
+  else
+    vssm_adaptive(m, r, lo, hi, 0, &acc);
+  *visited += acc.visited;
+  float lit = acc.litArea + (acc.pcfArea - acc.pcfBlocked);
+  if (acc.vsmArea > 0.0f)
+    lit += cheb_upper_bound((float2)(acc.m1, acc.m2) / acc.vsmArea, r->t, m->p.minVariance) * acc.vsmArea;
+  return clamp(lit / (acc.litArea + acc.vsmArea + acc.pcfArea), 0.0f, 1.0f);
+}
+
+typedef struct VssmResult {
+  float visibility;
+  float blocker;   // average blocker depth, world units (0: none searched or found)
+  float penumbra;  // penumbra kernel half-width, texels (0: not computed)
+  int visited;     // sub-kernels visited by subdivision
+  int path;        // VSSM_PATH_*
+} VssmResult;
+
+inline VssmReceiver vssm_receiver(const VssmMaps* m, float2 uv, float depth, float bias, float biasSlope, uint seed) {
+  VssmReceiver r;
+  r.uv = uv, r.depth = depth, r.bias = bias, r.biasSlope = biasSlope, r.seed = seed;
+  // Normalised as the moments stage does; beyond the far plane (1) nothing is known to lie deeper.
+  r.t = fmin((depth - bias - m->p.depthNear) * m->p.depthInvRange, 1.0f);
+  r.tSlope = biasSlope * m->p.depthInvRange;
+  return r;
+}
+
+inline VssmResult vssm_pixel(const VssmMaps* m, VssmReceiver r) {
+  VssmResult out = {1.0f, 0.0f, 0.0f, 0, VSSM_PATH_LIT};
+  __constant const LightViewGpu* lv = m->lv;
+  // L7: the light seen from the receiver, cut by the map plane (the near plane).
+  const float wi = clamp(lv_penumbra_texels(lv, r.depth, lv->zNear), 0.5f, m->p.maxRadius);
+  const float2 range = vssm_hsm_range(m, r.uv - wi, r.uv + wi);
+  // L8-L10, conservative for the slope bias as well: lit when every texel passes the strictest comparison
+  // (the centre's), umbra when every texel fails the most lenient one (the kernel corner's).
+  if (range.x >= r.t) return out;
+  if (range.y < r.t - r.tSlope * wi * M_SQRT2_F) {
+    out.visibility = 0.0f;
+    out.path = VSSM_PATH_UMBRA;
+    return out;
+  }
+  int subdivided = 0;
+  const float zocc = vssm_blocker_depth(m, &r, r.uv - wi, r.uv + wi, range.x, &subdivided, &out.visited);
+  if (zocc < 0.0f) {
+    out.path = VSSM_PATH_NO_BLOCKER;
+    return out;
+  }
+  out.blocker = m->p.depthNear + zocc / m->p.depthInvRange;
+  const float wp = clamp(lv_penumbra_texels(lv, r.depth, out.blocker), 0.5f, m->p.maxRadius);  // L16
+  out.penumbra = wp;
+  if (r.depth - out.blocker < m->p.contactDepth) {  // sec. 6.4
+    out.visibility = vssm_contact_pcf(m, &r, r.uv - wp, r.uv + wp);
+    out.path = VSSM_PATH_CONTACT;
+    return out;
+  }
+  out.visibility = vssm_shade(m, &r, r.uv - wp, r.uv + wp, &subdivided, &out.visited);
+  out.path = subdivided ? VSSM_PATH_SUBDIVIDED : VSSM_PATH_PLANAR;
+  return out;
+}
+
+inline void vssm_store(VssmResult res, uint i, __global float4* debug, __global float* visibility) {
+  visibility[i] = res.visibility;
+  debug[i] = (float4)(res.blocker, res.penumbra, (float)res.visited, (float)res.path);
+}
+
+// Per camera pixel; debug = (blocker depth, penumbra half-width, sub-kernels visited, path; -1 for background).
+__kernel void vssm_visibility(__global const float4* position, __global const float4* normal, uint count,
+                              __global const float* depth, __constant const LightViewGpu* lv, float biasConstant,
+                              float biasSlope, float normalOffset, __global const SAT_T* sat, SatTableDesc desc,
+                              __global const float* satOffset, __global const float2* hsm,
+                              __constant const PyramidLevel* levels, __constant const VssmNode* nodes,
+                              VssmParams params, __global float4* debug, __global float* visibility) {
+  const uint i = get_global_id(0);
+  if (i >= count) return;
+  visibility[i] = 1.0f;
+  debug[i] = (float4)(0.0f, 0.0f, 0.0f, -1.0f);
+  const float4 p = position[i];
+  if (p.w == 0.0f) return;
+  const ShadowBias bias = {biasConstant, biasSlope, normalOffset};
+  const Receiver rc = sc_receiver(lv, p.xyz, normal[i].xyz, bias);
+  if (!rc.valid) return;
+  const VssmMaps m = {sat, satOffset, depth, hsm, levels, nodes, lv, desc, params};
+  vssm_store(vssm_pixel(&m, vssm_receiver(&m, rc.uv, rc.depth, rc.bias, rc.biasSlope, i)), i, debug, visibility);
+}
+
+// Test hook: receivers given directly as (u, v, depth, bias) and bias slope, so the per-pixel algorithm can be
+// checked against tests/reference/vssm_ref.cpp on arbitrary maps.
+__kernel void vssm_visibility_receivers(__global const float4* receivers, __global const float* slopes, uint count,
+                                        __global const float* depth, __constant const LightViewGpu* lv,
+                                        __global const SAT_T* sat, SatTableDesc desc, __global const float* satOffset,
+                                        __global const float2* hsm, __constant const PyramidLevel* levels,
+                                        __constant const VssmNode* nodes, VssmParams params, __global float4* debug,
+                                        __global float* visibility) {
+  const uint i = get_global_id(0);
+  if (i >= count) return;
+  const float4 q = receivers[i];
+  const VssmMaps m = {sat, satOffset, depth, hsm, levels, nodes, lv, desc, params};
+  vssm_store(vssm_pixel(&m, vssm_receiver(&m, q.xy, q.z, q.w, slopes[i], i)), i, debug, visibility);
+}

@@ -1,0 +1,276 @@
+// VSSM reference: the per-pixel algorithm in double precision, naively (see vssm_ref.h).
+#include "tests/reference/vssm_ref.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "tests/reference/moments_ref.h"
+#include "tests/reference/pyramid_ref.h"
+
+namespace penumbra::ref {
+
+struct VssmReference::Rx {
+  double u, v, depth, bias, biasSlope, t, tSlope;
+  uint32_t seed;
+};
+
+// Algorithm 2's sums.
+struct VssmReference::Sums {
+  double m1 = 0, m2 = 0, vsmArea = 0, shift = 0, litArea = 0, pcfArea = 0, pcfBlocked = 0, pcfDepth = 0;
+  int visited = 0;
+};
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+double hash01(uint32_t x) {  // Wellons' lowbias32, top 24 bits
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return double(x >> 8) / 16777216.0;
+}
+
+// Eq. 4 with z_unocc = t, directly: (z_Avg - P t) / (1 - P), P from eq. 1.
+double occluderDepth(double mean, double variance, double t) {
+  const double p = variance / (variance + (t - mean) * (t - mean));
+  return (mean - p * t) / (1.0 - p);
+}
+
+double chebyshev(double mean, double variance, double t) {
+  if (!(t > mean)) return 1.0;
+  return variance / (variance + (t - mean) * (t - mean));
+}
+
+}  // namespace
+
+VssmReference::VssmReference(const std::vector<float>& depth, uint32_t width, uint32_t height, const VssmLight& light,
+                             const VssmSettings& settings)
+    : depth_(depth), width_(width), height_(height), light_(light), settings_(settings) {
+  std::vector<float> normalized(depth.size());
+  for (int c = 0; c < 2; ++c) sat_[c].assign(size_t(width + 1) * (height + 1), 0.0);
+  for (uint32_t y = 0; y < height; ++y)
+    for (uint32_t x = 0; x < width; ++x) {
+      const double z = normalizeDepth(depth[y * width + x], light.zNear, light.zFar);
+      normalized[y * width + x] = static_cast<float>(z);
+      const double value[2] = {z, z * z};
+      for (int c = 0; c < 2; ++c) {
+        std::vector<double>& s = sat_[c];
+        s[(y + 1) * (width + 1) + x + 1] =
+            value[c] + s[y * (width + 1) + x + 1] + s[(y + 1) * (width + 1) + x] - s[y * (width + 1) + x];
+      }
+    }
+  hsm_ = minMaxPyramid(normalized, width, height);
+  for (uint32_t w = width, h = height;; w = std::max(1u, w / 2), h = std::max(1u, h / 2)) {
+    hsmSizes_.emplace_back(w, h);
+    if (w == 1 && h == 1) break;
+  }
+}
+
+// The integral of channel c over [0, u] x [0, v]: bilinear between the integer corners of the prefix sums.
+double VssmReference::corner(double u, double v, int c) const {
+  const int i = std::min(int(std::floor(u)), int(width_)), j = std::min(int(std::floor(v)), int(height_));
+  const double fu = u - i, fv = v - j;
+  const int i1 = std::min(i + 1, int(width_)), j1 = std::min(j + 1, int(height_));
+  auto s = [&](int a, int b) { return sat_[c][size_t(b) * (width_ + 1) + a]; };
+  return (1 - fv) * ((1 - fu) * s(i, j) + fu * s(i1, j)) + fv * ((1 - fu) * s(i, j1) + fu * s(i1, j1));
+}
+
+// Mean (z, z^2) over the box; outside the map counts as depth 1 (no occluder).
+std::pair<double, double> VssmReference::boxMoments(double lx, double ly, double hx, double hy) const {
+  const double ax = std::clamp(lx, 0.0, double(width_)), bx = std::clamp(hx, ax, double(width_));
+  const double ay = std::clamp(ly, 0.0, double(height_)), by = std::clamp(hy, ay, double(height_));
+  const double area = (hx - lx) * (hy - ly), outside = area - (bx - ax) * (by - ay);
+  double sum[2];
+  for (int c = 0; c < 2; ++c)
+    sum[c] = corner(bx, by, c) - corner(ax, by, c) - corner(bx, ay, c) + corner(ax, ay, c) + outside;
+  return {sum[0] / area, sum[1] / area};
+}
+
+std::pair<double, double> VssmReference::hsmRange(double lx, double ly, double hx, double hy) const {
+  double lo = kInf, hi = -kInf;
+  if (lx < 0 || ly < 0 || hx > width_ || hy > height_) lo = hi = 1.0;
+  const double ax = std::clamp(lx, 0.0, double(width_)), bx = std::clamp(hx, ax, double(width_));
+  const double ay = std::clamp(ly, 0.0, double(height_)), by = std::clamp(hy, ay, double(height_));
+  if (!(bx > ax && by > ay)) return {lo, hi};
+  auto span = [](double a, double b, uint32_t base, uint32_t level) {
+    const double s = double(level) / base;
+    return std::pair<int, int>(std::max(int(std::floor(a * s - 1e-3)), 0),
+                               std::min(int(std::floor(b * s + 1e-3)), int(level) - 1));
+  };
+  size_t l = 0;
+  std::pair<int, int> sx, sy;
+  for (;; ++l) {
+    sx = span(ax, bx, width_, hsmSizes_[l].first), sy = span(ay, by, height_, hsmSizes_[l].second);
+    if ((sx.second - sx.first <= 1 && sy.second - sy.first <= 1) || l + 1 >= hsm_.size()) break;
+  }
+  for (int y = sy.first; y <= sy.second; ++y)
+    for (int x = sx.first; x <= sx.second; ++x) {
+      const auto& v = hsm_[l][size_t(y) * hsmSizes_[l].first + x];
+      lo = std::min<double>(lo, v.first), hi = std::max<double>(hi, v.second);
+    }
+  return {lo, hi};
+}
+
+double VssmReference::fetch(int x, int y) const {
+  if (x < 0 || y < 0 || x >= int(width_) || y >= int(height_)) return kInf;
+  return depth_[size_t(y) * width_ + x];
+}
+
+// Bilinear-weighted depth comparisons around (u, v); NaN and empty texels are lit.
+double VssmReference::bilinearLit(double u, double v, double depth) const {
+  const double bx = std::floor(u - 0.5), by = std::floor(v - 0.5), fx = u - 0.5 - bx, fy = v - 0.5 - by;
+  auto lit = [&](int dx, int dy) { return fetch(int(bx) + dx, int(by) + dy) < depth ? 0.0 : 1.0; };
+  return (1 - fy) * ((1 - fx) * lit(0, 0) + fx * lit(1, 0)) + fy * ((1 - fx) * lit(0, 1) + fx * lit(1, 1));
+}
+
+double VssmReference::tapDepth(const Rx& r, double u, double v) const {
+  return r.depth - r.bias - r.biasSlope * std::hypot(u - r.u, v - r.v);
+}
+
+// Similar triangles (Fernando 2005): penumbra half-width at the receiver, in texels.
+double VssmReference::penumbraTexels(double receiver, double occluder) const {
+  const double world = light_.spot ? light_.lightSize * (receiver - occluder) / std::max(occluder, 1e-20)
+                                   : light_.lightSize * (receiver - occluder);
+  return std::max(world, 0.0) / (light_.spot ? light_.texelScale * receiver : light_.texelScale);
+}
+
+// One sub-kernel: lit, normal (Chebyshev group) or, as a leaf, PCF. True when an inner node must be refined.
+bool VssmReference::visit(const Rx& r, double lx, double ly, double hx, double hy, bool leaf, bool search,
+                          Sums& s) const {
+  ++s.visited;
+  const auto [e1, e2] = boxMoments(lx, ly, hx, hy);
+  const double area = (hx - lx) * (hy - ly);
+  const double delta = r.tSlope * std::hypot(0.5 * (lx + hx) - r.u, 0.5 * (ly + hy) - r.v);
+  const bool guarded =
+      search && !leaf &&
+      chebyshev(e1 + delta, std::max(e2 - e1 * e1, settings_.minVariance), r.t) > settings_.planarMaxLit;
+  const double gapX = std::max({lx - r.u, r.u - hx, 0.0}), gapY = std::max({ly - r.v, r.v - hy, 0.0});
+  if (e1 + r.tSlope * std::hypot(gapX, gapY) >= r.t && e2 - e1 * e1 < settings_.litVariance) {
+    s.litArea += area;
+  } else if (e1 + delta < r.t && !guarded) {
+    s.m1 += (e1 + delta) * area, s.m2 += (e2 + 2 * delta * e1 + delta * delta) * area;
+    s.vsmArea += area, s.shift += delta * area;
+  } else if (!leaf) {
+    return true;
+  } else {
+    const int k = settings_.leafTaps;
+    double blocked = 0, depthSum = 0, lit = 0;
+    for (int j = 0; j < k; ++j)
+      for (int i = 0; i < k; ++i) {
+        const double u = lx + (hx - lx) * (i + 0.5) / k, v = ly + (hy - ly) * (j + 0.5) / k;
+        const double z = fetch(int(std::floor(u)), int(std::floor(v))), tap = tapDepth(r, u, v);
+        if (search && z < tap) blocked += 1, depthSum += (z - light_.zNear) / (light_.zFar - light_.zNear);
+        if (!search) lit += bilinearLit(u, v, tap);
+      }
+    s.pcfArea += area;
+    s.pcfBlocked += search ? area * blocked / (k * k) : area * (1 - lit / (k * k));
+    s.pcfDepth += area * depthSum / (k * k);
+  }
+  return false;
+}
+
+// Recursive quad-tree walk: children in the order (0,0), (1,0), (0,1), (1,1) of their 2x2 block.
+void VssmReference::adaptive(const Rx& r, double lx, double ly, double size, int level, bool search, Sums& s) const {
+  const double sy = size;  // square in texels: the kernel is a square box
+  if (!visit(r, lx, ly, lx + size, ly + sy, level == settings_.levels, search, s)) return;
+  for (int k = 0; k < 4; ++k)
+    adaptive(r, lx + (k & 1) * size / 2, ly + (k >> 1) * size / 2, size / 2, level + 1, search, s);
+}
+
+void VssmReference::subdivide(const Rx& r, double lo[2], double hi[2], bool search, Sums& s) const {
+  const int scheme = search ? settings_.searchScheme : settings_.shadeScheme;
+  if (scheme == 2) return adaptive(r, lo[0], lo[1], hi[0] - lo[0], 0, search, s);
+  const int n = search ? settings_.m : settings_.n;
+  const double step = (hi[0] - lo[0]) / n;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      visit(r, lo[0] + i * step, lo[1] + j * step, lo[0] + (i + 1) * step, lo[1] + (j + 1) * step, true, search, s);
+}
+
+double VssmReference::blocker(const Rx& r, double lo[2], double hi[2], double zmin, bool& subdivided,
+                              int& visited) const {
+  const auto [e1, e2] = boxMoments(lo[0], lo[1], hi[0], hi[1]);
+  const double minVar = settings_.minVariance;
+  if (e1 < r.t) {
+    const double var = std::max(e2 - e1 * e1, minVar);
+    if (chebyshev(e1, var, r.t) <= settings_.planarMaxLit || settings_.searchScheme == 0)
+      return std::clamp(occluderDepth(e1, var, r.t), zmin, r.t);
+  }
+  if (settings_.searchScheme == 0) return -1;
+  subdivided = true;
+  Sums s;
+  subdivide(r, lo, hi, true, s);
+  visited += s.visited;
+  double blocked = s.pcfBlocked, depthSum = s.pcfDepth;
+  if (s.vsmArea > 0) {
+    const double mean = s.m1 / s.vsmArea, var = std::max(s.m2 / s.vsmArea - mean * mean, minVar);
+    const double area = (1 - chebyshev(mean, var, r.t)) * s.vsmArea;
+    if (area > 0) {
+      blocked += area;
+      depthSum += std::clamp(occluderDepth(mean, var, r.t) - s.shift / s.vsmArea, zmin, r.t) * area;
+    }
+  }
+  return blocked > 0 ? depthSum / blocked : -1;
+}
+
+double VssmReference::shade(const Rx& r, double lo[2], double hi[2], bool& subdivided, int& visited) const {
+  const auto [e1, e2] = boxMoments(lo[0], lo[1], hi[0], hi[1]);
+  const double minVar = settings_.minVariance;
+  if (e1 < r.t) return chebyshev(e1, std::max(e2 - e1 * e1, minVar), r.t);
+  if (settings_.shadeScheme == 0) return 1;
+  subdivided = true;
+  Sums s;
+  subdivide(r, lo, hi, false, s);
+  visited += s.visited;
+  double lit = s.litArea + s.pcfArea - s.pcfBlocked;
+  if (s.vsmArea > 0) {
+    const double mean = s.m1 / s.vsmArea;
+    lit += chebyshev(mean, std::max(s.m2 / s.vsmArea - mean * mean, minVar), r.t) * s.vsmArea;
+  }
+  return std::clamp(lit / (s.litArea + s.vsmArea + s.pcfArea), 0.0, 1.0);
+}
+
+double VssmReference::contact(const Rx& r, double lo[2], double hi[2]) const {
+  double lit = 0;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      const uint32_t tap = r.seed * 18u + uint32_t(j * 3 + i) * 2u;
+      const double u = lo[0] + (hi[0] - lo[0]) / 3 * (i + hash01(tap));
+      const double v = lo[1] + (hi[1] - lo[1]) / 3 * (j + hash01(tap + 1u));
+      lit += bilinearLit(u, v, tapDepth(r, u, v));
+    }
+  return lit / 9;
+}
+
+VssmResult VssmReference::pixel(const VssmReceiverIn& in) const {
+  const double invRange = 1.0 / (light_.zFar - light_.zNear);
+  const double t = std::min((in.depth - in.bias - light_.zNear) * invRange, 1.0);  // nothing lies beyond far
+  const Rx r{in.u, in.v, in.depth, in.bias, in.biasSlope, t, in.biasSlope * invRange, in.seed};
+  VssmResult out;
+  const double wi = std::clamp(penumbraTexels(in.depth, light_.zNear), 0.5, settings_.maxRadius);
+  double lo[2] = {in.u - wi, in.v - wi}, hi[2] = {in.u + wi, in.v + wi};
+  const auto [zmin, zmax] = hsmRange(lo[0], lo[1], hi[0], hi[1]);
+  if (zmin >= r.t) return out;                                              // every tap lit
+  if (zmax < r.t - r.tSlope * wi * std::sqrt(2.0)) return {0, 0, 0, 0, 1};  // every tap blocked
+  bool subdivided = false;
+  const double zocc = blocker(r, lo, hi, zmin, subdivided, out.visited);
+  if (zocc < 0) return {1, 0, 0, out.visited, 5};
+  out.blocker = light_.zNear + zocc / invRange;
+  out.penumbra = std::clamp(penumbraTexels(in.depth, out.blocker), 0.5, settings_.maxRadius);
+  const double wp = out.penumbra;
+  double plo[2] = {in.u - wp, in.v - wp}, phi[2] = {in.u + wp, in.v + wp};
+  if (in.depth - out.blocker < settings_.contactDepth) {
+    out.visibility = contact(r, plo, phi);
+    out.path = 4;
+    return out;
+  }
+  out.visibility = shade(r, plo, phi, subdivided, out.visited);
+  out.path = subdivided ? 3 : 2;
+  return out;
+}
+
+}  // namespace penumbra::ref

@@ -1,0 +1,75 @@
+// Double-precision reference of VSSM's per-pixel algorithm (Yang et al. 2010, Algorithms 1 and 2), written from
+// the paper independently of kernels/vssm.cl: box moments from a double SAT, the HSM from ref::minMaxPyramid,
+// eq. 4/5 blocker depths, uniform subdivision and adaptive subdivision as a recursive quad-tree walk (the kernel
+// walks the same tree by Child/Next links), PCF leaves and the 3x3 jittered contact PCF.
+#pragma once
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace penumbra::ref {
+
+// What the algorithm needs of the light's view (kernels/shared/light_view.h's meaning).
+struct VssmLight {
+  bool spot = true;
+  double lightSize = 0.0;   // spot: disk radius; directional: tan(angular radius)
+  double texelScale = 1.0;  // spot: texel width per unit depth; directional: texel width
+  double zNear = 0.0, zFar = 1.0;
+};
+
+struct VssmSettings {
+  int searchScheme = 1, shadeScheme = 2;  // 0 none, 1 uniform, 2 adaptive (VSSM_SCHEME_*)
+  int m = 5, n = 8, levels = 3, leafTaps = 2;
+  double litVariance = 0.0;   // normalised depth^2
+  double contactDepth = 0.0;  // world
+  double maxRadius = 128.0;   // texels
+  double minVariance = 1e-6;  // normalised depth^2
+  double planarMaxLit = 1.0;  // eq. 4 on the whole search kernel only while P <= this
+};
+
+struct VssmReceiverIn {
+  double u = 0, v = 0;         // texel coordinates
+  double depth = 0, bias = 0;  // world light depth, constant bias
+  double biasSlope = 0;        // bias per texel of offset
+  uint32_t seed = 0;           // pixel index (contact PCF jitter)
+};
+
+struct VssmResult {
+  double visibility = 1, blocker = 0, penumbra = 0;
+  int visited = 0, path = 0;  // path: VSSM_PATH_* values
+};
+
+class VssmReference {
+ public:
+  VssmReference(const std::vector<float>& depth, uint32_t width, uint32_t height, const VssmLight& light,
+                const VssmSettings& settings);
+  VssmResult pixel(const VssmReceiverIn& receiver) const;
+
+ private:
+  struct Rx;
+  struct Sums;
+  double corner(double u, double v, int channel) const;
+  std::pair<double, double> boxMoments(double lx, double ly, double hx, double hy) const;
+  std::pair<double, double> hsmRange(double lx, double ly, double hx, double hy) const;
+  double fetch(int x, int y) const;
+  double bilinearLit(double u, double v, double depth) const;
+  double tapDepth(const Rx& r, double u, double v) const;
+  double penumbraTexels(double receiver, double occluder) const;
+  bool visit(const Rx& r, double lx, double ly, double hx, double hy, bool leaf, bool search, Sums& s) const;
+  void adaptive(const Rx& r, double lx, double ly, double size, int level, bool search, Sums& s) const;
+  void subdivide(const Rx& r, double lo[2], double hi[2], bool search, Sums& s) const;
+  double blocker(const Rx& r, double lo[2], double hi[2], double zmin, bool& subdivided, int& visited) const;
+  double shade(const Rx& r, double lo[2], double hi[2], bool& subdivided, int& visited) const;
+  double contact(const Rx& r, double lo[2], double hi[2]) const;
+
+  std::vector<float> depth_;
+  uint32_t width_, height_;
+  VssmLight light_;
+  VssmSettings settings_;
+  std::vector<double> sat_[2];  // (width + 1) x (height + 1) prefix sums of z and z^2
+  std::vector<std::vector<std::pair<float, float>>> hsm_;
+  std::vector<std::pair<uint32_t, uint32_t>> hsmSizes_;
+};
+
+}  // namespace penumbra::ref

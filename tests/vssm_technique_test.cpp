@@ -1,0 +1,307 @@
+// `vssm` end to end on PoCL: a planar occluder over a planar receiver matches brute-force PCSS; on the staircase
+// under a plate the non-planarity error (Yang et al. 2010, sec. 5.1) shows without kernel subdivision and goes
+// with it, measured against PCSS with many taps; contact shadows of a box on a floor stay dark; planes stay lit;
+// no NaN and no visibility outside [0, 1] on any built-in scene with any subdivision scheme.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "host/io/exr.h"
+#include "host/io/png.h"
+#include "host/pipeline/renderer.h"
+#include "host/scene/light.h"
+#include "host/scene/procedural.h"
+#include "host/techniques/technique.h"
+#include "kernels/shared/vssm.h"
+#include "tests/support/cl_test.h"
+
+namespace penumbra {
+namespace {
+using Values = std::map<std::string, std::string>;
+
+RenderResult renderWith(Context& ctx, const Scene& scene, const Camera& camera, const Light& light,
+                        const std::string& technique, const Values& values = {}) {
+  const TechniqueInfo& info = findTechnique(technique);
+  Params params(info.params);
+  for (const auto& [name, value] : values) params.set(name, value);
+  Renderer renderer(ctx, scene);
+  return renderer.render(camera, light, info, params);
+}
+
+// A 10x10 ground at y = 0 and a 2x2 occluder at y = 2, both facing up: parallel planes, where the Chebyshev
+// bound is exact (sec. 4.1) and VSSM's blocker depth (eq. 4) is the occluder's.
+Scene squareOverPlane() {
+  Scene scene;
+  auto quad = [&](float half, float y, uint32_t object) {
+    const uint32_t base = static_cast<uint32_t>(scene.positions.size());
+    for (glm::vec2 c : {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(1, 1), glm::vec2(-1, 1)}) {
+      scene.positions.push_back({c.x * half, y, c.y * half});
+      scene.normals.push_back({0, 1, 0});
+    }
+    scene.triangles.push_back({base, base + 2, base + 1});
+    scene.triangles.push_back({base, base + 3, base + 2});
+    scene.objectIds.insert(scene.objectIds.end(), 2, object);
+    scene.objectNames.push_back(object == 0 ? "ground" : "occluder");
+  };
+  quad(5.0f, 0.0f, 0);
+  quad(1.0f, 2.0f, 1);
+  return scene;
+}
+
+Camera camera(glm::vec3 eye, glm::vec3 target, int width, int height) {
+  Camera c;
+  c.eye = eye, c.target = target, c.width = width, c.height = height;
+  return c;
+}
+
+const std::vector<float>& channel(const RenderResult& r, const char* name) { return r.image.require(name).data; }
+
+// The image metric: |actual - expected| visibility over the pixels `use` selects (mean, 99th percentile, max),
+// and how many pixels are brighter than expected by more than `brighterBy` (wrongly lit).
+struct ErrorStats {
+  size_t pixels = 0, brighter = 0;
+  double mean = 0, p99 = 0, max = 0;
+};
+
+template <class Use>
+ErrorStats compare(const RenderResult& got, const RenderResult& want, Use use, double brighterBy = 1.0) {
+  const auto &a = channel(got, "visibility.Y"), &b = channel(want, "visibility.Y");
+  std::vector<double> diffs;
+  ErrorStats s;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (!use(i)) continue;
+    diffs.push_back(std::abs(double(a[i]) - b[i]));
+    s.brighter += double(a[i]) - b[i] > brighterBy;
+  }
+  s.pixels = diffs.size();
+  if (diffs.empty()) return s;
+  for (double d : diffs) s.mean += d / double(diffs.size());
+  std::sort(diffs.begin(), diffs.end());
+  s.p99 = diffs[size_t(0.99 * double(diffs.size() - 1))];
+  s.max = diffs.back();
+  return s;
+}
+
+// On failure: expected, actual and |diff| visibility for a look.
+void writeFailureImages(const std::string& name, const RenderResult& got, const RenderResult& want) {
+  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "vssm-failures";
+  std::filesystem::create_directories(dir);
+  Image diff(got.image.width(), got.image.height());
+  const auto &a = channel(got, "visibility.Y"), &b = channel(want, "visibility.Y");
+  std::vector<float> d(a.size());
+  for (size_t i = 0; i < a.size(); ++i) d[i] = std::abs(a[i] - b[i]);
+  diff.add("Y", d);
+  writeExr(dir / (name + "-actual.exr"), got.image);
+  writeExr(dir / (name + "-expected.exr"), want.image);
+  writeExr(dir / (name + "-diff.exr"), diff);
+  const int w = got.image.width(), h = got.image.height();
+  writePngFalseColour(dir / (name + "-actual.png"), w, h, a, 0.0f, 1.0f);
+  writePngFalseColour(dir / (name + "-expected.png"), w, h, b, 0.0f, 1.0f);
+  writePngFalseColour(dir / (name + "-diff.png"), w, h, d, 0.0f, 1.0f);
+  if (const ImageChannel* path = got.image.find("path.Z"))
+    writePngFalseColour(dir / (name + "-path.png"), w, h, path->data, -1.0f, 5.0f);
+  ADD_FAILURE() << "images in " << dir.string();
+}
+
+class VssmTechnique : public test::ClTest {};
+
+// The brute-force reference: PCSS with 32 x 32 blocker-search taps and 32 x 32 bilinear PCF taps.
+Values bruteForcePcss() {
+  return {{"map-size", "512"}, {"pcss-max-radius", "64"}, {"pcss-search-taps", "32"}, {"pcss-filter-taps", "32"}};
+}
+
+Values vssmAt512(const std::string& scheme = "mixed") {
+  return {{"map-size", "512"}, {"vssm-max-radius", "64"}, {"vssm-subdivision", scheme}};
+}
+
+// Pixels of a surface facing the light (cos > 0.1): back faces are dark by N.L whatever the technique says,
+// and there PCSS's slope bias (clamped at tan 84 degrees) leaks light that VSSM's Chebyshev bound does not.
+std::vector<bool> facingLight(const RenderResult& r, const Light& light) {
+  const auto &a = channel(r, "A"), &px = channel(r, "P.X"), &py = channel(r, "P.Y"), &pz = channel(r, "P.Z");
+  const auto &nx = channel(r, "N.X"), &ny = channel(r, "N.Y"), &nz = channel(r, "N.Z");
+  std::vector<bool> out(a.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    const glm::vec3 p(px[i], py[i], pz[i]), n(nx[i], ny[i], nz[i]);
+    const glm::vec3 toLight = light.type == LightType::Spot ? glm::normalize(light.position - p) : -light.direction;
+    out[i] = a[i] > 0.0f && glm::dot(n, toLight) > 0.1f;
+  }
+  return out;
+}
+
+// Tolerances against brute-force PCSS on two parallel planes (sec. 4.1: the Chebyshev bound and eq. 4 are exact
+// there; what remains is PCSS's 32 x 32 sampling and its per-tap slope bias against VSSM's box integrals).
+constexpr double kPlanarMeanTol = 0.01;  // mean |VSSM - PCSS| over the ground
+constexpr double kPlanarP99Tol = 0.1;    // 99th percentile (penumbra pixels)
+constexpr double kPlanarMaxTol = 0.15;   // worst pixel
+
+TEST_F(VssmTechnique, PlanarOccluderOverPlanarReceiverMatchesBruteForcePcss) {
+  const Scene scene = squareOverPlane();
+  const Camera cam = camera({0, 7, 5}, {0, 0, 0}, 160, 120);
+  for (const char* spec : {"spot:0,4,0:0,0,0:120:0.3", "spot:0.5,5,0.3:0,0,0:100:0.6", "dir:0.2,-1,0.1:3"}) {
+    const Light light = parseLight(spec);
+    const RenderResult vssm = renderWith(ctx(), scene, cam, light, "vssm", vssmAt512());
+    const RenderResult pcss = renderWith(ctx(), scene, cam, light, "pcss", bruteForcePcss());
+    const auto &a = channel(vssm, "A"), &py = channel(vssm, "P.Y"), &path = channel(vssm, "path.Z");
+    const ErrorStats e = compare(vssm, pcss, [&](size_t i) { return a[i] > 0 && py[i] < 0.5f; });
+    size_t penumbra = 0;
+    for (size_t i = 0; i < path.size(); ++i) penumbra += a[i] > 0 && py[i] < 0.5f && path[i] >= VSSM_PATH_PLANAR;
+    SCOPED_TRACE(fmt::format("{}: {} ground pixels, {} through the blocker search; mean {:.4f} p99 {:.4f} max {:.4f}",
+                             spec, e.pixels, penumbra, e.mean, e.p99, e.max));
+    EXPECT_GT(penumbra, 500u);
+    EXPECT_LE(e.mean, kPlanarMeanTol);
+    EXPECT_LE(e.p99, kPlanarP99Tol);
+    EXPECT_LE(e.max, kPlanarMaxTol);
+    if (HasFailure()) writeFailureImages("planar", vssm, pcss);
+  }
+}
+
+// Sec. 5.1's error: without subdivision a "non-planarity" kernel (z_Avg >= t) is taken as lit. The staircase
+// under its plate, lit by a tilted sun disk, has such kernels along every riser; measured against brute-force
+// PCSS on the light-facing pixels that the subdivided run sends through subdivision.
+constexpr double kWronglyLit = 0.25;            // VSSM brighter than the reference by more than this
+constexpr size_t kMinWronglyLitWithout = 50;    // measured 87 at 240 x 180
+constexpr double kMaxWronglyLitShare = 0.2;     // subdivision keeps at most this share of them (measured 7-8%)
+constexpr double kMinMeanErrorReduction = 0.3;  // and cuts their mean error by at least this (measured 44-46%)
+
+TEST_F(VssmTechnique, SubdivisionRemovesTheNonPlanarityErrorOnTheStaircase) {
+  const Scene scene = makeProcedural("staircase");
+  Camera cam = scene.cameras.front();
+  cam.width = 240, cam.height = 180;
+  const Light light = parseLight("dir:0.8,-1,0.3:6");
+  const RenderResult ref = renderWith(ctx(), scene, cam, light, "pcss", bruteForcePcss());
+  const RenderResult none = renderWith(ctx(), scene, cam, light, "vssm", vssmAt512("none"));
+  const std::vector<bool> front = facingLight(ref, light);
+  for (const char* scheme : {"mixed", "uniform", "adaptive"}) {
+    const RenderResult vssm = renderWith(ctx(), scene, cam, light, "vssm", vssmAt512(scheme));
+    const auto& path = channel(vssm, "path.Z");
+    auto subdivided = [&](size_t i) { return front[i] && path[i] == VSSM_PATH_SUBDIVIDED; };
+    const ErrorStats without = compare(none, ref, subdivided, kWronglyLit);
+    const ErrorStats with = compare(vssm, ref, subdivided, kWronglyLit);
+    SCOPED_TRACE(fmt::format("{}: {} subdivided pixels; wrongly lit {} -> {}, mean error {:.4f} -> {:.4f}", scheme,
+                             with.pixels, without.brighter, with.brighter, without.mean, with.mean));
+    EXPECT_GE(without.brighter, kMinWronglyLitWithout);
+    EXPECT_LE(double(with.brighter), kMaxWronglyLitShare * double(without.brighter));
+    EXPECT_LE(with.mean, (1.0 - kMinMeanErrorReduction) * without.mean);
+    if (HasFailure()) writeFailureImages(std::string("staircase-") + scheme, vssm, ref);
+  }
+}
+
+// Floor pixels within kContactBand of a box face's base, on the side facing away from the light (in the box's
+// shadow) and on the lit side.
+constexpr float kContactBand = 0.05f;  // world units: ~4 texels of the fitted 512^2 map
+constexpr float kContactDark = 0.1f;   // the contact line in the box's shadow stays below this
+constexpr float kContactLit = 0.9f;    // and the lit side above this (no leak, no contact noise either way)
+constexpr double kContactGain = 0.5;  // contact PCF at least halves the error where it is used (measured 0.045 vs 0.29)
+
+TEST_F(VssmTechnique, ContactShadowsStayDarkAtTheContactLine) {
+  const Scene scene = makeProcedural("box");  // unit box on a 10 x 10 floor, light at (-2, 5, -1)
+  const Camera cam = camera({-2.2f, 1.6f, 2.2f}, {0, 0.2f, 0}, 240, 180);  // sees the lit -x and the dark +z face
+  const Light light = scene.lights.front();
+  const RenderResult ref = renderWith(ctx(), scene, cam, light, "pcss", bruteForcePcss());
+  Values off = vssmAt512();
+  off["vssm-contact"] = "0";
+  const RenderResult vssm = renderWith(ctx(), scene, cam, light, "vssm", vssmAt512());
+  const RenderResult noContact = renderWith(ctx(), scene, cam, light, "vssm", off);
+  const auto &a = channel(vssm, "A"), &px = channel(vssm, "P.X"), &py = channel(vssm, "P.Y"),
+             &pz = channel(vssm, "P.Z");
+  const auto &vis = channel(vssm, "visibility.Y"), &path = channel(vssm, "path.Z");
+  size_t dark = 0, lit = 0, contact = 0;
+  for (size_t i = 0; i < vis.size(); ++i) {
+    contact += path[i] == VSSM_PATH_CONTACT;
+    if (a[i] == 0 || py[i] > 0.01f) continue;
+    if (pz[i] > 0.5f && pz[i] < 0.5f + kContactBand && std::abs(px[i]) < 0.4f) {  // +z face: away from the light
+      ++dark;
+      EXPECT_LE(vis[i], kContactDark) << "light leaks at the contact line, x = " << px[i] << ", z = " << pz[i];
+    }
+    if (px[i] < -0.5f && px[i] > -0.5f - kContactBand && std::abs(pz[i]) < 0.4f) {  // -x face: lit
+      ++lit;
+      EXPECT_GE(vis[i], kContactLit) << "contact noise on the lit side, x = " << px[i] << ", z = " << pz[i];
+    }
+  }
+  EXPECT_GT(dark, 40u);
+  EXPECT_GT(lit, 40u);
+  EXPECT_GT(contact, 0u) << "no pixel took the contact path (sec. 6.4)";
+  // Where the contact path is taken, it is at least as close to brute force as the moments alone.
+  auto took = [&](size_t i) { return path[i] == VSSM_PATH_CONTACT; };
+  const ErrorStats with = compare(vssm, ref, took), without = compare(noContact, ref, took);
+  EXPECT_LE(with.mean, kContactGain * without.mean)
+      << contact << " contact pixels: mean error " << with.mean << " with, " << without.mean << " without";
+  if (HasFailure()) writeFailureImages("contact", vssm, ref);
+}
+
+TEST_F(VssmTechnique, HardEdgeUnderAPointLightLandsOnTheRightPixels) {
+  // A point light at y = 4 projects the occluder's edge |x| = 1 at y = 2 to |x| = 2 on the ground.
+  const RenderResult r = renderWith(ctx(), squareOverPlane(), camera({0, 7, 5}, {0, 0, 0}, 160, 120),
+                                    parseLight("spot:0,4,0:0,0,0:120"), "vssm", {{"map-size", "1024"}});
+  const auto &vis = channel(r, "visibility.Y"), &px = channel(r, "P.X"), &py = channel(r, "P.Y");
+  const auto &pz = channel(r, "P.Z"), &a = channel(r, "A");
+  constexpr float kEdgeBand = 0.08f;  // world units on the ground: ~6 texels, covers the 0.5-texel kernels and bias
+  int shadowed = 0, lit = 0, wrong = 0;
+  for (size_t i = 0; i < vis.size(); ++i) {
+    if (a[i] == 0.0f || py[i] > 0.5f) continue;
+    const float edge = std::max(std::abs(px[i]), std::abs(pz[i])) - 2.0f;
+    if (std::abs(edge) < kEdgeBand) continue;
+    const float expected = edge < 0 ? 0.0f : 1.0f;
+    (expected == 0.0f ? shadowed : lit)++;
+    wrong += std::abs(vis[i] - expected) > 1e-6f;
+  }
+  EXPECT_GT(shadowed, 2000);
+  EXPECT_GT(lit, 5000);
+  EXPECT_EQ(wrong, 0) << "pixels away from the shadow edge with the wrong visibility";
+}
+
+TEST_F(VssmTechnique, PlanesStayFullyLitAtAnyLightAngle) {
+  const Scene plane = makeProcedural("plane");
+  const Camera cam = camera({0, 6, 6}, {0, 0, 0}, 160, 120);
+  for (const char* spec : {"dir:0,-1,0:2", "dir:1,-1,0.3:2", "dir:1,-0.18,0:1", "spot:3,2,1:0,0,0:150:0.3"}) {
+    const RenderResult r = renderWith(ctx(), plane, cam, parseLight(spec), "vssm", {{"map-size", "512"}});
+    size_t dark = 0;
+    for (float v : channel(r, "visibility.Y")) dark += v < 1.0f;
+    EXPECT_EQ(dark, 0u) << spec << ": acne on a plane that nothing shadows";
+  }
+}
+
+// Every built-in scene under every subdivision scheme and SAT storage: no NaN in any channel, visibility in
+// [0, 1] (never brighter than lit), paths and sub-kernel counts within their ranges.
+TEST_F(VssmTechnique, NoNanAndVisibilityInRangeOnEveryBuiltinScene) {
+  const std::vector<Values> variants = {{{"vssm-subdivision", "none"}},
+                                        {{"vssm-subdivision", "uniform"}, {"vssm-sat", "fixed32"}},
+                                        {{"vssm-subdivision", "adaptive"}, {"vssm-sat", "fp32"}, {"vssm-levels", "5"}},
+                                        {{"vssm-subdivision", "mixed"}}};
+  for (const ProceduralInfo& info : proceduralScenes()) {
+    const Scene scene = makeProcedural(info.name);
+    ASSERT_FALSE(scene.lights.empty() || scene.cameras.empty()) << info.name;
+    Camera cam = scene.cameras.front();
+    cam.width = 96, cam.height = 64;
+    for (Values values : variants) {
+      values["map-size"] = "256";
+      const RenderResult r = renderWith(ctx(), scene, cam, scene.lights.front(), "vssm", values);
+      const std::string what = info.name + " " + values.at("vssm-subdivision");
+      for (const ImageChannel& c : r.image.channels())
+        for (float v : c.data) ASSERT_FALSE(std::isnan(v)) << what << ": NaN in " << c.name;
+      for (float v : channel(r, "visibility.Y")) ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << what << ": visibility " << v;
+      for (float v : channel(r, "path.Z"))
+        ASSERT_TRUE(v >= -1.0f && v <= VSSM_PATH_NO_BLOCKER) << what << ": path " << v;
+      const float maxVisited = 2.0f * 1365.0f;  // both steps through a full tree of height 5
+      for (float v : channel(r, "subkernels.Z")) ASSERT_TRUE(v >= 0.0f && v <= maxVisited) << what;
+    }
+  }
+}
+
+TEST_F(VssmTechnique, RejectsBadParameters) {
+  Params params(findTechnique("vssm").params);
+  EXPECT_THROW(params.set("vssm-subdivision", "quadtree"), std::invalid_argument);
+  EXPECT_THROW(params.set("vssm-levels", "6"), std::invalid_argument);
+  EXPECT_THROW(params.set("vssm-m", "0"), std::invalid_argument);
+  EXPECT_NO_THROW(params.set("vssm-sat", "fixed32"));
+  EXPECT_EQ(params.describe().find("vssm-subdivision=mixed") != std::string::npos, true);
+}
+
+}  // namespace
+}  // namespace penumbra
