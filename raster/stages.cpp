@@ -1,9 +1,9 @@
 // Kernel wrappers of the rasterizer: the pass list of one draw, in order, every launch named raster/<kernel>.
 #include "raster/stages.h"
 
-#include <string>
-
 #include <fmt/format.h>
+
+#include <string>
 
 namespace penumbra::raster {
 namespace {
@@ -47,7 +47,11 @@ void Stages::record(const Plan& plan, const SceneBuffers& scene, Queues& q, Buff
   q.counters.fill(ctx_, RasterCounters{});
   q.binCount.fill(ctx_, 0u);
   q.binTileTotal.fill(ctx_, 0u);
-  setup_.args(scene.positions, scene.triangles, q.records, q.counters, p).launch(scene.triangleCount, groups_.setup);
+  // Bytes floors (Kernel::moves): setup reads every vertex position and triangle's indices once (3 floats, 3
+  // uints); fine writes one depth and one triangle id per scissor pixel. Bins and tiles are data-dependent.
+  setup_.args(scene.positions, scene.triangles, q.records, q.counters, p)
+      .moves(uint64_t{scene.vertexCount} * 12 + uint64_t{scene.triangleCount} * 12)
+      .launch(scene.triangleCount, groups_.setup);
   binCount_.args(q.records, q.counters, q.binCount, p).launch(records, groups_.bin);
   binScan_.args(q.binCount, q.binOffset, q.binCursor, bins, q.counters, cl_uint{0})
       .launch(RASTER_SCAN_WG, RASTER_SCAN_WG);
@@ -62,13 +66,19 @@ void Stages::record(const Plan& plan, const SceneBuffers& scene, Queues& q, Buff
             p)
       .launch(coarseItems, RASTER_COARSE_WG);
   fine_.args(q.records, q.tileEntries, q.tileCount, q.tileOffset, depth, triangleIds, p)
+      .moves(uint64_t{plan.scissorPixels} * (sizeof(float) + sizeof(uint32_t)))
       .launch(plan.launchedTiles * RASTER_FINE_WG, RASTER_FINE_WG);
 }
+
+// gbuffer_resolve per scissor pixel: reads the triangle id and depth (8 B), writes position and normal (2 float4)
+// and the object id (4 B). The triangles' vertices are read once per visible triangle at most: not counted.
+constexpr uint64_t kGBufferBytesPerPixel = 8 + 2 * 16 + 4;
 
 void Stages::gbuffer(const Plan& plan, const SceneBuffers& scene, GBuffer& g) {
   gbuffer_
       .args(scene.positions, scene.normals, scene.triangles, scene.objectIds, g.triangleId, g.depth, g.position,
             g.normal, g.objectId, plan.params)
+      .moves(uint64_t{plan.scissorPixels} * kGBufferBytesPerPixel)
       .launch(plan.scissorPixels, groups_.gbuffer);
 }
 

@@ -12,6 +12,7 @@ PACKAGES=(
   libgtest-dev libbenchmark-dev libboost-dev  # Boost.Compute: the scan baseline of stages_bench
   libembree-dev  # Embree 3: the ray-traced reference of `penumbra reference` (tools/reference/ only)
   assimp-testmodels  # malformed glTF files the test suite feeds the loader
+  python3-matplotlib  # tools/chart.py: the speed-vs-error charts (scripts/charts.sh)
 )
 
 missing=()

@@ -44,7 +44,7 @@ class Buffer {
   void upload(Context& ctx, std::span<const T> data, size_t offset = 0) {
     if (data.empty()) return;
     if (offset + data.size() > count_) throw std::out_of_range("Buffer::upload past the end");
-    record(ctx, "upload", [&](cl::Event* event) {
+    record(ctx, "upload", data.size_bytes(), [&](cl::Event* event) {
       return ctx.queue().enqueueWriteBuffer(buffer_, CL_TRUE, offset * sizeof(T), data.size_bytes(), data.data(),
                                             nullptr, event);
     });
@@ -53,7 +53,7 @@ class Buffer {
   std::vector<T> download(Context& ctx) const {
     std::vector<T> data(count_);
     if (count_ == 0) return data;
-    record(ctx, "download", [&](cl::Event* event) {
+    record(ctx, "download", bytes(), [&](cl::Event* event) {
       return ctx.queue().enqueueReadBuffer(buffer_, CL_TRUE, 0, bytes(), data.data(), nullptr, event);
     });
     return data;
@@ -61,16 +61,17 @@ class Buffer {
 
   void fill(Context& ctx, const T& value) {
     if (count_ == 0) return;
-    record(ctx, "fill",
+    record(ctx, "fill", bytes(),
            [&](cl::Event* event) { return ctx.queue().enqueueFillBuffer(buffer_, value, 0, bytes(), nullptr, event); });
   }
 
  private:
   template <class Call>
-  static void record(Context& ctx, const char* what, Call&& call) {
+  // `moved`: the bytes written (fill, upload) or read (download), for the bandwidth floor.
+  static void record(Context& ctx, const char* what, uint64_t moved, Call&& call) {
     cl::Event event;
     clCheck(call(&event), std::string("Buffer::") + what, {}, "transfer");
-    if (ctx.profiler() != nullptr) ctx.profiler()->record(std::string("transfer/") + what, event);
+    if (ctx.profiler() != nullptr) ctx.profiler()->record(std::string("transfer/") + what, event, moved);
   }
 
   cl::Buffer buffer_;

@@ -2,6 +2,8 @@
 // names the kernel and the limit, not an opaque CL_INVALID_WORK_GROUP_SIZE from the driver.
 #include "host/cl/kernel.h"
 
+#include <utility>
+
 namespace penumbra {
 
 Kernel::Kernel(Context& ctx, const std::string& source, const std::string& entry, std::string stage,
@@ -42,6 +44,7 @@ cl::Event Kernel::launch(const Range& global, const Range& local, const std::vec
   if (global.dims != local.dims)
     throw ClError(CL_INVALID_WORK_DIMENSION, "launch (global and local ranges differ in dimensions)", entry_, stage_);
   checkLimits(local);
+  const uint64_t bytes = std::exchange(bytesHint_, 0);
   cl::Event event;
   if (global.count() == 0) {  // nothing to do: still return a completed event so callers can wait on it
     cl_int err = CL_SUCCESS;
@@ -60,7 +63,7 @@ cl::Event Kernel::launch(const Range& global, const Range& local, const std::vec
                                                    : cl::NDRange(local.size[0], local.size[1], local.size[2]);
   clCheck(ctx_.queue().enqueueNDRangeKernel(kernel_, cl::NullRange, globalRange, localRange, waitFor, &event),
           "clEnqueueNDRangeKernel", entry_, stage_);
-  if (ctx_.profiler() != nullptr) ctx_.profiler()->record(stage_ + "/" + entry_, event);
+  if (ctx_.profiler() != nullptr) ctx_.profiler()->record(stage_ + "/" + entry_, event, bytes);
   return event;
 }
 

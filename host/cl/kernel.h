@@ -49,6 +49,13 @@ class Kernel {
     return *this;
   }
 
+  // The least device memory the next launch must read plus write, in bytes (its bandwidth floor's numerator;
+  // each stage documents its formula beside the call). Consumed by launch(); launches without it record 0.
+  Kernel& moves(uint64_t bytes) {
+    bytesHint_ = bytes;
+    return *this;
+  }
+
   // Enqueues over `global` work-items (padded to a multiple of `local` per dimension) and returns the event.
   cl::Event launch(const Range& global, const Range& local, const std::vector<cl::Event>* waitFor = nullptr);
 
@@ -82,6 +89,7 @@ class Kernel {
   size_t maxWorkGroupSize_ = 0;
   uint64_t staticLocalBytes_ = 0;  // CL_KERNEL_LOCAL_MEM_SIZE: __local arrays declared in the kernel
   size_t localBytes_ = 0;          // __local arguments set by args()
+  uint64_t bytesHint_ = 0;         // set by moves(), reported with the next launch
 };
 
 }  // namespace penumbra

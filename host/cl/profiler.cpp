@@ -7,11 +7,13 @@
 
 namespace penumbra {
 
-void Profiler::record(std::string name, cl::Event event) { events_.emplace_back(std::move(name), std::move(event)); }
+void Profiler::record(std::string name, cl::Event event, uint64_t bytes) {
+  events_.push_back({std::move(name), std::move(event), bytes});
+}
 
 std::vector<PassTime> Profiler::resolve() const {
   std::vector<PassTime> passes;
-  for (const auto& [name, event] : events_) {
+  for (const auto& [name, event, bytes] : events_) {
     clCheck(event.wait(), "clWaitForEvents", name, "profiler");
     cl_ulong start = 0, end = 0;
     clCheck(event.getProfilingInfo(CL_PROFILING_COMMAND_START, &start), "clGetEventProfilingInfo", name, "profiler");
@@ -20,6 +22,7 @@ std::vector<PassTime> Profiler::resolve() const {
     if (it == passes.end()) it = passes.insert(passes.end(), PassTime{name, 0.0, 0});
     it->ms += end >= start ? static_cast<double>(end - start) * 1e-6 : 0.0;
     ++it->count;
+    it->bytes += bytes;
   }
   return passes;
 }

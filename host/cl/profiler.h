@@ -3,20 +3,23 @@
 #pragma once
 
 #include <CL/opencl.hpp>
+#include <cstdint>
 #include <string>
 #include <vector>
 
 namespace penumbra {
 
 struct PassTime {
-  std::string name;  // "stage/kernel", e.g. "raster/raster_fine"
-  double ms = 0;     // summed device time of all events with that name
-  int count = 0;     // number of events summed
+  std::string name;    // "stage/kernel", e.g. "raster/raster_fine"
+  double ms = 0;       // summed device time of all events with that name
+  int count = 0;       // number of events summed
+  uint64_t bytes = 0;  // summed minimum bytes the launches must move (their hints; 0: no hint given)
 };
 
 class Profiler {
  public:
-  void record(std::string name, cl::Event event);
+  // `bytes`: the least the command must read plus write in device memory (0: unknown); see Kernel::moves.
+  void record(std::string name, cl::Event event, uint64_t bytes = 0);
   // Waits for all recorded events and returns their times by name, in first-recorded order.
   std::vector<PassTime> resolve() const;
   double totalMs() const;
@@ -24,7 +27,12 @@ class Profiler {
   bool empty() const { return events_.empty(); }
 
  private:
-  std::vector<std::pair<std::string, cl::Event>> events_;
+  struct Entry {
+    std::string name;
+    cl::Event event;
+    uint64_t bytes;
+  };
+  std::vector<Entry> events_;
 };
 
 // Attaches a profiler to a context for the lifetime of the scope (also when an exception leaves it).

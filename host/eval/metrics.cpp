@@ -96,6 +96,7 @@ std::vector<std::string> exceededThresholds(const ErrorMetrics& metrics, const M
 }
 
 std::span<const float> coverageOf(const Image& ours, const Image& reference, const std::string& channel) {
+  if (channel.empty()) return {};
   if (const ImageChannel* c = reference.find(channel)) return c->data;
   if (const ImageChannel* c = ours.find(channel)) return c->data;
   return {};
@@ -106,7 +107,25 @@ ErrorMetrics compareImages(const Image& ours, const Image& reference, const Comp
     throw std::runtime_error(fmt::format("{} is {}x{} but {} is {}x{}", ours.source(), ours.width(), ours.height(),
                                          reference.source(), reference.width(), reference.height()));
   return computeErrorMetrics(ours.require(spec.channel).data, reference.require(spec.channel).data,
-                             coverageOf(ours, reference, spec.coverage));
+                             comparedPixels(ours, reference, spec));
+}
+
+bool hasMask(const Image& ours, const Image& reference, const CompareSpec& spec) {
+  return !coverageOf(ours, reference, spec.mask).empty();
+}
+
+std::vector<float> comparedPixels(const Image& ours, const Image& reference, const CompareSpec& spec) {
+  const std::span<const float> coverage = coverageOf(ours, reference, spec.coverage);
+  const std::span<const float> mask = coverageOf(ours, reference, spec.mask);
+  if (coverage.empty() && mask.empty()) return {};
+  const size_t n = coverage.empty() ? mask.size() : coverage.size();
+  if (!mask.empty() && mask.size() != n)
+    throw std::runtime_error(
+        fmt::format("{}: {} has {} values, coverage {}", reference.source(), spec.mask, mask.size(), n));
+  std::vector<float> counted(n);
+  for (size_t i = 0; i < n; ++i)
+    counted[i] = (coverage.empty() || coverage[i] > 0.0f) && (mask.empty() || mask[i] > 0.0f) ? 1.0f : 0.0f;
+  return counted;
 }
 
 }  // namespace penumbra

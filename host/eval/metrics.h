@@ -51,18 +51,30 @@ struct MetricThresholds {
 // One line per metric over its limit ("mae 0.031 > 0.02"); a non-finite pixel is always a failure. Empty: pass.
 std::vector<std::string> exceededThresholds(const ErrorMetrics& metrics, const MetricThresholds& limits);
 
-// What two images are compared on: the channel both must have, the coverage channel (taken from the reference,
-// else from ours; neither has it: every pixel counts).
+// The reference's receivability mask (`penumbra reference`): 1 where the point can receive direct light (the
+// surface the camera sees faces the light's centre and, for a spot light, lies inside its cone), 0 where its
+// visibility can never show in the shaded image.
+inline constexpr const char* kLitChannel = "lit.Y";
+
+// What two images are compared on: the channel both must have, the coverage channel and the mask channel (each
+// taken from the reference, else from ours; neither has it: every pixel counts). A pixel counts when both are > 0.
 struct CompareSpec {
   std::string channel = "visibility.Y";
   std::string coverage = "A";
+  std::string mask = kLitChannel;  // empty: no mask
 };
 
 // The metrics of ours against reference. Throws std::runtime_error naming both images when their sizes differ
 // or either lacks the channel.
 ErrorMetrics compareImages(const Image& ours, const Image& reference, const CompareSpec& spec = {});
 
-// The coverage mask compareImages() uses (empty: every pixel counts).
+// The channel named `channel` of the reference, else of ours (empty span: neither has it, or `channel` is empty).
 std::span<const float> coverageOf(const Image& ours, const Image& reference, const std::string& channel);
+
+// The pixels compareImages() counts: coverage ∩ mask as 1/0 (empty: every pixel counts).
+std::vector<float> comparedPixels(const Image& ours, const Image& reference, const CompareSpec& spec);
+
+// Whether comparedPixels() applies a mask channel (spec.mask non-empty and present in either image).
+bool hasMask(const Image& ours, const Image& reference, const CompareSpec& spec);
 
 }  // namespace penumbra

@@ -14,6 +14,8 @@ namespace penumbra {
 namespace {
 
 constexpr size_t kShadeGroup = 64;
+// shade_preview's bandwidth floor: read position and normal (two float4) and visibility, write one float4.
+constexpr uint64_t kShadeBytesPerPixel = 2 * 16 + 4 + 16;
 
 // Component `c` of every element of a float4 buffer as one channel.
 std::vector<float> component(const std::vector<cl_float4>& data, int c) {
@@ -23,6 +25,30 @@ std::vector<float> component(const std::vector<cl_float4>& data, int c) {
 }
 
 }  // namespace
+
+std::string cameraProvenance(const Camera& camera) {
+  return fmt::format("{},{},{}:{},{},{}:{}", camera.eye.x, camera.eye.y, camera.eye.z, camera.target.x, camera.target.y,
+                     camera.target.z, camera.fovYDeg);
+}
+
+std::vector<float> litMask(std::span<const cl_float4> position, std::span<const cl_float4> normal, const Camera& camera,
+                           const Light& light) {
+  const bool spot = light.type == LightType::Spot;
+  const float cosHalfFov = spot ? std::cos(glm::radians(light.fovDeg) * 0.5f) : -1.0f;
+  const glm::vec3 axis = light.axis();
+  std::vector<float> mask(position.size(), 0.0f);
+  for (size_t i = 0; i < position.size() && i < normal.size(); ++i) {
+    if (position[i].s[3] == 0.0f) continue;
+    const glm::vec3 p(position[i].s[0], position[i].s[1], position[i].s[2]);
+    glm::vec3 n(normal[i].s[0], normal[i].s[1], normal[i].s[2]);
+    if (glm::dot(n, camera.eye - p) < 0.0f) n = -n;  // two-sided, like the preview
+    const glm::vec3 toLight = spot ? glm::normalize(light.position - p) : -axis;
+    const bool faces = glm::dot(n, toLight) > 0.0f;
+    const bool inCone = !spot || glm::dot(-toLight, axis) > cosHalfFov;
+    mask[i] = faces && inCone ? 1.0f : 0.0f;
+  }
+  return mask;
+}
 
 Image frameImage(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& visibility, const Camera& camera,
                  const Light& light, const Bounds& bounds) {
@@ -38,6 +64,7 @@ Image frameImage(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& visi
   const float cosHalfFov = light.type == LightType::Spot ? std::cos(glm::radians(light.fovDeg) * 0.5f) : -1.0f;
   Kernel shade(ctx, "kernels/shade.cl", "shade_preview", "shade");
   shade.args(gbuffer.position, gbuffer.normal, visibility, count, shadingGpu, eye, cosHalfFov, rgba)
+      .moves(uint64_t{count} * kShadeBytesPerPixel)
       .launch(count, kShadeGroup);
 
   Image image(gbuffer.width, gbuffer.height);
@@ -53,8 +80,7 @@ Image frameImage(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& visi
   attributes["penumbra:device"] =
       fmt::format("{} ({}, {})", ctx.info().name, ctx.info().platformName, ctx.info().driverVersion);
   attributes["penumbra:light"] = light.describe();
-  attributes["penumbra:camera"] = fmt::format("{},{},{}:{},{},{}:{}", camera.eye.x, camera.eye.y, camera.eye.z,
-                                              camera.target.x, camera.target.y, camera.target.z, camera.fovYDeg);
+  attributes["penumbra:camera"] = cameraProvenance(camera);
   return image;
 }
 

@@ -3,6 +3,10 @@
 // visibility buffer for the camera's G-buffer (the Renderer's techniques, the ray-traced reference).
 #pragma once
 
+#include <span>
+#include <string>
+#include <vector>
+
 #include "host/cl/buffer.h"
 #include "host/cl/context.h"
 #include "host/io/image.h"
@@ -16,5 +20,15 @@ namespace penumbra {
 // then flipRows(). `visibility` holds gbuffer.width * gbuffer.height values.
 Image frameImage(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& visibility, const Camera& camera,
                  const Light& light, const Bounds& bounds);
+
+// "EX,EY,EZ:TX,TY,TZ:FOVY": the camera as the header's penumbra:camera records it.
+std::string cameraProvenance(const Camera& camera);
+
+// The "lit.Y" mask of the G-buffer's pixels (same order): 1 where the preview's direct term can be non-zero, as
+// kernels/shade.cl computes it: the normal turned towards the camera faces the light's centre (N.L > 0; a
+// directional light: against its direction) and, for a spot light, the point lies inside the cone. 0 elsewhere and
+// where no surface is seen (position.w == 0). Where it is 0 no visibility can show, so compare leaves it out.
+std::vector<float> litMask(std::span<const cl_float4> position, std::span<const cl_float4> normal, const Camera& camera,
+                           const Light& light);
 
 }  // namespace penumbra

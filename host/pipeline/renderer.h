@@ -3,6 +3,7 @@
 // per-pass device times from OpenCL profiling events.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -27,13 +28,20 @@ class Renderer {
   // Uploads the scene's triangles once; render() may be called for many cameras, lights and techniques.
   Renderer(Context& ctx, const Scene& scene);
 
+  // The technique instance (and the device buffers it keeps) lives on across calls while the technique and its
+  // parameters stay the same, so repeated frames measure the steady state; a change creates a new one.
   RenderResult render(const Camera& camera, const Light& light, const TechniqueInfo& technique, const Params& params);
 
  private:
+  Technique& techniqueFor(const TechniqueInfo& technique, const Params& params);
+
   Context& ctx_;
   const Scene& scene_;
   Rasterizer raster_;
   GBuffer gbuffer_;
+  Buffer<float> visibility_;
+  std::unique_ptr<Technique> technique_;
+  std::string techniqueKey_;  // "name: parameters" of technique_
 };
 
 }  // namespace penumbra

@@ -93,19 +93,21 @@ std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>
   const size_t texelBytes = sizeof(float) * shape.channels;
   const uint32_t w = shape.width, h = shape.height;
   std::vector<cl::Event> events;
+  const uint64_t passBytes = 2 * shape.count() * sizeof(float);  // floor of every pass: read and write the image once
 
   if (plan.direct) {
     Buffer<float> weights(ctx, std::span<const float>(plan.weights), CL_MEM_READ_ONLY);
     const int r = plan.radius;
     Kernel rows(ctx, "kernels/blur.cl", "blur_rows", "blur", options);
     rows.args(in, scratch, w, h, r, weights, LocalMem{size_t(BLUR_ROWS) * (BLUR_ROW_TILE + 2 * r) * texelBytes});
-    events.push_back(rows.launch(Range(w, h), Range(BLUR_ROW_TILE, BLUR_ROWS)));
+    events.push_back(rows.moves(passBytes).launch(Range(w, h), Range(BLUR_ROW_TILE, BLUR_ROWS)));
     const int tileRows = columnTileRows(r, texelBytes, ctx.info().localMemBytes);
     Kernel columns(ctx, "kernels/blur.cl", "blur_columns", "blur", options);
     columns.args(scratch, out, w, h, r, weights, tileRows,
                  LocalMem{size_t(tileRows + 2 * r) * BLUR_COLUMN_TILE * texelBytes});
     const size_t groupsY = (h + tileRows - 1) / tileRows;
-    events.push_back(columns.launch(Range(w, groupsY * BLUR_ROWS), Range(BLUR_COLUMN_TILE, BLUR_ROWS)));
+    events.push_back(
+        columns.moves(passBytes).launch(Range(w, groupsY * BLUR_ROWS), Range(BLUR_COLUMN_TILE, BLUR_ROWS)));
     return events;
   }
 
@@ -120,10 +122,10 @@ std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>
     const int segment = std::max(BLUR_SEGMENT, 2 * r + 1);
     if (pass < plan.boxRadii.size()) {
       rows.args(*src, *dst, w, h, r, segment);
-      events.push_back(rows.launch(Range((w + segment - 1) / segment, h), Range(1, 64)));
+      events.push_back(rows.moves(passBytes).launch(Range((w + segment - 1) / segment, h), Range(1, 64)));
     } else {
       columns.args(*src, *dst, w, h, r, segment);
-      events.push_back(columns.launch(Range(w, (h + segment - 1) / segment), Range(64, 1)));
+      events.push_back(columns.moves(passBytes).launch(Range(w, (h + segment - 1) / segment), Range(64, 1)));
     }
     src = dst;
   }

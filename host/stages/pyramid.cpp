@@ -43,7 +43,11 @@ std::vector<cl::Event> computeMomentMips(Context& ctx, const Buffer<float>& base
   PyramidLevel source{0, shape.width, shape.height, 0};
   const Buffer<float>* src = &base;
   for (const PyramidLevel& level : layout.levels) {
-    events.push_back(down.args(*src, source, mips, level).launch(Range(level.width, level.height), kGroup));
+    // Floor: read the source level and write this one, once each.
+    const uint64_t bytes = (uint64_t{source.width} * source.height + uint64_t{level.width} * level.height) *
+                           shape.channels * sizeof(float);
+    events.push_back(
+        down.args(*src, source, mips, level).moves(bytes).launch(Range(level.width, level.height), kGroup));
     source = level;
     src = &mips;
   }
@@ -59,11 +63,18 @@ std::vector<cl::Event> computeMinMaxPyramid(Context& ctx, const Buffer<float>& d
   if (layout.levels.empty()) return events;
   const std::string options = "-DPYRAMID_CHANNELS=1";  // the same program as 1-channel mips
   Kernel base(ctx, "kernels/pyramid.cl", "pyramid_minmax_base", "pyramid", options);
-  events.push_back(base.args(depth, out, layout.levels[0]).launch(Range(width, height), kGroup));
+  // Floors: the base reads the depth map and writes level 0 (a float2 per texel); each further level reads the
+  // level above and writes itself.
+  const auto texels = [](const PyramidLevel& l) { return uint64_t{l.width} * l.height; };
+  events.push_back(base.args(depth, out, layout.levels[0])
+                       .moves(uint64_t{width} * height * sizeof(float) + texels(layout.levels[0]) * sizeof(cl_float2))
+                       .launch(Range(width, height), kGroup));
   Kernel down(ctx, "kernels/pyramid.cl", "pyramid_minmax_down", "pyramid", options);
   for (size_t i = 1; i < layout.levels.size(); ++i) {
     const PyramidLevel& level = layout.levels[i];
-    events.push_back(down.args(out, layout.levels[i - 1], out, level).launch(Range(level.width, level.height), kGroup));
+    events.push_back(down.args(out, layout.levels[i - 1], out, level)
+                         .moves((texels(layout.levels[i - 1]) + texels(level)) * sizeof(cl_float2))
+                         .launch(Range(level.width, level.height), kGroup));
   }
   return events;
 }

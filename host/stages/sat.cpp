@@ -33,8 +33,9 @@ void computeOffset(Context& ctx, const std::string& options, const Buffer<float>
   const uint32_t chunk = ceilDiv(texels, groups);
   Buffer<float> partials(ctx, size_t(groups) * 8);
   Kernel partial(ctx, "kernels/sat.cl", "sat_mean_partial", "sat", options);
-  events.push_back(
-      partial.args(image, texels, chunk, partials).launch(size_t(groups) * SAT_REDUCE_GROUP, SAT_REDUCE_GROUP));
+  events.push_back(partial.args(image, texels, chunk, partials)
+                       .moves(image.bytes())
+                       .launch(size_t(groups) * SAT_REDUCE_GROUP, SAT_REDUCE_GROUP));
   Kernel finish(ctx, "kernels/sat.cl", "sat_mean_final", "sat", options);
   events.push_back(finish.args(partials, groups, offset).launch(SAT_REDUCE_GROUP, SAT_REDUCE_GROUP));
 }
@@ -47,21 +48,28 @@ void tiled(Context& ctx, const std::string& options, const Buffer<float>& image,
   Buffer<T> totals(ctx, size_t(d.tilesY) * d.tilesX * c);
   const Range tiles(size_t(d.tilesX) * SAT_TILE, size_t(d.tilesY) * SAT_GROUP_Y), group(SAT_TILE, SAT_GROUP_Y);
   Kernel sums(ctx, "kernels/sat.cl", "sat_tile_sums", "sat", options);
-  events.push_back(sums.args(image, d, offset, rowSums, colSums, totals).launch(tiles, group));
+  // Floors: the sums read the image once; the scan reads it again and writes the table once.
+  const uint64_t values = uint64_t{d.width} * d.height * c, imageBytes = values * sizeof(float);
+  const uint64_t tableBytes = values * sizeof(T);
+  events.push_back(sums.args(image, d, offset, rowSums, colSums, totals).moves(imageBytes).launch(tiles, group));
   Kernel carry(ctx, "kernels/sat.cl", "sat_carry", "sat", options);
   const size_t carryGroups = ceilDiv(d.width + d.height, SAT_CARRY_GROUP) + 1;  // + the corner work-group
   events.push_back(carry.args(d, rowSums, colSums, totals).launch(carryGroups * SAT_CARRY_GROUP, SAT_CARRY_GROUP));
   Kernel scan(ctx, "kernels/sat.cl", "sat_tile_scan", "sat", options);
-  events.push_back(scan.args(image, d, offset, rowSums, colSums, totals, table).launch(tiles, group));
+  events.push_back(
+      scan.args(image, d, offset, rowSums, colSums, totals, table).moves(imageBytes + tableBytes).launch(tiles, group));
 }
 
 template <class T>
 void lines(Context& ctx, const std::string& options, const Buffer<float>& image, const SatTableDesc& d,
            const Buffer<float>& offset, Buffer<T>& table, std::vector<cl::Event>& events) {
   Kernel rows(ctx, "kernels/sat.cl", "sat_lines_rows", "sat", options);
-  events.push_back(rows.args(image, d, offset, table).launch(d.height, 16));
+  // Floors: rows read the image and write the table; columns read and write the table.
+  const uint64_t values = uint64_t{d.width} * d.height * d.channels, imageBytes = values * sizeof(float);
+  const uint64_t tableBytes = values * sizeof(T);
+  events.push_back(rows.args(image, d, offset, table).moves(imageBytes + tableBytes).launch(d.height, 16));
   Kernel columns(ctx, "kernels/sat.cl", "sat_lines_columns", "sat", options);
-  events.push_back(columns.args(d, table).launch(ceilDiv(d.width, SAT_LINE_BLOCK), 1));
+  events.push_back(columns.args(d, table).moves(2 * tableBytes).launch(ceilDiv(d.width, SAT_LINE_BLOCK), 1));
 }
 
 template <class T>
@@ -72,14 +80,20 @@ void hensley(Context& ctx, const std::string& options, const Buffer<float>& imag
   const uint32_t passes = 1 + rowPasses + columnPasses;
   auto target = [&](uint32_t pass) -> Buffer<T>& { return (passes - 1 - pass) % 2 == 0 ? table : temp; };
   Kernel load(ctx, "kernels/sat.cl", "sat_hensley_load", "sat", options);
-  events.push_back(load.args(image, d, offset, target(0)).launch(size_t(d.width) * d.height, 64));
+  // Floors: the load reads the image and writes a table; each doubling pass reads one table and writes the other.
+  const uint64_t values = uint64_t{d.width} * d.height * d.channels, imageBytes = values * sizeof(float);
+  const uint64_t tableBytes = values * sizeof(T);
+  events.push_back(
+      load.args(image, d, offset, target(0)).moves(imageBytes + tableBytes).launch(size_t(d.width) * d.height, 64));
   Kernel rows(ctx, "kernels/sat.cl", "sat_hensley_rows", "sat", options);
   Kernel columns(ctx, "kernels/sat.cl", "sat_hensley_columns", "sat", options);
   for (uint32_t pass = 1; pass < passes; ++pass) {
     const bool alongRows = pass <= rowPasses;
     const uint32_t step = 1u << (alongRows ? pass - 1 : pass - 1 - rowPasses);
     Kernel& k = alongRows ? rows : columns;
-    events.push_back(k.args(target(pass - 1), target(pass), d, step).launch(Range(d.width, d.height), Range(32, 4)));
+    events.push_back(k.args(target(pass - 1), target(pass), d, step)
+                         .moves(2 * tableBytes)
+                         .launch(Range(d.width, d.height), Range(32, 4)));
   }
 }
 

@@ -17,10 +17,12 @@ Command addDevicesCommand(CLI::App& app);
 Command addRenderCommand(CLI::App& app);
 Command addReferenceCommand(CLI::App& app);
 Command addCompareCommand(CLI::App& app);
+Command addBenchCommand(CLI::App& app);
 
 // The registry: one line per command.
 inline std::vector<Command> registerCommands(CLI::App& app) {
-  return {addDevicesCommand(app), addRenderCommand(app), addReferenceCommand(app), addCompareCommand(app)};
+  return {addDevicesCommand(app), addRenderCommand(app), addReferenceCommand(app), addCompareCommand(app),
+          addBenchCommand(app)};
 }
 
 }  // namespace penumbra::cli

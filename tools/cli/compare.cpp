@@ -28,6 +28,7 @@ struct CompareOptions {
   MetricThresholds limits;
   double errorRange = 0.5;
   bool json = false;
+  bool masked = false;  // the mask channel was found (set by run)
 };
 
 // The reference's own noise (its "stderr.Y") over the compared pixels, when it has one.
@@ -37,7 +38,7 @@ struct ReferenceNoise {
 std::optional<ReferenceNoise> referenceNoise(const Image& ours, const Image& ref, const CompareSpec& spec) {
   const ImageChannel* noise = ref.find("stderr.Y");
   if (noise == nullptr) return std::nullopt;
-  const std::span<const float> coverage = coverageOf(ours, ref, spec.coverage);
+  const std::vector<float> coverage = comparedPixels(ours, ref, spec);
   double sum = 0, sumSq = 0, n = 0;
   for (size_t i = 0; i < noise->data.size(); ++i)
     if ((coverage.empty() || coverage[i] > 0.0f) && std::isfinite(noise->data[i]))
@@ -47,7 +48,7 @@ std::optional<ReferenceNoise> referenceNoise(const Image& ours, const Image& ref
 }
 
 void writeErrorImage(const CompareOptions& options, const Image& ours, const Image& ref) {
-  const std::span<const float> coverage = coverageOf(ours, ref, options.spec.coverage);
+  const std::vector<float> coverage = comparedPixels(ours, ref, options.spec);
   Image error(ref.width(), ref.height());
   error.add("error.Y",
             signedError(ours.require(options.spec.channel).data, ref.require(options.spec.channel).data, coverage));
@@ -87,18 +88,18 @@ void printJson(const CompareOptions& o, const Image& ref, const ErrorMetrics& m,
     metrics[row.name] = row.value;
     if (row.limit) limits[row.name == std::string("mean_signed") ? "bias" : row.name] = *row.limit;
   }
-  nlohmann::json out = {
-      {"ours", o.ours},         {"reference", o.reference}, {"channel", o.spec.channel}, {"width", ref.width()},
-      {"height", ref.height()}, {"pixels", m.pixels},       {"non_finite", m.nonFinite}, {"metrics", metrics},
-      {"thresholds", limits},   {"failed", failed},         {"pass", failed.empty()}};
+  nlohmann::json out = {{"ours", o.ours},       {"reference", o.reference},  {"channel", o.spec.channel},
+                        {"width", ref.width()}, {"height", ref.height()},    {"mask", o.masked ? o.spec.mask : ""},
+                        {"pixels", m.pixels},   {"non_finite", m.nonFinite}, {"metrics", metrics},
+                        {"thresholds", limits}, {"failed", failed},          {"pass", failed.empty()}};
   if (noise) out["reference_stderr"] = {{"mean", noise->mean}, {"rms", noise->rms}};
   fmt::print("{}\n", out.dump(2));
 }
 
 void printTable(const CompareOptions& o, const Image& ref, const ErrorMetrics& m,
                 const std::optional<ReferenceNoise>& noise, const std::vector<std::string>& failed) {
-  fmt::print("{} vs {}: {} over {} covered pixels of {}x{}", o.ours, o.reference, o.spec.channel, m.pixels, ref.width(),
-             ref.height());
+  fmt::print("{} vs {}: {} over {} covered{} pixels of {}x{}", o.ours, o.reference, o.spec.channel, m.pixels,
+             o.masked ? fmt::format(" and {}", o.spec.mask) : "", ref.width(), ref.height());
   fmt::print("{}\n", m.nonFinite > 0 ? fmt::format(" ({} NaN or infinite, left out)", m.nonFinite) : "");
   fmt::print("  {:<14} {:>12} {:>12}\n", "metric", "value", "limit");
   for (const Row& row : rows(m, o.limits))
@@ -109,7 +110,8 @@ void printTable(const CompareOptions& o, const Image& ref, const ErrorMetrics& m
   fmt::print("{}\n", failed.empty() ? std::string("PASS") : "FAIL: " + fmt::format("{}", fmt::join(failed, "; ")));
 }
 
-int run(const CompareOptions& options) {
+int run(CompareOptions options) {
+  bool& masked = options.masked;
   Image ours, ref;
   ErrorMetrics metrics;
   std::optional<ReferenceNoise> noise;
@@ -118,6 +120,7 @@ int run(const CompareOptions& options) {
     ref = readExr(options.reference);
     metrics = compareImages(ours, ref, options.spec);
     noise = referenceNoise(ours, ref, options.spec);
+    masked = hasMask(ours, ref, options.spec);
     if (!options.errorImage.empty()) writeErrorImage(options, ours, ref);
   } catch (const std::exception& e) {
     fmt::print(stderr, "penumbra compare: {}\n", e.what());
@@ -160,6 +163,12 @@ Command addCompareCommand(CLI::App& app) {
   sub->add_option("--coverage", o->spec.coverage,
                   "Coverage channel, > 0 where a pixel counts (the reference's, else ours; neither: all pixels)")
       ->capture_default_str();
+  sub->add_option("--mask", o->spec.mask,
+                  "Mask channel, > 0 where the point can receive direct light (the reference's lit.Y): metrics "
+                  "count covered pixels inside it")
+      ->capture_default_str();
+  sub->add_flag_callback(
+      "--no-mask", [o] { o->spec.mask.clear(); }, "Count every covered pixel, ignoring the mask");
   sub->add_option("--error-image", o->errorImage, "Write the signed error ours - reference (error.Y) to this EXR");
   sub->add_option("--error-png", o->errorPng, "False-colour PNG of the error (default: the error EXR with .png)");
   sub->add_option("--error-range", o->errorRange, "The PNG maps error -R..R onto viridis")

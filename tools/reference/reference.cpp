@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "host/eval/metrics.h"
 #include "host/pipeline/frame_image.h"
 #include "host/pipeline/views.h"
 #include "raster/rasterizer.h"
@@ -30,8 +31,8 @@ struct Receivers {
   std::vector<size_t> pixels;  // G-buffer index (rows bottom-up) of each point
 };
 
-Receivers receivers(Context& ctx, const Scene& scene, const GBuffer& gbuffer) {
-  const std::vector<cl_float4> position = gbuffer.position.download(ctx), normal = gbuffer.normal.download(ctx);
+Receivers receivers(Context& ctx, const Scene& scene, const GBuffer& gbuffer, const std::vector<cl_float4>& position,
+                    const std::vector<cl_float4>& normal) {
   const std::vector<uint32_t> triangle = gbuffer.triangleId.download(ctx);
   Receivers r;
   for (size_t i = 0; i < position.size(); ++i) {
@@ -64,7 +65,8 @@ ReferenceResult renderReference(Context& ctx, const Scene& scene, const Camera& 
   raster.setScene(scene);
   GBuffer gbuffer;
   raster.drawGBuffer(cameraView(camera, bounds), gbuffer);
-  const Receivers r = receivers(ctx, scene, gbuffer);
+  const std::vector<cl_float4> position = gbuffer.position.download(ctx), normal = gbuffer.normal.download(ctx);
+  const Receivers r = receivers(ctx, scene, gbuffer, position, normal);
   result.rasterSeconds = std::chrono::duration<double>(Clock::now() - start).count();
 
   const ShadowTracer tracer(scene);
@@ -78,6 +80,7 @@ ReferenceResult renderReference(Context& ctx, const Scene& scene, const Camera& 
   Buffer<float> visibilityGpu(ctx, std::span<const float>(visibility));
   result.image = frameImage(ctx, gbuffer, visibilityGpu, camera, light, bounds);
   result.image.add("stderr.Y", std::move(standardError));
+  result.image.add(kLitChannel, litMask(position, normal, camera, light));
   result.image.flipRows();  // the rasterizer's row 0 is the bottom row
 
   result.covered = r.points.size();

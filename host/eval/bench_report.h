@@ -1,0 +1,45 @@
+// The rows `penumbra bench` writes: one per technique x setting x pass, then a "total" row carrying the accuracy
+// metrics, as CSV (one header line, RFC 4180 quoting) or JSON ({"meta": ..., "rows": [...]}). Plain C++.
+#pragma once
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "host/eval/metrics.h"
+
+namespace penumbra {
+
+inline constexpr const char* kTotalPass = "total";
+
+struct BenchRow {
+  std::string scene, technique, setting, parameters;  // setting: the swept values ("map-size=1024") or "default"
+  std::string pass;                                   // "stage/kernel", or kTotalPass
+  int calls = 0;
+  double ms = 0;                        // median device time over the runs
+  uint64_t bytes = 0;                   // least bytes moved (0: no hint)
+  std::optional<double> floorMs;        // bytes / copy bandwidth
+  std::optional<ErrorMetrics> metrics;  // total rows, when a reference was compared
+};
+
+struct BenchMeta {
+  std::string device;
+  double copyBytesPerSecond = 0;  // measured clEnqueueCopyBuffer bandwidth (read + write bytes per second)
+  int width = 0, height = 0, runs = 0, warmup = 0;
+  std::string reference;  // the reference EXR compared against ("" when none)
+  bool masked = false;    // metrics restricted to the reference's lit.Y mask
+};
+
+// The CSV's columns, in order (the chart and table scripts read them by name).
+const std::vector<std::string>& benchCsvColumns();
+
+// Quotes a field when it holds a comma, a quote or a line break (quotes doubled).
+std::string csvField(const std::string& text);
+
+void writeBenchCsv(std::ostream& out, const BenchMeta& meta, const std::vector<BenchRow>& rows);
+nlohmann::json benchJson(const BenchMeta& meta, const std::vector<BenchRow>& rows);
+
+}  // namespace penumbra

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Regenerates the speed-vs-error charts (docs/charts/SCENE.{png,svg}) and docs/accuracy.md: `penumbra bench` on the
+# bundled scenes (scenes/*.json and two built-in ones) against Embree references, then tools/chart.py and
+# tools/accuracy_table.py over the CSVs (kept in out/charts/). Sized to finish in minutes on a 2-core PoCL machine.
+# Environment: PENUMBRA (a built tool; default: build with scripts/setup.sh and use $BUILD_DIR/tools/penumbra),
+# SIZE (640x360), MAP_SIZE (1024), SPP (256), RUNS (3), WARMUP (1), TECHNIQUES (all), SCENES (space-separated),
+# SWEEPS (space-separated PARAM=a,b,c for more points per technique, e.g. "blur-radius=1,2,4"; default none).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+SIZE=${SIZE:-640x360}
+MAP_SIZE=${MAP_SIZE:-1024}
+SPP=${SPP:-256}
+RUNS=${RUNS:-3}
+WARMUP=${WARMUP:-1}
+TECHNIQUES=${TECHNIQUES:-all}
+sweep_args=()
+for sweep in ${SWEEPS:-}; do sweep_args+=(--sweep "$sweep"); done
+read -r -a SCENE_LIST <<<"${SCENES:-$(echo scenes/*.json) builtin:stacked-planes builtin:staircase}"
+PYTHON=${PYTHON:-$([ -x /usr/bin/python3 ] && echo /usr/bin/python3 || echo python3)}  # Debian's, with matplotlib
+
+if [ -z "${PENUMBRA:-}" ]; then
+  ./scripts/setup.sh -DPENUMBRA_BUILD_BENCHMARKS=OFF
+  PENUMBRA=${BUILD_DIR:-build}/tools/penumbra
+fi
+export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$(dirname "$PENUMBRA")/../pocl-cache}
+
+start=$(date +%s)
+mkdir -p out/charts docs/charts
+csvs=()
+for scene in "${SCENE_LIST[@]}"; do
+  name=$(basename "${scene#builtin:}" .json)
+  echo "==> bench $scene"
+  "$PENUMBRA" bench "$scene" --techniques "$TECHNIQUES" --size "$SIZE" --map-size "$MAP_SIZE" --spp "$SPP" \
+    --runs "$RUNS" --warmup "$WARMUP" "${sweep_args[@]}" -o "out/charts/$name.csv" --json "out/charts/$name.json"
+  csvs+=("out/charts/$name.csv")
+done
+"$PYTHON" tools/chart.py docs/charts "${csvs[@]}"
+elapsed=$(($(date +%s) - start))
+"$PYTHON" tools/accuracy_table.py docs/accuracy.md "${csvs[@]}" --command "./scripts/charts.sh" \
+  --note "Settings: ${SIZE} frames, ${MAP_SIZE}² shadow maps (--map-size; other parameters at their defaults), \
+reference ${SPP} spp for soft lights, median of ${RUNS} runs after ${WARMUP} warm-up; the whole run took \
+${elapsed} s. Charts: [docs/charts/](charts/)."
+echo "==> done in ${elapsed} s"

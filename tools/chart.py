@@ -1,0 +1,111 @@
+#!/usr/bin/python3
+"""Speed-vs-error charts from `penumbra bench` CSV files: one chart per scene (PNG and SVG), frame time (ms, log
+scale) against MAE in the left panel and against the leaking fraction in the right one, one labelled point per
+technique x setting (the "total" rows), the Pareto front (no other point is both faster and more accurate) drawn
+as a line through its points, which are outlined in black.
+
+usage: tools/chart.py OUT_DIR results.csv [more.csv ...]
+Needs Python 3 and matplotlib (Debian: python3-matplotlib)."""
+import csv
+import os
+import re
+import sys
+
+
+def slug(scene):
+    """builtin:stacked-planes -> stacked-planes, scenes/default.json -> default."""
+    name = scene.split(":", 1)[1] if scene.startswith("builtin:") else os.path.splitext(os.path.basename(scene))[0]
+    return re.sub(r"[^A-Za-z0-9_.-]+", "-", name.split(":")[0]).strip("-") or "scene"
+
+
+def read_totals(paths):
+    """Total rows that carry metrics, grouped by scene: {scene: [row, ...]}."""
+    scenes = {}
+    for path in paths:
+        with open(path, newline="") as f:
+            for row in csv.DictReader(f):
+                if row["pass"] != "total" or row["mae"] == "":
+                    continue
+                for key in ("ms", "mae", "rmse", "leak", "false_shadow"):
+                    row[key] = float(row[key])
+                scenes.setdefault(row["scene"], []).append(row)
+    return scenes
+
+
+def label(row):
+    return row["technique"] if row["setting"] == "default" else f'{row["technique"]} {row["setting"]}'
+
+
+def pareto(points):
+    """Indices of the points no other point beats on both axes (lower is better), sorted by x."""
+    order = sorted(range(len(points)), key=lambda i: (points[i][0], points[i][1]))
+    front, best = [], float("inf")
+    for i in order:
+        if points[i][1] < best:
+            front.append(i)
+            best = points[i][1]
+    return front
+
+
+def panel(ax, rows, metric, title, colours):
+    points = [(r["ms"], r[metric]) for r in rows]
+    front = set(pareto(points))
+    for i, (r, (x, y)) in enumerate(zip(rows, points)):
+        on = i in front
+        ax.scatter([x], [y], s=60 if on else 30, color=colours[r["technique"]], edgecolors="black" if on else "none",
+                   linewidths=1.2, zorder=3)
+        ax.annotate(label(r), (x, y), textcoords="offset points", xytext=(4, 4), fontsize=7)
+    line = sorted(front, key=lambda i: points[i][0])
+    ax.plot([points[i][0] for i in line], [points[i][1] for i in line], color="black", linewidth=1, linestyle="--",
+            zorder=2, label="Pareto front")
+    ax.set_xscale("log")
+    ax.set_xlabel("frame time, device (ms, log)")
+    ax.set_ylabel(title)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(loc="upper right", fontsize=7)
+
+
+def chart(scene, rows, out_dir):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    techniques = sorted({r["technique"] for r in rows})
+    cmap = plt.get_cmap("tab10" if len(techniques) <= 10 else "tab20")
+    colours = {t: cmap(i % cmap.N) for i, t in enumerate(techniques)}
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5))
+    panel(axes[0], rows, "mae", "mean absolute error of visibility", colours)
+    panel(axes[1], rows, "leak", "leaking fraction (ref < 0.05, ours > 0.5)", colours)
+    r0 = rows[0]
+    fig.suptitle(f'{scene}: {r0["width"]}x{r0["height"]}, median of {r0["runs"]} runs, {r0["device"]}', fontsize=9)
+    fig.tight_layout()
+    base = os.path.join(out_dir, slug(scene))
+    for ext in ("png", "svg"):
+        fig.savefig(f"{base}.{ext}", dpi=110)
+    plt.close(fig)
+    return base
+
+
+def main(argv):
+    if len(argv) < 3:
+        print(__doc__, file=sys.stderr)
+        return 2
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        print("chart.py: matplotlib is missing (Debian: apt-get install python3-matplotlib)", file=sys.stderr)
+        return 3
+    out_dir = argv[1]
+    os.makedirs(out_dir, exist_ok=True)
+    scenes = read_totals(argv[2:])
+    if not scenes:
+        print("chart.py: no total rows with metrics in the CSV (run bench with a reference)", file=sys.stderr)
+        return 1
+    for scene, rows in scenes.items():
+        print(f"wrote {chart(scene, rows, out_dir)}.png and .svg")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

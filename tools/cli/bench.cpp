@@ -1,0 +1,244 @@
+// `penumbra bench SCENE --techniques LIST [--sweep PARAM=a,b,c]...`: every technique x parameter setting rendered
+// `--warmup` + `--runs` times with one Renderer (the technique's buffers kept, so the runs measure the steady state);
+// per pass the median device time (OpenCL profiling events) beside its bandwidth floor (the pass's least bytes moved
+// / the device's measured copy bandwidth), and the accuracy of the last run against a reference (given, or traced
+// with Embree once and cached next to the output). Writes CSV (and JSON); progress on stderr.
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include "host/cl/bandwidth.h"
+#include "host/cl/context.h"
+#include "host/eval/bench_report.h"
+#include "host/eval/bench_stats.h"
+#include "host/eval/sweep.h"
+#include "host/io/exr.h"
+#include "host/pipeline/frame_image.h"
+#include "host/pipeline/renderer.h"
+#include "host/scene/load.h"
+#include "tools/cli/commands.h"
+#include "tools/cli/progress.h"
+#include "tools/cli/technique_options.h"
+#include "tools/cli/view_options.h"
+#include "tools/reference/reference.h"
+
+namespace penumbra::cli {
+namespace {
+
+struct BenchOptions {
+  ViewOptions view;
+  std::string techniques = "all", device, output = "out/bench.csv", json, reference;
+  std::vector<std::string> sweeps;
+  int runs = 5, warmup = 1, spp = 256;
+  bool noReference = false, noMask = false, quiet = false;
+  ParamValues params;  // fixed technique parameters, applied to every technique that has them
+};
+
+struct Job {
+  const TechniqueInfo* technique;
+  Setting setting;
+  Params params;
+};
+
+std::vector<const TechniqueInfo*> techniqueList(const std::string& list) {
+  std::vector<const TechniqueInfo*> out;
+  if (list == "all") {
+    for (const TechniqueInfo& info : techniques()) out.push_back(&info);
+    return out;
+  }
+  for (size_t start = 0; start <= list.size();) {
+    const size_t comma = std::min(list.find(',', start), list.size());
+    if (comma > start) out.push_back(&findTechnique(list.substr(start, comma - start)));
+    start = comma + 1;
+  }
+  if (out.empty()) throw std::invalid_argument("--techniques: empty list");
+  return out;
+}
+
+// Every job, its Params validated before anything runs (a bad value is a usage error, exit 2).
+std::vector<Job> planJobs(const BenchOptions& options) {
+  const std::vector<const TechniqueInfo*> list = techniqueList(options.techniques);
+  std::vector<Sweep> sweeps;
+  for (const std::string& text : options.sweeps) sweeps.push_back(parseSweep(text));
+  checkSweeps(sweeps, list);
+  for (const auto& [name, value] : options.params)
+    if (std::none_of(list.begin(), list.end(), [&](const TechniqueInfo* t) { return hasParam(*t, name); }))
+      throw std::invalid_argument(fmt::format("--{}: no technique in the list has that parameter", name));
+  std::vector<Job> jobs;
+  for (const TechniqueInfo* technique : list) {
+    std::vector<std::string> skipped;
+    for (Setting& setting : expandSweeps(*technique, sweeps, &skipped)) {
+      ParamValues values = options.params;
+      for (const auto& [name, value] : setting.values) values[name] = value;
+      Params params = techniqueParams(*technique, values, false);
+      jobs.push_back({technique, std::move(setting), std::move(params)});
+    }
+    for (const std::string& name : skipped)
+      fmt::print(stderr, "bench: --sweep {} skipped for {} (no such parameter)\n", name, technique->name);
+  }
+  return jobs;
+}
+
+// What identifies a traced reference: a cached one is reused only when this matches its header.
+std::string referenceKey(const BenchOptions& o, const Camera& camera, const Light& light) {
+  return fmt::format("scene={} camera={} size={}x{} light={} spp={}", o.view.scene, cameraProvenance(camera),
+                     camera.width, camera.height, light.describe(), light.isArea() ? o.spp : 1);
+}
+
+// The given reference, or the cached trace next to the output, or a fresh trace written there.
+std::optional<Image> loadReference(const BenchOptions& o, Context& ctx, const Scene& scene, const Camera& camera,
+                                   const Light& light, std::string& path) {
+  if (o.noReference) return std::nullopt;
+  if (!o.reference.empty()) {
+    path = o.reference;
+    Image ref = readExr(path);
+    if (ref.width() != camera.width || ref.height() != camera.height)
+      throw std::runtime_error(fmt::format("{} is {}x{}, the bench renders {}x{}", path, ref.width(), ref.height(),
+                                           camera.width, camera.height));
+    return ref;
+  }
+  path = std::filesystem::path(o.output).replace_extension(".reference.exr").string();
+  const std::string key = referenceKey(o, camera, light);
+  if (std::filesystem::exists(path)) {
+    Image cached = readExr(path);
+    auto it = cached.attributes().find("penumbra:bench-key");
+    if (it != cached.attributes().end() && it->second == key) {
+      if (!o.quiet) fmt::print(stderr, "bench: reusing the reference {}\n", path);
+      return cached;
+    }
+  }
+  if (light.isArea()) reference::SampleLayout::fromSpp(o.spp);  // a bad --spp is a usage error
+  if (!o.quiet) fmt::print(stderr, "bench: tracing the reference ({} spp) into {}\n", o.spp, path);
+  reference::TraceSettings trace;
+  trace.spp = o.spp;
+  reference::ReferenceResult result = reference::renderReference(ctx, scene, camera, light, trace);
+  result.image.attributes()["penumbra:scene"] = o.view.scene;
+  result.image.attributes()["penumbra:bench-key"] = key;
+  if (std::filesystem::path(path).has_parent_path())
+    std::filesystem::create_directories(std::filesystem::path(path).parent_path());
+  writeExr(path, result.image);
+  return std::move(result.image);
+}
+
+void addRows(const BenchOptions& o, const Job& job, const RunSummary& summary, double bandwidth,
+             const std::optional<ErrorMetrics>& metrics, std::vector<BenchRow>& rows) {
+  BenchRow base{o.view.scene, job.technique->name, job.setting.label, job.params.describe(), {}, 0, 0, 0, {}, {}};
+  for (const PassSummary& pass : summary.passes) {
+    BenchRow row = base;
+    row.pass = pass.name, row.calls = pass.calls, row.ms = pass.ms, row.bytes = pass.bytes;
+    row.floorMs = bandwidthFloorMs(pass.bytes, bandwidth);
+    rows.push_back(std::move(row));
+  }
+  BenchRow total = base;
+  total.pass = kTotalPass, total.ms = summary.totalMs, total.bytes = summary.totalBytes;
+  for (const PassSummary& pass : summary.passes) total.calls += pass.calls;
+  total.floorMs = bandwidthFloorMs(summary.totalBytes, bandwidth);
+  total.metrics = metrics;
+  rows.push_back(std::move(total));
+}
+
+void writeOutputs(const BenchOptions& o, const BenchMeta& meta, const std::vector<BenchRow>& rows) {
+  for (const std::string& file : {o.output, o.json}) {
+    if (file.empty()) continue;
+    const std::filesystem::path path = file;
+    if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+    std::ofstream out(path);
+    if (file == o.output)
+      writeBenchCsv(out, meta, rows);
+    else
+      out << benchJson(meta, rows).dump(2) << "\n";
+    if (!out) throw std::runtime_error(fmt::format("{}: cannot write", file));
+  }
+}
+
+void printSummary(const BenchMeta& meta, const std::vector<BenchRow>& rows) {
+  fmt::print("{}: {}x{}, median of {} runs after {} warm-up; copy bandwidth {:.2f} GB/s\n", meta.device, meta.width,
+             meta.height, meta.runs, meta.warmup, meta.copyBytesPerSecond * 1e-9);
+  fmt::print("  {:<8} {:<28} {:>10} {:>10} {:>9} {:>9} {:>9}\n", "technique", "setting", "ms", "floor ms", "mae",
+             "leak", "false sh.");
+  for (const BenchRow& r : rows) {
+    if (r.pass != kTotalPass) continue;
+    const auto metric = [&](double v) { return r.metrics ? fmt::format("{:.5f}", v) : std::string("-"); };
+    fmt::print("  {:<8} {:<28} {:>10.3f} {:>10} {:>9} {:>9} {:>9}\n", r.technique, r.setting, r.ms,
+               r.floorMs ? fmt::format("{:.3f}", *r.floorMs) : "-", metric(r.metrics ? r.metrics->mae : 0),
+               metric(r.metrics ? r.metrics->leak : 0), metric(r.metrics ? r.metrics->falseShadow : 0));
+  }
+}
+
+int run(const BenchOptions& o) {
+  const std::vector<Job> jobs = planJobs(o);
+  const Scene scene = loadScene(o.view.scene);
+  const Camera camera = resolveCamera(o.view, scene);
+  const Light light = resolveLight(o.view, scene);
+  Context ctx(o.device);
+
+  BenchMeta meta;
+  meta.device = fmt::format("{} ({}, {})", ctx.info().name, ctx.info().platformName, ctx.info().driverVersion);
+  meta.width = camera.width, meta.height = camera.height, meta.runs = o.runs, meta.warmup = o.warmup;
+  const std::optional<Image> ref = loadReference(o, ctx, scene, camera, light, meta.reference);
+  CompareSpec spec;
+  if (o.noMask) spec.mask.clear();
+  meta.masked = ref && !o.noMask && ref->find(spec.mask) != nullptr;
+  const CopyBandwidth copy = measureCopyBandwidth(ctx);
+  meta.copyBytesPerSecond = copy.bytesPerSecond;
+  if (!o.quiet)
+    fmt::print(stderr, "bench: copy bandwidth {:.2f} GB/s ({} MiB clEnqueueCopyBuffer, median {:.3f} ms)\n",
+               copy.bytesPerSecond * 1e-9, copy.bufferBytes >> 20, copy.medianMs);
+
+  Renderer renderer(ctx, scene);
+  std::vector<BenchRow> rows;
+  Progress progress(jobs.size() * static_cast<size_t>(o.warmup + o.runs), !o.quiet);
+  for (const Job& job : jobs) {
+    progress.announce(fmt::format("{} {}", job.technique->name, job.setting.label));
+    std::vector<std::vector<PassTime>> runs;
+    RenderResult last;
+    for (int i = 0; i < o.warmup + o.runs; ++i) {
+      last = renderer.render(camera, light, *job.technique, job.params);
+      if (i >= o.warmup) runs.push_back(last.passes);
+      progress.advance();
+    }
+    std::optional<ErrorMetrics> metrics;
+    if (ref) metrics = compareImages(last.image, *ref, spec);
+    addRows(o, job, summariseRuns(runs), copy.bytesPerSecond, metrics, rows);
+  }
+  progress.finish();
+  writeOutputs(o, meta, rows);
+  if (!o.quiet) {
+    printSummary(meta, rows);
+    fmt::print("wrote {}{}\n", o.output, o.json.empty() ? "" : " and " + o.json);
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command addBenchCommand(CLI::App& app) {
+  CLI::App* sub = app.add_subcommand("bench", "Per-pass device times, bandwidth floors and accuracy per technique");
+  auto o = std::make_shared<BenchOptions>();
+  addViewOptions(sub, o->view);
+  sub->add_option("--techniques", o->techniques, "Comma-separated techniques, or all")->capture_default_str();
+  sub->add_option("--sweep", o->sweeps, "PARAM=a,b,c: one setting per value, for every technique with PARAM")
+      ->take_all()
+      ->allow_extra_args(false);
+  sub->add_option("--runs", o->runs, "Timed runs per setting (the median is reported)")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  sub->add_option("--warmup", o->warmup, "Untimed runs first")->check(CLI::Range(0, 100))->capture_default_str();
+  sub->add_option("--reference", o->reference, "Reference EXR (penumbra reference) for the accuracy metrics");
+  sub->add_option("--spp", o->spp, "Without --reference: trace one at this many samples per pixel, cached beside -o")
+      ->capture_default_str();
+  sub->add_flag("--no-reference", o->noReference, "Skip the accuracy metrics");
+  sub->add_flag("--no-mask", o->noMask, "Count every covered pixel, ignoring the reference's lit.Y mask");
+  sub->add_option("--device", o->device, "OpenCL device: auto, cpu, gpu, a name substring, or P:D")
+      ->envname("PENUMBRA_DEVICE");
+  sub->add_option("-o,--output", o->output, "Output CSV")->capture_default_str();
+  sub->add_option("--json", o->json, "Also write the rows as JSON here");
+  sub->add_flag("-q,--quiet", o->quiet, "No progress and no summary");
+  sub->get_option("--reference")->excludes("--no-reference");
+  addTechniqueOptions(sub, o->params);
+  return {sub, [o] { return run(*o); }};
+}
+
+}  // namespace penumbra::cli

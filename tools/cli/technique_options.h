@@ -1,0 +1,55 @@
+// Every technique's parameters as --NAME options (`render`, `bench`), and how the values given turn into one
+// technique's Params: strictly (render: a parameter the technique lacks is an error) or leniently (bench: it applies
+// to the techniques that have it).
+#pragma once
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+#include "host/techniques/technique.h"
+
+namespace penumbra::cli {
+
+using ParamValues = std::map<std::string, std::string>;  // name (no dashes) -> text as given
+
+// Declares each parameter once, even when several techniques share it.
+inline void addTechniqueOptions(CLI::App* sub, ParamValues& values) {
+  std::set<std::string> declared;
+  for (const TechniqueInfo& info : techniques())
+    for (const ParamSpec& spec : info.params) {
+      if (!declared.insert(spec.name).second) continue;
+      std::string help = spec.help + (spec.text              ? fmt::format(" [default '{}']", spec.textDefault)
+                                      : spec.choices.empty() ? fmt::format(" [default {}]", spec.defaultValue)
+                                                             : fmt::format(" ({})", fmt::join(spec.choices, "|")));
+      sub->add_option_function<std::string>(
+             "--" + spec.name, [&values, name = spec.name](const std::string& v) { values[name] = v; }, help)
+          ->group("Technique parameters");
+    }
+}
+
+inline bool hasParam(const TechniqueInfo& info, const std::string& name) {
+  return std::any_of(info.params.begin(), info.params.end(), [&](const ParamSpec& s) { return s.name == name; });
+}
+
+// The technique's defaults with `values` applied. strict: a value the technique has no parameter for throws
+// std::invalid_argument; else it is skipped. Bad values always throw (Params::set).
+inline Params techniqueParams(const TechniqueInfo& info, const ParamValues& values, bool strict = true) {
+  Params params(info.params);
+  for (const auto& [name, value] : values) {
+    if (!hasParam(info, name)) {
+      if (strict) throw std::invalid_argument(fmt::format("--{} does not apply to technique '{}'", name, info.name));
+      continue;
+    }
+    params.set(name, value);
+  }
+  return params;
+}
+
+}  // namespace penumbra::cli
