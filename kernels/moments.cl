@@ -49,6 +49,15 @@ __kernel void moments_msm(__global const float* depth, __global float4* out, Mom
   out[texel] = moments_msm_encode(moments_normalize(depth[texel], p.depthNear, p.depthInvRange));
 }
 
+// 16-bit unorm storage of moments in [0, 1] (LVSM layers, Lauritzen & McCool 2008, sec. 5): texel value
+// round-to-nearest-even(clamp(x, 0, 1) * 65535); NaN stores 0. Writes out[outOffset + i] for i < count.
+__kernel void moments_pack_unorm16(__global const float* in, __global ushort* out, uint count, uint outOffset) {
+  uint i = get_global_id(0);
+  if (i >= count) return;
+  float x = in[i];
+  out[outOffset + i] = convert_ushort_rte(isnan(x) ? 0.0f : clamp(x, 0.0f, 1.0f) * 65535.0f);
+}
+
 // Test hook: decodes optimized MSM moments back to power moments (used by tests and shading kernels).
 __kernel void moments_msm_decode_test(__global const float4* in, __global float4* out, uint count) {
   uint i = get_global_id(0);

@@ -157,5 +157,32 @@ TEST_F(MomentsKernels, MsmDecodeInvertsEncode) {
   EXPECT_TRUE(test::allNear(flat, std::span<const double>(expected), {kMsmRoundTripTol, 0.0}));
 }
 
+// 16-bit unorm packing (LVSM storage): the kernel rounds in fp32 to nearest even, the reference in double to
+// nearest with ties away, so codes may differ by one where x * 65535 lies within fp32 rounding of a tie.
+TEST_F(MomentsKernels, PackUnorm16MatchesReferenceWithinOneCode) {
+  std::vector<float> values = {0.0f, 1.0f, -0.5f, 2.0f, std::numeric_limits<float>::quiet_NaN(),
+                               std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+                               0.5f / 65535.0f, 1.0f / 65535.0f, 65534.5f / 65535.0f};
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int i = 0; i < 997; ++i) values.push_back(unit(rng));
+  const size_t offset = 5;
+  Buffer<float> in(ctx(), std::span<const float>(values));
+  Buffer<cl_ushort> out(ctx(), values.size() + offset);
+  out.fill(ctx(), 0xBEEF);
+  packMomentsUnorm16(ctx(), in, values.size(), out, offset);
+  const std::vector<cl_ushort> codes = out.download(ctx());
+  for (size_t i = 0; i < offset; ++i) EXPECT_EQ(codes[i], 0xBEEF) << "wrote before the offset";
+  int exact = 0;
+  for (size_t i = 0; i < values.size(); ++i) {
+    const int expected = ref::unorm16(values[i]), got = codes[offset + i];
+    EXPECT_LE(std::abs(got - expected), 1) << "value " << values[i];
+    exact += got == expected;
+  }
+  EXPECT_GE(exact, static_cast<int>(values.size()) - 5);
+  for (size_t i = 0; i < 7; ++i) EXPECT_EQ(codes[offset + i], ref::unorm16(values[i])) << values[i];  // not the ties
+  EXPECT_THROW(packMomentsUnorm16(ctx(), in, values.size(), out, offset + 1), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace penumbra

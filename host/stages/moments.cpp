@@ -81,12 +81,23 @@ cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t widt
 
   Kernel kernel(ctx, "kernels/moments.cl", entryPoint(config.kind), "moments");
   const Range global(width, height), local(16, 8);
-  if (config.kind != MomentKind::Lvsm) return kernel.args(depth, out, params).launch(global, local);
+  // Floor: read each depth texel and write each moment once.
+  const uint64_t bytes = texels * (1 + momentChannels(config.kind) * momentPlanes(config)) * sizeof(float);
+  if (config.kind != MomentKind::Lvsm) return kernel.args(depth, out, params).moves(bytes).launch(global, local);
 
   std::vector<cl_float2> layers(config.layers.size());
   for (size_t i = 0; i < layers.size(); ++i) layers[i] = {{config.layers[i].p, config.layers[i].q}};
   Buffer<cl_float2> layerBuffer(ctx, std::span<const cl_float2>(layers), CL_MEM_READ_ONLY);
-  return kernel.args(depth, out, layerBuffer, params).launch(global, local);
+  return kernel.args(depth, out, layerBuffer, params).moves(bytes).launch(global, local);
+}
+
+cl::Event packMomentsUnorm16(Context& ctx, const Buffer<float>& in, size_t count, Buffer<cl_ushort>& out,
+                             size_t outOffset) {
+  checkBufferSize(in.size(), count, "moments", "unorm16 input");
+  checkBufferSize(out.size(), outOffset + count, "moments", "unorm16 output");
+  if (outOffset + count > UINT32_MAX) throw std::invalid_argument("moments: unorm16 output above 2^32 elements");
+  Kernel kernel(ctx, "kernels/moments.cl", "moments_pack_unorm16", "moments");
+  return kernel.args(in, out, static_cast<uint32_t>(count), static_cast<uint32_t>(outOffset)).launch(count, 64);
 }
 
 }  // namespace penumbra

@@ -43,4 +43,10 @@ uint32_t momentPlanes(const MomentsConfig& config);  // LVSM: layer count; other
 cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
                          const MomentsConfig& config, Buffer<float>& out);
 
+// 16-bit unorm storage for moments in [0, 1] (LVSM layers): out[outOffset + i] = round(clamp(in[i], 0, 1)
+// * 65535) (to nearest even; NaN -> 0) for i < count; read back as value / 65535. Launch named
+// "moments/moments_pack_unorm16".
+cl::Event packMomentsUnorm16(Context& ctx, const Buffer<float>& in, size_t count, Buffer<cl_ushort>& out,
+                             size_t outOffset = 0);
+
 }  // namespace penumbra

@@ -10,13 +10,27 @@
 
 namespace penumbra {
 
+ParamSpec textParam(std::string name, std::string help, std::string defaultText) {
+  ParamSpec spec{std::move(name), 0, 0, 0, std::move(help)};
+  spec.text = true;
+  spec.textDefault = std::move(defaultText);
+  return spec;
+}
+
 Params::Params(const std::vector<ParamSpec>& specs) : specs_(specs) {
-  for (const ParamSpec& spec : specs_) values_[spec.name] = spec.defaultValue;
+  for (const ParamSpec& spec : specs_) {
+    values_[spec.name] = spec.defaultValue;
+    if (spec.text) texts_[spec.name] = spec.textDefault;
+  }
 }
 
 void Params::set(const std::string& name, const std::string& text) {
   auto spec = std::find_if(specs_.begin(), specs_.end(), [&](const ParamSpec& s) { return s.name == name; });
   if (spec == specs_.end()) throw std::invalid_argument(fmt::format("unknown parameter '{}'", name));
+  if (spec->text) {
+    texts_[name] = text;
+    return;
+  }
   if (!spec->choices.empty()) {
     auto choice = std::find(spec->choices.begin(), spec->choices.end(), text);
     if (choice == spec->choices.end())
@@ -45,11 +59,21 @@ double Params::get(const std::string& name) const {
   return it->second;
 }
 
+const std::string& Params::getText(const std::string& name) const {
+  auto it = texts_.find(name);
+  if (it == texts_.end()) throw std::out_of_range(fmt::format("text parameter '{}' is not declared", name));
+  return it->second;
+}
+
 std::string Params::describe() const {
   std::string text;
   for (const ParamSpec& spec : specs_) {
     if (!text.empty()) text += ' ';
     const double value = values_.at(spec.name);
+    if (spec.text) {
+      text += fmt::format("{}={}", spec.name, texts_.at(spec.name));
+      continue;
+    }
     text += spec.choices.empty() ? fmt::format("{}={}", spec.name, value)
                                  : fmt::format("{}={}", spec.name, spec.choices.at(static_cast<size_t>(value)));
   }

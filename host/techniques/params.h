@@ -14,7 +14,12 @@ struct ParamSpec {
   double min, max;      // inclusive valid range
   std::string help;
   std::vector<std::string> choices = {};  // non-empty: a named choice ("uniform", "adaptive")
+  bool text = false;                      // a free-form text value (a list such as "0.2,0.5"), see textParam
+  std::string textDefault = {};
 };
+
+// A text parameter: stored verbatim, validated by the technique that reads it (Params::getText).
+ParamSpec textParam(std::string name, std::string help, std::string defaultText = {});
 
 // Values by name, validated against their specs.
 class Params {
@@ -27,11 +32,13 @@ class Params {
   void set(const std::string& name, const std::string& text);
   double get(const std::string& name) const;  // throws std::out_of_range for an undeclared name
   int getInt(const std::string& name) const { return static_cast<int>(get(name)); }
+  const std::string& getText(const std::string& name) const;  // a text parameter's value
   std::string describe() const;  // "bias=0.002 pcf-radius=2", for provenance
 
  private:
   std::vector<ParamSpec> specs_;
   std::map<std::string, double> values_;
+  std::map<std::string, std::string> texts_;
 };
 
 }  // namespace penumbra

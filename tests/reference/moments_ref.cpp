@@ -82,4 +82,9 @@ std::vector<double> moments(const std::vector<float>& depth, const MomentsConfig
   return out;
 }
 
+int unorm16(double x) {
+  if (std::isnan(x)) return 0;
+  return static_cast<int>(std::lround(std::min(1.0, std::max(0.0, x)) * 65535.0));
+}
+
 }  // namespace penumbra::ref

@@ -18,4 +18,7 @@ std::vector<double> moments(const std::vector<float>& depth, const MomentsConfig
 void msmEncode(double d, double out[4]);
 void msmDecode(const double q[4], double out[4]);
 
+// 16-bit unorm code of a moment: x clamped to [0, 1] times 65535, rounded to nearest; NaN -> 0.
+int unorm16(double x);
+
 }  // namespace penumbra::ref

@@ -1,0 +1,220 @@
+// `lvsm`: layered variance shadow maps (Lauritzen & McCool, GI 2008). Plans the splits (uniform, manual, or
+// Lloyd relaxation, sec. 4; optionally the layer count from the leak metric), then per layer: the eq. 6
+// warped moments (host/stages/moments.h), blur and mips, stored fp32 or 16-bit unorm (sec. 5); then one
+// lookup per pixel in the receiver's layer (kernels/lvsm.cl). One layer is `vsm`.
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+#include "host/cl/kernel.h"
+#include "host/stages/pyramid.h"
+#include "host/techniques/lvsm_layers.h"
+#include "host/techniques/moment_map.h"
+#include "host/techniques/registry.h"
+
+namespace penumbra {
+namespace {
+
+enum Placement { kUniform = 0, kManual = 1, kLloyd = 2 };
+enum Storage { kFloat32 = 0, kUnorm16 = 1 };
+
+class LayeredVsm final : public Technique {
+ public:
+  explicit LayeredVsm(const Params& params) : params_(params) {
+    if (params.get("lvsm-transition") > params.get("lvsm-overlap"))
+      throw std::invalid_argument(fmt::format("--lvsm-transition {} is larger than --lvsm-overlap {}",
+                                              params.get("lvsm-transition"), params.get("lvsm-overlap")));
+    const std::string& text = params.getText("lvsm-splits");
+    const int placement = params.getInt("lvsm-placement");
+    if (!text.empty()) manual_ = parseSplits(text);
+    if (placement == kManual && text.empty())
+      throw std::invalid_argument("--lvsm-placement manual needs --lvsm-splits");
+    if (!text.empty() && (placement == kUniform || params.getInt("lvsm-layers") == 0))
+      throw std::invalid_argument("--lvsm-splits applies to manual and lloyd placement with a fixed layer count");
+  }
+
+  void render(ShadowFrame& frame, Buffer<float>& visibility) override;
+  void addDebugChannels(Context& ctx, Image& image) override {
+    debug_.addChannels(ctx, image, 2, true, momentTrilinear(params_));
+    image.add("layer.Y", layerIndex_.download(ctx));
+  }
+
+ private:
+  std::vector<float> planSplits(ShadowFrame& frame, LvsmLayout& layout);
+  LvsmLayout layoutFor(const std::vector<float>& splits, bool uniform) const {
+    return lvsmLayout(splits, uniform, static_cast<float>(params_.get("lvsm-overlap")),
+                      static_cast<float>(params_.get("lvsm-transition")),
+                      static_cast<float>(params_.get("min-variance")), static_cast<float>(params_.get("lvsm-leak-gap")));
+  }
+  double leak(ShadowFrame& frame, const LvsmLayout& layout) const {
+    const auto size = static_cast<uint32_t>(params_.getInt("map-size"));
+    return lvsmLeak(frame.ctx, map_.targets.depth, size, size, map_.view.gpu.zNear, map_.view.gpu.zFar, layout);
+  }
+  void buildLayers(Context& ctx, const LvsmLayout& layout);
+  void storeLayer(Context& ctx, const Buffer<float>& src, size_t count, size_t layer, bool mips);
+
+  Params params_;
+  std::vector<float> manual_;
+  ShadowMap map_;
+  Buffer<float> moments_, scratch_, mips_, layers_, layerMips_;
+  Buffer<cl_ushort> layers16_, layerMips16_;
+  Buffer<PyramidLevel> mipLevels_;
+  Buffer<float> layerIndex_;
+  MomentDebug debug_;
+  size_t planeFloats_ = 0, mipFloats_ = 0;
+};
+
+// Splits by the placement parameter; with --lvsm-layers 0 the layer count grows while the leak metric drops
+// by at least --lvsm-auto-gain (relative) and is above 1e-4.
+std::vector<float> LayeredVsm::planSplits(ShadowFrame& frame, LvsmLayout& layout) {
+  const int placement = params_.getInt("lvsm-placement"), layers = params_.getInt("lvsm-layers");
+  std::string how = "uniform", leaks;
+  std::vector<float> splits = !manual_.empty() ? manual_ : uniformSplits(std::max(layers, 1));
+  if (placement == kManual) how = "manual";
+  if (placement == kLloyd) {
+    const auto size = static_cast<uint32_t>(params_.getInt("map-size"));
+    LvsmSamples samples;
+    lloydSamples(frame.ctx, map_.targets.depth, size, size, map_.view.gpu.zNear, map_.view.gpu.zFar,
+                 static_cast<float>(params_.get("min-variance")), samples);
+    LloydConfig config;
+    config.maxIterations = params_.getInt("lvsm-lloyd-iterations");
+    config.tolerance = static_cast<float>(params_.get("lvsm-lloyd-tolerance"));
+    config.teleport = params_.getInt("lvsm-teleport") == 1;
+    LloydResult r = lloydRelax(frame.ctx, samples, splits, config);
+    if (layers == 0) {  // auto: N = 1, 2, ..., each started from N - 1's splits plus one in the heaviest layer
+      const int maxLayers = params_.getInt("lvsm-max-layers");
+      r = LloydResult{uniformSplits(1)};
+      double best = leak(frame, layoutFor(r.splits, false));
+      leaks = fmt::format("N=1:{:.4g}", best);
+      while (static_cast<int>(r.splits.size()) - 1 < maxLayers && best > 1e-4) {
+        std::vector<float> start = r.splits;
+        if (!splitHeaviestLayer(frame.ctx, samples, start)) break;
+        LloydResult next = lloydRelax(frame.ctx, samples, start, config);
+        const double value = leak(frame, layoutFor(next.splits, false));
+        leaks += fmt::format(" N={}:{:.4g}", next.splits.size() - 1, value);
+        if (value > (1.0 - params_.get("lvsm-auto-gain")) * best) break;
+        r = next, best = value;
+      }
+    }
+    splits = r.splits;
+    how = fmt::format("lloyd iterations={} teleports={} last-move={:.3g} {}", r.iterations, r.teleports, r.lastMove,
+                      r.converged ? "converged" : "stopped");
+  }
+  layout = layoutFor(splits, placement == kUniform);
+  const double finalLeak = leak(frame, layout);
+  frame.attributes["penumbra:lvsm-splits"] = formatSplits(splits);
+  frame.attributes["penumbra:lvsm-placement"] = how;
+  frame.attributes["penumbra:lvsm-leak"] =
+      leaks.empty() ? fmt::format("{:.6g}", finalLeak) : fmt::format("{:.6g} ({})", finalLeak, leaks);
+  std::string intervals;
+  for (uint32_t i = 0; i < layout.count; ++i)
+    intervals += fmt::format("{}[{:.6g},{:.6g}]", i ? " " : "", layout.layer[2 * i], layout.layer[2 * i + 1]);
+  frame.attributes["penumbra:lvsm-layers"] = intervals;
+  return splits;
+}
+
+// Into layer `layer`'s slot of the fp32 or unorm16 layer (or mip) buffer.
+void LayeredVsm::storeLayer(Context& ctx, const Buffer<float>& src, size_t count, size_t layer, bool mips) {
+  const size_t offset = layer * (mips ? mipFloats_ : planeFloats_);
+  if (params_.getInt("lvsm-storage") == kUnorm16) {
+    packMomentsUnorm16(ctx, src, count, mips ? layerMips16_ : layers16_, offset);
+    return;
+  }
+  cl::Event event;
+  clCheck(ctx.queue().enqueueCopyBuffer(src.get(), (mips ? layerMips_ : layers_).get(), 0, offset * sizeof(float),
+                                        count * sizeof(float), nullptr, &event),
+          "clEnqueueCopyBuffer", "lvsm_store_layer", "lvsm");
+  if (ctx.profiler() != nullptr) ctx.profiler()->record("lvsm/store_layer", event);
+}
+
+// Per layer (sec. 5): warped moments, blur, mips, storage.
+void LayeredVsm::buildLayers(Context& ctx, const LvsmLayout& layout) {
+  const auto size = static_cast<uint32_t>(params_.getInt("map-size"));
+  const ImageShape shape{size, size, 2};
+  const bool trilinear = momentTrilinear(params_), unorm = params_.getInt("lvsm-storage") == kUnorm16;
+  const PyramidLayout pyramid = pyramidLayout(size, size, 1);
+  planeFloats_ = shape.count();
+  mipFloats_ = trilinear ? pyramid.texels * 2 : 0;
+  const size_t n = layout.count;
+  moments_.allocate(ctx, shape.count());
+  scratch_.allocate(ctx, params_.getInt("blur-radius") > 0 ? shape.count() : 0);
+  mips_.allocate(ctx, mipFloats_);
+  layers_.allocate(ctx, unorm ? 0 : n * planeFloats_);
+  layerMips_.allocate(ctx, unorm ? 0 : n * mipFloats_);
+  layers16_.allocate(ctx, unorm ? n * planeFloats_ : 0);
+  layerMips16_.allocate(ctx, unorm ? n * mipFloats_ : 0);
+  mipLevels_.allocate(ctx, trilinear ? pyramid.levels.size() : 0, CL_MEM_READ_ONLY);
+  if (trilinear) mipLevels_.upload(ctx, std::span<const PyramidLevel>(pyramid.levels));
+  MomentsConfig config;
+  config.kind = MomentKind::Lvsm;
+  config.depthNear = map_.view.gpu.zNear;
+  config.depthFar = map_.view.gpu.zFar;
+  for (size_t i = 0; i < n; ++i) {
+    config.layers = {{layout.layer[2 * i], layout.layer[2 * i + 1]}};
+    computeMoments(ctx, map_.targets.depth, size, size, config, moments_);
+    if (params_.getInt("blur-radius") > 0) blur(ctx, moments_, moments_, scratch_, shape, momentBlurConfig(params_));
+    storeLayer(ctx, moments_, planeFloats_, i, false);
+    if (!trilinear) continue;
+    computeMomentMips(ctx, moments_, shape, mips_);
+    storeLayer(ctx, mips_, mipFloats_, i, true);
+  }
+}
+
+void LayeredVsm::render(ShadowFrame& frame, Buffer<float>& visibility) {
+  Context& ctx = frame.ctx;
+  renderShadowMap(frame, params_, map_, momentBlurReach(params_));
+  LvsmLayout layout;
+  planSplits(frame, layout);
+  buildLayers(ctx, layout);
+  layout.planeFloats = static_cast<uint32_t>(planeFloats_);
+  layout.mipFloats = static_cast<uint32_t>(mipFloats_);
+  Buffer<LvsmLayout> layoutBuffer(ctx, std::span<const LvsmLayout>(&layout, 1), CL_MEM_READ_ONLY);
+
+  MomentShade shade = momentShade(frame, map_, params_, 2);
+  setChebyshevShade(params_, shade);
+  shade.levels = static_cast<uint32_t>(mipLevels_.size()) + 1;
+  shade.blurSigma = params_.getInt("blur-radius") > 0 ? momentBlurConfig(params_).sigma : 0.0f;
+  const GBuffer& g = frame.gbuffer;
+  const size_t pixels = size_t(shade.width) * shade.height;
+  debug_.allocate(ctx, pixels);
+  layerIndex_.allocate(ctx, pixels);
+  const bool unorm = params_.getInt("lvsm-storage") == kUnorm16;
+  Kernel kernel(ctx, "kernels/lvsm.cl", "lvsm_visibility", "shade", unorm ? "-DLVSM_UNORM16" : "");
+  if (unorm)
+    kernel.args(g.position, g.normal, map_.gpu, layers16_, layerMips16_, mipLevels_, shade, layoutBuffer, visibility,
+                debug_.moments, debug_.stats, layerIndex_);
+  else
+    kernel.args(g.position, g.normal, map_.gpu, layers_, layerMips_, mipLevels_, shade, layoutBuffer, visibility,
+                debug_.moments, debug_.stats, layerIndex_);
+  kernel.launch(pixels, kPixelGroup);
+}
+
+std::vector<ParamSpec> lvsmParams() {
+  std::vector<ParamSpec> p = chebyshevParams();
+  p.push_back({"lvsm-layers", 4, 0, MOMENTS_MAX_LAYERS, "LVSM layers N; 0 = auto (grow while the leak metric drops)"});
+  p.push_back({"lvsm-placement", kLloyd, 0, 2, "LVSM split placement", {"uniform", "manual", "lloyd"}});
+  p.push_back(textParam("lvsm-splits",
+                        "LVSM interior splits in normalised light depth, e.g. 0.2,0.5 (sets N); manual placement, "
+                        "or Lloyd's starting point"));
+  p.push_back({"lvsm-overlap", 0.01, 0, 0.25, "LVSM layer overlap delta (normalised depth, sec. 3.4)"});
+  p.push_back({"lvsm-transition", 0.005, 0, 0.25,
+               "LVSM blend half-width around each split (normalised depth, <= overlap); 0 = off"});
+  p.push_back({"lvsm-storage", kFloat32, 0, 1, "LVSM layer storage", {"float32", "unorm16"}});
+  p.push_back({"lvsm-lloyd-iterations", 16, 1, 256, "Lloyd relaxation: most iterations"});
+  p.push_back({"lvsm-lloyd-tolerance", 1e-3, 0, 1, "Lloyd relaxation: stop when no split moves farther"});
+  p.push_back({"lvsm-teleport", 1, 0, 1, "Lloyd relaxation: teleport the splits of empty clusters", {"off", "on"}});
+  p.push_back({"lvsm-max-layers", 8, 1, MOMENTS_MAX_LAYERS, "Auto layer count: most layers"});
+  p.push_back({"lvsm-auto-gain", 0.25, 0, 1, "Auto layer count: keep a layer only if it cuts the leak by this fraction"});
+  p.push_back({"lvsm-leak-gap", 0.05, 0.001, 1,
+               "Leak metric: receiver distance behind the farthest occluder (normalised depth)"});
+  return p;
+}
+
+}  // namespace
+
+TechniqueInfo lvsmTechnique() {
+  return {"lvsm", "Layered variance shadow maps: the depth range split into warped VSM layers (Lloyd-placed)",
+          filteredMomentParams(lvsmParams()), [](const Params& p) { return std::make_unique<LayeredVsm>(p); }};
+}
+
+}  // namespace penumbra
