@@ -1,0 +1,62 @@
+// `pssm`: parallel-split shadow maps (Zhang et al. 2006; Lauritzen, "Parallel-Split Variance Shadow Maps"; Luksch
+// sec. 7), hard or PCF per split: one map per split drawn into an atlas, then kernels/pssm.cl.
+#include "host/cl/kernel.h"
+#include "host/techniques/registry.h"
+#include "host/techniques/split_maps.h"
+
+namespace penumbra {
+namespace {
+
+enum FilterChoice { kPcf = 0, kHard = 1 };
+
+class ParallelSplit final : public Technique {
+ public:
+  explicit ParallelSplit(const Params& params) : params_(params) {}
+
+  void render(ShadowFrame& frame, Buffer<float>& visibility) override {
+    Context& ctx = frame.ctx;
+    const bool hard = params_.getInt("pssm-filter") == kHard;
+    const int radius = hard ? 0 : params_.getInt("pcf-radius");
+    SplitPlan plan = planSplits(frame, params_, static_cast<float>(radius));
+    const size_t texels = static_cast<size_t>(params_.getInt("map-size")) * params_.getInt("map-size");
+    atlas_.allocate(ctx, plan.views.size() * texels);
+    drawSplits(frame, plan, targets_, [&](size_t s, const Buffer<float>& depth) {
+      copyInto(ctx, depth, atlas_, s * texels, texels);
+    });
+    gpu_.upload(ctx, frame, plan, params_);
+    gpu_.shade.radius = radius;
+    recordSplits(frame, plan);
+
+    const GBuffer& g = frame.gbuffer;
+    const size_t pixels = static_cast<size_t>(g.width) * g.height;
+    aovs_.allocate(ctx, pixels);
+    Kernel kernel(ctx, "kernels/pssm.cl", "pssm_visibility", "shade");
+    kernel
+        .args(g.position, g.normal, g.depth, atlas_, gpu_.views, gpu_.splits, gpu_.shade, visibility, aovs_.split,
+              aovs_.resolutionError)
+        .launch(pixels, kPixelGroup);
+  }
+
+  void addDebugChannels(Context& ctx, Image& image) override { aovs_.addChannels(ctx, image); }
+
+ private:
+  Params params_;
+  RasterTargets targets_;
+  Buffer<float> atlas_;
+  SplitGpu gpu_;
+  SplitAovs aovs_;
+};
+
+}  // namespace
+
+TechniqueInfo pssmTechnique() {
+  std::vector<ParamSpec> params = shadowMapParams();
+  params.push_back({"pssm-filter", kPcf, 0, 1, "Per-split lookup: PCF over --pcf-radius, or one hard comparison",
+                    {"pcf", "hard"}});
+  params.push_back({"pcf-radius", 2, 0, 16, "PCF kernel radius r in texels: (2r+1)^2 bilinear taps"});
+  for (const ParamSpec& spec : splitParams()) params.push_back(spec);
+  return {"pssm", "Parallel-split shadow maps, hard or PCF per split (uniform/log/practical/auto splits)", params,
+          [](const Params& p) { return std::make_unique<ParallelSplit>(p); }};
+}
+
+}  // namespace penumbra

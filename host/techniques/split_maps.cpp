@@ -1,0 +1,171 @@
+// Split planning, per-split light views, device constants and AOVs for pssm and psvsm.
+#include "host/techniques/split_maps.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace penumbra {
+namespace {
+
+enum SplitCountChoice { kAutoSplits = 0 };  // choice k > 0 is k splits
+enum SnapChoice { kSnapOff = 0, kSnapOn = 1 };
+
+std::vector<std::string> splitCountChoices() {
+  std::vector<std::string> choices = {"auto"};
+  for (int k = 1; k <= PSSM_MAX_SPLITS; ++k) choices.push_back(std::to_string(k));
+  return choices;
+}
+
+// World width of one texel of `view` (spot: at the light depth `depth`).
+float texelWorld(const LightView& view, float depth) {
+  return view.gpu.kind == LIGHT_KIND_SPOT ? view.gpu.texelScale * depth : view.gpu.texelScale;
+}
+
+struct SplitFit {
+  const ShadowFrame& frame;
+  ReceiverBounds receivers;  // what splits are cropped to: the visible receivers, or everything (fit=scene)
+  glm::mat4 lightEye;
+  int size;
+  float margin;
+  bool snap;
+
+  LightView view(float near, float far) const {
+    const ReceiverBounds box = sliceBounds(frame.light, lightEye, frustumSliceCorners(frame.camera, near, far), receivers);
+    return fitLightView(frame.light, frame.scene.bounds(), size, box.empty ? &frame.receivers : &box, margin, snap);
+  }
+};
+
+// Luksch sec. 7.2 with eq. 12's width measured: sigma is the far split's light-space width (the map's world extent,
+// margin included) over the camera's width 2 d tan(alpha / 2) at its far plane d, from a first guess sigma = 1.
+float autoFactor(const SplitFit& fit, float near, float far, float rho, std::string& how) {
+  const Camera& camera = fit.frame.camera;
+  const float res = static_cast<float>(camera.width);
+  const float widthPerDepth = 2.0f * std::tan(glm::radians(camera.fovYDeg) * 0.5f) * camera.aspect();
+  float factor = optimalTilingFactor(res, 1.0f, rho, fit.size), sigma = 1.0f;
+  if (factor < 1.0f) {
+    const LightView last = fit.view(std::max(near, factor * far), far);
+    const float depth = fit.frame.light.type == LightType::Spot ? last.gpu.zFar : 0.0f;
+    sigma = std::max(texelWorld(last, depth) * static_cast<float>(fit.size) / (widthPerDepth * far), 1e-3f);
+    factor = optimalTilingFactor(res, sigma, rho, fit.size);
+  }
+  how = fmt::format("auto (eq. 15 factor {:.4g}, sigma {:.4g}, rho {:.4g})", factor, sigma, rho);
+  return factor;
+}
+
+}  // namespace
+
+std::vector<ParamSpec> splitParams() {
+  return {
+      {"pssm-splits", 4, 0, PSSM_MAX_SPLITS,
+       "Parallel splits: a count, or auto (Luksch's optimal tiling up to --pssm-max-splits)", splitCountChoices()},
+      {"pssm-scheme", static_cast<double>(SplitScheme::Practical), 0, 2, "Split distances for a fixed count",
+       {"uniform", "logarithmic", "practical"}},
+      {"pssm-lambda", 0.75, 0, 1, "Practical scheme: lambda C_log + (1 - lambda) C_uniform (1 = logarithmic)"},
+      {"pssm-max-splits", 8, 1, PSSM_MAX_SPLITS, "Most splits the auto scheme may use"},
+      {"pssm-rho", 1.0, 0.05, 16, "Auto scheme: pixels per shadow-map texel allowed at a split's near plane"},
+      {"pssm-snap", kSnapOff, 0, 1, "Snap each split's map to whole texels (stable under camera motion)",
+       {"off", "on"}},
+      {"pssm-blend", 0.0, 0, 0.5, "Blend band: fraction of a split's depth range faded into the next; 0 = off"},
+  };
+}
+
+SplitPlan planSplits(ShadowFrame& frame, const Params& params, float marginTexels) {
+  SplitPlan plan;
+  ReceiverBounds everything;
+  everything.empty = false;
+  everything.lo = glm::vec2(-INFINITY), everything.hi = glm::vec2(INFINITY);
+  everything.depthMax = INFINITY;
+  const bool toReceivers = params.getInt("fit") == 1;
+  const SplitFit fit{frame, toReceivers ? frame.receivers : everything, lightEyeMatrix(frame.light, frame.scene.bounds()),
+                     params.getInt("map-size"), marginTexels, params.getInt("pssm-snap") == kSnapOn};
+  // The tight view-depth range of what the camera sees, widened a little so the extreme pixels are inside.
+  const GBuffer& g = frame.gbuffer;
+  const DepthRange range = reduceDepthRange(frame.ctx, g.depth, static_cast<size_t>(g.width) * g.height);
+  float near = 1.0f, far = 2.0f;
+  if (range.min <= range.max && range.max > 0.0f) {
+    far = range.max * 1.001f;
+    near = std::clamp(range.min * 0.999f, far * 1e-5f, far * 0.999f);
+  }
+  const int count = params.getInt("pssm-splits");
+  const float lambda = static_cast<float>(params.get("pssm-lambda"));
+  if (count == kAutoSplits) {
+    const float factor = autoFactor(fit, near, far, static_cast<float>(params.get("pssm-rho")), plan.scheme);
+    plan.distances = autoSplitDistances(near, far, factor, params.getInt("pssm-max-splits"), lambda);
+  } else {
+    const auto scheme = static_cast<SplitScheme>(params.getInt("pssm-scheme"));
+    plan.distances = splitDistances(scheme, count, near, far, lambda);
+    static const char* kNames[] = {"uniform", "logarithmic", "practical"};
+    plan.scheme = fmt::format("{}{}", kNames[static_cast<int>(scheme)],
+                              scheme == SplitScheme::Practical ? fmt::format(" (lambda {})", lambda) : "");
+  }
+  for (size_t s = 0; s + 1 < plan.distances.size(); ++s)
+    plan.views.push_back(fit.view(plan.distances[s], plan.distances[s + 1]));
+  return plan;
+}
+
+void copyInto(Context& ctx, const Buffer<float>& src, Buffer<float>& dst, size_t offset, size_t count) {
+  if (offset + count > dst.size() || count > src.size()) throw std::out_of_range("copyInto past the end");
+  cl::Event event;
+  clCheck(ctx.queue().enqueueCopyBuffer(src.get(), dst.get(), 0, offset * sizeof(float), count * sizeof(float),
+                                        nullptr, &event),
+          "clEnqueueCopyBuffer", {}, "transfer");
+  if (ctx.profiler() != nullptr) ctx.profiler()->record("transfer/copy", event, 2 * count * sizeof(float));
+}
+
+void SplitGpu::upload(Context& ctx, const ShadowFrame& frame, const SplitPlan& plan, const Params& params,
+                      float blurSigma) {
+  const size_t m = plan.views.size();
+  std::vector<LightViewGpu> gpu;
+  host.assign(m, PssmSplit{});
+  for (size_t s = 0; s < m; ++s) {
+    const LightViewGpu& v = plan.views[s].gpu;
+    gpu.push_back(v);
+    PssmSplit& split = host[s];
+    split.nearDistance = plan.distances[s];
+    split.farDistance = plan.distances[s + 1];
+    // Lauritzen step 2d: filter sizes scale with the zoom; texel sizes compared per unit depth for spot lights.
+    split.filterScale = plan.views[0].gpu.texelScale / v.texelScale;
+    split.blurSigma = blurSigma * split.filterScale;
+    split.depthNear = v.zNear;
+    split.depthInvRange = 1.0f / (v.zFar - v.zNear);
+  }
+  const int size = params.getInt("map-size");
+  const BiasArgs bias = biasArgs(params);
+  shade = PssmShade{};
+  shade.width = static_cast<uint32_t>(frame.gbuffer.width);
+  shade.height = static_cast<uint32_t>(frame.gbuffer.height);
+  shade.splits = static_cast<uint32_t>(m);
+  shade.mapTexels = static_cast<uint32_t>(size) * static_cast<uint32_t>(size);
+  shade.blend = static_cast<float>(params.get("pssm-blend"));
+  shade.bias = bias.constant, shade.slopeBias = bias.slope, shade.normalOffset = bias.normalOffset;
+  views.allocate(ctx, m, CL_MEM_READ_ONLY);
+  views.upload(ctx, std::span<const LightViewGpu>(gpu));
+  splits.allocate(ctx, m, CL_MEM_READ_ONLY);
+  splits.upload(ctx, std::span<const PssmSplit>(host));
+}
+
+void SplitAovs::allocate(Context& ctx, size_t pixels) {
+  split.allocate(ctx, pixels);
+  resolutionError.allocate(ctx, pixels);
+}
+
+void SplitAovs::addChannels(Context& ctx, Image& image) const {
+  image.add("split.Y", split.download(ctx));
+  image.add("resolutionError.Y", resolutionError.download(ctx));
+}
+
+void recordSplits(ShadowFrame& frame, const SplitPlan& plan) {
+  std::string distances, fits;
+  for (float d : plan.distances) distances += fmt::format("{}{:.6g}", distances.empty() ? "" : " ", d);
+  for (const LightView& v : plan.views)
+    fits += fmt::format("{}{}x{} texel {:.4g}{} depth {:.6g}..{:.6g}", fits.empty() ? "" : "; ", v.gpu.width,
+                        v.gpu.height, v.gpu.texelScale, v.gpu.kind == LIGHT_KIND_SPOT ? "/depth" : "", v.gpu.zNear,
+                        v.gpu.zFar);
+  frame.attributes["penumbra:pssm-distances"] = distances;
+  frame.attributes["penumbra:pssm-scheme"] = fmt::format("{}, {} splits", plan.scheme, plan.views.size());
+  frame.attributes["penumbra:light-fit"] = fits;
+}
+
+}  // namespace penumbra

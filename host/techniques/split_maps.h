@@ -1,0 +1,72 @@
+// The parallel splits shared by pssm and psvsm: parameters, the plan (split distances by scheme or Luksch's
+// automatic tiling, one light view per split cropped to its frustum slice), the per-split shadow maps drawn into
+// one atlas buffer, the per-pixel AOVs (split index, resolution error) and the provenance in the EXR header.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "host/cl/buffer.h"
+#include "host/pipeline/splits.h"
+#include "host/techniques/shadow_map.h"
+#include "kernels/shared/pssm.h"
+
+namespace penumbra {
+
+// pssm-splits, pssm-scheme, pssm-lambda, pssm-max-splits, pssm-rho, pssm-snap, pssm-blend.
+std::vector<ParamSpec> splitParams();
+
+struct SplitPlan {
+  std::vector<float> distances;  // C_0 .. C_m, camera view depth
+  std::vector<LightView> views;  // one per split
+  std::string scheme;            // how the distances were chosen, for the header
+};
+
+// Distances from the tight camera depth range of the G-buffer (a min/max reduction, as sample-distribution shadow
+// maps do) and each split's light view: the minimum bounding square of its frustum slice in light space (crop),
+// intersected with the visible receivers and the scene, widened by `marginTexels` (the filter's reach), optionally
+// snapped; the near plane stays at the nearest caster in the scene (every caster towards the light is kept).
+SplitPlan planSplits(ShadowFrame& frame, const Params& params, float marginTexels);
+
+// Copies `count` elements of `src` into `dst` at element `offset` (one "transfer/copy" pass).
+void copyInto(Context& ctx, const Buffer<float>& src, Buffer<float>& dst, size_t offset, size_t count);
+
+// Draws every split's depth map (split s into `targets`, then tightens its zNear to the nearest caster drawn) and
+// hands it to `each(s, depth)` before the next split reuses the targets.
+template <class Each>
+void drawSplits(ShadowFrame& frame, SplitPlan& plan, RasterTargets& targets, Each&& each);
+
+// The kernels' per-split constants, the shared shade arguments and the light views on the device.
+struct SplitGpu {
+  Buffer<LightViewGpu> views;
+  Buffer<PssmSplit> splits;
+  std::vector<PssmSplit> host;
+  PssmShade shade{};
+  // `blurSigma`: the moment blur's standard deviation in texels of split 0 (psvsm; 0 for pssm).
+  void upload(Context& ctx, const ShadowFrame& frame, const SplitPlan& plan, const Params& params,
+              float blurSigma = 0.0f);
+};
+
+// Split index and resolution error AOVs of the last render ("split.Y", "resolutionError.Y").
+struct SplitAovs {
+  Buffer<float> split, resolutionError;
+  void allocate(Context& ctx, size_t pixels);
+  void addChannels(Context& ctx, Image& image) const;
+};
+
+// "penumbra:pssm-distances", "penumbra:pssm-scheme", "penumbra:light-fit" (one entry per split).
+void recordSplits(ShadowFrame& frame, const SplitPlan& plan);
+
+template <class Each>
+void drawSplits(ShadowFrame& frame, SplitPlan& plan, RasterTargets& targets, Each&& each) {
+  for (size_t s = 0; s < plan.views.size(); ++s) {
+    LightView& view = plan.views[s];
+    frame.raster.draw(view.raster, targets);
+    const size_t texels = static_cast<size_t>(view.raster.width) * static_cast<size_t>(view.raster.height);
+    const DepthRange drawn = reduceDepthRange(frame.ctx, targets.depth, texels);
+    if (drawn.min > view.gpu.zNear && drawn.min < view.gpu.zFar) view.gpu.zNear = drawn.min;
+    each(s, targets.depth);
+  }
+}
+
+}  // namespace penumbra
