@@ -1,31 +1,62 @@
-// Percentage-closer filtering (Reeves et al. 1987): the fraction of depth comparisons that pass over a
-// (2r+1)^2 grid of bilinear-weighted taps around the receiver; the depth bias grows with the tap offset
-// (slope-scaled) so tilted planar receivers do not shadow themselves.
+// Percentage-closer filtering (Reeves et al., "Rendering Antialiased Shadows with Depth Maps", SIGGRAPH
+// 1987): the fraction of bilinear-weighted depth comparisons that pass over a kernel around the receiver.
+// - Taps: a (2r+1)^2 grid, or `poissonTaps` points of a Poisson disk (Mitchell's best candidate, host side)
+//   rotated per pixel by interleaved gradient noise (Jimenez, "Next Generation Post Processing in Call of
+//   Duty: Advanced Warfare", SIGGRAPH 2014 course) so the banding of a fixed pattern becomes fine noise.
+// - Adaptive size: the kernel's half-width grows to half the pixel's footprint in the map (from neighbouring
+//   G-buffer pixels: OpenCL has no ddx/ddy), so minified shadows are filtered over what the pixel covers;
+//   the tap count stays fixed, their spacing grows.
+// - Bias: receiver-plane depth bias (Isidoro, GDC 2006; sc_receiver_plane) where the receiver's plane is
+//   known from its neighbours, else the slope-scaled bias growing with the tap offset.
 #include "kernels/shared/shadow_common.h"
 
-__kernel void pcf_visibility(__global const float4* position, __global const float4* normal, uint count,
+// Rotation angle in [0, 2 pi) per pixel: interleaved gradient noise of the pixel coordinates.
+inline float pcf_frac(float v) { return v - floor(v); }  // OpenCL C's fract() needs an out-pointer
+
+inline float pcf_rotation(uint x, uint y) {
+  return 6.2831853f * pcf_frac(52.9829189f * pcf_frac(0.06711056f * (float)x + 0.00583715f * (float)y));
+}
+
+__kernel void pcf_visibility(__global const float4* position, __global const float4* normal, uint width, uint height,
                              __global const float* map, __constant const LightViewGpu* lv, float biasConstant,
-                             float biasSlope, float normalOffset, int radius, __global float* visibility) {
+                             float biasSlope, float normalOffset, int radius, int receiverPlane, int adaptive,
+                             float maxRadius, int poissonTaps, __global const float2* poisson,
+                             __global float* filterOut, __global float* visibility) {
   uint i = get_global_id(0);
-  if (i >= count) return;
+  if (i >= width * height) return;
   float4 p = position[i];
-  if (p.w == 0.0f) {
-    visibility[i] = 1.0f;
-    return;
-  }
+  visibility[i] = 1.0f;
+  filterOut[i] = 0.0f;
+  if (p.w == 0.0f) return;
   ShadowBias bias = {biasConstant, biasSlope, normalOffset};
-  Receiver r = sc_receiver(lv, p.xyz, normal[i].xyz, bias);
-  if (!r.valid) {
-    visibility[i] = 1.0f;
-    return;
-  }
+  float3 n = normal[i].xyz;
+  Receiver r = sc_receiver(lv, p.xyz, n, bias);
+  if (!r.valid) return;
+  Footprint f = sc_footprint(position, lv, width, height, i, p.xyz, n);
+  ReceiverPlane rp;
+  rp.valid = 0;
+  if (receiverPlane) rp = sc_receiver_plane(f, r.texel);
+  const float planeBias = biasConstant * r.texel;
+  // Half-width of the kernel in texels.
+  float reach = (float)radius;
+  if (adaptive) reach = min(max(reach, 0.5f * sc_footprint_texels(f)), maxRadius);
+  filterOut[i] = reach;
   float sum = 0.0f;
-  for (int dy = -radius; dy <= radius; ++dy)
-    for (int dx = -radius; dx <= radius; ++dx) {
-      float offset = sqrt((float)(dx * dx + dy * dy));
-      float depth = r.depth - r.bias - r.biasSlope * offset;
-      sum += sc_compare_bilinear(map, lv->width, lv->height, r.uv + (float2)(dx, dy), depth);
+  int taps = 0;
+  if (poissonTaps > 0) {
+    float angle = pcf_rotation(i % width, i / width);
+    float2 cs = (float2)(cos(angle), sin(angle));
+    for (int k = 0; k < poissonTaps; ++k) {
+      float2 d = poisson[k];
+      float2 offset = reach * (float2)(cs.x * d.x - cs.y * d.y, cs.y * d.x + cs.x * d.y);
+      sum += sc_tap(map, lv, r, rp, planeBias, offset);
     }
-  float taps = (float)((2 * radius + 1) * (2 * radius + 1));
-  visibility[i] = sum / taps;
+    taps = poissonTaps;
+  } else {
+    float step = radius > 0 ? reach / (float)radius : 0.0f;
+    for (int dy = -radius; dy <= radius; ++dy)
+      for (int dx = -radius; dx <= radius; ++dx) sum += sc_tap(map, lv, r, rp, planeBias, step * (float2)(dx, dy));
+    taps = (2 * radius + 1) * (2 * radius + 1);
+  }
+  visibility[i] = sum / (float)taps;
 }

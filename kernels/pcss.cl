@@ -25,18 +25,20 @@ inline float pcss_blocker_depth(__global const float* map, __constant const Ligh
   return found > 0 ? sum / (float)found : 0.0f;
 }
 
-__kernel void pcss_visibility(__global const float4* position, __global const float4* normal, uint count,
+__kernel void pcss_visibility(__global const float4* position, __global const float4* normal, uint width,
+                              uint height,
                               __global const float* map, __constant const LightViewGpu* lv, float biasConstant,
-                              float biasSlope, float normalOffset, int searchTaps, int filterTaps, float maxRadius,
+                              float biasSlope, float normalOffset, int receiverPlane, int searchTaps, int filterTaps, float maxRadius,
                               __global float* blockerOut, __global float* visibility) {
   uint i = get_global_id(0);
-  if (i >= count) return;
+  if (i >= width * height) return;
   float4 p = position[i];
   visibility[i] = 1.0f;
   blockerOut[i] = 0.0f;
   if (p.w == 0.0f) return;
   ShadowBias bias = {biasConstant, biasSlope, normalOffset};
-  Receiver r = sc_receiver(lv, p.xyz, normal[i].xyz, bias);
+  float3 n = normal[i].xyz;
+  Receiver r = sc_receiver(lv, p.xyz, n, bias);
   if (!r.valid) return;
   // The light disk seen from the receiver covers, at the near plane, the widest region that can hold blockers.
   float search = clamp(lv_penumbra_texels(lv, r.depth, lv->zNear), 0.5f, maxRadius);
@@ -44,13 +46,16 @@ __kernel void pcss_visibility(__global const float4* position, __global const fl
   blockerOut[i] = blocker;
   if (blocker <= 0.0f) return;  // no blocker: fully lit
   float radius = clamp(lv_penumbra_texels(lv, r.depth, blocker), 0.5f, maxRadius);
+  ReceiverPlane rp;
+  rp.valid = 0;
+  if (receiverPlane) rp = sc_receiver_plane(sc_footprint(position, lv, width, height, i, p.xyz, n), r.texel);
+  const float planeBias = biasConstant * r.texel;
   float sum = 0.0f;
   float step = filterTaps > 1 ? 2.0f * radius / (float)(filterTaps - 1) : 0.0f;
   for (int j = 0; j < filterTaps; ++j)
     for (int k = 0; k < filterTaps; ++k) {
       float2 offset = filterTaps > 1 ? (float2)(-radius + k * step, -radius + j * step) : (float2)(0.0f);
-      float depth = r.depth - r.bias - r.biasSlope * length(offset);
-      sum += sc_compare_bilinear(map, lv->width, lv->height, r.uv + offset, depth);
+      sum += sc_tap(map, lv, r, rp, planeBias, offset);
     }
   visibility[i] = sum / (float)(filterTaps * filterTaps);
 }

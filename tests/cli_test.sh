@@ -90,5 +90,55 @@ expect compare-channel 4 "nope.Y" -- "$bin" compare "$scratch/box.exr" "$scratch
 printf 'not an exr file' >"$scratch/garbage.exr"
 expect compare-garbage 4 "garbage.exr" -- "$bin" compare "$scratch/garbage.exr" "$scratch/ref.exr"
 
+# The compare mask: the reference's lit.Y leaves out pixels facing away from the light; --no-mask counts them.
+expect compare-masked 0 "covered and lit.Y pixels" -- "$bin" compare "$scratch/box.exr" "$scratch/ref.exr"
+expect compare-no-mask 0 "over [0-9]+ covered pixels" -- "$bin" compare "$scratch/box.exr" "$scratch/ref.exr" --no-mask
+expect compare-mask-json 0 '"mask": "lit.Y"' -- "$bin" compare --json "$scratch/box.exr" "$scratch/ref.exr"
+
+# bench: per-pass rows and a total row with metrics (reference traced once and cached beside the CSV).
+bench=("$bin" bench builtin:box --size 48x32 --map-size 64 --spp 4 --runs 2 --warmup 1)
+expect bench-box 0 "wrote .*bench.csv" -- "${bench[@]}" --techniques sm,pcf --sweep pcf-radius=1,2 \
+  -o "$scratch/bench/bench.csv" --json "$scratch/bench/bench.json"
+columns="scene,technique,setting,pass,calls,ms,bytes,floor_ms,mae,rmse,p95,max,off,leak,false_shadow,mean_signed"
+if head -n 1 "$scratch/bench/bench.csv" 2>/dev/null | grep -q "^$columns," &&
+  [ "$(grep -c ',total,' "$scratch/bench/bench.csv")" -eq 3 ] && [ -s "$scratch/bench/bench.reference.exr" ] &&
+  grep -q '"copy_bandwidth_gbps"' "$scratch/bench/bench.json"; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1))
+  echo "FAIL bench-box-csv: columns, 3 total rows (sm, pcf x 2), cached reference or JSON missing"
+  head -n 3 "$scratch/bench/bench.csv" 2>&1 | sed 's/^/    /'
+fi
+cp "$scratch/bench/bench.csv" "$scratch/box.csv" 2>/dev/null  # the runs below rewrite bench.csv
+expect bench-sweep-skipped 0 "pcf-radius skipped for sm" -- "${bench[@]}" --techniques sm,pcf --sweep pcf-radius=1 \
+  -o "$scratch/bench/bench.csv"
+expect bench-reuses-reference 0 "reusing the reference" -- "${bench[@]}" --techniques sm -o "$scratch/bench/bench.csv"
+expect bench-given-reference 0 "wrote" -- "$bin" bench builtin:box --size 64x48 --map-size 64 --runs 1 --warmup 0 \
+  --techniques sm --reference "$scratch/ref.exr" -o "$scratch/bench/given.csv"
+expect bench-reference-size 1 "64x48" -- "${bench[@]}" --techniques sm --reference "$scratch/ref.exr" \
+  -o "$scratch/bench/x.csv"
+expect bench-bad-sweep 2 "sweep" -- "${bench[@]}" --techniques sm --sweep map-size -o "$scratch/bench/x.csv"
+expect bench-sweep-nobody 2 "pcf-radius" -- "${bench[@]}" --techniques sm --sweep pcf-radius=1 -o "$scratch/bench/x.csv"
+expect bench-bad-value 2 "map-size" -- "${bench[@]}" --techniques sm --sweep map-size=1,2 -o "$scratch/bench/x.csv"
+expect bench-bad-technique 2 "unknown technique 'nope'" -- "${bench[@]}" --techniques sm,nope -o "$scratch/bench/x.csv"
+expect bench-bad-runs 2 "runs" -- "${bench[@]}" --techniques sm --runs 0 -o "$scratch/bench/x.csv"
+
+# The chart and table scripts on bench's CSV (Debian's python3-matplotlib; scripts/setup.sh installs it).
+python=$([ -x /usr/bin/python3 ] && echo /usr/bin/python3 || echo python3)
+tools=$(cd "$(dirname "$0")/../tools" && pwd)
+if "$python" -c "import matplotlib" 2>/dev/null; then
+  expect chart 0 "wrote .*box.png" -- "$python" "$tools/chart.py" "$scratch/charts" "$scratch/box.csv"
+  if [ -s "$scratch/charts/box.png" ] && [ -s "$scratch/charts/box.svg" ]; then
+    passed=$((passed + 1))
+  else
+    failed=$((failed + 1))
+    echo "FAIL chart-files: $scratch/charts/box.png or .svg missing"
+  fi
+else
+  echo "SKIP chart: matplotlib is missing for $python (apt-get install python3-matplotlib)"
+fi
+expect accuracy-table 0 "wrote" -- "$python" "$tools/accuracy_table.py" "$scratch/accuracy.md" "$scratch/box.csv"
+expect accuracy-table-row 0 "^\| pcf \| pcf-radius=1 \|" -- cat "$scratch/accuracy.md"
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

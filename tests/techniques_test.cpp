@@ -95,7 +95,8 @@ TEST_P(Techniques, NoNanAndVisibilityInRangeOnEveryBuiltinScene) {
 }
 
 INSTANTIATE_TEST_SUITE_P(All, Techniques,
-                         ::testing::Values("sm", "pcf", "pcss", "vsm", "evsm2", "evsm4", "esm", "msm", "savsm"));
+                         ::testing::Values("sm", "pcf", "pcss", "vsm", "evsm2", "evsm4", "esm", "msm", "savsm",
+                                           "lvsm"));
 
 }  // namespace
 }  // namespace penumbra

@@ -25,7 +25,8 @@ cl_float4 row(const glm::mat4& m, int r) { return {{m[0][r], m[1][r], m[2][r], m
 
 }  // namespace
 
-glm::mat4 lightEyeMatrix(const Light& light, const Bounds& scene) {
+glm::mat4 lightEyeMatrix(const Light& light, const Bounds& sceneBounds) {
+  const Bounds scene = sceneBounds.orUnit();
   const glm::vec3 axis = light.axis();
   if (light.type == LightType::Spot) return glm::lookAt(light.position, light.target, chooseUp(axis));
   const float radius = std::max(scene.radius(), 1e-6f);

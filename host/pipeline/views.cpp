@@ -22,8 +22,9 @@ void depthRange(const glm::mat4& view, const Bounds& bounds, float& zNear, float
     const float d = -(view * glm::vec4(c, 1.0f)).z;
     lo = std::min(lo, d), hi = std::max(hi, d);
   }
-  zFar = hi > 0 ? hi * 1.01f : 1.0f;
-  zNear = std::max(lo * 0.99f, zFar * 1e-4f);
+  zFar = hi > 0 ? hi * 1.01f : 1.0f;  // everything behind the eye (or no geometry): any valid range
+  zNear = std::isfinite(lo) ? std::max(lo * 0.99f, zFar * 1e-4f) : zFar * 1e-4f;
+  if (!(zNear < zFar)) zNear = zFar * 1e-4f;
 }
 
 void setRows(pn_float4 rows[4], const glm::mat4& m) {
@@ -39,7 +40,8 @@ struct MapWindow {
 // The receivers' box clamped to `full`, squared, and widened by `marginTexels` texels of the result:
 // extent' = extent + 2 m extent' / size, so extent' = extent / (1 - 2 m / size). Falls back to `full` when
 // there is nothing to crop to or the crop would not be smaller.
-MapWindow cropWindow(const MapWindow& full, const ReceiverBounds* receivers, int size, float marginTexels) {
+MapWindow cropWindow(const MapWindow& full, const ReceiverBounds* receivers, int size, float marginTexels,
+                     bool snap) {
   if (receivers == nullptr || receivers->empty) return full;
   const glm::vec2 fullLo = full.center - 0.5f * full.extent, fullHi = full.center + 0.5f * full.extent;
   const glm::vec2 lo = glm::max(receivers->lo, fullLo), hi = glm::min(receivers->hi, fullHi);
@@ -47,14 +49,21 @@ MapWindow cropWindow(const MapWindow& full, const ReceiverBounds* receivers, int
   const float fraction = 2.0f * std::max(marginTexels, 0.0f) / static_cast<float>(size);
   if (fraction >= 0.5f) return full;
   // A receiver box of zero size (one pixel, a line) still gets a map of a few texels' footprint.
-  const float extent = std::max({hi.x - lo.x, hi.y - lo.y, full.extent * 1e-4f}) / (1.0f - fraction);
+  float extent = std::max({hi.x - lo.x, hi.y - lo.y, full.extent * 1e-4f}) / (1.0f - fraction);
   if (extent >= full.extent) return full;
-  return {0.5f * (lo + hi), extent};
+  glm::vec2 center = 0.5f * (lo + hi);
+  if (snap) {  // the snapped centre moves by at most half a texel: inside the margin of >= 1 texel
+    extent = std::min(full.extent * std::exp2(std::ceil(8.0f * std::log2(extent / full.extent)) / 8.0f), full.extent);
+    const float texel = extent / static_cast<float>(size);
+    center = full.center + glm::round((center - full.center) / texel) * texel;
+  }
+  return {center, extent};
 }
 
 }  // namespace
 
-RasterView cameraView(const Camera& camera, const Bounds& bounds) {
+RasterView cameraView(const Camera& camera, const Bounds& sceneBounds) {
+  const Bounds bounds = sceneBounds.orUnit();
   RasterView view;
   view.view = camera.view();
   float zNear, zFar;
@@ -66,8 +75,9 @@ RasterView cameraView(const Camera& camera, const Bounds& bounds) {
   return view;
 }
 
-LightView fitLightView(const Light& light, const Bounds& scene, int size, const ReceiverBounds* receivers,
-                       float marginTexels) {
+LightView fitLightView(const Light& light, const Bounds& sceneBounds, int size, const ReceiverBounds* receivers,
+                       float marginTexels, bool snapToTexels) {
+  const Bounds scene = sceneBounds.orUnit();
   LightView lv{};
   RasterView& raster = lv.raster;
   LightViewGpu& gpu = lv.gpu;
@@ -89,7 +99,7 @@ LightView fitLightView(const Light& light, const Bounds& scene, int size, const 
     }
     full = {0.5f * (lo + hi), std::max({hi.x - lo.x, hi.y - lo.y, 1e-6f}) * 1.01f};  // square texels
   }
-  const MapWindow window = cropWindow(full, receivers, size, marginTexels);
+  const MapWindow window = cropWindow(full, receivers, size, marginTexels, snapToTexels);
   const glm::vec2 lo = window.center - 0.5f * window.extent, hi = window.center + 0.5f * window.extent;
   if (light.type == LightType::Spot) {
     // An off-centre perspective frustum whose window at depth n spans the tangent box times n.

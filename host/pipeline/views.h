@@ -25,7 +25,10 @@ struct LightView {
 // filter that reads up to that many texels from a receiver's own texel stays inside the map. The far plane
 // is the deepest receiver (casters behind every receiver shadow nothing visible); the near plane keeps every
 // caster between the light and the scene. Texel and depth units of the result are in `gpu`.
+// `snapToTexels` (parallel splits' stability option): a cropped window's extent is rounded up to a step of
+// 2^(1/8) relative to the full window and its centre to whole texels of the result, so a moving camera moves
+// the map by whole texels and changes its texel size only in discrete steps (no shimmering edges).
 LightView fitLightView(const Light& light, const Bounds& scene, int size, const ReceiverBounds* receivers = nullptr,
-                       float marginTexels = 0.0f);
+                       float marginTexels = 0.0f, bool snapToTexels = false);
 
 }  // namespace penumbra

@@ -23,6 +23,8 @@ struct Bounds {
   void grow(const Bounds& b) { min = glm::min(min, b.min), max = glm::max(max, b.max); }
   glm::vec3 center() const { return 0.5f * (min + max); }
   float radius() const { return 0.5f * glm::length(max - min); }  // of the bounding sphere around center()
+  // These bounds, or the unit cube around the origin when empty: views of an empty scene stay finite.
+  Bounds orUnit() const { return empty() ? Bounds{glm::vec3(-1.0f), glm::vec3(1.0f)} : *this; }
 };
 
 struct Scene {

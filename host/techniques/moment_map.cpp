@@ -124,24 +124,30 @@ void MomentTechnique::render(ShadowFrame& frame, Buffer<float>& visibility) {
   kernel
       .args(g.position, g.normal, map_.gpu, moments_, mips_, mipLevels_, shade, visibility, debug_.moments,
             debug_.stats)
+      .moves(pixels * kVisibilityBytesPerPixel)
       .launch(pixels, kPixelGroup);
 }
 
-// A box of 2r+1 taps, or a Gaussian of the same variance r(r+1)/3.
-BlurConfig MomentTechnique::blurConfig() const {
+BlurConfig momentBlurConfig(const Params& params) {
   BlurConfig config;
-  const int radius = params_.getInt("blur-radius");
-  config.filter = params_.getInt("blur-filter") == kBox ? BlurFilter::Box : BlurFilter::Gaussian;
+  const int radius = params.getInt("blur-radius");
+  config.filter = params.getInt("blur-filter") == kBox ? BlurFilter::Box : BlurFilter::Gaussian;
   config.radius = radius;
   config.sigma = static_cast<float>(std::sqrt(radius * (radius + 1.0) / 3.0));
   return config;
 }
 
-float MomentTechnique::blurReach() const {
-  if (params_.getInt("blur-radius") == 0) return 0.0f;
-  const BlurConfig config = blurConfig();
+float momentBlurReach(const Params& params) {
+  if (params.getInt("blur-radius") == 0) return 0.0f;
+  const BlurConfig config = momentBlurConfig(params);
   return config.filter == BlurFilter::Box ? static_cast<float>(config.radius) : std::ceil(3.0f * config.sigma);
 }
+
+bool momentTrilinear(const Params& params) { return params.getInt("moment-filtering") == kTrilinear; }
+
+BlurConfig MomentTechnique::blurConfig() const { return momentBlurConfig(params_); }
+
+float MomentTechnique::blurReach() const { return momentBlurReach(params_); }
 
 // The blur, then the mip chain if asked for.
 void MomentTechnique::filterMoments(Context& ctx, const ImageShape& shape) {

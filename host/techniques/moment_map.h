@@ -30,6 +30,12 @@ ParamSpec bleedingParam();
 std::vector<ParamSpec> chebyshevParams();
 void setChebyshevShade(const Params& params, MomentShade& shade);  // reads chebyshevParams()
 
+// The blur that momentFilterParams() ask for (a box of 2r+1 taps, or a Gaussian of the same variance
+// r(r+1)/3), the texels it reads from a texel (the light fit's margin), and whether lookups are trilinear.
+BlurConfig momentBlurConfig(const Params& params);
+float momentBlurReach(const Params& params);
+bool momentTrilinear(const Params& params);
+
 // The MomentShade fields common to every moment technique: sizes, normalisation over the map's
 // [zNear, zFar] and the biases. The technique fills its own fields (min variance, exponents, ...).
 MomentShade momentShade(const ShadowFrame& frame, const ShadowMap& map, const Params& params, uint32_t channels);

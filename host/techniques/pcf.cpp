@@ -1,4 +1,7 @@
-// `pcf`: percentage-closer filtering over a (2r+1)^2 grid of bilinear comparisons (kernels/pcf.cl).
+// `pcf`: percentage-closer filtering (kernels/pcf.cl): a (2r+1)^2 grid or a rotated Poisson disk of
+// bilinear comparisons, optionally widened to the pixel's footprint in the map, with receiver-plane depth
+// bias. Debug channel: the kernel half-width in texels.
+#include "host/techniques/poisson.h"
 #include "host/techniques/registry.h"
 #include "host/techniques/shadow_map.h"
 
@@ -10,22 +13,43 @@ class PercentageCloser final : public Technique {
   explicit PercentageCloser(const Params& params) : params_(params) {}
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
-    renderShadowMap(frame, params_, map_, static_cast<float>(params_.getInt("pcf-radius")));
-    launchVisibility(frame, map_, params_, "kernels/pcf.cl", "pcf_visibility", visibility,
-                     params_.getInt("pcf-radius"));
+    const int radius = params_.getInt("pcf-radius");
+    const bool adaptive = params_.getInt("pcf-adaptive") == 1;
+    const float maxRadius = std::max(static_cast<float>(params_.get("pcf-max-radius")), static_cast<float>(radius));
+    renderShadowMap(frame, params_, map_, adaptive ? maxRadius : static_cast<float>(radius));
+    const int poissonTaps = params_.getInt("pcf-poisson-taps");
+    if (poisson_.empty()) {
+      const std::vector<cl_float2> disk = poissonDisk(std::max(poissonTaps, 1));
+      poisson_.allocate(frame.ctx, disk.size(), CL_MEM_READ_ONLY);
+      poisson_.upload(frame.ctx, std::span<const cl_float2>(disk));
+    }
+    filter_.allocate(frame.ctx, visibility.size());
+    launchVisibility(frame, map_, params_, "kernels/pcf.cl", "pcf_visibility", visibility, radius,
+                     params_.getInt("receiver-plane"), static_cast<int>(adaptive), maxRadius, poissonTaps, poisson_,
+                     filter_);
   }
+
+  void addDebugChannels(Context& ctx, Image& image) override { image.add("filter.Z", filter_.download(ctx)); }
 
  private:
   Params params_;
   ShadowMap map_;
+  Buffer<cl_float2> poisson_;
+  Buffer<float> filter_;
 };
 
 }  // namespace
 
 TechniqueInfo pcfTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
-  params.push_back({"pcf-radius", 2, 0, 16, "PCF kernel radius r in texels: (2r+1)^2 bilinear taps"});
-  return {"pcf", "Percentage-closer filtering with a fixed kernel", params,
+  params.push_back(receiverPlaneParam());
+  params.push_back({"pcf-radius", 2, 0, 16, "Kernel half-width r in texels; the grid has (2r+1)^2 bilinear taps"});
+  params.push_back({"pcf-adaptive", 1, 0, 1,
+                    "Widen the kernel to half the pixel's footprint in the map (minified shadows), same tap count",
+                    {"off", "on"}});
+  params.push_back({"pcf-max-radius", 16, 0, 256, "Largest adaptive half-width in texels"});
+  params.push_back({"pcf-poisson-taps", 0, 0, 64, "Rotated Poisson-disk taps over the kernel instead of the grid (0: grid)"});
+  return {"pcf", "Percentage-closer filtering: grid or rotated Poisson taps, adaptive size, receiver-plane bias", params,
           [](const Params& p) { return std::make_unique<PercentageCloser>(p); }};
 }
 

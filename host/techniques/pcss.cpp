@@ -14,6 +14,7 @@ class PercentageCloserSoft final : public Technique {
     renderShadowMap(frame, params_, map_, static_cast<float>(params_.get("pcss-max-radius")));
     blocker_.allocate(frame.ctx, visibility.size());
     launchVisibility(frame, map_, params_, "kernels/pcss.cl", "pcss_visibility", visibility,
+                     params_.getInt("receiver-plane"),
                      params_.getInt("pcss-search-taps"), params_.getInt("pcss-filter-taps"),
                      static_cast<float>(params_.get("pcss-max-radius")), blocker_);
   }
@@ -30,6 +31,7 @@ class PercentageCloserSoft final : public Technique {
 
 TechniqueInfo pcssTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
+  params.push_back(receiverPlaneParam());
   params.push_back({"pcss-search-taps", 8, 1, 64, "Blocker-search grid: taps x taps samples"});
   params.push_back({"pcss-filter-taps", 8, 1, 64, "PCF grid: taps x taps bilinear comparisons"});
   params.push_back({"pcss-max-radius", 64, 1, 512, "Largest search/filter half-width in texels"});

@@ -19,6 +19,9 @@ const std::vector<TechniqueInfo>& techniques() {
       msmTechnique(),
       savsmTechnique(),
       vssmTechnique(),
+      lvsmTechnique(),
+      pssmTechnique(),
+      psvsmTechnique(),
   };
   return kTechniques;
 }

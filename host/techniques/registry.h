@@ -15,5 +15,8 @@ TechniqueInfo esmTechnique();    // esm.cpp
 TechniqueInfo msmTechnique();    // msm.cpp
 TechniqueInfo savsmTechnique();  // savsm.cpp
 TechniqueInfo vssmTechnique();   // vssm.cpp
+TechniqueInfo lvsmTechnique();   // lvsm.cpp
+TechniqueInfo pssmTechnique();   // pssm.cpp
+TechniqueInfo psvsmTechnique();  // psvsm.cpp
 
 }  // namespace penumbra

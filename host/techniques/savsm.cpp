@@ -75,6 +75,7 @@ class SummedAreaVsm final : public Technique {
     debug_.allocate(ctx, pixels);
     Kernel kernel(ctx, "kernels/savsm.cl", "savsm_visibility", "shade", satBuildOptions(desc));
     kernel.args(g.position, g.normal, map_.gpu, table, desc, offset, s, visibility, debug_.moments, debug_.stats)
+        .moves(pixels * kVisibilityBytesPerPixel)
         .launch(pixels, kPixelGroup);
   }
 

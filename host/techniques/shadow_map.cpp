@@ -17,6 +17,13 @@ std::vector<ParamSpec> shadowMapParams() {
   };
 }
 
+ParamSpec receiverPlaneParam() {
+  return {"receiver-plane", 1, 0, 1,
+          "Receiver-plane depth bias: compare each texel with the receiver's plane (from neighbouring pixels) "
+          "instead of the slope-scaled bias; falls back to it where the plane is unknown",
+          {"off", "on"}};
+}
+
 BiasArgs biasArgs(const Params& params) {
   return {static_cast<float>(params.get("bias")), static_cast<float>(params.get("slope-bias")),
           static_cast<float>(params.get("normal-offset"))};

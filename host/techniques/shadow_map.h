@@ -13,6 +13,9 @@
 namespace penumbra {
 
 inline constexpr size_t kPixelGroup = 64;  // work-group size of the per-pixel visibility kernels
+// Bandwidth floor of a per-pixel visibility kernel (Kernel::moves): read the pixel's position and normal (two
+// float4), write its visibility (a float). Map reads depend on the filter and caches; debug outputs are optional.
+inline constexpr uint64_t kVisibilityBytesPerPixel = 2 * 16 + 4;
 
 struct ShadowMap {
   LightView view;
@@ -29,6 +32,9 @@ std::vector<ParamSpec> shadowMapParams();
 // (moment normalisation, blocker search) start where the occluders do.
 void renderShadowMap(ShadowFrame& frame, const Params& params, ShadowMap& map, float reachTexels);
 
+// "receiver-plane": receiver-plane depth bias on (1) or off (0), for the techniques whose kernels take it.
+ParamSpec receiverPlaneParam();
+
 // The three bias parameters as kernel arguments, in sc_receiver's order.
 struct BiasArgs {
   float constant, slope, normalOffset;
@@ -36,18 +42,20 @@ struct BiasArgs {
 BiasArgs biasArgs(const Params& params);
 
 // Launches a per-pixel visibility kernel of the shadow-map family. Every such kernel takes
-// (position, normal, count, map, light view, bias, slope bias, normal offset, EXTRA..., visibility).
+// (position, normal, G-buffer width, height, map, light view, bias, slope bias, normal offset, EXTRA...,
+// visibility).
 template <class... Extra>
 void launchVisibility(ShadowFrame& frame, const ShadowMap& map, const Params& params, const std::string& source,
                       const std::string& entry, Buffer<float>& visibility, const Extra&... extra) {
   const GBuffer& g = frame.gbuffer;
   const BiasArgs bias = biasArgs(params);
-  const uint32_t count = static_cast<uint32_t>(g.width) * static_cast<uint32_t>(g.height);
+  const uint32_t width = static_cast<uint32_t>(g.width), height = static_cast<uint32_t>(g.height);
   Kernel kernel(frame.ctx, source, entry, "shade");
   kernel
-      .args(g.position, g.normal, count, map.targets.depth, map.gpu, bias.constant, bias.slope, bias.normalOffset,
+      .args(g.position, g.normal, width, height, map.targets.depth, map.gpu, bias.constant, bias.slope, bias.normalOffset,
             extra..., visibility)
-      .launch(count, kPixelGroup);
+      .moves(uint64_t{width} * height * kVisibilityBytesPerPixel)
+      .launch(static_cast<size_t>(width) * height, kPixelGroup);
 }
 
 }  // namespace penumbra

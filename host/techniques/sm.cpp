@@ -1,4 +1,4 @@
-// `sm`: hard shadow mapping with constant, slope-scaled and normal-offset bias (kernels/sm.cl).
+// `sm`: hard shadow map, one nearest-texel comparison (kernels/sm.cl).
 #include "host/techniques/registry.h"
 #include "host/techniques/shadow_map.h"
 
@@ -11,7 +11,8 @@ class HardShadowMap final : public Technique {
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     renderShadowMap(frame, params_, map_, 0.0f);
-    launchVisibility(frame, map_, params_, "kernels/sm.cl", "sm_visibility", visibility);
+    launchVisibility(frame, map_, params_, "kernels/sm.cl", "sm_visibility", visibility,
+                     params_.getInt("receiver-plane"));
   }
 
  private:
@@ -22,7 +23,9 @@ class HardShadowMap final : public Technique {
 }  // namespace
 
 TechniqueInfo smTechnique() {
-  return {"sm", "Hard shadow map with constant, slope-scaled and normal-offset bias", shadowMapParams(),
+  std::vector<ParamSpec> params = shadowMapParams();
+  params.push_back(receiverPlaneParam());
+  return {"sm", "Hard shadow map with constant, slope-scaled, normal-offset and receiver-plane depth bias", params,
           [](const Params& p) { return std::make_unique<HardShadowMap>(p); }};
 }
 

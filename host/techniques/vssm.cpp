@@ -36,6 +36,7 @@ class VarianceSoftShadows final : public Technique {
               .args(g.position, g.normal, count, map_.targets.depth, map_.gpu, bias.constant, bias.slope,
                     bias.normalOffset, sat, maps_.satDesc(), maps_.satOffset(), maps_.hsm(), maps_.levels(),
                     maps_.nodes(), shade, debug_, visibility)
+              .moves(uint64_t{count} * kVisibilityBytesPerPixel)
               .launch(count, kPixelGroup);
         },
         maps_.sat());

@@ -12,10 +12,6 @@
 #define MOMENT_WIDTH_LIGHT 1      // savsm: penumbra of an occluder occluderDistance in front of the receiver
 #define MOMENT_WIDTH_FOOTPRINT 2  // savsm: the pixel's footprint in the map
 
-// A G-buffer neighbour counts for the footprint only when it lies near the pixel's tangent plane:
-// |n . (q - p)| <= MOMENT_PLANE_TOLERANCE |q - p| (about 15 degrees), so silhouettes do not blow up the filter.
-#define MOMENT_PLANE_TOLERANCE 0.25f
-
 // Arguments of every moment visibility kernel (passed by value).
 typedef struct MomentShade {
   uint width, height;              // G-buffer pixels (row 0 at the bottom)
@@ -53,29 +49,6 @@ typedef struct MomentReceiver {
   int valid;        // 0: background, behind the light or outside the map -> fully lit
 } MomentReceiver;
 
-// Shadow-map offset to G-buffer neighbour j, or 0 when j is background or off the pixel's plane.
-inline float2 mm_neighbour_delta(__global const float4* position, __constant const LightViewGpu* lv, float3 p, float3 n,
-                                 float2 uv, uint j) {
-  float4 q = position[j];
-  float3 d = q.xyz - p;
-  if (q.w == 0.0f || fabs(dot(n, d)) > MOMENT_PLANE_TOLERANCE * length(d)) return (float2)(0.0f);
-  float2 delta = lv_project(lv, q.xyz).xy - uv;
-  return all(isfinite(delta)) ? delta : (float2)(0.0f);
-}
-
-// The pixel footprint in base texels: the longer of the screen-x and screen-y steps in the map, each taken
-// towards the +1 neighbour, else the -1 neighbour (finite differences standing in for ddx/ddy).
-inline float mm_footprint(__global const float4* position, __constant const LightViewGpu* lv, MomentShade s, uint i,
-                          float3 p, float3 n) {
-  uint x = i % s.width, y = i / s.width;
-  float2 uv = lv_project(lv, p).xy;
-  float2 dx = x + 1 < s.width ? mm_neighbour_delta(position, lv, p, n, uv, i + 1) : (float2)(0.0f);
-  if (all(dx == 0.0f) && x > 0) dx = mm_neighbour_delta(position, lv, p, n, uv, i - 1);
-  float2 dy = y + 1 < s.height ? mm_neighbour_delta(position, lv, p, n, uv, i + s.width) : (float2)(0.0f);
-  if (all(dy == 0.0f) && y > 0) dy = mm_neighbour_delta(position, lv, p, n, uv, i - s.width);
-  return max(length(dx), length(dy));
-}
-
 // Receiver set-up: normal offset and depth bias as for sm/pcf (sc_receiver), depth normalised like the
 // moments. Points outside the map are lit: nothing beyond the fitted frustum casts shadows.
 inline MomentReceiver mm_receiver(__global const float4* position, __global const float4* normal,
@@ -95,7 +68,7 @@ inline MomentReceiver mm_receiver(__global const float4* position, __global cons
   m.tSlope = r.biasSlope * s.depthInvRange;
   m.valid = r.valid && r.uv.x >= 0.0f && r.uv.y >= 0.0f && r.uv.x <= (float)lv->width && r.uv.y <= (float)lv->height &&
             isfinite(m.t);
-  if (m.valid) m.footprint = mm_footprint(position, lv, s, i, p.xyz, n);
+  if (m.valid) m.footprint = sc_footprint_texels(sc_footprint(position, lv, s.width, s.height, i, p.xyz, n));
   return m;
 }
 

@@ -1,6 +1,7 @@
-// Receiver set-up and depth comparison shared by the shadow-map techniques (sm, pcf, pcss): normal offset,
-// constant and slope-scaled bias in units of the local texel footprint (so defaults work at any scene
-// scale), and bilinear-weighted depth comparisons. OpenCL C only.
+// Receiver set-up and depth comparison shared by the shadow-map techniques (sm, pcf, pcss, and the moment
+// family's receivers): normal offset, constant and slope-scaled bias in units of the local texel footprint
+// (so defaults work at any scene scale), the pixel's footprint in the map from neighbouring G-buffer pixels
+// (OpenCL has no ddx/ddy), receiver-plane depth bias, and bilinear-weighted depth comparisons. OpenCL C only.
 #ifndef PENUMBRA_KERNELS_SHARED_SHADOW_COMMON_H
 #define PENUMBRA_KERNELS_SHARED_SHADOW_COMMON_H
 
@@ -22,6 +23,7 @@ typedef struct Receiver {
   float depth;     // linear light depth of the receiver
   float bias;      // depth bias at the centre tap
   float biasSlope; // extra bias per texel of tap offset
+  float texel;     // world width of one texel at the receiver
   int valid;       // 0 when the point is behind the light or not a surface
 } Receiver;
 
@@ -42,8 +44,72 @@ inline Receiver sc_receiver(__constant const LightViewGpu* lv, float3 position, 
   r.depth = p.z;
   r.bias = texel * (bias.base + bias.slope * tanTheta);
   r.biasSlope = texel * tanTheta;
+  r.texel = texel;
   r.valid = p.z > 0.0f && all(isfinite(p));
   return r;
+}
+
+// A G-buffer neighbour counts for the footprint only when it lies near the pixel's tangent plane:
+// |n . (q - p)| <= SHADOW_PLANE_TOLERANCE |q - p| (about 15 degrees), so silhouettes do not blow up filters.
+#define SHADOW_PLANE_TOLERANCE 0.25f
+
+// (texel x, texel y, light depth) offset from the pixel (projected at `here`) to G-buffer neighbour j, or 0
+// when j is background or off the pixel's plane.
+inline float3 sc_neighbour_delta(__global const float4* position, __constant const LightViewGpu* lv, float3 p,
+                                 float3 n, float3 here, uint j) {
+  float4 q = position[j];
+  float3 d = q.xyz - p;
+  if (q.w == 0.0f || fabs(dot(n, d)) > SHADOW_PLANE_TOLERANCE * length(d)) return (float3)(0.0f);
+  float3 delta = lv_project(lv, q.xyz) - here;
+  return all(isfinite(delta)) ? delta : (float3)(0.0f);
+}
+
+// The pixel's screen-x and screen-y steps in the map (texels and light depth): finite differences towards
+// the +1 neighbour, else the -1 neighbour; a zero step where neither lies on the pixel's plane. G-buffer rows
+// are `width` pixels, pixel i = y * width + x.
+typedef struct Footprint {
+  float3 dx, dy;
+} Footprint;
+
+inline Footprint sc_footprint(__global const float4* position, __constant const LightViewGpu* lv, uint width,
+                              uint height, uint i, float3 p, float3 n) {
+  uint x = i % width, y = i / width;
+  float3 here = lv_project(lv, p);
+  Footprint f;
+  f.dx = x + 1 < width ? sc_neighbour_delta(position, lv, p, n, here, i + 1) : (float3)(0.0f);
+  if (all(f.dx == 0.0f) && x > 0) f.dx = -sc_neighbour_delta(position, lv, p, n, here, i - 1);
+  f.dy = y + 1 < height ? sc_neighbour_delta(position, lv, p, n, here, i + width) : (float3)(0.0f);
+  if (all(f.dy == 0.0f) && y > 0) f.dy = -sc_neighbour_delta(position, lv, p, n, here, i - width);
+  return f;
+}
+
+// The footprint's size in texels: the longer screen step.
+inline float sc_footprint_texels(Footprint f) { return max(length(f.dx.xy), length(f.dy.xy)); }
+
+// Receiver-plane depth bias (Isidoro, "Shadow Mapping: GPU-based Tips and Techniques", GDC 2006): the
+// gradient g = d(depth)/d(texel) of the receiver's plane from the screen-space Jacobian J = [dx.xy dy.xy] of
+// its map coordinates and its depth steps (dx.z, dy.z): J^T g = (dx.z, dy.z). Comparing a texel centred at c
+// against depth + g . (c - uv) compares the occluder with the receiver's own plane at that texel, instead of
+// a bias that grows with the filter. Returns 0 in `valid` when J is singular (a missing neighbour, an
+// edge-on receiver) or the plane is steeper than SHADOW_MAX_SLOPE depth units per texel footprint.
+typedef struct ReceiverPlane {
+  float2 gradient;  // light depth per texel
+  int valid;
+} ReceiverPlane;
+
+inline ReceiverPlane sc_receiver_plane(Footprint f, float texelWorld) {
+  ReceiverPlane rp;
+  float det = f.dx.x * f.dy.y - f.dy.x * f.dx.y;
+  float scale = max(length(f.dx.xy), length(f.dy.xy));
+  rp.valid = fabs(det) > 1e-6f * scale * scale && scale > 0.0f;
+  // g = J^-T (dx.z, dy.z), with J^-T = [dy.y -dx.y; -dy.x dx.x] / det.
+  rp.gradient = rp.valid ? (float2)(f.dy.y * f.dx.z - f.dx.y * f.dy.z, -f.dy.x * f.dx.z + f.dx.x * f.dy.z) / det
+                         : (float2)(0.0f);
+  if (!(all(isfinite(rp.gradient)) && length(rp.gradient) <= SHADOW_MAX_SLOPE * texelWorld)) {
+    rp.valid = 0;
+    rp.gradient = (float2)(0.0f);
+  }
+  return rp;
 }
 
 // Map depth at an integer texel; texels outside the map hold no occluder (+INFINITY).
@@ -66,6 +132,32 @@ inline float sc_compare_bilinear(__global const float* map, int width, int heigh
   float s01 = sc_lit(sc_fetch(map, width, height, x, y + 1), depth);
   float s11 = sc_lit(sc_fetch(map, width, height, x + 1, y + 1), depth);
   return mix(mix(s00, s10, f.x), mix(s01, s11, f.x), f.y);
+}
+
+// Bilinear-weighted comparison at tap `uv` against the receiver's plane: texel k (centre c_k) is compared
+// with depth + g . (c_k - origin), where `depth` is the (biased) receiver depth at map position `origin`.
+inline float sc_compare_bilinear_plane(__global const float* map, int width, int height, float2 uv, float2 origin,
+                                       float depth, float2 g) {
+  float2 t = uv - 0.5f;
+  float2 base = floor(t);
+  float2 f = t - base;
+  int x = (int)base.x, y = (int)base.y;
+  float2 c = base + 0.5f - origin;  // centre of texel (x, y) relative to the receiver
+  float s00 = sc_lit(sc_fetch(map, width, height, x, y), depth + dot(g, c));
+  float s10 = sc_lit(sc_fetch(map, width, height, x + 1, y), depth + dot(g, c + (float2)(1.0f, 0.0f)));
+  float s01 = sc_lit(sc_fetch(map, width, height, x, y + 1), depth + dot(g, c + (float2)(0.0f, 1.0f)));
+  float s11 = sc_lit(sc_fetch(map, width, height, x + 1, y + 1), depth + dot(g, c + (float2)(1.0f, 1.0f)));
+  return mix(mix(s00, s10, f.x), mix(s01, s11, f.x), f.y);
+}
+
+// One filter tap at texel offset `offset` from the receiver: against the receiver's plane where it is known
+// (planeBias: the constant bias, world units), else with the slope-scaled bias growing with the offset.
+inline float sc_tap(__global const float* map, __constant const LightViewGpu* lv, Receiver r, ReceiverPlane rp,
+                    float planeBias, float2 offset) {
+  if (rp.valid)
+    return sc_compare_bilinear_plane(map, lv->width, lv->height, r.uv + offset, r.uv, r.depth - planeBias,
+                                     rp.gradient);
+  return sc_compare_bilinear(map, lv->width, lv->height, r.uv + offset, r.depth - r.bias - r.biasSlope * length(offset));
 }
 
 #endif

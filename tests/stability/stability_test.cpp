@@ -1,0 +1,256 @@
+// The stability suite (ctest label `stability`): each known failure mode of shadow mapping gets a scene, a
+// metric against the Embree reference (tools/reference/) and an assertion about which techniques fail it and
+// which do not; every technique in the registry must also get through every scene (degenerate ones included)
+// without crashing and without a NaN or a visibility outside [0, 1]. Small sizes so CI stays fast; the
+// numbers each assertion guards are printed (`--gtest_also_run_disabled_tests` is not needed) and recorded in
+// the README's "Stability suite" table.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <stdexcept>
+
+#include "host/eval/metrics.h"
+#include "host/pipeline/renderer.h"
+#include "host/scene/procedural.h"
+#include "host/techniques/registry.h"
+#include "tests/support/cl_test.h"
+#include "tools/reference/reference.h"
+
+namespace penumbra {
+namespace {
+
+using Values = std::map<std::string, std::string>;
+
+// A failure-mode scene: geometry, a camera, a light, and the reference visibility (traced once).
+struct Case {
+  Scene scene;
+  Camera camera;
+  Light light;
+  Image reference;
+};
+
+class Stability : public test::ClTest {
+ protected:
+  static Case makeCase(Scene scene, Camera camera, const std::string& light, int spp = 16) {
+    Case c{std::move(scene), camera, parseLight(light), {}};
+    reference::TraceSettings settings;
+    settings.spp = spp;
+    c.reference = reference::renderReference(ctx(), c.scene, c.camera, c.light, settings).image;
+    return c;
+  }
+
+  static Camera sceneCamera(const Scene& scene, int width = 128, int height = 96) {
+    Camera camera = scene.cameras.front();
+    camera.width = width, camera.height = height;
+    return camera;
+  }
+
+  // Renders `technique`, checks the output is finite and in range, returns it.
+  static RenderResult render(const Case& c, const std::string& technique, const Values& values = {}) {
+    const TechniqueInfo& info = findTechnique(technique);
+    Params params(info.params);
+    if (hasParam(info, "map-size")) params.set("map-size", "512");
+    for (const auto& [name, value] : values) params.set(name, value);
+    Renderer renderer(ctx(), c.scene);
+    RenderResult result = renderer.render(c.camera, c.light, info, params);
+    for (const ImageChannel& channel : result.image.channels())
+      for (float v : channel.data) EXPECT_FALSE(std::isnan(v)) << technique << ": NaN in " << channel.name;
+    for (float v : result.image.require("visibility.Y").data) {
+      EXPECT_GE(v, 0.0f) << technique;
+      EXPECT_LE(v, 1.0f) << technique;
+    }
+    return result;
+  }
+
+  static bool hasParam(const TechniqueInfo& info, const std::string& name) {
+    for (const ParamSpec& spec : info.params)
+      if (spec.name == name) return true;
+    return false;
+  }
+
+  static ErrorMetrics metrics(const RenderResult& ours, const Case& c) { return compareImages(ours.image, c.reference); }
+
+  // Brightest and mean visibility of ours where the reference is in full shadow (< 0.01) over a 5x5 pixel
+  // neighbourhood (so edge aliasing does not count) and the point can receive light at all: light bleeding
+  // through occluders.
+  struct Umbra {
+    float max = 0.0f, mean = 0.0f;
+    size_t pixels = 0;
+  };
+  static Umbra umbra(const RenderResult& ours, const Case& c) {
+    const auto &vis = ours.image.require("visibility.Y").data, &ref = c.reference.require("visibility.Y").data,
+               &a = c.reference.require("A").data, &lit = c.reference.require(kLitChannel).data;
+    Umbra u;
+    double sum = 0;
+    const int w = c.camera.width, h = c.camera.height;
+    auto deep = [&](int x, int y) {
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+          const int xx = std::clamp(x + dx, 0, w - 1), yy = std::clamp(y + dy, 0, h - 1);
+          const size_t j = static_cast<size_t>(yy) * w + xx;
+          if (a[j] == 0.0f || ref[j] >= 0.01f) return false;
+        }
+      return true;
+    };
+    for (size_t i = 0; i < vis.size(); ++i) {
+      if (lit[i] == 0.0f || !deep(static_cast<int>(i) % w, static_cast<int>(i) / w)) continue;
+      u.max = std::max(u.max, vis[i]);
+      sum += vis[i];
+      ++u.pixels;
+    }
+    u.mean = u.pixels ? static_cast<float>(sum / static_cast<double>(u.pixels)) : 0.0f;
+    return u;
+  }
+
+  // Fraction of fully lit reference pixels (> 0.999) that ours darkens below `below`: acne, SAT noise.
+  static double darkened(const RenderResult& ours, const Case& c, float below) {
+    const auto &vis = ours.image.require("visibility.Y").data, &ref = c.reference.require("visibility.Y").data,
+               &a = c.reference.require("A").data, &lit = c.reference.require(kLitChannel).data;
+    size_t n = 0, dark = 0;
+    for (size_t i = 0; i < vis.size(); ++i) {
+      if (a[i] == 0.0f || lit[i] == 0.0f || ref[i] <= 0.999f) continue;
+      ++n;
+      dark += vis[i] < below;
+    }
+    return n ? static_cast<double>(dark) / static_cast<double>(n) : 0.0;
+  }
+};
+
+std::vector<std::string> allTechniques() {
+  std::vector<std::string> names;
+  for (const TechniqueInfo& info : techniques()) names.push_back(info.name);
+  return names;
+}
+
+// Light bleeding (stacked planes): the Chebyshev bound lets light through a second occluder. VSM bleeds; the
+// bleeding reduction, MSM, EVSM4 and every non-moment technique do not.
+TEST_F(Stability, LightBleedingOnStackedPlanes) {
+  const Scene scene = makeProcedural("stacked-planes");
+  const Case c = makeCase(scene, sceneCamera(scene), "spot:0.6,6,0.4:0,0,0:90");
+  std::map<std::string, Umbra> seen;
+  for (const std::string& name : allTechniques()) seen[name] = umbra(render(c, name), c);
+  seen["vsm+reduction"] = umbra(render(c, "vsm", {{"bleeding-reduction", "0.3"}}), c);
+  for (const auto& [name, u] : seen)
+    std::printf("  bleeding %-14s umbra pixels %zu max %.4f mean %.5f\n", name.c_str(), u.pixels, u.max, u.mean);
+  ASSERT_GT(seen["sm"].pixels, 200u);
+  // Fails: the Chebyshev bound over two occluders (measured 0.12 for both; README "Stability suite").
+  EXPECT_GT(seen["vsm"].max, 0.05f);
+  EXPECT_GT(seen["savsm"].max, 0.05f);
+  // Does not fail: exact depth tests, the stronger moment bounds, layers, and the bleeding reduction.
+  for (const char* name : {"sm", "pcf", "pcss", "evsm4", "msm", "vssm", "lvsm", "vsm+reduction"})
+    EXPECT_LT(seen[name].max, 0.02f) << name;
+}
+
+// Acne at grazing light angles: a plane nothing shadows must stay lit for every technique.
+TEST_F(Stability, NoAcneAtGrazingAngles) {
+  const Scene scene = makeProcedural("plane");
+  for (const char* light : {"dir:1,-0.2,0.3", "spot:6,0.8,0:0,0,0:120"}) {
+    const Case c = makeCase(scene, sceneCamera(scene), light, 4);
+    for (const std::string& name : allTechniques()) {
+      const double dark = darkened(render(c, name), c, 0.99f);
+      std::printf("  acne %-8s %-26s darkened %.5f\n", name.c_str(), light, dark);
+      EXPECT_LE(dark, 1e-4) << name << " under " << light;
+    }
+  }
+}
+
+// Contact shadows (a box on a floor): no light gap where the box meets the floor.
+TEST_F(Stability, ContactShadowsOfABoxOnAFloor) {
+  const Scene scene = makeProcedural("box");
+  const Case c = makeCase(scene, sceneCamera(scene), scene.lights.front().describe());
+  for (const std::string& name : allTechniques()) {
+    const RenderResult r = render(c, name);
+    const ErrorMetrics m = metrics(r, c);
+    const Umbra u = umbra(r, c);
+    std::printf("  contact %-8s mae %.5f leak %.5f umbra max %.3f mean %.4f\n", name.c_str(), m.mae, m.leak, u.max,
+                u.mean);
+    EXPECT_LT(m.leak, 0.002) << name << ": light leaking at the contact line";
+    // psvsm's trilinear footprint on the grazing floor reaches 0.031 (measured); every other technique < 0.013.
+    EXPECT_LT(u.max, 0.05f) << name << ": light inside the box's umbra";
+  }
+}
+
+// Non-planar receivers (the staircase under a plate, a sun disk): the average-blocker assumptions of PCSS and
+// VSSM meet steps; VSSM's subdivision exists for exactly this.
+TEST_F(Stability, NonPlanarReceiversOnTheStaircase) {
+  const Scene scene = makeProcedural("staircase");
+  const Case c = makeCase(scene, sceneCamera(scene), "dir:0.8,-1,0.3:6", 64);
+  for (const std::string& name : allTechniques()) {
+    const ErrorMetrics m = metrics(render(c, name), c);
+    std::printf("  staircase %-8s mae %.5f p95 %.4f leak %.5f false %.5f\n", name.c_str(), m.mae, m.p95, m.leak,
+                m.falseShadow);
+    EXPECT_LT(m.mae, 0.03) << name;
+    EXPECT_LT(m.falseShadow, 0.002) << name;
+  }
+  const ErrorMetrics flat = metrics(render(c, "vssm", {{"vssm-subdivision", "none"}}), c);
+  const ErrorMetrics subdivided = metrics(render(c, "vssm"), c);
+  std::printf("  staircase vssm-none mae %.5f\n", flat.mae);
+  EXPECT_LT(subdivided.mae, flat.mae) << "kernel subdivision must reduce VSSM's non-planarity error";
+}
+
+// Thin casters (poles): filtering wider than a pole washes its shadow out.
+TEST_F(Stability, ThinCastersKeepTheirShadows) {
+  const Scene scene = makeProcedural("poles");
+  const Case c = makeCase(scene, sceneCamera(scene), scene.lights.front().describe());
+  std::map<std::string, ErrorMetrics> seen;
+  for (const std::string& name : allTechniques()) {
+    const ErrorMetrics m = seen[name] = metrics(render(c, name), c);
+    std::printf("  poles %-8s mae %.5f leak %.5f false %.5f\n", name.c_str(), m.mae, m.leak, m.falseShadow);
+  }
+  // Does not fail: unfiltered and blocker-adaptive lookups keep 1-2 texel poles.
+  EXPECT_LT(seen["sm"].leak, 0.005);
+  EXPECT_LT(seen["vssm"].leak, 0.015);
+  // Fails: a 5-texel moment blur (and PCF's 5x5 kernel) washes a 1.3-texel pole's shadow out (measured 0.027).
+  EXPECT_GT(seen["vsm"].leak, 0.01);
+  EXPECT_GT(seen["pcf"].leak, 0.01);
+}
+
+// SAT precision: a large map over a long depth range; fp32 tables lose the low bits.
+TEST_F(Stability, SatPrecisionOverALongDepthRange) {
+  const Scene scene = makeProcedural("box", {{"ground", 400}, {"size", 4}});
+  Camera camera = sceneCamera(scene);
+  const Case c = makeCase(scene, camera, "dir:0.3,-1,0.2", 4);
+  std::map<std::string, double> mae;
+  for (const char* mode : {"float", "fixed32", "fixed64"}) {
+    const RenderResult r = render(c, "savsm", {{"map-size", "2048"}, {"sat-precision", mode}, {"fit", "scene"}});
+    const ErrorMetrics m = metrics(r, c);
+    const double dark = darkened(r, c, 0.99f);
+    mae[mode] = m.mae;
+    std::printf("  sat %-8s darkened %.5f mae %.5f p95 %.4f\n", mode, dark, m.mae, m.p95);
+    EXPECT_LT(dark, 0.005) << mode;
+  }
+  // fp32 (even offset to zero mean) loses low bits of the moments over a 2048^2 table: measurably worse than
+  // the exact integer tables (measured MAE 0.0045 vs 0.0032).
+  EXPECT_GT(mae["float"], 1.2 * mae["fixed64"]);
+  EXPECT_NEAR(mae["fixed32"], mae["fixed64"], 0.1 * mae["fixed64"]);
+}
+
+// Degenerate inputs: every technique gets through them cleanly (render() checks NaN and range).
+TEST_F(Stability, DegenerateScenesNeverCrashOrEmitNan) {
+  Camera camera;
+  camera.eye = {0, 2, 5}, camera.target = {0, 0, 0}, camera.width = 48, camera.height = 32;
+  std::vector<std::pair<std::string, Case>> cases;
+  const Scene triangle = makeProcedural("single-triangle");
+  cases.emplace_back("single triangle", Case{triangle, camera, parseLight("spot:0,0,4:0,0,0:60:0.2"), {}});
+  const Scene box = makeProcedural("box");
+  cases.emplace_back("light inside the box", Case{box, camera, parseLight("spot:0,0.5,0:0,0,0:120:0.05"), {}});
+  Camera away = camera;
+  away.target = {0, 2, 10};
+  cases.emplace_back("camera looking away", Case{box, away, parseLight("dir:0,-1,0:2"), {}});
+  Scene empty;
+  cases.emplace_back("empty scene", Case{empty, camera, parseLight("dir:0,-1,0"), {}});
+  for (const auto& [what, c] : cases)
+    for (const std::string& name : allTechniques()) {
+      SCOPED_TRACE(what + " / " + name);
+      const RenderResult r = render(c, name);
+      if (what == "empty scene" || what == "camera looking away") {
+        for (float v : r.image.require("visibility.Y").data) ASSERT_EQ(v, 1.0f) << "nothing seen: all lit";
+      }
+    }
+}
+
+}  // namespace
+}  // namespace penumbra

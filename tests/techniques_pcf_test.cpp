@@ -1,0 +1,123 @@
+// The sm/pcf/pcss options beyond the basics: receiver-plane depth bias (acne-free without slope bias),
+// the adaptive PCF kernel (grows with the pixel's footprint in the map), rotated Poisson taps (same shadow
+// edge as the grid), and the receiver fit (same hard edge as the whole-scene fit, finer texels).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "host/pipeline/renderer.h"
+#include "host/scene/procedural.h"
+#include "host/techniques/registry.h"
+#include "tests/support/analytic_scenes.h"
+#include "tests/support/cl_test.h"
+
+namespace penumbra {
+namespace {
+using test::ClTest;
+
+class PcfTechniques : public ClTest {
+ protected:
+  static RenderResult render(const Scene& scene, const Camera& camera, const Light& light, const std::string& name,
+                             const std::map<std::string, std::string>& values) {
+    const TechniqueInfo& info = findTechnique(name);
+    Params params(info.params);
+    for (const auto& [key, value] : values) params.set(key, value);
+    Renderer renderer(ctx(), scene);
+    return renderer.render(camera, light, info, params);
+  }
+
+  // Fraction of covered pixels with visibility below 1.
+  static double darkFraction(const RenderResult& result) {
+    const auto &vis = result.image.require("visibility.Y").data, &a = result.image.require("A").data;
+    size_t covered = 0, dark = 0;
+    for (size_t i = 0; i < vis.size(); ++i)
+      if (a[i] > 0.0f) ++covered, dark += vis[i] < 1.0f;
+    return covered ? static_cast<double>(dark) / static_cast<double>(covered) : 0.0;
+  }
+};
+
+TEST_F(PcfTechniques, ReceiverPlaneBiasKeepsAGrazingPlaneLitWithoutSlopeBias) {
+  const Scene plane = makeProcedural("plane");
+  Camera camera = test::topDown();
+  camera.eye = {0.0f, 6.0f, 6.0f};
+  const Light grazing = parseLight("dir:1,-0.25,0.2");  // ~75 degrees from the normal
+  for (const char* name : {"sm", "pcf", "pcss"}) {
+    std::map<std::string, std::string> values = {
+        {"map-size", "512"}, {"bias", "0.05"}, {"slope-bias", "0"}, {"normal-offset", "0"}, {"fit", "scene"}};
+    values["receiver-plane"] = "off";
+    const double without = darkFraction(render(plane, camera, grazing, name, values));
+    values["receiver-plane"] = "on";
+    const double with = darkFraction(render(plane, camera, grazing, name, values));
+    EXPECT_GT(without, 0.05) << name << ": without any slope bias a grazing plane should show acne";
+    EXPECT_LT(with, 0.002) << name << ": the receiver plane should remove it (was " << without << ")";
+  }
+}
+
+TEST_F(PcfTechniques, AdaptiveKernelFollowsThePixelFootprint) {
+  const Scene plane = makeProcedural("plane");
+  Camera grazing = test::topDown();
+  grazing.eye = {0.0f, 0.6f, 6.0f};  // low over the plane: footprints grow towards the horizon
+  grazing.target = {0.0f, 0.0f, -2.0f};
+  const Light light = parseLight("dir:0,-1,0");
+  std::map<std::string, std::string> values = {{"map-size", "1024"}, {"pcf-radius", "1"}, {"fit", "scene"}};
+  values["pcf-adaptive"] = "off";
+  {
+    const RenderResult fixed = render(plane, grazing, light, "pcf", values);
+    const auto &r = fixed.image.require("filter.Z").data, &covered = fixed.image.require("A").data;
+    for (size_t i = 0; i < r.size(); ++i)
+      ASSERT_EQ(r[i], covered[i] > 0.0f ? 1.0f : 0.0f) << "fixed kernel: half-width 1 on every covered pixel (" << i
+                                                       << ")";
+  }
+  values["pcf-adaptive"] = "on";
+  values["pcf-max-radius"] = "12";
+  const RenderResult result = render(plane, grazing, light, "pcf", values);
+  const auto& width = result.image.require("filter.Z").data;
+  const auto& a = result.image.require("A").data;
+  const int w = grazing.width;
+  float nearRow = 0.0f, farRow = 0.0f;  // image rows are top-down: the horizon is near the top
+  int nearCount = 0, farCount = 0;
+  for (size_t i = 0; i < width.size(); ++i) {
+    if (a[i] == 0.0f) continue;
+    ASSERT_GE(width[i], 1.0f);
+    ASSERT_LE(width[i], 12.0f);
+    const int y = static_cast<int>(i) / w;
+    if (y > grazing.height * 9 / 10) nearRow += width[i], ++nearCount;
+    if (y < grazing.height / 2) farRow += width[i], ++farCount;
+  }
+  ASSERT_GT(nearCount, 0);
+  ASSERT_GT(farCount, 0);
+  EXPECT_GT(farRow / farCount, 2.0f * nearRow / nearCount) << "distant pixels cover more texels";
+}
+
+// Hard edge of the square occluder under a point light (|x|, |z| = 2 on the ground), as in techniques_test.
+void expectEdge(const RenderResult& result, float band, const std::string& what) {
+  const Image& image = result.image;
+  const auto &vis = image.require("visibility.Y").data, &px = image.require("P.X").data,
+             &py = image.require("P.Y").data, &pz = image.require("P.Z").data, &a = image.require("A").data;
+  int checked = 0, wrong = 0;
+  for (size_t i = 0; i < vis.size(); ++i) {
+    if (a[i] == 0.0f || py[i] > 0.5f) continue;
+    const float edge = std::max(std::abs(px[i]), std::abs(pz[i])) - 2.0f;
+    if (std::abs(edge) < band) continue;
+    ++checked;
+    if (std::abs(vis[i] - (edge < 0 ? 0.0f : 1.0f)) > 1e-6f) ++wrong;
+  }
+  EXPECT_GT(checked, 5000) << what;
+  EXPECT_EQ(wrong, 0) << what;
+}
+
+TEST_F(PcfTechniques, PoissonTapsAndTheReceiverFitKeepTheHardEdge) {
+  const Scene scene = test::squareOverPlane();
+  expectEdge(render(scene, test::topDown(), test::pointAbove(), "pcf",
+                    {{"map-size", "1024"}, {"pcf-poisson-taps", "16"}, {"pcf-radius", "2"}}),
+             0.08f, "pcf with 16 Poisson taps");
+  expectEdge(render(scene, test::topDown(), test::pointAbove(), "sm", {{"map-size", "512"}, {"fit", "scene"}}), 0.08f,
+             "sm fitted to the scene");
+  const RenderResult fitted =
+      render(scene, test::topDown(), test::pointAbove(), "sm", {{"map-size", "512"}, {"fit", "receivers"}});
+  expectEdge(fitted, 0.08f, "sm fitted to the receivers");
+  EXPECT_NE(fitted.image.attributes().at("penumbra:light-fit").find("receivers"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace penumbra
