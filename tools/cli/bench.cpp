@@ -4,6 +4,7 @@
 // / the device's measured copy bandwidth), and the accuracy of the last run against a reference (given, or traced
 // with Embree once and cached next to the output). Writes CSV (and JSON); progress on stderr.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <filesystem>
 #include <fstream>
@@ -190,14 +191,22 @@ int run(const BenchOptions& o) {
   Renderer renderer(ctx, scene);
   std::vector<BenchRow> rows;
   Progress progress(jobs.size() * static_cast<size_t>(o.warmup + o.runs), !o.quiet);
+  std::vector<std::string> failed;
   for (const Job& job : jobs) {
-    progress.announce(fmt::format("{} {}", job.technique->name, job.setting.label));
+    const std::string label = fmt::format("{} {}", job.technique->name, job.setting.label);
+    progress.announce(label);
     std::vector<std::vector<PassTime>> runs;
     RenderResult last;
-    for (int i = 0; i < o.warmup + o.runs; ++i) {
-      last = renderer.render(camera, light, *job.technique, job.params);
-      if (i >= o.warmup) runs.push_back(last.passes);
-      progress.advance();
+    try {
+      for (int i = 0; i < o.warmup + o.runs; ++i) {
+        last = renderer.render(camera, light, *job.technique, job.params);
+        if (i >= o.warmup) runs.push_back(last.passes);
+        progress.advance();
+      }
+    } catch (const std::exception& e) {  // one failing setting must not lose the others' measurements
+      fmt::print(stderr, "bench: {} failed: {}\n", label, e.what());
+      failed.push_back(label);
+      continue;
     }
     std::optional<ErrorMetrics> metrics;
     if (ref) metrics = compareImages(last.image, *ref, spec);
@@ -208,6 +217,11 @@ int run(const BenchOptions& o) {
   if (!o.quiet) {
     printSummary(meta, rows);
     fmt::print("wrote {}{}\n", o.output, o.json.empty() ? "" : " and " + o.json);
+  }
+  if (!failed.empty()) {
+    fmt::print(stderr, "bench: {} of {} settings failed (left out of the results): {}\n", failed.size(), jobs.size(),
+               fmt::join(failed, ", "));
+    return 1;
   }
   return 0;
 }
