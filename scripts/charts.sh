@@ -4,7 +4,8 @@
 # tools/accuracy_table.py over the CSVs (kept in out/charts/). Sized to finish in minutes on a 2-core PoCL machine.
 # Environment: PENUMBRA (a built tool; default: build with scripts/setup.sh and use $BUILD_DIR/tools/penumbra),
 # SIZE (640x360), MAP_SIZE (1024), SPP (256), RUNS (3), WARMUP (1), TECHNIQUES (all), SCENES (space-separated),
-# SWEEPS (space-separated PARAM=a,b,c for more points per technique, e.g. "blur-radius=1,2,4"; default none).
+# SWEEPS (space-separated PARAM=a,b,c for more points per technique; default "lvsm-layers=1,2,4,8
+# pssm-splits=1,2,4,8": LVSM-N and 1-8 parallel splits; "" for defaults only).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -15,7 +16,7 @@ RUNS=${RUNS:-3}
 WARMUP=${WARMUP:-1}
 TECHNIQUES=${TECHNIQUES:-all}
 sweep_args=()
-for sweep in ${SWEEPS:-}; do sweep_args+=(--sweep "$sweep"); done
+for sweep in ${SWEEPS-lvsm-layers=1,2,4,8 pssm-splits=1,2,4,8}; do sweep_args+=(--sweep "$sweep"); done
 read -r -a SCENE_LIST <<<"${SCENES:-$(echo scenes/*.json) builtin:stacked-planes builtin:staircase}"
 PYTHON=${PYTHON:-$([ -x /usr/bin/python3 ] && echo /usr/bin/python3 || echo python3)}  # Debian's, with matplotlib
 

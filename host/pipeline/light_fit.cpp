@@ -45,6 +45,7 @@ ReceiverBounds reduceReceivers(Context& ctx, const GBuffer& gbuffer, const glm::
   kernel
       .args(gbuffer.position, static_cast<uint32_t>(count), chunk, row(lightEye, 0), row(lightEye, 1),
             row(lightEye, 2), static_cast<int>(perspective), partial)
+      .moves(count * sizeof(cl_float4))  // floor: read every position once
       .launch(groups * kFitGroup, kFitGroup);
   const std::vector<cl_float4> parts = partial.download(ctx);
   glm::vec3 lo(INFINITY), hi(-INFINITY);
@@ -68,7 +69,9 @@ DepthRange reduceDepthRange(Context& ctx, const Buffer<float>& depth, size_t cou
   const size_t groups = (count + chunk - 1) / chunk;
   Buffer<cl_float2> partial(ctx, groups);
   Kernel kernel(ctx, "kernels/fit.cl", "fit_depth_partial", "fit");
-  kernel.args(depth, static_cast<uint32_t>(count), chunk, partial).launch(groups * kFitGroup, kFitGroup);
+  kernel.args(depth, static_cast<uint32_t>(count), chunk, partial)
+      .moves(count * sizeof(float))  // floor: read every depth once
+      .launch(groups * kFitGroup, kFitGroup);
   for (const cl_float2& p : partial.download(ctx)) {
     range.min = std::min(range.min, p.s[0]);
     range.max = std::max(range.max, p.s[1]);

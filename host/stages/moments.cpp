@@ -97,7 +97,9 @@ cl::Event packMomentsUnorm16(Context& ctx, const Buffer<float>& in, size_t count
   checkBufferSize(out.size(), outOffset + count, "moments", "unorm16 output");
   if (outOffset + count > UINT32_MAX) throw std::invalid_argument("moments: unorm16 output above 2^32 elements");
   Kernel kernel(ctx, "kernels/moments.cl", "moments_pack_unorm16", "moments");
-  return kernel.args(in, out, static_cast<uint32_t>(count), static_cast<uint32_t>(outOffset)).launch(count, 64);
+  return kernel.args(in, out, static_cast<uint32_t>(count), static_cast<uint32_t>(outOffset))
+      .moves(uint64_t{count} * (sizeof(float) + sizeof(uint16_t)))  // fp32 in, unorm16 out
+      .launch(count, 64);
 }
 
 }  // namespace penumbra

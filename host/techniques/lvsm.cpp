@@ -124,7 +124,7 @@ void LayeredVsm::storeLayer(Context& ctx, const Buffer<float>& src, size_t count
   clCheck(ctx.queue().enqueueCopyBuffer(src.get(), (mips ? layerMips_ : layers_).get(), 0, offset * sizeof(float),
                                         count * sizeof(float), nullptr, &event),
           "clEnqueueCopyBuffer", "lvsm_store_layer", "lvsm");
-  if (ctx.profiler() != nullptr) ctx.profiler()->record("lvsm/store_layer", event);
+  if (ctx.profiler() != nullptr) ctx.profiler()->record("lvsm/store_layer", event, 2 * count * sizeof(float));  // copy: read + write
 }
 
 // Per layer (sec. 5): warped moments, blur, mips, storage.
@@ -186,7 +186,8 @@ void LayeredVsm::render(ShadowFrame& frame, Buffer<float>& visibility) {
   else
     kernel.args(g.position, g.normal, map_.gpu, layers_, layerMips_, mipLevels_, shade, layoutBuffer, visibility,
                 debug_.moments, debug_.stats, layerIndex_);
-  kernel.launch(pixels, kPixelGroup);
+  // G-buffer in, visibility, debug moments (16 B), stats (8 B) and layer index (4 B) out.
+  kernel.moves(pixels * (kVisibilityBytesPerPixel + 16 + 8 + 4)).launch(pixels, kPixelGroup);
 }
 
 std::vector<ParamSpec> lvsmParams() {

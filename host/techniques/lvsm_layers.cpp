@@ -113,6 +113,7 @@ void lloydSamples(Context& ctx, const Buffer<float>& depth, uint32_t width, uint
   if (out.count == 0) return;
   Kernel kernel(ctx, "kernels/lvsm_splits.cl", "lvsm_lloyd_samples", "lvsm");
   kernel.args(depth, mapParams(width, height, depthNear, depthFar), minVariance, out.x, out.w)
+      .moves(uint64_t{width} * height * 4 + uint64_t{out.count} * 8)  // depth in, (x, w) samples out
       .launch(Range(width - 1, height - 1), Range(16, 8));
 }
 
@@ -180,6 +181,7 @@ double lvsmLeak(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32
   Buffer<LvsmLayout> layoutBuffer(ctx, std::span<const LvsmLayout>(&layout, 1), CL_MEM_READ_ONLY);
   Kernel kernel(ctx, "kernels/lvsm_splits.cl", "lvsm_leak_samples", "lvsm");
   kernel.args(depth, mapParams(width, height, depthNear, depthFar), layoutBuffer, leak.x, leak.w)
+      .moves(uint64_t{width} * height * 4 + uint64_t{leak.count} * 8)  // depth in, (x, w) samples out
       .launch(Range(width - 1, height - 1), Range(16, 8));
   const LloydStats s = clusterStats(ctx, leak, {}).front();
   return s.sumW > 0.0f ? double(s.sumWX) / double(s.sumW) : 0.0;

@@ -34,6 +34,7 @@ class ParallelSplit final : public Technique {
     kernel
         .args(g.position, g.normal, g.depth, atlas_, gpu_.views, gpu_.splits, gpu_.shade, visibility, aovs_.split,
               aovs_.resolutionError)
+        .moves(pixels * (kVisibilityBytesPerPixel + 4 + 8))  // + camera depth read, split and error AOVs written
         .launch(pixels, kPixelGroup);
   }
 

@@ -64,6 +64,7 @@ class ParallelSplitVariance final : public Technique {
     kernel
         .args(g.position, g.normal, g.depth, gpu_.views, gpu_.splits, base_, mipAtlas_, mipLevels_, shade,
               gpu_.shade, visibility, aovs_.split, aovs_.resolutionError)
+        .moves(pixels * (kVisibilityBytesPerPixel + 4 + 8))  // + camera depth read, split and error AOVs written
         .launch(pixels, kPixelGroup);
   }
 

@@ -109,7 +109,9 @@ void VssmMaps::build(Context& ctx, const Buffer<float>& depth, uint32_t width, u
   }
   const uint32_t texels = static_cast<uint32_t>(shape.texels());
   Kernel normalize(ctx, "kernels/vssm.cl", "vssm_normalize_depth", "vssm", buildOptions());
-  normalize.args(depth, normalized_, texels, zNear_, invRange_).launch(texels, kNormalizeGroup);
+  normalize.args(depth, normalized_, texels, zNear_, invRange_)
+      .moves(uint64_t{texels} * 2 * sizeof(float))  // depth in, normalised depth out
+      .launch(texels, kNormalizeGroup);
   computeMinMaxPyramid(ctx, normalized_, width, height, hsm_);
 }
 
