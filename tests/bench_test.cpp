@@ -82,6 +82,24 @@ TEST(Sweep, ExpandsOnlyTheParametersATechniqueHas) {
   EXPECT_NO_THROW(checkSweeps(sweeps, {&sm, &pcf}));
 }
 
+TEST(Sweep, MovesSeveralParametersTogether) {
+  const Sweep zipped = parseSweep("pcf-radius+map-size=1+2048,4+1024");
+  EXPECT_EQ(zipped.param, "pcf-radius+map-size");
+  ASSERT_EQ(zipped.names.size(), 2u);
+  const TechniqueInfo &pcf = findTechnique("pcf"), &sm = findTechnique("sm");
+  std::vector<std::string> skipped;
+  const std::vector<Setting> a = expandSweeps(pcf, {zipped}, &skipped);
+  ASSERT_EQ(a.size(), 2u) << "zipped, not a product";
+  EXPECT_EQ(a[1].values.at("pcf-radius"), "4");
+  EXPECT_EQ(a[1].values.at("map-size"), "1024");
+  EXPECT_EQ(a[1].label, "pcf-radius+map-size=4+1024");
+  EXPECT_EQ(expandSweeps(sm, {zipped}, &skipped).front().label, "default") << "sm lacks pcf-radius";
+  EXPECT_EQ(skipped.back(), "pcf-radius+map-size");
+  for (const char* bad : {"a+b=1", "a+b=1+2+3", "a+=1+2", "a+b=1+,2+3"})
+    EXPECT_THROW(parseSweep(bad), std::invalid_argument) << bad;
+  EXPECT_THROW(checkSweeps({zipped, parseSweep("map-size=512")}, {&pcf}), std::invalid_argument);
+}
+
 std::vector<BenchRow> exampleRows() {
   BenchRow pass{"builtin:box", "pcf", "map-size=512", "bias=1, \"x\"", "shade/pcf_visibility", 1, 2.5, 3600, 0.25, {}};
   BenchRow total = pass;

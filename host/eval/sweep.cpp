@@ -14,26 +14,40 @@ bool hasParam(const TechniqueInfo& info, const std::string& name) {
   return std::any_of(info.params.begin(), info.params.end(), [&](const ParamSpec& s) { return s.name == name; });
 }
 
+bool hasAll(const TechniqueInfo& info, const Sweep& sweep) {
+  return std::all_of(sweep.names.begin(), sweep.names.end(), [&](const std::string& n) { return hasParam(info, n); });
+}
+
+std::vector<std::string> split(std::string_view text, char separator) {
+  std::vector<std::string> parts;
+  while (true) {
+    const size_t at = text.find(separator);
+    parts.emplace_back(text.substr(0, at));
+    if (at == std::string_view::npos) return parts;
+    text.remove_prefix(at + 1);
+  }
+}
+
 }  // namespace
 
 Sweep parseSweep(std::string_view text) {
   const auto bad = [&](const char* why) {
-    return std::invalid_argument(fmt::format("--sweep '{}': {} (expected NAME=a,b,c)", text, why));
+    return std::invalid_argument(fmt::format("--sweep '{}': {} (expected NAME=a,b,c or NAME1+NAME2=a1+a2,b1+b2)", text, why));
   };
   const size_t eq = text.find('=');
   if (eq == std::string_view::npos) throw bad("no '='");
-  std::string_view name = text.substr(0, eq);
-  if (name.starts_with("--")) name.remove_prefix(2);
-  if (name.empty()) throw bad("empty parameter name");
-  Sweep sweep{std::string(name), {}};
-  std::string_view rest = text.substr(eq + 1);
-  while (true) {
-    const size_t comma = rest.find(',');
-    const std::string_view value = rest.substr(0, comma);
-    if (value.empty()) throw bad("empty value");
-    sweep.values.emplace_back(value);
-    if (comma == std::string_view::npos) break;
-    rest.remove_prefix(comma + 1);
+  Sweep sweep;
+  for (std::string name : split(text.substr(0, eq), '+')) {
+    if (name.starts_with("--")) name.erase(0, 2);
+    if (name.empty()) throw bad("empty parameter name");
+    sweep.param += (sweep.param.empty() ? "" : "+") + name;
+    sweep.names.push_back(std::move(name));
+  }
+  for (const std::string& value : split(text.substr(eq + 1), ',')) {
+    const std::vector<std::string> parts = split(value, '+');
+    if (std::any_of(parts.begin(), parts.end(), [](const std::string& p) { return p.empty(); })) throw bad("empty value");
+    if (parts.size() != sweep.names.size()) throw bad("a value needs one '+'-joined part per parameter");
+    sweep.values.push_back(value);
   }
   return sweep;
 }
@@ -42,7 +56,7 @@ std::vector<Setting> expandSweeps(const TechniqueInfo& technique, const std::vec
                                   std::vector<std::string>* skipped) {
   std::vector<Setting> settings{Setting{}};
   for (const Sweep& sweep : sweeps) {
-    if (!hasParam(technique, sweep.param)) {
+    if (!hasAll(technique, sweep)) {
       if (skipped != nullptr) skipped->push_back(sweep.param);
       continue;
     }
@@ -50,7 +64,8 @@ std::vector<Setting> expandSweeps(const TechniqueInfo& technique, const std::vec
     for (const Setting& base : settings)
       for (const std::string& value : sweep.values) {
         Setting s = base;
-        s.values[sweep.param] = value;
+        const std::vector<std::string> parts = split(value, '+');
+        for (size_t k = 0; k < parts.size(); ++k) s.values[sweep.names[k]] = parts[k];
         s.label += (s.label.empty() ? "" : " ") + sweep.param + "=" + value;
         next.push_back(std::move(s));
       }
@@ -64,10 +79,10 @@ std::vector<Setting> expandSweeps(const TechniqueInfo& technique, const std::vec
 void checkSweeps(const std::vector<Sweep>& sweeps, const std::vector<const TechniqueInfo*>& list) {
   std::set<std::string> seen;
   for (const Sweep& sweep : sweeps) {
-    if (!seen.insert(sweep.param).second)
-      throw std::invalid_argument(fmt::format("--sweep {} given twice", sweep.param));
-    if (std::none_of(list.begin(), list.end(), [&](const TechniqueInfo* t) { return hasParam(*t, sweep.param); }))
-      throw std::invalid_argument(fmt::format("--sweep {}: no technique in the list has that parameter", sweep.param));
+    for (const std::string& name : sweep.names)
+      if (!seen.insert(name).second) throw std::invalid_argument(fmt::format("--sweep {} given twice", name));
+    if (std::none_of(list.begin(), list.end(), [&](const TechniqueInfo* t) { return hasAll(*t, sweep); }))
+      throw std::invalid_argument(fmt::format("--sweep {}: no technique in the list has that parameter (all of them)", sweep.param));
   }
 }
 

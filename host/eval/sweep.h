@@ -1,5 +1,7 @@
 // Parameter sweeps of `penumbra bench`: "--sweep map-size=512,1024,2048" parsed, and each technique's settings as
-// the cartesian product of the sweeps over parameters it has (the others are skipped and reported).
+// the cartesian product of the sweeps over parameters it has (the others are skipped and reported). A sweep may
+// move several parameters together: "--sweep pssm-splits+map-size=1+2048,4+1024" gives two settings (splits 1 at
+// 2048², splits 4 at 1024²: the same total texels), for the techniques that have all of them.
 #pragma once
 
 #include <map>
@@ -12,12 +14,13 @@
 namespace penumbra {
 
 struct Sweep {
-  std::string param;                // parameter name without dashes
-  std::vector<std::string> values;  // as given, in order
+  std::string param;                // parameter name(s) without dashes, as given ("map-size", "a+b")
+  std::vector<std::string> names;   // the parameters it moves
+  std::vector<std::string> values;  // as given, in order; one '+'-joined part per name
 };
 
-// "NAME=a,b,c" (a leading "--" on NAME is allowed). Throws std::invalid_argument naming the text when the name or a
-// value is empty or there is no '='.
+// "NAME=a,b,c" or "NAME1+NAME2=a1+a2,b1+b2" (a leading "--" on a name is allowed). Throws std::invalid_argument
+// naming the text when a name or a value is empty, there is no '=', or a value has the wrong number of parts.
 Sweep parseSweep(std::string_view text);
 
 struct Setting {
