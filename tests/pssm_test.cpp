@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ostream>
 #include <sstream>
 
 #include "host/pipeline/renderer.h"
@@ -70,6 +71,10 @@ struct Variant {
   std::string technique;
   std::map<std::string, std::string> params;
 };
+void PrintTo(const Variant& v, std::ostream* os) {  // readable ctest names, not raw bytes
+  *os << v.technique;
+  for (const auto& [key, value] : v.params) *os << " --" << key << " " << value;
+}
 std::string variantName(const ::testing::TestParamInfo<Variant>& info) {
   std::string name = info.param.technique;
   for (const auto& [key, value] : info.param.params) name += "_" + value;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ostream>
 #include <random>
 #include <string>
 #include <vector>
@@ -41,6 +42,7 @@ struct Case {
 };
 
 std::string caseName(const ::testing::TestParamInfo<Case>& p) { return p.param.name; }
+void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }  // readable ctest names, not raw bytes
 
 // Planar occluder blocks over a tilted floor, with holes: what shadow maps hold, plus NaN.
 std::vector<float> randomMap(const Case& c, std::mt19937& rng) {
