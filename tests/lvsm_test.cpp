@@ -21,9 +21,11 @@
 #include "host/techniques/lvsm_layers.h"
 #include "host/techniques/technique.h"
 #include "tests/support/cl_test.h"
+#include "tests/support/render.h"
 
 namespace penumbra {
 namespace {
+using test::renderWith;
 using test::ClTest;
 
 // 16-bit unorm layers against fp32 layers (same splits): the moments are rounded to 1/65535 (7.6e-6 half
@@ -32,15 +34,6 @@ using test::ClTest;
 constexpr double kUnorm16MeanTolerance = 1e-4;
 constexpr double kUnorm16MaxTolerance = 5e-3;
 constexpr float kBleedingThreshold = 0.02f;  // as in techniques_moments_test.cpp
-
-RenderResult renderWith(Context& ctx, const Scene& scene, const Camera& camera, const Light& light,
-                        const std::string& technique, const std::map<std::string, std::string>& values = {}) {
-  const TechniqueInfo& info = findTechnique(technique);
-  Params params(info.params);
-  for (const auto& [name, value] : values) params.set(name, value);
-  Renderer renderer(ctx, scene);
-  return renderer.render(camera, light, info, params);
-}
 
 std::vector<float> splitsOf(const RenderResult& r) {
   std::vector<float> s;

@@ -15,10 +15,12 @@
 #include "host/techniques/technique.h"
 #include "tests/support/analytic_scenes.h"
 #include "tests/support/cl_test.h"
+#include "tests/support/render.h"
 #include "tools/reference/reference.h"
 
 namespace penumbra {
 namespace {
+using test::renderWith;
 using test::ClTest;
 
 constexpr float kDistanceTolerance = 1e-5f;  // relative: float pow/mix of values up to 1e3
@@ -58,15 +60,6 @@ TEST(PssmSplits, AutomaticSchemeFollowsTheOptimalTilingFactor) {
   EXPECT_EQ(autoSplitDistances(1, 100, 1.2f, 3, 0.5f), fallback);
 }
 
-RenderResult renderWith(Context& ctx, const Scene& scene, const Camera& camera, const Light& light,
-                        const std::string& technique, const std::map<std::string, std::string>& values = {}) {
-  const TechniqueInfo& info = findTechnique(technique);
-  Params params(info.params);
-  for (const auto& [name, value] : values) params.set(name, value);
-  Renderer renderer(ctx, scene);
-  return renderer.render(camera, light, info, params);
-}
-
 struct Variant {
   std::string technique;
   std::map<std::string, std::string> params;
@@ -99,23 +92,12 @@ TEST_P(PssmTechniques, HardEdgeOfASquareOccluderLandsOnTheRightPixels) {
   if (moments) values["moment-filtering"] = "bilinear";
   const RenderResult result =
       renderWith(ctx(), test::squareOverPlane(), test::topDown(), test::pointAbove(), GetParam().technique, values);
-  const Image& image = result.image;
-  const auto &vis = image.require("visibility.Y").data, &px = image.require("P.X").data,
-             &py = image.require("P.Y").data, &pz = image.require("P.Z").data, &a = image.require("A").data;
   // Band: pcf's 0.08 plus psvsm's blur (Gaussian 3 sigma of split 0 + a bilinear texel); tolerance as Techniques.
   const float band = moments ? 0.12f : 0.08f, tolerance = moments ? 1e-3f : 1e-6f;
-  int shadowed = 0, lit = 0, wrong = 0;
-  for (size_t i = 0; i < vis.size(); ++i) {
-    if (a[i] == 0.0f || py[i] > 0.5f) continue;
-    const float edge = std::max(std::abs(px[i]), std::abs(pz[i])) - 2.0f;
-    if (std::abs(edge) < band) continue;
-    const float expected = edge < 0 ? 0.0f : 1.0f;
-    (expected == 0.0f ? shadowed : lit)++;
-    wrong += std::abs(vis[i] - expected) > tolerance;
-  }
-  EXPECT_GT(shadowed, 2000);
-  EXPECT_GT(lit, 5000);
-  EXPECT_EQ(wrong, 0);
+  const test::HardEdgeCount count = test::checkHardEdge(result.image, band, tolerance);
+  EXPECT_GT(count.shadowed, 2000);
+  EXPECT_GT(count.lit, 5000);
+  EXPECT_EQ(count.wrong, 0);
   EXPECT_NE(result.image.attributes().at("penumbra:pssm-distances"), "");
 }
 

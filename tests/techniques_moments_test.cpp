@@ -22,9 +22,11 @@
 #include "host/techniques/technique.h"
 #include "tests/reference/box_pcf_ref.h"
 #include "tests/support/cl_test.h"
+#include "tests/support/render.h"
 
 namespace penumbra {
 namespace {
+using test::renderWith;
 using test::ClTest;
 
 // fp32 moments: M2 - M1^2 cancels to ~1e-7 absolute, and the kernel's bilinear weights come from fp32
@@ -39,15 +41,6 @@ constexpr double kPlanarExpTolerance = 3e-4;
 // variance f (1 - f) dw^2 where the occluded fraction f < (2c)^2 min-variance = 0.64%, which brightens the
 // outer penumbra by up to ~f. Measured worst: 1.6e-3 (EVSM4's negative bound hides it).
 constexpr double kPlanarEvsm2Tolerance = 3e-3;
-
-RenderResult renderWith(Context& ctx, const Scene& scene, const Camera& camera, const Light& light,
-                        const std::string& technique, const std::map<std::string, std::string>& values = {}) {
-  const TechniqueInfo& info = findTechnique(technique);
-  Params params(info.params);
-  for (const auto& [name, value] : values) params.set(name, value);
-  Renderer renderer(ctx, scene);
-  return renderer.render(camera, light, info, params);
-}
 
 // ---- one planar occluder over a parallel planar receiver -----------------------------------------------
 

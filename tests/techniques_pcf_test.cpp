@@ -5,11 +5,10 @@
 
 #include <cmath>
 
-#include "host/pipeline/renderer.h"
 #include "host/scene/procedural.h"
-#include "host/techniques/registry.h"
 #include "tests/support/analytic_scenes.h"
 #include "tests/support/cl_test.h"
+#include "tests/support/render.h"
 
 namespace penumbra {
 namespace {
@@ -18,12 +17,8 @@ using test::ClTest;
 class PcfTechniques : public ClTest {
  protected:
   static RenderResult render(const Scene& scene, const Camera& camera, const Light& light, const std::string& name,
-                             const std::map<std::string, std::string>& values) {
-    const TechniqueInfo& info = findTechnique(name);
-    Params params(info.params);
-    for (const auto& [key, value] : values) params.set(key, value);
-    Renderer renderer(ctx(), scene);
-    return renderer.render(camera, light, info, params);
+                             const test::Values& values) {
+    return test::renderWith(ctx(), scene, camera, light, name, values);
   }
 
   // Fraction of covered pixels with visibility below 1.
@@ -42,7 +37,7 @@ TEST_F(PcfTechniques, ReceiverPlaneBiasKeepsAGrazingPlaneLitWithoutSlopeBias) {
   camera.eye = {0.0f, 6.0f, 6.0f};
   const Light grazing = parseLight("dir:1,-0.25,0.2");  // ~75 degrees from the normal
   for (const char* name : {"sm", "pcf", "pcss"}) {
-    std::map<std::string, std::string> values = {
+    test::Values values = {
         {"map-size", "512"}, {"bias", "0.05"}, {"slope-bias", "0"}, {"normal-offset", "0"}, {"fit", "scene"}};
     values["receiver-plane"] = "off";
     const double without = darkFraction(render(plane, camera, grazing, name, values));
@@ -59,7 +54,7 @@ TEST_F(PcfTechniques, AdaptiveKernelFollowsThePixelFootprint) {
   grazing.eye = {0.0f, 0.6f, 6.0f};  // low over the plane: footprints grow towards the horizon
   grazing.target = {0.0f, 0.0f, -2.0f};
   const Light light = parseLight("dir:0,-1,0");
-  std::map<std::string, std::string> values = {{"map-size", "1024"}, {"pcf-radius", "1"}, {"fit", "scene"}};
+  test::Values values = {{"map-size", "1024"}, {"pcf-radius", "1"}, {"fit", "scene"}};
   values["pcf-adaptive"] = "off";
   {
     const RenderResult fixed = render(plane, grazing, light, "pcf", values);
@@ -91,19 +86,9 @@ TEST_F(PcfTechniques, AdaptiveKernelFollowsThePixelFootprint) {
 
 // Hard edge of the square occluder under a point light (|x|, |z| = 2 on the ground), as in techniques_test.
 void expectEdge(const RenderResult& result, float band, const std::string& what) {
-  const Image& image = result.image;
-  const auto &vis = image.require("visibility.Y").data, &px = image.require("P.X").data,
-             &py = image.require("P.Y").data, &pz = image.require("P.Z").data, &a = image.require("A").data;
-  int checked = 0, wrong = 0;
-  for (size_t i = 0; i < vis.size(); ++i) {
-    if (a[i] == 0.0f || py[i] > 0.5f) continue;
-    const float edge = std::max(std::abs(px[i]), std::abs(pz[i])) - 2.0f;
-    if (std::abs(edge) < band) continue;
-    ++checked;
-    if (std::abs(vis[i] - (edge < 0 ? 0.0f : 1.0f)) > 1e-6f) ++wrong;
-  }
-  EXPECT_GT(checked, 5000) << what;
-  EXPECT_EQ(wrong, 0) << what;
+  const test::HardEdgeCount count = test::checkHardEdge(result.image, band, 1e-6f);
+  EXPECT_GT(count.shadowed + count.lit, 5000) << what;
+  EXPECT_EQ(count.wrong, 0) << what;
 }
 
 TEST_F(PcfTechniques, PoissonTapsAndTheReceiverFitKeepTheHardEdge) {

@@ -10,22 +10,15 @@
 #include "host/techniques/technique.h"
 #include "tests/support/analytic_scenes.h"
 #include "tests/support/cl_test.h"
+#include "tests/support/render.h"
 
 namespace penumbra {
 namespace {
+using test::renderWith;
 using test::ClTest;
 using test::pointAbove;
 using test::squareOverPlane;
 using test::topDown;
-
-RenderResult renderWith(Context& ctx, const Scene& scene, const Camera& camera, const Light& light,
-                        const std::string& technique, std::map<std::string, std::string> values = {}) {
-  const TechniqueInfo& info = findTechnique(technique);
-  Params params(info.params);
-  for (const auto& [name, value] : values) params.set(name, value);
-  Renderer renderer(ctx, scene);
-  return renderer.render(camera, light, info, params);
-}
 
 // Away from the shadow's edge by `band` world units, visibility must be within `tolerance` of 0 or 1.
 struct EdgeExpectation {
@@ -46,22 +39,11 @@ TEST_P(Techniques, HardEdgeOfASquareOccluderLandsOnTheRightPixels) {
   // The light at y = 4 projects the occluder's edge |x| = 1 at y = 2 to |x| = 2 on the ground.
   RenderResult result =
       renderWith(ctx(), squareOverPlane(), topDown(), pointAbove(), GetParam(), {{"map-size", "1024"}});
-  const Image& image = result.image;
-  const auto &vis = image.require("visibility.Y").data, &px = image.require("P.X").data,
-             &py = image.require("P.Y").data, &pz = image.require("P.Z").data, &a = image.require("A").data;
   const EdgeExpectation expect = edgeExpectation(GetParam());
-  int shadowed = 0, lit = 0, wrong = 0;
-  for (size_t i = 0; i < vis.size(); ++i) {
-    if (a[i] == 0.0f || py[i] > 0.5f) continue;                            // background, or the occluder itself
-    const float edge = std::max(std::abs(px[i]), std::abs(pz[i])) - 2.0f;  // < 0 inside the shadow
-    if (std::abs(edge) < expect.band) continue;
-    const float expected = edge < 0 ? 0.0f : 1.0f;
-    (expected == 0.0f ? shadowed : lit)++;
-    if (std::abs(vis[i] - expected) > expect.tolerance) ++wrong;
-  }
-  EXPECT_GT(shadowed, 2000);
-  EXPECT_GT(lit, 5000);
-  EXPECT_EQ(wrong, 0) << GetParam() << ": pixels away from the shadow edge with the wrong visibility";
+  const test::HardEdgeCount count = test::checkHardEdge(result.image, expect.band, expect.tolerance);
+  EXPECT_GT(count.shadowed, 2000);
+  EXPECT_GT(count.lit, 5000);
+  EXPECT_EQ(count.wrong, 0) << GetParam() << ": pixels away from the shadow edge with the wrong visibility";
 }
 
 TEST_P(Techniques, PlanesStayFullyLitAtAnyLightAngle) {

@@ -19,40 +19,17 @@
 #include "host/scene/procedural.h"
 #include "host/techniques/technique.h"
 #include "kernels/shared/vssm.h"
+#include "tests/support/analytic_scenes.h"
 #include "tests/support/cl_test.h"
+#include "tests/support/render.h"
 
 namespace penumbra {
 namespace {
-using Values = std::map<std::string, std::string>;
-
-RenderResult renderWith(Context& ctx, const Scene& scene, const Camera& camera, const Light& light,
-                        const std::string& technique, const Values& values = {}) {
-  const TechniqueInfo& info = findTechnique(technique);
-  Params params(info.params);
-  for (const auto& [name, value] : values) params.set(name, value);
-  Renderer renderer(ctx, scene);
-  return renderer.render(camera, light, info, params);
-}
-
-// A 10x10 ground at y = 0 and a 2x2 occluder at y = 2, both facing up: parallel planes, where the Chebyshev
-// bound is exact (sec. 4.1) and VSSM's blocker depth (eq. 4) is the occluder's.
-Scene squareOverPlane() {
-  Scene scene;
-  auto quad = [&](float half, float y, uint32_t object) {
-    const uint32_t base = static_cast<uint32_t>(scene.positions.size());
-    for (glm::vec2 c : {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(1, 1), glm::vec2(-1, 1)}) {
-      scene.positions.push_back({c.x * half, y, c.y * half});
-      scene.normals.push_back({0, 1, 0});
-    }
-    scene.triangles.push_back({base, base + 2, base + 1});
-    scene.triangles.push_back({base, base + 3, base + 2});
-    scene.objectIds.insert(scene.objectIds.end(), 2, object);
-    scene.objectNames.push_back(object == 0 ? "ground" : "occluder");
-  };
-  quad(5.0f, 0.0f, 0);
-  quad(1.0f, 2.0f, 1);
-  return scene;
-}
+using test::renderWith;
+// test::squareOverPlane: parallel planes, where the Chebyshev bound is exact (sec. 4.1) and VSSM's blocker
+// depth (eq. 4) is the occluder's.
+using test::squareOverPlane;
+using test::Values;
 
 Camera camera(glm::vec3 eye, glm::vec3 target, int width, int height) {
   Camera c;
@@ -242,21 +219,11 @@ TEST_F(VssmTechnique, HardEdgeUnderAPointLightLandsOnTheRightPixels) {
   // A point light at y = 4 projects the occluder's edge |x| = 1 at y = 2 to |x| = 2 on the ground.
   const RenderResult r = renderWith(ctx(), squareOverPlane(), camera({0, 7, 5}, {0, 0, 0}, 160, 120),
                                     parseLight("spot:0,4,0:0,0,0:120"), "vssm", {{"map-size", "1024"}});
-  const auto &vis = channel(r, "visibility.Y"), &px = channel(r, "P.X"), &py = channel(r, "P.Y");
-  const auto &pz = channel(r, "P.Z"), &a = channel(r, "A");
   constexpr float kEdgeBand = 0.08f;  // world units on the ground: ~6 texels, covers the 0.5-texel kernels and bias
-  int shadowed = 0, lit = 0, wrong = 0;
-  for (size_t i = 0; i < vis.size(); ++i) {
-    if (a[i] == 0.0f || py[i] > 0.5f) continue;
-    const float edge = std::max(std::abs(px[i]), std::abs(pz[i])) - 2.0f;
-    if (std::abs(edge) < kEdgeBand) continue;
-    const float expected = edge < 0 ? 0.0f : 1.0f;
-    (expected == 0.0f ? shadowed : lit)++;
-    wrong += std::abs(vis[i] - expected) > 1e-6f;
-  }
-  EXPECT_GT(shadowed, 2000);
-  EXPECT_GT(lit, 5000);
-  EXPECT_EQ(wrong, 0) << "pixels away from the shadow edge with the wrong visibility";
+  const test::HardEdgeCount count = test::checkHardEdge(r.image, kEdgeBand, 1e-6f);
+  EXPECT_GT(count.shadowed, 2000);
+  EXPECT_GT(count.lit, 5000);
+  EXPECT_EQ(count.wrong, 0) << "pixels away from the shadow edge with the wrong visibility";
 }
 
 TEST_F(VssmTechnique, PlanesStayFullyLitAtAnyLightAngle) {

@@ -9,20 +9,19 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <memory>
-#include <stdexcept>
 
 #include "host/eval/metrics.h"
 #include "host/pipeline/renderer.h"
 #include "host/scene/procedural.h"
 #include "host/techniques/registry.h"
 #include "tests/support/cl_test.h"
+#include "tests/support/render.h"
 #include "tools/reference/reference.h"
 
 namespace penumbra {
 namespace {
 
-using Values = std::map<std::string, std::string>;
+using test::Values;
 
 // A failure-mode scene: geometry, a camera, a light, and the reference visibility (traced once).
 struct Case {
@@ -50,12 +49,9 @@ class Stability : public test::ClTest {
 
   // Renders `technique`, checks the output is finite and in range, returns it.
   static RenderResult render(const Case& c, const std::string& technique, const Values& values = {}) {
-    const TechniqueInfo& info = findTechnique(technique);
-    Params params(info.params);
-    if (hasParam(info, "map-size")) params.set("map-size", "512");
-    for (const auto& [name, value] : values) params.set(name, value);
-    Renderer renderer(ctx(), c.scene);
-    RenderResult result = renderer.render(c.camera, c.light, info, params);
+    Values all = values;
+    if (hasParam(findTechnique(technique), "map-size")) all.try_emplace("map-size", "512");
+    RenderResult result = test::renderWith(ctx(), c.scene, c.camera, c.light, technique, all);
     for (const ImageChannel& channel : result.image.channels())
       for (float v : channel.data) EXPECT_FALSE(std::isnan(v)) << technique << ": NaN in " << channel.name;
     for (float v : result.image.require("visibility.Y").data) {

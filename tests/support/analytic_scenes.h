@@ -2,8 +2,11 @@
 // a 10x10 ground under a light 4 units up, so a point light's shadow on the ground is exactly |x|, |z| < 2.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 
+#include "host/io/image.h"
 #include "host/scene/camera.h"
 #include "host/scene/light.h"
 #include "host/scene/scene.h"
@@ -41,5 +44,26 @@ inline Camera topDown() {
 
 // A point light at y = 4 above the occluder's centre: its edge |x| = 1 at y = 2 lands on |x| = 2 on the ground.
 inline Light pointAbove() { return parseLight("spot:0,4,0:0,0,0:120"); }
+
+// The hard shadow of squareOverPlane() under pointAbove() checked on a render (P.*, A, visibility.Y): ground
+// pixels farther than `band` world units from the edge |x|, |z| = 2 must be within `tolerance` of 0 inside it
+// and 1 outside; the occluder's own pixels are skipped.
+struct HardEdgeCount {
+  int shadowed = 0, lit = 0, wrong = 0;
+};
+inline HardEdgeCount checkHardEdge(const Image& image, float band, float tolerance) {
+  const auto &vis = image.require("visibility.Y").data, &px = image.require("P.X").data,
+             &py = image.require("P.Y").data, &pz = image.require("P.Z").data, &a = image.require("A").data;
+  HardEdgeCount count;
+  for (size_t i = 0; i < vis.size(); ++i) {
+    if (a[i] == 0.0f || py[i] > 0.5f) continue;                            // background, or the occluder itself
+    const float edge = std::max(std::abs(px[i]), std::abs(pz[i])) - 2.0f;  // < 0 inside the shadow
+    if (std::abs(edge) < band) continue;
+    const float expected = edge < 0 ? 0.0f : 1.0f;
+    (expected == 0.0f ? count.shadowed : count.lit)++;
+    count.wrong += std::abs(vis[i] - expected) > tolerance;
+  }
+  return count;
+}
 
 }  // namespace penumbra::test
