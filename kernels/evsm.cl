@@ -16,10 +16,11 @@ inline float evsm_bound(float2 moments, float warpedT, float c, MomentShade s, f
   return cheb_reduce_bleeding(cheb_upper_bound(moments, warpedT, minVariance), s.bleeding);
 }
 
-__kernel void evsm2_visibility(__global const float4* position, __global const float4* normal,
-                               __constant const LightViewGpu* lv, __global const float* base,
-                               __global const float* mips, __constant const PyramidLevel* mipLevels, MomentShade s,
-                               __global float* visibility, __global float4* debugMoments, __global float2* debugStats) {
+// evsm2 (2 moment channels: the positive warp) and evsm4 (4 channels: both warps, the smaller bound).
+__kernel void evsm_visibility(__global const float4* position, __global const float4* normal,
+                              __constant const LightViewGpu* lv, __global const float* base, __global const float* mips,
+                              __constant const PyramidLevel* mipLevels, MomentShade s, __global float* visibility,
+                              __global float4* debugMoments, __global float2* debugStats) {
   uint i = get_global_id(0);
   if (i >= s.width * s.height) return;
   MomentReceiver r = mm_receiver(position, normal, lv, s, i);
@@ -29,26 +30,10 @@ __kernel void evsm2_visibility(__global const float4* position, __global const f
     m = mm_lookup(base, mips, mipLevels, lv, s, &r, &width);
     float2 t = moments_evsm_warp(r.t, s.expPositive, s.expNegative);
     lit = evsm_bound(m.xy, t.x, s.expPositive, s, &variance);
-  }
-  mm_store(i, lit, m, variance, width, visibility, debugMoments, debugStats);
-}
-
-__kernel void evsm4_visibility(__global const float4* position, __global const float4* normal,
-                               __constant const LightViewGpu* lv, __global const float* base,
-                               __global const float* mips, __constant const PyramidLevel* mipLevels, MomentShade s,
-                               __global float* visibility, __global float4* debugMoments, __global float2* debugStats) {
-  uint i = get_global_id(0);
-  if (i >= s.width * s.height) return;
-  MomentReceiver r = mm_receiver(position, normal, lv, s, i);
-  float lit = 1.0f, variance = 0.0f, width = 0.0f;
-  float4 m = (float4)(0.0f);
-  if (r.valid) {
-    m = mm_lookup(base, mips, mipLevels, lv, s, &r, &width);
-    float2 t = moments_evsm_warp(r.t, s.expPositive, s.expNegative);
-    float negativeVariance;
-    float positive = evsm_bound(m.xy, t.x, s.expPositive, s, &variance);
-    float negative = evsm_bound(m.zw, t.y, s.expNegative, s, &negativeVariance);
-    lit = min(positive, negative);
+    if (s.channels == 4) {
+      float negativeVariance;
+      lit = min(lit, evsm_bound(m.zw, t.y, s.expNegative, s, &negativeVariance));
+    }
   }
   mm_store(i, lit, m, variance, width, visibility, debugMoments, debugStats);
 }

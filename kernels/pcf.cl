@@ -32,10 +32,11 @@ __kernel void pcf_visibility(__global const float4* position, __global const flo
   float3 n = normal[i].xyz;
   Receiver r = sc_receiver(lv, p.xyz, n, bias);
   if (!r.valid) return;
-  Footprint f = sc_footprint(position, lv, width, height, i, p.xyz, n);
-  ReceiverPlane rp;
-  rp.valid = 0;
-  if (receiverPlane) rp = sc_receiver_plane(f, r.texel);
+  // The footprint serves the receiver plane and the adaptive size: measured only when one of them is on.
+  Footprint f = {(float3)(0.0f), (float3)(0.0f)};
+  if (receiverPlane || adaptive) f = sc_footprint(position, lv, width, height, i, p.xyz, n);
+  ReceiverPlane rp = sc_receiver_plane(f, r.texel);
+  if (!receiverPlane) rp.valid = 0;
   const float planeBias = biasConstant * r.texel;
   // Half-width of the kernel in texels.
   float reach = (float)radius;

@@ -46,9 +46,7 @@ __kernel void pcss_visibility(__global const float4* position, __global const fl
   blockerOut[i] = blocker;
   if (blocker <= 0.0f) return;  // no blocker: fully lit
   float radius = clamp(lv_penumbra_texels(lv, r.depth, blocker), 0.5f, maxRadius);
-  ReceiverPlane rp;
-  rp.valid = 0;
-  if (receiverPlane) rp = sc_receiver_plane(sc_footprint(position, lv, width, height, i, p.xyz, n), r.texel);
+  ReceiverPlane rp = sc_receiver_plane_at(receiverPlane, position, lv, width, height, i, p.xyz, n, r.texel);
   const float planeBias = biasConstant * r.texel;
   float sum = 0.0f;
   float step = filterTaps > 1 ? 2.0f * radius / (float)(filterTaps - 1) : 0.0f;

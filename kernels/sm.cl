@@ -20,9 +20,7 @@ __kernel void sm_visibility(__global const float4* position, __global const floa
     float2 texel = floor(r.uv);
     float occluder = sc_fetch(map, lv->width, lv->height, (int)texel.x, (int)texel.y);
     // The map holds the occluder's depth at the texel centre: compare it with the receiver's own plane there.
-    ReceiverPlane rp;
-    rp.valid = 0;
-    if (receiverPlane) rp = sc_receiver_plane(sc_footprint(position, lv, width, height, i, p.xyz, n), r.texel);
+    ReceiverPlane rp = sc_receiver_plane_at(receiverPlane, position, lv, width, height, i, p.xyz, n, r.texel);
     float depth = rp.valid ? r.depth - biasConstant * r.texel + dot(rp.gradient, texel + 0.5f - r.uv) : r.depth - r.bias;
     lit = sc_lit(occluder, depth);
   }

@@ -21,7 +21,7 @@ TechniqueInfo evsmTechnique(bool four) {
           four ? "Exponential VSM with positive and negative warps (minimum of the two bounds)"
                : "Exponential VSM with the positive warp",
           filteredMomentParams(evsmParams(four)), [kind, four](const Params& p) {
-            MomentTechniqueSpec spec{kind, "kernels/evsm.cl", four ? "evsm4_visibility" : "evsm2_visibility"};
+            MomentTechniqueSpec spec{kind, "kernels/evsm.cl", "evsm_visibility"};
             spec.configure = [four](const Params& q, MomentsConfig& config, MomentShade& s) {
               setChebyshevShade(q, s);
               config.evsmPositive =

@@ -112,6 +112,15 @@ inline ReceiverPlane sc_receiver_plane(Footprint f, float texelWorld) {
   return rp;
 }
 
+// The receiver plane of G-buffer pixel i when receiver-plane depth bias is `enabled`, else an invalid one (the
+// slope-scaled bias applies); the footprint is only measured when it is needed.
+inline ReceiverPlane sc_receiver_plane_at(int enabled, __global const float4* position,
+                                          __constant const LightViewGpu* lv, uint width, uint height, uint i,
+                                          float3 p, float3 n, float texelWorld) {
+  ReceiverPlane none = {(float2)(0.0f), 0};
+  return enabled ? sc_receiver_plane(sc_footprint(position, lv, width, height, i, p, n), texelWorld) : none;
+}
+
 // Map depth at an integer texel; texels outside the map hold no occluder (+INFINITY).
 inline float sc_fetch(__global const float* depth, int width, int height, int x, int y) {
   if (x < 0 || y < 0 || x >= width || y >= height) return INFINITY;
