@@ -5,14 +5,12 @@
 
 #include <fmt/format.h>
 
-#include <filesystem>
 #include <memory>
 
 #include "host/cl/context.h"
-#include "host/io/exr.h"
-#include "host/io/png.h"
 #include "host/scene/load.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/image_output.h"
 #include "tools/cli/view_options.h"
 
 namespace penumbra::cli {
@@ -20,7 +18,8 @@ namespace {
 
 struct ReferenceOptions {
   ViewOptions view;
-  std::string device, output = "out/reference.exr", png;
+  std::string device;
+  ImageOutput output{"out/reference.exr", {}};
   reference::TraceSettings trace;
   bool quiet = false;
 };
@@ -47,15 +46,10 @@ int run(const ReferenceOptions& options) {
   reference::ReferenceResult result = reference::renderReference(ctx, scene, camera, light, options.trace);
   result.image.attributes()["penumbra:scene"] = options.view.scene;
 
-  const std::filesystem::path exr = options.output;
-  if (exr.has_parent_path()) std::filesystem::create_directories(exr.parent_path());
-  writeExr(exr, result.image);
-  const std::filesystem::path png =
-      options.png.empty() ? std::filesystem::path(exr).replace_extension(".png") : std::filesystem::path(options.png);
-  writePngPreview(png, result.image);
+  const std::string wrote = writeImageOutput(options.output, result.image);
   if (!options.quiet) {
     printSummary(options, ctx, scene, camera, light, result);
-    fmt::print("wrote {} and {}\n", exr.string(), png.string());
+    fmt::print("{}\n", wrote);
   }
   return 0;
 }
@@ -75,8 +69,7 @@ Command addReferenceCommand(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--device", options->device, "OpenCL device for the G-buffer: auto, cpu, gpu, a name, or P:D")
       ->envname("PENUMBRA_DEVICE");
-  sub->add_option("-o,--output", options->output, "Output EXR")->capture_default_str();
-  sub->add_option("--png", options->png, "PNG preview (default: the EXR path with .png)");
+  addImageOutputOptions(sub, options->output);
   sub->add_flag("-q,--quiet", options->quiet, "Print nothing on success");
   return {sub, [options] { return run(*options); }};
 }

@@ -2,16 +2,14 @@
 // kernels, writes the EXR (all channels + provenance) and a PNG preview, and prints per-pass device times.
 #include <fmt/format.h>
 
-#include <filesystem>
 #include <memory>
 
 #include "host/cl/context.h"
-#include "host/io/exr.h"
-#include "host/io/png.h"
 #include "host/pipeline/renderer.h"
 #include "host/scene/load.h"
 #include "host/techniques/technique.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/image_output.h"
 #include "tools/cli/technique_options.h"
 #include "tools/cli/timings.h"
 #include "tools/cli/view_options.h"
@@ -21,7 +19,8 @@ namespace {
 
 struct RenderOptions {
   ViewOptions view;
-  std::string technique = "pcss", device, output = "out/render.exr", png;
+  std::string technique = "pcss", device;
+  ImageOutput output{"out/render.exr", {}};
   bool quiet = false;
   ParamValues params;  // technique parameters given on the command line
 };
@@ -38,17 +37,12 @@ int run(const RenderOptions& options) {
   RenderResult result = renderer.render(camera, light, technique, params);
   result.image.attributes()["penumbra:scene"] = options.view.scene;
 
-  const std::filesystem::path exr = options.output;
-  if (exr.has_parent_path()) std::filesystem::create_directories(exr.parent_path());
-  writeExr(exr, result.image);
-  const std::filesystem::path png =
-      options.png.empty() ? std::filesystem::path(exr).replace_extension(".png") : std::filesystem::path(options.png);
-  writePngPreview(png, result.image);
+  const std::string wrote = writeImageOutput(options.output, result.image);
   if (!options.quiet) {
     fmt::print("{} on {}: {}x{}, {} triangles, technique {} ({})\n", options.view.scene, ctx.info().name, camera.width,
                camera.height, scene.triangleCount(), technique.name, params.describe());
     fmt::print("{}", formatTimings(result.passes));
-    fmt::print("wrote {} and {}\n", exr.string(), png.string());
+    fmt::print("{}\n", wrote);
   }
   return 0;
 }
@@ -64,8 +58,7 @@ Command addRenderCommand(CLI::App& app) {
   sub->add_option("-t,--technique", options->technique, "Shadow technique: " + names)->capture_default_str();
   sub->add_option("--device", options->device, "OpenCL device: auto, cpu, gpu, a name substring, or P:D")
       ->envname("PENUMBRA_DEVICE");
-  sub->add_option("-o,--output", options->output, "Output EXR")->capture_default_str();
-  sub->add_option("--png", options->png, "PNG preview (default: the EXR path with .png)");
+  addImageOutputOptions(sub, options->output);
   sub->add_flag("-q,--quiet", options->quiet, "Print nothing on success");
   addTechniqueOptions(sub, options->params);
   return {sub, [options] { return run(*options); }};
