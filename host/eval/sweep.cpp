@@ -10,12 +10,8 @@
 namespace penumbra {
 namespace {
 
-bool hasParam(const TechniqueInfo& info, const std::string& name) {
-  return std::any_of(info.params.begin(), info.params.end(), [&](const ParamSpec& s) { return s.name == name; });
-}
-
 bool hasAll(const TechniqueInfo& info, const Sweep& sweep) {
-  return std::all_of(sweep.names.begin(), sweep.names.end(), [&](const std::string& n) { return hasParam(info, n); });
+  return std::all_of(sweep.names.begin(), sweep.names.end(), [&](const std::string& n) { return info.hasParam(n); });
 }
 
 std::vector<std::string> split(std::string_view text, char separator) {

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace penumbra {
@@ -24,6 +25,10 @@ const std::vector<TechniqueInfo>& techniques() {
       psvsmTechnique(),
   };
   return kTechniques;
+}
+
+bool TechniqueInfo::hasParam(const std::string& param) const {
+  return std::any_of(params.begin(), params.end(), [&](const ParamSpec& spec) { return spec.name == param; });
 }
 
 const TechniqueInfo& findTechnique(const std::string& name) {

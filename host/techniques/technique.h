@@ -48,6 +48,8 @@ struct TechniqueInfo {
   std::string description;
   std::vector<ParamSpec> params;
   std::function<std::unique_ptr<Technique>(const Params&)> create;
+
+  bool hasParam(const std::string& param) const;  // a parameter of that name (without dashes)
 };
 
 // The registry, in the order `penumbra render --help` lists them.

@@ -50,7 +50,7 @@ class Stability : public test::ClTest {
   // Renders `technique`, checks the output is finite and in range, returns it.
   static RenderResult render(const Case& c, const std::string& technique, const Values& values = {}) {
     Values all = values;
-    if (hasParam(findTechnique(technique), "map-size")) all.try_emplace("map-size", "512");
+    if (findTechnique(technique).hasParam("map-size")) all.try_emplace("map-size", "512");
     RenderResult result = test::renderWith(ctx(), c.scene, c.camera, c.light, technique, all);
     for (const ImageChannel& channel : result.image.channels())
       for (float v : channel.data) EXPECT_FALSE(std::isnan(v)) << technique << ": NaN in " << channel.name;
@@ -59,12 +59,6 @@ class Stability : public test::ClTest {
       EXPECT_LE(v, 1.0f) << technique;
     }
     return result;
-  }
-
-  static bool hasParam(const TechniqueInfo& info, const std::string& name) {
-    for (const ParamSpec& spec : info.params)
-      if (spec.name == name) return true;
-    return false;
   }
 
   static ErrorMetrics metrics(const RenderResult& ours, const Case& c) { return compareImages(ours.image, c.reference); }

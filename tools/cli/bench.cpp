@@ -65,7 +65,7 @@ std::vector<Job> planJobs(const BenchOptions& options) {
   for (const std::string& text : options.sweeps) sweeps.push_back(parseSweep(text));
   checkSweeps(sweeps, list);
   for (const auto& [name, value] : options.params)
-    if (std::none_of(list.begin(), list.end(), [&](const TechniqueInfo* t) { return hasParam(*t, name); }))
+    if (std::none_of(list.begin(), list.end(), [&](const TechniqueInfo* t) { return t->hasParam(name); }))
       throw std::invalid_argument(fmt::format("--{}: no technique in the list has that parameter", name));
   std::vector<Job> jobs;
   for (const TechniqueInfo* technique : list) {

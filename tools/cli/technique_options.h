@@ -7,7 +7,6 @@
 #include <fmt/ranges.h>
 
 #include <CLI/CLI.hpp>
-#include <algorithm>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -34,16 +33,12 @@ inline void addTechniqueOptions(CLI::App* sub, ParamValues& values) {
     }
 }
 
-inline bool hasParam(const TechniqueInfo& info, const std::string& name) {
-  return std::any_of(info.params.begin(), info.params.end(), [&](const ParamSpec& s) { return s.name == name; });
-}
-
 // The technique's defaults with `values` applied. strict: a value the technique has no parameter for throws
 // std::invalid_argument; else it is skipped. Bad values always throw (Params::set).
 inline Params techniqueParams(const TechniqueInfo& info, const ParamValues& values, bool strict = true) {
   Params params(info.params);
   for (const auto& [name, value] : values) {
-    if (!hasParam(info, name)) {
+    if (!info.hasParam(name)) {
       if (strict) throw std::invalid_argument(fmt::format("--{} does not apply to technique '{}'", name, info.name));
       continue;
     }
