@@ -11,21 +11,53 @@
 
 // One work-group: BLUR_ROWS rows of BLUR_ROW_TILE outputs; each row stages BLUR_ROW_TILE + 2r texels.
 // Rows past the image are clamped (not skipped) so that every work-item reaches the barrier.
+inline int blur_rows_row(uint height) { return min((int)get_global_id(1), (int)height - 1); }
+
+// The weighted sum of a staged row (after the barrier).
+inline void blur_rows_output(__local const BLUR_T* lines, __global BLUR_T* out, uint width, uint height, int radius,
+                             __constant float* weights) {
+  const int lx = get_local_id(0), x = get_group_id(0) * BLUR_ROW_TILE + lx;
+  if (x >= (int)width || get_global_id(1) >= height) return;
+  __local const BLUR_T* line = lines + get_local_id(1) * (BLUR_ROW_TILE + 2 * radius);
+  BLUR_T sum = 0.0f;
+  for (int k = 0; k <= 2 * radius; ++k) sum += weights[k] * line[lx + k];
+  out[(size_t)blur_rows_row(height) * width + x] = sum;
+}
+
 __kernel __attribute__((reqd_work_group_size(BLUR_ROW_TILE, BLUR_ROWS, 1))) void blur_rows(
     __global const BLUR_T* in, __global BLUR_T* out, uint width, uint height, int radius,
     __constant float* weights, __local BLUR_T* lines) {
-  const int lx = get_local_id(0), x0 = get_group_id(0) * BLUR_ROW_TILE, span = BLUR_ROW_TILE + 2 * radius;
-  const int y = min((int)get_global_id(1), (int)height - 1);
+  const int x0 = get_group_id(0) * BLUR_ROW_TILE - radius, span = BLUR_ROW_TILE + 2 * radius;
   __local BLUR_T* line = lines + get_local_id(1) * span;
-  __global const BLUR_T* src = in + (size_t)y * width;
-  for (int i = lx; i < span; i += BLUR_ROW_TILE) line[i] = src[clamp(x0 - radius + i, 0, (int)width - 1)];
+  __global const BLUR_T* src = in + (size_t)blur_rows_row(height) * width;
+  for (int i = get_local_id(0); i < span; i += BLUR_ROW_TILE) line[i] = src[clamp(x0 + i, 0, (int)width - 1)];
   barrier(CLK_LOCAL_MEM_FENCE);
-  const int x = x0 + lx;
-  if (x >= (int)width || get_global_id(1) >= height) return;
-  BLUR_T sum = 0.0f;
-  for (int k = 0; k <= 2 * radius; ++k) sum += weights[k] * line[lx + k];
-  out[(size_t)y * width + x] = sum;
+  blur_rows_output(lines, out, width, height, radius, weights);
 }
+
+#ifdef BLUR_MOMENTS
+#include "kernels/shared/moments.h"
+// The moments stage fused into the row pass (-DBLUR_MOMENTS=MOMENTS_KIND_*): stages the moments of the depth
+// texels (moments_encode, as kernels/moments.cl writes them) instead of reading a moment image, so the moment
+// image is never written nor read back; the result equals moments then blur_rows bit for bit.
+__kernel __attribute__((reqd_work_group_size(BLUR_ROW_TILE, BLUR_ROWS, 1))) void blur_rows_moments(
+    __global const float* depth, __global BLUR_T* out, uint width, uint height, int radius,
+    __constant float* weights, __local BLUR_T* lines, MomentsParams p) {
+  const int x0 = get_group_id(0) * BLUR_ROW_TILE - radius, span = BLUR_ROW_TILE + 2 * radius;
+  __local BLUR_T* line = lines + get_local_id(1) * span;
+  __global const float* src = depth + (size_t)blur_rows_row(height) * width;
+  for (int i = get_local_id(0); i < span; i += BLUR_ROW_TILE) {
+    const float4 m = moments_encode(src[clamp(x0 + i, 0, (int)width - 1)], p, BLUR_MOMENTS);
+#if BLUR_CHANNELS == 4
+    line[i] = m;
+#else
+    line[i] = m.xy;
+#endif
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  blur_rows_output(lines, out, width, height, radius, weights);
+}
+#endif
 
 // One work-group: BLUR_COLUMN_TILE columns of `tileRows` outputs, staged as (tileRows + 2r) rows.
 __kernel __attribute__((reqd_work_group_size(BLUR_COLUMN_TILE, BLUR_ROWS, 1))) void blur_columns(

@@ -11,24 +11,19 @@
 // VSM (Donnelly & Lauritzen 2006): (d, d^2).
 __kernel void moments_vsm(__global const float* depth, __global float2* out, MomentsParams p) {
   MOMENTS_TEXEL(p);
-  float d = moments_normalize(depth[texel], p.depthNear, p.depthInvRange);
-  out[texel] = (float2)(d, d * d);
+  out[texel] = moments_encode(depth[texel], p, MOMENTS_KIND_VSM).xy;
 }
 
 // EVSM2: the positive warp only, (e^(c+ x), e^(2 c+ x)).
 __kernel void moments_evsm2(__global const float* depth, __global float2* out, MomentsParams p) {
   MOMENTS_TEXEL(p);
-  float d = moments_normalize(depth[texel], p.depthNear, p.depthInvRange);
-  float w = moments_evsm_warp(d, p.expPositive, p.expNegative).x;
-  out[texel] = (float2)(w, w * w);
+  out[texel] = moments_encode(depth[texel], p, MOMENTS_KIND_EVSM2).xy;
 }
 
 // EVSM4: both warps, (pos, pos^2, neg, neg^2).
 __kernel void moments_evsm4(__global const float* depth, __global float4* out, MomentsParams p) {
   MOMENTS_TEXEL(p);
-  float d = moments_normalize(depth[texel], p.depthNear, p.depthInvRange);
-  float2 w = moments_evsm_warp(d, p.expPositive, p.expNegative);
-  out[texel] = (float4)(w.x, w.x * w.x, w.y, w.y * w.y);
+  out[texel] = moments_encode(depth[texel], p, MOMENTS_KIND_EVSM4);
 }
 
 // LVSM: plane `l` holds (phi_l(d), phi_l(d)^2) for the layer [p_l, q_l] given in normalised depth.
@@ -46,7 +41,7 @@ __kernel void moments_lvsm(__global const float* depth, __global float2* out, __
 // MSM: four power moments through the quantization transform.
 __kernel void moments_msm(__global const float* depth, __global float4* out, MomentsParams p) {
   MOMENTS_TEXEL(p);
-  out[texel] = moments_msm_encode(moments_normalize(depth[texel], p.depthNear, p.depthInvRange));
+  out[texel] = moments_encode(depth[texel], p, MOMENTS_KIND_MSM);
 }
 
 // 16-bit unorm storage of moments in [0, 1] (LVSM layers, Lauritzen & McCool 2008, sec. 5): texel value

@@ -168,6 +168,41 @@ TEST_F(BlurKernels, InPlaceMatchesOutOfPlace) {
   }
 }
 
+// The moments stage fused into the row pass equals moments then blur bit for bit, for every single-plane
+// encoding, direct and running-sum plans, on depth with background (+inf), NaN and out-of-range texels.
+TEST_F(BlurKernels, FusedMomentsEqualMomentsThenBlur) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> depthDist(1.5f, 9.5f);  // beyond [2, 9] on both sides: clamped
+  for (const auto& [width, height] : {std::pair<uint32_t, uint32_t>{67, 41}, {1, 1}, {130, 3}}) {
+    std::vector<float> depth(size_t(width) * height);
+    for (size_t i = 0; i < depth.size(); ++i)
+      depth[i] = i % 11 == 3 ? INFINITY : i % 17 == 5 ? std::nanf("") : depthDist(rng);
+    const Buffer<float> depthBuffer(ctx(), std::span<const float>(depth));
+    for (MomentKind kind : {MomentKind::Vsm, MomentKind::Evsm2, MomentKind::Evsm4, MomentKind::Msm})
+      for (const BlurConfig& config : {gaussian(2.0f), box(3), gaussian(15.0f)}) {
+        MomentsConfig moments;
+        moments.kind = kind;
+        moments.depthNear = 2.0f, moments.depthFar = 9.0f;
+        const ImageShape shape{width, height, momentChannels(kind)};
+        Buffer<float> separate(ctx(), shape.count()), fused(ctx(), shape.count()), scratch(ctx(), shape.count());
+        separate.fill(ctx(), kPoison);
+        fused.fill(ctx(), kPoison);
+        scratch.fill(ctx(), kPoison);
+        computeMoments(ctx(), depthBuffer, width, height, moments, separate);
+        blur(ctx(), separate, separate, scratch, shape, config);
+        scratch.fill(ctx(), kPoison);
+        blurMoments(ctx(), depthBuffer, moments, fused, scratch, width, height, config);
+        EXPECT_EQ(fused.download(ctx()), separate.download(ctx()))
+            << width << "x" << height << " kind " << static_cast<int>(kind) << " radius " << planBlur(config).radius;
+      }
+  }
+  MomentsConfig layered;
+  layered.kind = MomentKind::Lvsm;
+  layered.layers = {{0.0f, 1.0f}};
+  Buffer<float> depth(ctx(), 4), out(ctx(), 8), scratch(ctx(), 8);
+  EXPECT_THROW(blurMoments(ctx(), depth, layered, out, scratch, 2, 2, gaussian(1.0f)), std::invalid_argument);
+}
+
 TEST_F(BlurKernels, RejectsSmallBuffers) {
   Buffer<float> small(ctx(), 10), big(ctx(), 100);
   EXPECT_THROW(blur(ctx(), small, big, big, {5, 5, 1}, gaussian(1.0f)), std::invalid_argument);

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "host/cl/kernel.h"
+#include "host/stages/moments.h"
 #include "kernels/shared/blur.h"
 
 namespace penumbra {
@@ -81,33 +82,59 @@ BlurPlan planBlur(const BlurConfig& config) {
   return plan;
 }
 
-std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>& out, Buffer<float>& scratch,
-                            const ImageShape& shape, const BlurConfig& config) {
+namespace {
+
+// The row pass's launch shape and local memory for a direct plan.
+void launchRows(Kernel& rows, const ImageShape& shape, uint64_t bytes, std::vector<cl::Event>& events) {
+  rows.moves(bytes);
+  events.push_back(rows.launch(Range(shape.width, shape.height), Range(BLUR_ROW_TILE, BLUR_ROWS)));
+}
+
+LocalMem rowLines(const ImageShape& shape, int radius) {
+  return LocalMem{size_t(BLUR_ROWS) * (BLUR_ROW_TILE + 2 * radius) * sizeof(float) * shape.channels};
+}
+
+void launchColumns(Context& ctx, const std::string& options, const Buffer<float>& in, Buffer<float>& out,
+                   const ImageShape& shape, const BlurPlan& plan, const Buffer<float>& weights,
+                   std::vector<cl::Event>& events) {
+  const int r = plan.radius;
+  const size_t texelBytes = sizeof(float) * shape.channels;
+  const int tileRows = columnTileRows(r, texelBytes, ctx.info().localMemBytes);
+  Kernel columns(ctx, "kernels/blur.cl", "blur_columns", "blur", options);
+  columns.args(in, out, shape.width, shape.height, r, weights, tileRows,
+               LocalMem{size_t(tileRows + 2 * r) * BLUR_COLUMN_TILE * texelBytes});
+  const size_t groupsY = (shape.height + tileRows - 1) / tileRows;
+  events.push_back(columns.moves(2 * shape.count() * sizeof(float))
+                       .launch(Range(shape.width, groupsY * BLUR_ROWS), Range(BLUR_COLUMN_TILE, BLUR_ROWS)));
+}
+
+std::string blurOptions(const ImageShape& shape) { return fmt::format("-DBLUR_CHANNELS={}", shape.channels); }
+
+void checkBlurBuffers(const ImageShape& shape, const Buffer<float>& out, const Buffer<float>& scratch) {
   checkShape(shape, "blur");
-  checkBufferSize(in.size(), shape.count(), "blur", "input");
   checkBufferSize(out.size(), shape.count(), "blur", "output");
   checkBufferSize(scratch.size(), shape.count(), "blur", "scratch");
+}
+
+}  // namespace
+
+std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>& out, Buffer<float>& scratch,
+                            const ImageShape& shape, const BlurConfig& config) {
+  checkBlurBuffers(shape, out, scratch);
+  checkBufferSize(in.size(), shape.count(), "blur", "input");
   const BlurPlan plan = planBlur(config);
   if (shape.texels() == 0) return {};
-  const std::string options = fmt::format("-DBLUR_CHANNELS={}", shape.channels);
-  const size_t texelBytes = sizeof(float) * shape.channels;
+  const std::string options = blurOptions(shape);
   const uint32_t w = shape.width, h = shape.height;
   std::vector<cl::Event> events;
   const uint64_t passBytes = 2 * shape.count() * sizeof(float);  // floor of every pass: read and write the image once
 
   if (plan.direct) {
     Buffer<float> weights(ctx, std::span<const float>(plan.weights), CL_MEM_READ_ONLY);
-    const int r = plan.radius;
     Kernel rows(ctx, "kernels/blur.cl", "blur_rows", "blur", options);
-    rows.args(in, scratch, w, h, r, weights, LocalMem{size_t(BLUR_ROWS) * (BLUR_ROW_TILE + 2 * r) * texelBytes});
-    events.push_back(rows.moves(passBytes).launch(Range(w, h), Range(BLUR_ROW_TILE, BLUR_ROWS)));
-    const int tileRows = columnTileRows(r, texelBytes, ctx.info().localMemBytes);
-    Kernel columns(ctx, "kernels/blur.cl", "blur_columns", "blur", options);
-    columns.args(scratch, out, w, h, r, weights, tileRows,
-                 LocalMem{size_t(tileRows + 2 * r) * BLUR_COLUMN_TILE * texelBytes});
-    const size_t groupsY = (h + tileRows - 1) / tileRows;
-    events.push_back(
-        columns.moves(passBytes).launch(Range(w, groupsY * BLUR_ROWS), Range(BLUR_COLUMN_TILE, BLUR_ROWS)));
+    rows.args(in, scratch, w, h, plan.radius, weights, rowLines(shape, plan.radius));
+    launchRows(rows, shape, passBytes, events);
+    launchColumns(ctx, options, scratch, out, shape, plan, weights, events);
     return events;
   }
 
@@ -129,6 +156,32 @@ std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>
     }
     src = dst;
   }
+  return events;
+}
+
+std::vector<cl::Event> blurMoments(Context& ctx, const Buffer<float>& depth, const MomentsConfig& moments,
+                                   Buffer<float>& out, Buffer<float>& scratch, uint32_t width, uint32_t height,
+                                   const BlurConfig& config) {
+  const ImageShape shape{width, height, momentChannels(moments.kind)};
+  const MomentsParams params = momentsParams(moments, width, height);
+  const int kind = momentsKindId(moments.kind);
+  checkBlurBuffers(shape, out, scratch);
+  checkBufferSize(depth.size(), size_t(width) * height, "blur", "depth");
+  const BlurPlan plan = planBlur(config);
+  if (shape.texels() == 0) return {};
+  if (!plan.direct) {  // running sums read each texel twice: encode once, then blur in place
+    std::vector<cl::Event> events{computeMoments(ctx, depth, width, height, moments, out)};
+    for (cl::Event& e : blur(ctx, out, out, scratch, shape, config)) events.push_back(std::move(e));
+    return events;
+  }
+  const std::string options = fmt::format("{} -DBLUR_MOMENTS={}", blurOptions(shape), kind);
+  Buffer<float> weights(ctx, std::span<const float>(plan.weights), CL_MEM_READ_ONLY);
+  std::vector<cl::Event> events;
+  Kernel rows(ctx, "kernels/blur.cl", "blur_rows_moments", "blur", options);
+  rows.args(depth, scratch, width, height, plan.radius, weights, rowLines(shape, plan.radius), params);
+  // Floor: read the depth map, write the row-blurred moments.
+  launchRows(rows, shape, shape.texels() * sizeof(float) + shape.count() * sizeof(float), events);
+  launchColumns(ctx, options, scratch, out, shape, plan, weights, events);
   return events;
 }
 

@@ -9,6 +9,7 @@
 #include "host/cl/buffer.h"
 #include "host/cl/context.h"
 #include "host/stages/image_shape.h"
+#include "host/stages/moments.h"
 
 namespace penumbra {
 
@@ -39,5 +40,14 @@ BlurPlan planBlur(const BlurConfig& config);
 // Launches "blur/blur_rows" + "blur/blur_columns", or "blur/blur_box_rows" + "blur/blur_box_columns" per box.
 std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>& out, Buffer<float>& scratch,
                             const ImageShape& shape, const BlurConfig& config);
+
+// The moments stage fused into the blur ("Fusable with ... the first blur pass", issue 4): blurs the moments
+// of `depth` (width*height light depths; computeMoments' encoding, any kind but LVSM) into `out`
+// (width*height*momentChannels floats) without writing the unblurred moments: the same values, bit for bit,
+// as computeMoments then blur. Direct plans encode while staging the row pass ("blur/blur_rows_moments");
+// running sums read each texel twice, so they run computeMoments into `out` first, then blur it in place.
+std::vector<cl::Event> blurMoments(Context& ctx, const Buffer<float>& depth, const MomentsConfig& moments,
+                                   Buffer<float>& out, Buffer<float>& scratch, uint32_t width, uint32_t height,
+                                   const BlurConfig& config);
 
 }  // namespace penumbra

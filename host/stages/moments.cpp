@@ -61,14 +61,9 @@ uint32_t momentPlanes(const MomentsConfig& config) {
   return config.kind == MomentKind::Lvsm ? static_cast<uint32_t>(config.layers.size()) : 1;
 }
 
-cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
-                         const MomentsConfig& config, Buffer<float>& out) {
+MomentsParams momentsParams(const MomentsConfig& config, uint32_t width, uint32_t height) {
   validate(config);
   checkShape({width, height, 1}, "moments");
-  const size_t texels = size_t(width) * height;
-  checkBufferSize(depth.size(), texels, "moments", "depth");
-  checkBufferSize(out.size(), texels * momentChannels(config.kind) * momentPlanes(config), "moments", "output");
-
   MomentsParams params{};
   params.width = width;
   params.height = height;
@@ -78,6 +73,31 @@ cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t widt
   params.expPositive = evsmClampExponent(config.evsmPositive, config.storage);
   params.expNegative = evsmClampExponent(config.evsmNegative, config.storage);
   if (!std::isfinite(params.depthInvRange)) throw std::invalid_argument("moments: depth range too small for fp32");
+  return params;
+}
+
+int momentsKindId(MomentKind kind) {
+  switch (kind) {
+    case MomentKind::Vsm:
+      return MOMENTS_KIND_VSM;
+    case MomentKind::Evsm2:
+      return MOMENTS_KIND_EVSM2;
+    case MomentKind::Evsm4:
+      return MOMENTS_KIND_EVSM4;
+    case MomentKind::Msm:
+      return MOMENTS_KIND_MSM;
+    case MomentKind::Lvsm:
+      break;
+  }
+  throw std::invalid_argument("moments: LVSM has one plane per layer, not a single-plane encoding");
+}
+
+cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
+                         const MomentsConfig& config, Buffer<float>& out) {
+  const MomentsParams params = momentsParams(config, width, height);
+  const size_t texels = size_t(width) * height;
+  checkBufferSize(depth.size(), texels, "moments", "depth");
+  checkBufferSize(out.size(), texels * momentChannels(config.kind) * momentPlanes(config), "moments", "output");
 
   Kernel kernel(ctx, "kernels/moments.cl", entryPoint(config.kind), "moments");
   const Range global(width, height), local(16, 8);

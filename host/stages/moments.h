@@ -38,6 +38,11 @@ float evsmClampExponent(float exponent, MomentStorage storage);  // into [0, evs
 uint32_t momentChannels(MomentKind kind);            // floats per texel of one plane: 2 or 4
 uint32_t momentPlanes(const MomentsConfig& config);  // LVSM: layer count; otherwise 1
 
+// The kernel arguments of `config` over a width x height map (validates; throws std::invalid_argument).
+MomentsParams momentsParams(const MomentsConfig& config, uint32_t width, uint32_t height);
+// MOMENTS_KIND_* of a single-plane encoding (throws for LVSM).
+int momentsKindId(MomentKind kind);
+
 // Writes momentPlanes * width * height * momentChannels floats to `out` (texel-interleaved; LVSM plane-major).
 // `depth` holds width*height light depths. Launch named "moments/moments_<kind>".
 cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,

@@ -112,8 +112,7 @@ void MomentTechnique::render(ShadowFrame& frame, Buffer<float>& visibility) {
 
   const ImageShape shape{static_cast<uint32_t>(size), static_cast<uint32_t>(size), channels_};
   moments_.allocate(ctx, shape.count());
-  computeMoments(ctx, map_.targets.depth, shape.width, shape.height, config, moments_);
-  filterMoments(ctx, shape);
+  filterMoments(ctx, config, shape);
   shade.levels = static_cast<uint32_t>(mipLevels_.size()) + 1;
   shade.blurSigma = params_.getInt("blur-radius") > 0 ? blurConfig().sigma : 0.0f;
 
@@ -149,11 +148,14 @@ BlurConfig MomentTechnique::blurConfig() const { return momentBlurConfig(params_
 
 float MomentTechnique::blurReach() const { return momentBlurReach(params_); }
 
-// The blur, then the mip chain if asked for.
-void MomentTechnique::filterMoments(Context& ctx, const ImageShape& shape) {
+// The moments, blurred if asked for (the moments stage fused into the blur's first pass), then the mip chain
+// if asked for.
+void MomentTechnique::filterMoments(Context& ctx, const MomentsConfig& config, const ImageShape& shape) {
   if (params_.getInt("blur-radius") > 0) {
     scratch_.allocate(ctx, shape.count());
-    blur(ctx, moments_, moments_, scratch_, shape, blurConfig());
+    blurMoments(ctx, map_.targets.depth, config, moments_, scratch_, shape.width, shape.height, blurConfig());
+  } else {
+    computeMoments(ctx, map_.targets.depth, shape.width, shape.height, config, moments_);
   }
   if (params_.getInt("moment-filtering") != kTrilinear) {
     mips_.allocate(ctx, 0);  // no levels: the kernel takes the buffers either way (one element each)

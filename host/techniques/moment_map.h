@@ -70,7 +70,7 @@ class MomentTechnique final : public Technique {
  private:
   BlurConfig blurConfig() const;
   float blurReach() const;  // texels the blur reads from a texel: the margin the light fit keeps
-  void filterMoments(Context& ctx, const ImageShape& shape);
+  void filterMoments(Context& ctx, const MomentsConfig& config, const ImageShape& shape);
 
   MomentTechniqueSpec spec_;
   Params params_;

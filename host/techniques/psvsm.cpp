@@ -33,12 +33,13 @@ class ParallelSplitVariance final : public Technique {
       const LightViewGpu& v = plan.views[s].gpu;
       MomentsConfig config;
       config.depthNear = v.zNear, config.depthFar = v.zFar;
-      computeMoments(ctx, depth, size, size, config, moments_);
       if (params_.getInt("blur-radius") > 0) {
         BlurConfig scaled = blurBase;  // step 2d: the kernel shrinks with the split's zoom (texels of split 0)
         scaled.scale = plan.views[0].gpu.texelScale / v.texelScale;
         scratch_.allocate(ctx, shape.count());
-        blur(ctx, moments_, moments_, scratch_, shape, scaled);
+        blurMoments(ctx, depth, config, moments_, scratch_, size, size, scaled);
+      } else {
+        computeMoments(ctx, depth, size, size, config, moments_);
       }
       copyInto(ctx, moments_, base_, s * shape.count(), shape.count());
       if (!trilinear) return;

@@ -14,6 +14,12 @@
 #define MOMENTS_EVSM_MAX_EXPONENT_FP16 5.54f
 #define MOMENTS_MAX_LAYERS 16u  // LVSM layers per map (one float2 plane each)
 
+// Single-plane encodings, as compile-time constants for kernels built per encoding (moments_encode).
+#define MOMENTS_KIND_VSM 0
+#define MOMENTS_KIND_EVSM2 1
+#define MOMENTS_KIND_EVSM4 2
+#define MOMENTS_KIND_MSM 3
+
 // Arguments of every moments_* kernel (passed by value). Depth `d` is light depth as rasterized;
 // normalised depth is clamp((d - depthNear) * depthInvRange, 0, 1); NaN and +-INFINITY (background:
 // nothing drawn) normalise to 1, the far end, i.e. "no occluder".
@@ -64,6 +70,18 @@ inline float4 moments_msm_encode(float d) {
   q.z = dot(b, (float4)(0.105877704f, -1.9077466311f, 9.3496555107f, -6.6543490743f));
   q.w = dot(b, (float4)(9.7924062118f, -33.7652110555f, 47.9456096605f, -23.9728048165f));
   return q;
+}
+
+// The moments of one depth texel in every single-plane encoding (unused channels 0): VSM (d, d^2), EVSM2
+// (w+, w+^2), EVSM4 (w+, w+^2, w-, w-^2), MSM the quantized four moments. The one definition of each
+// encoding, shared by the moments kernels and the blur pass they can be fused into, so both agree bit for bit.
+inline float4 moments_encode(float depth, MomentsParams p, int kind) {
+  float d = moments_normalize(depth, p.depthNear, p.depthInvRange);
+  if (kind == MOMENTS_KIND_MSM) return moments_msm_encode(d);
+  if (kind == MOMENTS_KIND_VSM) return (float4)(d, d * d, 0.0f, 0.0f);
+  float2 w = moments_evsm_warp(d, p.expPositive, p.expNegative);
+  if (kind == MOMENTS_KIND_EVSM2) return (float4)(w.x, w.x * w.x, 0.0f, 0.0f);
+  return (float4)(w.x, w.x * w.x, w.y, w.y * w.y);
 }
 
 // Inverse of moments_msm_encode (filtered optimized moments back to power moments b1..b4).

@@ -145,6 +145,17 @@ void registerAll(Setup& s) {
             [&s, in, out, scratch, shape, config] { blur(s.ctx, *in, *out, *scratch, shape, config); });
       });
     }
+    // The moments stage fused into the blur's row pass (what vsm runs): depth in, blurred moments out. Floor:
+    // read the depth, write the row pass, read it back and write the moments (4 + 8 + 8 + 8 bytes a texel).
+    add(s, "moments_vsm_fused_blur_sigma2", size, texels * 28, [&s](uint32_t n) {
+      auto depth = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(size_t(n) * n, 1)));
+      auto out = std::make_shared<Buffer<float>>(s.ctx, size_t(n) * n * 2);
+      auto scratch = std::make_shared<Buffer<float>>(s.ctx, size_t(n) * n * 2);
+      BlurConfig config;
+      config.sigma = 2.0f;
+      return std::function<void()>(
+          [&s, depth, out, scratch, n, config] { blurMoments(s.ctx, *depth, {}, *out, *scratch, n, n, config); });
+    });
     SatConfig offsetGiven;  // the production path on this device (Auto), with a known offset
     offsetGiven.offset = std::array<float, 4>{0.5f, 0.5f, 0.0f, 0.0f};
     SatConfig tiledConfig = offsetGiven, linesConfig = offsetGiven;
