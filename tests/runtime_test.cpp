@@ -1,6 +1,8 @@
 // Tests of the OpenCL runtime (host/cl): error names, device selection, program cache (memory and disk),
 // build errors with logs, kernel launch checks and padding, buffers, profiling, two contexts at once.
 #include <gtest/gtest.h>
+
+#include <cstring>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -155,6 +157,45 @@ TEST_F(Runtime, LaunchPadsTheGlobalSizeAndKernelsBoundCheck) {
   fill.args(out, kCount, 3.5f).launch(kCount, 64);
   const std::vector<float> host = out.download(ctx());
   for (uint32_t i = 0; i < 1024; ++i) ASSERT_EQ(host[i], i < kCount ? 3.5f : kPoison) << "at " << i;
+}
+
+// Buffer::fill writes every element, for each pattern size the rasterizer and the tests use.
+template <class T>
+void expectFilled(Context& ctx, size_t count, const T& value) {
+  Buffer<T> buffer(ctx, count);
+  buffer.fill(ctx, value);
+  for (const T& v : buffer.download(ctx)) ASSERT_EQ(std::memcmp(&v, &value, sizeof(T)), 0) << sizeof(T) << " bytes";
+}
+
+TEST_F(Runtime, FillWritesEveryElement) {
+  expectFilled(ctx(), 1001, 0x12345678u);
+  expectFilled(ctx(), 3, cl_float2{{1.5f, -2.0f}});
+  expectFilled(ctx(), 1, cl_float4{{1, 2, 3, 4}});
+  expectFilled(ctx(), 513, uint16_t{0xbeef});
+  expectFilled(ctx(), 77, uint8_t{0xab});
+}
+
+// A region is a window on its parent: writes through it land at its offset and nowhere else; offsets the
+// device cannot align are refused by name.
+TEST_F(Runtime, RegionsWriteIntoTheirParent) {
+  const size_t stride = Buffer<float>::alignedCount(ctx(), 37);
+  ASSERT_GE(stride, 37u);
+  ASSERT_EQ(stride * sizeof(float) % ctx().info().baseAddressAlignBytes, 0u);
+  Buffer<float> parent(ctx(), 3 * stride);
+  parent.fill(ctx(), kPoison);
+  Buffer<float> middle = parent.region(ctx(), stride, 37);
+  EXPECT_EQ(middle.size(), 37u);
+  middle.fill(ctx(), 2.5f);
+  const std::vector<float> host = parent.download(ctx());
+  for (size_t i = 0; i < host.size(); ++i)
+    ASSERT_EQ(host[i], i >= stride && i < stride + 37 ? 2.5f : kPoison) << "at " << i;
+  EXPECT_THROW(parent.region(ctx(), 2 * stride, stride + 1), std::out_of_range);
+  try {
+    parent.region(ctx(), 1, 4);
+    FAIL() << "a one-float offset is below every device's alignment";
+  } catch (const ClError& e) {
+    EXPECT_EQ(e.code(), CL_MISALIGNED_SUB_BUFFER_OFFSET);
+  }
 }
 
 TEST_F(Runtime, LaunchChecksWorkGroupAndLocalMemoryLimits) {

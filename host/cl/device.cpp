@@ -80,6 +80,7 @@ DeviceInfo describe(cl_platform_id platform, cl_device_id device) {
   info.localMemDedicated = deviceValue<cl_device_local_mem_type>(device, CL_DEVICE_LOCAL_MEM_TYPE) == CL_LOCAL;
   info.globalMemBytes = deviceValue<cl_ulong>(device, CL_DEVICE_GLOBAL_MEM_SIZE);
   info.maxAllocBytes = deviceValue<cl_ulong>(device, CL_DEVICE_MAX_MEM_ALLOC_SIZE);
+  info.baseAddressAlignBytes = std::max<cl_uint>(8, deviceValue<cl_uint>(device, CL_DEVICE_MEM_BASE_ADDR_ALIGN)) / 8;
   std::istringstream words(deviceString(device, CL_DEVICE_EXTENSIONS));
   for (std::string word; words >> word;) info.extensions.push_back(word);
   std::sort(info.extensions.begin(), info.extensions.end());

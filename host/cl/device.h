@@ -30,6 +30,7 @@ struct DeviceInfo {
   bool localMemDedicated = false;  // CL_LOCAL vs emulated in global memory (CPU devices)
   uint64_t globalMemBytes = 0;
   uint64_t maxAllocBytes = 0;
+  uint32_t baseAddressAlignBytes = 128;  // CL_DEVICE_MEM_BASE_ADDR_ALIGN (bits / 8): sub-buffer offsets
   bool fp64 = false;
   bool fp16 = false;
   bool int64Atomics = false;  // cl_khr_int64_base_atomics

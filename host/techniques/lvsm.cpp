@@ -51,7 +51,6 @@ class LayeredVsm final : public Technique {
     return lvsmLeak(frame.ctx, map_.targets.depth, size, size, map_.view.gpu.zNear, map_.view.gpu.zFar, layout);
   }
   void buildLayers(Context& ctx, const LvsmLayout& layout);
-  void storeLayer(Context& ctx, const Buffer<float>& src, size_t count, size_t layer, bool mips);
 
   Params params_;
   std::vector<float> manual_;
@@ -113,32 +112,23 @@ std::vector<float> LayeredVsm::planSplits(ShadowFrame& frame, LvsmLayout& layout
   return splits;
 }
 
-// Into layer `layer`'s slot of the fp32 or unorm16 layer (or mip) buffer.
-void LayeredVsm::storeLayer(Context& ctx, const Buffer<float>& src, size_t count, size_t layer, bool mips) {
-  const size_t offset = layer * (mips ? mipFloats_ : planeFloats_);
-  if (params_.getInt("lvsm-storage") == kUnorm16) {
-    packMomentsUnorm16(ctx, src, count, mips ? layerMips16_ : layers16_, offset);
-    return;
-  }
-  cl::Event event;
-  clCheck(ctx.queue().enqueueCopyBuffer(src.get(), (mips ? layerMips_ : layers_).get(), 0, offset * sizeof(float),
-                                        count * sizeof(float), nullptr, &event),
-          "clEnqueueCopyBuffer", "lvsm_store_layer", "lvsm");
-  if (ctx.profiler() != nullptr) ctx.profiler()->record("lvsm/store_layer", event, 2 * count * sizeof(float));  // copy: read + write
-}
-
-// Per layer (sec. 5): warped moments, blur, mips, storage.
+// Per layer (sec. 5): warped moments, blur, mips, storage. fp32 layers are written in place, each stage
+// straight into its layer's slice of the layer array (Buffer::region); unorm16 layers are packed from the fp32
+// working buffers.
 void LayeredVsm::buildLayers(Context& ctx, const LvsmLayout& layout) {
   const auto size = static_cast<uint32_t>(params_.getInt("map-size"));
   const ImageShape shape{size, size, 2};
   const bool trilinear = momentTrilinear(params_), unorm = params_.getInt("lvsm-storage") == kUnorm16;
+  const bool blurred = params_.getInt("blur-radius") > 0;
   const PyramidLayout pyramid = pyramidLayout(size, size, 1);
-  planeFloats_ = shape.count();
-  mipFloats_ = trilinear ? pyramid.texels * 2 : 0;
+  const size_t mipCount = trilinear ? pyramid.texels * 2 : 0;
+  // Layer strides rounded up so that every layer's slice starts at an offset a sub-buffer may have.
+  planeFloats_ = Buffer<float>::alignedCount(ctx, shape.count());
+  mipFloats_ = Buffer<float>::alignedCount(ctx, mipCount);
   const size_t n = layout.count;
-  moments_.allocate(ctx, shape.count());
-  scratch_.allocate(ctx, params_.getInt("blur-radius") > 0 ? shape.count() : 0);
-  mips_.allocate(ctx, mipFloats_);
+  moments_.allocate(ctx, unorm || blurred ? shape.count() : 0);
+  scratch_.allocate(ctx, blurred ? shape.count() : 0);
+  mips_.allocate(ctx, unorm ? mipCount : 0);
   layers_.allocate(ctx, unorm ? 0 : n * planeFloats_);
   layerMips_.allocate(ctx, unorm ? 0 : n * mipFloats_);
   layers16_.allocate(ctx, unorm ? n * planeFloats_ : 0);
@@ -151,12 +141,18 @@ void LayeredVsm::buildLayers(Context& ctx, const LvsmLayout& layout) {
   config.depthFar = map_.view.gpu.zFar;
   for (size_t i = 0; i < n; ++i) {
     config.layers = {{layout.layer[2 * i], layout.layer[2 * i + 1]}};
-    computeMoments(ctx, map_.targets.depth, size, size, config, moments_);
-    if (params_.getInt("blur-radius") > 0) blur(ctx, moments_, moments_, scratch_, shape, momentBlurConfig(params_));
-    storeLayer(ctx, moments_, planeFloats_, i, false);
+    Buffer<float> plane = unorm ? moments_ : layers_.region(ctx, i * planeFloats_, shape.count());
+    if (blurred) {
+      computeMoments(ctx, map_.targets.depth, size, size, config, moments_);
+      blur(ctx, moments_, plane, scratch_, shape, momentBlurConfig(params_));
+    } else {
+      computeMoments(ctx, map_.targets.depth, size, size, config, plane);
+    }
+    if (unorm) packMomentsUnorm16(ctx, plane, shape.count(), layers16_, i * planeFloats_);
     if (!trilinear) continue;
-    computeMomentMips(ctx, moments_, shape, mips_);
-    storeLayer(ctx, mips_, mipFloats_, i, true);
+    Buffer<float> mips = unorm ? mips_ : layerMips_.region(ctx, i * mipFloats_, mipCount);
+    computeMomentMips(ctx, plane, shape, mips);
+    if (unorm) packMomentsUnorm16(ctx, mips, mipCount, layerMips16_, i * mipFloats_);
   }
 }
 
