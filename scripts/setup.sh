@@ -11,6 +11,7 @@ PACKAGES=(
   libopenexr-dev libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libcli11-dev libfmt-dev
   libgtest-dev libbenchmark-dev libboost-dev  # Boost.Compute: the scan baseline of stages_bench
   libembree-dev  # Embree 3: the ray-traced reference of `penumbra reference` (tools/reference/ only)
+  libopengl-dev libgl-dev libegl-dev libgl1-mesa-dri libegl-mesa0  # raster_bench's OpenGL peer: glvnd, llvmpipe
   assimp-testmodels  # malformed glTF files the test suite feeds the loader
   python3-matplotlib  # tools/chart.py: the speed-vs-error charts (scripts/charts.sh)
 )

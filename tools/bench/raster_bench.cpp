@@ -3,7 +3,13 @@
 // ground plane, the 1M-triangle MetalRoughSpheres and a procedural 262k-triangle field of spheres, at 2048^2 and
 // 4096^2, plus a perspective camera view. Device: PENUMBRA_DEVICE (or "auto"). Scenes: PENUMBRA_SCENES_DIR, else
 // ../shared/scenes beside the source tree; missing files skip their cases.
+// Beside each case, peer_gl/<same name> (built when glvnd's OpenGL + EGL are found) draws the same triangles with the
+// same clip matrix depth-only through a headless OpenGL driver (tools/bench/gl_depth_peer.h): Mesa's llvmpipe on a
+// CPU machine, the vendor's driver on a GPU one. On the CPU machine both sides get every core: PoCL by default,
+// llvmpipe's rasterizer threads default to the CPU count (LP_NUM_THREADS overrides it).
 //   build/tools/bench/raster_bench --benchmark_counters_tabular=true
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -19,6 +25,9 @@
 #include "host/cl/profiler.h"
 #include "host/scene/gltf_loader.h"
 #include "raster/rasterizer.h"
+#ifdef PENUMBRA_GL_PEER
+#include "tools/bench/gl_depth_peer.h"
+#endif
 
 namespace penumbra {
 namespace {
@@ -132,6 +141,65 @@ void addCase(Context& ctx, const std::string& name, std::shared_ptr<const Scene>
       ->Unit(benchmark::kMicrosecond);
 }
 
+#ifdef PENUMBRA_GL_PEER
+// The fraction of pixels that both renderers leave covered, or both leave empty: GL clears to depth 1, our
+// targets to +INFINITY. Only edge pixels may differ (fill-rule ties, float vs double vertex transforms).
+double coverageAgreement(const std::vector<float>& gl, const std::vector<float>& ours, size_t& differ) {
+  differ = 0;
+  for (size_t i = 0; i < gl.size() && i < ours.size(); ++i) differ += (gl[i] < 1.0f) != std::isfinite(ours[i]);
+  differ += std::max(gl.size(), ours.size()) - std::min(gl.size(), ours.size());
+  return 1.0 - static_cast<double>(differ) / static_cast<double>(std::max<size_t>(gl.size(), 1));
+}
+
+// One peer case: warm-up, then per frame the wall clock and the GL_TIME_ELAPSED query, both reported. The iteration
+// time is the query on a GPU driver (device time, like our profiling events) and the wall clock on Mesa's CPU
+// rasterizers, where the query reads far less than the frame takes. Then our rasterizer draws the same view once
+// for the coverage cross-check.
+void runPeer(benchmark::State& state, Context& ctx, GlDepthPeer& peer, const Scene& scene, const RasterView& view) {
+  const glm::mat4 clip = rasterClipMatrix(view);  // the float matrix our setup starts from
+  peer.setScene(scene);
+  peer.draw(clip, view.width, view.height);  // warm-up: shader compile, first-touch of the target
+  const bool wallClock = peer.software();
+  double wallMs = 0, queryMs = 0, timedMs = 0;
+  bool query = true;  // every frame had a timer-query result
+  for (auto _ : state) {
+    const GlFrameTime t = peer.draw(clip, view.width, view.height);
+    const double ms = t.queryMs < 0 || wallClock ? t.wallMs : t.queryMs;
+    wallMs += t.wallMs, queryMs += t.queryMs, timedMs += ms;
+    query = query && t.queryMs >= 0;
+    state.SetIterationTime(ms * 1e-3);
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["Mtri/s"] = benchmark::Counter(scene.triangleCount() / (timedMs * 1e-3 / n) * 1e-6);
+  state.counters["wall_us"] = benchmark::Counter(wallMs * 1e3 / n);
+  if (query) state.counters["gpu_query_us"] = benchmark::Counter(queryMs * 1e3 / n);
+  state.counters["triangles"] = benchmark::Counter(static_cast<double>(scene.triangleCount()));
+  Rasterizer raster(ctx);
+  raster.setScene(scene);
+  RasterTargets targets;
+  raster.draw(view, targets);
+  size_t differ = 0;
+  state.counters["coverage_agree"] =
+      benchmark::Counter(coverageAgreement(peer.readDepth(), targets.depth.download(ctx), differ));
+  state.counters["coverage_differ"] = benchmark::Counter(static_cast<double>(differ));
+}
+
+void addPeerCase(Context& ctx, GlDepthPeer* peer, const std::string& unavailable, const std::string& name,
+                 std::shared_ptr<const Scene> scene, RasterView view) {
+  benchmark::RegisterBenchmark(fmt::format("peer_gl/{}/{}", name, view.width).c_str(),
+                               [&ctx, peer, unavailable, scene, view](benchmark::State& state) {
+                                 if (peer == nullptr) return state.SkipWithError(unavailable.c_str());
+                                 try {
+                                   runPeer(state, ctx, *peer, *scene, view);
+                                 } catch (const std::exception& e) {
+                                   state.SkipWithError(e.what());
+                                 }
+                               })
+      ->UseManualTime()
+      ->Unit(benchmark::kMicrosecond);
+}
+#endif
+
 }  // namespace
 }  // namespace penumbra
 
@@ -140,6 +208,24 @@ int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   Context ctx;
   std::fprintf(stderr, "device: %s (%s)\n", ctx.info().name.c_str(), ctx.info().platformName.c_str());
+#ifdef PENUMBRA_GL_PEER
+  // Made here, on the thread that runs the benchmarks: the GL context is current on this thread only.
+  std::unique_ptr<GlDepthPeer> peer;
+  std::string unavailable;
+  try {
+    peer = std::make_unique<GlDepthPeer>();
+    std::fprintf(stderr, "peer_gl: %s (%s)\n", peer->renderer().c_str(), peer->version().c_str());
+  } catch (const std::exception& e) {
+    unavailable = e.what();
+    std::fprintf(stderr, "peer_gl: unavailable: %s\n", unavailable.c_str());
+  }
+#endif
+  auto add = [&](const std::string& name, const std::shared_ptr<const Scene>& scene, const RasterView& view) {
+    addCase(ctx, name, scene, view);
+#ifdef PENUMBRA_GL_PEER
+    addPeerCase(ctx, peer.get(), unavailable, name, scene, view);
+#endif
+  };
   std::vector<std::pair<std::string, std::shared_ptr<const Scene>>> scenes;
   if (std::string p = scenePath("FlightHelmet.glb"); !p.empty())
     scenes.emplace_back("FlightHelmetGround", std::make_shared<const Scene>(withGround(loadGltf(p))));
@@ -147,8 +233,8 @@ int main(int argc, char** argv) {
     scenes.emplace_back("MetalRoughSpheres", std::make_shared<const Scene>(loadGltf(p)));
   scenes.emplace_back("SphereField262k", std::make_shared<const Scene>(sphereField()));
   for (const auto& [name, scene] : scenes)
-    for (int size : {2048, 4096}) addCase(ctx, "shadow/" + name, scene, lightView(*scene, size));
-  for (const auto& [name, scene] : scenes) addCase(ctx, "camera/" + name, scene, cameraView(*scene, 2048));
+    for (int size : {2048, 4096}) add("shadow/" + name, scene, lightView(*scene, size));
+  for (const auto& [name, scene] : scenes) add("camera/" + name, scene, cameraView(*scene, 2048));
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;
