@@ -4,6 +4,13 @@
 // every addition depends only on the sample count, so results are bitwise reproducible.
 #include "kernels/shared/reduce.h"
 
+// Built per cluster count (-DREDUCE_CLUSTERS=k): the per-work-item accumulators are an array of exactly k,
+// indexed by an unrolled select so that they stay in registers; a count fixed at REDUCE_MAX_CLUSTERS would make
+// every sample update 16 accumulators whatever k is.
+#ifndef REDUCE_CLUSTERS
+#define REDUCE_CLUSTERS REDUCE_MAX_CLUSTERS
+#endif
+
 // Cluster of x: the number of (sorted) boundaries <= x.
 inline uint reduce_cluster(float x, __global const float* boundaries, uint clusters) {
   uint k = 0;
@@ -32,18 +39,18 @@ __kernel __attribute__((reqd_work_group_size(REDUCE_GROUP, 1, 1))) void reduce_l
     __global LloydStats* partials) {
   __local float4 sums[REDUCE_GROUP];
   __local uint counts[REDUCE_GROUP];
-  float4 acc[REDUCE_MAX_CLUSTERS];
-  uint n[REDUCE_MAX_CLUSTERS];
-  for (uint k = 0; k < REDUCE_MAX_CLUSTERS; ++k) acc[k] = 0.0f, n[k] = 0;
+  float4 acc[REDUCE_CLUSTERS];
+  uint n[REDUCE_CLUSTERS];
+  for (uint k = 0; k < REDUCE_CLUSTERS; ++k) acc[k] = 0.0f, n[k] = 0;
   const uint begin = get_group_id(0) * p.chunk, end = min(begin + p.chunk, p.count);
   for (uint i = begin + get_local_id(0); i < end; i += REDUCE_GROUP) {
     const float xi = x[i], wi = w[i];
     if (!(isfinite(xi) && isfinite(wi) && wi > 0.0f)) continue;
     const uint c = reduce_cluster(xi, boundaries, p.clusters);
-    for (uint k = 0; k < REDUCE_MAX_CLUSTERS; ++k)  // unrolled select keeps acc in registers
+    for (uint k = 0; k < REDUCE_CLUSTERS; ++k)  // unrolled select keeps acc in registers
       if (k == c) acc[k] += (float4)(wi, wi * xi, wi * xi * xi, 0.0f), n[k] += 1;
   }
-  for (uint k = 0; k < p.clusters; ++k) {
+  for (uint k = 0; k < REDUCE_CLUSTERS; ++k) {
     float4 s = acc[k];
     uint samples = n[k];
     reduce_group(&s, &samples, sums, counts);

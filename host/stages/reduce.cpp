@@ -34,11 +34,12 @@ std::vector<cl::Event> reduceLloydStats(Context& ctx, const Buffer<float>& x, co
   checkBufferSize(out.size(), clusters, "reduce", "output");
   Buffer<LloydStats> partials(ctx, size_t(p.groups) * clusters);
   std::vector<cl::Event> events;
-  Kernel partial(ctx, "kernels/reduce.cl", "reduce_lloyd_partial", "reduce");
+  const std::string options = fmt::format("-DREDUCE_CLUSTERS={}", clusters);  // one program per cluster count
+  Kernel partial(ctx, "kernels/reduce.cl", "reduce_lloyd_partial", "reduce", options);
   events.push_back(partial.args(x, w, boundaries, p, partials)
                        .moves(uint64_t{count} * 2 * sizeof(float))  // floor: read x and w once
                        .launch(size_t(p.groups) * REDUCE_GROUP, REDUCE_GROUP));
-  Kernel finish(ctx, "kernels/reduce.cl", "reduce_lloyd_final", "reduce");
+  Kernel finish(ctx, "kernels/reduce.cl", "reduce_lloyd_final", "reduce", options);
   events.push_back(finish.args(partials, p, out).launch(REDUCE_GROUP, REDUCE_GROUP));
   return events;
 }
