@@ -31,6 +31,41 @@ static CoarseBin coarseBin(const RasterViewParams* p, __global const uint* binCo
   return b;
 }
 
+// The bin queue entries a work-item walks: interleaved (neighbouring work-items read neighbouring entries: GPUs) or,
+// with RASTER_COARSE_CHUNKED, one contiguous chunk per work-item (CPUs: PoCL runs a group's work-items one after
+// another, so each walks its chunk in queue order, which bin_fill left close to record order; the tile queues then
+// come out in that order too, which the fine stage's record reads profit from), where the record needed
+// RASTER_COARSE_PREFETCH steps ahead is also prefetched (types.h).
+#ifndef RASTER_COARSE_CHUNKED
+#define RASTER_COARSE_CHUNKED 0
+#endif
+#define RASTER_COARSE_PREFETCH 4
+typedef struct {
+  uint first, end, step;
+} CoarseRange;
+
+static CoarseRange coarseRange(const CoarseBin* b) {
+  const uint lid = get_local_id(0);
+  CoarseRange r;
+#if RASTER_COARSE_CHUNKED
+  const uint per = (b->count + RASTER_COARSE_WG - 1) / RASTER_COARSE_WG;
+  r.first = min(lid * per, b->count), r.end = min(r.first + per, b->count), r.step = 1;
+#else
+  r.first = lid, r.end = b->count, r.step = RASTER_COARSE_WG;
+#endif
+  return r;
+}
+
+#if RASTER_COARSE_CHUNKED
+#define COARSE_PREFETCH(tris, binEntries, b, r, j)                                           \
+  do {                                                                                       \
+    const uint ahead_ = (j) + RASTER_COARSE_PREFETCH * (r).step;                             \
+    if (ahead_ < (r).end) RASTER_PREFETCH_RECORD(&(tris)[(binEntries)[(b).begin + ahead_]]); \
+  } while (0)
+#else
+#define COARSE_PREFETCH(tris, binEntries, b, r, j) ((void)0)
+#endif
+
 // Calls BODY(localTile) for every tile of bin `b` whose samples the record `t` may cover. The candidate box lies
 // inside the scissor, so cutting each tile to the box keeps the test inside the scissor too.
 #define COARSE_FOR_EACH_TILE(t, b, BODY)                                                                 \
@@ -73,7 +108,9 @@ __kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coar
   const uint lid = get_local_id(0);
   hits[lid] = 0;
   barrier(CLK_LOCAL_MEM_FENCE);
-  for (uint j = lid; j < b.count; j += RASTER_COARSE_WG) {
+  const CoarseRange r = coarseRange(&b);
+  for (uint j = r.first; j < r.end; j += r.step) {
+    COARSE_PREFETCH(tris, binEntries, b, r, j);
     const RasterTriangle t = tris[binEntries[b.begin + j]];
 #define COARSE_COUNT_ONE(localTile) atomic_inc(&hits[localTile])
     COARSE_FOR_EACH_TILE(t, b, COARSE_COUNT_ONE);
@@ -104,7 +141,9 @@ __kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coar
   cursor[lid] = 0;
   barrier(CLK_LOCAL_MEM_FENCE);
   const uint capacity = p.tileCapacity;
-  for (uint j = lid; j < b.count; j += RASTER_COARSE_WG) {
+  const CoarseRange r = coarseRange(&b);
+  for (uint j = r.first; j < r.end; j += r.step) {
+    COARSE_PREFETCH(tris, binEntries, b, r, j);
     const uint index = binEntries[b.begin + j];
     const RasterTriangle t = tris[index];
 #define COARSE_FILL_ONE(localTile)                                                  \

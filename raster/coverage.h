@@ -17,9 +17,14 @@ static inline long rasterEdgeAt(int a, int b, long c, int x, int y) {
   return (long)a * (long)x + (long)b * (long)y + c;
 }
 
-// Whether edge k accepts a sample with edge value e: inside, or on an edge that owns its samples.
+// Whether an edge accepts samples with edge value e: inside, or on the edge when it owns its samples (owns: 1 or 0;
+// for OpenCL vectors e and owns are vectors or scalars of -1 or 0, the result a mask of -1 or 0). Bitwise operators,
+// so that the same expression serves the scalar kernels and the fine stage's vectorized rows.
+#define RASTER_EDGE_PASSES(e, owns) (((e) > 0) | (((e) == 0) & (owns)))
+
+// Whether edge k accepts a sample with edge value e.
 static inline bool rasterEdgeAccepts(long e, uint flags, int k) {
-  return e > 0 || (e == 0 && (flags & (RASTER_FLAG_OWNS_EDGE0 << k)) != 0);
+  return RASTER_EDGE_PASSES(e, (flags & (RASTER_FLAG_OWNS_EDGE0 << k)) != 0);
 }
 
 // Whether some sample of pixels [x0, x1] x [y0, y1] (inclusive, non-empty) passes edge k.

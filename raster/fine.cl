@@ -1,9 +1,14 @@
-// Fine rasterization, stage 4 of 4 (Laine & Karras 2011, section 4.4): one work-group per 8x8 tile, one work-item
-// per pixel. The group stages its tile queue in local memory, RASTER_FINE_WG records at a time; each work-item
-// tests its pixel centre against every staged triangle with the exact edge functions and keeps the nearest
-// (view depth, triangle id) in registers: nearest wins, ties go to the smaller triangle id. That order is total,
-// so the result does not depend on queue order (no atomics, deterministic). The winner's depth is then stored in
+// Fine rasterization, stage 4 of 4 (Laine & Karras 2011, section 4.4): every pixel centre of an 8x8 tile is tested
+// against every triangle of the tile's queue with the exact edge functions, keeping the nearest (view depth,
+// triangle id): nearest wins, ties go to the smaller triangle id. That order is total, so the result depends
+// neither on queue order nor on the layout below (no atomics, deterministic). The winner's depth is then stored in
 // the view's DepthMode; every pixel of the tile inside the scissor is written (background: +INFINITY, no id).
+// Two layouts of the same per-pixel math, chosen by RASTER_WG_FINE (raster/constants.h):
+//   0 (GPUs): one work-group per tile, one work-item per pixel, the queue staged in local memory RASTER_FINE_WG
+//     records at a time;
+//   N > 0 (CPUs): N tiles per work-group, one work-item per tile walking its queue; per triangle only the tile
+//     rows inside its candidate box are visited, 8 pixels of a row at a time in a branch-free loop that the
+//     compiler vectorizes (PoCL does not vectorize across work-items that loop over a queue).
 //
 // View depth is interpolated perspective-correctly from the integer edge values at the sample,
 //   v = sum(e_k * v_k / w_k) / sum(e_k / w_k)   (e_k >= 0 inside, so neither sum cancels),
@@ -12,6 +17,40 @@
 #include "raster/coverage.h"
 #include "raster/depth.h"
 #include "raster/types.h"
+
+#ifndef RASTER_WG_FINE
+#define RASTER_WG_FINE 0
+#endif
+
+// The per-sample math, as expressions that apply unchanged to scalars and to OpenCL vectors (one result, bit for bit,
+// in both layouts below). View depth at samples with edge values converted to float w0, w1, w2 (>= 0 inside) from the
+// record's per-vertex terms vz = viewZOverW, iw = invW (float3):
+#define FINE_VIEW_Z(w0, w1, w2, vz, iw) \
+  (((w0) * (vz).x + (w1) * (vz).y + (w2) * (vz).z) / ((w0) * (iw).x + (w1) * (iw).y + (w2) * (iw).z))
+// Whether a fragment (view depth v, triangle id) replaces the nearest so far (best, bestId): inside the far plane
+// (which also rules out NaN) and nearer, or as near with a smaller id.
+#define FINE_NEARER(v, id, farViewZ, best, bestId) \
+  (((v) <= (farViewZ)) & (((v) < (best)) | (((v) == (best)) & ((id) < (bestId)))))
+
+// The pixel's stored values once every triangle has been tested.
+static inline void fineStore(const RasterViewParams* p, int x, int y, float best, uint bestId, __global float* depth,
+                             __global uint* triangleId) {
+  const size_t pixel = (size_t)y * p->width + x;
+  triangleId[pixel] = bestId;
+  depth[pixel] = bestId == RASTER_NO_TRIANGLE ? INFINITY : rasterDepth(p, x, y, best);
+}
+
+// The tile a work-group (layout 0) or work-item (layout N) works on, and its queue range cut to the capacity.
+static inline int2 fineTile(const RasterViewParams* p, int index, __global const uint* tileCount,
+                            __global const uint* tileOffset, uint* offset, uint* count) {
+  const int tx = p->tileX0 + index % p->tilesAcross, ty = p->tileY0 + index / p->tilesAcross;
+  const int tile = ty * p->tilesX + tx;
+  *offset = tileOffset[tile];
+  *count = *offset < p->tileCapacity ? min(tileCount[tile], p->tileCapacity - *offset) : 0;
+  return (int2)(tx << RASTER_TILE_LOG2, ty << RASTER_TILE_LOG2);
+}
+
+#if RASTER_WG_FINE == 0
 
 // Tests pixel (x, y) against one staged triangle and keeps it when it is nearer (or as near, with a smaller id).
 static void fineTest(__local const RasterTriangle* t, int x, int y, int sx, int sy, float farViewZ, float* best,
@@ -24,15 +63,10 @@ static void fineTest(__local const RasterTriangle* t, int x, int y, int sx, int 
   if (!rasterEdgeAccepts(e1, flags, 1)) return;
   const long e2 = rasterEdgeAt(t->a[2], t->b[2], t->c[2], sx, sy);
   if (!rasterEdgeAccepts(e2, flags, 2)) return;
-  const float w0 = (float)e0, w1 = (float)e1, w2 = (float)e2;
-  const float num = w0 * t->viewZOverW[0] + w1 * t->viewZOverW[1] + w2 * t->viewZOverW[2];
-  const float den = w0 * t->invW[0] + w1 * t->invW[1] + w2 * t->invW[2];
-  const float v = num / den;
-  if (!(v <= farViewZ)) return;  // beyond the far plane (and never NaN)
-  const uint id = t->triangleId;
-  if (v < *best || (v == *best && id < *bestId)) {
+  const float v = FINE_VIEW_Z((float)e0, (float)e1, (float)e2, vload3(0, t->viewZOverW), vload3(0, t->invW));
+  if (FINE_NEARER(v, t->triangleId, farViewZ, *best, *bestId)) {
     *best = v;
-    *bestId = id;
+    *bestId = t->triangleId;
   }
 }
 
@@ -40,14 +74,11 @@ __kernel __attribute__((reqd_work_group_size(RASTER_FINE_WG, 1, 1))) void fine_r
     __global const RasterTriangle* tris, __global const uint* tileEntries, __global const uint* tileCount,
     __global const uint* tileOffset, __global float* depth, __global uint* triangleId, const RasterViewParams p) {
   __local RasterTriangle staged[RASTER_FINE_WG];
-  const int group = get_group_id(0), lid = get_local_id(0);
-  const int tx = p.tileX0 + group % p.tilesAcross, ty = p.tileY0 + group / p.tilesAcross;
-  const int x = (tx << RASTER_TILE_LOG2) + (lid & (RASTER_TILE_SIZE - 1));
-  const int y = (ty << RASTER_TILE_LOG2) + (lid >> RASTER_TILE_LOG2);
+  const int lid = get_local_id(0);
+  uint offset, count;
+  const int2 origin = fineTile(&p, get_group_id(0), tileCount, tileOffset, &offset, &count);
+  const int x = origin.x + (lid & (RASTER_TILE_SIZE - 1)), y = origin.y + (lid >> RASTER_TILE_LOG2);
   const bool live = x >= p.rectX0 && x < p.rectX1 && y >= p.rectY0 && y < p.rectY1;
-  const int tile = ty * p.tilesX + tx;
-  const uint offset = tileOffset[tile];
-  const uint count = offset < p.tileCapacity ? min(tileCount[tile], p.tileCapacity - offset) : 0;
   const int sx = rasterSample(x), sy = rasterSample(y);
   float best = INFINITY;
   uint bestId = RASTER_NO_TRIANGLE;
@@ -59,9 +90,82 @@ __kernel __attribute__((reqd_work_group_size(RASTER_FINE_WG, 1, 1))) void fine_r
     if (live)
       for (uint j = 0; j < n; ++j) fineTest(&staged[j], x, y, sx, sy, p.farViewZ, &best, &bestId);
   }
-  if (live) {
-    const size_t pixel = (size_t)y * p.width + x;
-    triangleId[pixel] = bestId;
-    depth[pixel] = bestId == RASTER_NO_TRIANGLE ? INFINITY : rasterDepth(&p, x, y, best);
+  if (live) fineStore(&p, x, y, best, bestId, depth, triangleId);
+}
+
+#else
+
+#if RASTER_TILE_SIZE != 8
+#error "fine_raster's CPU layout holds a tile row in 8-wide vectors"
+#endif
+#define RASTER_FINE_PREFETCH 8  // queue entries ahead whose record is prefetched (RASTER_PREFETCH_RECORD)
+
+// Depth-tests row r of the tile: the samples `inside` the triangle (mask), with edge values w0, w1, w2.
+static inline void fineKeepRow(int r, int8 inside, float8 w0, float8 w1, float8 w2, float3 viewZOverW, float3 invW,
+                               uint id, float farViewZ, float* best, uint* bestId) {
+  const float8 v = FINE_VIEW_Z(w0, w1, w2, viewZOverW, invW);
+  const float8 nearest = vload8(r, best);
+  const uint8 nearestId = vload8(r, bestId);
+  const int8 keep = inside & FINE_NEARER(v, (uint8)id, farViewZ, nearest, nearestId);
+  vstore8(select(nearest, v, keep), r, best);
+  vstore8(select(nearestId, (uint8)id, keep), r, bestId);
+}
+
+// Tests the pixels of tile rows r0..r1 (origin: the tile's bottom-left pixel) against one triangle, a row of 8 pixels
+// as one OpenCL vector (explicit vectors: the loop vectorizer left the running minimum in masked stores, slower).
+// Per row the edge values start from the exact 64-bit value at the row's first sample and step by 256 a_k per pixel.
+static void fineTestRows(__global const RasterTriangle* t, int2 origin, int r0, int r1, float farViewZ, float* best,
+                         uint* bestId) {
+  const int a0 = t->a[0], a1 = t->a[1], a2 = t->a[2], b0 = t->b[0], b1 = t->b[1], b2 = t->b[2];
+  const long c0 = t->c[0], c1 = t->c[1], c2 = t->c[2];
+  const long da0 = (long)a0 << RASTER_SUBPIXEL_LOG2, da1 = (long)a1 << RASTER_SUBPIXEL_LOG2;
+  const long da2 = (long)a2 << RASTER_SUBPIXEL_LOG2;
+  const uint flags = t->flags, id = t->triangleId;
+  const long owns0 = (flags & RASTER_FLAG_OWNS_EDGE0) ? -1 : 0;  // lane masks for RASTER_EDGE_PASSES
+  const long owns1 = (flags & (RASTER_FLAG_OWNS_EDGE0 << 1)) ? -1 : 0;
+  const long owns2 = (flags & (RASTER_FLAG_OWNS_EDGE0 << 2)) ? -1 : 0;
+  const float3 viewZOverW = vload3(0, t->viewZOverW), invW = vload3(0, t->invW);
+  const int8 column = (int8)(0, 1, 2, 3, 4, 5, 6, 7);
+  const int8 inBox = (column >= (int)t->bbox[0] - origin.x) & (column <= (int)t->bbox[2] - origin.x);
+  const int sx = rasterSample(origin.x);
+  const long8 lane = (long8)(0, 1, 2, 3, 4, 5, 6, 7);
+  const long8 step0 = lane * da0, step1 = lane * da1, step2 = lane * da2;
+  for (int r = r0; r <= r1; ++r) {
+    const int sy = rasterSample(origin.y + r);
+    const long8 e0 = rasterEdgeAt(a0, b0, c0, sx, sy) + step0, e1 = rasterEdgeAt(a1, b1, c1, sx, sy) + step1;
+    const long8 e2 = rasterEdgeAt(a2, b2, c2, sx, sy) + step2;
+    const int8 inside = inBox & convert_int8(RASTER_EDGE_PASSES(e0, owns0) & RASTER_EDGE_PASSES(e1, owns1) &
+                                             RASTER_EDGE_PASSES(e2, owns2));
+    fineKeepRow(r, inside, convert_float8(e0), convert_float8(e1), convert_float8(e2), viewZOverW, invW, id, farViewZ,
+                best, bestId);
   }
 }
+
+__kernel __attribute__((reqd_work_group_size(RASTER_WG_FINE, 1, 1))) void fine_raster(
+    __global const RasterTriangle* tris, __global const uint* tileEntries, __global const uint* tileCount,
+    __global const uint* tileOffset, __global float* depth, __global uint* triangleId, const RasterViewParams p) {
+  const int index = get_global_id(0);
+  const int tileRows = (p.rectY1 - 1) / RASTER_TILE_SIZE - p.tileY0 + 1;
+  if (index >= p.tilesAcross * tileRows) return;  // padding of the last work-group
+  uint offset, count;
+  const int2 origin = fineTile(&p, index, tileCount, tileOffset, &offset, &count);
+  float best[RASTER_TILE_PIXELS];
+  uint bestId[RASTER_TILE_PIXELS];
+  for (int i = 0; i < RASTER_TILE_PIXELS; ++i) best[i] = INFINITY, bestId[i] = RASTER_NO_TRIANGLE;
+  for (uint j = 0; j < count; ++j) {
+    if (j + RASTER_FINE_PREFETCH < count) RASTER_PREFETCH_RECORD(&tris[tileEntries[offset + j + RASTER_FINE_PREFETCH]]);
+    __global const RasterTriangle* t = &tris[tileEntries[offset + j]];
+    const int r0 = max((int)t->bbox[1] - origin.y, 0), r1 = min((int)t->bbox[3] - origin.y, RASTER_TILE_SIZE - 1);
+    fineTestRows(t, origin, r0, r1, p.farViewZ, best, bestId);
+  }
+  const int live0 = max(p.rectX0 - origin.x, 0), live1 = min(p.rectX1 - origin.x, RASTER_TILE_SIZE);
+  for (int r = 0; r < RASTER_TILE_SIZE; ++r) {  // the row's pixels inside the scissor: [live0, live1)
+    const int y = origin.y + r;
+    if (y < p.rectY0 || y >= p.rectY1) continue;
+    for (int i = live0; i < live1; ++i)
+      fineStore(&p, origin.x + i, y, best[r * RASTER_TILE_SIZE + i], bestId[r * RASTER_TILE_SIZE + i], depth,
+                triangleId);
+  }
+}
+
+#endif

@@ -2,13 +2,13 @@
 // work-group table row (raster/constants.h) for a device.
 #include "raster/plan.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 namespace penumbra {
 
@@ -94,10 +94,10 @@ WorkGroups workGroupsFor(const DeviceInfo& device) {
   const size_t* row = kRowDefault;
   if (device.vendor.find("NVIDIA") != std::string::npos) row = kRowNvidia;
   if (device.platformName.find("Portable Computing Language") != std::string::npos) row = kRowPocl;
-  WorkGroups groups{row[0], row[1], row[2]};
+  WorkGroups groups{row[0], row[1], row[2], row[3]};
   const size_t limit = std::max<size_t>(device.maxWorkGroupSize, 1);
   groups.setup = std::min(groups.setup, limit), groups.bin = std::min(groups.bin, limit);
-  groups.gbuffer = std::min(groups.gbuffer, limit);
+  groups.gbuffer = std::min(groups.gbuffer, limit), groups.fine = std::min(groups.fine, limit);
   return groups;
 }
 

@@ -14,6 +14,7 @@ namespace penumbra::raster {
 // One row of the work-group table in raster/constants.h.
 struct WorkGroups {
   size_t setup = 0, bin = 0, gbuffer = 0;
+  size_t fine = 0;  // 0: a work-group per tile, an item per pixel; N > 0: N tiles per work-group, an item per tile
 };
 WorkGroups workGroupsFor(const DeviceInfo& device);
 

@@ -9,8 +9,9 @@ namespace penumbra::raster {
 namespace {
 
 std::string buildOptions(const WorkGroups& groups) {
-  return fmt::format("-DRASTER_WG_SETUP={} -DRASTER_WG_BIN={} -DRASTER_WG_GBUFFER={}", groups.setup, groups.bin,
-                     groups.gbuffer);
+  return fmt::format(
+      "-DRASTER_WG_SETUP={} -DRASTER_WG_BIN={} -DRASTER_WG_GBUFFER={} -DRASTER_WG_FINE={} -DRASTER_COARSE_CHUNKED={}",
+      groups.setup, groups.bin, groups.gbuffer, groups.fine, groups.fine != 0 ? 1 : 0);
 }
 
 Kernel makeKernel(Context& ctx, const WorkGroups& groups, const char* source, const char* entry) {
@@ -67,7 +68,8 @@ void Stages::record(const Plan& plan, const SceneBuffers& scene, Queues& q, Buff
       .launch(coarseItems, RASTER_COARSE_WG);
   fine_.args(q.records, q.tileEntries, q.tileCount, q.tileOffset, depth, triangleIds, p)
       .moves(uint64_t{plan.scissorPixels} * (sizeof(float) + sizeof(uint32_t)))
-      .launch(plan.launchedTiles * RASTER_FINE_WG, RASTER_FINE_WG);
+      .launch(groups_.fine == 0 ? plan.launchedTiles * RASTER_FINE_WG : plan.launchedTiles,
+              groups_.fine == 0 ? size_t{RASTER_FINE_WG} : groups_.fine);
 }
 
 // gbuffer_resolve per scissor pixel: reads the triangle id and depth (8 B), writes position and normal (2 float4)

@@ -31,6 +31,20 @@ typedef struct {
   raster_ushort bbox[4];  // candidate pixels: x0, y0, x1, y1 inclusive, inside the scissor
 } RasterTriangle;
 
+#if !PENUMBRA_HOST
+// Queues hold record indices in an order unrelated to the record buffer's, so on a CPU nearly every record read
+// misses the caches; the CPU layouts (RASTER_WG_FINE > 0, RASTER_COARSE_CHUNKED) prefetch the record a few queue
+// entries ahead, both cache lines an 88-byte record can span. Clang's builtin through an integer: CPU devices have
+// one flat address space (OpenCL's prefetch() is a no-op in PoCL). Never used by the GPU layouts.
+#if defined(__clang__)
+#define RASTER_PREFETCH_RECORD(record)                \
+  (__builtin_prefetch((const void*)(size_t)(record)), \
+   __builtin_prefetch((const void*)((size_t)(record) + sizeof(RasterTriangle) - 1)))
+#else
+#define RASTER_PREFETCH_RECORD(record) ((void)0)
+#endif
+#endif
+
 // Queue counters: kernels count every request, write only below the capacity; the host grows and re-runs.
 typedef struct {
   raster_ulong binEntries;   // bin queue entries requested (sum over bins, from the scan)

@@ -8,18 +8,20 @@
 // CPU machine, the vendor's driver on a GPU one. On the CPU machine both sides get every core: PoCL by default,
 // llvmpipe's rasterizer threads default to the CPU count (LP_NUM_THREADS overrides it).
 //   build/tools/bench/raster_bench --benchmark_counters_tabular=true
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <glm/gtc/matrix_transform.hpp>
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <benchmark/benchmark.h>
-#include <fmt/format.h>
-#include <glm/gtc/matrix_transform.hpp>
 
 #include "host/cl/context.h"
 #include "host/cl/profiler.h"
@@ -107,10 +109,24 @@ RasterView cameraView(const Scene& scene, int size) {
   return v;
 }
 
+// FNV-1a over the depth and triangle-id targets' bytes: with PENUMBRA_RASTER_BENCH_HASH set, each case prints it
+// once, so a change to the kernels can be checked to leave every output bit as it was.
+uint64_t outputHash(Context& ctx, const RasterTargets& targets) {
+  uint64_t h = 14695981039346656037ull;
+  auto mix = [&h](const void* data, size_t bytes) {
+    for (size_t i = 0; i < bytes; ++i) h = (h ^ static_cast<const unsigned char*>(data)[i]) * 1099511628211ull;
+  };
+  const std::vector<float> depth = targets.depth.download(ctx);
+  const std::vector<uint32_t> ids = targets.triangleId.download(ctx);
+  mix(depth.data(), depth.size() * sizeof(float));
+  mix(ids.data(), ids.size() * sizeof(uint32_t));
+  return h;
+}
+
 void addCase(Context& ctx, const std::string& name, std::shared_ptr<const Scene> scene, RasterView view) {
   benchmark::RegisterBenchmark(
       fmt::format("raster/{}/{}", name, view.width).c_str(),
-      [&ctx, scene, view](benchmark::State& state) {
+      [&ctx, name, scene, view](benchmark::State& state) {
         Rasterizer raster(ctx);
         raster.setScene(*scene);
         RasterTargets targets;
@@ -136,6 +152,9 @@ void addCase(Context& ctx, const std::string& name, std::shared_ptr<const Scene>
         state.counters["triangles"] = benchmark::Counter(static_cast<double>(scene->triangleCount()));
         state.counters["set_up"] = benchmark::Counter(static_cast<double>(raster.stats().trianglesSetUp));
         state.counters["tile_entries"] = benchmark::Counter(static_cast<double>(raster.stats().tileEntries));
+        if (std::getenv("PENUMBRA_RASTER_BENCH_HASH") != nullptr)
+          std::fprintf(stderr, "output hash %s/%d: %016llx\n", name.c_str(), view.width,
+                       static_cast<unsigned long long>(outputHash(ctx, targets)));
       })
       ->UseManualTime()
       ->Unit(benchmark::kMicrosecond);
