@@ -46,6 +46,38 @@ int columnTileRows(int radius, size_t texelBytes, uint64_t localLimit) {
   return rows;
 }
 
+// The direct plan's row pass: launch shape, and its staged lines in local memory.
+void launchRows(Kernel& rows, const ImageShape& shape, uint64_t bytes, std::vector<cl::Event>& events) {
+  rows.moves(bytes);
+  events.push_back(rows.launch(Range(shape.width, shape.height), Range(BLUR_ROW_TILE, BLUR_ROWS)));
+}
+
+LocalMem rowLines(const ImageShape& shape, int radius) {
+  return LocalMem{size_t(BLUR_ROWS) * (BLUR_ROW_TILE + 2 * radius) * sizeof(float) * shape.channels};
+}
+
+void launchColumns(Context& ctx, const std::string& options, const Buffer<float>& in, Buffer<float>& out,
+                   const ImageShape& shape, const BlurPlan& plan, const Buffer<float>& weights,
+                   std::vector<cl::Event>& events) {
+  const int r = plan.radius;
+  const size_t texelBytes = sizeof(float) * shape.channels;
+  const int tileRows = columnTileRows(r, texelBytes, ctx.info().localMemBytes);
+  Kernel columns(ctx, "kernels/blur.cl", "blur_columns", "blur", options);
+  columns.args(in, out, shape.width, shape.height, r, weights, tileRows,
+               LocalMem{size_t(tileRows + 2 * r) * BLUR_COLUMN_TILE * texelBytes});
+  const size_t groupsY = (shape.height + tileRows - 1) / tileRows;
+  events.push_back(columns.moves(2 * shape.count() * sizeof(float))
+                       .launch(Range(shape.width, groupsY * BLUR_ROWS), Range(BLUR_COLUMN_TILE, BLUR_ROWS)));
+}
+
+std::string blurOptions(const ImageShape& shape) { return fmt::format("-DBLUR_CHANNELS={}", shape.channels); }
+
+void checkBlurBuffers(const ImageShape& shape, const Buffer<float>& out, const Buffer<float>& scratch) {
+  checkShape(shape, "blur");
+  checkBufferSize(out.size(), shape.count(), "blur", "output");
+  checkBufferSize(scratch.size(), shape.count(), "blur", "scratch");
+}
+
 }  // namespace
 
 BlurPlan planBlur(const BlurConfig& config) {
@@ -81,42 +113,6 @@ BlurPlan planBlur(const BlurConfig& config) {
   if (plan.direct) plan.boxRadii.clear();
   return plan;
 }
-
-namespace {
-
-// The row pass's launch shape and local memory for a direct plan.
-void launchRows(Kernel& rows, const ImageShape& shape, uint64_t bytes, std::vector<cl::Event>& events) {
-  rows.moves(bytes);
-  events.push_back(rows.launch(Range(shape.width, shape.height), Range(BLUR_ROW_TILE, BLUR_ROWS)));
-}
-
-LocalMem rowLines(const ImageShape& shape, int radius) {
-  return LocalMem{size_t(BLUR_ROWS) * (BLUR_ROW_TILE + 2 * radius) * sizeof(float) * shape.channels};
-}
-
-void launchColumns(Context& ctx, const std::string& options, const Buffer<float>& in, Buffer<float>& out,
-                   const ImageShape& shape, const BlurPlan& plan, const Buffer<float>& weights,
-                   std::vector<cl::Event>& events) {
-  const int r = plan.radius;
-  const size_t texelBytes = sizeof(float) * shape.channels;
-  const int tileRows = columnTileRows(r, texelBytes, ctx.info().localMemBytes);
-  Kernel columns(ctx, "kernels/blur.cl", "blur_columns", "blur", options);
-  columns.args(in, out, shape.width, shape.height, r, weights, tileRows,
-               LocalMem{size_t(tileRows + 2 * r) * BLUR_COLUMN_TILE * texelBytes});
-  const size_t groupsY = (shape.height + tileRows - 1) / tileRows;
-  events.push_back(columns.moves(2 * shape.count() * sizeof(float))
-                       .launch(Range(shape.width, groupsY * BLUR_ROWS), Range(BLUR_COLUMN_TILE, BLUR_ROWS)));
-}
-
-std::string blurOptions(const ImageShape& shape) { return fmt::format("-DBLUR_CHANNELS={}", shape.channels); }
-
-void checkBlurBuffers(const ImageShape& shape, const Buffer<float>& out, const Buffer<float>& scratch) {
-  checkShape(shape, "blur");
-  checkBufferSize(out.size(), shape.count(), "blur", "output");
-  checkBufferSize(scratch.size(), shape.count(), "blur", "scratch");
-}
-
-}  // namespace
 
 std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>& out, Buffer<float>& scratch,
                             const ImageShape& shape, const BlurConfig& config) {
