@@ -98,6 +98,11 @@ static ulong coarseScan(ulong value, __local ulong* sums) {
   return sums[lid];
 }
 
+#ifndef RASTER_WG_COARSE
+#define RASTER_WG_COARSE 0
+#endif
+
+#if RASTER_WG_COARSE == 0
 // Writes tileCount[tile] for the bin's tiles inside the viewport and binTileTotal[bin] (saturated to 2^32 - 1).
 __kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coarse_count(
     __global const RasterTriangle* tris, __global const uint* binEntries, __global const uint* binCount,
@@ -155,3 +160,102 @@ __kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coar
 #undef COARSE_FILL_ONE
   }
 }
+
+#else
+// ---- CPU layout (RASTER_WG_COARSE > 0, raster/constants.h): one work-item per bin ------------------------------
+// A work-item walks its whole bin queue in order (bin_fill left it close to record order) and counts into private
+// arrays: no local atomics, and every tile queue comes out in bin queue order. coarse_count also notes per bin
+// queue entry the one tile it hits (most triangles of dense meshes hit one tile of a bin) in binTiles, so that
+// coarse_fill re-reads and re-tests the record only for entries that hit several tiles.
+#define COARSE_NO_TILE 0xfffeu        // binTiles: the entry hits no tile of the bin
+#define COARSE_SEVERAL_TILES 0xffffu  // binTiles: the entry hits several tiles (test again)
+
+// Bin `item` of the launched bins; its tiles start at (tileX0, tileY0) in the tile grid.
+static CoarseBin coarseBinOf(const RasterViewParams* p, int item, __global const uint* binCount,
+                             __global const uint* binOffset) {
+  CoarseBin b;
+  const int bx = p->binX0 + item % p->binsAcross, by = p->binY0 + item / p->binsAcross;
+  b.bin = by * p->binsX + bx;
+  b.tileX0 = bx << RASTER_BIN_LOG2, b.tileY0 = by << RASTER_BIN_LOG2;
+  b.tile = -1;
+  const uint offset = binOffset[b.bin];
+  b.begin = offset;
+  b.count = offset < p->binCapacity ? min(binCount[b.bin], p->binCapacity - offset) : 0;
+  return b;
+}
+
+// Tile index in the grid of local tile i of bin b, -1 outside the viewport.
+static int coarseTileOf(const RasterViewParams* p, const CoarseBin* b, int i) {
+  const int tx = b->tileX0 + (i & (RASTER_BIN_TILES - 1)), ty = b->tileY0 + (i >> RASTER_BIN_LOG2);
+  return tx < p->tilesX && ty < p->tilesY ? ty * p->tilesX + tx : -1;
+}
+
+// The same results as the layout above, over `bins` launched bins; binTiles[binCapacity] receives each entry's tile code.
+__kernel __attribute__((reqd_work_group_size(RASTER_WG_COARSE, 1, 1))) void coarse_count(
+    __global const RasterTriangle* tris, __global const uint* binEntries, __global const uint* binCount,
+    __global const uint* binOffset, __global uint* tileCount, __global uint* binTileTotal, __global ushort* binTiles,
+    const RasterViewParams p, uint bins) {
+  if (get_global_id(0) >= bins) return;
+  const CoarseBin b = coarseBinOf(&p, get_global_id(0), binCount, binOffset);
+  uint hits[RASTER_BIN_TILE_COUNT];
+  for (int i = 0; i < RASTER_BIN_TILE_COUNT; ++i) hits[i] = 0;
+  for (uint j = 0; j < b.count; ++j) {
+    if (j + RASTER_COARSE_PREFETCH < b.count)
+      RASTER_PREFETCH_RECORD(&tris[binEntries[b.begin + j + RASTER_COARSE_PREFETCH]]);
+    const RasterTriangle t = tris[binEntries[b.begin + j]];
+    uint code = COARSE_NO_TILE;
+#define COARSE_COUNT_ONE(localTile)                                              \
+  do {                                                                           \
+    ++hits[localTile];                                                           \
+    code = code == COARSE_NO_TILE ? (uint)(localTile) : COARSE_SEVERAL_TILES;    \
+  } while (0)
+    COARSE_FOR_EACH_TILE(t, b, COARSE_COUNT_ONE);
+#undef COARSE_COUNT_ONE
+    binTiles[b.begin + j] = (ushort)code;
+  }
+  ulong total = 0;
+  for (int i = 0; i < RASTER_BIN_TILE_COUNT; ++i) {
+    const int tile = coarseTileOf(&p, &b, i);
+    if (tile >= 0) tileCount[tile] = hits[i];
+    total += hits[i];
+  }
+  binTileTotal[b.bin] = total < RASTER_SATURATED ? (uint)total : RASTER_SATURATED;
+}
+
+// The same results as the layout above, over `bins` launched bins, from the tile codes coarse_count left in binTiles.
+__kernel __attribute__((reqd_work_group_size(RASTER_WG_COARSE, 1, 1))) void coarse_fill(
+    __global const RasterTriangle* tris, __global const uint* binEntries, __global const uint* binCount,
+    __global const uint* binOffset, __global const uint* tileCount, __global const uint* binTileBase,
+    __global uint* tileOffset, __global uint* tileEntries, __global const ushort* binTiles, const RasterViewParams p,
+    uint bins) {
+  if (get_global_id(0) >= bins) return;
+  const CoarseBin b = coarseBinOf(&p, get_global_id(0), binCount, binOffset);
+  uint base[RASTER_BIN_TILE_COUNT], cursor[RASTER_BIN_TILE_COUNT];
+  ulong before = binTileBase[b.bin];
+  for (int i = 0; i < RASTER_BIN_TILE_COUNT; ++i) {
+    const int tile = coarseTileOf(&p, &b, i);
+    const uint offset = before < RASTER_SATURATED ? (uint)before : RASTER_SATURATED;
+    if (tile >= 0) tileOffset[tile] = offset, before += tileCount[tile];
+    base[i] = offset, cursor[i] = 0;
+  }
+  const uint capacity = p.tileCapacity;
+#define COARSE_FILL_ONE(localTile)                                                  \
+  do {                                                                              \
+    const uint slot_ = cursor[localTile]++, at_ = base[localTile];                  \
+    if (at_ < capacity && slot_ < capacity - at_) tileEntries[at_ + slot_] = index; \
+  } while (0)
+  for (uint j = 0; j < b.count; ++j) {
+    const uint ahead = j + RASTER_COARSE_PREFETCH;
+    if (ahead < b.count && binTiles[b.begin + ahead] == COARSE_SEVERAL_TILES)
+      RASTER_PREFETCH_RECORD(&tris[binEntries[b.begin + ahead]]);
+    const uint index = binEntries[b.begin + j], code = binTiles[b.begin + j];
+    if (code < RASTER_BIN_TILE_COUNT) {
+      COARSE_FILL_ONE(code);
+    } else if (code == COARSE_SEVERAL_TILES) {
+      const RasterTriangle t = tris[index];
+      COARSE_FOR_EACH_TILE(t, b, COARSE_FILL_ONE);
+    }
+  }
+#undef COARSE_FILL_ONE
+}
+#endif

@@ -45,15 +45,18 @@
 #define RASTER_SCAN_ITEMS (RASTER_MAX_BINS / RASTER_SCAN_WG)  // bins per scan work-item (16)
 // Tunable (work-items per group), one row per device class; the host picks a row (raster::workGroupsFor(),
 // raster/plan.cpp) and passes it as -DRASTER_WG_SETUP=... -DRASTER_WG_BIN=... -DRASTER_WG_GBUFFER=...
-// -DRASTER_WG_FINE=...; a row counts only after the Raster* tests pass with it (PoCL: checked with 64/64/64/64,
-// 64/64/64/0 and 128/256/32/1; NVIDIA: not yet run on the device). fine selects the fine stage's layout
-// (raster/fine.cl): 0 = one work-group of RASTER_FINE_WG items per tile (an item per pixel), N > 0 = N tiles per
-// work-group, an item per tile (CPUs; it also makes the coarse stage walk its bin queue in chunks, coarse.cl).
+// -DRASTER_WG_FINE=... -DRASTER_WG_COARSE=...; a row counts only after the Raster* tests pass with it (PoCL: checked
+// with 64/64/64/64/1, 64/64/64/64/0, 64/64/64/0/0 and 128/256/32/1/4; NVIDIA: not yet run on the device). fine selects
+// the fine stage's layout (raster/fine.cl): 0 = one work-group of RASTER_FINE_WG items per tile (an item per pixel),
+// N > 0 = N tiles per work-group, an item per tile (CPUs; it also selects setup's CPU path, RASTER_SETUP_VECTOR in
+// setup.cl, and, with coarse 0, makes the coarse stage walk its bin queue in chunks, coarse.cl). coarse selects the
+// coarse stage's layout (raster/coarse.cl): 0 = a work-group of RASTER_COARSE_WG items per bin (an item per tile),
+// N > 0 = N bins per work-group, an item per bin (CPUs).
 // clang-format off
-//                               setup  bin  gbuffer  fine
-#define RASTER_WG_ROW_DEFAULT      64,   64,   64,      0   // any device
-#define RASTER_WG_ROW_NVIDIA      128,  128,  128,      0   // NVIDIA H100 (OpenCL 3.0 driver)
-#define RASTER_WG_ROW_POCL          64,   64,   64,     64   // PoCL 3.1 CPU (work-group loops: small groups suffice)
+//                               setup  bin  gbuffer  fine  coarse
+#define RASTER_WG_ROW_DEFAULT      64,   64,   64,      0,     0   // any device
+#define RASTER_WG_ROW_NVIDIA      128,  128,  128,      0,     0   // NVIDIA H100 (OpenCL 3.0 driver)
+#define RASTER_WG_ROW_POCL          64,   64,   64,     64,     1   // PoCL 3.1 CPU (work-group loops: small groups suffice)
 // clang-format on
 
 // ---- Record values -------------------------------------------------------------------------------------------

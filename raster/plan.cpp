@@ -94,10 +94,11 @@ WorkGroups workGroupsFor(const DeviceInfo& device) {
   const size_t* row = kRowDefault;
   if (device.vendor.find("NVIDIA") != std::string::npos) row = kRowNvidia;
   if (device.platformName.find("Portable Computing Language") != std::string::npos) row = kRowPocl;
-  WorkGroups groups{row[0], row[1], row[2], row[3]};
+  WorkGroups groups{row[0], row[1], row[2], row[3], row[4]};
   const size_t limit = std::max<size_t>(device.maxWorkGroupSize, 1);
   groups.setup = std::min(groups.setup, limit), groups.bin = std::min(groups.bin, limit);
   groups.gbuffer = std::min(groups.gbuffer, limit), groups.fine = std::min(groups.fine, limit);
+  groups.coarse = std::min(groups.coarse, limit);
   return groups;
 }
 

@@ -14,7 +14,8 @@ namespace penumbra::raster {
 // One row of the work-group table in raster/constants.h.
 struct WorkGroups {
   size_t setup = 0, bin = 0, gbuffer = 0;
-  size_t fine = 0;  // 0: a work-group per tile, an item per pixel; N > 0: N tiles per work-group, an item per tile
+  size_t fine = 0;    // 0: a work-group per tile, an item per pixel; N > 0: N tiles per work-group, an item per tile
+  size_t coarse = 0;  // 0: a work-group per bin, an item per tile; N > 0: N bins per work-group, an item per bin
 };
 WorkGroups workGroupsFor(const DeviceInfo& device);
 

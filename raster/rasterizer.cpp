@@ -112,7 +112,10 @@ void Rasterizer::Impl::sizeQueues(const raster::Plan& plan) {
     q.tileCount.allocate(ctx, plan.tiles);
     q.tileOffset.allocate(ctx, plan.tiles);
   }
-  if (q.binEntries.size() != q.binCapacity) q.binEntries.allocate(ctx, q.binCapacity);
+  if (q.binEntries.size() != q.binCapacity) {
+    q.binEntries.allocate(ctx, q.binCapacity);
+    q.binTiles.allocate(ctx, q.binCapacity);
+  }
   if (q.tileEntries.size() != q.tileCapacity) q.tileEntries.allocate(ctx, q.tileCapacity);
 }
 

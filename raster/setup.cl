@@ -71,13 +71,51 @@ static int setupClipPlane(const real4* in, int n, real4* out, int plane, real gx
   return m;
 }
 
+// The snapping and per-vertex terms as expressions valid for scalars and vectors alike, so that the scalar path and
+// the CPU path below compute every value with the same operations. Window coordinate (before rounding) from the clip
+// coordinate x, w and the half size s in subpixels; view depth -z_eye from z_c, w_c.
+#define SETUP_WINDOW(x, w, s) (((x) / (w) + (real)1) * (s))
+#define SETUP_VIEW_Z(p, z, w) ((p)->viewZFromClip[0] * (z) + (p)->viewZFromClip[1] * (w) + (p)->viewZFromClip[2])
+
 // Snapped window position in subpixels.
 static int2 setupSnap(real4 v, real sx, real sy) {
-  real x = rint((v.x / v.w + (real)1) * sx), y = rint((v.y / v.w + (real)1) * sy);
+  real x = rint(SETUP_WINDOW(v.x, v.w, sx)), y = rint(SETUP_WINDOW(v.y, v.w, sy));
   x = clamp(x, (real)-RASTER_COORD_LIMIT, (real)RASTER_COORD_LIMIT);
   y = clamp(y, (real)-RASTER_COORD_LIMIT, (real)RASTER_COORD_LIMIT);
   return (int2)((int)x, (int)y);
 }
+
+#ifndef RASTER_SETUP_VECTOR
+#define RASTER_SETUP_VECTOR 0
+#endif
+#if RASTER_SETUP_VECTOR && defined(PENUMBRA_HAS_FP64)
+// CPU path (RASTER_SETUP_VECTOR, from the work-group table): a triangle's twelve divisions in two 8-wide ones (IEEE
+// division is correctly rounded in every lane, so the results are those of the scalar path) and rint without
+// branches: PoCL's double rint is a branchy library call. (x + 1.5 * 2^52) - 1.5 * 2^52 rounds to nearest even
+// exactly for |x| <= 2^51; beyond, it is monotonic and keeps the sign, so after the clamp to +-2^29 it equals
+// clamp(rint(x)) for every x, infinities included (w > 0 rules out NaN). FP_CONTRACT is off and no fast-math
+// option is given, so the compiler may not fold the two additions.
+#define SETUP_RINT(x) (((x) + 0x1.8p52) - 0x1.8p52)
+static void setupSnapVector(const real4* v, real sx, real sy, int2* s) {
+  const double8 q = SETUP_WINDOW((double8)(v[0].x, v[1].x, v[2].x, v[0].y, v[1].y, v[2].y, 0, 0),
+                                 (double8)(v[0].w, v[1].w, v[2].w, v[0].w, v[1].w, v[2].w, 1, 1),
+                                 (double8)(sx, sx, sx, sy, sy, sy, 0, 0));
+  const int8 i = convert_int8(clamp(SETUP_RINT(q), (double)-RASTER_COORD_LIMIT, (double)RASTER_COORD_LIMIT));
+  s[0] = (int2)(i.s0, i.s3), s[1] = (int2)(i.s1, i.s4), s[2] = (int2)(i.s2, i.s5);
+}
+
+// invW and viewZOverW of the (oriented) vertices v[0..2].
+static void setupVertexTermsVector(const real4* v, const RasterViewParams* p, float* invW, float* viewZOverW) {
+  const double4 w = (double4)(v[0].w, v[1].w, v[2].w, 1);
+  const double4 viewZ = SETUP_VIEW_Z(p, (double4)(v[0].z, v[1].z, v[2].z, 0), w);
+  const float8 t = convert_float8((double8)((double4)1, viewZ) / (double8)(w, w));
+  invW[0] = t.s0, invW[1] = t.s1, invW[2] = t.s2;
+  viewZOverW[0] = t.s4, viewZOverW[1] = t.s5, viewZOverW[2] = t.s6;
+}
+#else
+#undef RASTER_SETUP_VECTOR
+#define RASTER_SETUP_VECTOR 0
+#endif
 
 // Builds the record of one clip-space triangle; returns false (record invalid) when it is dropped: w <= 0,
 // zero snapped area, back-facing with culling on, or no pixel centre of the scissor inside its bounds.
@@ -87,7 +125,12 @@ static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, u
   if (!(v0.w > 0 && v1.w > 0 && v2.w > 0)) return false;
   const real sx = (real)p->width * (RASTER_SUBPIXELS / 2), sy = (real)p->height * (RASTER_SUBPIXELS / 2);
   real4 v[3] = {v0, v1, v2};
+#if RASTER_SETUP_VECTOR
+  int2 s[3];
+  setupSnapVector(v, sx, sy, s);
+#else
   int2 s[3] = {setupSnap(v0, sx, sy), setupSnap(v1, sx, sy), setupSnap(v2, sx, sy)};
+#endif
   long area = (long)(s[1].x - s[0].x) * (s[2].y - s[0].y) - (long)(s[2].x - s[0].x) * (s[1].y - s[0].y);
   if (area == 0 || (p->cullBackFaces && area < 0)) return false;
   if (area < 0) {  // make it counter-clockwise: edge functions positive inside
@@ -108,6 +151,10 @@ static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, u
   if (x0 > x1 || y0 > y1) return false;
   r->bbox[0] = (ushort)x0, r->bbox[1] = (ushort)y0, r->bbox[2] = (ushort)x1, r->bbox[3] = (ushort)y1;
   uint flags = RASTER_FLAG_VALID;
+#if RASTER_SETUP_VECTOR
+  float invW[3], viewZOverW[3];
+  setupVertexTermsVector(v, p, invW, viewZOverW);
+#endif
   for (int k = 0; k < 3; ++k) {
     int j = k == 2 ? 0 : k + 1, o = k == 0 ? 2 : k - 1;  // edge k: vertex k -> j, opposite vertex o
     int dx = s[j].x - s[k].x, dy = s[j].y - s[k].y;
@@ -116,9 +163,14 @@ static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, u
     r->c[k] = (long)s[k].x * s[j].y - (long)s[j].x * s[k].y;
     // Top-left rule (y up, counter-clockwise): left edges run downwards, top edges run leftwards.
     if (dy < 0 || (dy == 0 && dx < 0)) flags |= RASTER_FLAG_OWNS_EDGE0 << k;
-    real viewZ = p->viewZFromClip[0] * v[o].z + p->viewZFromClip[1] * v[o].w + p->viewZFromClip[2];
+#if RASTER_SETUP_VECTOR
+    r->invW[k] = invW[o];
+    r->viewZOverW[k] = viewZOverW[o];
+#else
+    real viewZ = SETUP_VIEW_Z(p, v[o].z, v[o].w);
     r->invW[k] = (float)((real)1 / v[o].w);
     r->viewZOverW[k] = (float)(viewZ / v[o].w);
+#endif
   }
   r->flags = flags;
   return true;

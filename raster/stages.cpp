@@ -10,8 +10,10 @@ namespace {
 
 std::string buildOptions(const WorkGroups& groups) {
   return fmt::format(
-      "-DRASTER_WG_SETUP={} -DRASTER_WG_BIN={} -DRASTER_WG_GBUFFER={} -DRASTER_WG_FINE={} -DRASTER_COARSE_CHUNKED={}",
-      groups.setup, groups.bin, groups.gbuffer, groups.fine, groups.fine != 0 ? 1 : 0);
+      "-DRASTER_WG_SETUP={} -DRASTER_WG_BIN={} -DRASTER_WG_GBUFFER={} -DRASTER_WG_FINE={} -DRASTER_COARSE_CHUNKED={} "
+      "-DRASTER_SETUP_VECTOR={} -DRASTER_WG_COARSE={}",
+      groups.setup, groups.bin, groups.gbuffer, groups.fine, groups.fine != 0 && groups.coarse == 0 ? 1 : 0,
+      groups.fine != 0 ? 1 : 0, groups.coarse);
 }
 
 Kernel makeKernel(Context& ctx, const WorkGroups& groups, const char* source, const char* entry) {
@@ -57,19 +59,38 @@ void Stages::record(const Plan& plan, const SceneBuffers& scene, Queues& q, Buff
   binScan_.args(q.binCount, q.binOffset, q.binCursor, bins, q.counters, cl_uint{0})
       .launch(RASTER_SCAN_WG, RASTER_SCAN_WG);
   binFill_.args(q.records, q.counters, q.binOffset, q.binCursor, q.binEntries, p).launch(records, groups_.bin);
-  const size_t coarseItems = plan.launchedBins * RASTER_COARSE_WG;
-  coarseCount_.args(q.records, q.binEntries, q.binCount, q.binOffset, q.tileCount, q.binTileTotal, p)
-      .launch(coarseItems, RASTER_COARSE_WG);
-  binScan_.args(q.binTileTotal, q.binTileBase, q.binCursor, bins, q.counters, cl_uint{1})
-      .launch(RASTER_SCAN_WG, RASTER_SCAN_WG);
-  coarseFill_
-      .args(q.records, q.binEntries, q.binCount, q.binOffset, q.tileCount, q.binTileBase, q.tileOffset, q.tileEntries,
-            p)
-      .launch(coarseItems, RASTER_COARSE_WG);
+  coarse(plan, q, p);
   fine_.args(q.records, q.tileEntries, q.tileCount, q.tileOffset, depth, triangleIds, p)
       .moves(uint64_t{plan.scissorPixels} * (sizeof(float) + sizeof(uint32_t)))
       .launch(groups_.fine == 0 ? plan.launchedTiles * RASTER_FINE_WG : plan.launchedTiles,
               groups_.fine == 0 ? size_t{RASTER_FINE_WG} : groups_.fine);
+}
+
+// Coarse count, the scan of the bins' tile totals, coarse fill: a work-group per bin and an item per tile, or
+// (CPUs, groups_.coarse > 0) an item per bin, groups_.coarse bins per work-group.
+void Stages::coarse(const Plan& plan, Queues& q, const RasterViewParams& p) {
+  const cl_uint bins = static_cast<cl_uint>(plan.bins), launched = static_cast<cl_uint>(plan.launchedBins);
+  if (groups_.coarse == 0) {
+    coarseCount_.args(q.records, q.binEntries, q.binCount, q.binOffset, q.tileCount, q.binTileTotal, p)
+        .launch(plan.launchedBins * RASTER_COARSE_WG, RASTER_COARSE_WG);
+  } else {
+    coarseCount_.args(q.records, q.binEntries, q.binCount, q.binOffset, q.tileCount, q.binTileTotal, q.binTiles, p,
+                      launched)
+        .launch(roundUp(plan.launchedBins, groups_.coarse), groups_.coarse);
+  }
+  binScan_.args(q.binTileTotal, q.binTileBase, q.binCursor, bins, q.counters, cl_uint{1})
+      .launch(RASTER_SCAN_WG, RASTER_SCAN_WG);
+  if (groups_.coarse == 0) {
+    coarseFill_
+        .args(q.records, q.binEntries, q.binCount, q.binOffset, q.tileCount, q.binTileBase, q.tileOffset,
+              q.tileEntries, p)
+        .launch(plan.launchedBins * RASTER_COARSE_WG, RASTER_COARSE_WG);
+  } else {
+    coarseFill_
+        .args(q.records, q.binEntries, q.binCount, q.binOffset, q.tileCount, q.binTileBase, q.tileOffset,
+              q.tileEntries, q.binTiles, p, launched)
+        .launch(roundUp(plan.launchedBins, groups_.coarse), groups_.coarse);
+  }
 }
 
 // gbuffer_resolve per scissor pixel: reads the triangle id and depth (8 B), writes position and normal (2 float4)

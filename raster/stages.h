@@ -28,6 +28,7 @@ struct Queues {
   Buffer<uint32_t> binCount, binOffset, binCursor, binTileTotal, binTileBase;
   Buffer<uint32_t> tileCount, tileOffset;
   Buffer<uint32_t> binEntries, tileEntries;  // binCapacity, tileCapacity entries
+  Buffer<uint16_t> binTiles;                 // binCapacity entries: the coarse CPU layout's tile codes (coarse.cl)
   uint32_t extraCapacity = 0, binCapacity = 0, tileCapacity = 0;
 };
 
@@ -43,6 +44,7 @@ class Stages {
 
  private:
   RasterViewParams params(const Plan& plan, const Queues& queues) const;
+  void coarse(const Plan& plan, Queues& queues, const RasterViewParams& p);
 
   Context& ctx_;
   WorkGroups groups_;
