@@ -7,7 +7,8 @@
 // same clip matrix depth-only through a headless OpenGL driver (tools/bench/gl_depth_peer.h): Mesa's llvmpipe on a
 // CPU machine, the vendor's driver on a GPU one. On the CPU machine both sides get every core: PoCL by default,
 // llvmpipe's rasterizer threads default to the CPU count (LP_NUM_THREADS overrides it).
-//   build/tools/bench/raster_bench --benchmark_counters_tabular=true
+//   build/tools/raster_bench --benchmark_counters_tabular=true
+// PENUMBRA_RASTER_BENCH_HASH=1 prints a hash of each case's targets (layout changes must keep them).
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
