@@ -1,49 +1,179 @@
 // Pyramids: mip chains of moments (exact area averages, odd sizes included, so every level keeps the
 // mean) and the min-max depth pyramid of a hierarchical shadow map (VSSM, Yang et al. 2010, sec. 4):
-// conservative min/max over every texel a footprint touches. One launch per level.
+// conservative min/max over every texel a footprint touches. *_batch: several levels per dispatch, a
+// work-group per tile of the last one, through local memory, recomputing the halo that odd sizes' 3-tap
+// footprints need (design: host/stages/pyramid.h); the per-level kernels are the reference schedule.
+// Options: PYRAMID_CHANNELS (1, 2, 4 moments), or PYRAMID_MINMAX with PYRAMID_FROM_DEPTH for the first pass.
 #include "kernels/shared/pyramid.h"
 
 #ifndef PYRAMID_CHANNELS
 #define PYRAMID_CHANNELS 1
 #endif
-#define PYRAMID_T PN_VEC(float, PYRAMID_CHANNELS)
+#ifndef PYRAMID_MINMAX
+#define PYRAMID_MINMAX 0
+#endif
+#ifndef PYRAMID_FROM_DEPTH
+#define PYRAMID_FROM_DEPTH 0  // min-max: the batch reads the depth map and also writes level 0
+#endif
 
-__kernel void pyramid_downsample(__global const PYRAMID_T* src, PyramidLevel s, __global PYRAMID_T* dst,
-                                 PyramidLevel d) {
-  const uint x = get_global_id(0), y = get_global_id(1);
-  if (x >= d.width || y >= d.height) return;
-  int x0, y0;
-  float wx[3], wy[3];
-  const int nx = pyramid_taps(x, s.width, d.width, &x0, wx), ny = pyramid_taps(y, s.height, d.height, &y0, wy);
-  PYRAMID_T sum = 0.0f;
-  for (int j = 0; j < ny; ++j) {
-    PYRAMID_T row = 0.0f;
-    for (int i = 0; i < nx; ++i) row += wx[i] * src[s.offset + (size_t)(y0 + j) * s.width + x0 + i];
-    sum += wy[j] * row;
-  }
-  dst[d.offset + (size_t)y * d.width + x] = sum;
+#if PYRAMID_MINMAX
+typedef float2 PyramidTexel;  // (min, max) light depth
+#else
+typedef PN_VEC(float, PYRAMID_CHANNELS) PyramidTexel;  // moments
+#endif
+#if PYRAMID_FROM_DEPTH
+typedef float PyramidInput;
+#else
+typedef PyramidTexel PyramidInput;
+#endif
+
+// Level 0 of the min-max pyramid: (d, d) for a drawn texel, the empty interval (+INF, -INF) for background
+// and NaN, so they never widen a range. A select, not ?: on vectors: PoCL turns the latter into AVX-512
+// masked loads that run ~100x slower on the EPYC test machines (750 ms instead of 9 ms at 2048^2).
+inline float2 pyramid_depth_range(float z) {
+  return select((float2)(INFINITY, -INFINITY), (float2)(z, z), (int2)(-isfinite(z)));
 }
 
-// Base level: (d, d) for a drawn texel, the empty interval (+INF, -INF) for background and NaN.
+#if PYRAMID_FROM_DEPTH
+#define PYRAMID_LOAD(v) pyramid_depth_range(v)
+#else
+#define PYRAMID_LOAD(v) (v)
+#endif
+
+// One destination texel from its taps `t` in `src` (row pitch `pitch`), the same code for global and local
+// sources. Means: sum over rows of (sum over columns of w * texel), the one order both schedules use, so
+// they agree bit for bit. Min-max is exact in any order.
+#if PYRAMID_MINMAX
+#define PYRAMID_REDUCE(src, pitch, t, LOAD)                                     \
+  float2 range = (float2)(INFINITY, -INFINITY);                                 \
+  for (int j = 0; j < t.ny; ++j)                                                \
+    for (int i = 0; i < t.nx; ++i) {                                            \
+      const float2 v = LOAD(src[(size_t)(t.y0 + j) * pitch + t.x0 + i]);        \
+      range = (float2)(fmin(range.x, v.x), fmax(range.y, v.y));                 \
+    }                                                                           \
+  return range;
+#else
+#define PYRAMID_REDUCE(src, pitch, t, LOAD)                                     \
+  PyramidTexel sum = 0.0f;                                                      \
+  for (int j = 0; j < t.ny; ++j) {                                              \
+    PyramidTexel row = 0.0f;                                                    \
+    for (int i = 0; i < t.nx; ++i)                                              \
+      row += t.wx[i] * LOAD(src[(size_t)(t.y0 + j) * pitch + t.x0 + i]);        \
+    sum += t.wy[j] * row;                                                       \
+  }                                                                             \
+  return sum;
+#endif
+
+inline PyramidTexel pyramid_reduce_global(__global const PyramidInput* src, uint pitch, PyramidTaps t) {
+  PYRAMID_REDUCE(src, pitch, t, PYRAMID_LOAD)
+}
+
+inline PyramidTexel pyramid_reduce_local(__local const PyramidTexel* src, uint pitch, PyramidTaps t) {
+  PYRAMID_REDUCE(src, pitch, t, )
+}
+
+// Reference schedule: one level per launch, one work-item per destination texel.
+inline void pyramid_level(__global const PyramidInput* src, PyramidLevel s, __global PyramidTexel* dst,
+                          PyramidLevel d) {
+  const uint x = get_global_id(0), y = get_global_id(1);
+  if (x >= d.width || y >= d.height) return;
+  const PyramidTaps t = pyramid_footprint(x, y, s, d);
+  dst[d.offset + (size_t)y * d.width + x] = pyramid_reduce_global(src + s.offset, s.width, t);
+}
+
+#if PYRAMID_FROM_DEPTH
+// Level 0 (the converted depth map; it starts both buffers) under owned level-1 texel (x, y): its 2x2
+// block, to the edge for the last row and column (odd sizes, 1-texel sides). The blocks tile level 0, and
+// the footprint has just read them.
+inline void pyramid_write_base(__global const float* depth, __global float2* dst, PyramidLevel s, PyramidLevel d,
+                               uint x, uint y) {
+  const uint x1 = x + 1 == d.width ? s.width : 2 * x + 2, y1 = y + 1 == d.height ? s.height : 2 * y + 2;
+  for (uint v = 2 * y; v < y1; ++v)
+    for (uint u = 2 * x; u < x1; ++u)
+      dst[s.offset + (size_t)v * s.width + u] = pyramid_depth_range(depth[(size_t)v * s.width + u]);
+}
+#endif
+
+// A work-group's span along one axis at a level: it writes [lo, own) and computes [lo, end).
+typedef struct PyramidSpan {
+  uint lo, own, end;
+} PyramidSpan;
+
+inline PyramidSpan pyramid_span(uint group, uint groups, uint tile, uint shift, uint size, uint halo) {
+  const bool last = group + 1 == groups;
+  PyramidSpan s;
+  s.lo = (group * tile) << shift;
+  s.own = last ? size : ((group + 1) * tile) << shift;
+  s.end = last ? size : s.own + halo;
+  return s;
+}
+
+// Batched schedule: b.count levels per dispatch (layout and ownership: PyramidBatch). Level j of the group's
+// spans is kept in local memory (`even` or `odd` by the parity of j) for level j + 1; the first level reads
+// the input in global memory. Every barrier is reached by the whole group (the level loop is uniform).
+inline void pyramid_batch(__global const PyramidInput* src, __global PyramidTexel* dst, const PyramidBatch b,
+                          __local PyramidTexel* even, __local PyramidTexel* odd) {
+  const uint gx = get_group_id(0), gy = get_group_id(1), ngx = get_num_groups(0), ngy = get_num_groups(1);
+  PyramidSpan px = {0, 0, 0}, py = {0, 0, 0};  // the previous level's spans (its origin and pitch in local memory)
+  for (uint j = 0; j < b.count; ++j) {
+    const PyramidLevel s = j == 0 ? b.src : b.level[j - 1], d = b.level[j];
+    const uint shift = b.count - 1 - j;
+    const PyramidSpan sx = pyramid_span(gx, ngx, b.tile, shift, d.width, b.haloX[j]);
+    const PyramidSpan sy = pyramid_span(gy, ngy, b.tile, shift, d.height, b.haloY[j]);
+    __local PyramidTexel* out = (j & 1) ? odd : even;
+    __local const PyramidTexel* in = (j & 1) ? even : odd;
+    for (uint y = sy.lo + get_local_id(1); y < sy.end; y += get_local_size(1))
+      for (uint x = sx.lo + get_local_id(0); x < sx.end; x += get_local_size(0)) {
+        PyramidTaps t = pyramid_footprint(x, y, s, d);
+        PyramidTexel v;
+        if (j == 0) {
+          v = pyramid_reduce_global(src + s.offset, s.width, t);
+        } else {
+          t.x0 -= px.lo, t.y0 -= py.lo;
+          v = pyramid_reduce_local(in, px.end - px.lo, t);
+        }
+        if (j + 1 < b.count) out[(y - sy.lo) * (sx.end - sx.lo) + x - sx.lo] = v;
+        if (x < sx.own && y < sy.own) {
+          dst[d.offset + (size_t)y * d.width + x] = v;
+#if PYRAMID_FROM_DEPTH
+          if (j == 0) pyramid_write_base(src, dst, s, d, x, y);
+#endif
+        }
+      }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    px = sx, py = sy;
+  }
+}
+
+#if PYRAMID_MINMAX && PYRAMID_FROM_DEPTH
 __kernel void pyramid_minmax_base(__global const float* depth, __global float2* out, PyramidLevel d) {
   const uint x = get_global_id(0), y = get_global_id(1);
   if (x >= d.width || y >= d.height) return;
   const size_t i = (size_t)y * d.width + x;
-  const float z = depth[i];
-  out[d.offset + i] = isfinite(z) ? (float2)(z, z) : (float2)(INFINITY, -INFINITY);
+  out[d.offset + i] = pyramid_depth_range(depth[i]);
 }
 
-__kernel void pyramid_minmax_down(__global const float2* src, PyramidLevel s, __global float2* dst, PyramidLevel d) {
-  const uint x = get_global_id(0), y = get_global_id(1);
-  if (x >= d.width || y >= d.height) return;
-  int x0, y0;
-  float wx[3], wy[3];
-  const int nx = pyramid_taps(x, s.width, d.width, &x0, wx), ny = pyramid_taps(y, s.height, d.height, &y0, wy);
-  float2 range = (float2)(INFINITY, -INFINITY);
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      const float2 v = src[s.offset + (size_t)(y0 + j) * s.width + x0 + i];
-      range = (float2)(fmin(range.x, v.x), fmax(range.y, v.y));
-    }
-  dst[d.offset + (size_t)y * d.width + x] = range;
+__kernel void pyramid_minmax_batch(__global const float* depth, __global float2* dst, PyramidBatch b,
+                                   __local float2* even, __local float2* odd) {
+  pyramid_batch(depth, dst, b, even, odd);
 }
+#elif PYRAMID_MINMAX
+__kernel void pyramid_minmax_down(__global const float2* src, PyramidLevel s, __global float2* dst, PyramidLevel d) {
+  pyramid_level(src, s, dst, d);
+}
+
+__kernel void pyramid_minmax_batch(__global const float2* src, __global float2* dst, PyramidBatch b,
+                                   __local float2* even, __local float2* odd) {
+  pyramid_batch(src, dst, b, even, odd);
+}
+#else
+__kernel void pyramid_downsample(__global const PyramidTexel* src, PyramidLevel s, __global PyramidTexel* dst,
+                                 PyramidLevel d) {
+  pyramid_level(src, s, dst, d);
+}
+
+__kernel void pyramid_downsample_batch(__global const PyramidTexel* src, __global PyramidTexel* dst, PyramidBatch b,
+                                       __local PyramidTexel* even, __local PyramidTexel* odd) {
+  pyramid_batch(src, dst, b, even, odd);
+}
+#endif

@@ -1,5 +1,6 @@
-// Pyramid stage against the double reference: moment mip chains (1/2/4 channels, odd, prime, thin and
-// 1x1 sizes; every level keeps the mean) and the min-max depth pyramid with background and NaN texels.
+// Pyramid stage (the default, batched schedule) against the double reference: moment mip chains (1/2/4
+// channels, odd, prime, thin and 1x1 sizes; every level keeps the mean) and the min-max depth pyramid with
+// background and NaN texels. The batched schedule against the per-level one: pyramid_schedule_test.cpp.
 #include "host/stages/pyramid.h"
 
 #include <gtest/gtest.h>
@@ -12,6 +13,7 @@
 #include "host/cl/buffer.h"
 #include "tests/reference/pyramid_ref.h"
 #include "tests/support/cl_test.h"
+#include "tests/support/random_images.h"
 #include "tests/support/compare.h"
 
 namespace penumbra {
@@ -37,10 +39,7 @@ class PyramidMips : public test::ClTestWithParam<Case> {};
 TEST_P(PyramidMips, MatchesReferenceAndKeepsTheMean) {
   const Case c = GetParam();
   const ImageShape shape{c.width, c.height, c.channels};
-  std::mt19937 rng(c.width * 3 + c.height);
-  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  std::vector<float> base(shape.count());
-  for (float& v : base) v = unit(rng);
+  const std::vector<float> base = test::randomUnitImage(shape.count(), c.width * 3 + c.height);
   const PyramidLayout layout = pyramidLayout(c.width, c.height, 1);
   Buffer<float> in(ctx(), std::span<const float>(base)), mips(ctx(), std::max<size_t>(1, layout.texels * c.channels));
   mips.fill(ctx(), kPoison);
@@ -64,18 +63,15 @@ TEST_P(PyramidMips, MatchesReferenceAndKeepsTheMean) {
 
 INSTANTIATE_TEST_SUITE_P(Pyramid, PyramidMips,
                          ::testing::Values(Case{1, 1, 2}, Case{97, 61, 2}, Case{64, 64, 1}, Case{2, 17, 4},
-                                           Case{300, 1, 1}, Case{45, 23, 4}),
+                                           Case{300, 1, 1}, Case{1, 300, 2}, Case{45, 23, 4}, Case{1021, 3, 4}),
                          caseName);
 
 class PyramidMinMax : public test::ClTestWithParam<Case> {};
 
 TEST_P(PyramidMinMax, MatchesReference) {
   const Case c = GetParam();
-  std::mt19937 rng(c.width + 5 * c.height);
-  std::uniform_real_distribution<float> depth(1.0f, 50.0f);
-  std::vector<float> base(size_t(c.width) * c.height);
-  for (float& v : base) v = rng() % 5 == 0 ? INFINITY : rng() % 29 == 0 ? NAN : depth(rng);
-  if (c.channels == 0) std::fill(base.begin(), base.end(), INFINITY);  // an empty map
+  const std::vector<float> base =
+      test::randomDepthMap(c.width, c.height, c.width + 5 * c.height, c.channels == 0);  // 0 channels: empty map
   const PyramidLayout layout = pyramidLayout(c.width, c.height, 0);
   Buffer<float> in(ctx(), std::span<const float>(base));
   Buffer<cl_float2> out(ctx(), layout.texels);
@@ -97,7 +93,7 @@ TEST_P(PyramidMinMax, MatchesReference) {
 // channels == 0 marks an all-background map.
 INSTANTIATE_TEST_SUITE_P(Pyramid, PyramidMinMax,
                          ::testing::Values(Case{1, 1, 1}, Case{97, 61, 1}, Case{128, 64, 1}, Case{3, 41, 1},
-                                           Case{13, 9, 0}),
+                                           Case{1021, 3, 1}, Case{13, 9, 0}),
                          caseName);
 
 TEST(PyramidLayoutTest, LevelsAndOffsets) {

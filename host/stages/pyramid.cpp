@@ -1,16 +1,75 @@
-// Pyramid stage host wrapper: plans the level layout, then records one downsampling launch per level.
+// Pyramid stage host wrapper: plans the level layout and the batches (levels per dispatch, tile, local
+// memory; design in pyramid.h), then records one launch per batch, or one per level for the reference.
 #include "host/stages/pyramid.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
+#include <optional>
+#include <stdexcept>
+#include <string>
 
 #include "host/cl/kernel.h"
 
 namespace penumbra {
 namespace {
 
-const Range kGroup(16, 8);
+const Range kLevelGroup(16, 8);  // per-level kernels
+
+// Batched schedule per device type; a row counts only after tests/pyramid_schedule_test.cpp passes with it.
+struct PyramidTuning {
+  std::vector<uint32_t> tiles;  // tile edges the planner may choose from, largest first
+  uint64_t localBytes;          // local memory budget per work-group (capped by the device's)
+  uint32_t groupX, groupY;      // work-items per group, powers of two (narrowed for thin spans)
+  uint32_t groupsPerUnit;       // the planner prefers tiles giving at least this many groups per compute unit
+};
+// GPUs: the whole 48 KiB and 1024 work-items, so that the few hundred groups of a first pass still fill the
+// device (not yet timed on one: scripts/gpu-check.sh runs the schedule tests there).
+const PyramidTuning kGpuTuning{{16, 8, 4}, 48 * 1024, 32, 32, 1};
+// CPUs: one work-item per group, streaming its tile row by row (PoCL runs a group's work-items one after
+// another, so strided work-items would revisit each cache line far apart in time: 16x16 groups ran 2x
+// slower); 256 KiB of tile stays in L2.
+const PyramidTuning kCpuTuning{{64, 32, 16, 8}, 256 * 1024, 1, 1, 4};
+const PyramidTuning& tuning(const DeviceInfo& info) { return info.isCpu() ? kCpuTuning : kGpuTuning; }
+
+uint64_t texels(const PyramidLevel& l) { return uint64_t{l.width} * l.height; }
+
+// Halo of every level of a pass along one axis (PyramidBatch::haloX): level j + 1 of a tile reads level j
+// up to twice its end, plus one texel where level j is odd.
+std::vector<uint32_t> passHalos(const std::vector<PyramidLevel>& chain, const PyramidPass& p, bool y) {
+  std::vector<uint32_t> halo(p.count, 0);
+  for (int j = int(p.count) - 2; j >= 0; --j) {
+    const uint32_t size = y ? chain[p.first + j].height : chain[p.first + j].width;
+    halo[j] = 2 * halo[j + 1] + (size & 1);
+  }
+  return halo;
+}
+
+// The widest span (texels) of any work-group at level j of a pass along one axis (kernels/pyramid.cl
+// pyramid_span): a group that is not the last computes its tile scaled plus the halo, the last one the rest.
+uint32_t maxSpan(uint32_t size, uint32_t tile, uint32_t groups, uint32_t shift, uint32_t halo) {
+  const uint32_t last = size - ((groups - 1) * tile << shift);
+  return groups > 1 ? std::max(last, (tile << shift) + halo) : last;
+}
+
+// `count` levels from `first` with `tile`, its group counts and local buffers filled in.
+PyramidPass makePass(const std::vector<PyramidLevel>& chain, uint32_t first, uint32_t count, uint32_t tile,
+                     uint32_t texelBytes) {
+  PyramidPass p{first, count, tile};
+  const PyramidLevel& last = chain[first + count - 1];
+  p.groupsX = (last.width + tile - 1) / tile, p.groupsY = (last.height + tile - 1) / tile;
+  const std::vector<uint32_t> hx = passHalos(chain, p, false), hy = passHalos(chain, p, true);
+  for (uint32_t j = 0; j + 1 < count; ++j) {  // the last level goes to global memory only
+    const PyramidLevel& l = chain[first + j];
+    const uint32_t shift = count - 1 - j;
+    const uint64_t bytes = uint64_t{maxSpan(l.width, tile, p.groupsX, shift, hx[j])} *
+                           maxSpan(l.height, tile, p.groupsY, shift, hy[j]) * texelBytes;
+    uint64_t& buffer = j % 2 == 0 ? p.evenBytes : p.oddBytes;
+    buffer = std::max(buffer, bytes);
+  }
+  return p;
+}
 
 }  // namespace
 
@@ -31,52 +90,149 @@ PyramidLayout pyramidLayout(uint32_t width, uint32_t height, uint32_t firstLevel
   return layout;
 }
 
-std::vector<cl::Event> computeMomentMips(Context& ctx, const Buffer<float>& base, const ImageShape& shape,
-                                         Buffer<float>& mips) {
-  checkShape(shape, "pyramid");
-  const PyramidLayout layout = pyramidLayout(shape.width, shape.height, 1);
-  checkBufferSize(base.size(), shape.count(), "pyramid", "base level");
-  checkBufferSize(mips.size(), layout.texels * shape.channels, "pyramid", "mip chain");
-  Kernel down(ctx, "kernels/pyramid.cl", "pyramid_downsample", "pyramid",
-              fmt::format("-DPYRAMID_CHANNELS={}", shape.channels));
+std::vector<PyramidPass> planPyramid(uint32_t width, uint32_t height, uint32_t texelBytes, uint64_t localBytes,
+                                     const std::vector<uint32_t>& tiles, uint32_t minGroups) {
+  if (tiles.empty() || std::find(tiles.begin(), tiles.end(), 0u) != tiles.end())
+    throw std::invalid_argument("pyramid: tile edges must be positive");
+  const std::vector<PyramidLevel> chain = pyramidLayout(width, height, 0).levels;
+  std::vector<PyramidPass> passes;
+  for (uint32_t first = 1; first < chain.size();) {
+    const uint32_t most = std::min<uint32_t>(uint32_t(chain.size()) - first, PYRAMID_MAX_LEVELS - 1);
+    std::vector<PyramidPass> fits;  // the passes of the most levels that fit, one per tile, largest tile first
+    for (uint32_t count = most; count >= 1 && fits.empty(); --count)
+      for (uint32_t tile : tiles) {
+        const PyramidPass p = makePass(chain, first, count, tile, texelBytes);
+        if (p.evenBytes + p.oddBytes <= localBytes) fits.push_back(p);
+      }
+    // Count 1 needs no local memory, so `fits` is never empty here.
+    const auto enough = std::find_if(
+        fits.begin(), fits.end(), [&](const PyramidPass& p) { return uint64_t{p.groupsX} * p.groupsY >= minGroups; });
+    passes.push_back(enough != fits.end() ? *enough : fits.back());
+    first += passes.back().count;
+  }
+  return passes;
+}
+
+namespace {
+
+// A pass's work-group: groupX x groupY (powers of two), at most the kernel's limit, narrowed to a thin first
+// level's span and widened along the other axis.
+Range passGroup(uint32_t groupX, uint32_t groupY, size_t maxThreads, uint32_t spanX, uint32_t spanY) {
+  const uint32_t threads = uint32_t(std::min<size_t>(size_t{groupX} * groupY, std::bit_floor(maxThreads)));
+  uint32_t gx = std::min(groupX, threads), gy = threads / gx;
+  if (spanX < gx) {
+    gx = std::bit_ceil(spanX), gy = std::min(threads / gx, std::bit_ceil(spanY));
+  } else if (spanY < gy) {
+    gy = std::bit_ceil(spanY), gx = std::min(threads / gy, std::bit_ceil(spanX));
+  }
+  return Range(gx, gy);
+}
+
+// The kernel argument of pass `p` over `chain` (level 0 first, offsets into the pass's buffers).
+PyramidBatch batchArgs(const std::vector<PyramidLevel>& chain, const PyramidPass& p) {
+  PyramidBatch b{};
+  b.src = chain[p.first - 1];
+  const std::vector<uint32_t> hx = passHalos(chain, p, false), hy = passHalos(chain, p, true);
+  for (uint32_t j = 0; j < p.count; ++j) b.level[j] = chain[p.first + j], b.haloX[j] = hx[j], b.haloY[j] = hy[j];
+  b.count = p.count, b.tile = p.tile;
+  return b;
+}
+
+// Records the passes over `chain`: the first with `first` reading `input` (level 0; min-max also writes
+// level 0 to `out`), the others with `rest` reading `out`. Floor of a pass: its input level read once (at
+// `inputBytes` per texel for the first), every level it writes written once.
+template <class In, class Out>
+std::vector<cl::Event> recordPasses(Context& ctx, Kernel& first, Kernel& rest, const Buffer<In>& input,
+                                    Buffer<Out>& out, const std::vector<PyramidLevel>& chain,
+                                    const std::vector<PyramidPass>& passes, uint32_t inputBytes, uint32_t texelBytes,
+                                    bool writesLevel0, const PyramidConfig& config) {
+  const PyramidTuning& row = tuning(ctx.info());
+  const uint32_t groupX = std::bit_floor(config.groupX ? config.groupX : row.groupX);
+  const uint32_t groupY = std::bit_floor(config.groupY ? config.groupY : row.groupY);
   std::vector<cl::Event> events;
-  PyramidLevel source{0, shape.width, shape.height, 0};
-  const Buffer<float>* src = &base;
-  for (const PyramidLevel& level : layout.levels) {
-    // Floor: read the source level and write this one, once each.
-    const uint64_t bytes = (uint64_t{source.width} * source.height + uint64_t{level.width} * level.height) *
-                           shape.channels * sizeof(float);
-    events.push_back(
-        down.args(*src, source, mips, level).moves(bytes).launch(Range(level.width, level.height), kGroup));
-    source = level;
-    src = &mips;
+  for (const PyramidPass& p : passes) {
+    Kernel& kernel = p.first == 1 ? first : rest;
+    const PyramidBatch b = batchArgs(chain, p);
+    uint64_t bytes = texels(b.src) * (p.first == 1 ? inputBytes : texelBytes);
+    if (p.first == 1 && writesLevel0) bytes += texels(b.src) * texelBytes;
+    for (uint32_t j = 0; j < p.count; ++j) bytes += texels(b.level[j]) * texelBytes;
+    const LocalMem even{std::max<uint64_t>(p.evenBytes, texelBytes)}, odd{std::max<uint64_t>(p.oddBytes, texelBytes)};
+    if (p.first == 1)
+      kernel.args(input, out, b, even, odd);
+    else
+      kernel.args(out, out, b, even, odd);
+    const Range group = passGroup(groupX, groupY, kernel.maxWorkGroupSize(),
+                                  maxSpan(b.level[0].width, p.tile, p.groupsX, p.count - 1, b.haloX[0]),
+                                  maxSpan(b.level[0].height, p.tile, p.groupsY, p.count - 1, b.haloY[0]));
+    events.push_back(kernel.moves(bytes).launch(Range(p.groupsX * group.size[0], p.groupsY * group.size[1]), group));
   }
   return events;
 }
 
+std::vector<PyramidPass> plan(Context& ctx, uint32_t width, uint32_t height, uint32_t texelBytes,
+                              const PyramidConfig& config) {
+  const PyramidTuning& row = tuning(ctx.info());
+  const uint64_t local = std::min(config.localBytes ? config.localBytes : row.localBytes, ctx.info().localMemBytes);
+  const std::vector<uint32_t> tiles = config.tile ? std::vector<uint32_t>{config.tile} : row.tiles;
+  return planPyramid(width, height, texelBytes, local, tiles, row.groupsPerUnit * ctx.info().computeUnits);
+}
+
+}  // namespace
+
+std::vector<cl::Event> computeMomentMips(Context& ctx, const Buffer<float>& base, const ImageShape& shape,
+                                         Buffer<float>& mips, const PyramidConfig& config) {
+  checkShape(shape, "pyramid");
+  const PyramidLayout layout = pyramidLayout(shape.width, shape.height, 1);
+  checkBufferSize(base.size(), shape.count(), "pyramid", "base level");
+  checkBufferSize(mips.size(), layout.texels * shape.channels, "pyramid", "mip chain");
+  const std::string options = fmt::format("-DPYRAMID_CHANNELS={}", shape.channels);
+  const uint32_t texelBytes = shape.channels * sizeof(float);
+  std::vector<PyramidLevel> chain{{0, shape.width, shape.height, 0}};  // level 0 in `base`, the rest in `mips`
+  chain.insert(chain.end(), layout.levels.begin(), layout.levels.end());
+  std::vector<cl::Event> events;
+  if (config.schedule == PyramidSchedule::PerLevel) {
+    Kernel down(ctx, "kernels/pyramid.cl", "pyramid_downsample", "pyramid", options);
+    for (size_t i = 1; i < chain.size(); ++i)  // floor: read the level above and write this one
+      events.push_back(down.args(i == 1 ? base : mips, chain[i - 1], mips, chain[i])
+                           .moves((texels(chain[i - 1]) + texels(chain[i])) * texelBytes)
+                           .launch(Range(chain[i].width, chain[i].height), kLevelGroup));
+    return events;
+  }
+  Kernel batch(ctx, "kernels/pyramid.cl", "pyramid_downsample_batch", "pyramid", options);
+  return recordPasses(ctx, batch, batch, base, mips, chain, plan(ctx, shape.width, shape.height, texelBytes, config),
+                      texelBytes, texelBytes, false, config);
+}
+
 std::vector<cl::Event> computeMinMaxPyramid(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
-                                            Buffer<cl_float2>& out) {
+                                            Buffer<cl_float2>& out, const PyramidConfig& config) {
   const PyramidLayout layout = pyramidLayout(width, height, 0);
   checkBufferSize(depth.size(), size_t(width) * height, "pyramid", "depth");
   checkBufferSize(out.size(), layout.texels, "pyramid", "min-max pyramid");
+  const std::vector<PyramidLevel>& chain = layout.levels;
+  if (chain.empty()) return {};
+  const std::string fromDepth = "-DPYRAMID_MINMAX=1 -DPYRAMID_FROM_DEPTH=1", fromLevels = "-DPYRAMID_MINMAX=1";
+  const auto texelBytes = uint32_t(sizeof(cl_float2));
   std::vector<cl::Event> events;
-  if (layout.levels.empty()) return events;
-  const std::string options = "-DPYRAMID_CHANNELS=1";  // the same program as 1-channel mips
-  Kernel base(ctx, "kernels/pyramid.cl", "pyramid_minmax_base", "pyramid", options);
-  // Floors: the base reads the depth map and writes level 0 (a float2 per texel); each further level reads the
-  // level above and writes itself.
-  const auto texels = [](const PyramidLevel& l) { return uint64_t{l.width} * l.height; };
-  events.push_back(base.args(depth, out, layout.levels[0])
-                       .moves(uint64_t{width} * height * sizeof(float) + texels(layout.levels[0]) * sizeof(cl_float2))
-                       .launch(Range(width, height), kGroup));
-  Kernel down(ctx, "kernels/pyramid.cl", "pyramid_minmax_down", "pyramid", options);
-  for (size_t i = 1; i < layout.levels.size(); ++i) {
-    const PyramidLevel& level = layout.levels[i];
-    events.push_back(down.args(out, layout.levels[i - 1], out, level)
-                         .moves((texels(layout.levels[i - 1]) + texels(level)) * sizeof(cl_float2))
-                         .launch(Range(level.width, level.height), kGroup));
+  if (config.schedule == PyramidSchedule::PerLevel || chain.size() == 1) {  // a 1x1 map has only level 0
+    // Floors: the base reads the depth map and writes level 0; each further level reads the level above.
+    Kernel base(ctx, "kernels/pyramid.cl", "pyramid_minmax_base", "pyramid", fromDepth);
+    events.push_back(base.args(depth, out, chain[0])
+                         .moves(texels(chain[0]) * (sizeof(float) + texelBytes))
+                         .launch(Range(width, height), kLevelGroup));
+    if (chain.size() == 1) return events;
+    Kernel down(ctx, "kernels/pyramid.cl", "pyramid_minmax_down", "pyramid", fromLevels);
+    for (size_t i = 1; i < chain.size(); ++i)
+      events.push_back(down.args(out, chain[i - 1], out, chain[i])
+                           .moves((texels(chain[i - 1]) + texels(chain[i])) * texelBytes)
+                           .launch(Range(chain[i].width, chain[i].height), kLevelGroup));
+    return events;
   }
-  return events;
+  const std::vector<PyramidPass> passes = plan(ctx, width, height, texelBytes, config);
+  Kernel first(ctx, "kernels/pyramid.cl", "pyramid_minmax_batch", "pyramid", fromDepth);
+  std::optional<Kernel> rest;  // passes after the first read float2 levels: another build, only when needed
+  if (passes.size() > 1) rest.emplace(ctx, "kernels/pyramid.cl", "pyramid_minmax_batch", "pyramid", fromLevels);
+  return recordPasses(ctx, first, rest ? *rest : first, depth, out, chain, passes, uint32_t(sizeof(float)), texelBytes,
+                      true, config);
 }
 
 }  // namespace penumbra

@@ -1,6 +1,24 @@
 // Pyramid stage: mip chains of moment images (exact area averages; odd sizes keep the mean) and the
-// min-max depth pyramid of a hierarchical shadow map (VSSM). One launch per level. Kernels:
-// kernels/pyramid.cl; layout: kernels/shared/pyramid.h.
+// min-max depth pyramid of a hierarchical shadow map (VSSM). Batched: each dispatch computes several
+// consecutive levels, so 2048^2 and 4096^2 take 2 dispatches (4-channel mips 3) instead of 11-13.
+// Kernels: kernels/pyramid.cl; layout and ownership: kernels/shared/pyramid.h (PyramidBatch).
+//
+// Design. A work-group owns a T x T tile of a pass's last level and computes it from the pass's input level
+// (global memory) through local memory. k levels up the tile is T 2^k texels plus a halo where sizes are
+// odd (3-tap footprints): halo_k = 2 halo_(k-1) + 1, at most 2^k - 1, so spans are <= 2^k (T + 1) - 1;
+// powers of two need none. Two ping-pong local buffers hold level j (read) and j + 1 (written). The planner
+// takes per pass the most levels K whose buffers fit the local memory (exact spans, clipped at the level
+// sizes) for some tile edge of the device's row, then the largest such tile still giving a group per
+// compute unit (else the one with the most groups); once the rest of the chain fits one group, that group
+// loops over all remaining levels (the tail). GPU row (48 KiB, 1024 work-items): float2 2048^2 is K = 5
+// with T = 4 (256 groups, 40 KiB) then levels 6-11 in one group; 4096^2 is K = 5 (1024 groups) then 6-12.
+// Min-max folds level 0 (the converted depth map) into its first pass, so the depth map is read once.
+// Results equal the per-level schedule bit for bit: the same taps, weights and summation order through one
+// shared per-texel function (tests/pyramid_schedule_test.cpp).
+//
+// Not folded: the tail into the last work-group of the previous pass (AMD SPD's atomic counter). OpenCL 1.2
+// promises no memory consistency between the work-groups of one launch (sec. 3.3.1), so that group could
+// read stale texels of the others; the separate tail costs one launch.
 #pragma once
 
 #include <CL/opencl.hpp>
@@ -23,15 +41,43 @@ struct PyramidLayout {
 };
 PyramidLayout pyramidLayout(uint32_t width, uint32_t height, uint32_t firstLevel);
 
+// Batched on every device (on PoCL too: 2048^2 and 4096^2 moment mips ~15% faster, min-max level); PerLevel:
+// one launch per level, the reference schedule the batches are tested against bit for bit.
+enum class PyramidSchedule { Batched, PerLevel };
+
+struct PyramidConfig {
+  PyramidSchedule schedule = PyramidSchedule::Batched;
+  // 0 everywhere: the device's row (pyramid.cpp). tile: a work-group's tile edge in every pass; localBytes:
+  // the local memory a work-group may use (at most the device's); groupX x groupY: work-items per group.
+  uint32_t tile = 0;
+  uint64_t localBytes = 0;
+  uint32_t groupX = 0, groupY = 0;
+};
+
+// One dispatch of the batched schedule: output levels [first, first + count) of the full chain (level 0 =
+// the base) from level first - 1, by groupsX x groupsY work-groups of `tile`^2 texels of the last level.
+struct PyramidPass {
+  uint32_t first = 1, count = 0, tile = 0;
+  uint32_t groupsX = 0, groupsY = 0;
+  uint64_t evenBytes = 0, oddBytes = 0;  // the two local buffers (level parity within the pass)
+};
+
+// The passes for a width x height base and texels of `texelBytes` bytes, under `localBytes` of local memory
+// per work-group, over the tile edges `tiles` (largest first), preferring the largest tile that still
+// gives `minGroups` work-groups. Throws std::invalid_argument when no tile fits one level.
+std::vector<PyramidPass> planPyramid(uint32_t width, uint32_t height, uint32_t texelBytes, uint64_t localBytes,
+                                     const std::vector<uint32_t>& tiles, uint32_t minGroups);
+
 // Mip levels 1.. of `base` (shape.count() floats, level 0) into `mips` (pyramidLayout(w, h, 1).texels *
-// channels floats). Launches "pyramid/pyramid_downsample", one per level.
+// channels floats). Launches "pyramid/pyramid_downsample_batch" (PerLevel: "pyramid/pyramid_downsample",
+// one per level).
 std::vector<cl::Event> computeMomentMips(Context& ctx, const Buffer<float>& base, const ImageShape& shape,
-                                         Buffer<float>& mips);
+                                         Buffer<float>& mips, const PyramidConfig& config = {});
 
 // Levels 0.. of the min-max pyramid of `depth` (width*height light depths) into `out`
 // (pyramidLayout(w, h, 0).texels float2 (min, max)). Background and NaN texels are the empty interval
 // (+INFINITY, -INFINITY), so they never widen a range. Launches "pyramid/pyramid_minmax_*".
 std::vector<cl::Event> computeMinMaxPyramid(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
-                                            Buffer<cl_float2>& out);
+                                            Buffer<cl_float2>& out, const PyramidConfig& config = {});
 
 }  // namespace penumbra

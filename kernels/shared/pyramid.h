@@ -1,5 +1,6 @@
 // Mip-chain layout shared by the pyramid kernels and their host wrapper: each level halves the previous
-// one (floor, at least 1) down to 1x1; levels are stored one after another in one buffer.
+// one (floor, at least 1) down to 1x1; levels are stored one after another in one buffer. A PyramidBatch
+// describes one dispatch of the batched schedule (several levels per launch, host/stages/pyramid.h).
 #ifndef PENUMBRA_KERNELS_SHARED_PYRAMID_H
 #define PENUMBRA_KERNELS_SHARED_PYRAMID_H
 
@@ -13,8 +14,26 @@ typedef struct PyramidLevel {
   uint pad0;
 } PyramidLevel;
 
+// Levels level[0..count) computed by one dispatch from `src`. Work-group (gx, gy) owns the tile
+// [gx tile, (gx+1) tile) x [gy tile, (gy+1) tile) of the last level and, at level j, that tile scaled by
+// 2^(count-1-j); the last group along an axis owns everything up to the edge. A group that is not the
+// last along x computes haloX[j] texels past its owned span at level j: the texels the 3-tap footprints of
+// odd sizes make the later levels of its tile read (haloX[count-1] = 0; haloX[j] = 2 haloX[j+1] + the
+// width of level j is odd). The first min-max pass reads the depth map and also writes `src` (level 0).
+typedef struct PyramidBatch {
+  PyramidLevel src;                        // input level (offset into the input buffer; min-max: also output)
+  PyramidLevel level[PYRAMID_MAX_LEVELS];  // output levels (offsets into the output buffer)
+  uint haloX[PYRAMID_MAX_LEVELS], haloY[PYRAMID_MAX_LEVELS];
+  uint count;  // output levels, 1..PYRAMID_MAX_LEVELS - 1
+  uint tile;   // edge of a work-group's tile of level[count-1], texels
+  uint pad0, pad1;
+} PyramidBatch;
+
 #if PENUMBRA_HOST
 static_assert(sizeof(PyramidLevel) == 16, "PyramidLevel layout is shared with OpenCL C");
+static_assert(sizeof(PyramidBatch) == 16 + 16 * PYRAMID_MAX_LEVELS + 8 * PYRAMID_MAX_LEVELS + 16,
+              "PyramidBatch layout is shared with OpenCL C");
+static_assert(offsetof(PyramidBatch, count) == 16 + 24 * PYRAMID_MAX_LEVELS, "PyramidBatch layout");
 #else
 
 // Taps of destination texel `x` along one axis when a source of `src` texels shrinks to `dst`: an exact
@@ -33,6 +52,19 @@ inline int pyramid_taps(uint x, uint src, uint dst, int* first, float* w) {
   const float norm = 1.0f / (float)(2 * dst + 1);
   w[0] = (float)(dst - x) * norm, w[1] = (float)dst * norm, w[2] = (float)(x + 1) * norm;
   return 3;
+}
+
+// The footprint of destination texel (x, y) of level `d` in level `s`: nx x ny taps from (x0, y0).
+typedef struct PyramidTaps {
+  int x0, y0, nx, ny;
+  float wx[3], wy[3];
+} PyramidTaps;
+
+inline PyramidTaps pyramid_footprint(uint x, uint y, PyramidLevel s, PyramidLevel d) {
+  PyramidTaps t;
+  t.nx = pyramid_taps(x, s.width, d.width, &t.x0, t.wx);
+  t.ny = pyramid_taps(y, s.height, d.height, &t.y0, t.wy);
+  return t;
 }
 
 #endif
