@@ -5,7 +5,7 @@
 // - Lloyd on synthetic second-occluder samples: empty clusters teleport into the heaviest layer (sec. 5);
 // - 16-bit unorm layers stay within a stated tolerance of fp32 layers; the auto layer count uses the leak
 //   metric; lit planes stay lit and nothing is NaN.
-// Suite names contain "Lvsm" so that the pocl-cbs ctest entry runs them under both work-group methods.
+// Suite names contain "Lvsm" so that the pocl-loops ctest entry runs them under both work-group methods.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 

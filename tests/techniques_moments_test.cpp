@@ -7,7 +7,7 @@
 //   MSM and EVSM4 bleed less than VSM;
 // - non-default configurations (trilinear lookups, SAVSM width modes and precisions) keep planes fully lit
 //   and produce no NaN.
-// Suite names contain "Techniques" so that the pocl-cbs ctest entry runs them under both work-group methods.
+// Suite names contain "Techniques" so that the pocl-loops ctest entry runs them under both work-group methods.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
