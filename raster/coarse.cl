@@ -17,54 +17,34 @@ typedef struct {
   uint begin, count;   // the bin's queue range, cut to the capacity
 } CoarseBin;
 
-static CoarseBin coarseBin(const RasterViewParams* p, __global const uint* binCount, __global const uint* binOffset) {
+// Bin `item` of the launched bins; its tiles start at (tileX0, tileY0) in the tile grid. tile is left -1.
+static CoarseBin coarseBinOf(const RasterViewParams* p, int item, __global const uint* binCount,
+                             __global const uint* binOffset) {
   CoarseBin b;
-  const int group = get_group_id(0), lid = get_local_id(0);
-  const int bx = p->binX0 + group % p->binsAcross, by = p->binY0 + group / p->binsAcross;
+  const int bx = p->binX0 + item % p->binsAcross, by = p->binY0 + item / p->binsAcross;
   b.bin = by * p->binsX + bx;
   b.tileX0 = bx << RASTER_BIN_LOG2, b.tileY0 = by << RASTER_BIN_LOG2;
-  const int tx = b.tileX0 + (lid & (RASTER_BIN_TILES - 1)), ty = b.tileY0 + (lid >> RASTER_BIN_LOG2);
-  b.tile = tx < p->tilesX && ty < p->tilesY ? ty * p->tilesX + tx : -1;
+  b.tile = -1;
   const uint offset = binOffset[b.bin];
   b.begin = offset;
   b.count = offset < p->binCapacity ? min(binCount[b.bin], p->binCapacity - offset) : 0;
   return b;
 }
 
-// The bin queue entries a work-item walks: interleaved (neighbouring work-items read neighbouring entries: GPUs) or,
-// with RASTER_COARSE_CHUNKED, one contiguous chunk per work-item (CPUs: PoCL runs a group's work-items one after
-// another, so each walks its chunk in queue order, which bin_fill left close to record order; the tile queues then
-// come out in that order too, which the fine stage's record reads profit from), where the record needed
-// RASTER_COARSE_PREFETCH steps ahead is also prefetched (types.h).
-#ifndef RASTER_COARSE_CHUNKED
-#define RASTER_COARSE_CHUNKED 0
-#endif
-#define RASTER_COARSE_PREFETCH 4
-typedef struct {
-  uint first, end, step;
-} CoarseRange;
-
-static CoarseRange coarseRange(const CoarseBin* b) {
-  const uint lid = get_local_id(0);
-  CoarseRange r;
-#if RASTER_COARSE_CHUNKED
-  const uint per = (b->count + RASTER_COARSE_WG - 1) / RASTER_COARSE_WG;
-  r.first = min(lid * per, b->count), r.end = min(r.first + per, b->count), r.step = 1;
-#else
-  r.first = lid, r.end = b->count, r.step = RASTER_COARSE_WG;
-#endif
-  return r;
+// Tile index in the grid of local tile i of bin b, -1 outside the viewport.
+static int coarseTileOf(const RasterViewParams* p, const CoarseBin* b, int i) {
+  const int tx = b->tileX0 + (i & (RASTER_BIN_TILES - 1)), ty = b->tileY0 + (i >> RASTER_BIN_LOG2);
+  return tx < p->tilesX && ty < p->tilesY ? ty * p->tilesX + tx : -1;
 }
 
-#if RASTER_COARSE_CHUNKED
-#define COARSE_PREFETCH(tris, binEntries, b, r, j)                                           \
-  do {                                                                                       \
-    const uint ahead_ = (j) + RASTER_COARSE_PREFETCH * (r).step;                             \
-    if (ahead_ < (r).end) RASTER_PREFETCH_RECORD(&(tris)[(binEntries)[(b).begin + ahead_]]); \
-  } while (0)
-#else
-#define COARSE_PREFETCH(tris, binEntries, b, r, j) ((void)0)
-#endif
+// The work-group's bin (a group per bin), with this work-item's tile.
+static CoarseBin coarseBin(const RasterViewParams* p, __global const uint* binCount, __global const uint* binOffset) {
+  CoarseBin b = coarseBinOf(p, get_group_id(0), binCount, binOffset);
+  b.tile = coarseTileOf(p, &b, get_local_id(0));
+  return b;
+}
+
+#define RASTER_COARSE_PREFETCH 4  // bin queue entries ahead whose record the CPU layout prefetches (types.h)
 
 // Calls BODY(localTile) for every tile of bin `b` whose samples the record `t` may cover. The candidate box lies
 // inside the scissor, so cutting each tile to the box keeps the test inside the scissor too.
@@ -113,9 +93,7 @@ __kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coar
   const uint lid = get_local_id(0);
   hits[lid] = 0;
   barrier(CLK_LOCAL_MEM_FENCE);
-  const CoarseRange r = coarseRange(&b);
-  for (uint j = r.first; j < r.end; j += r.step) {
-    COARSE_PREFETCH(tris, binEntries, b, r, j);
+  for (uint j = lid; j < b.count; j += RASTER_COARSE_WG) {
     const RasterTriangle t = tris[binEntries[b.begin + j]];
 #define COARSE_COUNT_ONE(localTile) atomic_inc(&hits[localTile])
     COARSE_FOR_EACH_TILE(t, b, COARSE_COUNT_ONE);
@@ -146,9 +124,7 @@ __kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coar
   cursor[lid] = 0;
   barrier(CLK_LOCAL_MEM_FENCE);
   const uint capacity = p.tileCapacity;
-  const CoarseRange r = coarseRange(&b);
-  for (uint j = r.first; j < r.end; j += r.step) {
-    COARSE_PREFETCH(tris, binEntries, b, r, j);
+  for (uint j = lid; j < b.count; j += RASTER_COARSE_WG) {
     const uint index = binEntries[b.begin + j];
     const RasterTriangle t = tris[index];
 #define COARSE_FILL_ONE(localTile)                                                  \
@@ -169,26 +145,6 @@ __kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coar
 // coarse_fill re-reads and re-tests the record only for entries that hit several tiles.
 #define COARSE_NO_TILE 0xfffeu        // binTiles: the entry hits no tile of the bin
 #define COARSE_SEVERAL_TILES 0xffffu  // binTiles: the entry hits several tiles (test again)
-
-// Bin `item` of the launched bins; its tiles start at (tileX0, tileY0) in the tile grid.
-static CoarseBin coarseBinOf(const RasterViewParams* p, int item, __global const uint* binCount,
-                             __global const uint* binOffset) {
-  CoarseBin b;
-  const int bx = p->binX0 + item % p->binsAcross, by = p->binY0 + item / p->binsAcross;
-  b.bin = by * p->binsX + bx;
-  b.tileX0 = bx << RASTER_BIN_LOG2, b.tileY0 = by << RASTER_BIN_LOG2;
-  b.tile = -1;
-  const uint offset = binOffset[b.bin];
-  b.begin = offset;
-  b.count = offset < p->binCapacity ? min(binCount[b.bin], p->binCapacity - offset) : 0;
-  return b;
-}
-
-// Tile index in the grid of local tile i of bin b, -1 outside the viewport.
-static int coarseTileOf(const RasterViewParams* p, const CoarseBin* b, int i) {
-  const int tx = b->tileX0 + (i & (RASTER_BIN_TILES - 1)), ty = b->tileY0 + (i >> RASTER_BIN_LOG2);
-  return tx < p->tilesX && ty < p->tilesY ? ty * p->tilesX + tx : -1;
-}
 
 // The same results as the layout above, over `bins` launched bins; binTiles[binCapacity] receives each entry's tile code.
 __kernel __attribute__((reqd_work_group_size(RASTER_WG_COARSE, 1, 1))) void coarse_count(

@@ -46,10 +46,10 @@
 // Tunable (work-items per group), one row per device class; the host picks a row (raster::workGroupsFor(),
 // raster/plan.cpp) and passes it as -DRASTER_WG_SETUP=... -DRASTER_WG_BIN=... -DRASTER_WG_GBUFFER=...
 // -DRASTER_WG_FINE=... -DRASTER_WG_COARSE=...; a row counts only after the Raster* tests pass with it (PoCL: checked
-// with 64/64/64/64/1, 64/64/64/64/0, 64/64/64/0/0 and 128/256/32/1/4; NVIDIA: not yet run on the device). fine selects
-// the fine stage's layout (raster/fine.cl): 0 = one work-group of RASTER_FINE_WG items per tile (an item per pixel),
+// with 64/64/64/64/1, 64/64/64/0/0 and 128/256/32/1/4; NVIDIA: not yet run on the device). fine selects the fine
+// stage's layout (raster/fine.cl): 0 = one work-group of RASTER_FINE_WG items per tile (an item per pixel),
 // N > 0 = N tiles per work-group, an item per tile (CPUs; it also selects setup's CPU path, RASTER_SETUP_VECTOR in
-// setup.cl, and, with coarse 0, makes the coarse stage walk its bin queue in chunks, coarse.cl). coarse selects the
+// setup.cl). coarse selects the
 // coarse stage's layout (raster/coarse.cl): 0 = a work-group of RASTER_COARSE_WG items per bin (an item per tile),
 // N > 0 = N bins per work-group, an item per bin (CPUs).
 // clang-format off

@@ -10,10 +10,9 @@ namespace {
 
 std::string buildOptions(const WorkGroups& groups) {
   return fmt::format(
-      "-DRASTER_WG_SETUP={} -DRASTER_WG_BIN={} -DRASTER_WG_GBUFFER={} -DRASTER_WG_FINE={} -DRASTER_COARSE_CHUNKED={} "
-      "-DRASTER_SETUP_VECTOR={} -DRASTER_WG_COARSE={}",
-      groups.setup, groups.bin, groups.gbuffer, groups.fine, groups.fine != 0 && groups.coarse == 0 ? 1 : 0,
-      groups.fine != 0 ? 1 : 0, groups.coarse);
+      "-DRASTER_WG_SETUP={} -DRASTER_WG_BIN={} -DRASTER_WG_GBUFFER={} -DRASTER_WG_FINE={} -DRASTER_SETUP_VECTOR={} "
+      "-DRASTER_WG_COARSE={}",
+      groups.setup, groups.bin, groups.gbuffer, groups.fine, groups.fine != 0 ? 1 : 0, groups.coarse);
 }
 
 Kernel makeKernel(Context& ctx, const WorkGroups& groups, const char* source, const char* entry) {

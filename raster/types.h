@@ -33,7 +33,7 @@ typedef struct {
 
 #if !PENUMBRA_HOST
 // Queues hold record indices in an order unrelated to the record buffer's, so on a CPU nearly every record read
-// misses the caches; the CPU layouts (RASTER_WG_FINE > 0, RASTER_COARSE_CHUNKED) prefetch the record a few queue
+// misses the caches; the CPU layouts (RASTER_WG_FINE > 0, RASTER_WG_COARSE > 0) prefetch the record a few queue
 // entries ahead, both cache lines an 88-byte record can span. Clang's builtin through an integer: CPU devices have
 // one flat address space (OpenCL's prefetch() is a no-op in PoCL). Never used by the GPU layouts.
 #if defined(__clang__)
