@@ -52,12 +52,7 @@ class Stability : public test::ClTest {
     Values all = values;
     if (findTechnique(technique).hasParam("map-size")) all.try_emplace("map-size", "512");
     RenderResult result = test::renderWith(ctx(), c.scene, c.camera, c.light, technique, all);
-    for (const ImageChannel& channel : result.image.channels())
-      for (float v : channel.data) EXPECT_FALSE(std::isnan(v)) << technique << ": NaN in " << channel.name;
-    for (float v : result.image.require("visibility.Y").data) {
-      EXPECT_GE(v, 0.0f) << technique;
-      EXPECT_LE(v, 1.0f) << technique;
-    }
+    EXPECT_TRUE(test::saneImage(result.image, technique));
     return result;
   }
 
