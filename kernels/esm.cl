@@ -8,9 +8,9 @@
 #include "kernels/shared/moments.h"
 
 __kernel void esm_visibility(__global const float4* position, __global const float4* normal,
-                             __constant const LightViewGpu* lv, __global const float* base, __global const float* mips,
-                             __constant const PyramidLevel* mipLevels, MomentShade s, __global float* visibility,
-                             __global float4* debugMoments, __global float2* debugStats) {
+                             __constant const LightViewGpu* lv, __global const MomentScalar* base,
+                             __global const MomentScalar* mips, __constant const PyramidLevel* mipLevels, MomentShade s,
+                             __global float* visibility, __global float4* debugMoments, __global float2* debugStats) {
   uint i = get_global_id(0);
   if (i >= s.width * s.height) return;
   MomentReceiver r = mm_receiver(position, normal, lv, s, i);

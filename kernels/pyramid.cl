@@ -3,8 +3,10 @@
 // conservative min/max over every texel a footprint touches. *_batch: several levels per dispatch, a
 // work-group per tile of the last one, through local memory, recomputing the halo that odd sizes' 3-tap
 // footprints need (design: host/stages/pyramid.h); the per-level kernels are the reference schedule.
-// Options: PYRAMID_CHANNELS (1, 2, 4 moments), or PYRAMID_MINMAX with PYRAMID_FROM_DEPTH for the first pass.
+// Options: PYRAMID_CHANNELS (1, 2, 4 moments) and STORE_HALF (moments stored as half, averaged in fp32:
+// kernels/shared/storage.h), or PYRAMID_MINMAX with PYRAMID_FROM_DEPTH for the first pass.
 #include "kernels/shared/pyramid.h"
+#include "kernels/shared/storage.h"
 
 #ifndef PYRAMID_CHANNELS
 #define PYRAMID_CHANNELS 1
@@ -18,13 +20,21 @@
 
 #if PYRAMID_MINMAX
 typedef float2 PyramidTexel;  // (min, max) light depth
+typedef float2 PyramidStored;
+#define PYRAMID_STORE(p, i, v) ((p)[i] = (v))
+#define PYRAMID_ROUND(v) (v)
+#define PYRAMID_STRIDE 1
 #else
-typedef PN_VEC(float, PYRAMID_CHANNELS) PyramidTexel;  // moments
+typedef PN_VEC(float, PYRAMID_CHANNELS) PyramidTexel;  // moments, as computed
+typedef PN_STORED(PYRAMID_CHANNELS) PyramidStored;     // moments, as stored (float vectors or half)
+#define PYRAMID_STORE(p, i, v) PN_STORE(PYRAMID_CHANNELS, p, i, v)
+#define PYRAMID_ROUND(v) PN_ROUND(PYRAMID_CHANNELS, v)  // levels kept for the next one are read back as stored
+#define PYRAMID_STRIDE PN_STRIDE(PYRAMID_CHANNELS)      // stored elements per texel (half: one per channel)
 #endif
 #if PYRAMID_FROM_DEPTH
 typedef float PyramidInput;
 #else
-typedef PyramidTexel PyramidInput;
+typedef PyramidStored PyramidInput;
 #endif
 
 // Level 0 of the min-max pyramid: (d, d) for a drawn texel, the empty interval (+INF, -INF) for background
@@ -34,33 +44,36 @@ inline float2 pyramid_depth_range(float z) {
   return select((float2)(INFINITY, -INFINITY), (float2)(z, z), (int2)(-isfinite(z)));
 }
 
+// Texel i of a level in global memory (PYRAMID_LOAD) or local memory (PYRAMID_LOAD_LOCAL), as computed.
 #if PYRAMID_FROM_DEPTH
-#define PYRAMID_LOAD(v) pyramid_depth_range(v)
+#define PYRAMID_LOAD(p, i) pyramid_depth_range((p)[i])
+#elif PYRAMID_MINMAX
+#define PYRAMID_LOAD(p, i) ((p)[i])
 #else
-#define PYRAMID_LOAD(v) (v)
+#define PYRAMID_LOAD(p, i) PN_LOAD(PYRAMID_CHANNELS, p, i)
 #endif
+#define PYRAMID_LOAD_LOCAL(p, i) ((p)[i])
 
 // One destination texel from its taps `t` in `src` (row pitch `pitch`), the same code for global and local
 // sources. Means: sum over rows of (sum over columns of w * texel), the one order both schedules use, so
 // they agree bit for bit. Min-max is exact in any order.
 #if PYRAMID_MINMAX
-#define PYRAMID_REDUCE(src, pitch, t, LOAD)                                     \
-  float2 range = (float2)(INFINITY, -INFINITY);                                 \
-  for (int j = 0; j < t.ny; ++j)                                                \
-    for (int i = 0; i < t.nx; ++i) {                                            \
-      const float2 v = LOAD(src[(size_t)(t.y0 + j) * pitch + t.x0 + i]);        \
-      range = (float2)(fmin(range.x, v.x), fmax(range.y, v.y));                 \
-    }                                                                           \
+#define PYRAMID_REDUCE(src, pitch, t, LOAD)                              \
+  float2 range = (float2)(INFINITY, -INFINITY);                          \
+  for (int j = 0; j < t.ny; ++j)                                         \
+    for (int i = 0; i < t.nx; ++i) {                                     \
+      const float2 v = LOAD(src, (size_t)(t.y0 + j) * pitch + t.x0 + i); \
+      range = (float2)(fmin(range.x, v.x), fmax(range.y, v.y));          \
+    }                                                                    \
   return range;
 #else
-#define PYRAMID_REDUCE(src, pitch, t, LOAD)                                     \
-  PyramidTexel sum = 0.0f;                                                      \
-  for (int j = 0; j < t.ny; ++j) {                                              \
-    PyramidTexel row = 0.0f;                                                    \
-    for (int i = 0; i < t.nx; ++i)                                              \
-      row += t.wx[i] * LOAD(src[(size_t)(t.y0 + j) * pitch + t.x0 + i]);        \
-    sum += t.wy[j] * row;                                                       \
-  }                                                                             \
+#define PYRAMID_REDUCE(src, pitch, t, LOAD)                                                           \
+  PyramidTexel sum = 0.0f;                                                                            \
+  for (int j = 0; j < t.ny; ++j) {                                                                    \
+    PyramidTexel row = 0.0f;                                                                          \
+    for (int i = 0; i < t.nx; ++i) row += t.wx[i] * LOAD(src, (size_t)(t.y0 + j) * pitch + t.x0 + i); \
+    sum += t.wy[j] * row;                                                                             \
+  }                                                                                                   \
   return sum;
 #endif
 
@@ -69,16 +82,17 @@ inline PyramidTexel pyramid_reduce_global(__global const PyramidInput* src, uint
 }
 
 inline PyramidTexel pyramid_reduce_local(__local const PyramidTexel* src, uint pitch, PyramidTaps t) {
-  PYRAMID_REDUCE(src, pitch, t, )
+  PYRAMID_REDUCE(src, pitch, t, PYRAMID_LOAD_LOCAL)
 }
 
 // Reference schedule: one level per launch, one work-item per destination texel.
-inline void pyramid_level(__global const PyramidInput* src, PyramidLevel s, __global PyramidTexel* dst,
+inline void pyramid_level(__global const PyramidInput* src, PyramidLevel s, __global PyramidStored* dst,
                           PyramidLevel d) {
   const uint x = get_global_id(0), y = get_global_id(1);
   if (x >= d.width || y >= d.height) return;
   const PyramidTaps t = pyramid_footprint(x, y, s, d);
-  dst[d.offset + (size_t)y * d.width + x] = pyramid_reduce_global(src + s.offset, s.width, t);
+  PYRAMID_STORE(dst, d.offset + (size_t)y * d.width + x,
+                pyramid_reduce_global(src + (size_t)s.offset * PYRAMID_STRIDE, s.width, t));
 }
 
 #if PYRAMID_FROM_DEPTH
@@ -111,7 +125,7 @@ inline PyramidSpan pyramid_span(uint group, uint groups, uint tile, uint shift, 
 // Batched schedule: b.count levels per dispatch (layout and ownership: PyramidBatch). Level j of the group's
 // spans is kept in local memory (`even` or `odd` by the parity of j) for level j + 1; the first level reads
 // the input in global memory. Every barrier is reached by the whole group (the level loop is uniform).
-inline void pyramid_batch(__global const PyramidInput* src, __global PyramidTexel* dst, const PyramidBatch b,
+inline void pyramid_batch(__global const PyramidInput* src, __global PyramidStored* dst, const PyramidBatch b,
                           __local PyramidTexel* even, __local PyramidTexel* odd) {
   const uint gx = get_group_id(0), gy = get_group_id(1), ngx = get_num_groups(0), ngy = get_num_groups(1);
   PyramidSpan px = {0, 0, 0}, py = {0, 0, 0};  // the previous level's spans (its origin and pitch in local memory)
@@ -127,14 +141,14 @@ inline void pyramid_batch(__global const PyramidInput* src, __global PyramidTexe
         PyramidTaps t = pyramid_footprint(x, y, s, d);
         PyramidTexel v;
         if (j == 0) {
-          v = pyramid_reduce_global(src + s.offset, s.width, t);
+          v = pyramid_reduce_global(src + (size_t)s.offset * PYRAMID_STRIDE, s.width, t);
         } else {
           t.x0 -= px.lo, t.y0 -= py.lo;
           v = pyramid_reduce_local(in, px.end - px.lo, t);
         }
-        if (j + 1 < b.count) out[(y - sy.lo) * (sx.end - sx.lo) + x - sx.lo] = v;
+        if (j + 1 < b.count) out[(y - sy.lo) * (sx.end - sx.lo) + x - sx.lo] = PYRAMID_ROUND(v);
         if (x < sx.own && y < sy.own) {
-          dst[d.offset + (size_t)y * d.width + x] = v;
+          PYRAMID_STORE(dst, d.offset + (size_t)y * d.width + x, v);
 #if PYRAMID_FROM_DEPTH
           if (j == 0) pyramid_write_base(src, dst, s, d, x, y);
 #endif
@@ -167,12 +181,12 @@ __kernel void pyramid_minmax_batch(__global const float2* src, __global float2* 
   pyramid_batch(src, dst, b, even, odd);
 }
 #else
-__kernel void pyramid_downsample(__global const PyramidTexel* src, PyramidLevel s, __global PyramidTexel* dst,
+__kernel void pyramid_downsample(__global const PyramidStored* src, PyramidLevel s, __global PyramidStored* dst,
                                  PyramidLevel d) {
   pyramid_level(src, s, dst, d);
 }
 
-__kernel void pyramid_downsample_batch(__global const PyramidTexel* src, __global PyramidTexel* dst, PyramidBatch b,
+__kernel void pyramid_downsample_batch(__global const PyramidStored* src, __global PyramidStored* dst, PyramidBatch b,
                                        __local PyramidTexel* even, __local PyramidTexel* odd) {
   pyramid_batch(src, dst, b, even, odd);
 }

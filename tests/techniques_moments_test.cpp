@@ -5,8 +5,9 @@
 //   tolerance of the same;
 // - the three stacked planes show VSM's light bleeding on the ground, the reduction amount removes it, and
 //   MSM and EVSM4 bleed less than VSM;
-// - non-default configurations (trilinear lookups, SAVSM width modes and precisions) keep planes fully lit
-//   and produce no NaN.
+// - the same with fp16 moment storage (vsm, evsm2/4, esm, msm) within a stated tolerance;
+// - non-default configurations (trilinear lookups, SAVSM width modes and precisions, fp16 storage with mips and
+//   running-sum blurs) keep planes fully lit and produce no NaN.
 // Suite names contain "Techniques" so that the pocl-loops ctest entry runs them under both work-group methods.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -26,8 +27,8 @@
 
 namespace penumbra {
 namespace {
-using test::renderWith;
 using test::ClTest;
+using test::renderWith;
 
 // fp32 moments: M2 - M1^2 cancels to ~1e-7 absolute, and the kernel's bilinear weights come from fp32
 // texel coordinates (~1e-5 texel). Measured worst: 1e-6 (vsm), 2e-6 (savsm, every precision).
@@ -41,6 +42,10 @@ constexpr double kPlanarExpTolerance = 3e-4;
 // variance f (1 - f) dw^2 where the occluded fraction f < (2c)^2 min-variance = 0.64%, which brightens the
 // outer penumbra by up to ~f. Measured worst: 1.6e-3 (EVSM4's negative bound hides it).
 constexpr double kPlanarEvsm2Tolerance = 3e-3;
+// fp16 moment storage (11 significant bits: moments within 2^-12 relative, M1 near 1 within 2.4e-4; EVSM/ESM
+// exponents clamped to 5.54; MSM's moment bias raised to at least 1e-3). Measured worst: vsm 2.5e-4, evsm2 and
+// evsm4 6.9e-4, esm 2.6e-4, msm 6.1e-4 (with the default alpha 3e-5 it would be 1.8e-2).
+constexpr double kPlanarHalfTolerance = 2e-3;
 
 // ---- one planar occluder over a parallel planar receiver -----------------------------------------------
 
@@ -159,6 +164,8 @@ TEST_P(MomentTechniquesPlanar, EqualsBoxFilteredPcfForAPlanarOccluderOverAParall
 
 const std::string kRadius = std::to_string(kPlanarRadius), kWidth = std::to_string(2 * kPlanarRadius + 1);
 const std::map<std::string, std::string> kBox = {{"blur-filter", "box"}, {"blur-radius", kRadius}};
+const std::map<std::string, std::string> kBoxHalf = {
+    {"blur-filter", "box"}, {"blur-radius", kRadius}, {"moment-storage", "fp16"}};
 
 INSTANTIATE_TEST_SUITE_P(
     Box, MomentTechniquesPlanar,
@@ -176,10 +183,17 @@ INSTANTIATE_TEST_SUITE_P(
                                  {{"savsm-width-from", "fixed"}, {"savsm-width", kWidth}, {"sat-precision", "double"}},
                                  kPlanarTolerance},
                       PlanarCase{"evsm2", kBox, kPlanarEvsm2Tolerance}, PlanarCase{"evsm4", kBox, kPlanarExpTolerance},
-                      PlanarCase{"esm", kBox, kPlanarExpTolerance}, PlanarCase{"msm", kBox, kPlanarMsmTolerance}),
+                      PlanarCase{"esm", kBox, kPlanarExpTolerance}, PlanarCase{"msm", kBox, kPlanarMsmTolerance},
+                      PlanarCase{"vsm", kBoxHalf, kPlanarHalfTolerance},
+                      PlanarCase{"evsm2", kBoxHalf, kPlanarHalfTolerance},
+                      PlanarCase{"evsm4", kBoxHalf, kPlanarHalfTolerance},
+                      PlanarCase{"esm", kBoxHalf, kPlanarHalfTolerance},
+                      PlanarCase{"msm", kBoxHalf, kPlanarHalfTolerance}),
     [](const ::testing::TestParamInfo<PlanarCase>& p) {
-      auto precision = p.param.params.find("sat-precision");
-      return p.param.technique + (precision == p.param.params.end() ? "" : "_" + precision->second);
+      std::string name = p.param.technique;
+      for (const char* key : {"sat-precision", "moment-storage"})
+        if (auto value = p.param.params.find(key); value != p.param.params.end()) name += "_" + value->second;
+      return name;
     });
 
 // ---- three stacked planes: light bleeding -----------------------------------------------------------
@@ -280,16 +294,26 @@ TEST_P(MomentTechniquesConfigs, PlanesStayLitAndNoNanOnStackedPlanes) {
 
 INSTANTIATE_TEST_SUITE_P(
     All, MomentTechniquesConfigs,
-    ::testing::Values(ConfigCase{"vsm_trilinear", "vsm", {{"moment-filtering", "trilinear"}}},
-                      ConfigCase{"msm_trilinear_box",
-                                 "msm",
-                                 {{"moment-filtering", "trilinear"}, {"blur-filter", "box"}},
-                                 kMsmTrilinearLitTolerance},
-                      ConfigCase{"evsm4_unblurred", "evsm4", {{"blur-radius", "0"}, {"bleeding-reduction", "0.3"}}},
-                      ConfigCase{"esm_trilinear", "esm", {{"moment-filtering", "trilinear"}}},
-                      ConfigCase{"savsm_footprint", "savsm", {{"savsm-width-from", "footprint"}}},
-                      ConfigCase{"savsm_float", "savsm", {{"sat-precision", "float"}}},
-                      ConfigCase{"savsm_fixed64", "savsm", {{"sat-precision", "fixed64"}}}),
+    ::testing::Values(
+        ConfigCase{"vsm_trilinear", "vsm", {{"moment-filtering", "trilinear"}}},
+        ConfigCase{"msm_trilinear_box",
+                   "msm",
+                   {{"moment-filtering", "trilinear"}, {"blur-filter", "box"}},
+                   kMsmTrilinearLitTolerance},
+        ConfigCase{"evsm4_unblurred", "evsm4", {{"blur-radius", "0"}, {"bleeding-reduction", "0.3"}}},
+        ConfigCase{"esm_trilinear", "esm", {{"moment-filtering", "trilinear"}}},
+        ConfigCase{"savsm_footprint", "savsm", {{"savsm-width-from", "footprint"}}},
+        ConfigCase{"savsm_float", "savsm", {{"sat-precision", "float"}}},
+        ConfigCase{"savsm_fixed64", "savsm", {{"sat-precision", "fixed64"}}},
+        ConfigCase{"vsm_fp16_trilinear", "vsm", {{"moment-storage", "fp16"}, {"moment-filtering", "trilinear"}}},
+        ConfigCase{"evsm4_fp16_running_sums",
+                   "evsm4",
+                   {{"moment-storage", "fp16"}, {"blur-radius", "40"}, {"moment-filtering", "trilinear"}}},
+        ConfigCase{"msm_fp16_trilinear",
+                   "msm",
+                   {{"moment-storage", "fp16"}, {"moment-filtering", "trilinear"}},
+                   kMsmTrilinearLitTolerance},
+        ConfigCase{"esm_fp16_unblurred", "esm", {{"moment-storage", "fp16"}, {"blur-radius", "0"}}}),
     [](const ::testing::TestParamInfo<ConfigCase>& p) { return p.param.name; });
 
 }  // namespace

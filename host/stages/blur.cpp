@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
 
 #include "host/cl/kernel.h"
 #include "host/stages/moments.h"
@@ -56,7 +57,9 @@ LocalMem rowLines(const ImageShape& shape, int radius) {
   return LocalMem{size_t(BLUR_ROWS) * (BLUR_ROW_TILE + 2 * radius) * sizeof(float) * shape.channels};
 }
 
-void launchColumns(Context& ctx, const std::string& options, const Buffer<float>& in, Buffer<float>& out,
+// The direct plan's column pass, storing `out` as T (float, or cl_half with STORE_HALF in `options`).
+template <class T>
+void launchColumns(Context& ctx, const std::string& options, const Buffer<float>& in, Buffer<T>& out,
                    const ImageShape& shape, const BlurPlan& plan, const Buffer<float>& weights,
                    std::vector<cl::Event>& events) {
   const int r = plan.radius;
@@ -66,16 +69,18 @@ void launchColumns(Context& ctx, const std::string& options, const Buffer<float>
   columns.args(in, out, shape.width, shape.height, r, weights, tileRows,
                LocalMem{size_t(tileRows + 2 * r) * BLUR_COLUMN_TILE * texelBytes});
   const size_t groupsY = (shape.height + tileRows - 1) / tileRows;
-  events.push_back(columns.moves(2 * shape.count() * sizeof(float))
+  events.push_back(columns.moves(shape.count() * (sizeof(float) + sizeof(T)))
                        .launch(Range(shape.width, groupsY * BLUR_ROWS), Range(BLUR_COLUMN_TILE, BLUR_ROWS)));
 }
 
 std::string blurOptions(const ImageShape& shape) { return fmt::format("-DBLUR_CHANNELS={}", shape.channels); }
 
-void checkBlurBuffers(const ImageShape& shape, const Buffer<float>& out, const Buffer<float>& scratch) {
+template <class T>
+void checkBlurBuffers(const ImageShape& shape, const Buffer<T>& out, const Buffer<float>& scratch,
+                      size_t scratchCount) {
   checkShape(shape, "blur");
   checkBufferSize(out.size(), shape.count(), "blur", "output");
-  checkBufferSize(scratch.size(), shape.count(), "blur", "scratch");
+  checkBufferSize(scratch.size(), scratchCount, "blur", "scratch");
 }
 
 }  // namespace
@@ -116,7 +121,7 @@ BlurPlan planBlur(const BlurConfig& config) {
 
 std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>& out, Buffer<float>& scratch,
                             const ImageShape& shape, const BlurConfig& config) {
-  checkBlurBuffers(shape, out, scratch);
+  checkBlurBuffers(shape, out, scratch, shape.count());
   checkBufferSize(in.size(), shape.count(), "blur", "input");
   const BlurPlan plan = planBlur(config);
   if (shape.texels() == 0) return {};
@@ -155,20 +160,33 @@ std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>
   return events;
 }
 
-std::vector<cl::Event> blurMoments(Context& ctx, const Buffer<float>& depth, const MomentsConfig& moments,
-                                   Buffer<float>& out, Buffer<float>& scratch, uint32_t width, uint32_t height,
-                                   const BlurConfig& config) {
+namespace {
+
+// blurMoments into `out` of element type T (the storage: float or cl_half).
+template <class T>
+std::vector<cl::Event> blurMomentsInto(Context& ctx, const Buffer<float>& depth, const MomentsConfig& moments,
+                                       Buffer<T>& out, Buffer<float>& scratch, uint32_t width, uint32_t height,
+                                       const BlurConfig& config, MomentStorage storage) {
   const ImageShape shape{width, height, momentChannels(moments.kind)};
   const MomentsParams params = momentsParams(moments, width, height);
   const int kind = momentsKindId(moments.kind);
-  checkBlurBuffers(shape, out, scratch);
+  checkBlurBuffers(shape, out, scratch, blurMomentsScratch(ctx, shape, config, storage));
   checkBufferSize(depth.size(), size_t(width) * height, "blur", "depth");
   const BlurPlan plan = planBlur(config);
   if (shape.texels() == 0) return {};
   if (!plan.direct) {  // running sums read each texel twice: encode once, then blur in place
-    std::vector<cl::Event> events{computeMoments(ctx, depth, width, height, moments, out)};
-    for (cl::Event& e : blur(ctx, out, out, scratch, shape, config)) events.push_back(std::move(e));
-    return events;
+    if constexpr (std::is_same_v<T, float>) {
+      std::vector<cl::Event> events{computeMoments(ctx, depth, width, height, moments, out)};
+      for (cl::Event& e : blur(ctx, out, out, scratch, shape, config)) events.push_back(std::move(e));
+      return events;
+    } else {  // ... in fp32 beside the scratch, then store as half
+      Buffer<float> image = scratch.region(ctx, Buffer<float>::alignedCount(ctx, shape.count()), shape.count());
+      Buffer<float> pass = scratch.region(ctx, 0, shape.count());
+      std::vector<cl::Event> events{computeMoments(ctx, depth, width, height, moments, image)};
+      for (cl::Event& e : blur(ctx, image, image, pass, shape, config)) events.push_back(std::move(e));
+      events.push_back(packMomentsHalf(ctx, image, shape.count(), out));
+      return events;
+    }
   }
   const std::string options = fmt::format("{} -DBLUR_MOMENTS={}", blurOptions(shape), kind);
   Buffer<float> weights(ctx, std::span<const float>(plan.weights), CL_MEM_READ_ONLY);
@@ -177,8 +195,31 @@ std::vector<cl::Event> blurMoments(Context& ctx, const Buffer<float>& depth, con
   rows.args(depth, scratch, width, height, plan.radius, weights, rowLines(shape, plan.radius), params);
   // Floor: read the depth map, write the row-blurred moments.
   launchRows(rows, shape, shape.texels() * sizeof(float) + shape.count() * sizeof(float), events);
-  launchColumns(ctx, options, scratch, out, shape, plan, weights, events);
+  launchColumns(ctx, fmt::format("{} {}", options, storageOptions(storage)), scratch, out, shape, plan, weights,
+                events);
   return events;
+}
+
+}  // namespace
+
+size_t blurMomentsScratch(Context& ctx, const ImageShape& shape, const BlurConfig& config, MomentStorage storage) {
+  if (storage == MomentStorage::Float16 && !planBlur(config).direct)
+    return Buffer<float>::alignedCount(ctx, shape.count()) + shape.count();
+  return shape.count();
+}
+
+std::vector<cl::Event> blurMoments(Context& ctx, const Buffer<float>& depth, const MomentsConfig& moments,
+                                   Buffer<float>& out, Buffer<float>& scratch, uint32_t width, uint32_t height,
+                                   const BlurConfig& config) {
+  return blurMomentsInto(ctx, depth, moments, out, scratch, width, height, config, MomentStorage::Float32);
+}
+
+std::vector<cl::Event> blurMoments(Context& ctx, const Buffer<float>& depth, const MomentsConfig& moments,
+                                   Buffer<cl_half>& out, Buffer<float>& scratch, uint32_t width, uint32_t height,
+                                   const BlurConfig& config) {
+  if (moments.storage != MomentStorage::Float16)
+    throw std::invalid_argument("blur: half moments need MomentStorage::Float16 (EVSM exponents bounded by half)");
+  return blurMomentsInto(ctx, depth, moments, out, scratch, width, height, config, MomentStorage::Float16);
 }
 
 }  // namespace penumbra

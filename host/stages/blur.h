@@ -49,5 +49,14 @@ std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>
 std::vector<cl::Event> blurMoments(Context& ctx, const Buffer<float>& depth, const MomentsConfig& moments,
                                    Buffer<float>& out, Buffer<float>& scratch, uint32_t width, uint32_t height,
                                    const BlurConfig& config);
+// The same moments stored as half (moments.storage Float16): direct plans store half from their column pass
+// ("blur/blur_columns" built with STORE_HALF), equal to the fp32 result rounded to nearest even; running sums
+// blur in fp32 in `scratch` and pack ("moments/moments_pack_half"). `scratch` holds blurMomentsScratch floats.
+std::vector<cl::Event> blurMoments(Context& ctx, const Buffer<float>& depth, const MomentsConfig& moments,
+                                   Buffer<cl_half>& out, Buffer<float>& scratch, uint32_t width, uint32_t height,
+                                   const BlurConfig& config);
+// Floats of scratch blurMoments needs: the image (shape.count()), and for half output through running sums the
+// fp32 moments too (at an aligned offset after it).
+size_t blurMomentsScratch(Context& ctx, const ImageShape& shape, const BlurConfig& config, MomentStorage storage);
 
 }  // namespace penumbra

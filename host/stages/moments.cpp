@@ -46,6 +46,8 @@ void validate(const MomentsConfig& config) {
 
 }  // namespace
 
+std::string storageOptions(MomentStorage storage) { return storage == MomentStorage::Float16 ? "-DSTORE_HALF" : ""; }
+
 float evsmMaxExponent(MomentStorage storage) {
   return storage == MomentStorage::Float16 ? MOMENTS_EVSM_MAX_EXPONENT_FP16 : MOMENTS_EVSM_MAX_EXPONENT_FP32;
 }
@@ -92,23 +94,43 @@ int momentsKindId(MomentKind kind) {
   throw std::invalid_argument("moments: LVSM has one plane per layer, not a single-plane encoding");
 }
 
-cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
-                         const MomentsConfig& config, Buffer<float>& out) {
+namespace {
+
+// Moments of `depth` into `out`, whose element type is the storage (float, or cl_half built with STORE_HALF).
+template <class T>
+cl::Event launchMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
+                        const MomentsConfig& config, Buffer<T>& out, MomentStorage storage) {
   const MomentsParams params = momentsParams(config, width, height);
   const size_t texels = size_t(width) * height;
   checkBufferSize(depth.size(), texels, "moments", "depth");
   checkBufferSize(out.size(), texels * momentChannels(config.kind) * momentPlanes(config), "moments", "output");
 
-  Kernel kernel(ctx, "kernels/moments.cl", entryPoint(config.kind), "moments");
+  Kernel kernel(ctx, "kernels/moments.cl", entryPoint(config.kind), "moments", storageOptions(storage));
   const Range global(width, height), local(16, 8);
   // Floor: read each depth texel and write each moment once.
-  const uint64_t bytes = texels * (1 + momentChannels(config.kind) * momentPlanes(config)) * sizeof(float);
+  const uint64_t bytes = texels * (sizeof(float) + momentChannels(config.kind) * momentPlanes(config) * sizeof(T));
   if (config.kind != MomentKind::Lvsm) return kernel.args(depth, out, params).moves(bytes).launch(global, local);
 
   std::vector<cl_float2> layers(config.layers.size());
   for (size_t i = 0; i < layers.size(); ++i) layers[i] = {{config.layers[i].p, config.layers[i].q}};
   Buffer<cl_float2> layerBuffer(ctx, std::span<const cl_float2>(layers), CL_MEM_READ_ONLY);
   return kernel.args(depth, out, layerBuffer, params).moves(bytes).launch(global, local);
+}
+
+}  // namespace
+
+cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
+                         const MomentsConfig& config, Buffer<float>& out) {
+  return launchMoments(ctx, depth, width, height, config, out, MomentStorage::Float32);
+}
+
+cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
+                         const MomentsConfig& config, Buffer<cl_half>& out) {
+  if (config.kind == MomentKind::Lvsm)
+    throw std::invalid_argument("moments: LVSM layers are fp32 or unorm16, not half");
+  if (config.storage != MomentStorage::Float16)
+    throw std::invalid_argument("moments: half output needs MomentStorage::Float16 (EVSM exponents bounded by half)");
+  return launchMoments(ctx, depth, width, height, config, out, MomentStorage::Float16);
 }
 
 cl::Event packMomentsUnorm16(Context& ctx, const Buffer<float>& in, size_t count, Buffer<cl_ushort>& out,
@@ -119,6 +141,16 @@ cl::Event packMomentsUnorm16(Context& ctx, const Buffer<float>& in, size_t count
   Kernel kernel(ctx, "kernels/moments.cl", "moments_pack_unorm16", "moments");
   return kernel.args(in, out, static_cast<uint32_t>(count), static_cast<uint32_t>(outOffset))
       .moves(uint64_t{count} * (sizeof(float) + sizeof(uint16_t)))  // fp32 in, unorm16 out
+      .launch(count, 64);
+}
+
+cl::Event packMomentsHalf(Context& ctx, const Buffer<float>& in, size_t count, Buffer<cl_half>& out) {
+  checkBufferSize(in.size(), count, "moments", "half input");
+  checkBufferSize(out.size(), count, "moments", "half output");
+  if (count > UINT32_MAX) throw std::invalid_argument("moments: half output above 2^32 elements");
+  Kernel kernel(ctx, "kernels/moments.cl", "moments_pack_half", "moments");
+  return kernel.args(in, out, static_cast<uint32_t>(count))
+      .moves(uint64_t{count} * (sizeof(float) + sizeof(cl_half)))  // fp32 in, half out
       .launch(count, 64);
 }
 

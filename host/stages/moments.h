@@ -5,6 +5,7 @@
 
 #include <CL/opencl.hpp>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "host/cl/buffer.h"
@@ -15,8 +16,12 @@ namespace penumbra {
 
 enum class MomentKind { Vsm, Evsm2, Evsm4, Lvsm, Msm };
 
-// Where the moments will be stored; only bounds the EVSM exponents (see evsmMaxExponent).
+// How filtered moments are stored: fp32, or IEEE half (binary16, through OpenCL C 1.2's vload_half /
+// vstore_half_rte, no cl_khr_fp16 needed), which halves the bytes every later pass and lookup reads. Half bounds
+// the EVSM exponents (evsmMaxExponent); the stages' arithmetic is fp32 either way. Kernel builds take
+// storageOptions(): "-DSTORE_HALF" for half (kernels/shared/storage.h).
 enum class MomentStorage { Float32, Float16 };
+std::string storageOptions(MomentStorage storage);
 
 // One LVSM layer: the interval [p, q] of normalised depth it resolves (p < q).
 struct LvsmLayer {
@@ -47,11 +52,19 @@ int momentsKindId(MomentKind kind);
 // `depth` holds width*height light depths. Launch named "moments/moments_<kind>".
 cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
                          const MomentsConfig& config, Buffer<float>& out);
+// The same moments stored as half (rounded to nearest even): any kind but LVSM, config.storage Float16 (so that
+// EVSM exponents keep e^(2c) finite in half).
+cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
+                         const MomentsConfig& config, Buffer<cl_half>& out);
 
 // 16-bit unorm storage for moments in [0, 1] (LVSM layers): out[outOffset + i] = round(clamp(in[i], 0, 1)
 // * 65535) (to nearest even; NaN -> 0) for i < count; read back as value / 65535. Launch named
 // "moments/moments_pack_unorm16".
 cl::Event packMomentsUnorm16(Context& ctx, const Buffer<float>& in, size_t count, Buffer<cl_ushort>& out,
                              size_t outOffset = 0);
+
+// Half storage of `count` fp32 values: out[i] = in[i] rounded to the nearest even half (beyond +-65504:
+// +-INFINITY). Launch named "moments/moments_pack_half".
+cl::Event packMomentsHalf(Context& ctx, const Buffer<float>& in, size_t count, Buffer<cl_half>& out);
 
 }  // namespace penumbra

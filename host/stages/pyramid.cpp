@@ -9,8 +9,10 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "host/cl/kernel.h"
+#include "host/stages/moments.h"
 
 namespace penumbra {
 namespace {
@@ -177,16 +179,18 @@ std::vector<PyramidPass> plan(Context& ctx, uint32_t width, uint32_t height, uin
   return planPyramid(width, height, texelBytes, local, tiles, row.groupsPerUnit * ctx.info().computeUnits);
 }
 
-}  // namespace
-
-std::vector<cl::Event> computeMomentMips(Context& ctx, const Buffer<float>& base, const ImageShape& shape,
-                                         Buffer<float>& mips, const PyramidConfig& config) {
+// Moment mips stored as T (float, or cl_half built with STORE_HALF). The plan sizes local memory for fp32 texels
+// (what the kernels keep there); floors count the stored bytes.
+template <class T>
+std::vector<cl::Event> momentMips(Context& ctx, const Buffer<T>& base, const ImageShape& shape, Buffer<T>& mips,
+                                  const PyramidConfig& config) {
   checkShape(shape, "pyramid");
   const PyramidLayout layout = pyramidLayout(shape.width, shape.height, 1);
   checkBufferSize(base.size(), shape.count(), "pyramid", "base level");
   checkBufferSize(mips.size(), layout.texels * shape.channels, "pyramid", "mip chain");
-  const std::string options = fmt::format("-DPYRAMID_CHANNELS={}", shape.channels);
-  const uint32_t texelBytes = shape.channels * sizeof(float);
+  const MomentStorage storage = std::is_same_v<T, float> ? MomentStorage::Float32 : MomentStorage::Float16;
+  const std::string options = fmt::format("-DPYRAMID_CHANNELS={} {}", shape.channels, storageOptions(storage));
+  const uint32_t texelBytes = shape.channels * sizeof(T), localTexelBytes = shape.channels * sizeof(float);
   std::vector<PyramidLevel> chain{{0, shape.width, shape.height, 0}};  // level 0 in `base`, the rest in `mips`
   chain.insert(chain.end(), layout.levels.begin(), layout.levels.end());
   std::vector<cl::Event> events;
@@ -199,8 +203,21 @@ std::vector<cl::Event> computeMomentMips(Context& ctx, const Buffer<float>& base
     return events;
   }
   Kernel batch(ctx, "kernels/pyramid.cl", "pyramid_downsample_batch", "pyramid", options);
-  return recordPasses(ctx, batch, batch, base, mips, chain, plan(ctx, shape.width, shape.height, texelBytes, config),
-                      texelBytes, texelBytes, false, config);
+  return recordPasses(ctx, batch, batch, base, mips, chain,
+                      plan(ctx, shape.width, shape.height, localTexelBytes, config), texelBytes, texelBytes, false,
+                      config);
+}
+
+}  // namespace
+
+std::vector<cl::Event> computeMomentMips(Context& ctx, const Buffer<float>& base, const ImageShape& shape,
+                                         Buffer<float>& mips, const PyramidConfig& config) {
+  return momentMips(ctx, base, shape, mips, config);
+}
+
+std::vector<cl::Event> computeMomentMips(Context& ctx, const Buffer<cl_half>& base, const ImageShape& shape,
+                                         Buffer<cl_half>& mips, const PyramidConfig& config) {
+  return momentMips(ctx, base, shape, mips, config);
 }
 
 std::vector<cl::Event> computeMinMaxPyramid(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,

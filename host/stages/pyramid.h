@@ -73,6 +73,10 @@ std::vector<PyramidPass> planPyramid(uint32_t width, uint32_t height, uint32_t t
 // one per level).
 std::vector<cl::Event> computeMomentMips(Context& ctx, const Buffer<float>& base, const ImageShape& shape,
                                          Buffer<float>& mips, const PyramidConfig& config = {});
+// The same from and into half moments (MomentStorage::Float16): texels are read as half, averaged in fp32 exactly
+// as above and stored rounded to nearest even (the kernels built with STORE_HALF); local memory stays fp32.
+std::vector<cl::Event> computeMomentMips(Context& ctx, const Buffer<cl_half>& base, const ImageShape& shape,
+                                         Buffer<cl_half>& mips, const PyramidConfig& config = {});
 
 // Levels 0.. of the min-max pyramid of `depth` (width*height light depths) into `out`
 // (pyramidLayout(w, h, 0).texels float2 (min, max)). Background and NaN texels are the empty interval

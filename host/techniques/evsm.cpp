@@ -1,6 +1,6 @@
 // `evsm2` and `evsm4`: exponential variance shadow maps (Lauritzen & McCool 2008, sec. 7) on the shared
 // moment pipeline: the positive warp alone, or both warps and the smaller bound (kernels/evsm.cl). The
-// exponents are bounded by fp32 storage of e^(2c) and its box sums (evsmMaxExponent).
+// exponents are bounded by the moment storage (fp32: 42, fp16: 5.54) of e^(2c) and its box sums (evsmMaxExponent).
 #include "host/techniques/moment_map.h"
 #include "host/techniques/registry.h"
 
@@ -20,14 +20,13 @@ TechniqueInfo evsmTechnique(bool four) {
   return {four ? "evsm4" : "evsm2",
           four ? "Exponential VSM with positive and negative warps (minimum of the two bounds)"
                : "Exponential VSM with the positive warp",
-          filteredMomentParams(evsmParams(four)), [kind, four](const Params& p) {
+          momentMapParams(evsmParams(four)), [kind, four](const Params& p) {
             MomentTechniqueSpec spec{kind, "kernels/evsm.cl", "evsm_visibility"};
             spec.configure = [four](const Params& q, MomentsConfig& config, MomentShade& s) {
               setChebyshevShade(q, s);
-              config.evsmPositive =
-                  evsmClampExponent(static_cast<float>(q.get("evsm-positive")), MomentStorage::Float32);
+              config.evsmPositive = evsmClampExponent(static_cast<float>(q.get("evsm-positive")), config.storage);
               config.evsmNegative =
-                  four ? evsmClampExponent(static_cast<float>(q.get("evsm-negative")), MomentStorage::Float32) : 0.0f;
+                  four ? evsmClampExponent(static_cast<float>(q.get("evsm-negative")), config.storage) : 0.0f;
               s.expPositive = config.evsmPositive;
               s.expNegative = config.evsmNegative;
             };

@@ -15,6 +15,7 @@ namespace {
 
 enum BlurChoice { kGaussian = 0, kBox = 1 };
 enum SamplingChoice { kBilinear = 0, kTrilinear = 1 };
+enum StorageChoice { kFp32 = 0, kFp16 = 1 };
 
 }  // namespace
 
@@ -43,6 +44,22 @@ std::vector<ParamSpec> filteredMomentParams(const std::vector<ParamSpec>& extra)
   for (const std::vector<ParamSpec>& more : {momentFilterParams(), extra})
     params.insert(params.end(), more.begin(), more.end());
   return params;
+}
+
+std::vector<ParamSpec> momentMapParams(const std::vector<ParamSpec>& extra) {
+  std::vector<ParamSpec> params = filteredMomentParams(extra);
+  params.push_back({"moment-storage",
+                    kFp32,
+                    0,
+                    1,
+                    "Moment storage: fp32, or fp16 (IEEE half: half the bytes for blur output, mips and lookups; "
+                    "EVSM/ESM exponents clamped to 5.54)",
+                    {"fp32", "fp16"}});
+  return params;
+}
+
+MomentStorage momentStorage(const Params& params) {
+  return params.getInt("moment-storage") == kFp16 ? MomentStorage::Float16 : MomentStorage::Float32;
 }
 
 ParamSpec bleedingParam() {
@@ -107,11 +124,11 @@ void MomentTechnique::render(ShadowFrame& frame, Buffer<float>& visibility) {
   config.kind = spec_.kind;
   config.depthNear = map_.view.gpu.zNear;
   config.depthFar = map_.view.gpu.zFar;
+  config.storage = momentStorage(params_);
   MomentShade shade = momentShade(frame, map_, params_, channels_);
   if (spec_.configure) spec_.configure(params_, config, shade);
 
   const ImageShape shape{static_cast<uint32_t>(size), static_cast<uint32_t>(size), channels_};
-  moments_.allocate(ctx, shape.count());
   filterMoments(ctx, config, shape);
   shade.levels = static_cast<uint32_t>(mipLevels_.size()) + 1;
   shade.blurSigma = params_.getInt("blur-radius") > 0 ? blurConfig().sigma : 0.0f;
@@ -119,12 +136,14 @@ void MomentTechnique::render(ShadowFrame& frame, Buffer<float>& visibility) {
   const GBuffer& g = frame.gbuffer;
   const size_t pixels = size_t(shade.width) * shade.height;
   debug_.allocate(ctx, pixels);
-  Kernel kernel(ctx, spec_.source, spec_.entry, "shade");
-  kernel
-      .args(g.position, g.normal, map_.gpu, moments_, mips_, mipLevels_, shade, visibility, debug_.moments,
-            debug_.stats)
-      .moves(pixels * kVisibilityBytesPerPixel)
-      .launch(pixels, kPixelGroup);
+  Kernel kernel(ctx, spec_.source, spec_.entry, "shade", storageOptions(config.storage));
+  if (config.storage == MomentStorage::Float16)
+    kernel.args(g.position, g.normal, map_.gpu, moments16_, mips16_, mipLevels_, shade, visibility, debug_.moments,
+                debug_.stats);
+  else
+    kernel.args(g.position, g.normal, map_.gpu, moments_, mips_, mipLevels_, shade, visibility, debug_.moments,
+                debug_.stats);
+  kernel.moves(pixels * kVisibilityBytesPerPixel).launch(pixels, kPixelGroup);
 }
 
 BlurConfig momentBlurConfig(const Params& params) {
@@ -148,23 +167,37 @@ BlurConfig MomentTechnique::blurConfig() const { return momentBlurConfig(params_
 
 float MomentTechnique::blurReach() const { return momentBlurReach(params_); }
 
+// The moments in the storage asked for; the buffers of the other storage are emptied.
+void MomentTechnique::filterMoments(Context& ctx, const MomentsConfig& config, const ImageShape& shape) {
+  if (config.storage == MomentStorage::Float16) {
+    moments_.allocate(ctx, 0), mips_.allocate(ctx, 0);
+    filterMomentsInto(ctx, config, shape, moments16_, mips16_);
+  } else {
+    moments16_.allocate(ctx, 0), mips16_.allocate(ctx, 0);
+    filterMomentsInto(ctx, config, shape, moments_, mips_);
+  }
+}
+
 // The moments, blurred if asked for (the moments stage fused into the blur's first pass), then the mip chain
 // if asked for.
-void MomentTechnique::filterMoments(Context& ctx, const MomentsConfig& config, const ImageShape& shape) {
+template <class T>
+void MomentTechnique::filterMomentsInto(Context& ctx, const MomentsConfig& config, const ImageShape& shape,
+                                        Buffer<T>& moments, Buffer<T>& mips) {
+  moments.allocate(ctx, shape.count());
   if (params_.getInt("blur-radius") > 0) {
-    scratch_.allocate(ctx, shape.count());
-    blurMoments(ctx, map_.targets.depth, config, moments_, scratch_, shape.width, shape.height, blurConfig());
+    scratch_.allocate(ctx, blurMomentsScratch(ctx, shape, blurConfig(), config.storage));
+    blurMoments(ctx, map_.targets.depth, config, moments, scratch_, shape.width, shape.height, blurConfig());
   } else {
-    computeMoments(ctx, map_.targets.depth, shape.width, shape.height, config, moments_);
+    computeMoments(ctx, map_.targets.depth, shape.width, shape.height, config, moments);
   }
   if (params_.getInt("moment-filtering") != kTrilinear) {
-    mips_.allocate(ctx, 0);  // no levels: the kernel takes the buffers either way (one element each)
+    mips.allocate(ctx, 0);  // no levels: the kernel takes the buffers either way (one element each)
     mipLevels_.allocate(ctx, 0, CL_MEM_READ_ONLY);
     return;
   }
   const PyramidLayout layout = pyramidLayout(shape.width, shape.height, 1);
-  mips_.allocate(ctx, layout.texels * shape.channels);
-  computeMomentMips(ctx, moments_, shape, mips_);
+  mips.allocate(ctx, layout.texels * shape.channels);
+  computeMomentMips(ctx, moments, shape, mips);
   mipLevels_.allocate(ctx, layout.levels.size(), CL_MEM_READ_ONLY);
   mipLevels_.upload(ctx, std::span<const PyramidLevel>(layout.levels));
 }

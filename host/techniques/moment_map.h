@@ -24,6 +24,9 @@ std::vector<ParamSpec> momentFilterParams();
 ParamSpec filterBiasParam();
 // shadowMapParams(), momentFilterParams(), then `extra`: a blurred-moments technique's parameter list.
 std::vector<ParamSpec> filteredMomentParams(const std::vector<ParamSpec>& extra);
+// filteredMomentParams(extra) and moment-storage (fp32 or fp16): the MomentTechnique family (vsm, evsm2/4, esm, msm).
+std::vector<ParamSpec> momentMapParams(const std::vector<ParamSpec>& extra);
+MomentStorage momentStorage(const Params& params);  // reads moment-storage
 // bleeding-reduction: linstep amount, 0 = off (vsm, evsm2/4, msm, savsm).
 ParamSpec bleedingParam();
 // min-variance and bleeding-reduction: the Chebyshev techniques (vsm, evsm2/4, savsm).
@@ -71,11 +74,15 @@ class MomentTechnique final : public Technique {
   BlurConfig blurConfig() const;
   float blurReach() const;  // texels the blur reads from a texel: the margin the light fit keeps
   void filterMoments(Context& ctx, const MomentsConfig& config, const ImageShape& shape);
+  template <class T>
+  void filterMomentsInto(Context& ctx, const MomentsConfig& config, const ImageShape& shape, Buffer<T>& moments,
+                         Buffer<T>& mips);
 
   MomentTechniqueSpec spec_;
   Params params_;
   ShadowMap map_;
-  Buffer<float> moments_, scratch_, mips_;
+  Buffer<float> moments_, scratch_, mips_;  // fp32 storage (empty with fp16)
+  Buffer<cl_half> moments16_, mips16_;      // fp16 storage (empty with fp32)
   Buffer<PyramidLevel> mipLevels_;
   MomentDebug debug_;
   uint32_t channels_ = 2;

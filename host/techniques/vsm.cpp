@@ -7,7 +7,7 @@ namespace penumbra {
 
 TechniqueInfo vsmTechnique() {
   return {"vsm", "Variance shadow maps: filtered depth moments and the one-tailed Chebyshev bound",
-          filteredMomentParams(chebyshevParams()), [](const Params& p) {
+          momentMapParams(chebyshevParams()), [](const Params& p) {
             MomentTechniqueSpec spec{MomentKind::Vsm, "kernels/vsm.cl", "vsm_visibility"};
             spec.configure = [](const Params& q, MomentsConfig&, MomentShade& s) { setChebyshevShade(q, s); };
             return std::make_unique<MomentTechnique>(spec, p);

@@ -7,6 +7,7 @@
 
 #include "kernels/shared/common.h"
 #include "kernels/shared/pyramid.h"
+#include "kernels/shared/storage.h"
 
 #define MOMENT_WIDTH_FIXED 0      // savsm: filter width = filterWidth texels
 #define MOMENT_WIDTH_LIGHT 1      // savsm: penumbra of an occluder occluderDistance in front of the receiver
@@ -72,16 +73,19 @@ inline MomentReceiver mm_receiver(__global const float4* position, __global cons
   return m;
 }
 
+// Moment images are fp32, or half when the kernel is built with -DSTORE_HALF (kernels/shared/storage.h).
+typedef PN_SCALAR MomentScalar;
+
 // One moment texel (unused channels 0), clamped to the level's edge.
-inline float4 mm_fetch(__global const float* data, uint channels, PyramidLevel l, int x, int y) {
+inline float4 mm_fetch(__global const MomentScalar* data, uint channels, PyramidLevel l, int x, int y) {
   x = clamp(x, 0, (int)l.width - 1);
   y = clamp(y, 0, (int)l.height - 1);
-  __global const float* texel = data + ((size_t)l.offset + (size_t)y * l.width + (size_t)x) * channels;
-  return channels == 4 ? vload4(0, texel) : (float4)(vload2(0, texel), 0.0f, 0.0f);
+  size_t texel = (size_t)l.offset + (size_t)y * l.width + (size_t)x;
+  return channels == 4 ? PN_VLOAD(4, texel, data) : (float4)(PN_VLOAD(2, texel, data), 0.0f, 0.0f);
 }
 
 // Bilinear lookup at continuous texel coordinates `uv` of level `l` (texel centres at +0.5).
-inline float4 mm_bilinear(__global const float* data, uint channels, PyramidLevel l, float2 uv) {
+inline float4 mm_bilinear(__global const MomentScalar* data, uint channels, PyramidLevel l, float2 uv) {
   float2 t = uv - 0.5f;
   float2 base = floor(t);
   float2 f = t - base;
@@ -106,7 +110,7 @@ inline float mm_lod(MomentShade s, float footprint) {
   return s.levels > 1 && footprint > 1.0f ? min(log2(footprint), (float)(s.levels - 1)) : 0.0f;
 }
 
-inline float4 mm_sample(__global const float* base, __global const float* mips,
+inline float4 mm_sample(__global const MomentScalar* base, __global const MomentScalar* mips,
                         __constant const PyramidLevel* mipLevels, __constant const LightViewGpu* lv, MomentShade s,
                         float2 uv, float footprint) {
   float lod = mm_lod(s, footprint);
@@ -133,7 +137,7 @@ inline float mm_filtered_t(MomentReceiver r, MomentShade s, float sigma) {
 
 // Lookup for receiver `r` with the technique's sampling. Reports the filter width used (texels) and moves
 // r->t in front of the receiver's own spread over the blur and mip footprint.
-inline float4 mm_lookup(__global const float* base, __global const float* mips,
+inline float4 mm_lookup(__global const MomentScalar* base, __global const MomentScalar* mips,
                         __constant const PyramidLevel* mipLevels, __constant const LightViewGpu* lv, MomentShade s,
                         MomentReceiver* r, float* width) {
   float lod = mm_lod(s, r->footprint);

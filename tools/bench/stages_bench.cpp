@@ -156,6 +156,19 @@ void registerAll(Setup& s) {
       return std::function<void()>(
           [&s, depth, out, scratch, n, config] { blurMoments(s.ctx, *depth, {}, *out, *scratch, n, n, config); });
     });
+    // The same with fp16 storage (moment-storage=fp16): the column pass writes half (4 + 8 + 8 + 4 bytes a texel).
+    add(s, "moments_vsm_fused_blur_sigma2_fp16", size, texels * 24, [&s](uint32_t n) {
+      auto depth = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(size_t(n) * n, 1)));
+      auto out = std::make_shared<Buffer<cl_half>>(s.ctx, size_t(n) * n * 2);
+      auto scratch = std::make_shared<Buffer<float>>(s.ctx, size_t(n) * n * 2);
+      BlurConfig config;
+      config.sigma = 2.0f;
+      MomentsConfig moments;
+      moments.storage = MomentStorage::Float16;
+      return std::function<void()>([&s, depth, out, scratch, n, config, moments] {
+        blurMoments(s.ctx, *depth, moments, *out, *scratch, n, n, config);
+      });
+    });
     SatConfig offsetGiven;  // the production path on this device (Auto), with a known offset
     offsetGiven.offset = std::array<float, 4>{0.5f, 0.5f, 0.0f, 0.0f};
     SatConfig tiledConfig = offsetGiven, linesConfig = offsetGiven;
@@ -196,6 +209,13 @@ void registerAll(Setup& s) {
       const ImageShape shape{n, n, 2};
       auto base = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(shape.count(), 4)));
       auto mips = std::make_shared<Buffer<float>>(s.ctx, pyramidLayout(n, n, 1).texels * 2);
+      return std::function<void()>([&s, base, mips, shape] { computeMomentMips(s.ctx, *base, shape, *mips); });
+    });
+    add(s, "pyramid_mips_half2", size, texels * (4 + 4.0 / 3), [&s](uint32_t n) {
+      const ImageShape shape{n, n, 2};
+      std::vector<cl_half> halves(shape.count(), 0x3800);  // 0.5 each: the values do not change the work
+      auto base = std::make_shared<Buffer<cl_half>>(s.ctx, std::span<const cl_half>(halves));
+      auto mips = std::make_shared<Buffer<cl_half>>(s.ctx, pyramidLayout(n, n, 1).texels * 2);
       return std::function<void()>([&s, base, mips, shape] { computeMomentMips(s.ctx, *base, shape, *mips); });
     });
     add(s, "pyramid_minmax", size, texels * (4 + 8 * 4.0 / 3), [&s](uint32_t n) {
