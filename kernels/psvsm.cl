@@ -7,7 +7,7 @@
 // Visibility of pixel i in split `split`; *inside = 0 when the pixel falls outside that split's map.
 inline float psvsm_split_visibility(__global const float4* position, __global const float4* normal,
                                     __constant const LightViewGpu* lightViews, __constant const PssmSplit* splits,
-                                    __global const float* base, __global const float* mips,
+                                    __global const MomentScalar* base, __global const MomentScalar* mips,
                                     __constant const PyramidLevel* mipLevels, MomentShade m, PssmShade s, int split,
                                     uint i, int* inside) {
   __constant const LightViewGpu* lv = lightViews + split;
@@ -18,16 +18,16 @@ inline float psvsm_split_visibility(__global const float4* position, __global co
   *inside = r.valid;
   if (!r.valid) return 1.0f;
   float width;
-  float4 moments = mm_lookup(base + (size_t)split * s.mapTexels * 2, mips + (size_t)split * s.mipTexels * 2,
-                             mipLevels, lv, m, &r, &width);
+  float4 moments = mm_lookup(base + (size_t)split * s.mapTexels * 2, mips + (size_t)split * s.mipTexels * 2, mipLevels,
+                             lv, m, &r, &width);
   return cheb_reduce_bleeding(cheb_upper_bound(moments.xy, r.t, m.minVariance), m.bleeding);
 }
 
 __kernel void psvsm_visibility(__global const float4* position, __global const float4* normal,
                                __global const float* viewDepth, __constant const LightViewGpu* lightViews,
-                               __constant const PssmSplit* splits, __global const float* base,
-                               __global const float* mips, __constant const PyramidLevel* mipLevels, MomentShade m,
-                               PssmShade s, __global float* visibility, __global float* splitIndex,
+                               __constant const PssmSplit* splits, __global const MomentScalar* base,
+                               __global const MomentScalar* mips, __constant const PyramidLevel* mipLevels,
+                               MomentShade m, PssmShade s, __global float* visibility, __global float* splitIndex,
                                __global float* resolutionError) {
   uint i = get_global_id(0);
   if (i >= s.width * s.height) return;
@@ -39,7 +39,8 @@ __kernel void psvsm_visibility(__global const float4* position, __global const f
   }
   float z = viewDepth[i];
   int split = pssm_quad_split(position, viewDepth, splits, s, i), inside = 1;
-  float lit = psvsm_split_visibility(position, normal, lightViews, splits, base, mips, mipLevels, m, s, split, i, &inside);
+  float lit =
+      psvsm_split_visibility(position, normal, lightViews, splits, base, mips, mipLevels, m, s, split, i, &inside);
   if (!inside) {  // a quad across a depth discontinuity: this pixel lies outside the quad's split
     split = pssm_split_of(splits, s.splits, z);
     lit = psvsm_split_visibility(position, normal, lightViews, splits, base, mips, mipLevels, m, s, split, i, &inside);
@@ -51,6 +52,6 @@ __kernel void psvsm_visibility(__global const float4* position, __global const f
                                      &inside),
               w);
   visibility[i] = isnan(lit) ? 1.0f : clamp(lit, 0.0f, 1.0f);
-  pssm_store_aovs(i, split, pssm_resolution_error(position, lightViews + split, s, i, p.xyz, normal[i].xyz),
-                  splitIndex, resolutionError);
+  pssm_store_aovs(i, split, pssm_resolution_error(position, lightViews + split, s, i, p.xyz, normal[i].xyz), splitIndex,
+                  resolutionError);
 }

@@ -130,7 +130,8 @@ TEST_P(PssmTechniques, NoNanAndVisibilityInRangeOnEveryBuiltinScene) {
 INSTANTIATE_TEST_SUITE_P(All, PssmTechniques,
                          ::testing::Values(Variant{"pssm", {}}, Variant{"pssm", {{"pssm-filter", "hard"}}},
                                            Variant{"pssm", {{"pssm-blend", "0.2"}, {"pssm-snap", "on"}}},
-                                           Variant{"psvsm", {}}, Variant{"psvsm", {{"pssm-blend", "0.2"}}}),
+                                           Variant{"psvsm", {}}, Variant{"psvsm", {{"pssm-blend", "0.2"}}},
+                                           Variant{"psvsm", {{"moment-storage", "fp16"}}}),
                          variantName);
 
 class PssmAuto : public ClTest {};
@@ -189,7 +190,8 @@ TEST_F(PssmSeams, SplitPlanesLeaveNoSeamAgainstTheReference) {
   light.angularRadiusDeg = 0.0f;  // hard: the reference is exact with one ray
   const reference::ReferenceResult ref = reference::renderReference(ctx(), scene, camera, light, {});
   const auto& truth = ref.image.require("visibility.Y").data;
-  for (const Variant& v : {Variant{"pssm", {{"pssm-filter", "hard"}}}, Variant{"pssm", {}}, Variant{"psvsm", {}}}) {
+  for (const Variant& v : {Variant{"pssm", {{"pssm-filter", "hard"}}}, Variant{"pssm", {}}, Variant{"psvsm", {}},
+                           Variant{"psvsm", {{"moment-storage", "fp16"}}}}) {
     std::map<std::string, std::string> values = v.params;
     values["map-size"] = "512", values["pssm-splits"] = "4";
     const RenderResult ours = renderWith(ctx(), scene, camera, light, v.technique, values);

@@ -24,7 +24,7 @@ std::vector<ParamSpec> momentFilterParams();
 ParamSpec filterBiasParam();
 // shadowMapParams(), momentFilterParams(), then `extra`: a blurred-moments technique's parameter list.
 std::vector<ParamSpec> filteredMomentParams(const std::vector<ParamSpec>& extra);
-// filteredMomentParams(extra) and moment-storage (fp32 or fp16): the MomentTechnique family (vsm, evsm2/4, esm, msm).
+// filteredMomentParams(extra) and moment-storage (fp32 or fp16): vsm, evsm2/4, esm, msm and psvsm.
 std::vector<ParamSpec> momentMapParams(const std::vector<ParamSpec>& extra);
 MomentStorage momentStorage(const Params& params);  // reads moment-storage
 // bleeding-reduction: linstep amount, 0 = off (vsm, evsm2/4, msm, savsm).

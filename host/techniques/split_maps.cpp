@@ -105,14 +105,17 @@ SplitPlan planSplits(ShadowFrame& frame, const Params& params, float marginTexel
   return plan;
 }
 
-void copyInto(Context& ctx, const Buffer<float>& src, Buffer<float>& dst, size_t offset, size_t count) {
+template <class T>
+void copyInto(Context& ctx, const Buffer<T>& src, Buffer<T>& dst, size_t offset, size_t count) {
   if (offset + count > dst.size() || count > src.size()) throw std::out_of_range("copyInto past the end");
   cl::Event event;
-  clCheck(ctx.queue().enqueueCopyBuffer(src.get(), dst.get(), 0, offset * sizeof(float), count * sizeof(float),
-                                        nullptr, &event),
+  clCheck(ctx.queue().enqueueCopyBuffer(src.get(), dst.get(), 0, offset * sizeof(T), count * sizeof(T), nullptr,
+                                        &event),
           "clEnqueueCopyBuffer", {}, "transfer");
-  if (ctx.profiler() != nullptr) ctx.profiler()->record("transfer/copy", event, 2 * count * sizeof(float));
+  if (ctx.profiler() != nullptr) ctx.profiler()->record("transfer/copy", event, 2 * count * sizeof(T));
 }
+template void copyInto(Context&, const Buffer<float>&, Buffer<float>&, size_t, size_t);
+template void copyInto(Context&, const Buffer<cl_half>&, Buffer<cl_half>&, size_t, size_t);
 
 void SplitGpu::upload(Context& ctx, const ShadowFrame& frame, const SplitPlan& plan, const Params& params,
                       float blurSigma) {

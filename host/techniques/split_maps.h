@@ -28,8 +28,9 @@ struct SplitPlan {
 // snapped; the near plane stays at the nearest caster in the scene (every caster towards the light is kept).
 SplitPlan planSplits(ShadowFrame& frame, const Params& params, float marginTexels);
 
-// Copies `count` elements of `src` into `dst` at element `offset` (one "transfer/copy" pass).
-void copyInto(Context& ctx, const Buffer<float>& src, Buffer<float>& dst, size_t offset, size_t count);
+// Copies `count` elements of `src` into `dst` at element `offset` (one "transfer/copy" pass); float or cl_half.
+template <class T>
+void copyInto(Context& ctx, const Buffer<T>& src, Buffer<T>& dst, size_t offset, size_t count);
 
 // Draws every split's depth map (split s into `targets`, then tightens its zNear to the nearest caster drawn) and
 // hands it to `each(s, depth)` before the next split reuses the targets.
