@@ -13,6 +13,7 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "host/cl/buffer.h"
@@ -125,6 +126,23 @@ void addSat(Setup& s, const std::string& name, uint32_t size, SatConfig config, 
       wallClock);
 }
 
+// VSM moments fused into a Gaussian blur of sigma 2, stored as T (float, or cl_half for fp16 storage).
+template <class T>
+void addFusedBlur(Setup& s, const std::string& name, uint32_t size, double floorBytes) {
+  add(s, name, size, floorBytes, [&s](uint32_t n) {
+    auto depth = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(size_t(n) * n, 1)));
+    auto out = std::make_shared<Buffer<T>>(s.ctx, size_t(n) * n * 2);
+    auto scratch = std::make_shared<Buffer<float>>(s.ctx, size_t(n) * n * 2);
+    BlurConfig config;
+    config.sigma = 2.0f;
+    MomentsConfig moments;
+    moments.storage = std::is_same_v<T, float> ? MomentStorage::Float32 : MomentStorage::Float16;
+    return std::function<void()>([&s, depth, out, scratch, n, config, moments] {
+      blurMoments(s.ctx, *depth, moments, *out, *scratch, n, n, config);
+    });
+  });
+}
+
 void registerAll(Setup& s) {
   for (uint32_t size : {2048u, 4096u}) {
     const double texels = double(size) * size;
@@ -146,29 +164,10 @@ void registerAll(Setup& s) {
       });
     }
     // The moments stage fused into the blur's row pass (what vsm runs): depth in, blurred moments out. Floor:
-    // read the depth, write the row pass, read it back and write the moments (4 + 8 + 8 + 8 bytes a texel).
-    add(s, "moments_vsm_fused_blur_sigma2", size, texels * 28, [&s](uint32_t n) {
-      auto depth = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(size_t(n) * n, 1)));
-      auto out = std::make_shared<Buffer<float>>(s.ctx, size_t(n) * n * 2);
-      auto scratch = std::make_shared<Buffer<float>>(s.ctx, size_t(n) * n * 2);
-      BlurConfig config;
-      config.sigma = 2.0f;
-      return std::function<void()>(
-          [&s, depth, out, scratch, n, config] { blurMoments(s.ctx, *depth, {}, *out, *scratch, n, n, config); });
-    });
-    // The same with fp16 storage (moment-storage=fp16): the column pass writes half (4 + 8 + 8 + 4 bytes a texel).
-    add(s, "moments_vsm_fused_blur_sigma2_fp16", size, texels * 24, [&s](uint32_t n) {
-      auto depth = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(size_t(n) * n, 1)));
-      auto out = std::make_shared<Buffer<cl_half>>(s.ctx, size_t(n) * n * 2);
-      auto scratch = std::make_shared<Buffer<float>>(s.ctx, size_t(n) * n * 2);
-      BlurConfig config;
-      config.sigma = 2.0f;
-      MomentsConfig moments;
-      moments.storage = MomentStorage::Float16;
-      return std::function<void()>([&s, depth, out, scratch, n, config, moments] {
-        blurMoments(s.ctx, *depth, moments, *out, *scratch, n, n, config);
-      });
-    });
+    // read the depth, write the row pass, read it back and write the moments (4 + 8 + 8 + 8 bytes a texel; 4
+    // fewer when the column pass stores half, moment-storage=fp16).
+    addFusedBlur<float>(s, "moments_vsm_fused_blur_sigma2", size, texels * 28);
+    addFusedBlur<cl_half>(s, "moments_vsm_fused_blur_sigma2_fp16", size, texels * 24);
     SatConfig offsetGiven;  // the production path on this device (Auto), with a known offset
     offsetGiven.offset = std::array<float, 4>{0.5f, 0.5f, 0.0f, 0.0f};
     SatConfig tiledConfig = offsetGiven, linesConfig = offsetGiven;
