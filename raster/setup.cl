@@ -96,10 +96,15 @@ static int2 setupSnap(real4 v, real sx, real sy) {
 // clamp(rint(x)) for every x, infinities included (w > 0 rules out NaN). FP_CONTRACT is off and no fast-math
 // option is given, so the compiler may not fold the two additions.
 #define SETUP_RINT(x) (((x) + 0x1.8p52) - 0x1.8p52)
+// Orthographic views have w = 1 at every vertex (clipping keeps it: 1 + t (1 - 1)); x / 1 == x exactly in IEEE
+// arithmetic, so skipping those divisions changes no bit of any result.
+static bool setupUnitW(const real4* v) { return v[0].w == 1 && v[1].w == 1 && v[2].w == 1; }
+
 static void setupSnapVector(const real4* v, real sx, real sy, int2* s) {
-  const double8 q = SETUP_WINDOW((double8)(v[0].x, v[1].x, v[2].x, v[0].y, v[1].y, v[2].y, 0, 0),
-                                 (double8)(v[0].w, v[1].w, v[2].w, v[0].w, v[1].w, v[2].w, 1, 1),
-                                 (double8)(sx, sx, sx, sy, sy, sy, 0, 0));
+  const double8 x = (double8)(v[0].x, v[1].x, v[2].x, v[0].y, v[1].y, v[2].y, 0, 0);
+  const double8 size = (double8)(sx, sx, sx, sy, sy, sy, 0, 0);
+  const double8 w = (double8)(v[0].w, v[1].w, v[2].w, v[0].w, v[1].w, v[2].w, 1, 1);
+  const double8 q = setupUnitW(v) ? (x + 1) * size : SETUP_WINDOW(x, w, size);
   const int8 i = convert_int8(clamp(SETUP_RINT(q), (double)-RASTER_COORD_LIMIT, (double)RASTER_COORD_LIMIT));
   s[0] = (int2)(i.s0, i.s3), s[1] = (int2)(i.s1, i.s4), s[2] = (int2)(i.s2, i.s5);
 }
@@ -108,7 +113,8 @@ static void setupSnapVector(const real4* v, real sx, real sy, int2* s) {
 static void setupVertexTermsVector(const real4* v, const RasterViewParams* p, float* invW, float* viewZOverW) {
   const double4 w = (double4)(v[0].w, v[1].w, v[2].w, 1);
   const double4 viewZ = SETUP_VIEW_Z(p, (double4)(v[0].z, v[1].z, v[2].z, 0), w);
-  const float8 t = convert_float8((double8)((double4)1, viewZ) / (double8)(w, w));
+  const double8 n = (double8)((double4)1, viewZ);
+  const float8 t = convert_float8(setupUnitW(v) ? n : n / (double8)(w, w));
   invW[0] = t.s0, invW[1] = t.s1, invW[2] = t.s2;
   viewZOverW[0] = t.s4, viewZOverW[1] = t.s5, viewZOverW[2] = t.s6;
 }
@@ -263,14 +269,24 @@ static uint setupTriangle(__global const float* positions, __global const uint* 
 __kernel __attribute__((reqd_work_group_size(RASTER_WG_SETUP, 1, 1))) void setup_triangles(
     __global const float* positions, __global const uint* triangles, __global RasterTriangle* out,
     __global RasterCounters* counters, const RasterViewParams p) {
-  __local uint drawn;
-  if (get_local_id(0) == 0) drawn = 0;
+  const uint t = get_global_id(0), lid = get_local_id(0);
+  const uint n = t < p.triangleCount ? setupTriangle(positions, triangles, t, &p, out, counters) : 0;
+#if RASTER_SETUP_VECTOR
+  // CPUs run a work-group's items one after another: a plain sum by item 0 beats a locked add per item.
+  __local uint drawnBy[RASTER_WG_SETUP];
+  drawnBy[lid] = n;
   barrier(CLK_LOCAL_MEM_FENCE);
-  const uint t = get_global_id(0);
-  if (t < p.triangleCount) {
-    uint n = setupTriangle(positions, triangles, t, &p, out, counters);
-    if (n != 0) atomic_add(&drawn, n);
+  if (lid == 0) {
+    uint drawn = 0;
+    for (int i = 0; i < RASTER_WG_SETUP; ++i) drawn += drawnBy[i];
+    if (drawn != 0) atomic_add(&counters->setUp, drawn);
   }
+#else
+  __local uint drawn;
+  if (lid == 0) drawn = 0;
   barrier(CLK_LOCAL_MEM_FENCE);
-  if (get_local_id(0) == 0 && drawn != 0) atomic_add(&counters->setUp, drawn);
+  if (n != 0) atomic_add(&drawn, n);
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (lid == 0 && drawn != 0) atomic_add(&counters->setUp, drawn);
+#endif
 }
