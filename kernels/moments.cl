@@ -5,8 +5,8 @@
 #include "kernels/shared/moments.h"
 #include "kernels/shared/storage.h"
 
-typedef PN_STORED(2) Stored2;  // a 2-channel texel as stored (float2, or half with -DSTORE_HALF)
-typedef PN_STORED(4) Stored4;
+#define Stored2 PN_STORED(2)  // a 2-channel texel as stored (float2, or half with -DSTORE_HALF)
+#define Stored4 PN_STORED(4)
 
 #define MOMENTS_TEXEL(p)                           \
   uint x = get_global_id(0), y = get_global_id(1); \

@@ -20,21 +20,21 @@
 
 #if PYRAMID_MINMAX
 typedef float2 PyramidTexel;  // (min, max) light depth
-typedef float2 PyramidStored;
+#define PyramidStored float2
 #define PYRAMID_STORE(p, i, v) ((p)[i] = (v))
 #define PYRAMID_ROUND(v) (v)
 #define PYRAMID_STRIDE 1
 #else
 typedef PN_VEC(float, PYRAMID_CHANNELS) PyramidTexel;  // moments, as computed
-typedef PN_STORED(PYRAMID_CHANNELS) PyramidStored;     // moments, as stored (float vectors or half)
+#define PyramidStored PN_STORED(PYRAMID_CHANNELS)     // moments, as stored (float vectors or half)
 #define PYRAMID_STORE(p, i, v) PN_STORE(PYRAMID_CHANNELS, p, i, v)
 #define PYRAMID_ROUND(v) PN_ROUND(PYRAMID_CHANNELS, v)  // levels kept for the next one are read back as stored
 #define PYRAMID_STRIDE PN_STRIDE(PYRAMID_CHANNELS)      // stored elements per texel (half: one per channel)
 #endif
 #if PYRAMID_FROM_DEPTH
-typedef float PyramidInput;
+#define PyramidInput float
 #else
-typedef PyramidStored PyramidInput;
+#define PyramidInput PyramidStored
 #endif
 
 // Level 0 of the min-max pyramid: (d, d) for a drawn texel, the empty interval (+INF, -INF) for background

@@ -74,7 +74,7 @@ inline MomentReceiver mm_receiver(__global const float4* position, __global cons
 }
 
 // Moment images are fp32, or half when the kernel is built with -DSTORE_HALF (kernels/shared/storage.h).
-typedef PN_SCALAR MomentScalar;
+#define MomentScalar PN_SCALAR
 
 // One moment texel (unused channels 0), clamped to the level's edge.
 inline float4 mm_fetch(__global const MomentScalar* data, uint channels, PyramidLevel l, int x, int y) {

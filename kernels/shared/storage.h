@@ -4,6 +4,8 @@
 // arithmetic stays fp32. Without STORE_HALF the same code reads and writes float vectors directly (the fp32
 // kernels are unchanged). Two ways in: PN_STORED(n) pointers indexed by texel (PN_LOAD, PN_STORE), for kernels
 // built per channel count; PN_SCALAR pointers with vector loads (PN_VLOAD), for a channel count known at run time.
+// Macros, not typedefs, name the stored types, so that `half` only ever appears as a pointee, the one use
+// OpenCL C 1.2 allows it without cl_khr_fp16 (sec. 6.1.1.1).
 // PN_ROUND(n, v) is v as it will read back once stored (a stage that keeps a stored level in local memory for the
 // next one uses it, so that it computes from what a separate pass would read).
 #ifndef PENUMBRA_KERNELS_SHARED_STORAGE_H
@@ -21,7 +23,7 @@
 #define PN_VLOAD_FLOAT_4 vload4
 
 #ifdef STORE_HALF
-typedef half PN_SCALAR;
+#define PN_SCALAR half
 #define PN_STORED(n) half
 #define PN_STRIDE(n) (n)  // PN_STORED(n) elements per texel
 #define PN_LOAD(n, p, i) PN_CAT(PN_VLOAD_HALF_, n)((i), (p))
@@ -42,7 +44,7 @@ PN_ROUND_DEFINE(2)
 PN_ROUND_DEFINE(4)
 #define PN_ROUND(n, v) PN_CAT(pn_round_half, n)(v)
 #else
-typedef float PN_SCALAR;
+#define PN_SCALAR float
 #define PN_STORED(n) PN_VEC(float, n)
 #define PN_STRIDE(n) 1
 #define PN_LOAD(n, p, i) ((p)[i])
