@@ -213,6 +213,37 @@ TEST_F(Stability, SatPrecisionOverALongDepthRange) {
   EXPECT_NEAR(mae["fixed32"], mae["fixed64"], 0.1 * mae["fixed64"]);
 }
 
+// Half moment storage (--moment-storage fp16) where it is weakest: a long depth range (a 400-unit ground) squeezes
+// the scene's depths into few half steps, and the exponents of EVSM and ESM drop to 5.54.
+TEST_F(Stability, HalfMomentStorage) {
+  const Scene scene = makeProcedural("box", {{"ground", 400}, {"size", 4}});
+  const Case c = makeCase(scene, sceneCamera(scene), "dir:0.3,-1,0.2", 4);
+  const Scene stacked = makeProcedural("stacked-planes");
+  const Case s = makeCase(stacked, sceneCamera(stacked), "spot:0.6,6,0.4:0,0,0:90");
+  std::map<std::string, ErrorMetrics> seen;
+  std::map<std::string, float> bleeding;
+  for (const char* name : {"vsm", "evsm2", "evsm4", "esm", "msm", "psvsm"})
+    for (const char* storage : {"fp32", "fp16"}) {
+      const std::string key = std::string(name) + "/" + storage;
+      const RenderResult r = render(c, name, {{"map-size", "2048"}, {"fit", "scene"}, {"moment-storage", storage}});
+      const ErrorMetrics m = seen[key] = metrics(r, c);
+      const double dark = darkened(r, c, 0.99f);
+      bleeding[key] = umbra(render(s, name, {{"moment-storage", storage}}), s).max;
+      std::printf("  half %-12s darkened %.5f mae %.5f leak %.5f | stacked-planes umbra max %.4f\n", key.c_str(), dark,
+                  m.mae, m.leak, bleeding[key]);
+      EXPECT_LT(dark, 0.005) << key << ": acne on the lit ground";  // measured <= 0.0043, fp32 and fp16 alike
+    }
+  // Does not fail: half rounding costs vsm, evsm2/4 and psvsm no accuracy here (measured fp16/fp32 MAE 0.79-1.0).
+  for (const char* name : {"vsm", "evsm2", "evsm4", "psvsm"})
+    EXPECT_LT(seen[std::string(name) + "/fp16"].mae, 1.1 * seen[std::string(name) + "/fp32"].mae) << name;
+  EXPECT_LT(bleeding["evsm4/fp16"], 0.02f) << "evsm4's negative warp still stops the bleeding at c = 5.54";
+  // Fails: ESM at c = 5.54 is a soft step that leaks (measured leak 0.0111 vs 0.0059, and 0.031 of light in the
+  // stacked planes' umbra vs 0); MSM's moment bias of 1e-3 (vs 3e-5) widens its penumbrae (MAE 0.0067 vs 0.0047).
+  EXPECT_GT(seen["esm/fp16"].leak, 1.5 * seen["esm/fp32"].leak);
+  EXPECT_GT(bleeding["esm/fp16"], 0.01f);
+  EXPECT_GT(seen["msm/fp16"].mae, 1.2 * seen["msm/fp32"].mae);
+}
+
 // Degenerate inputs: every technique gets through them cleanly (render() checks NaN and range).
 TEST_F(Stability, DegenerateScenesNeverCrashOrEmitNan) {
   Camera camera;
