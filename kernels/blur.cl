@@ -1,8 +1,8 @@
-// Separable blur with clamp-to-edge: a direct weighted sum staged through local memory (Gaussian or box
-// weights, radius <= BLUR_DIRECT_RADIUS_LIMIT) and box running sums whose cost per texel does not depend
-// on the radius (a Gaussian of large sigma is three of them; Wells 1986). Built per channel count:
-// -DBLUR_CHANNELS=1|2|4 selects float, float2 or float4 texels; with -DSTORE_HALF the direct column pass (the
-// last one) stores half texels (kernels/shared/storage.h), every other pass stays fp32.
+// Separable blur with clamp-to-edge: a direct weighted sum (Gaussian or box weights, radius <=
+// BLUR_DIRECT_RADIUS_LIMIT) in two layouts, tiles staged through local memory (GPUs) and float16 runs (CPUs),
+// and box running sums whose cost per texel does not depend on the radius (a Gaussian of large sigma is three
+// of them; Wells 1986). Built per channel count: -DBLUR_CHANNELS=1|2|4 selects float, float2 or float4 texels;
+// with -DSTORE_HALF the direct column pass (the last one) stores half texels (kernels/shared/storage.h).
 #include "kernels/shared/blur.h"
 #include "kernels/shared/storage.h"
 
@@ -77,6 +77,202 @@ __kernel __attribute__((reqd_work_group_size(BLUR_COLUMN_TILE, BLUR_ROWS, 1))) v
     BLUR_T sum = 0.0f;
     for (int k = 0; k <= 2 * radius; ++k) sum += weights[k] * block[(r + k) * BLUR_COLUMN_TILE + lx];
     PN_STORE(BLUR_CHANNELS, out, (size_t)(y0 + r) * width + x, sum);
+  }
+}
+
+// ---- Runs layout (CPUs) ----------------------------------------------------------------------------------------
+// PoCL runs a work-group's items one after another and vectorises across them only where the body has no inner
+// loop, so the tiles kernels (one item per texel, a loop over taps) run float2 arithmetic on 512-bit units and stay
+// far above their bandwidth floor. Here the vector is explicit: an item sums runs of BLUR_RUN_FLOATS consecutive
+// floats of one row as one float16, sum += w[k] * (the run shifted by k texels), so every tap is one vector
+// multiply-add whatever the channel count. Each lane adds its taps in the order k = 0..2r with the same
+// `sum += weights[k] * x` as the tiles kernels, and the fused and unfused row passes share the summing code (one
+// body for taps in global or local memory), so their results agree bit for bit. No barrier anywhere: an item only
+// reads back what it staged itself.
+#define BLUR_RUN_TEXELS (BLUR_RUN_FLOATS / BLUR_CHANNELS)
+#if BLUR_CHANNELS == 1
+#define BLUR_VSTORE_T(v, i, p) ((p)[i] = (v))
+#else
+#define BLUR_VSTORE_T(v, i, p) PN_CAT(vstore, BLUR_CHANNELS)((v), (i), (p))
+#endif
+
+// The first n <= BLUR_RUN_FLOATS floats at p as a run (the rest 0): the last run of a row may be partial.
+inline float16 blur_runs_load_part(__global const float* p, int n) {
+  float lanes[BLUR_RUN_FLOATS] = {0.0f};
+  for (int i = 0; i < n; ++i) lanes[i] = p[i];
+  return vload16(0, lanes);
+}
+
+// Stores the first n <= BLUR_RUN_FLOATS floats of a run: fp32 (row pass), or the column pass's storage.
+inline void blur_runs_store(float16 v, __global float* p, int n) {
+  if (n == BLUR_RUN_FLOATS) {
+    vstore16(v, 0, p);
+    return;
+  }
+  float lanes[BLUR_RUN_FLOATS];
+  vstore16(v, 0, lanes);
+  for (int i = 0; i < n; ++i) p[i] = lanes[i];
+}
+
+inline void blur_runs_store_stored(float16 v, __global PN_SCALAR* p, int n) {
+#ifdef STORE_HALF
+  if (n == BLUR_RUN_FLOATS) {
+    vstore_half16_rte(v, 0, p);
+    return;
+  }
+  float lanes[BLUR_RUN_FLOATS];
+  vstore16(v, 0, lanes);
+  for (int i = 0; i < n; ++i) vstore_half_rte(lanes[i], i, p);
+#else
+  blur_runs_store(v, p, n);
+#endif
+}
+
+// A blur_rows_runs item: segment (x0, count texels) of row y, and its line of local memory (texels x0 - r ...).
+inline int blur_runs_x0(void) { return get_global_id(0) * BLUR_RUNS_SEGMENT; }
+inline __local float* blur_runs_line(__local float* lines, int radius) {
+  return lines + get_local_id(1) * (BLUR_RUNS_SEGMENT + 2 * radius) * BLUR_CHANNELS;
+}
+#define BLUR_RUNS_STEP (BLUR_RUNS_UNROLL * BLUR_RUN_TEXELS)  // texels one blur_runs_step_* call sums together
+// Texels staged for `count` outputs: whole steps (the last may be partial) and the 2r halo.
+inline int blur_runs_span(int count, int radius) {
+  return (count + BLUR_RUNS_STEP - 1) / BLUR_RUNS_STEP * BLUR_RUNS_STEP + 2 * radius;
+}
+
+// The row pass's sums of BLUR_RUNS_UNROLL runs from `src` (texel x - r of the first output x, in global or local
+// memory), of which the first `count` texels are stored. A multiply-add waits for the previous one on the same sum
+// (4 cycles): runs side by side keep the vector unit busy and share each weight's broadcast, and each sum still adds
+// its taps in order. The sums are stored here rather than returned through a pointer, which kept them in memory.
+#define BLUR_RUNS_STEP_DEFINE(name, space)                                                                            \
+  inline void name(space const float* src, int radius, __constant float* weights, __global float* out, int count) {   \
+    float16 sum[BLUR_RUNS_UNROLL];                                                                                    \
+    _Pragma("unroll") for (int j = 0; j < BLUR_RUNS_UNROLL; ++j) sum[j] = 0.0f;                                       \
+    for (int k = 0; k <= 2 * radius; ++k) {                                                                           \
+      const float w = weights[k];                                                                                     \
+      _Pragma("unroll") for (int j = 0; j < BLUR_RUNS_UNROLL; ++j) sum[j] += w * vload16(j, src + k * BLUR_CHANNELS); \
+    }                                                                                                                 \
+    _Pragma("unroll") for (int j = 0; j < BLUR_RUNS_UNROLL; ++j) {                                                    \
+      const int n = min(BLUR_RUN_TEXELS, count - j * BLUR_RUN_TEXELS) * BLUR_CHANNELS;                                \
+      if (n > 0) blur_runs_store(sum[j], out + j * BLUR_RUN_FLOATS, n);                                               \
+    }                                                                                                                 \
+  }
+BLUR_RUNS_STEP_DEFINE(blur_runs_step_global, __global)
+BLUR_RUNS_STEP_DEFINE(blur_runs_step_local, __local)
+
+// The row pass's sums over a staged line (texel i of `line` is texel x0 - r + i of the row, clamped).
+inline void blur_runs_row_output(__local const float* line, __global float* out, int count, int radius,
+                                 __constant float* weights) {
+  for (int t = 0; t < count; t += BLUR_RUNS_STEP)
+    blur_runs_step_local(line + t * BLUR_CHANNELS, radius, weights, out + t * BLUR_CHANNELS, count - t);
+}
+
+// Work-item (segment, row): BLUR_RUNS_SEGMENT outputs of one row. Steps whose window lies inside the row read their
+// taps straight from global memory; the others stage the window clamped in the item's line first (staging every
+// step cost as much as the sums at small radii).
+__kernel __attribute__((reqd_work_group_size(1, BLUR_RUNS_ROWS, 1))) void blur_rows_runs(
+    __global const float* in, __global float* out, uint width, uint height, int radius, __constant float* weights,
+    __local float* lines) {
+  const int x0 = blur_runs_x0(), y = get_global_id(1), w = width;
+  if (y >= (int)height || x0 >= w) return;
+  const int count = min(BLUR_RUNS_SEGMENT, w - x0);
+  __local float* line = blur_runs_line(lines, radius);
+  __global const BLUR_T* row = (__global const BLUR_T*)in + (size_t)y * width;
+  __global float* dst = out + ((size_t)y * width + x0) * BLUR_CHANNELS;
+  for (int t = 0; t < count; t += BLUR_RUNS_STEP) {
+    const int first = x0 + t - radius, span = BLUR_RUNS_STEP + 2 * radius;
+    if (first >= 0 && first + span <= w) {
+      blur_runs_step_global((__global const float*)(row + first), radius, weights, dst + t * BLUR_CHANNELS, count - t);
+    } else {
+      for (int i = 0; i < span; ++i) BLUR_VSTORE_T(row[clamp(first + i, 0, w - 1)], i, line);
+      blur_runs_step_local(line, radius, weights, dst + t * BLUR_CHANNELS, count - t);
+    }
+  }
+}
+
+#ifdef BLUR_MOMENTS
+// Texel i of a line: the moments of one depth texel.
+inline void blur_runs_stage_moments(float depth, MomentsParams p, int i, __local float* line) {
+  const float4 m = moments_encode(depth, p, BLUR_MOMENTS);
+#if BLUR_CHANNELS == 4
+  vstore4(m, i, line);
+#else
+  vstore2(m.xy, i, line);
+#endif
+}
+
+// blur_rows_runs reading depth: stages the moments of the segment's window of depth texels (moments_encode, as
+// blur_rows_moments; each texel encoded once, not once per tap), then the same sums from local memory. The encoding
+// stays scalar on PoCL 3.1 and costs about as much as the sums at radius 6.
+__kernel __attribute__((reqd_work_group_size(1, BLUR_RUNS_ROWS, 1))) void blur_rows_runs_moments(
+    __global const float* depth, __global float* out, uint width, uint height, int radius, __constant float* weights,
+    __local float* lines, MomentsParams p) {
+  const int x0 = blur_runs_x0(), y = get_global_id(1);
+  if (y >= (int)height || x0 >= (int)width) return;
+  const int count = min(BLUR_RUNS_SEGMENT, (int)width - x0), span = blur_runs_span(count, radius);
+  __local float* line = blur_runs_line(lines, radius);
+  __global const float* row = depth + (size_t)y * width;
+  for (int i = 0; i < span; ++i) blur_runs_stage_moments(row[clamp(x0 - radius + i, 0, (int)width - 1)], p, i, line);
+  blur_runs_row_output(line, out + ((size_t)y * width + x0) * BLUR_CHANNELS, count, radius, weights);
+}
+#endif
+
+// The column pass's sums of a strip's partial run (the last n < BLUR_RUN_FLOATS floats of each row), lane by lane.
+inline void blur_columns_runs_part(__global const float* in, __global PN_SCALAR* out, int rowFloats, int height, int f,
+                                   int n, int y0, int y1, int radius, __constant float* weights) {
+  for (int y = y0; y < y1; ++y) {
+    float16 sum = 0.0f;
+    for (int k = 0; k <= 2 * radius; ++k)
+      sum += weights[k] * blur_runs_load_part(in + (size_t)clamp(y - radius + k, 0, height - 1) * rowFloats + f, n);
+    blur_runs_store_stored(sum, out + (size_t)y * rowFloats + f, n);
+  }
+}
+
+// The column pass's sums of the run at `in` in output rows y .. min(y + BLUR_RUNS_COLUMN_ROWS, y1) - 1 (rows of
+// rowFloats), side by side for the same reason as the row pass's runs, stored at `out`. Clamping picks whole rows,
+// so only taps whose rows leave the image pay for it.
+inline void blur_columns_runs_rows(__global const float* in, __global PN_SCALAR* out, int rowFloats, int height, int y,
+                                   int y1, int radius, __constant float* weights) {
+  float16 sum[BLUR_RUNS_COLUMN_ROWS];
+#pragma unroll
+  for (int j = 0; j < BLUR_RUNS_COLUMN_ROWS; ++j) sum[j] = 0.0f;
+  for (int k = 0; k <= 2 * radius; ++k) {
+    const int top = y - radius + k;  // the tap's row for output row y
+    const float w = weights[k];
+    if (top >= 0 && top + BLUR_RUNS_COLUMN_ROWS <= height) {
+      __global const float* src = in + (size_t)top * rowFloats;
+#pragma unroll
+      for (int j = 0; j < BLUR_RUNS_COLUMN_ROWS; ++j) sum[j] += w * vload16(0, src + (size_t)j * rowFloats);
+    } else {
+#pragma unroll
+      for (int j = 0; j < BLUR_RUNS_COLUMN_ROWS; ++j)
+        sum[j] += w * vload16(0, in + (size_t)clamp(top + j, 0, height - 1) * rowFloats);
+    }
+  }
+#pragma unroll
+  for (int j = 0; j < BLUR_RUNS_COLUMN_ROWS; ++j)
+    if (y + j < y1) blur_runs_store_stored(sum[j], out + (size_t)(y + j) * rowFloats, BLUR_RUN_FLOATS);
+}
+
+// Work-item (block, strip): BLUR_RUNS_COLUMN_BLOCK floats of each of the BLUR_RUNS_COLUMN_STRIP output rows of a
+// strip, taps read straight from global memory (rows y - r .. y + r, clamped). The item sweeps its block's runs for
+// a few output rows, then moves down: each input row is read as a contiguous block (what the prefetcher follows) and
+// the 2r rows the next outputs share are still in cache (2r + 4 block rows: 104 KiB at radius 24). Measured worse:
+// an item per run walking down (a page per tap), short strips of runs side by side (each input row fetched
+// (2r + rows) / rows times). Only a row's last, partial run loads lane by lane.
+__kernel __attribute__((reqd_work_group_size(1, 1, 1))) void blur_columns_runs(__global const float* in,
+                                                                               __global PN_SCALAR* out, uint width,
+                                                                               uint height, int radius,
+                                                                               __constant float* weights) {
+  const int rowFloats = width * BLUR_CHANNELS, h = height, f0 = get_global_id(0) * BLUR_RUNS_COLUMN_BLOCK;
+  const int f1 = min(f0 + BLUR_RUNS_COLUMN_BLOCK, rowFloats), whole = f1 - (f1 - f0) % BLUR_RUN_FLOATS;
+  const int y0 = get_global_id(1) * BLUR_RUNS_COLUMN_STRIP, y1 = min(y0 + BLUR_RUNS_COLUMN_STRIP, h);
+  if (f0 >= rowFloats || y0 >= h) return;
+  for (int y = y0; y < y1; y += BLUR_RUNS_COLUMN_ROWS) {
+    for (int f = f0; f < whole; f += BLUR_RUN_FLOATS)
+      blur_columns_runs_rows(in + f, out + f, rowFloats, h, y, y1, radius, weights);
+    if (whole < f1)
+      blur_columns_runs_part(in, out, rowFloats, h, whole, f1 - whole, y, min(y + BLUR_RUNS_COLUMN_ROWS, y1), radius,
+                             weights);
   }
 }
 

@@ -1,12 +1,15 @@
 // Blur stage against the double reference: Gaussian and box, direct and running sums, 1/2/4 channels,
-// 1x1, prime and thin sizes, radii larger than the image, per-split scale, constant and huge-range input.
+// 1x1, prime and thin sizes, radii larger than the image, per-split scale, constant and huge-range input; the
+// direct plan's two layouts (tiles, runs) against each other.
 #include "host/stages/blur.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "host/cl/buffer.h"
@@ -29,6 +32,11 @@ constexpr Tolerance kHugeRangeTol{0.0, 1e-5};
 // Three boxes approximate the Gaussian: for data in [0, 1] the filtered values differ by a few percent
 // of the local contrast at most (Wells 1986; Kovesi 2010).
 constexpr Tolerance kBoxesVsGaussianTol{0.03, 0.0};
+// The two direct layouts add each texel's taps in the same order with the same `sum += w * x`; they can differ
+// only where a compiler contracts that into a fused multiply-add for one vector width and not the other: at most
+// one rounding (6e-8 of the running sum, <= 1 for data in [0, 1]) per tap, 2 * 201 taps at radius 100. On CPU
+// devices (PoCL, where both come from the same LLVM fmuladd) the test asks for bit equality.
+constexpr Tolerance kLayoutTol{1e-5, 1e-5};
 
 enum class Input { Random, Constant, HugeRange };
 
@@ -179,28 +187,98 @@ TEST_F(BlurKernels, FusedMomentsEqualMomentsThenBlur) {
       depth[i] = i % 11 == 3 ? INFINITY : i % 17 == 5 ? std::nanf("") : depthDist(rng);
     const Buffer<float> depthBuffer(ctx(), std::span<const float>(depth));
     for (MomentKind kind : {MomentKind::Vsm, MomentKind::Evsm2, MomentKind::Evsm4, MomentKind::Msm})
-      for (const BlurConfig& config : {gaussian(2.0f), box(3), gaussian(15.0f)}) {
-        MomentsConfig moments;
-        moments.kind = kind;
-        moments.depthNear = 2.0f, moments.depthFar = 9.0f;
-        const ImageShape shape{width, height, momentChannels(kind)};
-        Buffer<float> separate(ctx(), shape.count()), fused(ctx(), shape.count()), scratch(ctx(), shape.count());
-        separate.fill(ctx(), kPoison);
-        fused.fill(ctx(), kPoison);
-        scratch.fill(ctx(), kPoison);
-        computeMoments(ctx(), depthBuffer, width, height, moments, separate);
-        blur(ctx(), separate, separate, scratch, shape, config);
-        scratch.fill(ctx(), kPoison);
-        blurMoments(ctx(), depthBuffer, moments, fused, scratch, width, height, config);
-        EXPECT_EQ(fused.download(ctx()), separate.download(ctx()))
-            << width << "x" << height << " kind " << static_cast<int>(kind) << " radius " << planBlur(config).radius;
-      }
+      for (BlurConfig config : {gaussian(2.0f), box(3), gaussian(15.0f)})
+        for (BlurLayout layout : {BlurLayout::Tiles, BlurLayout::Runs}) {
+          config.layout = layout;
+          MomentsConfig moments;
+          moments.kind = kind;
+          moments.depthNear = 2.0f, moments.depthFar = 9.0f;
+          const ImageShape shape{width, height, momentChannels(kind)};
+          Buffer<float> separate(ctx(), shape.count()), fused(ctx(), shape.count()), scratch(ctx(), shape.count());
+          separate.fill(ctx(), kPoison);
+          fused.fill(ctx(), kPoison);
+          scratch.fill(ctx(), kPoison);
+          computeMoments(ctx(), depthBuffer, width, height, moments, separate);
+          blur(ctx(), separate, separate, scratch, shape, config);
+          scratch.fill(ctx(), kPoison);
+          blurMoments(ctx(), depthBuffer, moments, fused, scratch, width, height, config);
+          EXPECT_EQ(fused.download(ctx()), separate.download(ctx()))
+              << width << "x" << height << " kind " << static_cast<int>(kind) << " radius " << planBlur(config).radius
+              << " layout " << static_cast<int>(layout);
+        }
   }
   MomentsConfig layered;
   layered.kind = MomentKind::Lvsm;
   layered.layers = {{0.0f, 1.0f}};
   Buffer<float> depth(ctx(), 4), out(ctx(), 8), scratch(ctx(), 8);
   EXPECT_THROW(blurMoments(ctx(), depth, layered, out, scratch, 2, 2, gaussian(1.0f)), std::invalid_argument);
+}
+
+// Tiles and runs on the same input: odd, prime and thin sizes (rows shorter than a run, widths that are not a
+// multiple of it, radii beyond the image), 1, 2 and 4 channels, radius 0 to 100.
+TEST_F(BlurKernels, LayoutsAgree) {
+  const std::pair<uint32_t, uint32_t> sizes[] = {{1, 1}, {97, 61}, {5, 131}, {523, 3}, {37, 29}};
+  const BlurConfig configs[] = {
+      gaussian(0.0f), gaussian(1.0f), box(1), gaussian(2.0f), box(13), gaussian(10.7f), box(100, BlurMethod::Direct)};
+  for (const auto& [width, height] : sizes)
+    for (uint32_t channels : {1u, 2u, 4u})
+      for (BlurConfig config : configs) {
+        const ImageShape shape{width, height, channels};
+        const std::vector<double> image = makeInput(shape, Input::Random, width + height + channels);
+        config.layout = BlurLayout::Tiles;
+        const std::vector<float> tiles = run(*this, ctx(), image, shape, config);
+        config.layout = BlurLayout::Runs;
+        const std::vector<float> runs = run(*this, ctx(), image, shape, config);
+        const std::string where = fmt::format("{}x{}x{} radius {}", width, height, channels, planBlur(config).radius);
+        EXPECT_TRUE(
+            test::allNear(std::span<const float>(runs), std::span<const float>(tiles), kLayoutTol, width * channels))
+            << where;
+        if (ctx().info().isCpu()) {
+          EXPECT_EQ(runs, tiles) << where << " (CPU devices: bit for bit)";
+        }
+      }
+}
+
+// Auto picks runs on CPU devices whose local memory holds the runs row pass's lines, tiles everywhere else.
+TEST(BlurLayoutChoice, RunsOnCpusWithEnoughLocalMemory) {
+  DeviceInfo cpu, gpu;
+  cpu.type = CL_DEVICE_TYPE_CPU, gpu.type = CL_DEVICE_TYPE_GPU;
+  cpu.localMemBytes = gpu.localMemBytes = 48 * 1024;
+  const ImageShape shape{2048, 2048, 4};
+  EXPECT_EQ(resolveBlurLayout(BlurLayout::Auto, cpu, shape, 6), BlurLayout::Runs);
+  EXPECT_EQ(resolveBlurLayout(BlurLayout::Auto, gpu, shape, 6), BlurLayout::Tiles);
+  cpu.localMemBytes = 16 * 1024;  // 4 lines of 512 + 2r float4 texels do not fit
+  EXPECT_EQ(resolveBlurLayout(BlurLayout::Auto, cpu, shape, 6), BlurLayout::Tiles);
+  EXPECT_EQ(resolveBlurLayout(BlurLayout::Runs, gpu, shape, 6), BlurLayout::Runs);  // asked for: as asked
+}
+
+// Half moments from both layouts' column passes (vstore_half16_rte on runs, per texel on tiles): the same sums
+// rounded to nearest even, so equal where the fp32 sums are (CPU devices), else at most one half ulp apart.
+TEST_F(BlurKernels, HalfMomentsLayoutsAgree) {
+  for (const auto& [width, height] : {std::pair<uint32_t, uint32_t>{67, 41}, {1, 1}, {130, 3}})
+    for (MomentKind kind : {MomentKind::Vsm, MomentKind::Evsm4}) {
+      std::vector<float> depth(size_t(width) * height);
+      for (size_t i = 0; i < depth.size(); ++i) depth[i] = 2.0f + 7.0f * float((i * 7919) % 1000) / 1000.0f;
+      const Buffer<float> depthBuffer(ctx(), std::span<const float>(depth));
+      MomentsConfig moments;
+      moments.kind = kind;
+      moments.depthNear = 2.0f, moments.depthFar = 9.0f;
+      moments.storage = MomentStorage::Float16;
+      const ImageShape shape{width, height, momentChannels(kind)};
+      std::vector<cl_half> results[2];
+      for (BlurLayout layout : {BlurLayout::Tiles, BlurLayout::Runs}) {
+        BlurConfig config = gaussian(2.0f);
+        config.layout = layout;
+        Buffer<cl_half> out(ctx(), shape.count());
+        Buffer<float> scratch(ctx(), blurMomentsScratch(ctx(), shape, config, MomentStorage::Float16));
+        blurMoments(ctx(), depthBuffer, moments, out, scratch, width, height, config);
+        results[layout == BlurLayout::Runs] = out.download(ctx());
+      }
+      for (size_t i = 0; i < results[0].size(); ++i) {
+        const int bitsApart = std::abs(int(results[0][i]) - int(results[1][i]));  // same sign: moments >= 0 or < 0
+        ASSERT_LE(bitsApart, ctx().info().isCpu() ? 0 : 1) << width << "x" << height << " texel " << i / shape.channels;
+      }
+    }
 }
 
 TEST_F(BlurKernels, RejectsSmallBuffers) {

@@ -1,5 +1,6 @@
-// Blur stage host wrapper: plans the passes (direct weights or box radii), then records them. Gaussians
-// of large sigma use the three-box approximation of Wells (1986) with Kovesi's choice of widths.
+// Blur stage host wrapper: plans the passes (direct weights or box radii), picks the direct plan's layout for the
+// device (tiles or runs), then records them. Gaussians of large sigma use the three-box approximation of Wells (1986)
+// with Kovesi's choice of widths.
 #include "host/stages/blur.h"
 
 #include <fmt/format.h>
@@ -47,30 +48,46 @@ int columnTileRows(int radius, size_t texelBytes, uint64_t localLimit) {
   return rows;
 }
 
-// The direct plan's row pass: launch shape, and its staged lines in local memory.
-void launchRows(Kernel& rows, const ImageShape& shape, uint64_t bytes, std::vector<cl::Event>& events) {
+// The direct plan's row pass in either layout (blur_rows* or blur_rows_runs*, same arguments): launch shape, and
+// the lines it stages in local memory (a work-group's rows for tiles, an item's segment for runs).
+void launchRows(Kernel& rows, const ImageShape& shape, bool runs, uint64_t bytes, std::vector<cl::Event>& events) {
   rows.moves(bytes);
-  events.push_back(rows.launch(Range(shape.width, shape.height), Range(BLUR_ROW_TILE, BLUR_ROWS)));
+  if (runs)
+    events.push_back(rows.launch(Range((shape.width + BLUR_RUNS_SEGMENT - 1) / BLUR_RUNS_SEGMENT, shape.height),
+                                 Range(1, BLUR_RUNS_ROWS)));
+  else
+    events.push_back(rows.launch(Range(shape.width, shape.height), Range(BLUR_ROW_TILE, BLUR_ROWS)));
 }
 
-LocalMem rowLines(const ImageShape& shape, int radius) {
-  return LocalMem{size_t(BLUR_ROWS) * (BLUR_ROW_TILE + 2 * radius) * sizeof(float) * shape.channels};
+LocalMem rowLines(const ImageShape& shape, int radius, bool runs) {
+  const size_t texels = runs ? size_t(BLUR_RUNS_ROWS) * (BLUR_RUNS_SEGMENT + 2 * radius)
+                             : size_t(BLUR_ROWS) * (BLUR_ROW_TILE + 2 * radius);
+  return LocalMem{texels * sizeof(float) * shape.channels};
 }
 
 // The direct plan's column pass, storing `out` as T (float, or cl_half with STORE_HALF in `options`).
 template <class T>
 void launchColumns(Context& ctx, const std::string& options, const Buffer<float>& in, Buffer<T>& out,
-                   const ImageShape& shape, const BlurPlan& plan, const Buffer<float>& weights,
+                   const ImageShape& shape, const BlurPlan& plan, const Buffer<float>& weights, bool runs,
                    std::vector<cl::Event>& events) {
   const int r = plan.radius;
+  const uint64_t bytes = shape.count() * (sizeof(float) + sizeof(T));
+  if (runs) {
+    Kernel columns(ctx, "kernels/blur.cl", "blur_columns_runs", "blur", options);
+    columns.args(in, out, shape.width, shape.height, r, weights);
+    const size_t blocks = (shape.count() / shape.height + BLUR_RUNS_COLUMN_BLOCK - 1) / BLUR_RUNS_COLUMN_BLOCK;
+    const size_t strips = (shape.height + BLUR_RUNS_COLUMN_STRIP - 1) / BLUR_RUNS_COLUMN_STRIP;
+    events.push_back(columns.moves(bytes).launch(Range(blocks, strips), Range(1, 1)));
+    return;
+  }
   const size_t texelBytes = sizeof(float) * shape.channels;
   const int tileRows = columnTileRows(r, texelBytes, ctx.info().localMemBytes);
   Kernel columns(ctx, "kernels/blur.cl", "blur_columns", "blur", options);
   columns.args(in, out, shape.width, shape.height, r, weights, tileRows,
                LocalMem{size_t(tileRows + 2 * r) * BLUR_COLUMN_TILE * texelBytes});
   const size_t groupsY = (shape.height + tileRows - 1) / tileRows;
-  events.push_back(columns.moves(shape.count() * (sizeof(float) + sizeof(T)))
-                       .launch(Range(shape.width, groupsY * BLUR_ROWS), Range(BLUR_COLUMN_TILE, BLUR_ROWS)));
+  events.push_back(
+      columns.moves(bytes).launch(Range(shape.width, groupsY * BLUR_ROWS), Range(BLUR_COLUMN_TILE, BLUR_ROWS)));
 }
 
 std::string blurOptions(const ImageShape& shape) { return fmt::format("-DBLUR_CHANNELS={}", shape.channels); }
@@ -84,6 +101,12 @@ void checkBlurBuffers(const ImageShape& shape, const Buffer<T>& out, const Buffe
 }
 
 }  // namespace
+
+BlurLayout resolveBlurLayout(BlurLayout requested, const DeviceInfo& device, const ImageShape& shape, int radius) {
+  if (requested != BlurLayout::Auto) return requested;
+  const bool fits = rowLines(shape, radius, true).bytes <= device.localMemBytes;
+  return device.isCpu() && fits ? BlurLayout::Runs : BlurLayout::Tiles;
+}
 
 BlurPlan planBlur(const BlurConfig& config) {
   const double scale = config.scale;
@@ -131,11 +154,12 @@ std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>
   const uint64_t passBytes = 2 * shape.count() * sizeof(float);  // floor of every pass: read and write the image once
 
   if (plan.direct) {
+    const bool runs = resolveBlurLayout(config.layout, ctx.info(), shape, plan.radius) == BlurLayout::Runs;
     Buffer<float> weights(ctx, std::span<const float>(plan.weights), CL_MEM_READ_ONLY);
-    Kernel rows(ctx, "kernels/blur.cl", "blur_rows", "blur", options);
-    rows.args(in, scratch, w, h, plan.radius, weights, rowLines(shape, plan.radius));
-    launchRows(rows, shape, passBytes, events);
-    launchColumns(ctx, options, scratch, out, shape, plan, weights, events);
+    Kernel rows(ctx, "kernels/blur.cl", runs ? "blur_rows_runs" : "blur_rows", "blur", options);
+    rows.args(in, scratch, w, h, plan.radius, weights, rowLines(shape, plan.radius, runs));
+    launchRows(rows, shape, runs, passBytes, events);
+    launchColumns(ctx, options, scratch, out, shape, plan, weights, runs, events);
     return events;
   }
 
@@ -191,11 +215,12 @@ std::vector<cl::Event> blurMomentsInto(Context& ctx, const Buffer<float>& depth,
   const std::string options = fmt::format("{} -DBLUR_MOMENTS={}", blurOptions(shape), kind);
   Buffer<float> weights(ctx, std::span<const float>(plan.weights), CL_MEM_READ_ONLY);
   std::vector<cl::Event> events;
-  Kernel rows(ctx, "kernels/blur.cl", "blur_rows_moments", "blur", options);
-  rows.args(depth, scratch, width, height, plan.radius, weights, rowLines(shape, plan.radius), params);
+  const bool runs = resolveBlurLayout(config.layout, ctx.info(), shape, plan.radius) == BlurLayout::Runs;
+  Kernel rows(ctx, "kernels/blur.cl", runs ? "blur_rows_runs_moments" : "blur_rows_moments", "blur", options);
+  rows.args(depth, scratch, width, height, plan.radius, weights, rowLines(shape, plan.radius, runs), params);
   // Floor: read the depth map, write the row-blurred moments.
-  launchRows(rows, shape, shape.texels() * sizeof(float) + shape.count() * sizeof(float), events);
-  launchColumns(ctx, fmt::format("{} {}", options, storageOptions(storage)), scratch, out, shape, plan, weights,
+  launchRows(rows, shape, runs, shape.texels() * sizeof(float) + shape.count() * sizeof(float), events);
+  launchColumns(ctx, fmt::format("{} {}", options, storageOptions(storage)), scratch, out, shape, plan, weights, runs,
                 events);
   return events;
 }

@@ -1,6 +1,7 @@
 // Blur stage: separable Gaussian or box filter with clamp-to-edge over 1-, 2- or 4-channel float images.
-// Small footprints run a direct weighted sum through local memory; large ones run box running sums whose
-// cost does not depend on the radius (a Gaussian becomes three boxes, Wells 1986). Kernels: kernels/blur.cl.
+// Small footprints run a direct weighted sum (tiles through local memory on GPUs, float16 runs on CPUs); large
+// ones run box running sums whose cost does not depend on the radius (a Gaussian becomes three boxes, Wells
+// 1986). Kernels: kernels/blur.cl.
 #pragma once
 
 #include <CL/opencl.hpp>
@@ -15,6 +16,11 @@ namespace penumbra {
 
 enum class BlurFilter { Gaussian, Box };
 enum class BlurMethod { Auto, Direct, RunningSums };
+// How the direct plan's passes map onto work-items. Tiles: an item per output texel, each work-group staging its
+// tile in local memory (GPUs). Runs: items sum runs of 16 consecutive floats of a row as one float16, several side by
+// side (CPUs, whose OpenCL compilers vectorise explicit vectors better than across work-items). Both add each texel's
+// taps in the same order: equal bit for bit on PoCL. Auto: Runs on CPU devices, Tiles elsewhere.
+enum class BlurLayout { Auto, Tiles, Runs };
 
 struct BlurConfig {
   BlurFilter filter = BlurFilter::Gaussian;
@@ -22,6 +28,7 @@ struct BlurConfig {
   int radius = 1;      // box half-width in texels: 2 radius + 1 taps
   float scale = 1.0f;  // per-split footprint scale (a parallel split's zoom): multiplies sigma and radius
   BlurMethod method = BlurMethod::Auto;
+  BlurLayout layout = BlurLayout::Auto;  // direct plans only
 };
 
 // What a configuration runs, computed on the host before anything is enqueued.
@@ -36,22 +43,29 @@ struct BlurPlan {
 // BLUR_DIRECT_RADIUS_LIMIT.
 BlurPlan planBlur(const BlurConfig& config);
 
+// The direct plan's layout that `requested` runs on `device` for `shape` at `radius` (Tiles or Runs): Auto is Runs
+// on CPU devices whose local memory holds the runs row pass's lines (up to 48 KiB at radius 128, 4 channels), Tiles
+// otherwise.
+BlurLayout resolveBlurLayout(BlurLayout requested, const DeviceInfo& device, const ImageShape& shape, int radius);
+
 // Blurs `in` into `out` (which may be the same buffer) through `scratch`; all hold shape.count() floats.
-// Launches "blur/blur_rows" + "blur/blur_columns", or "blur/blur_box_rows" + "blur/blur_box_columns" per box.
+// Launches "blur/blur_rows" + "blur/blur_columns" (tiles), "blur/blur_rows_runs" + "blur/blur_columns_runs" (runs),
+// or "blur/blur_box_rows" + "blur/blur_box_columns" per box.
 std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>& out, Buffer<float>& scratch,
                             const ImageShape& shape, const BlurConfig& config);
 
 // The moments stage fused into the blur ("Fusable with ... the first blur pass", issue 4): blurs the moments
 // of `depth` (width*height light depths; computeMoments' encoding, any kind but LVSM) into `out`
 // (width*height*momentChannels floats) without writing the unblurred moments: the same values, bit for bit,
-// as computeMoments then blur. Direct plans encode while staging the row pass ("blur/blur_rows_moments");
+// as computeMoments then blur. Direct plans encode while staging the row pass ("blur/blur_rows_moments", or
+// "blur/blur_rows_runs_moments");
 // running sums read each texel twice, so they run computeMoments into `out` first, then blur it in place.
 std::vector<cl::Event> blurMoments(Context& ctx, const Buffer<float>& depth, const MomentsConfig& moments,
                                    Buffer<float>& out, Buffer<float>& scratch, uint32_t width, uint32_t height,
                                    const BlurConfig& config);
 // The same moments stored as half (moments.storage Float16): direct plans store half from their column pass
-// ("blur/blur_columns" built with STORE_HALF), equal to the fp32 result rounded to nearest even; running sums
-// blur in fp32 in `scratch` and pack ("moments/moments_pack_half"). `scratch` holds blurMomentsScratch floats.
+// (blur_columns or blur_columns_runs built with STORE_HALF), equal to the fp32 result rounded to nearest even; running
+// sums blur in fp32 in `scratch` and pack ("moments/moments_pack_half"). `scratch` holds blurMomentsScratch floats.
 std::vector<cl::Event> blurMoments(Context& ctx, const Buffer<float>& depth, const MomentsConfig& moments,
                                    Buffer<cl_half>& out, Buffer<float>& scratch, uint32_t width, uint32_t height,
                                    const BlurConfig& config);
