@@ -10,7 +10,7 @@
 #define BLUR_CHANNELS 1
 #endif
 #define BLUR_T PN_VEC(float, BLUR_CHANNELS)
-typedef PN_STORED(BLUR_CHANNELS) BlurStored;  // the column pass's output texel (BLUR_T, or half)
+#define BlurStored PN_STORED(BLUR_CHANNELS)  // the column pass's output texel (BLUR_T, or half)
 
 // One work-group: BLUR_ROWS rows of BLUR_ROW_TILE outputs; each row stages BLUR_ROW_TILE + 2r texels.
 // Rows past the image are clamped (not skipped) so that every work-item reaches the barrier.

@@ -1,7 +1,8 @@
 // Binning, stage 2 of 4 (Laine & Karras 2011, section 4.2, with a count-scan-fill queue layout instead of their
 // per-SM queues): every set-up triangle is entered into the queue of each 128x128-pixel bin whose samples it may
-// cover. bin_count counts entries per bin (one global atomic per entry), bin_scan turns counts into offsets in
-// one bin queue (also used for the coarse stage's per-bin totals), bin_fill writes entries below binCapacity.
+// cover. bin_count counts entries per bin (one global atomic per entry, or on CPUs per run of entries into one bin:
+// RASTER_BIN_RUN), bin_scan turns counts into offsets in one bin queue (also used for the coarse stage's per-bin
+// totals), bin_fill writes entries below binCapacity.
 // The order inside a bin queue depends on atomics; nothing downstream depends on it (the depth test is a total
 // order on (depth, triangle id)).
 #include "raster/constants.h"
@@ -10,6 +11,12 @@
 
 #ifndef RASTER_WG_BIN
 #define RASTER_WG_BIN 64
+#endif
+// Records per work-item (the table's binRun column, raster/constants.h): 1 on GPUs; on CPUs a run, so that an item
+// can merge consecutive entries into the same bin (dense meshes keep neighbouring triangles in one bin) into one
+// global atomic: the atomics, not the record reads, bound this stage there.
+#ifndef RASTER_BIN_RUN
+#define RASTER_BIN_RUN 1
 #endif
 
 // Records written by setup this run: one per input triangle plus the appended fan triangles that fitted.
@@ -35,6 +42,7 @@ static uint binRecordCount(const RasterViewParams* p, __global const RasterCount
       }                                                                                           \
   } while (0)
 
+#if RASTER_BIN_RUN == 1
 // binCount[binsX * binsY] must be zero on entry.
 __kernel __attribute__((reqd_work_group_size(RASTER_WG_BIN, 1, 1))) void bin_count(
     __global const RasterTriangle* tris, __global const RasterCounters* counters, __global uint* binCount,
@@ -47,6 +55,32 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_BIN, 1, 1))) void bin_cou
   BIN_FOR_EACH(t, p, BIN_COUNT_ONE);
 #undef BIN_COUNT_ONE
 }
+#else
+// The same counts, from RASTER_BIN_RUN records per work-item: one atomic per run of entries into the same bin.
+__kernel __attribute__((reqd_work_group_size(RASTER_WG_BIN, 1, 1))) void bin_count(
+    __global const RasterTriangle* tris, __global const RasterCounters* counters, __global uint* binCount,
+    const RasterViewParams p) {
+  const uint records = binRecordCount(&p, counters);
+  if (records == 0 || get_global_id(0) > (records - 1) / RASTER_BIN_RUN) return;
+  const uint first = get_global_id(0) * RASTER_BIN_RUN, end = first + min((uint)RASTER_BIN_RUN, records - first);
+  int runBin = -1;
+  uint run = 0;
+#define BIN_COUNT_RUN(bin)                                 \
+  do {                                                     \
+    if ((bin) != runBin) {                                 \
+      if (run != 0) atomic_add(&binCount[runBin], run);    \
+      runBin = (bin), run = 0;                             \
+    }                                                      \
+    ++run;                                                 \
+  } while (0)
+  for (uint i = first; i < end; ++i) {
+    const RasterTriangle t = tris[i];
+    if ((t.flags & RASTER_FLAG_VALID) != 0) BIN_FOR_EACH(t, p, BIN_COUNT_RUN);
+  }
+#undef BIN_COUNT_RUN
+  if (run != 0) atomic_add(&binCount[runBin], run);
+}
+#endif
 
 // Exclusive scan of counts[n] (n <= RASTER_MAX_BINS) in one work-group: offsets[i] (RASTER_SATURATED from
 // 2^32 - 1 on, past every capacity), zero[i] = 0 (the fill pass's cursors), and the 64-bit total into
@@ -84,6 +118,7 @@ __kernel __attribute__((reqd_work_group_size(RASTER_SCAN_WG, 1, 1))) void bin_sc
   }
 }
 
+#if RASTER_BIN_RUN == 1
 // binCursor must be zero on entry (bin_scan clears it).
 __kernel __attribute__((reqd_work_group_size(RASTER_WG_BIN, 1, 1))) void bin_fill(
     __global const RasterTriangle* tris, __global const RasterCounters* counters, __global const uint* binOffset,
@@ -100,3 +135,39 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_BIN, 1, 1))) void bin_fil
   BIN_FOR_EACH(t, p, BIN_FILL_ONE);
 #undef BIN_FILL_ONE
 }
+#else
+// Writes `run` pending entries of bin `bin` at slots reserved with one atomic, below binCapacity.
+static void binFlush(int bin, const uint* pending, uint run, __global const uint* binOffset, __global uint* binCursor,
+                     __global uint* binEntries, uint capacity) {
+  const uint slot = atomic_add(&binCursor[bin], run), offset = binOffset[bin];
+  for (uint k = 0; k < run; ++k)
+    if (offset < capacity && slot + k < capacity - offset) binEntries[offset + slot + k] = pending[k];
+}
+
+// The same entries, from RASTER_BIN_RUN records per work-item: a run of entries into the same bin (at most one per
+// record) waits in private memory and is placed with one atomic.
+__kernel __attribute__((reqd_work_group_size(RASTER_WG_BIN, 1, 1))) void bin_fill(
+    __global const RasterTriangle* tris, __global const RasterCounters* counters, __global const uint* binOffset,
+    __global uint* binCursor, __global uint* binEntries, const RasterViewParams p) {
+  const uint records = binRecordCount(&p, counters);
+  if (records == 0 || get_global_id(0) > (records - 1) / RASTER_BIN_RUN) return;
+  const uint first = get_global_id(0) * RASTER_BIN_RUN, end = first + min((uint)RASTER_BIN_RUN, records - first);
+  uint pending[RASTER_BIN_RUN];
+  int runBin = -1;
+  uint run = 0;
+#define BIN_FILL_RUN(bin)                                                                           \
+  do {                                                                                              \
+    if ((bin) != runBin) {                                                                          \
+      if (run != 0) binFlush(runBin, pending, run, binOffset, binCursor, binEntries, p.binCapacity); \
+      runBin = (bin), run = 0;                                                                      \
+    }                                                                                               \
+    pending[run++] = i;                                                                             \
+  } while (0)
+  for (uint i = first; i < end; ++i) {
+    const RasterTriangle t = tris[i];
+    if ((t.flags & RASTER_FLAG_VALID) != 0) BIN_FOR_EACH(t, p, BIN_FILL_RUN);
+  }
+#undef BIN_FILL_RUN
+  if (run != 0) binFlush(runBin, pending, run, binOffset, binCursor, binEntries, p.binCapacity);
+}
+#endif

@@ -45,18 +45,19 @@
 #define RASTER_SCAN_ITEMS (RASTER_MAX_BINS / RASTER_SCAN_WG)  // bins per scan work-item (16)
 // Tunable (work-items per group), one row per device class; the host picks a row (raster::workGroupsFor(),
 // raster/plan.cpp) and passes it as -DRASTER_WG_SETUP=... -DRASTER_WG_BIN=... -DRASTER_WG_GBUFFER=...
-// -DRASTER_WG_FINE=... -DRASTER_WG_COARSE=...; a row counts only after the Raster* tests pass with it (PoCL: checked
-// with 64/64/64/64/1, 64/64/64/0/0 and 128/256/32/1/4; NVIDIA: not yet run on the device). fine selects the fine
-// stage's layout (raster/fine.cl): 0 = one work-group of RASTER_FINE_WG items per tile (an item per pixel),
-// N > 0 = N tiles per work-group, an item per tile (CPUs; it also selects setup's CPU path, RASTER_SETUP_VECTOR in
-// setup.cl). coarse selects the
-// coarse stage's layout (raster/coarse.cl): 0 = a work-group of RASTER_COARSE_WG items per bin (an item per tile),
-// N > 0 = N bins per work-group, an item per bin (CPUs).
+// -DRASTER_WG_FINE=... -DRASTER_WG_COARSE=... -DRASTER_BIN_RUN=...; a row counts only after the Raster* tests pass
+// with it (PoCL: checked with 64/64/64/64/1/32, 64/64/64/0/0/1 and 128/256/32/1/4/7; NVIDIA: not yet run on the
+// device). fine selects the fine stage's layout (raster/fine.cl): 0 = one work-group of RASTER_FINE_WG items per tile
+// (an item per pixel), N > 0 = N tiles per work-group, an item per tile (CPUs; it also selects setup's CPU path,
+// RASTER_SETUP_VECTOR in setup.cl). coarse selects the coarse stage's layout (raster/coarse.cl): 0 = a work-group of
+// RASTER_COARSE_WG items per bin (an item per tile), N > 0 = N bins per work-group, an item per bin (CPUs). bin run is
+// the records each bin_count / bin_fill work-item walks (raster/bin.cl): 1 on GPUs, a run on CPUs, where an item
+// merges consecutive entries into one bin into one atomic.
 // clang-format off
-//                               setup  bin  gbuffer  fine  coarse
-#define RASTER_WG_ROW_DEFAULT      64,   64,   64,      0,     0   // any device
-#define RASTER_WG_ROW_NVIDIA      128,  128,  128,      0,     0   // NVIDIA H100 (OpenCL 3.0 driver)
-#define RASTER_WG_ROW_POCL          64,   64,   64,     64,     1   // PoCL 3.1 CPU (work-group loops: small groups suffice)
+//                               setup  bin  gbuffer  fine  coarse  bin run
+#define RASTER_WG_ROW_DEFAULT      64,   64,   64,      0,     0,     1  // any device
+#define RASTER_WG_ROW_NVIDIA      128,  128,  128,      0,     0,     1  // NVIDIA H100 (OpenCL 3.0 driver)
+#define RASTER_WG_ROW_POCL         64,   64,   64,     64,     1,    32  // PoCL 3.1 CPU (loops: small groups suffice)
 // clang-format on
 
 // ---- Record values -------------------------------------------------------------------------------------------

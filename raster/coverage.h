@@ -11,11 +11,17 @@
 // Subpixel coordinate of the centre of pixel column/row `pixel` (< 2^21 for pixels < 8192).
 static inline int rasterSample(int pixel) { return (pixel << RASTER_SUBPIXEL_LOG2) + RASTER_SAMPLE_OFFSET; }
 
-// e_k at a sample: |a * x|, |b * y| < 2^51 and |c| < 2^59, so the sum is exact. 32 x 32 -> 64-bit products (one
-// wide multiply on GPUs).
-static inline long rasterEdgeAt(int a, int b, long c, int x, int y) {
-  return (long)a * (long)x + (long)b * (long)y + c;
+// e_k at a sample (x, y) from edge k's coefficients a, b and its first vertex (vx, vy) (raster/types.h): the
+// differences are below 2^30, |a|, |b| <= 2^30, so each product is below 2^60 and the sum exact. 32 x 32 -> 64-bit
+// products (one wide multiply on GPUs).
+static inline long rasterEdgeAt(int a, int b, int vx, int vy, int x, int y) {
+  return (long)a * (long)(x - vx) + (long)b * (long)(y - vy);
 }
+
+// Edge k's coefficients a_k, b_k and first vertex of a record `t` in any address space (raster/types.h).
+#define RASTER_EDGE_NEXT(k) ((k) == 2 ? 0 : (k) + 1)
+#define RASTER_EDGE_A(t, k) ((t).y[k] - (t).y[RASTER_EDGE_NEXT(k)])
+#define RASTER_EDGE_B(t, k) ((t).x[RASTER_EDGE_NEXT(k)] - (t).x[k])
 
 // Whether an edge accepts samples with edge value e: inside, or on the edge when it owns its samples (owns: 1 or 0;
 // for OpenCL vectors e and owns are vectors or scalars of -1 or 0, the result a mask of -1 or 0). Bitwise operators,
@@ -28,21 +34,22 @@ static inline bool rasterEdgeAccepts(long e, uint flags, int k) {
 }
 
 // Whether some sample of pixels [x0, x1] x [y0, y1] (inclusive, non-empty) passes edge k.
-static inline bool rasterEdgeReaches(int a, int b, long c, uint flags, int k, int x0, int y0, int x1, int y1) {
+static inline bool rasterEdgeReaches(int a, int b, int vx, int vy, uint flags, int k, int x0, int y0, int x1, int y1) {
   int x = rasterSample(a > 0 ? x1 : x0), y = rasterSample(b > 0 ? y1 : y0);
-  return rasterEdgeAccepts(rasterEdgeAt(a, b, c, x, y), flags, k);
+  return rasterEdgeAccepts(rasterEdgeAt(a, b, vx, vy, x, y), flags, k);
 }
 
 // The rectangle test for a triangle record in any address space: the rectangle is first cut to the triangle's
 // candidate box; every edge must reach the rest. Not exact (the three half-planes may each reach a different
 // sample), only conservative, which is all binning needs.
-#define RASTER_RECT_OVERLAPS(t, rx0, ry0, rx1, ry1, result)                                                 \
-  do {                                                                                                      \
-    int ox0_ = max((int)(t).bbox[0], (rx0)), oy0_ = max((int)(t).bbox[1], (ry0));                           \
-    int ox1_ = min((int)(t).bbox[2], (rx1)), oy1_ = min((int)(t).bbox[3], (ry1));                           \
-    (result) = ox0_ <= ox1_ && oy0_ <= oy1_;                                                                \
-    for (int k_ = 0; k_ < 3 && (result); ++k_)                                                              \
-      (result) = rasterEdgeReaches((t).a[k_], (t).b[k_], (t).c[k_], (t).flags, k_, ox0_, oy0_, ox1_, oy1_); \
+#define RASTER_RECT_OVERLAPS(t, rx0, ry0, rx1, ry1, result)                                                     \
+  do {                                                                                                          \
+    int ox0_ = max((int)(t).bbox[0], (rx0)), oy0_ = max((int)(t).bbox[1], (ry0));                               \
+    int ox1_ = min((int)(t).bbox[2], (rx1)), oy1_ = min((int)(t).bbox[3], (ry1));                               \
+    (result) = ox0_ <= ox1_ && oy0_ <= oy1_;                                                                    \
+    for (int k_ = 0; k_ < 3 && (result); ++k_)                                                                  \
+      (result) = rasterEdgeReaches(RASTER_EDGE_A(t, k_), RASTER_EDGE_B(t, k_), (t).x[k_], (t).y[k_], (t).flags, \
+                                   k_, ox0_, oy0_, ox1_, oy1_);                                                 \
   } while (0)
 
 #endif

@@ -57,11 +57,11 @@ static void fineTest(__local const RasterTriangle* t, int x, int y, int sx, int 
                      uint* bestId) {
   if (x < t->bbox[0] || x > t->bbox[2] || y < t->bbox[1] || y > t->bbox[3]) return;
   const uint flags = t->flags;
-  const long e0 = rasterEdgeAt(t->a[0], t->b[0], t->c[0], sx, sy);
+  const long e0 = rasterEdgeAt(RASTER_EDGE_A(*t, 0), RASTER_EDGE_B(*t, 0), t->x[0], t->y[0], sx, sy);
   if (!rasterEdgeAccepts(e0, flags, 0)) return;
-  const long e1 = rasterEdgeAt(t->a[1], t->b[1], t->c[1], sx, sy);
+  const long e1 = rasterEdgeAt(RASTER_EDGE_A(*t, 1), RASTER_EDGE_B(*t, 1), t->x[1], t->y[1], sx, sy);
   if (!rasterEdgeAccepts(e1, flags, 1)) return;
-  const long e2 = rasterEdgeAt(t->a[2], t->b[2], t->c[2], sx, sy);
+  const long e2 = rasterEdgeAt(RASTER_EDGE_A(*t, 2), RASTER_EDGE_B(*t, 2), t->x[2], t->y[2], sx, sy);
   if (!rasterEdgeAccepts(e2, flags, 2)) return;
   const float v = FINE_VIEW_Z((float)e0, (float)e1, (float)e2, vload3(0, t->viewZOverW), vload3(0, t->invW));
   if (FINE_NEARER(v, t->triangleId, farViewZ, *best, *bestId)) {
@@ -116,8 +116,8 @@ static inline void fineKeepRow(int r, int8 inside, float8 w0, float8 w1, float8 
 // Per row the edge values start from the exact 64-bit value at the row's first sample and step by 256 a_k per pixel.
 static void fineTestRows(__global const RasterTriangle* t, int2 origin, int r0, int r1, float farViewZ, float* best,
                          uint* bestId) {
-  const int a0 = t->a[0], a1 = t->a[1], a2 = t->a[2], b0 = t->b[0], b1 = t->b[1], b2 = t->b[2];
-  const long c0 = t->c[0], c1 = t->c[1], c2 = t->c[2];
+  const int x0 = t->x[0], x1 = t->x[1], x2 = t->x[2], y0 = t->y[0], y1 = t->y[1], y2 = t->y[2];
+  const int a0 = y0 - y1, a1 = y1 - y2, a2 = y2 - y0, b0 = x1 - x0, b1 = x2 - x1, b2 = x0 - x2;  // coverage.h
   const long da0 = (long)a0 << RASTER_SUBPIXEL_LOG2, da1 = (long)a1 << RASTER_SUBPIXEL_LOG2;
   const long da2 = (long)a2 << RASTER_SUBPIXEL_LOG2;
   const uint flags = t->flags, id = t->triangleId;
@@ -132,8 +132,8 @@ static void fineTestRows(__global const RasterTriangle* t, int2 origin, int r0, 
   const long8 step0 = lane * da0, step1 = lane * da1, step2 = lane * da2;
   for (int r = r0; r <= r1; ++r) {
     const int sy = rasterSample(origin.y + r);
-    const long8 e0 = rasterEdgeAt(a0, b0, c0, sx, sy) + step0, e1 = rasterEdgeAt(a1, b1, c1, sx, sy) + step1;
-    const long8 e2 = rasterEdgeAt(a2, b2, c2, sx, sy) + step2;
+    const long8 e0 = rasterEdgeAt(a0, b0, x0, y0, sx, sy) + step0, e1 = rasterEdgeAt(a1, b1, x1, y1, sx, sy) + step1;
+    const long8 e2 = rasterEdgeAt(a2, b2, x2, y2, sx, sy) + step2;
     const int8 inside = inBox & convert_int8(RASTER_EDGE_PASSES(e0, owns0) & RASTER_EDGE_PASSES(e1, owns1) &
                                              RASTER_EDGE_PASSES(e2, owns2));
     fineKeepRow(r, inside, convert_float8(e0), convert_float8(e1), convert_float8(e2), viewZOverW, invW, id, farViewZ,

@@ -16,6 +16,7 @@ struct WorkGroups {
   size_t setup = 0, bin = 0, gbuffer = 0;
   size_t fine = 0;    // 0: a work-group per tile, an item per pixel; N > 0: N tiles per work-group, an item per tile
   size_t coarse = 0;  // 0: a work-group per bin, an item per tile; N > 0: N bins per work-group, an item per bin
+  size_t binRun = 1;  // records per bin_count / bin_fill work-item
 };
 WorkGroups workGroupsFor(const DeviceInfo& device);
 

@@ -1,5 +1,6 @@
 // Triangle setup, stage 1 of 4 (Laine & Karras 2011, section 4.1): world -> clip transform, clipping against the
-// near plane and the guard band, snapping to 1/256 pixel, culling, and the exact edge functions of each triangle.
+// near plane and the guard band, snapping to 1/256 pixel, culling, and the record each triangle's exact edge functions
+// come from (raster/types.h).
 // One work-item per input triangle. The first triangle it yields goes to the input triangle's own record (written
 // even when dropped, as invalid); further fan triangles from clipping are appended past triangleCount through
 // counters->extraTriangles, written only below extraCapacity (the host grows the buffer and re-runs).
@@ -164,9 +165,8 @@ static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, u
   for (int k = 0; k < 3; ++k) {
     int j = k == 2 ? 0 : k + 1, o = k == 0 ? 2 : k - 1;  // edge k: vertex k -> j, opposite vertex o
     int dx = s[j].x - s[k].x, dy = s[j].y - s[k].y;
-    r->a[k] = -dy;
-    r->b[k] = dx;
-    r->c[k] = (long)s[k].x * s[j].y - (long)s[j].x * s[k].y;
+    r->x[k] = s[k].x;
+    r->y[k] = s[k].y;
     // Top-left rule (y up, counter-clockwise): left edges run downwards, top edges run leftwards.
     if (dy < 0 || (dy == 0 && dx < 0)) flags |= RASTER_FLAG_OWNS_EDGE0 << k;
 #if RASTER_SETUP_VECTOR

@@ -11,8 +11,8 @@ namespace {
 std::string buildOptions(const WorkGroups& groups) {
   return fmt::format(
       "-DRASTER_WG_SETUP={} -DRASTER_WG_BIN={} -DRASTER_WG_GBUFFER={} -DRASTER_WG_FINE={} -DRASTER_SETUP_VECTOR={} "
-      "-DRASTER_WG_COARSE={}",
-      groups.setup, groups.bin, groups.gbuffer, groups.fine, groups.fine != 0 ? 1 : 0, groups.coarse);
+      "-DRASTER_WG_COARSE={} -DRASTER_BIN_RUN={}",
+      groups.setup, groups.bin, groups.gbuffer, groups.fine, groups.fine != 0 ? 1 : 0, groups.coarse, groups.binRun);
 }
 
 Kernel makeKernel(Context& ctx, const WorkGroups& groups, const char* source, const char* entry) {
@@ -45,6 +45,7 @@ void Stages::record(const Plan& plan, const SceneBuffers& scene, Queues& q, Buff
                     Buffer<uint32_t>& triangleIds) {
   const RasterViewParams p = params(plan, q);
   const size_t records = size_t{scene.triangleCount} + q.extraCapacity;
+  const size_t binItems = (records + groups_.binRun - 1) / groups_.binRun;  // groups_.binRun records per item
   const cl_uint bins = static_cast<cl_uint>(plan.bins);
   q.counters.fill(ctx_, RasterCounters{});
   q.binCount.fill(ctx_, 0u);
@@ -54,10 +55,10 @@ void Stages::record(const Plan& plan, const SceneBuffers& scene, Queues& q, Buff
   setup_.args(scene.positions, scene.triangles, q.records, q.counters, p)
       .moves(uint64_t{scene.vertexCount} * 12 + uint64_t{scene.triangleCount} * 12)
       .launch(scene.triangleCount, groups_.setup);
-  binCount_.args(q.records, q.counters, q.binCount, p).launch(records, groups_.bin);
+  binCount_.args(q.records, q.counters, q.binCount, p).launch(binItems, groups_.bin);
   binScan_.args(q.binCount, q.binOffset, q.binCursor, bins, q.counters, cl_uint{0})
       .launch(RASTER_SCAN_WG, RASTER_SCAN_WG);
-  binFill_.args(q.records, q.counters, q.binOffset, q.binCursor, q.binEntries, p).launch(records, groups_.bin);
+  binFill_.args(q.records, q.counters, q.binOffset, q.binCursor, q.binEntries, p).launch(binItems, groups_.bin);
   coarse(plan, q, p);
   fine_.args(q.records, q.tileEntries, q.tileCount, q.tileOffset, depth, triangleIds, p)
       .moves(uint64_t{plan.scissorPixels} * (sizeof(float) + sizeof(uint32_t)))

@@ -17,13 +17,16 @@ typedef ulong raster_ulong;
 typedef ushort raster_ushort;
 #endif
 
-// One triangle after setup (clipped, snapped, oriented counter-clockwise in window space). Edge k runs from
-// vertex k to vertex k+1; its edge function e_k(x, y) = a[k] * x + b[k] * y + c[k] over subpixel coordinates
-// is exact in 64 bits, positive inside, and the vertex opposite edge k has barycentric weight e_k / sum(e).
+// One triangle after setup (clipped, snapped, oriented counter-clockwise in window space), 64 bytes: one cache line
+// on CPUs, where every consumer reads records in an order unrelated to the buffer's. Edge k runs from vertex k to
+// vertex j = k+1 (mod 3); its edge function over subpixel coordinates is
+//   e_k(x, y) = a_k (x - x[k]) + b_k (y - y[k]),   a_k = y[k] - y[j],   b_k = x[j] - x[k]
+// (raster/coverage.h), exact in 64 bits, positive inside; the vertex opposite edge k has barycentric weight
+// e_k / sum(e). The vertices are stored rather than the edges' a, b, c (48 bytes): the coefficients are differences
+// of them, so every consumer gets the same integers as before with a few subtractions and no rounding.
 // A sample is covered when every e_k > 0, or e_k == 0 on an edge that owns it (top-left rule).
 typedef struct {
-  raster_long c[3];       // edge constants, subpixels^2 (|c| < 2^59)
-  int a[3], b[3];         // edge coefficients, subpixels (|a|, |b| < 2^30)
+  int x[3], y[3];         // snapped vertices, subpixels (|x|, |y| <= RASTER_COORD_LIMIT)
   float invW[3];          // 1 / w_clip of the vertex opposite edge k
   float viewZOverW[3];    // -z_eye / w_clip of the vertex opposite edge k (eye units)
   uint triangleId;        // index into Scene::triangles
@@ -34,12 +37,11 @@ typedef struct {
 #if !PENUMBRA_HOST
 // Queues hold record indices in an order unrelated to the record buffer's, so on a CPU nearly every record read
 // misses the caches; the CPU layouts (RASTER_WG_FINE > 0, RASTER_WG_COARSE > 0) prefetch the record a few queue
-// entries ahead, both cache lines an 88-byte record can span. Clang's builtin through an integer: CPU devices have
-// one flat address space (OpenCL's prefetch() is a no-op in PoCL). Never used by the GPU layouts.
+// entries ahead. One line suffices: records are 64 bytes and buffers are at least 64-byte aligned
+// (CL_DEVICE_MEM_BASE_ADDR_ALIGN). Clang's builtin through an integer: CPU devices have one flat address space
+// (OpenCL's prefetch() is a no-op in PoCL). Never used by the GPU layouts.
 #if defined(__clang__)
-#define RASTER_PREFETCH_RECORD(record)                \
-  (__builtin_prefetch((const void*)(size_t)(record)), \
-   __builtin_prefetch((const void*)((size_t)(record) + sizeof(RasterTriangle) - 1)))
+#define RASTER_PREFETCH_RECORD(record) __builtin_prefetch((const void*)(size_t)(record))
 #else
 #define RASTER_PREFETCH_RECORD(record) ((void)0)
 #endif
@@ -82,9 +84,9 @@ typedef struct {
 
 #if PENUMBRA_HOST
 #include <cstddef>
-static_assert(sizeof(RasterTriangle) == 88, "RasterTriangle layout must match OpenCL C");
-static_assert(offsetof(RasterTriangle, a) == 24 && offsetof(RasterTriangle, invW) == 48);
-static_assert(offsetof(RasterTriangle, triangleId) == 72 && offsetof(RasterTriangle, bbox) == 80);
+static_assert(sizeof(RasterTriangle) == 64, "RasterTriangle layout must match OpenCL C (and fill one cache line)");
+static_assert(offsetof(RasterTriangle, y) == 12 && offsetof(RasterTriangle, invW) == 24);
+static_assert(offsetof(RasterTriangle, triangleId) == 48 && offsetof(RasterTriangle, bbox) == 56);
 static_assert(sizeof(RasterCounters) == 32 && offsetof(RasterCounters, extraTriangles) == 16);
 static_assert(offsetof(RasterViewParams, p00) == 112 && offsetof(RasterViewParams, width) == 176);
 static_assert(sizeof(RasterViewParams) == 272, "RasterViewParams layout must match OpenCL C");
