@@ -225,6 +225,7 @@ TEST_F(BlurKernels, LayoutsAgree) {
       for (BlurConfig config : configs) {
         const ImageShape shape{width, height, channels};
         const std::vector<double> image = makeInput(shape, Input::Random, width + height + channels);
+        config.method = BlurMethod::Direct;  // the direct layouts (running-sum plans: RunsLayoutBoxesMatchRunningSums)
         config.layout = BlurLayout::Tiles;
         const std::vector<float> tiles = run(*this, ctx(), image, shape, config);
         config.layout = BlurLayout::Runs;
@@ -250,6 +251,24 @@ TEST(BlurLayoutChoice, RunsOnCpusWithEnoughLocalMemory) {
   cpu.localMemBytes = 16 * 1024;  // 4 lines of 512 + 2r float4 texels do not fit
   EXPECT_EQ(resolveBlurLayout(BlurLayout::Auto, cpu, shape, 6), BlurLayout::Tiles);
   EXPECT_EQ(resolveBlurLayout(BlurLayout::Runs, gpu, shape, 6), BlurLayout::Runs);  // asked for: as asked
+}
+
+// A running-sum plan's boxes: running sums (tiles) and, on the runs layout, direct equal-weight passes for boxes up
+// to BLUR_RUNS_MAX_BOX_RADIUS: the same filter, within the running sums' own tolerance of each other.
+TEST_F(BlurKernels, RunsLayoutBoxesMatchRunningSums) {
+  for (const auto& [width, height] : {std::pair<uint32_t, uint32_t>{97, 61}, {1, 1}, {300, 2}})
+    for (uint32_t channels : {1u, 2u, 4u})
+      for (BlurConfig config : {gaussian(16.0f, 1.0f, BlurMethod::RunningSums), box(20, BlurMethod::RunningSums)}) {
+        const ImageShape shape{width, height, channels};
+        const std::vector<double> image = makeInput(shape, Input::Random, width * 3 + channels);
+        config.layout = BlurLayout::Tiles;
+        const std::vector<float> sums = run(*this, ctx(), image, shape, config);
+        config.layout = BlurLayout::Runs;
+        const std::vector<float> direct = run(*this, ctx(), image, shape, config);
+        EXPECT_TRUE(
+            test::allNear(std::span<const float>(direct), std::span<const float>(sums), kRunningTol, width * channels))
+            << width << "x" << height << "x" << channels << " radius " << planBlur(config).radius;
+      }
 }
 
 // Half moments from both layouts' column passes (vstore_half16_rte on runs, per texel on tiles): the same sums

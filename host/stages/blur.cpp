@@ -163,7 +163,13 @@ std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>
     return events;
   }
 
-  // Running sums ping-pong in -> scratch -> out -> scratch ... so that the last pass writes `out`.
+  // Running sums ping-pong in -> scratch -> out -> scratch ... so that the last pass writes `out`. Where the runs
+  // layout runs and no box is wider than BLUR_RUNS_MAX_BOX_RADIUS, each box pass takes direct taps of equal weight
+  // instead: the same box filter to fp32 rounding (so the same result as the running sums on other devices), faster
+  // there than a running sum's serial chain.
+  const int widest = *std::max_element(plan.boxRadii.begin(), plan.boxRadii.end());
+  const bool directBoxes = widest <= BLUR_RUNS_MAX_BOX_RADIUS &&
+                           resolveBlurLayout(config.layout, ctx.info(), shape, widest) == BlurLayout::Runs;
   Kernel rows(ctx, "kernels/blur.cl", "blur_box_rows", "blur", options);
   Kernel columns(ctx, "kernels/blur.cl", "blur_box_columns", "blur", options);
   const size_t passes = 2 * plan.boxRadii.size();
@@ -172,7 +178,19 @@ std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>
     Buffer<float>* dst = (passes - pass) % 2 == 1 ? &out : &scratch;
     const int r = plan.boxRadii[pass % plan.boxRadii.size()];
     const int segment = std::max(BLUR_SEGMENT, 2 * r + 1);
-    if (pass < plan.boxRadii.size()) {
+    if (directBoxes) {
+      BlurPlan box;
+      box.radius = r;
+      box.weights.assign(2 * r + 1, 1.0f / float(2 * r + 1));
+      Buffer<float> weights(ctx, std::span<const float>(box.weights), CL_MEM_READ_ONLY);
+      if (pass < plan.boxRadii.size()) {
+        Kernel boxRows(ctx, "kernels/blur.cl", "blur_rows_runs", "blur", options);
+        boxRows.args(*src, *dst, w, h, r, weights, rowLines(shape, r, true));
+        launchRows(boxRows, shape, true, passBytes, events);
+      } else {
+        launchColumns(ctx, options, *src, *dst, shape, box, weights, true, events);
+      }
+    } else if (pass < plan.boxRadii.size()) {
       rows.args(*src, *dst, w, h, r, segment);
       events.push_back(rows.moves(passBytes).launch(Range((w + segment - 1) / segment, h), Range(1, 64)));
     } else {

@@ -50,7 +50,8 @@ BlurLayout resolveBlurLayout(BlurLayout requested, const DeviceInfo& device, con
 
 // Blurs `in` into `out` (which may be the same buffer) through `scratch`; all hold shape.count() floats.
 // Launches "blur/blur_rows" + "blur/blur_columns" (tiles), "blur/blur_rows_runs" + "blur/blur_columns_runs" (runs),
-// or "blur/blur_box_rows" + "blur/blur_box_columns" per box.
+// or "blur/blur_box_rows" + "blur/blur_box_columns" per box (on the runs layout, boxes up to
+// BLUR_RUNS_MAX_BOX_RADIUS run as direct equal-weight runs passes instead: the same filter, faster on CPUs).
 std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>& out, Buffer<float>& scratch,
                             const ImageShape& shape, const BlurConfig& config);
 
