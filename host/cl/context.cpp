@@ -51,6 +51,10 @@ std::string buildLog(const cl::Program& program, const cl::Device& device) {
 
 Context::Context(const std::string& deviceSpec) : Context(selectDevice(deviceSpec)) {}
 
+Context::~Context() {
+  if (queue_() != nullptr) clFinish(queue_());  // errors ignored: nothing left to report them to
+}
+
 Context::Context(DeviceInfo device) : info_(std::move(device)), device_(info_.device, true) {
   cl_int err = CL_SUCCESS;
   context_ = cl::Context(device_, nullptr, nullptr, nullptr, &err);

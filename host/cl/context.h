@@ -22,6 +22,10 @@ class Context {
   explicit Context(DeviceInfo device);
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;
+  // Waits for every command enqueued on the queue: a stage that throws leaves earlier launches in flight, and
+  // releasing the queue does not wait for them. PoCL's device threads, still building such a kernel while the
+  // process exits, crashed in LLVM's torn-down statics (exit 139 instead of the error's exit code).
+  ~Context();
 
   const DeviceInfo& info() const { return info_; }
   const cl::Context& context() const { return context_; }
