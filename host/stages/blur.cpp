@@ -7,8 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
-#include <type_traits>
 
 #include "host/cl/kernel.h"
 #include "host/stages/moments.h"
@@ -63,6 +63,15 @@ LocalMem rowLines(const ImageShape& shape, int radius, bool runs) {
   const size_t texels = runs ? size_t(BLUR_RUNS_ROWS) * (BLUR_RUNS_SEGMENT + 2 * radius)
                              : size_t(BLUR_ROWS) * (BLUR_ROW_TILE + 2 * radius);
   return LocalMem{texels * sizeof(float) * shape.channels};
+}
+
+// The direct row pass over an fp32 image (blur_rows or blur_rows_runs): `plan`'s taps from `in` into `out`.
+void launchRowPass(Context& ctx, const std::string& options, const Buffer<float>& in, Buffer<float>& out,
+                   const ImageShape& shape, const BlurPlan& plan, const Buffer<float>& weights, bool runs,
+                   std::vector<cl::Event>& events) {
+  Kernel rows(ctx, "kernels/blur.cl", runs ? "blur_rows_runs" : "blur_rows", "blur", options);
+  rows.args(in, out, shape.width, shape.height, plan.radius, weights, rowLines(shape, plan.radius, runs));
+  launchRows(rows, shape, runs, 2 * shape.count() * sizeof(float), events);  // floor: read and write the image once
 }
 
 // The direct plan's column pass, storing `out` as T (float, or cl_half with STORE_HALF in `options`).
@@ -156,9 +165,7 @@ std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>
   if (plan.direct) {
     const bool runs = resolveBlurLayout(config.layout, ctx.info(), shape, plan.radius) == BlurLayout::Runs;
     Buffer<float> weights(ctx, std::span<const float>(plan.weights), CL_MEM_READ_ONLY);
-    Kernel rows(ctx, "kernels/blur.cl", runs ? "blur_rows_runs" : "blur_rows", "blur", options);
-    rows.args(in, scratch, w, h, plan.radius, weights, rowLines(shape, plan.radius, runs));
-    launchRows(rows, shape, runs, passBytes, events);
+    launchRowPass(ctx, options, in, scratch, shape, plan, weights, runs, events);
     launchColumns(ctx, options, scratch, out, shape, plan, weights, runs, events);
     return events;
   }
@@ -170,8 +177,11 @@ std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>
   const int widest = *std::max_element(plan.boxRadii.begin(), plan.boxRadii.end());
   const bool directBoxes = widest <= BLUR_RUNS_MAX_BOX_RADIUS &&
                            resolveBlurLayout(config.layout, ctx.info(), shape, widest) == BlurLayout::Runs;
-  Kernel rows(ctx, "kernels/blur.cl", "blur_box_rows", "blur", options);
-  Kernel columns(ctx, "kernels/blur.cl", "blur_box_columns", "blur", options);
+  std::optional<Kernel> rows, columns;  // the running-sum kernels, when they run
+  if (!directBoxes) {
+    rows.emplace(ctx, "kernels/blur.cl", "blur_box_rows", "blur", options);
+    columns.emplace(ctx, "kernels/blur.cl", "blur_box_columns", "blur", options);
+  }
   const size_t passes = 2 * plan.boxRadii.size();
   const Buffer<float>* src = &in;
   for (size_t pass = 0; pass < passes; ++pass) {
@@ -183,19 +193,16 @@ std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>
       box.radius = r;
       box.weights.assign(2 * r + 1, 1.0f / float(2 * r + 1));
       Buffer<float> weights(ctx, std::span<const float>(box.weights), CL_MEM_READ_ONLY);
-      if (pass < plan.boxRadii.size()) {
-        Kernel boxRows(ctx, "kernels/blur.cl", "blur_rows_runs", "blur", options);
-        boxRows.args(*src, *dst, w, h, r, weights, rowLines(shape, r, true));
-        launchRows(boxRows, shape, true, passBytes, events);
-      } else {
+      if (pass < plan.boxRadii.size())
+        launchRowPass(ctx, options, *src, *dst, shape, box, weights, true, events);
+      else
         launchColumns(ctx, options, *src, *dst, shape, box, weights, true, events);
-      }
     } else if (pass < plan.boxRadii.size()) {
-      rows.args(*src, *dst, w, h, r, segment);
-      events.push_back(rows.moves(passBytes).launch(Range((w + segment - 1) / segment, h), Range(1, 64)));
+      rows->args(*src, *dst, w, h, r, segment);
+      events.push_back(rows->moves(passBytes).launch(Range((w + segment - 1) / segment, h), Range(1, 64)));
     } else {
-      columns.args(*src, *dst, w, h, r, segment);
-      events.push_back(columns.moves(passBytes).launch(Range(w, (h + segment - 1) / segment), Range(64, 1)));
+      columns->args(*src, *dst, w, h, r, segment);
+      events.push_back(columns->moves(passBytes).launch(Range(w, (h + segment - 1) / segment), Range(64, 1)));
     }
     src = dst;
   }
@@ -208,7 +215,8 @@ namespace {
 template <class T>
 std::vector<cl::Event> blurMomentsInto(Context& ctx, const Buffer<float>& depth, const MomentsConfig& moments,
                                        Buffer<T>& out, Buffer<float>& scratch, uint32_t width, uint32_t height,
-                                       const BlurConfig& config, MomentStorage storage) {
+                                       const BlurConfig& config) {
+  constexpr MomentStorage storage = storageOf<T>();
   const ImageShape shape{width, height, momentChannels(moments.kind)};
   const MomentsParams params = momentsParams(moments, width, height);
   const int kind = momentsKindId(moments.kind);
@@ -217,7 +225,7 @@ std::vector<cl::Event> blurMomentsInto(Context& ctx, const Buffer<float>& depth,
   const BlurPlan plan = planBlur(config);
   if (shape.texels() == 0) return {};
   if (!plan.direct) {  // running sums read each texel twice: encode once, then blur in place
-    if constexpr (std::is_same_v<T, float>) {
+    if constexpr (storage == MomentStorage::Float32) {
       std::vector<cl::Event> events{computeMoments(ctx, depth, width, height, moments, out)};
       for (cl::Event& e : blur(ctx, out, out, scratch, shape, config)) events.push_back(std::move(e));
       return events;
@@ -254,15 +262,14 @@ size_t blurMomentsScratch(Context& ctx, const ImageShape& shape, const BlurConfi
 std::vector<cl::Event> blurMoments(Context& ctx, const Buffer<float>& depth, const MomentsConfig& moments,
                                    Buffer<float>& out, Buffer<float>& scratch, uint32_t width, uint32_t height,
                                    const BlurConfig& config) {
-  return blurMomentsInto(ctx, depth, moments, out, scratch, width, height, config, MomentStorage::Float32);
+  return blurMomentsInto(ctx, depth, moments, out, scratch, width, height, config);
 }
 
 std::vector<cl::Event> blurMoments(Context& ctx, const Buffer<float>& depth, const MomentsConfig& moments,
                                    Buffer<cl_half>& out, Buffer<float>& scratch, uint32_t width, uint32_t height,
                                    const BlurConfig& config) {
-  if (moments.storage != MomentStorage::Float16)
-    throw std::invalid_argument("blur: half moments need MomentStorage::Float16 (EVSM exponents bounded by half)");
-  return blurMomentsInto(ctx, depth, moments, out, scratch, width, height, config, MomentStorage::Float16);
+  checkHalfMoments(moments, "blur");
+  return blurMomentsInto(ctx, depth, moments, out, scratch, width, height, config);
 }
 
 }  // namespace penumbra

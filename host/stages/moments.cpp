@@ -48,6 +48,12 @@ void validate(const MomentsConfig& config) {
 
 std::string storageOptions(MomentStorage storage) { return storage == MomentStorage::Float16 ? "-DSTORE_HALF" : ""; }
 
+void checkHalfMoments(const MomentsConfig& config, const char* stage) {
+  if (config.storage != MomentStorage::Float16)
+    throw std::invalid_argument(
+        fmt::format("{}: half moments need MomentStorage::Float16 (EVSM exponents bounded by half)", stage));
+}
+
 float evsmMaxExponent(MomentStorage storage) {
   return storage == MomentStorage::Float16 ? MOMENTS_EVSM_MAX_EXPONENT_FP16 : MOMENTS_EVSM_MAX_EXPONENT_FP32;
 }
@@ -99,13 +105,13 @@ namespace {
 // Moments of `depth` into `out`, whose element type is the storage (float, or cl_half built with STORE_HALF).
 template <class T>
 cl::Event launchMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
-                        const MomentsConfig& config, Buffer<T>& out, MomentStorage storage) {
+                        const MomentsConfig& config, Buffer<T>& out) {
   const MomentsParams params = momentsParams(config, width, height);
   const size_t texels = size_t(width) * height;
   checkBufferSize(depth.size(), texels, "moments", "depth");
   checkBufferSize(out.size(), texels * momentChannels(config.kind) * momentPlanes(config), "moments", "output");
 
-  Kernel kernel(ctx, "kernels/moments.cl", entryPoint(config.kind), "moments", storageOptions(storage));
+  Kernel kernel(ctx, "kernels/moments.cl", entryPoint(config.kind), "moments", storageOptions(storageOf<T>()));
   const Range global(width, height), local(16, 8);
   // Floor: read each depth texel and write each moment once.
   const uint64_t bytes = texels * (sizeof(float) + momentChannels(config.kind) * momentPlanes(config) * sizeof(T));
@@ -121,16 +127,15 @@ cl::Event launchMoments(Context& ctx, const Buffer<float>& depth, uint32_t width
 
 cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
                          const MomentsConfig& config, Buffer<float>& out) {
-  return launchMoments(ctx, depth, width, height, config, out, MomentStorage::Float32);
+  return launchMoments(ctx, depth, width, height, config, out);
 }
 
 cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
                          const MomentsConfig& config, Buffer<cl_half>& out) {
   if (config.kind == MomentKind::Lvsm)
     throw std::invalid_argument("moments: LVSM layers are fp32 or unorm16, not half");
-  if (config.storage != MomentStorage::Float16)
-    throw std::invalid_argument("moments: half output needs MomentStorage::Float16 (EVSM exponents bounded by half)");
-  return launchMoments(ctx, depth, width, height, config, out, MomentStorage::Float16);
+  checkHalfMoments(config, "moments");
+  return launchMoments(ctx, depth, width, height, config, out);
 }
 
 cl::Event packMomentsUnorm16(Context& ctx, const Buffer<float>& in, size_t count, Buffer<cl_ushort>& out,

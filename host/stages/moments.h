@@ -6,6 +6,7 @@
 #include <CL/opencl.hpp>
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "host/cl/buffer.h"
@@ -22,6 +23,13 @@ enum class MomentKind { Vsm, Evsm2, Evsm4, Lvsm, Msm };
 // storageOptions(): "-DSTORE_HALF" for half (kernels/shared/storage.h).
 enum class MomentStorage { Float32, Float16 };
 std::string storageOptions(MomentStorage storage);
+
+// The storage whose device element type is T: float (Float32) or cl_half (Float16).
+template <class T>
+constexpr MomentStorage storageOf() {
+  static_assert(std::is_same_v<T, float> || std::is_same_v<T, cl_half>, "moments are stored as float or cl_half");
+  return std::is_same_v<T, cl_half> ? MomentStorage::Float16 : MomentStorage::Float32;
+}
 
 // One LVSM layer: the interval [p, q] of normalised depth it resolves (p < q).
 struct LvsmLayer {
@@ -42,6 +50,10 @@ float evsmClampExponent(float exponent, MomentStorage storage);  // into [0, evs
 
 uint32_t momentChannels(MomentKind kind);            // floats per texel of one plane: 2 or 4
 uint32_t momentPlanes(const MomentsConfig& config);  // LVSM: layer count; otherwise 1
+
+// Throws std::invalid_argument unless `config` bounds its EVSM exponents for half (storage Float16), as every
+// stage that stores half moments needs; `stage` names the caller in the message.
+void checkHalfMoments(const MomentsConfig& config, const char* stage);
 
 // The kernel arguments of `config` over a width x height map (validates; throws std::invalid_argument).
 MomentsParams momentsParams(const MomentsConfig& config, uint32_t width, uint32_t height);

@@ -9,7 +9,6 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
-#include <type_traits>
 
 #include "host/cl/kernel.h"
 #include "host/stages/moments.h"
@@ -188,8 +187,7 @@ std::vector<cl::Event> momentMips(Context& ctx, const Buffer<T>& base, const Ima
   const PyramidLayout layout = pyramidLayout(shape.width, shape.height, 1);
   checkBufferSize(base.size(), shape.count(), "pyramid", "base level");
   checkBufferSize(mips.size(), layout.texels * shape.channels, "pyramid", "mip chain");
-  const MomentStorage storage = std::is_same_v<T, float> ? MomentStorage::Float32 : MomentStorage::Float16;
-  const std::string options = fmt::format("-DPYRAMID_CHANNELS={} {}", shape.channels, storageOptions(storage));
+  const std::string options = fmt::format("-DPYRAMID_CHANNELS={} {}", shape.channels, storageOptions(storageOf<T>()));
   const uint32_t texelBytes = shape.channels * sizeof(T), localTexelBytes = shape.channels * sizeof(float);
   std::vector<PyramidLevel> chain{{0, shape.width, shape.height, 0}};  // level 0 in `base`, the rest in `mips`
   chain.insert(chain.end(), layout.levels.begin(), layout.levels.end());

@@ -137,12 +137,14 @@ void MomentTechnique::render(ShadowFrame& frame, Buffer<float>& visibility) {
   const size_t pixels = size_t(shade.width) * shade.height;
   debug_.allocate(ctx, pixels);
   Kernel kernel(ctx, spec_.source, spec_.entry, "shade", storageOptions(config.storage));
+  const auto lookups = [&](const auto& moments, const auto& mips) {  // the storage in use (float or cl_half)
+    kernel.args(g.position, g.normal, map_.gpu, moments, mips, mipLevels_, shade, visibility, debug_.moments,
+                debug_.stats);
+  };
   if (config.storage == MomentStorage::Float16)
-    kernel.args(g.position, g.normal, map_.gpu, moments16_, mips16_, mipLevels_, shade, visibility, debug_.moments,
-                debug_.stats);
+    lookups(moments16_, mips16_);
   else
-    kernel.args(g.position, g.normal, map_.gpu, moments_, mips_, mipLevels_, shade, visibility, debug_.moments,
-                debug_.stats);
+    lookups(moments_, mips_);
   kernel.moves(pixels * kVisibilityBytesPerPixel).launch(pixels, kPixelGroup);
 }
 

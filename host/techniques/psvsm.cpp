@@ -47,12 +47,14 @@ class ParallelSplitVariance final : public Technique {
     const size_t pixels = static_cast<size_t>(g.width) * g.height;
     aovs_.allocate(ctx, pixels);
     Kernel kernel(ctx, "kernels/psvsm.cl", "psvsm_visibility", "shade", storageOptions(storage));
-    if (storage == MomentStorage::Float16)
-      kernel.args(g.position, g.normal, g.depth, gpu_.views, gpu_.splits, maps16_.base, maps16_.mipAtlas, mipLevels_,
-                  shade, gpu_.shade, visibility, aovs_.split, aovs_.resolutionError);
-    else
-      kernel.args(g.position, g.normal, g.depth, gpu_.views, gpu_.splits, maps_.base, maps_.mipAtlas, mipLevels_, shade,
+    const auto lookups = [&](const auto& maps) {  // the storage in use (float or cl_half)
+      kernel.args(g.position, g.normal, g.depth, gpu_.views, gpu_.splits, maps.base, maps.mipAtlas, mipLevels_, shade,
                   gpu_.shade, visibility, aovs_.split, aovs_.resolutionError);
+    };
+    if (storage == MomentStorage::Float16)
+      lookups(maps16_);
+    else
+      lookups(maps_);
     kernel
         .moves(pixels * (kVisibilityBytesPerPixel + 4 + 8))  // + camera depth read, split and error AOVs written
         .launch(pixels, kPixelGroup);

@@ -13,7 +13,6 @@
 #include <random>
 #include <stdexcept>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 #include "host/cl/buffer.h"
@@ -136,7 +135,7 @@ void addFusedBlur(Setup& s, const std::string& name, uint32_t size, double floor
     BlurConfig config;
     config.sigma = 2.0f;
     MomentsConfig moments;
-    moments.storage = std::is_same_v<T, float> ? MomentStorage::Float32 : MomentStorage::Float16;
+    moments.storage = storageOf<T>();
     return std::function<void()>([&s, depth, out, scratch, n, config, moments] {
       blurMoments(s.ctx, *depth, moments, *out, *scratch, n, n, config);
     });
