@@ -8,6 +8,9 @@
 //   the tap count stays fixed, their spacing grows.
 // - Bias: receiver-plane depth bias (Isidoro, GDC 2006; sc_receiver_plane) where the receiver's plane is
 //   known from its neighbours, else the slope-scaled bias growing with the tap offset.
+// - ID buffer (Luksch sec. 9.1, kernels/shared/id_buffer.h): each tap's four-neighbour id test instead of (or, in
+//   combined mode, between objects beside) its depth comparison, so the filter averages id tests.
+#include "kernels/shared/id_buffer.h"
 #include "kernels/shared/shadow_common.h"
 
 // Rotation angle in [0, 2 pi) per pixel: interleaved gradient noise of the pixel coordinates.
@@ -19,7 +22,9 @@ inline float pcf_rotation(uint x, uint y) {
 
 __kernel void pcf_visibility(__global const float4* position, __global const float4* normal, uint width, uint height,
                              __global const float* map, __constant const LightViewGpu* lv, float biasConstant,
-                             float biasSlope, float normalOffset, int radius, int receiverPlane, int adaptive,
+                             float biasSlope, float normalOffset, int idMode, __global const uint* mapIds,
+                             __global const uint* objectIds, __global const uint* pixelTriangle,
+                             __global const uint* pixelObject, int radius, int receiverPlane, int adaptive,
                              float maxRadius, int poissonTaps, __global const float2* poisson,
                              __global float* filterOut, __global float* visibility) {
   uint i = get_global_id(0);
@@ -38,6 +43,8 @@ __kernel void pcf_visibility(__global const float4* position, __global const flo
   ReceiverPlane rp = sc_receiver_plane(f, r.texel);
   if (!receiverPlane) rp.valid = 0;
   const float planeBias = biasConstant * r.texel;
+  const uint ownTriangle = pixelTriangle[i], ownObject = pixelObject[i];
+  const float2 idUv = lv_project(lv, p.xyz).xy;  // the id lookups' position: no normal offset
   // Half-width of the kernel in texels.
   float reach = (float)radius;
   if (adaptive) reach = min(max(reach, 0.5f * sc_footprint_texels(f)), maxRadius);
@@ -50,13 +57,18 @@ __kernel void pcf_visibility(__global const float4* position, __global const flo
     for (int k = 0; k < poissonTaps; ++k) {
       float2 d = poisson[k];
       float2 offset = reach * (float2)(cs.x * d.x - cs.y * d.y, cs.y * d.x + cs.x * d.y);
-      sum += sc_tap(map, lv, r, rp, planeBias, offset);
+      sum += id_visibility(mapIds, objectIds, lv->width, lv->height, idUv + offset, ownTriangle, ownObject, idMode,
+                           sc_tap(map, lv, r, rp, planeBias, offset));
     }
     taps = poissonTaps;
   } else {
     float step = radius > 0 ? reach / (float)radius : 0.0f;
     for (int dy = -radius; dy <= radius; ++dy)
-      for (int dx = -radius; dx <= radius; ++dx) sum += sc_tap(map, lv, r, rp, planeBias, step * (float2)(dx, dy));
+      for (int dx = -radius; dx <= radius; ++dx) {
+        float2 offset = step * (float2)(dx, dy);
+        sum += id_visibility(mapIds, objectIds, lv->width, lv->height, idUv + offset, ownTriangle, ownObject, idMode,
+                             sc_tap(map, lv, r, rp, planeBias, offset));
+      }
     taps = (2 * radius + 1) * (2 * radius + 1);
   }
   visibility[i] = sum / (float)taps;

@@ -168,6 +168,8 @@ void Rasterizer::setCapacities(const RasterCapacities& capacities) {
   impl_->capacitiesChosen = false;
 }
 
+const Buffer<uint32_t>& Rasterizer::objectIds() const { return impl_->scene.objectIds; }
+
 const RasterStats& Rasterizer::stats() const { return impl_->stats; }
 
 void Rasterizer::draw(const RasterView& view, RasterTargets& targets) {

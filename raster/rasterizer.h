@@ -94,6 +94,10 @@ class Rasterizer {
 
   const RasterStats& stats() const;
 
+  // Scene::objectIds of the uploaded scene on the device, one per triangle (0 where the scene gave none): what a
+  // map's triangle ids resolve to for an object ID buffer.
+  const Buffer<uint32_t>& objectIds() const;
+
   // Initial queue capacities and the hard maximum (see RasterCapacities); takes effect at the next draw.
   void setCapacities(const RasterCapacities& capacities);
 

@@ -24,7 +24,10 @@ class PercentageCloser final : public Technique {
       poisson_.upload(frame.ctx, std::span<const cl_float2>(disk));
     }
     filter_.allocate(frame.ctx, visibility.size());
-    launchVisibility(frame, map_, params_, "kernels/pcf.cl", "pcf_visibility", visibility, radius,
+    const GBuffer& g = frame.gbuffer;
+    launchVisibility(frame, map_, params_, "kernels/pcf.cl", "pcf_visibility", visibility,
+                     params_.getInt("id-buffer"), map_.targets.triangleId, frame.raster.objectIds(), g.triangleId,
+                     g.objectId, radius,
                      params_.getInt("receiver-plane"), static_cast<int>(adaptive), maxRadius, poissonTaps, poisson_,
                      filter_);
   }
@@ -43,6 +46,7 @@ class PercentageCloser final : public Technique {
 TechniqueInfo pcfTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
   params.push_back(receiverPlaneParam());
+  params.push_back(idBufferParam());
   params.push_back({"pcf-radius", 2, 0, 16, "Kernel half-width r in texels; the grid has (2r+1)^2 bilinear taps"});
   params.push_back({"pcf-adaptive", 1, 0, 1,
                     "Widen the kernel to half the pixel's footprint in the map (minified shadows), same tap count",

@@ -3,6 +3,7 @@
 #include "host/cl/kernel.h"
 #include "host/techniques/registry.h"
 #include "host/techniques/split_maps.h"
+#include "kernels/shared/id_buffer.h"
 
 namespace penumbra {
 namespace {
@@ -19,9 +20,12 @@ class ParallelSplit final : public Technique {
     const int radius = hard ? 0 : params_.getInt("pcf-radius");
     SplitPlan plan = planSplits(frame, params_, static_cast<float>(radius));
     const size_t texels = static_cast<size_t>(params_.getInt("map-size")) * params_.getInt("map-size");
+    const int idMode = params_.getInt("id-buffer");
     atlas_.allocate(ctx, plan.views.size() * texels);
+    idAtlas_.allocate(ctx, idMode == ID_BUFFER_OFF ? 1 : plan.views.size() * texels);
     drawSplits(frame, plan, targets_, [&](size_t s, const Buffer<float>& depth) {
       copyInto(ctx, depth, atlas_, s * texels, texels);
+      if (idMode != ID_BUFFER_OFF) copyInto(ctx, targets_.triangleId, idAtlas_, s * texels, texels);
     });
     gpu_.upload(ctx, frame, plan, params_);
     gpu_.shade.radius = radius;
@@ -32,7 +36,8 @@ class ParallelSplit final : public Technique {
     aovs_.allocate(ctx, pixels);
     Kernel kernel(ctx, "kernels/pssm.cl", "pssm_visibility", "shade");
     kernel
-        .args(g.position, g.normal, g.depth, atlas_, gpu_.views, gpu_.splits, gpu_.shade, visibility, aovs_.split,
+        .args(g.position, g.normal, g.depth, atlas_, idMode, idAtlas_, frame.raster.objectIds(), g.triangleId,
+              g.objectId, gpu_.views, gpu_.splits, gpu_.shade, visibility, aovs_.split,
               aovs_.resolutionError)
         .moves(pixels * (kVisibilityBytesPerPixel + 4 + 8))  // + camera depth read, split and error AOVs written
         .launch(pixels, kPixelGroup);
@@ -44,6 +49,7 @@ class ParallelSplit final : public Technique {
   Params params_;
   RasterTargets targets_;
   Buffer<float> atlas_;
+  Buffer<uint32_t> idAtlas_;  // the splits' triangle ids with an ID buffer, else one unused element
   SplitGpu gpu_;
   SplitAovs aovs_;
 };
@@ -55,6 +61,7 @@ TechniqueInfo pssmTechnique() {
   params.push_back({"pssm-filter", kPcf, 0, 1, "Per-split lookup: PCF over --pcf-radius, or one hard comparison",
                     {"pcf", "hard"}});
   params.push_back({"pcf-radius", 2, 0, 16, "PCF kernel radius r in texels: (2r+1)^2 bilinear taps"});
+  params.push_back(idBufferParam());
   for (const ParamSpec& spec : splitParams()) params.push_back(spec);
   return {"pssm", "Parallel-split shadow maps, hard or PCF per split (uniform/log/practical/auto splits)", params,
           [](const Params& p) { return std::make_unique<ParallelSplit>(p); }};

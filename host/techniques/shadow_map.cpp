@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "host/pipeline/light_fit.h"
+#include "kernels/shared/id_buffer.h"
 
 namespace penumbra {
 
@@ -22,6 +23,13 @@ ParamSpec receiverPlaneParam() {
           "Receiver-plane depth bias: compare each texel with the receiver's plane (from neighbouring pixels) "
           "instead of the slope-scaled bias; falls back to it where the plane is unknown",
           {"off", "on"}};
+}
+
+ParamSpec idBufferParam() {
+  return {"id-buffer", ID_BUFFER_OFF, ID_BUFFER_OFF, ID_BUFFER_COMBINED,
+          "ID buffer: a receiver is lit where one of its four nearest texels holds its own object or triangle id "
+          "(no depth bias); combined: ids between objects, the biased depth test within one",
+          {"off", "object", "polygon", "combined"}};
 }
 
 BiasArgs biasArgs(const Params& params) {

@@ -35,6 +35,10 @@ void renderShadowMap(ShadowFrame& frame, const Params& params, ShadowMap& map, f
 // "receiver-plane": receiver-plane depth bias on (1) or off (0), for the techniques whose kernels take it.
 ParamSpec receiverPlaneParam();
 
+// "id-buffer": off | object | polygon | combined (Luksch sec. 9.1; kernels/shared/id_buffer.h), for the techniques
+// whose kernels take it (sm, pcf, pssm, jittered).
+ParamSpec idBufferParam();
+
 // The three bias parameters as kernel arguments, in sc_receiver's order.
 struct BiasArgs {
   float constant, slope, normalOffset;

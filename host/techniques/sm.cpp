@@ -1,4 +1,4 @@
-// `sm`: hard shadow map, one nearest-texel comparison (kernels/sm.cl).
+// `sm`: hard shadow map, one nearest-texel comparison or ID-buffer test (kernels/sm.cl).
 #include "host/techniques/registry.h"
 #include "host/techniques/shadow_map.h"
 
@@ -11,8 +11,10 @@ class HardShadowMap final : public Technique {
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     renderShadowMap(frame, params_, map_, 0.0f);
+    const GBuffer& g = frame.gbuffer;
     launchVisibility(frame, map_, params_, "kernels/sm.cl", "sm_visibility", visibility,
-                     params_.getInt("receiver-plane"));
+                     params_.getInt("receiver-plane"), params_.getInt("id-buffer"), map_.targets.triangleId,
+                     frame.raster.objectIds(), g.triangleId, g.objectId);
   }
 
  private:
@@ -25,6 +27,7 @@ class HardShadowMap final : public Technique {
 TechniqueInfo smTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
   params.push_back(receiverPlaneParam());
+  params.push_back(idBufferParam());
   return {"sm", "Hard shadow map with constant, slope-scaled, normal-offset and receiver-plane depth bias", params,
           [](const Params& p) { return std::make_unique<HardShadowMap>(p); }};
 }

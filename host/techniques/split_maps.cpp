@@ -116,6 +116,7 @@ void copyInto(Context& ctx, const Buffer<T>& src, Buffer<T>& dst, size_t offset,
 }
 template void copyInto(Context&, const Buffer<float>&, Buffer<float>&, size_t, size_t);
 template void copyInto(Context&, const Buffer<cl_half>&, Buffer<cl_half>&, size_t, size_t);
+template void copyInto(Context&, const Buffer<uint32_t>&, Buffer<uint32_t>&, size_t, size_t);
 
 void SplitGpu::upload(Context& ctx, const ShadowFrame& frame, const SplitPlan& plan, const Params& params,
                       float blurSigma) {

@@ -28,7 +28,8 @@ struct SplitPlan {
 // snapped; the near plane stays at the nearest caster in the scene (every caster towards the light is kept).
 SplitPlan planSplits(ShadowFrame& frame, const Params& params, float marginTexels);
 
-// Copies `count` elements of `src` into `dst` at element `offset` (one "transfer/copy" pass); float or cl_half.
+// Copies `count` elements of `src` into `dst` at element `offset` (one "transfer/copy" pass); float, cl_half or
+// uint32_t (triangle ids).
 template <class T>
 void copyInto(Context& ctx, const Buffer<T>& src, Buffer<T>& dst, size_t offset, size_t count);
 

@@ -130,6 +130,16 @@ inline float sc_fetch(__global const float* depth, int width, int height, int x,
 // 1 when the receiver at `depth` is lit by the occluder depth `occluder` (NaN and background lit).
 inline float sc_lit(float occluder, float depth) { return occluder < depth ? 0.0f : 1.0f; }
 
+// The hard test of sm: the nearest texel's occluder against the receiver's own plane at that texel's centre where
+// the plane is known (planeBias: the constant bias, world units), else against the slope-biased depth.
+inline float sc_hard_lit(__global const float* map, __constant const LightViewGpu* lv, Receiver r, ReceiverPlane rp,
+                         float planeBias) {
+  float2 texel = floor(r.uv);
+  float occluder = sc_fetch(map, lv->width, lv->height, (int)texel.x, (int)texel.y);
+  float depth = rp.valid ? r.depth - planeBias + dot(rp.gradient, texel + 0.5f - r.uv) : r.depth - r.bias;
+  return sc_lit(occluder, depth);
+}
+
 // Bilinear-weighted comparison of the four texels around continuous texel coordinate `uv`.
 inline float sc_compare_bilinear(__global const float* map, int width, int height, float2 uv, float depth) {
   float2 t = uv - 0.5f;
