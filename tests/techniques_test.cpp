@@ -73,7 +73,7 @@ TEST_P(Techniques, NoNanAndVisibilityInRangeOnEveryBuiltinScene) {
 
 INSTANTIATE_TEST_SUITE_P(All, Techniques,
                          ::testing::Values("sm", "pcf", "pcss", "vsm", "evsm2", "evsm4", "esm", "msm", "savsm",
-                                           "lvsm"));
+                                           "lvsm", "jittered"));
 
 }  // namespace
 }  // namespace penumbra

@@ -23,6 +23,7 @@ const std::vector<TechniqueInfo>& techniques() {
       lvsmTechnique(),
       pssmTechnique(),
       psvsmTechnique(),
+      jitteredTechnique(),
   };
   return kTechniques;
 }

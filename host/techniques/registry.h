@@ -18,5 +18,6 @@ TechniqueInfo vssmTechnique();   // vssm.cpp
 TechniqueInfo lvsmTechnique();   // lvsm.cpp
 TechniqueInfo pssmTechnique();   // pssm.cpp
 TechniqueInfo psvsmTechnique();  // psvsm.cpp
+TechniqueInfo jitteredTechnique();  // jittered.cpp
 
 }  // namespace penumbra

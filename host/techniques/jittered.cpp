@@ -1,0 +1,205 @@
+// `jittered`: confidence-based jittered shadow maps (Luksch sec. 6; Scherzer et al. 2007). Pass 0 is sm's map;
+// every further pass redraws it with a sub-texel translation from the Halton sequence (bases 2 and 3, sec. 6.1,
+// Fig. 3) and optionally a rotation about the light axis (base 5), and kernels/jittered.cl keeps, per pixel, the
+// result of the most confident lookup (simple / adapted / optimal, sec. 6.2-6.3). The stopping rule of sec. 6.3:
+// stop once the last `jitter-window` passes each changed at most epsilon of the covered pixels (or, optimal, once at
+// most epsilon are below the confidence they need), else after `jitter-passes`. Occlusion queries have no compute
+// counterpart: the accumulation kernel counts with atomics and the host reads three integers a pass.
+#include "kernels/shared/jittered.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "host/cl/kernel.h"
+#include "host/techniques/registry.h"
+#include "host/techniques/shadow_map.h"
+
+namespace penumbra {
+namespace {
+
+// The radical inverse of `index` in `base` (Halton 1960): 0, 1/2, 1/4, 3/4, ... for base 2.
+double halton(uint32_t index, uint32_t base) {
+  double result = 0.0, digit = 1.0 / base;
+  for (; index > 0; index /= base, digit /= base) result += digit * (index % base);
+  return result;
+}
+
+// Halton value shifted so that pass 0 gets 0: in [-0.5, 0.5).
+float centred(uint32_t pass, uint32_t base) {
+  const double h = halton(pass, base) + 0.5;
+  return static_cast<float>(h - std::floor(h) - 0.5);
+}
+
+void setRows(pn_float4 rows[4], const glm::mat4& m) {
+  for (int r = 0; r < 4; ++r) rows[r] = {{m[0][r], m[1][r], m[2][r], m[3][r]}};
+}
+
+// `base` with its texel grid rotated by `angle` about the window centre and scaled by `scale` (>= 1, so the rotated
+// window still holds the fitted one), then shifted by `offset` texels. The rotation turns the light's eye about its
+// axis and re-centres the window (ndc' = (a / s) R (u - c) in the light's x/y units u), so the projection keeps the
+// rasterizer's separable form; the shift moves clip x, y by offset * 2 / size times w.
+LightView jitteredView(const LightView& base, float angle, float scale, glm::vec2 offset) {
+  LightView v = base;
+  glm::mat4& P = v.raster.projection;
+  const bool perspective = P[2][3] != 0.0f;
+  if (angle != 0.0f || scale != 1.0f) {
+    // ndc = a u + b: perspective b = -P20 (u = x / -z), orthographic b = P30 (u = x).
+    const glm::vec2 a(P[0][0], P[1][1]);
+    const glm::vec2 b = perspective ? glm::vec2(-P[2][0], -P[2][1]) : glm::vec2(P[3][0], P[3][1]);
+    const glm::vec2 centre = -b / a;
+    const float c = std::cos(angle), s = std::sin(angle);
+    const glm::vec2 rotated(c * centre.x - s * centre.y, s * centre.x + c * centre.y);
+    const glm::vec2 a2 = a / scale, b2 = -a2 * rotated;
+    P[0][0] = a2.x, P[1][1] = a2.y;
+    if (perspective)
+      P[2][0] = -b2.x, P[2][1] = -b2.y;
+    else
+      P[3][0] = b2.x, P[3][1] = b2.y;
+    v.raster.view = glm::rotate(glm::mat4(1.0f), angle, glm::vec3(0, 0, 1)) * base.raster.view;
+    v.gpu.texelScale *= scale;
+    v.gpu.frustumWidth *= scale;
+  }
+  const glm::vec2 shift = 2.0f * offset / glm::vec2(v.raster.width, v.raster.height);
+  for (int row = 0; row < 2; ++row)
+    if (shift[row] != 0.0f)
+      for (int col = 0; col < 4; ++col) P[col][row] += shift[row] * P[col][3];
+  setRows(v.gpu.view, v.raster.view);
+  setRows(v.gpu.projection, P);
+  return v;
+}
+
+class Jittered final : public Technique {
+ public:
+  explicit Jittered(const Params& params) : params_(params) {}
+
+  void render(ShadowFrame& frame, Buffer<float>& visibility) override {
+    Context& ctx = frame.ctx;
+    const GBuffer& g = frame.gbuffer;
+    const size_t pixels = static_cast<size_t>(g.width) * g.height;
+    const float maxAngle = glm::radians(static_cast<float>(params_.get("jitter-rotation")));
+    // Every pass shares one texel size, so confidences of different passes compare (sec. 6.5.1's caveat).
+    const float scale = std::cos(maxAngle) + std::sin(maxAngle);
+    renderShadowMap(frame, params_, map_, 0.0f);
+    const LightView fitted = map_.view;
+    slack_.allocate(ctx, pixels);
+    kept_.allocate(ctx, pixels);
+    pass_.allocate(ctx, pixels);
+    counters_.allocate(ctx, JITTER_COUNTERS);
+    kept_.fill(ctx, -1.0f);
+    pass_.fill(ctx, 0.0f);
+    visibility.fill(ctx, 1.0f);
+    const int mode = params_.getInt("confidence");
+    if (mode == JITTER_OPTIMAL)
+      required(frame);
+    else
+      slack_.fill(ctx, 0.0f);
+
+    const int maxPasses = params_.getInt("jitter-passes"), window = params_.getInt("jitter-window");
+    const double epsilon = params_.get("jitter-epsilon");
+    int quiet = 0;
+    passes_ = 0;
+    for (int pass = 0; pass < maxPasses; ++pass) {
+      if (pass > 0 || scale != 1.0f) {
+        const float angle = maxAngle * 2.0f * centred(static_cast<uint32_t>(pass), 5);
+        map_.view = jitteredView(fitted, angle, scale, {centred(pass, 2), centred(pass, 3)});
+        frame.raster.draw(map_.view.raster, map_.targets);
+        map_.gpu.upload(ctx, std::span<const LightViewGpu>(&map_.view.gpu, 1));
+      }
+      const std::array<uint32_t, JITTER_COUNTERS> count = accumulate(frame, pass, visibility);
+      passes_ = pass + 1;
+      const double limit = epsilon * count[0];
+      if (mode == JITTER_OPTIMAL && count[2] <= limit) break;  // every pixel (but epsilon) has what it needs
+      quiet = pass > 0 && count[1] <= limit ? quiet + 1 : 0;
+      if (quiet >= window) break;
+    }
+    frame.attributes["penumbra:jitter-passes"] = fmt::format("{} of at most {}", passes_, maxPasses);
+  }
+
+  void addDebugChannels(Context& ctx, Image& image) override {
+    image.add("pass.Y", pass_.download(ctx));
+    std::vector<float> kept = kept_.download(ctx);
+    for (float& c : kept) c = std::max(c, 0.0f);
+    image.add("confidence.Y", kept);
+    if (params_.getInt("confidence") == JITTER_OPTIMAL) {
+      std::vector<float> required = slack_.download(ctx);
+      for (float& c : required) c = 1.0f - c;  // optConf, eq. 5
+      image.add("requiredConfidence.Y", required);
+    }
+  }
+
+ private:
+  // Eq. 5 from pass 0's map: translations and the common rotation scale keep the texel size of every pass.
+  void required(ShadowFrame& frame) {
+    const GBuffer& g = frame.gbuffer;
+    const uint32_t width = static_cast<uint32_t>(g.width), height = static_cast<uint32_t>(g.height);
+    Kernel kernel(frame.ctx, "kernels/jittered.cl", "jittered_required", "shade");
+    kernel.args(g.position, width, height, map_.gpu, static_cast<float>(params_.get("jitter-precision")), slack_)
+        .moves(uint64_t{width} * height * (16 + 4))
+        .launch(static_cast<size_t>(width) * height, kPixelGroup);
+  }
+
+  std::array<uint32_t, JITTER_COUNTERS> accumulate(ShadowFrame& frame, int pass, Buffer<float>& visibility) {
+    const GBuffer& g = frame.gbuffer;
+    const uint32_t width = static_cast<uint32_t>(g.width), height = static_cast<uint32_t>(g.height);
+    const BiasArgs bias = biasArgs(params_);
+    const JitterShade shade{params_.getInt("confidence"), static_cast<float>(params_.get("confidence-threshold"))};
+    counters_.fill(frame.ctx, 0u);
+    Kernel kernel(frame.ctx, "kernels/jittered.cl", "jittered_accumulate", "shade");
+    kernel
+        .args(g.position, g.normal, width, height, map_.targets.depth, map_.gpu, bias.constant, bias.slope,
+              bias.normalOffset, params_.getInt("receiver-plane"), params_.getInt("id-buffer"), map_.targets.triangleId,
+              frame.raster.objectIds(), g.triangleId, g.objectId, shade, pass, slack_, kept_, pass_, counters_,
+              visibility)
+        .moves(uint64_t{width} * height * (kVisibilityBytesPerPixel + 4 * 4))  // + slack, kept, pass read/written
+        .launch(static_cast<size_t>(width) * height, kPixelGroup);
+    const std::vector<uint32_t> c = counters_.download(frame.ctx);
+    return {c[0], c[1], c[2]};
+  }
+
+  Params params_;
+  ShadowMap map_;
+  Buffer<float> slack_, kept_, pass_;
+  Buffer<uint32_t> counters_;
+  int passes_ = 0;
+};
+
+}  // namespace
+
+TechniqueInfo jitteredTechnique() {
+  std::vector<ParamSpec> params = shadowMapParams();
+  // No normal offset by default: it moves a receiver's lookup sideways wherever the light is not along the normal
+  // (tan(angle) texels: a spot light's shadow edges shrink by that much), a misplacement no number of passes can
+  // undo, while the receiver-plane comparison at the texel centre already keeps planar receivers free of acne
+  // (Luksch sec. 9: with confident samples only, bias is "no real problem"). Measured in the README.
+  for (ParamSpec& spec : params)
+    if (spec.name == "normal-offset") spec.defaultValue = 0.0;
+  params.push_back(receiverPlaneParam());
+  params.push_back(idBufferParam());
+  params.push_back({"confidence",
+                    JITTER_OPTIMAL,
+                    JITTER_SIMPLE,
+                    JITTER_OPTIMAL,
+                    "Accumulation (Luksch sec. 6.2-6.3): simple (confident lookups add shadow), adapted (the most "
+                    "confident lookup wins), optimal (adapted, final once a pixel has the confidence it needs)",
+                    {"simple", "adapted", "optimal"}});
+  params.push_back({"confidence-threshold", 0.5, 0, 1, "simple: the confidence (eq. 4) a lookup needs to add shadow"});
+  params.push_back({"jitter-precision", 0.25, 0, 1,
+                    "optimal: the required confidence of eq. 5 scaled: a lookup is final within precision / 2 pixel "
+                    "spacings of its texel centre (1: the paper; smaller: closer to the ray-traced pixel centre)"});
+  params.push_back({"jitter-passes", 16, 1, 256, "Most passes (jittered maps) per frame"});
+  params.push_back({"jitter-epsilon", 2e-4, 0, 1,
+                    "Stop when the last jitter-window passes each changed at most this fraction of the covered "
+                    "pixels (optimal: or at most this fraction still lacks the confidence it needs)"});
+  params.push_back({"jitter-window", 2, 1, 64, "Consecutive quiet passes the stopping rule waits for"});
+  params.push_back({"jitter-rotation", 0, 0, 45,
+                    "Largest rotational jitter about the light axis, degrees (Halton base 5); the map's texels grow "
+                    "by cos + sin of it so every rotated pass still covers the fitted window"});
+  return {"jittered",
+          "Confidence-based jittered shadow maps: Halton-jittered passes of sm's map accumulated by confidence "
+          "(simple/adapted/optimal) with a device-counted stopping rule",
+          params, [](const Params& p) { return std::make_unique<Jittered>(p); }};
+}
+
+}  // namespace penumbra

@@ -1,0 +1,29 @@
+// The jittered technique's shading constants and counter layout, shared by host/techniques/jittered.cpp and
+// kernels/jittered.cl (valid OpenCL C and C++).
+#ifndef PENUMBRA_KERNELS_SHARED_JITTERED_H
+#define PENUMBRA_KERNELS_SHARED_JITTERED_H
+
+#include "kernels/shared/common.h"
+
+// Accumulation modes (Luksch sec. 6.2-6.3), the --confidence choices in this order.
+#define JITTER_SIMPLE 0
+#define JITTER_ADAPTED 1
+#define JITTER_OPTIMAL 2
+
+// Counters a pass raises per pixel (bit k counts into counters[k]): receivers it tested, pixels whose kept result
+// it replaced (simple: turned to shadow), pixels still below the confidence they need after it.
+#define JITTER_COUNT_COVERED 1u
+#define JITTER_COUNT_CHANGED 2u
+#define JITTER_COUNT_UNCONFIDENT 4u
+#define JITTER_COUNTERS 3
+
+typedef struct JitterShade {
+  int mode;         // JITTER_*
+  float threshold;  // simple: the confidence a lookup needs to add shadow
+} JitterShade;
+
+#if PENUMBRA_HOST
+static_assert(sizeof(JitterShade) == 8, "JitterShade layout must match OpenCL C");
+#endif
+
+#endif

@@ -1,0 +1,171 @@
+// The jittered technique (Luksch sec. 6) on PoCL: one pass is sm bit for bit; against the Embree reference under
+// hard lights (a sun over a field of poles, a spot light over a square occluder, a wall lit at a grazing angle) it
+// leaves fewer wrong pixels than sm at the same map size and the count does not grow with the number of passes;
+// Halton jitter and the result are deterministic; the stopping rule stops after one pass where every pixel has the
+// confidence it needs and runs to the maximum where it cannot; bad values are refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "host/eval/metrics.h"
+#include "host/pipeline/renderer.h"
+#include "host/scene/procedural.h"
+#include "host/techniques/registry.h"
+#include "tests/support/analytic_scenes.h"
+#include "tests/support/cl_test.h"
+#include "tests/support/render.h"
+#include "tools/reference/reference.h"
+
+namespace penumbra {
+namespace {
+using test::ClTest;
+using test::renderWith;
+
+// A hard-light case: the scene, camera and light, and the ray-traced truth (one ray a pixel is exact).
+struct HardCase {
+  std::string name;
+  Scene scene;
+  Camera camera;
+  Light light;
+  Image truth;
+};
+
+HardCase polesUnderASun(Context& ctx) {
+  HardCase c{"poles under a sun", makeProcedural("poles"), {}, {}, {}};
+  c.camera = c.scene.cameras.front();
+  c.camera.width = 200, c.camera.height = 120;
+  c.light = c.scene.lights.front();
+  c.light.angularRadiusDeg = 0.0f;
+  c.truth = reference::renderReference(ctx, c.scene, c.camera, c.light, {}).image;
+  return c;
+}
+
+HardCase squareUnderASpot(Context& ctx) {
+  HardCase c{"square under a spot", test::squareOverPlane(), test::topDown(), test::pointAbove(), {}};
+  c.camera.width = 160, c.camera.height = 120;
+  c.truth = reference::renderReference(ctx, c.scene, c.camera, c.light, {}).image;
+  return c;
+}
+
+HardCase grazingWall(Context& ctx) {  // the box's side faces lit nearly edge-on, the ground seen from low
+  HardCase c{"grazing wall", makeProcedural("box"), {}, parseLight("dir:-1,-0.12,-0.35:0"), {}};
+  c.camera.eye = {2.2f, 0.9f, 2.6f}, c.camera.target = {0.0f, 0.3f, 0.0f};
+  c.camera.width = 200, c.camera.height = 120;
+  c.truth = reference::renderReference(ctx, c.scene, c.camera, c.light, {}).image;
+  return c;
+}
+
+// Fraction of compared pixels (covered, able to receive light) off by more than 0.1: "wrong".
+double wrong(const RenderResult& ours, const Image& truth) { return compareImages(ours.image, truth).off; }
+
+class Jittered : public ClTest {};
+
+TEST_F(Jittered, OnePassIsSmBitForBit) {
+  const Scene scene = makeProcedural("poles");
+  Camera camera = scene.cameras.front();
+  camera.width = 120, camera.height = 80;
+  const Light light = scene.lights.front();
+  for (const char* mode : {"simple", "adapted", "optimal"}) {
+    const RenderResult sm =
+        renderWith(ctx(), scene, camera, light, "sm", {{"map-size", "512"}, {"normal-offset", "0"}});
+    const RenderResult one = renderWith(ctx(), scene, camera, light, "jittered",
+                                        {{"map-size", "512"}, {"jitter-passes", "1"}, {"confidence", mode}});
+    const auto &a = sm.image.require("visibility.Y").data, &b = one.image.require("visibility.Y").data;
+    if (std::string(mode) == "simple") {  // simple only adds shadow from lookups at least 0.5 confident
+      for (size_t i = 0; i < a.size(); ++i) EXPECT_GE(b[i], a[i]) << i;
+      continue;
+    }
+    EXPECT_EQ(a, b) << mode;
+  }
+}
+
+TEST_F(Jittered, FewerWrongPixelsThanSmAndNoGrowthWithPasses) {
+  // Tolerance of the "does not grow" check: a pass may trade a few pixels for others (0.03 % of them).
+  constexpr double kGrowth = 3e-4;
+  for (const HardCase& c : {polesUnderASun(ctx()), squareUnderASpot(ctx()), grazingWall(ctx())}) {
+    const test::Values map = {{"map-size", "256"}};
+    const double sm = wrong(renderWith(ctx(), c.scene, c.camera, c.light, "sm", map), c.truth);  // sm's defaults
+    double previous = 1.0;
+    for (const char* passes : {"1", "2", "4", "8", "16"}) {
+      test::Values values = map;
+      values["jitter-passes"] = passes, values["jitter-epsilon"] = "0";
+      const double w = wrong(renderWith(ctx(), c.scene, c.camera, c.light, "jittered", values), c.truth);
+      EXPECT_LE(w, previous + kGrowth) << c.name << ": " << passes << " passes";
+      previous = w;
+    }
+    EXPECT_GT(sm, 0.0) << c.name << ": the case must be hard for sm";
+    EXPECT_LT(previous, 0.7 * sm) << c.name << ": sm " << sm << ", 16 jittered passes " << previous;
+    for (const char* mode : {"adapted", "simple"}) {
+      const RenderResult r = renderWith(ctx(), c.scene, c.camera, c.light, "jittered",
+                                        {{"map-size", "256"}, {"confidence", mode}, {"jitter-passes", "16"}});
+      EXPECT_LT(wrong(r, c.truth), sm) << c.name << ": " << mode;
+    }
+    const RenderResult rotated = renderWith(ctx(), c.scene, c.camera, c.light, "jittered",
+                                            {{"map-size", "256"}, {"jitter-rotation", "10"}, {"jitter-passes", "16"}});
+    EXPECT_LT(wrong(rotated, c.truth), sm) << c.name << ": rotational jitter";
+  }
+}
+
+TEST_F(Jittered, DeterministicAndSane) {
+  const Scene scene = makeProcedural("staircase");
+  Camera camera = scene.cameras.front();
+  camera.width = 96, camera.height = 64;
+  const test::Values values = {{"map-size", "256"}, {"jitter-rotation", "15"}};
+  const RenderResult a = renderWith(ctx(), scene, camera, scene.lights.front(), "jittered", values);
+  const RenderResult b = renderWith(ctx(), scene, camera, scene.lights.front(), "jittered", values);
+  EXPECT_EQ(a.image.require("visibility.Y").data, b.image.require("visibility.Y").data);
+  EXPECT_EQ(a.image.require("pass.Y").data, b.image.require("pass.Y").data);
+  EXPECT_EQ(a.image.attributes().at("penumbra:jitter-passes"), b.image.attributes().at("penumbra:jitter-passes"));
+  for (const auto& [name, data] : {std::pair{"confidence.Y", a.image.require("confidence.Y").data},
+                                   std::pair{"requiredConfidence.Y", a.image.require("requiredConfidence.Y").data}})
+    for (float v : data) ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << name << " " << v;
+  for (const ProceduralInfo& info : proceduralScenes())
+    for (const char* mode : {"simple", "adapted", "optimal"}) {
+      const Scene s = makeProcedural(info.name);
+      Camera cam = s.cameras.empty() ? test::topDown() : s.cameras.front();
+      cam.width = 64, cam.height = 48;
+      const RenderResult r = renderWith(ctx(), s, cam, s.lights.front(), "jittered",
+                                        {{"map-size", "128"}, {"confidence", mode}, {"jitter-passes", "4"}});
+      ASSERT_TRUE(test::saneImage(r.image, info.name + " " + mode));
+    }
+}
+
+// "N of at most M" from the header.
+int passesUsed(const RenderResult& r) { return std::stoi(r.image.attributes().at("penumbra:jitter-passes")); }
+
+TEST_F(Jittered, StoppingRuleStopsEarlyOnAnEasyViewAndRunsToTheMaximumOnAHardOne) {
+  const Scene scene = makeProcedural("poles");
+  Camera camera = scene.cameras.front();
+  // Easy: a thumbnail under a 2048^2 map: neighbouring pixels lie texels apart, the first lookup is all they need.
+  camera.width = 40, camera.height = 24;
+  const RenderResult easy = renderWith(ctx(), scene, camera, scene.lights.front(), "jittered",
+                                       {{"map-size", "2048"}, {"jitter-passes", "8"}});
+  EXPECT_EQ(passesUsed(easy), 1);
+  // Hard: a 64^2 map under 200x120 pixels: most pixels need nearly texel-centred lookups.
+  camera.width = 200, camera.height = 120;
+  const RenderResult hard =
+      renderWith(ctx(), scene, camera, scene.lights.front(), "jittered", {{"map-size", "64"}, {"jitter-passes", "8"}});
+  EXPECT_EQ(passesUsed(hard), 8);
+  // adapted has no required confidence: it stops only when passes change (almost) nothing, here never.
+  const RenderResult adapted = renderWith(ctx(), scene, camera, scene.lights.front(), "jittered",
+                                          {{"map-size", "64"}, {"jitter-passes", "8"}, {"confidence", "adapted"}});
+  EXPECT_EQ(passesUsed(adapted), 8);
+  const auto& pass = hard.image.require("pass.Y").data;
+  EXPECT_EQ(*std::max_element(pass.begin(), pass.end()), 8.0f);
+}
+
+TEST(JitteredParams, BadValuesAreRefused) {
+  Params params(findTechnique("jittered").params);
+  EXPECT_THROW(params.set("jitter-passes", "-1"), std::invalid_argument);
+  EXPECT_THROW(params.set("jitter-passes", "0"), std::invalid_argument);
+  EXPECT_THROW(params.set("jitter-epsilon", "1.5"), std::invalid_argument);
+  EXPECT_THROW(params.set("jitter-epsilon", "-0.1"), std::invalid_argument);
+  EXPECT_THROW(params.set("jitter-epsilon", "nan"), std::invalid_argument);
+  EXPECT_THROW(params.set("confidence", "best"), std::invalid_argument);
+  EXPECT_THROW(params.set("id-buffer", "mesh"), std::invalid_argument);
+  EXPECT_THROW(params.set("jitter-rotation", "90"), std::invalid_argument);
+  EXPECT_NO_THROW(params.set("confidence", "simple"));
+}
+
+}  // namespace
+}  // namespace penumbra
