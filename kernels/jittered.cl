@@ -6,7 +6,8 @@
 // result when it is more confident), optimal (adapted, with the confidence each pixel needs from the spacing of its
 // G-buffer neighbours in the map, eq. 5, added so a pixel that has it is final, eq. 6). Each pass counts on the
 // device, with one atomic per work-group, the pixels it changed and those still below the confidence they need:
-// the host's stopping rule (sec. 6.3) reads those three counters, once a pass.
+// the host's stopping rule (sec. 6.3) reads those counters, once a pass, with the texel box of the unconfident
+// pixels' lookups (the next pass's scissor). Pixels whose kept result is final (optimal) are skipped.
 #include "kernels/shared/id_buffer.h"
 #include "kernels/shared/jittered.h"
 #include "kernels/shared/shadow_common.h"
@@ -72,32 +73,85 @@ inline uint jittered_update(JitterShade s, int pass, float lit, float conf, floa
   return flags | (max(stored, c) < 1.0f ? JITTER_COUNT_UNCONFIDENT : 0u);
 }
 
-__kernel void jittered_accumulate(__global const float4* position, __global const float4* normal, uint width,
-                                  uint height, __global const float* map, __constant const LightViewGpu* lv,
-                                  float biasConstant, float biasSlope, float normalOffset, int receiverPlane,
-                                  int idMode, __global const uint* mapIds, __global const uint* objectIds,
-                                  __global const uint* pixelTriangle, __global const uint* pixelObject, JitterShade s,
-                                  int pass, __global const float* slack, __global float* kept, __global float* passOut,
-                                  __global uint* counters, __global float* visibility) {
-  __local uint groupCounts[3];
-  uint i = get_global_id(0), lid = get_local_id(0);
-  if (lid < 3) groupCounts[lid] = 0;
+// The pass's counters: work-group totals in local memory, then one global atomic per counter and group.
+inline void jittered_count(uint flags, int2 texel, __local int* group, __global int* counters) {
+  uint lid = get_local_id(0);
+  if (lid < JITTER_COUNTERS) group[lid] = lid < JITTER_BOX_MIN_X ? 0 : (lid < JITTER_BOX_MIN_X + 2 ? INT_MAX : INT_MIN);
   barrier(CLK_LOCAL_MEM_FENCE);
-  uint flags = 0;
+  for (int k = 0; k < JITTER_BOX_MIN_X; ++k)
+    if (flags & (1u << k)) atomic_inc(&group[k]);
+  if (flags & JITTER_COUNT_UNCONFIDENT) {
+    atomic_min(&group[JITTER_BOX_MIN_X], texel.x), atomic_min(&group[JITTER_BOX_MIN_X + 1], texel.y);
+    atomic_max(&group[JITTER_BOX_MIN_X + 2], texel.x), atomic_max(&group[JITTER_BOX_MIN_X + 3], texel.y);
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (lid < JITTER_BOX_MIN_X && group[lid] > 0) atomic_add(&counters[lid], group[lid]);
+  if (lid == JITTER_BOX_MIN_X || lid == JITTER_BOX_MIN_X + 1) atomic_min(&counters[lid], group[lid]);
+  if (lid == JITTER_BOX_MIN_X + 2 || lid == JITTER_BOX_MIN_X + 3) atomic_max(&counters[lid], group[lid]);
+}
+
+// Pass 0: sm's test of every receiver through the first map, kept as a record of the lookup (texel position, the
+// biased depth at it, the receiver plane's depth gradient in texels, the id lookup's position) that later passes
+// move with their jitter instead of projecting again (jittered_pass).
+__kernel void jittered_first(__global const float4* position, __global const float4* normal, uint width, uint height,
+                             __global const float* map, __constant const LightViewGpu* lv, float biasConstant,
+                             float biasSlope, float normalOffset, int receiverPlane, int idMode,
+                             __global const uint* mapIds, __global const uint* objectIds,
+                             __global const uint* pixelTriangle, __global const uint* pixelObject, JitterShade s,
+                             __global const float* slack, __global float* kept, __global float* passOut,
+                             __global float8* records, __global int* counters, __global float* visibility) {
+  __local int group[JITTER_COUNTERS];
+  uint i = get_global_id(0), flags = 0;
+  int2 texel = (int2)(0);
   float4 p = i < width * height ? position[i] : (float4)(0.0f);
+  float8 record = (float8)(0.0f);
   if (p.w != 0.0f) {
     ShadowBias bias = {biasConstant, biasSlope, normalOffset};
     float3 n = normal[i].xyz;
     Receiver r = sc_receiver(lv, p.xyz, n, bias);
     if (r.valid) {
       ReceiverPlane rp = sc_receiver_plane_at(receiverPlane, position, lv, width, height, i, p.xyz, n, r.texel);
-      float lit = id_visibility(mapIds, objectIds, lv->width, lv->height, lv_project(lv, p.xyz).xy, pixelTriangle[i],
-                                pixelObject[i], idMode, sc_hard_lit(map, lv, r, rp, biasConstant * r.texel));
-      flags = jittered_update(s, pass, lit, jittered_confidence(r.uv), slack[i], kept, passOut, visibility, i);
+      float2 idUv = lv_project(lv, p.xyz).xy;
+      float lit = id_visibility(mapIds, objectIds, lv->width, lv->height, idUv, pixelTriangle[i], pixelObject[i],
+                                idMode, sc_hard_lit(map, lv, r, rp, biasConstant * r.texel));
+      flags = jittered_update(s, 0, lit, jittered_confidence(r.uv), slack[i], kept, passOut, visibility, i);
+      texel = convert_int2_sat(clamp(floor(r.uv), -1.0f, (float)max(lv->width, lv->height)));
+      float depth = rp.valid ? r.depth - biasConstant * r.texel : r.depth - r.bias;  // as sc_hard_lit
+      record = (float8)(r.uv, depth, 1.0f, rp.gradient, idUv);
     }
   }
-  for (int k = 0; k < 3; ++k)
-    if (flags & (1u << k)) atomic_inc(&groupCounts[k]);
-  barrier(CLK_LOCAL_MEM_FENCE);
-  if (lid < 3 && groupCounts[lid] > 0) atomic_add(&counters[lid], groupCounts[lid]);
+  if (i < width * height) records[i] = record;
+  jittered_count(flags, texel, group, counters);
+}
+
+// Pass k > 0: the map differs from pass 0's by a rotation about the map centre and a shift (jitteredView on the
+// host: ndc_k = R ndc_0 + 2 offset / size), so a receiver's texel position is c + R (uv_0 - c) + offset and its
+// plane's gradient R g_0; the depth comparison is sc_hard_lit's against the moved lookup.
+__kernel void jittered_pass(__global const float8* records, uint count, __global const float* map, int mapWidth,
+                            int mapHeight, float4 jitter, int idMode, __global const uint* mapIds,
+                            __global const uint* objectIds, __global const uint* pixelTriangle,
+                            __global const uint* pixelObject, JitterShade s, int pass, __global const float* slack,
+                            __global float* kept, __global float* passOut, __global int* counters,
+                            __global float* visibility) {
+  __local int group[JITTER_COUNTERS];
+  uint i = get_global_id(0), flags = 0;
+  int2 texel = (int2)(0);
+  float8 record = i < count ? records[i] : (float8)(0.0f);
+  if (record.s3 != 0.0f && s.mode == JITTER_OPTIMAL && kept[i] >= 1.0f) {
+    flags = JITTER_COUNT_COVERED;  // final (eq. 6 saturated): nothing to test
+  } else if (record.s3 != 0.0f) {
+    float2 centre = 0.5f * (float2)(mapWidth, mapHeight), cs = jitter.xy, offset = jitter.zw;
+    float2 d = record.s01 - centre, e = record.s67 - centre;
+    float2 uv = centre + (float2)(cs.x * d.x - cs.y * d.y, cs.y * d.x + cs.x * d.y) + offset;
+    float2 idUv = centre + (float2)(cs.x * e.x - cs.y * e.y, cs.y * e.x + cs.x * e.y) + offset;
+    float2 g = (float2)(cs.x * record.s4 - cs.y * record.s5, cs.y * record.s4 + cs.x * record.s5);
+    float2 t = floor(uv);
+    float occluder = sc_fetch(map, mapWidth, mapHeight, (int)t.x, (int)t.y);
+    float depthLit = sc_lit(occluder, record.s2 + dot(g, t + 0.5f - uv));
+    float lit =
+        id_visibility(mapIds, objectIds, mapWidth, mapHeight, idUv, pixelTriangle[i], pixelObject[i], idMode, depthLit);
+    flags = jittered_update(s, pass, lit, jittered_confidence(uv), slack[i], kept, passOut, visibility, i);
+    texel = convert_int2_sat(clamp(t, -1.0f, (float)max(mapWidth, mapHeight)));
+  }
+  jittered_count(flags, texel, group, counters);
 }

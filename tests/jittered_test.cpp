@@ -130,6 +130,19 @@ TEST_F(Jittered, DeterministicAndSane) {
     }
 }
 
+TEST_F(Jittered, ScissoredPassesEqualFullMaps) {
+  const Scene scene = makeProcedural("poles");
+  Camera camera = scene.cameras.front();
+  camera.width = 160, camera.height = 96;
+  const test::Values values = {{"map-size", "256"}, {"jitter-passes", "12"}};
+  test::Values full = values;
+  full["jitter-scissor"] = "off";
+  const RenderResult a = renderWith(ctx(), scene, camera, scene.lights.front(), "jittered", values);
+  const RenderResult b = renderWith(ctx(), scene, camera, scene.lights.front(), "jittered", full);
+  EXPECT_EQ(a.image.require("visibility.Y").data, b.image.require("visibility.Y").data);
+  EXPECT_EQ(a.image.require("confidence.Y").data, b.image.require("confidence.Y").data);
+}
+
 // "N of at most M" from the header.
 int passesUsed(const RenderResult& r) { return std::stoi(r.image.attributes().at("penumbra:jitter-passes")); }
 

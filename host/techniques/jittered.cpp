@@ -9,8 +9,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
+#include <limits>
+#include <optional>
 
 #include "host/cl/kernel.h"
 #include "host/techniques/registry.h"
@@ -90,29 +94,34 @@ class Jittered final : public Technique {
     kept_.fill(ctx, -1.0f);
     pass_.fill(ctx, 0.0f);
     visibility.fill(ctx, 1.0f);
+    records_.allocate(ctx, pixels);
     const int mode = params_.getInt("confidence");
-    if (mode == JITTER_OPTIMAL)
-      required(frame);
-    else
-      slack_.fill(ctx, 0.0f);
+    if (mode != JITTER_OPTIMAL) slack_.fill(ctx, 0.0f);
 
     const int maxPasses = params_.getInt("jitter-passes"), window = params_.getInt("jitter-window");
     const double epsilon = params_.get("jitter-epsilon");
     int quiet = 0;
     passes_ = 0;
+    std::optional<Scissor> scissor;
     for (int pass = 0; pass < maxPasses; ++pass) {
+      const float angle = maxAngle * 2.0f * centred(static_cast<uint32_t>(pass), 5);
+      const glm::vec2 offset(centred(pass, 2), centred(pass, 3));
       if (pass > 0 || scale != 1.0f) {
-        const float angle = maxAngle * 2.0f * centred(static_cast<uint32_t>(pass), 5);
-        map_.view = jitteredView(fitted, angle, scale, {centred(pass, 2), centred(pass, 3)});
+        map_.view = jitteredView(fitted, angle, scale, offset);
+        map_.view.raster.scissor = scissor;
         frame.raster.draw(map_.view.raster, map_.targets);
-        map_.gpu.upload(ctx, std::span<const LightViewGpu>(&map_.view.gpu, 1));
       }
-      const std::array<uint32_t, JITTER_COUNTERS> count = accumulate(frame, pass, visibility);
+      if (pass == 0) {
+        map_.gpu.upload(ctx, std::span<const LightViewGpu>(&map_.view.gpu, 1));
+        if (mode == JITTER_OPTIMAL) required(frame);
+      }
+      const std::array<int32_t, JITTER_COUNTERS> count = accumulate(frame, pass, angle, offset, visibility);
       passes_ = pass + 1;
       const double limit = epsilon * count[0];
       if (mode == JITTER_OPTIMAL && count[2] <= limit) break;  // every pixel (but epsilon) has what it needs
       quiet = pass > 0 && count[1] <= limit ? quiet + 1 : 0;
       if (quiet >= window) break;
+      if (params_.getInt("jitter-scissor") == 1) scissor = nextScissor(count, mode, maxAngle, fitted.raster.width);
     }
     frame.attributes["penumbra:jitter-passes"] = fmt::format("{} of at most {}", passes_, maxPasses);
   }
@@ -140,28 +149,63 @@ class Jittered final : public Technique {
         .launch(static_cast<size_t>(width) * height, kPixelGroup);
   }
 
-  std::array<uint32_t, JITTER_COUNTERS> accumulate(ShadowFrame& frame, int pass, Buffer<float>& visibility) {
+  // Optimal mode without rotation: the next pass draws only the texels the still-unconfident pixels look up, their
+  // box widened by 3 texels (the next jitter moves a lookup by less than one, the ID buffer reads one further, one
+  // for rounding). Final pixels are never looked up again, so the texels outside keep an older pass's content
+  // unread. Rotated passes move distant texels by more than a box margin: they draw the whole map.
+  static std::optional<Scissor> nextScissor(const std::array<int32_t, JITTER_COUNTERS>& count, int mode, float maxAngle,
+                                            int size) {
+    if (mode != JITTER_OPTIMAL || maxAngle != 0.0f || count[2] == 0) return std::nullopt;
+    constexpr int kMargin = 3;
+    const int* box = &count[JITTER_BOX_MIN_X];
+    return Scissor{std::clamp(box[0] - kMargin, 0, size), std::clamp(box[1] - kMargin, 0, size),
+                   std::clamp(box[2] + 1 + kMargin, 0, size), std::clamp(box[3] + 1 + kMargin, 0, size)};
+  }
+
+  // One pass: pass 0 tests every receiver through the map as sm does and records its lookup; later passes move
+  // that lookup by their rotation and shift (kernels/jittered.cl). Returns the pass's counters.
+  std::array<int32_t, JITTER_COUNTERS> accumulate(ShadowFrame& frame, int pass, float angle, glm::vec2 offset,
+                                                  Buffer<float>& visibility) {
     const GBuffer& g = frame.gbuffer;
     const uint32_t width = static_cast<uint32_t>(g.width), height = static_cast<uint32_t>(g.height);
-    const BiasArgs bias = biasArgs(params_);
+    const uint64_t pixels = uint64_t{width} * height;
     const JitterShade shade{params_.getInt("confidence"), static_cast<float>(params_.get("confidence-threshold"))};
-    counters_.fill(frame.ctx, 0u);
-    Kernel kernel(frame.ctx, "kernels/jittered.cl", "jittered_accumulate", "shade");
-    kernel
-        .args(g.position, g.normal, width, height, map_.targets.depth, map_.gpu, bias.constant, bias.slope,
-              bias.normalOffset, params_.getInt("receiver-plane"), params_.getInt("id-buffer"), map_.targets.triangleId,
-              frame.raster.objectIds(), g.triangleId, g.objectId, shade, pass, slack_, kept_, pass_, counters_,
-              visibility)
-        .moves(uint64_t{width} * height * (kVisibilityBytesPerPixel + 4 * 4))  // + slack, kept, pass read/written
-        .launch(static_cast<size_t>(width) * height, kPixelGroup);
-    const std::vector<uint32_t> c = counters_.download(frame.ctx);
-    return {c[0], c[1], c[2]};
+    const int idMode = params_.getInt("id-buffer");
+    constexpr int32_t kLow = std::numeric_limits<int32_t>::min(), kHigh = std::numeric_limits<int32_t>::max();
+    const std::array<int32_t, JITTER_COUNTERS> reset = {0, 0, 0, kHigh, kHigh, kLow, kLow};
+    counters_.upload(frame.ctx, std::span<const int32_t>(reset));
+    if (pass == 0) {
+      const BiasArgs bias = biasArgs(params_);
+      Kernel kernel(frame.ctx, "kernels/jittered.cl", "jittered_first", "shade");
+      kernel
+          .args(g.position, g.normal, width, height, map_.targets.depth, map_.gpu, bias.constant, bias.slope,
+                bias.normalOffset, params_.getInt("receiver-plane"), idMode, map_.targets.triangleId,
+                frame.raster.objectIds(), g.triangleId, g.objectId, shade, slack_, kept_, pass_, records_, counters_,
+                visibility)
+          .moves(pixels * (kVisibilityBytesPerPixel + 4 * 4 + 32))  // + slack, kept, pass, the lookup record
+          .launch(pixels, kPixelGroup);
+    } else {
+      const cl_float4 jitter = {{std::cos(angle), std::sin(angle), offset.x, offset.y}};
+      const int size = map_.view.raster.width;
+      Kernel kernel(frame.ctx, "kernels/jittered.cl", "jittered_pass", "shade");
+      kernel
+          .args(records_, static_cast<uint32_t>(pixels), map_.targets.depth, size, size, jitter, idMode,
+                map_.targets.triangleId, frame.raster.objectIds(), g.triangleId, g.objectId, shade, pass, slack_, kept_,
+                pass_, counters_, visibility)
+          .moves(pixels * (32 + 4 * 4 + 4))  // the record, slack, kept, pass and visibility
+          .launch(pixels, kPixelGroup);
+    }
+    const std::vector<int32_t> c = counters_.download(frame.ctx);
+    std::array<int32_t, JITTER_COUNTERS> result;
+    std::copy(c.begin(), c.end(), result.begin());
+    return result;
   }
 
   Params params_;
   ShadowMap map_;
   Buffer<float> slack_, kept_, pass_;
-  Buffer<uint32_t> counters_;
+  Buffer<cl_float8> records_;  // pass 0's lookup per pixel: uv, biased depth, valid, plane gradient, id uv
+  Buffer<int32_t> counters_;
   int passes_ = 0;
 };
 
@@ -193,6 +237,12 @@ TechniqueInfo jitteredTechnique() {
                     "Stop when the last jitter-window passes each changed at most this fraction of the covered "
                     "pixels (optimal: or at most this fraction still lacks the confidence it needs)"});
   params.push_back({"jitter-window", 2, 1, 64, "Consecutive quiet passes the stopping rule waits for"});
+  params.push_back({"jitter-scissor",
+                    1,
+                    0,
+                    1,
+                    "optimal without rotation: draw later passes only over the texels still-unconfident pixels read",
+                    {"off", "on"}});
   params.push_back({"jitter-rotation", 0, 0, 45,
                     "Largest rotational jitter about the light axis, degrees (Halton base 5); the map's texels grow "
                     "by cos + sin of it so every rotated pass still covers the fitted window"});

@@ -15,7 +15,10 @@
 #define JITTER_COUNT_COVERED 1u
 #define JITTER_COUNT_CHANGED 2u
 #define JITTER_COUNT_UNCONFIDENT 4u
-#define JITTER_COUNTERS 3
+// counters[3..6]: the texel box (min x, min y, max x, max y) of the lookups still unconfident after the pass, so
+// the next pass draws only that part of its map (a scissor).
+#define JITTER_COUNTERS 7
+#define JITTER_BOX_MIN_X 3
 
 typedef struct JitterShade {
   int mode;         // JITTER_*
