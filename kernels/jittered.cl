@@ -124,9 +124,12 @@ __kernel void jittered_first(__global const float4* position, __global const flo
   jittered_count(flags, texel, group, counters);
 }
 
-// Pass k > 0: the map differs from pass 0's by a rotation about the map centre and a shift (jitteredView on the
-// host: ndc_k = R ndc_0 + 2 offset / size), so a receiver's texel position is c + R (uv_0 - c) + offset and its
-// plane's gradient R g_0; the depth comparison is sc_hard_lit's against the moved lookup.
+// Pass k > 0: the map differs from pass 0's by a similarity (the host's texelTransform: its rotation, the zoom s of a
+// reduced frustum, its shift), so a receiver's texel position is c + s R (uv_0 - c) + shift, its plane's gradient
+// R g_0 / s, and the confidence it needs (eq. 5's slack, in pass 0's texels) s times as many texels: Luksch eq. 7
+// scales the required confidence by the reduced frustum for the same reason (it prints f_reduced / f; the sampling
+// rate it argues from grows by s, the ratio of texel sizes, which we use). A receiver outside a reduced map keeps
+// what it has. The depth comparison is sc_hard_lit's against the moved lookup.
 __kernel void jittered_pass(__global const float8* records, uint count, __global const float* map, int mapWidth,
                             int mapHeight, float4 jitter, int idMode, __global const uint* mapIds,
                             __global const uint* objectIds, __global const uint* pixelTriangle,
@@ -144,13 +147,20 @@ __kernel void jittered_pass(__global const float8* records, uint count, __global
     float2 d = record.s01 - centre, e = record.s67 - centre;
     float2 uv = centre + (float2)(cs.x * d.x - cs.y * d.y, cs.y * d.x + cs.x * d.y) + offset;
     float2 idUv = centre + (float2)(cs.x * e.x - cs.y * e.y, cs.y * e.x + cs.x * e.y) + offset;
-    float2 g = (float2)(cs.x * record.s4 - cs.y * record.s5, cs.y * record.s4 + cs.x * record.s5);
+    float zoom2 = dot(cs, cs);
+    float2 g = (float2)(cs.x * record.s4 - cs.y * record.s5, cs.y * record.s4 + cs.x * record.s5) / zoom2;
     float2 t = floor(uv);
     float occluder = sc_fetch(map, mapWidth, mapHeight, (int)t.x, (int)t.y);
     float depthLit = sc_lit(occluder, record.s2 + dot(g, t + 0.5f - uv));
     float lit =
         id_visibility(mapIds, objectIds, mapWidth, mapHeight, idUv, pixelTriangle[i], pixelObject[i], idMode, depthLit);
-    flags = jittered_update(s, pass, lit, jittered_confidence(uv), slack[i], kept, passOut, visibility, i);
+    bool inside = uv.x >= 0.0f && uv.y >= 0.0f && uv.x < (float)mapWidth && uv.y < (float)mapHeight;
+    if (inside)
+      flags =
+          jittered_update(s, pass, lit, jittered_confidence(uv), slack[i] * sqrt(zoom2), kept, passOut, visibility, i);
+    else  // outside a reduced frustum
+      flags = JITTER_COUNT_COVERED |
+              (kept[i] < (s.mode == JITTER_SIMPLE ? s.threshold : 1.0f) ? JITTER_COUNT_UNCONFIDENT : 0u);
     texel = convert_int2_sat(clamp(t, -1.0f, (float)max(mapWidth, mapHeight)));
   }
   jittered_count(flags, texel, group, counters);

@@ -143,6 +143,19 @@ TEST_F(Jittered, ScissoredPassesEqualFullMaps) {
   EXPECT_EQ(a.image.require("confidence.Y").data, b.image.require("confidence.Y").data);
 }
 
+TEST_F(Jittered, FrustumReductionLowersTheWrongPixelsOfALongView) {
+  // Luksch sec. 6.5.2 with the paper's factor 0.55 (Fig. 9): each pass's map covers the nearer part of the view
+  // only, so near receivers get finer texels than translational jitter alone gives them.
+  const HardCase c = polesUnderASun(ctx());
+  const test::Values plain = {{"map-size", "256"}, {"jitter-passes", "8"}};
+  test::Values reduced = plain;
+  reduced["jitter-reduction"] = "0.55";
+  const double without = wrong(renderWith(ctx(), c.scene, c.camera, c.light, "jittered", plain), c.truth);
+  const RenderResult r = renderWith(ctx(), c.scene, c.camera, c.light, "jittered", reduced);
+  ASSERT_TRUE(test::saneImage(r.image, "reduced"));
+  EXPECT_LT(wrong(r, c.truth), 0.9 * without) << "without reduction " << without;
+}
+
 // "N of at most M" from the header.
 int passesUsed(const RenderResult& r) { return std::stoi(r.image.attributes().at("penumbra:jitter-passes")); }
 

@@ -47,6 +47,19 @@ TEST(PssmSplits, UniformLogarithmicAndPracticalMatchTheirClosedForms) {
   EXPECT_THROW(splitDistances(SplitScheme::Practical, 2, 1, 2, 1.5f), std::invalid_argument);
 }
 
+TEST(PssmSplits, SplitBiasMovesTheInnerPlanesAndKeepsThemOrdered) {
+  std::vector<float> d = {1, 25.75f, 50.5f, 75.25f, 100};
+  biasSplitDistances(d, 2.0f);  // eq. 10: C_i + delta_bias
+  expectDistances(d, {1, 27.75, 52.5, 77.25, 100});
+  biasSplitDistances(d, -1000.0f);  // far too much: still ordered, still inside (C_0, C_m)
+  for (size_t i = 1; i < d.size(); ++i) EXPECT_GT(d[i], d[i - 1]);
+  EXPECT_EQ(d.front(), 1.0f);
+  EXPECT_EQ(d.back(), 100.0f);
+  std::vector<float> one = {1, 100};
+  biasSplitDistances(one, 5.0f);
+  EXPECT_EQ(one, (std::vector<float>{1, 100}));
+}
+
 TEST(PssmSplits, AutomaticSchemeFollowsTheOptimalTilingFactor) {
   EXPECT_FLOAT_EQ(optimalTilingFactor(1280, 1.5f, 1, 2048), 0.9375f);  // eq. 15: 1280 * 1.5 / 2048
   // Factor 1/2 from 100 down to 1: 100 / 2^k until below 1, i.e. ceil(log2 100) = 7 splits.

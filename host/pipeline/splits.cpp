@@ -46,6 +46,17 @@ std::vector<float> autoSplitDistances(float near, float far, float factor, int m
   return c;
 }
 
+void biasSplitDistances(std::vector<float>& distances, float delta) {
+  const size_t m = distances.size();
+  if (m < 3 || delta == 0.0f) return;
+  const float near = distances.front(), far = distances.back();
+  const float gap = (far - near) * 1e-4f / static_cast<float>(m);  // the least depth a split keeps
+  for (size_t i = 1; i + 1 < m; ++i) {
+    const float lo = distances[i - 1] + gap, hi = far - gap * static_cast<float>(m - 1 - i);
+    distances[i] = std::clamp(distances[i] + delta, lo, std::max(lo, hi));
+  }
+}
+
 std::vector<glm::vec3> frustumSliceCorners(const Camera& camera, float near, float far) {
   const glm::mat4 toWorld = glm::inverse(camera.view());
   const float ty = std::tan(glm::radians(camera.fovYDeg) * 0.5f), tx = ty * camera.aspect();

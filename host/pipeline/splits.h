@@ -35,6 +35,11 @@ float optimalTilingFactor(float res, float sigma, float rho, int mapSize);
 // the practical scheme. Returns the distances (as splitDistances).
 std::vector<float> autoSplitDistances(float near, float far, float factor, int maxSplits, float lambda);
 
+// Luksch eq. 10's delta_bias: every inner plane C_1 .. C_{m-1} moved by `delta` (view depth) "according to practical
+// requirements of the application", each kept strictly between its moved neighbours and inside (C_0, C_m), so the
+// splits stay ordered and non-empty. C_0 and C_m never move.
+void biasSplitDistances(std::vector<float>& distances, float delta);
+
 // World-space corners of the camera frustum between view depths `near` and `far` (near four first).
 std::vector<glm::vec3> frustumSliceCorners(const Camera& camera, float near, float far);
 

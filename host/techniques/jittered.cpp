@@ -19,6 +19,7 @@
 #include "host/cl/kernel.h"
 #include "host/techniques/registry.h"
 #include "host/techniques/shadow_map.h"
+#include "host/techniques/split_maps.h"
 
 namespace penumbra {
 namespace {
@@ -74,6 +75,25 @@ LightView jitteredView(const LightView& base, float angle, float scale, glm::vec
   return v;
 }
 
+// ndc = a u + b of a separable map, u in its light eye's x/y units (jitteredView's form).
+void ndcTerms(const glm::mat4& P, glm::vec2& a, glm::vec2& b) {
+  a = glm::vec2(P[0][0], P[1][1]);
+  b = P[2][3] != 0.0f ? glm::vec2(-P[2][0], -P[2][1]) : glm::vec2(P[3][0], P[3][1]);
+}
+
+// The texel transform from pass 0's map to `to`, whose light eye is pass 0's turned by `angle` about the axis:
+// ndc_to = s R (ndc_0 - b_0) + b_to with s = a_to / a_0, so uv_to = c + s R (uv_0 - c) + c (b_to - s R b_0), c the
+// map centre. Returned as (s cos, s sin, shift x, shift y), what kernels/jittered.cl's jittered_pass takes.
+cl_float4 texelTransform(const LightView& first, const LightView& to, float angle) {
+  glm::vec2 a0, b0, a1, b1;
+  ndcTerms(first.raster.projection, a0, b0);
+  ndcTerms(to.raster.projection, a1, b1);
+  const float s = a1.x / a0.x, c = std::cos(angle), sn = std::sin(angle);
+  const glm::vec2 rotated(c * b0.x - sn * b0.y, sn * b0.x + c * b0.y);
+  const glm::vec2 shift = 0.5f * glm::vec2(to.raster.width, to.raster.height) * (b1 - s * rotated);
+  return {{s * c, s * sn, shift.x, shift.y}};
+}
+
 class Jittered final : public Technique {
  public:
   explicit Jittered(const Params& params) : params_(params) {}
@@ -87,6 +107,10 @@ class Jittered final : public Technique {
     const float scale = std::cos(maxAngle) + std::sin(maxAngle);
     renderShadowMap(frame, params_, map_, 0.0f);
     const LightView fitted = map_.view;
+    // Frustum reduction (sec. 6.5.2): pass k's map is cropped to the camera's frustum [near, far factor^k].
+    const float reduction = static_cast<float>(params_.get("jitter-reduction"));
+    const ViewDepthRange depth = reduction > 0.0f ? tightViewDepth(frame) : ViewDepthRange{};
+    const float margin = static_cast<float>(params_.get("normal-offset")) + 1.0f;  // renderShadowMap's, no reach
     slack_.allocate(ctx, pixels);
     kept_.allocate(ctx, pixels);
     pass_.allocate(ctx, pixels);
@@ -107,21 +131,29 @@ class Jittered final : public Technique {
       const float angle = maxAngle * 2.0f * centred(static_cast<uint32_t>(pass), 5);
       const glm::vec2 offset(centred(pass, 2), centred(pass, 3));
       if (pass > 0 || scale != 1.0f) {
-        map_.view = jitteredView(fitted, angle, scale, offset);
+        LightView base = fitted;
+        if (reduction > 0.0f && pass > 0) {
+          const float far = std::max(depth.far * std::pow(reduction, static_cast<float>(pass)), depth.near * 1.01f);
+          base = sliceLightView(frame, params_, depth.near, far, margin);
+        }
+        map_.view = jitteredView(base, angle, scale, offset);
         map_.view.raster.scissor = scissor;
         frame.raster.draw(map_.view.raster, map_.targets);
       }
       if (pass == 0) {
         map_.gpu.upload(ctx, std::span<const LightViewGpu>(&map_.view.gpu, 1));
         if (mode == JITTER_OPTIMAL) required(frame);
+        first_ = map_.view;
       }
-      const std::array<int32_t, JITTER_COUNTERS> count = accumulate(frame, pass, angle, offset, visibility);
+      const std::array<int32_t, JITTER_COUNTERS> count =
+          accumulate(frame, pass, texelTransform(first_, map_.view, angle), visibility);
       passes_ = pass + 1;
       const double limit = epsilon * count[0];
       if (mode == JITTER_OPTIMAL && count[2] <= limit) break;  // every pixel (but epsilon) has what it needs
       quiet = pass > 0 && count[1] <= limit ? quiet + 1 : 0;
       if (quiet >= window) break;
-      if (params_.getInt("jitter-scissor") == 1) scissor = nextScissor(count, mode, maxAngle, fitted.raster.width);
+      if (params_.getInt("jitter-scissor") == 1 && reduction == 0.0f)
+        scissor = nextScissor(count, mode, maxAngle, fitted.raster.width);
     }
     frame.attributes["penumbra:jitter-passes"] = fmt::format("{} of at most {}", passes_, maxPasses);
   }
@@ -163,8 +195,8 @@ class Jittered final : public Technique {
   }
 
   // One pass: pass 0 tests every receiver through the map as sm does and records its lookup; later passes move
-  // that lookup by their rotation and shift (kernels/jittered.cl). Returns the pass's counters.
-  std::array<int32_t, JITTER_COUNTERS> accumulate(ShadowFrame& frame, int pass, float angle, glm::vec2 offset,
+  // that lookup by `jitter`, their texel transform from pass 0 (kernels/jittered.cl). Returns the pass's counters.
+  std::array<int32_t, JITTER_COUNTERS> accumulate(ShadowFrame& frame, int pass, cl_float4 jitter,
                                                   Buffer<float>& visibility) {
     const GBuffer& g = frame.gbuffer;
     const uint32_t width = static_cast<uint32_t>(g.width), height = static_cast<uint32_t>(g.height);
@@ -185,7 +217,6 @@ class Jittered final : public Technique {
           .moves(pixels * (kVisibilityBytesPerPixel + 4 * 4 + 32))  // + slack, kept, pass, the lookup record
           .launch(pixels, kPixelGroup);
     } else {
-      const cl_float4 jitter = {{std::cos(angle), std::sin(angle), offset.x, offset.y}};
       const int size = map_.view.raster.width;
       Kernel kernel(frame.ctx, "kernels/jittered.cl", "jittered_pass", "shade");
       kernel
@@ -204,6 +235,7 @@ class Jittered final : public Technique {
   Params params_;
   ShadowMap map_;
   Buffer<float> slack_, kept_, pass_;
+  LightView first_;            // pass 0's view: every later pass's lookups are moved from its texels
   Buffer<cl_float8> records_;  // pass 0's lookup per pixel: uv, biased depth, valid, plane gradient, id uv
   Buffer<int32_t> counters_;
   int passes_ = 0;
@@ -243,6 +275,9 @@ TechniqueInfo jitteredTechnique() {
                     1,
                     "optimal without rotation: draw later passes only over the texels still-unconfident pixels read",
                     {"off", "on"}});
+  params.push_back({"jitter-reduction", 0, 0, 0.95,
+                    "Frustum reduction (Luksch sec. 6.5.2): pass k's map covers the camera's depths up to far * "
+                    "factor^k only (its texels finer; required confidence scaled, eq. 7); 0 = off"});
   params.push_back({"jitter-rotation", 0, 0, 45,
                     "Largest rotational jitter about the light axis, degrees (Halton base 5); the map's texels grow "
                     "by cos + sin of it so every rotated pass still covers the fitted window"});

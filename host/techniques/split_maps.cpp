@@ -68,26 +68,42 @@ std::vector<ParamSpec> splitParams() {
       {"pssm-snap", kSnapOff, 0, 1, "Snap each split's map to whole texels (stable under camera motion)",
        {"off", "on"}},
       {"pssm-blend", 0.0, 0, 0.5, "Blend band: fraction of a split's depth range faded into the next; 0 = off"},
+      {"pssm-split-bias", 0.0, -1e9, 1e9,
+       "Luksch eq. 10's delta_bias: every inner split plane moved by this view depth (kept ordered); 0 = off"},
   };
 }
 
-SplitPlan planSplits(ShadowFrame& frame, const Params& params, float marginTexels) {
-  SplitPlan plan;
+ViewDepthRange tightViewDepth(ShadowFrame& frame) {
+  const GBuffer& g = frame.gbuffer;
+  const DepthRange range = reduceDepthRange(frame.ctx, g.depth, static_cast<size_t>(g.width) * g.height);
+  ViewDepthRange r;
+  if (range.min <= range.max && range.max > 0.0f) {
+    r.far = range.max * 1.001f;
+    r.near = std::clamp(range.min * 0.999f, r.far * 1e-5f, r.far * 0.999f);
+  }
+  return r;
+}
+
+namespace {
+SplitFit splitFit(const ShadowFrame& frame, const Params& params, float marginTexels, bool snap) {
   ReceiverBounds everything;
   everything.empty = false;
   everything.lo = glm::vec2(-INFINITY), everything.hi = glm::vec2(INFINITY);
   everything.depthMax = INFINITY;
   const bool toReceivers = params.getInt("fit") == 1;
-  const SplitFit fit{frame, toReceivers ? frame.receivers : everything, lightEyeMatrix(frame.light, frame.scene.bounds()),
-                     params.getInt("map-size"), marginTexels, params.getInt("pssm-snap") == kSnapOn};
-  // The tight view-depth range of what the camera sees, widened a little so the extreme pixels are inside.
-  const GBuffer& g = frame.gbuffer;
-  const DepthRange range = reduceDepthRange(frame.ctx, g.depth, static_cast<size_t>(g.width) * g.height);
-  float near = 1.0f, far = 2.0f;
-  if (range.min <= range.max && range.max > 0.0f) {
-    far = range.max * 1.001f;
-    near = std::clamp(range.min * 0.999f, far * 1e-5f, far * 0.999f);
-  }
+  return {frame, toReceivers ? frame.receivers : everything, lightEyeMatrix(frame.light, frame.scene.bounds()),
+          params.getInt("map-size"), marginTexels, snap};
+}
+}  // namespace
+
+LightView sliceLightView(const ShadowFrame& frame, const Params& params, float near, float far, float marginTexels) {
+  return splitFit(frame, params, marginTexels, false).view(near, far);
+}
+
+SplitPlan planSplits(ShadowFrame& frame, const Params& params, float marginTexels) {
+  SplitPlan plan;
+  const SplitFit fit = splitFit(frame, params, marginTexels, params.getInt("pssm-snap") == kSnapOn);
+  const auto [near, far] = tightViewDepth(frame);
   const int count = params.getInt("pssm-splits");
   const float lambda = static_cast<float>(params.get("pssm-lambda"));
   if (count == kAutoSplits) {
@@ -100,6 +116,9 @@ SplitPlan planSplits(ShadowFrame& frame, const Params& params, float marginTexel
     plan.scheme = fmt::format("{}{}", kNames[static_cast<int>(scheme)],
                               scheme == SplitScheme::Practical ? fmt::format(" (lambda {})", lambda) : "");
   }
+  const float delta = static_cast<float>(params.get("pssm-split-bias"));
+  biasSplitDistances(plan.distances, delta);
+  if (delta != 0.0f) plan.scheme += fmt::format(", delta_bias {}", delta);
   for (size_t s = 0; s + 1 < plan.distances.size(); ++s)
     plan.views.push_back(fit.view(plan.distances[s], plan.distances[s + 1]));
   return plan;

@@ -13,7 +13,7 @@
 
 namespace penumbra {
 
-// pssm-splits, pssm-scheme, pssm-lambda, pssm-max-splits, pssm-rho, pssm-snap, pssm-blend.
+// pssm-splits, pssm-scheme, pssm-lambda, pssm-max-splits, pssm-rho, pssm-snap, pssm-blend, pssm-split-bias.
 std::vector<ParamSpec> splitParams();
 
 struct SplitPlan {
@@ -21,6 +21,17 @@ struct SplitPlan {
   std::vector<LightView> views;  // one per split
   std::string scheme;            // how the distances were chosen, for the header
 };
+
+// The tight view-depth range [near, far] of what the camera sees (a min/max reduction of the G-buffer's linear depth,
+// as sample-distribution shadow maps do), widened a little so the extreme pixels are inside.
+struct ViewDepthRange {
+  float near = 1.0f, far = 2.0f;
+};
+ViewDepthRange tightViewDepth(ShadowFrame& frame);
+
+// The light's view cropped to the camera's frustum slice [near, far] (the split crop of planSplits), fitted with
+// `marginTexels` per the "fit" parameter (map-size texels).
+LightView sliceLightView(const ShadowFrame& frame, const Params& params, float near, float far, float marginTexels);
 
 // Distances from the tight camera depth range of the G-buffer (a min/max reduction, as sample-distribution shadow
 // maps do) and each split's light view: the minimum bounding square of its frustum slice in light space (crop),
