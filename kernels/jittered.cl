@@ -64,11 +64,11 @@ inline uint jittered_update(JitterShade s, int pass, float lit, float conf, floa
     return flags | (max(stored, conf) < s.threshold ? JITTER_COUNT_UNCONFIDENT : 0u);
   }
   float c = s.mode == JITTER_OPTIMAL ? min(conf + slack, 1.0f) : conf;  // eq. 6: saturate(conf + (1 - optConf))
-  if (c > stored) {
+  if (c > stored) {  // the paper's "rendered fragment"; it counts as changed when it changes the result
     kept[i] = c;
+    if (pass > 0 && visibility[i] != lit) flags |= JITTER_COUNT_CHANGED;
     visibility[i] = lit;
     passOut[i] = (float)(pass + 1);
-    flags |= JITTER_COUNT_CHANGED;
   }
   return flags | (max(stored, c) < 1.0f ? JITTER_COUNT_UNCONFIDENT : 0u);
 }

@@ -2,9 +2,10 @@
 // every further pass redraws it with a sub-texel translation from the Halton sequence (bases 2 and 3, sec. 6.1,
 // Fig. 3) and optionally a rotation about the light axis (base 5), and kernels/jittered.cl keeps, per pixel, the
 // result of the most confident lookup (simple / adapted / optimal, sec. 6.2-6.3). The stopping rule of sec. 6.3:
-// stop once the last `jitter-window` passes each changed at most epsilon of the covered pixels (or, optimal, once at
-// most epsilon are below the confidence they need), else after `jitter-passes`. Occlusion queries have no compute
-// counterpart: the accumulation kernel counts with atomics and the host reads three integers a pass.
+// stop once each of the last `jitter-window` passes changed the visibility of at most epsilon of the covered pixels
+// (or, optimal, once at most epsilon are below the confidence they need), else after `jitter-passes`. Occlusion
+// queries have no compute counterpart: the accumulation kernel counts with atomics and the host reads the counters
+// once a pass.
 #include "kernels/shared/jittered.h"
 
 #include <fmt/format.h>

@@ -10,8 +10,9 @@
 #define JITTER_ADAPTED 1
 #define JITTER_OPTIMAL 2
 
-// Counters a pass raises per pixel (bit k counts into counters[k]): receivers it tested, pixels whose kept result
-// it replaced (simple: turned to shadow), pixels still below the confidence they need after it.
+// Counters a pass raises per pixel (bit k counts into counters[k]): receivers it tested, pixels whose visibility
+// it changed (a more confident lookup with the other result; simple: turned to shadow), pixels still below the
+// confidence they need after it.
 #define JITTER_COUNT_COVERED 1u
 #define JITTER_COUNT_CHANGED 2u
 #define JITTER_COUNT_UNCONFIDENT 4u
