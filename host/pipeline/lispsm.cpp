@@ -130,6 +130,87 @@ struct Range {
   double half() const { return 0.5 * (hi - lo); }
 };
 
+// B seen along the light: the light-eye (x, y) hull of the frustum slice inside the scene, cut to the receivers.
+std::vector<glm::dvec2> bodyFootprint(const LispsmInput& in, const Bounds& scene, const glm::dmat4& eye) {
+  std::vector<glm::dvec2> xy;
+  for (const glm::dvec3& p : bodyPoints(in.camera, in.nearDepth, in.farDepth, scene))
+    xy.push_back(glm::dvec2(eye * glm::dvec4(p, 1.0)));
+  std::vector<glm::dvec2> body = convexHull(xy);
+  if (in.receivers != nullptr && !in.receivers->empty)
+    for (int axis = 0; axis < 2; ++axis) {
+      body = cutPolygon(body, axis, in.receivers->lo[axis], 1.0);
+      body = cutPolygon(body, axis, in.receivers->hi[axis], -1.0);
+    }
+  return body;
+}
+
+// Light space in light-eye (x, y): w (Wimmer's z) the view direction projected perpendicular to the light, u across
+// it. Exactly parallel views have no projection: any axis will do, the warp is uniform there.
+struct Axes {
+  glm::dvec2 u, w;
+  double sinGamma, gammaDeg;
+};
+
+Axes lightSpaceAxes(const glm::dmat4& eye, const Camera& camera) {
+  const glm::dvec3 view = glm::dmat3(eye) * glm::normalize(glm::dvec3(camera.target - camera.eye));
+  Axes a;
+  a.sinGamma = std::min(glm::length(glm::dvec2(view)), 1.0);
+  a.gammaDeg = glm::degrees(std::atan2(glm::length(glm::dvec2(view)), -view.z));  // the light travels along -z
+  a.w = a.sinGamma > 1e-9 ? glm::dvec2(view) / a.sinGamma : glm::dvec2(0.0, 1.0);
+  a.u = glm::dvec2(a.w.y, -a.w.x);
+  return a;
+}
+
+// The warp: n, the projection centre (sc, tc) in (u, w) coordinates, and B's range in the warped coordinates
+// x' = (s - sc) / t', z' = 1 / t' with t' = t - tc >= n. Both are linear-fractional, so their extremes over the
+// convex body are at its vertices.
+struct Warp {
+  double n, nOpt, depthB, sc, tc;
+  Range xw, zw;
+};
+
+Warp chooseWarp(const LispsmInput& in, const std::vector<glm::dvec2>& body, const Axes& a, const glm::dmat4& eye,
+                double minExtent) {
+  Range s, t;
+  for (const glm::dvec2& p : body) s.grow(glm::dot(a.u, p)), t.grow(glm::dot(a.w, p));
+  Warp warp;
+  warp.depthB = std::max(t.hi - t.lo, minExtent);
+  // Wimmer's n_opt, generalised by 1 / sin(gamma); clamped where the warp is uniform anyway.
+  const double zn = std::max<double>(in.nearDepth, 1e-6), zf = std::max<double>(in.farDepth, zn);
+  warp.nOpt = a.sinGamma > 0 ? (zn + std::sqrt(zn * zf)) / a.sinGamma : INFINITY;
+  warp.n = std::clamp(in.n > 0 ? double(in.n) : warp.nOpt, 1e-6 * warp.depthB, kLispsmMaxNOverDepth * warp.depthB);
+  const glm::dvec2 eyeXY(eye * glm::dvec4(glm::dvec3(in.camera.eye), 1.0));
+  warp.tc = t.lo - warp.n, warp.sc = std::clamp(glm::dot(a.u, eyeXY), s.lo, s.hi);
+  for (const glm::dvec2& p : body) {
+    const double tp = glm::dot(a.w, p) - warp.tc;
+    warp.xw.grow((glm::dot(a.u, p) - warp.sc) / tp), warp.zw.grow(1.0 / tp);
+  }
+  warp.zw.grow(1.0 / (warp.n + warp.depthB));  // a body thinner than minExtent still spans some texels
+  return warp;
+}
+
+// Light-eye -> clip, rows over (x, y, z, 1) with t' = w.x x + w.y y - tc and light depth d = -z: x_c = x' t',
+// y_c = z' t' (each mapped to [-1, 1] over B shrunk by `keep` for the margin), w_c = t', and
+// z_c / w_c = 1 - 2 (r - r_lo) / (r_hi - r_lo) over r = d / t' (post-perspective light depth). Near clipping then
+// keeps r <= r_hi: everything between the light and the body (same t', smaller depth) stays.
+glm::dmat4 warpMatrix(const Warp& warp, const Axes& a, double zNear, double zFar, double keep, double minExtent) {
+  const double hx = std::max(warp.xw.half(), 0.5 * minExtent / (warp.n + warp.depthB)) / keep;
+  const double hz = warp.zw.half() / keep;
+  const double rLo = 0.99 * zNear / (warp.n + warp.depthB), rHi = 1.01 * zFar / warp.n;
+  const double az = 2.0 / (rHi - rLo), bz = 1.0 + az * rLo;
+  const double xs = 1.0 / hx, xt = -warp.xw.center() / hx, yt = -warp.zw.center() / hz, y1 = 1.0 / hz;
+  glm::dmat4 P(0.0);
+  for (int c = 0; c < 2; ++c) {
+    P[c][0] = xs * a.u[c] + xt * a.w[c];
+    P[c][1] = yt * a.w[c];
+    P[c][2] = bz * a.w[c];
+    P[c][3] = a.w[c];
+  }
+  P[2][2] = az;  // z_c = bz t' - az d = bz t' + az z
+  P[3][0] = -xs * warp.sc - xt * warp.tc, P[3][1] = -yt * warp.tc + y1, P[3][2] = -bz * warp.tc, P[3][3] = -warp.tc;
+  return P;
+}
+
 }  // namespace
 
 std::string LispsmFit::describe() const {
@@ -147,64 +228,18 @@ LightView fitLispsmView(const LispsmInput& in, LispsmFit* fit) {
   LispsmFit result;
   const Bounds scene = in.scene.orUnit();
   const glm::dmat4 eye(lv.raster.view);
-  std::vector<glm::dvec2> xy;
-  for (const glm::dvec3& p : bodyPoints(in.camera, in.nearDepth, in.farDepth, scene))
-    xy.push_back(glm::dvec2(eye * glm::dvec4(p, 1.0)));
-  std::vector<glm::dvec2> body = convexHull(xy);
-  if (in.receivers != nullptr && !in.receivers->empty)
-    for (int axis = 0; axis < 2; ++axis) {
-      body = cutPolygon(body, axis, in.receivers->lo[axis], 1.0);
-      body = cutPolygon(body, axis, in.receivers->hi[axis], -1.0);
-    }
+  const std::vector<glm::dvec2> body = bodyFootprint(in, scene, eye);
   if (body.empty()) {
     if (fit != nullptr) *fit = result;
     return lv;
   }
-  // Light space: z (here t) = the view direction projected perpendicular to the light, x (here s) across it.
-  const glm::dvec3 viewDir = glm::normalize(glm::dvec3(in.camera.target - in.camera.eye));
-  const glm::dvec3 viewEye = glm::dmat3(eye) * viewDir;
-  const double sinGamma = std::min(glm::length(glm::dvec2(viewEye)), 1.0);
-  const glm::dvec2 w = sinGamma > 1e-9 ? glm::dvec2(viewEye) / sinGamma : glm::dvec2(0.0, 1.0);
-  const glm::dvec2 u(w.y, -w.x);
-  Range s, t;
-  for (const glm::dvec2& p : body) s.grow(glm::dot(u, p)), t.grow(glm::dot(w, p));
+  const Axes axes = lightSpaceAxes(eye, in.camera);
   const double minExtent = 1e-4 * std::max<double>(scene.radius(), 1e-6);
-  const double depthB = std::max(t.hi - t.lo, minExtent);
-  // Wimmer eq. for the optimal n, generalised by 1/sin(gamma); clamped where the warp is uniform anyway.
-  const double zn = std::max<double>(in.nearDepth, 1e-6), zf = std::max<double>(in.farDepth, zn);
-  const double nOpt = sinGamma > 0 ? (zn + std::sqrt(zn * zf)) / sinGamma : INFINITY;
-  const double nMax = kLispsmMaxNOverDepth * depthB;
-  const double n = std::clamp(in.n > 0 ? double(in.n) : nOpt, 1e-6 * depthB, nMax);
-  const glm::dvec2 eyeXY(eye * glm::dvec4(glm::dvec3(in.camera.eye), 1.0));
-  const double tc = t.lo - n, sc = std::clamp(glm::dot(u, eyeXY), s.lo, s.hi);
-  // The warped coordinates x' = (s - sc) / t', z' = 1 / t' with t' = t - tc >= n; both are linear-fractional,
-  // so their extremes over the convex body are at its vertices.
-  Range xw, zw;
-  for (const glm::dvec2& p : body) {
-    const double tp = glm::dot(w, p) - tc;
-    xw.grow((glm::dot(u, p) - sc) / tp), zw.grow(1.0 / tp);
-  }
-  zw.grow(1.0 / (n + depthB));
+  const Warp warp = chooseWarp(in, body, axes, eye, minExtent);
   const double keep = 1.0 - std::min(2.0 * std::max(in.marginTexels, 0.0f) / in.size, 0.5);
-  const double hx = std::max(xw.half(), 0.5 * minExtent / (n + depthB)) / keep, hz = zw.half() / keep;
-  // Clip z: z_ndc = 1 - 2 (r - r_lo) / (r_hi - r_lo) over r = depth / t' (the post-perspective light depth). Near
-  // clipping then keeps r <= r_hi: everything between the light and the body (same t', smaller depth) stays.
-  const double rLo = 0.99 * lv.gpu.zNear / (n + depthB), rHi = 1.01 * lv.gpu.zFar / n;
-  const double az = 2.0 / (rHi - rLo), bz = 1.0 + az * rLo;
-  // Rows over light-eye (x, y, z, 1), t' = w.x x + w.y y - tc, d = -z.
-  glm::dmat4 P(0.0);
-  const double xs = 1.0 / hx, xt = -xw.center() / hx, yt = -zw.center() / hz, y1 = 1.0 / hz;
-  for (int c = 0; c < 2; ++c) {
-    P[c][0] = xs * u[c] + xt * w[c];
-    P[c][1] = yt * w[c];
-    P[c][2] = bz * w[c];
-    P[c][3] = w[c];
-  }
-  P[2][2] = az;  // z_c = bz t' - az d = bz t' + az z
-  P[3][0] = -xs * sc - xt * tc, P[3][1] = -yt * tc + y1, P[3][2] = -bz * tc, P[3][3] = -tc;
+  const glm::dmat4 P = warpMatrix(warp, axes, lv.gpu.zNear, lv.gpu.zFar, keep, minExtent);
   result.warped = true;
-  result.n = float(n), result.nOpt = float(nOpt);
-  result.gammaDeg = float(glm::degrees(std::atan2(glm::length(glm::dvec2(viewEye)), -viewEye.z)));  // light: -z
+  result.n = float(warp.n), result.nOpt = float(warp.nOpt), result.gammaDeg = float(axes.gammaDeg);
   double texelMin = INFINITY, texelMax = 0;
   for (const glm::dvec2& p : body) {
     const double texel = texelAt(P, in.size, p.x, p.y);
@@ -215,7 +250,6 @@ LightView fitLispsmView(const LispsmInput& in, LispsmFit* fit) {
   setRows(lv.gpu.projection, P);
   lv.gpu.warp = LIGHT_WARP_PERSPECTIVE;
   lv.gpu.texelScale = float(std::sqrt(texelMin * texelMax));  // a typical texel, for filter scales between maps
-  lv.gpu.frustumWidth = float(s.hi - s.lo);
   if (fit != nullptr) *fit = result;
   return lv;
 }
