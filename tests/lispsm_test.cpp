@@ -216,6 +216,30 @@ TEST_F(LispsmTechnique, ExactlyParallelViewHasNoNanAndStaysWithinPlainSm) {
   }
 }
 
+// Degenerate inputs (as the stability suite's): an empty body falls back to the uniform map, nothing is NaN, and
+// where nothing is seen every pixel is lit.
+TEST_F(LispsmTechnique, DegenerateScenesStaySane) {
+  Camera camera;
+  camera.eye = {0, 2, 5}, camera.target = {0, 0, 0}, camera.width = 48, camera.height = 32;
+  Camera away = camera;
+  away.target = {0, 2, 10};
+  const Scene box = makeProcedural("box"), triangle = makeProcedural("single-triangle"), empty;
+  struct Case {
+    const Scene& scene;
+    const Camera& camera;
+    bool allLit;
+  };
+  for (const Case& c : {Case{triangle, camera, false}, Case{box, away, true}, Case{empty, camera, true}})
+    for (const char* technique : {"sm", "pcf", "pssm"}) {
+      const RenderResult r = renderWith(ctx(), c.scene, c.camera, parseLight("dir:0.3,-1,-0.6"), technique,
+                                        {{"warp", "lispsm"}, {"map-size", "256"}});
+      ASSERT_TRUE(test::saneImage(r.image, technique));
+      if (c.allLit) {
+        for (float v : r.image.require("visibility.Y").data) ASSERT_EQ(v, 1.0f) << technique << ": nothing seen";
+      }
+    }
+}
+
 TEST_F(LispsmTechnique, SpotLightsAndSnappedSplitsAreUsageErrors) {
   const Scene scene = makeProcedural("poles");
   Camera camera = polesCamera(scene);
