@@ -35,7 +35,7 @@ struct LispsmFit {
 };
 
 // Above this many times the body's depth along the warp axis, n is clamped: the warp is then uniform to within
-// 2% ((1 + 1/64)^2 texel-size ratio over the map) and the float matrix stays well conditioned. As gamma -> 0
+// 3% ((1 + 1/64)^2 texel-size ratio over the map) and the float matrix stays well conditioned. As gamma -> 0
 // (view along the light, the duelling frusta) n_opt -> infinity, so the map turns smoothly into the uniform one.
 inline constexpr float kLispsmMaxNOverDepth = 64.0f;
 
