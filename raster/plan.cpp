@@ -30,16 +30,36 @@ bool finite(const glm::mat4& m) {
   return true;
 }
 
-// The projection terms the kernels use; throws unless the matrix has the supported form (rasterizer.h).
-void projectionTerms(const glm::mat4& P, RasterViewParams& p) {
+// A general projective matrix (kViewZ draws only): -z_eye is row 2 of P^-1 applied to the clip coordinates,
+// negated: for clip = P (x, y, z, 1) that row gives z exactly, and clipping interpolates clip coordinates linearly,
+// so it holds for clipped vertices too. There is no far plane: z_c / w_c need not be a function of z_eye.
+void generalTerms(const glm::mat4& P, RasterViewParams& p) {
+  const glm::dmat4 M(P);
+  const glm::dmat4 inv = glm::inverse(M);
+  bool invertible = glm::determinant(M) != 0;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) invertible = invertible && std::isfinite(inv[c][r]);
+  if (!invertible) throw std::invalid_argument("raster view: projection matrix is singular");
+  for (int c = 0; c < 4; ++c) p.viewZGeneral[c] = static_cast<float>(-inv[c][2]);
+  p.p00 = P[0][0], p.p11 = P[1][1], p.p20 = P[2][0], p.p21 = P[2][1], p.p30 = P[3][0], p.p31 = P[3][1];
+  p.p22 = P[2][2], p.p32 = P[3][2], p.p23 = P[2][3], p.p33 = P[3][3];
+  p.farViewZ = std::numeric_limits<float>::infinity();
+  p.generalProjection = 1;
+}
+
+// The projection terms the kernels use; throws unless the matrix has a supported form (rasterizer.h).
+void projectionTerms(const glm::mat4& P, DepthMode mode, RasterViewParams& p) {
   const bool separable = P[1][0] == 0 && P[0][1] == 0 && P[0][2] == 0 && P[1][2] == 0 && P[0][3] == 0 && P[1][3] == 0 &&
                          P[0][0] != 0 && P[1][1] != 0;
   const bool perspective = P[2][3] < 0 && P[3][3] == 0 && P[3][2] != 0;
   const bool orthographic = P[2][3] == 0 && P[3][3] > 0 && P[2][2] != 0;
-  if (!separable || !(perspective || orthographic))
+  if (!separable || !(perspective || orthographic)) {
+    if (mode == DepthMode::kViewZ) return generalTerms(P, p);
     throw std::invalid_argument(
-        "raster view: projection must be an OpenGL-style perspective or orthographic matrix "
-        "(x_c from x and z, y_c from y and z, z_c and w_c from z only)");
+        "raster view: NDC and distance depth need an OpenGL-style perspective or orthographic projection "
+        "(x_c from x and z, y_c from y and z, z_c and w_c from z only); general projective matrices are "
+        "supported for linear view depth (DepthMode::kViewZ) only");
+  }
   p.p00 = P[0][0], p.p11 = P[1][1], p.p20 = P[2][0], p.p21 = P[2][1], p.p30 = P[3][0], p.p31 = P[3][1];
   p.p22 = P[2][2], p.p32 = P[3][2], p.p23 = P[2][3], p.p33 = P[3][3];
   const double p22 = P[2][2], p32 = P[3][2], p23 = P[2][3], p33 = P[3][3];
@@ -113,7 +133,7 @@ Plan makePlan(const RasterView& view, uint32_t triangleCount, uint32_t vertexCou
     throw std::invalid_argument(fmt::format("raster view: unknown depth mode {}", mode));
   Plan plan;
   RasterViewParams& p = plan.params;
-  projectionTerms(view.projection, p);
+  projectionTerms(view.projection, view.depthMode, p);
   viewTerms(view, p);
   gridTerms(view, p, plan);
   p.guardX = guardBand(view.width), p.guardY = guardBand(view.height);

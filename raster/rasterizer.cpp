@@ -181,6 +181,10 @@ void Rasterizer::draw(const RasterView& view, RasterTargets& targets) {
 
 void Rasterizer::drawGBuffer(const RasterView& view, GBuffer& g) {
   const raster::Plan plan = raster::makePlan(view, impl_->scene.triangleCount, impl_->scene.vertexCount);
+  if (plan.params.generalProjection)  // the G-buffer reconstructs positions from separable pixel rays (depth.h)
+    throw std::invalid_argument(
+        "raster view: the G-buffer needs an OpenGL-style perspective or orthographic projection, not a general "
+        "projective matrix");
   Context& ctx = impl_->ctx;
   g.width = view.width, g.height = view.height;
   ensureTarget(ctx, g.depth, plan.pixels, std::numeric_limits<float>::infinity());

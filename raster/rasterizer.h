@@ -30,9 +30,12 @@ struct Scissor {
 
 struct RasterView {
   glm::mat4 view{1.0f};        // world -> eye
-  // eye -> clip, OpenGL convention, perspective (glm::perspective/frustum: w_c = -k z_eye) or orthographic
-  // (glm::ortho: w_c constant); x_c may depend on x_eye and z_eye only, y_c on y_eye and z_eye, z_c on z_eye.
-  // Near and far come from it. draw() throws std::invalid_argument for other matrices or a bad size.
+  // eye -> clip, OpenGL convention. Separable: perspective (glm::perspective/frustum: w_c = -k z_eye) or
+  // orthographic (glm::ortho: w_c constant); x_c may depend on x_eye and z_eye only, y_c on y_eye and z_eye, z_c on
+  // z_eye; near and far come from it. General (any other invertible projective matrix, e.g. a LiSPSM warp whose w_c
+  // depends on an eye axis perpendicular to z): only with DepthMode::kViewZ and draw(), the stored depth still
+  // -z_eye; clipped at the near plane z_c = -w_c and the guard band, with no far plane. draw() and drawGBuffer()
+  // throw std::invalid_argument for other matrices (singular ones, general ones in other modes) or a bad size.
   glm::mat4 projection{1.0f};
   int width = 0, height = 0;   // 1x1 .. 8192x8192
   DepthMode depthMode = DepthMode::kViewZ;

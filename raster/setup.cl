@@ -11,7 +11,9 @@
 //   clipping: Sutherland-Hodgman against z_c + w_c >= 0, then x_c + G w_c >= 0, G w_c - x_c >= 0, the same for y;
 //          an edge is cut from its inside vertex, v = v_in + t (v_out - v_in) with t = d_in / (d_in - d_out), so a
 //          shared edge is cut identically in both triangles (no cracks); fan from polygon vertex 0;
-//   X = rint((x_c / w_c + 1) * width * 128), Y likewise, in subpixels (double division is correctly rounded).
+//   X = rint((x_c / w_c + 1) * width * 128), Y likewise, in subpixels (double division is correctly rounded);
+//   view depth -z_eye per vertex: separable projections ((c0 z_c + c1 w_c) + c2), general ones
+//          (((g0 x_c + g1 y_c) + g2 z_c) + g3 w_c), float coefficients times double clip coordinates.
 // Supported range: viewports up to 8192^2, coordinates up to 2^19 .. 2^20 pixels beyond the viewport (guard band,
 // raster/constants.h). Without fp64 the same steps run in float: still watertight, but not bit-equal to the
 // reference, and clipping far outside the view loses depth accuracy (1e-3 relative at 2e5 units).
@@ -77,6 +79,13 @@ static int setupClipPlane(const real4* in, int n, real4* out, int plane, real gx
 // coordinate x, w and the half size s in subpixels; view depth -z_eye from z_c, w_c.
 #define SETUP_WINDOW(x, w, s) (((x) / (w) + (real)1) * (s))
 #define SETUP_VIEW_Z(p, z, w) ((p)->viewZFromClip[0] * (z) + (p)->viewZFromClip[1] * (w) + (p)->viewZFromClip[2])
+// The general form (p->generalProjection): -z_eye from all four clip coordinates, summed in this order.
+#define SETUP_VIEW_Z_GENERAL(p, x, y, z, w)                                                                  \
+  ((((p)->viewZGeneral[0] * (x) + (p)->viewZGeneral[1] * (y)) + (p)->viewZGeneral[2] * (z)) + \
+   (p)->viewZGeneral[3] * (w))
+// View depth of clip vertex v: the separable formula unchanged (bit for bit as before), else the general one.
+#define SETUP_VIEW_Z_OF(p, v) \
+  ((p)->generalProjection ? SETUP_VIEW_Z_GENERAL(p, (v).x, (v).y, (v).z, (v).w) : SETUP_VIEW_Z(p, (v).z, (v).w))
 
 // Snapped window position in subpixels.
 static int2 setupSnap(real4 v, real sx, real sy) {
@@ -113,7 +122,11 @@ static void setupSnapVector(const real4* v, real sx, real sy, int2* s) {
 // invW and viewZOverW of the (oriented) vertices v[0..2].
 static void setupVertexTermsVector(const real4* v, const RasterViewParams* p, float* invW, float* viewZOverW) {
   const double4 w = (double4)(v[0].w, v[1].w, v[2].w, 1);
-  const double4 viewZ = SETUP_VIEW_Z(p, (double4)(v[0].z, v[1].z, v[2].z, 0), w);
+  const double4 z = (double4)(v[0].z, v[1].z, v[2].z, 0);
+  const double4 viewZ = p->generalProjection
+                            ? SETUP_VIEW_Z_GENERAL(p, (double4)(v[0].x, v[1].x, v[2].x, 0),
+                                                   (double4)(v[0].y, v[1].y, v[2].y, 0), z, w)
+                            : SETUP_VIEW_Z(p, z, w);
   const double8 n = (double8)((double4)1, viewZ);
   const float8 t = convert_float8(setupUnitW(v) ? n : n / (double8)(w, w));
   invW[0] = t.s0, invW[1] = t.s1, invW[2] = t.s2;
@@ -173,7 +186,7 @@ static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, u
     r->invW[k] = invW[o];
     r->viewZOverW[k] = viewZOverW[o];
 #else
-    real viewZ = SETUP_VIEW_Z(p, v[o].z, v[o].w);
+    real viewZ = SETUP_VIEW_Z_OF(p, v[o]);
     r->invW[k] = (float)((real)1 / v[o].w);
     r->viewZOverW[k] = (float)(viewZ / v[o].w);
 #endif
@@ -250,7 +263,8 @@ static uint setupTriangle(__global const float* positions, __global const uint* 
     return 0;
   }
   for (int plane = 0; plane < 6; ++plane)
-    if (setupOutside(c0, plane) && setupOutside(c1, plane) && setupOutside(c2, plane)) {
+    if ((plane != 1 || !p->generalProjection) && setupOutside(c0, plane) && setupOutside(c1, plane) &&
+        setupOutside(c2, plane)) {
       out[t] = r;
       return 0;
     }

@@ -60,11 +60,12 @@ typedef struct {
 typedef struct {
   float clip[16];     // world -> clip, column-major (the float matrix the snapping spec starts from)
   float invView[12];  // eye -> world: rotation columns 0..2, translation column 3 (x, y, z each)
-  // Projection terms of the supported form (x_c = P00 x + P20 z + P30, y_c = P11 y + P21 z + P31,
+  // Projection terms of the separable form (x_c = P00 x + P20 z + P30, y_c = P11 y + P21 z + P31,
   // z_c = P22 z + P32, w_c = P23 z + P33, z = z_eye), for depth conversion and pixel rays.
   float p00, p11, p20, p21, p30, p31, p22, p32, p23, p33;
-  float viewZFromClip[3];              // -z_eye = [0] z_c + [1] w_c + [2]
+  float viewZFromClip[3];              // separable: -z_eye = [0] z_c + [1] w_c + [2]
   float farViewZ;                      // fragments with -z_eye > farViewZ are discarded (the far plane)
+  float viewZGeneral[4];               // general: -z_eye = [0] x_c + [1] y_c + [2] z_c + [3] w_c (row of P^-1)
   float guardX, guardY;                // guard-band planes |x_c| <= guardX w_c, |y_c| <= guardY w_c
   int width, height;                   // viewport, pixels
   int rectX0, rectY0, rectX1, rectY1;  // scissor clamped to the viewport, pixels
@@ -79,7 +80,7 @@ typedef struct {
   uint extraCapacity;                  // set-up records beyond triangleCount
   uint binCapacity;                    // bin queue entries
   uint tileCapacity;                   // tile queue entries
-  uint pad;
+  int generalProjection;               // 1: a general projective matrix (kViewZ only): viewZGeneral, no far plane
 } RasterViewParams;
 
 #if PENUMBRA_HOST
@@ -88,8 +89,9 @@ static_assert(sizeof(RasterTriangle) == 64, "RasterTriangle layout must match Op
 static_assert(offsetof(RasterTriangle, y) == 12 && offsetof(RasterTriangle, invW) == 24);
 static_assert(offsetof(RasterTriangle, triangleId) == 48 && offsetof(RasterTriangle, bbox) == 56);
 static_assert(sizeof(RasterCounters) == 32 && offsetof(RasterCounters, extraTriangles) == 16);
-static_assert(offsetof(RasterViewParams, p00) == 112 && offsetof(RasterViewParams, width) == 176);
-static_assert(sizeof(RasterViewParams) == 272, "RasterViewParams layout must match OpenCL C");
+static_assert(offsetof(RasterViewParams, p00) == 112 && offsetof(RasterViewParams, viewZGeneral) == 168);
+static_assert(offsetof(RasterViewParams, width) == 192 && offsetof(RasterViewParams, generalProjection) == 284);
+static_assert(sizeof(RasterViewParams) == 288, "RasterViewParams layout must match OpenCL C");
 #endif
 
 #endif

@@ -39,6 +39,15 @@ expect bad-light-fov 2 "fov|FOV|180" -- "$bin" render builtin:box --light spot:0
 expect unknown-technique 2 "unknown technique 'nope'" -- "$bin" render builtin:box -t nope -o "$scratch/x.exr"
 expect param-range 2 "pcf-radius" -- "$bin" render builtin:box -t pcf --pcf-radius 99 -o "$scratch/x.exr"
 expect param-not-for-technique 2 "does not apply to technique 'sm'" -- "$bin" render builtin:box -t sm --pcf-radius 2 -o "$scratch/x.exr"
+expect warp-choice 2 "--warp: 'lisp' is not one of none, lispsm" -- "$bin" render builtin:box -t sm --warp lisp -o "$scratch/x.exr"
+expect lispsm-n-range 2 "lispsm-n" -- "$bin" render builtin:box -t pcf --lispsm-n -3 -o "$scratch/x.exr"
+expect warp-not-for-technique 2 "does not apply to technique 'vsm'" -- "$bin" render builtin:box -t vsm --warp lispsm -o "$scratch/x.exr"
+expect lispsm-spot 2 "only directional lights" -- "$bin" render builtin:box -t sm --warp lispsm --size 32x18 \
+  --light spot:0,5,0:0,0,0:60 -o "$scratch/x.exr"
+expect lispsm-snap 2 "pssm-snap" -- "$bin" render builtin:box -t pssm --warp lispsm --pssm-snap on --size 32x18 \
+  --light dir:0.3,-1,-0.6 -o "$scratch/x.exr"
+expect lispsm-render 0 "" -- "$bin" render builtin:box -t pssm --warp lispsm --size 32x18 --map-size 64 \
+  --light dir:0.3,-1,-0.6 -q -o "$scratch/lispsm.exr"
 expect savsm-width-above-max 2 "savsm-width 80 is larger than --savsm-max-width 64" -- "$bin" render builtin:box -t savsm --savsm-width 80 -o "$scratch/x.exr"
 expect bad-choice 2 "'half' is not one of float, fixed32, fixed64, double" -- "$bin" render builtin:box -t savsm --sat-precision half -o "$scratch/x.exr"
 expect render-msm 0 "wrote" -- "$bin" render builtin:box --size 64x48 -t msm --map-size 256 -o "$scratch/msm.exr"

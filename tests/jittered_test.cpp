@@ -156,6 +156,24 @@ TEST_F(Jittered, FrustumReductionLowersTheWrongPixelsOfALongView) {
   EXPECT_LT(wrong(r, c.truth), 0.9 * without) << "without reduction " << without;
 }
 
+TEST_F(Jittered, LispsmWarpedPassesBeatWarpedSm) {
+  // The jitter of a warped map is a shift in NDC, so in texels: the same accumulation over LiSPSM's texels.
+  const HardCase c = polesUnderASun(ctx());
+  const test::Values warp = {{"map-size", "256"}, {"warp", "lispsm"}};
+  const double sm = wrong(renderWith(ctx(), c.scene, c.camera, c.light, "sm", warp), c.truth);
+  test::Values jittered = warp;
+  jittered["jitter-passes"] = "8";
+  const RenderResult r = renderWith(ctx(), c.scene, c.camera, c.light, "jittered", jittered);
+  ASSERT_TRUE(test::saneImage(r.image, "lispsm"));
+  EXPECT_LT(wrong(r, c.truth), 0.7 * sm);
+  EXPECT_NE(r.image.attributes().at("penumbra:warp").find("lispsm"), std::string::npos);
+  for (const char* other : {"jitter-rotation", "jitter-reduction"}) {
+    test::Values bad = warp;
+    bad[other] = "0.5";
+    EXPECT_THROW(renderWith(ctx(), c.scene, c.camera, c.light, "jittered", bad), std::invalid_argument) << other;
+  }
+}
+
 // "N of at most M" from the header.
 int passesUsed(const RenderResult& r) { return std::stoi(r.image.attributes().at("penumbra:jitter-passes")); }
 

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -172,6 +173,7 @@ inline RasterComparison compareWithReference(const RasterOutput& out, const RefR
   };
   const double farViewZ = [&] {  // where z_ndc = 1, for the far-plane rule
     const glm::dmat4 P(view.projection);
+    if (P[0][3] != 0 || P[1][3] != 0) return std::numeric_limits<double>::infinity();  // general: no far plane
     return P[2][3] != 0 ? P[3][2] / (P[2][2] - P[2][3]) : (P[3][2] - P[3][3]) / P[2][2];
   }();
   for (int y = 0; y < view.height; ++y)

@@ -151,8 +151,10 @@ TEST_F(RasterTest, RejectsUnsupportedViews) {
   view.width = RASTER_MAX_VIEWPORT + 1;
   EXPECT_THROW(raster.draw(view, targets), std::invalid_argument);
   view.width = 16;
-  view.projection[0][1] = 0.5f;  // skewed: not a supported projection
+  view.projection[0][1] = 0.5f;  // skewed: general, supported for linear view depth only (raster_projective_test)
+  view.depthMode = DepthMode::kNdc;
   EXPECT_THROW(raster.draw(view, targets), std::invalid_argument);
+  view.depthMode = DepthMode::kViewZ;
   view.projection = glm::mat4(1.0f);
   view.projection[3][3] = std::nanf("");
   EXPECT_THROW(raster.draw(view, targets), std::invalid_argument);

@@ -16,11 +16,13 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 
 #include "host/cl/kernel.h"
 #include "host/techniques/registry.h"
 #include "host/techniques/shadow_map.h"
 #include "host/techniques/split_maps.h"
+#include "host/techniques/warp.h"
 
 namespace penumbra {
 namespace {
@@ -106,6 +108,10 @@ class Jittered final : public Technique {
     const float maxAngle = glm::radians(static_cast<float>(params_.get("jitter-rotation")));
     // Every pass shares one texel size, so confidences of different passes compare (sec. 6.5.1's caveat).
     const float scale = std::cos(maxAngle) + std::sin(maxAngle);
+    // LiSPSM (--warp lispsm): translational jitter only; a rotated or reduced warped map is no similarity of the first.
+    const bool warped = lispsmEnabled(params_);
+    if (warped && (maxAngle != 0.0f || params_.get("jitter-reduction") != 0.0))
+      throw std::invalid_argument("--jitter-rotation and --jitter-reduction need --warp none");
     renderShadowMap(frame, params_, map_, 0.0f);
     const LightView fitted = map_.view;
     // Frustum reduction (sec. 6.5.2): pass k's map is cropped to the camera's frustum [near, far factor^k].
@@ -146,8 +152,10 @@ class Jittered final : public Technique {
         if (mode == JITTER_OPTIMAL) required(frame);
         first_ = map_.view;
       }
-      const std::array<int32_t, JITTER_COUNTERS> count =
-          accumulate(frame, pass, texelTransform(first_, map_.view, angle), visibility);
+      // A shift in NDC is a shift in texels for any projection, warped ones included.
+      const cl_float4 jitter =
+          warped ? cl_float4{{1.0f, 0.0f, offset.x, offset.y}} : texelTransform(first_, map_.view, angle);
+      const std::array<int32_t, JITTER_COUNTERS> count = accumulate(frame, pass, jitter, visibility);
       passes_ = pass + 1;
       const double limit = epsilon * count[0];
       if (mode == JITTER_OPTIMAL && count[2] <= limit) break;  // every pixel (but epsilon) has what it needs
@@ -254,6 +262,7 @@ TechniqueInfo jitteredTechnique() {
     if (spec.name == "normal-offset") spec.defaultValue = 0.0;
   params.push_back(receiverPlaneParam());
   params.push_back(idBufferParam());
+  for (ParamSpec& spec : warpParams()) params.push_back(spec);
   params.push_back({"confidence",
                     JITTER_OPTIMAL,
                     JITTER_SIMPLE,

@@ -4,6 +4,7 @@
 #include "host/techniques/poisson.h"
 #include "host/techniques/registry.h"
 #include "host/techniques/shadow_map.h"
+#include "host/techniques/warp.h"
 
 namespace penumbra {
 namespace {
@@ -47,6 +48,7 @@ TechniqueInfo pcfTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
   params.push_back(receiverPlaneParam());
   params.push_back(idBufferParam());
+  for (ParamSpec& spec : warpParams()) params.push_back(spec);
   params.push_back({"pcf-radius", 2, 0, 16, "Kernel half-width r in texels; the grid has (2r+1)^2 bilinear taps"});
   params.push_back({"pcf-adaptive", 1, 0, 1,
                     "Widen the kernel to half the pixel's footprint in the map (minified shadows), same tap count",

@@ -63,6 +63,7 @@ TechniqueInfo pssmTechnique() {
   params.push_back({"pcf-radius", 2, 0, 16, "PCF kernel radius r in texels: (2r+1)^2 bilinear taps"});
   params.push_back(idBufferParam());
   for (const ParamSpec& spec : splitParams()) params.push_back(spec);
+  for (const ParamSpec& spec : warpParams()) params.push_back(spec);
   return {"pssm", "Parallel-split shadow maps, hard or PCF per split (uniform/log/practical/auto splits)", params,
           [](const Params& p) { return std::make_unique<ParallelSplit>(p); }};
 }

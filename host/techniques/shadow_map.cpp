@@ -5,6 +5,7 @@
 
 #include "host/pipeline/light_fit.h"
 #include "kernels/shared/id_buffer.h"
+#include "host/techniques/warp.h"
 
 namespace penumbra {
 
@@ -41,7 +42,7 @@ void renderShadowMap(ShadowFrame& frame, const Params& params, ShadowMap& map, f
   const int size = params.getInt("map-size");
   const bool toReceivers = params.getInt("fit") == 1;
   const float margin = reachTexels + static_cast<float>(params.get("normal-offset")) + 1.0f;
-  map.view = fitLightView(frame.light, frame.scene.bounds(), size, toReceivers ? &frame.receivers : nullptr, margin);
+  map.view = fitWarpedLightView(frame, params, size, margin);
   frame.raster.draw(map.view.raster, map.targets);
   const DepthRange drawn = reduceDepthRange(frame.ctx, map.targets.depth, static_cast<size_t>(size) * size);
   if (drawn.min > map.view.gpu.zNear && drawn.min < map.view.gpu.zFar) map.view.gpu.zNear = drawn.min;

@@ -1,6 +1,7 @@
 // `sm`: hard shadow map, one nearest-texel comparison or ID-buffer test (kernels/sm.cl).
 #include "host/techniques/registry.h"
 #include "host/techniques/shadow_map.h"
+#include "host/techniques/warp.h"
 
 namespace penumbra {
 namespace {
@@ -28,6 +29,7 @@ TechniqueInfo smTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
   params.push_back(receiverPlaneParam());
   params.push_back(idBufferParam());
+  for (ParamSpec& spec : warpParams()) params.push_back(spec);
   return {"sm", "Hard shadow map with constant, slope-scaled, normal-offset and receiver-plane depth bias", params,
           [](const Params& p) { return std::make_unique<HardShadowMap>(p); }};
 }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace penumbra {
 namespace {
@@ -25,15 +26,19 @@ float texelWorld(const LightView& view, float depth) {
 
 struct SplitFit {
   const ShadowFrame& frame;
+  const Params& params;
   ReceiverBounds receivers;  // what splits are cropped to: the visible receivers, or everything (fit=scene)
   glm::mat4 lightEye;
   int size;
   float margin;
   bool snap;
 
-  LightView view(float near, float far) const {
+  // The split's view; with --warp lispsm its own LiSPSM warp, n from the split's near/far (Luksch sec. 7.1).
+  LightView view(float near, float far, LispsmFit* warp = nullptr) const {
     const ReceiverBounds box = sliceBounds(frame.light, lightEye, frustumSliceCorners(frame.camera, near, far), receivers);
-    return fitLightView(frame.light, frame.scene.bounds(), size, box.empty ? &frame.receivers : &box, margin, snap);
+    const ReceiverBounds* crop = box.empty ? &frame.receivers : &box;
+    if (lispsmEnabled(params)) return fitWarpedLightView(frame, params, size, margin, near, far, crop, warp);
+    return fitLightView(frame.light, frame.scene.bounds(), size, crop, margin, snap);
   }
 };
 
@@ -91,7 +96,7 @@ SplitFit splitFit(const ShadowFrame& frame, const Params& params, float marginTe
   everything.lo = glm::vec2(-INFINITY), everything.hi = glm::vec2(INFINITY);
   everything.depthMax = INFINITY;
   const bool toReceivers = params.getInt("fit") == 1;
-  return {frame, toReceivers ? frame.receivers : everything, lightEyeMatrix(frame.light, frame.scene.bounds()),
+  return {frame, params, toReceivers ? frame.receivers : everything, lightEyeMatrix(frame.light, frame.scene.bounds()),
           params.getInt("map-size"), marginTexels, snap};
 }
 }  // namespace
@@ -102,7 +107,10 @@ LightView sliceLightView(const ShadowFrame& frame, const Params& params, float n
 
 SplitPlan planSplits(ShadowFrame& frame, const Params& params, float marginTexels) {
   SplitPlan plan;
+  plan.warpOption = params.has("warp");
   const SplitFit fit = splitFit(frame, params, marginTexels, params.getInt("pssm-snap") == kSnapOn);
+  if (fit.snap && lispsmEnabled(params))  // a warp follows the camera: whole-texel snapping cannot hold it still
+    throw std::invalid_argument("--pssm-snap on cannot be combined with --warp lispsm");
   const auto [near, far] = tightViewDepth(frame);
   const int count = params.getInt("pssm-splits");
   const float lambda = static_cast<float>(params.get("pssm-lambda"));
@@ -119,8 +127,11 @@ SplitPlan planSplits(ShadowFrame& frame, const Params& params, float marginTexel
   const float delta = static_cast<float>(params.get("pssm-split-bias"));
   biasSplitDistances(plan.distances, delta);
   if (delta != 0.0f) plan.scheme += fmt::format(", delta_bias {}", delta);
-  for (size_t s = 0; s + 1 < plan.distances.size(); ++s)
-    plan.views.push_back(fit.view(plan.distances[s], plan.distances[s + 1]));
+  for (size_t s = 0; s + 1 < plan.distances.size(); ++s) {
+    LispsmFit warp;
+    plan.views.push_back(fit.view(plan.distances[s], plan.distances[s + 1], &warp));
+    if (lispsmEnabled(params)) plan.warps.push_back(warp);
+  }
   return plan;
 }
 
@@ -189,6 +200,13 @@ void recordSplits(ShadowFrame& frame, const SplitPlan& plan) {
   frame.attributes["penumbra:pssm-distances"] = distances;
   frame.attributes["penumbra:pssm-scheme"] = fmt::format("{}, {} splits", plan.scheme, plan.views.size());
   frame.attributes["penumbra:light-fit"] = fits;
+  if (!plan.warps.empty()) {
+    std::string warps;
+    for (const LispsmFit& w : plan.warps) warps += fmt::format("{}{}", warps.empty() ? "" : "; ", w.describe());
+    frame.attributes["penumbra:warp"] = warps;
+  } else if (plan.warpOption) {
+    frame.attributes["penumbra:warp"] = "none";
+  }
 }
 
 }  // namespace penumbra

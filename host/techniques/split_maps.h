@@ -9,6 +9,7 @@
 #include "host/cl/buffer.h"
 #include "host/pipeline/splits.h"
 #include "host/techniques/shadow_map.h"
+#include "host/techniques/warp.h"
 #include "kernels/shared/pssm.h"
 
 namespace penumbra {
@@ -20,6 +21,8 @@ struct SplitPlan {
   std::vector<float> distances;  // C_0 .. C_m, camera view depth
   std::vector<LightView> views;  // one per split
   std::string scheme;            // how the distances were chosen, for the header
+  std::vector<LispsmFit> warps;  // --warp lispsm: how each split's warp came out; empty otherwise
+  bool warpOption = false;       // the technique has --warp (pssm): the header records it
 };
 
 // The tight view-depth range [near, far] of what the camera sees (a min/max reduction of the G-buffer's linear depth,
@@ -36,7 +39,8 @@ LightView sliceLightView(const ShadowFrame& frame, const Params& params, float n
 // Distances from the tight camera depth range of the G-buffer (a min/max reduction, as sample-distribution shadow
 // maps do) and each split's light view: the minimum bounding square of its frustum slice in light space (crop),
 // intersected with the visible receivers and the scene, widened by `marginTexels` (the filter's reach), optionally
-// snapped; the near plane stays at the nearest caster in the scene (every caster towards the light is kept).
+// snapped; the near plane stays at the nearest caster in the scene (every caster towards the light is kept). With
+// --warp lispsm (pssm) each split gets its own LiSPSM view of its slice instead (no snapping: a usage error).
 SplitPlan planSplits(ShadowFrame& frame, const Params& params, float marginTexels);
 
 // Copies `count` elements of `src` into `dst` at element `offset` (one "transfer/copy" pass); float, cl_half or

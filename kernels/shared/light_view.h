@@ -6,7 +6,11 @@
 #include "kernels/shared/common.h"
 
 #define LIGHT_KIND_SPOT 0         // perspective projection from a point / disk
-#define LIGHT_KIND_DIRECTIONAL 1  // orthographic projection
+#define LIGHT_KIND_DIRECTIONAL 1  // orthographic projection (or, with LIGHT_WARP_PERSPECTIVE, LiSPSM's warp)
+
+#define LIGHT_WARP_NONE 0         // texels uniform in light-eye x/y (directional) or in tangents (spot)
+#define LIGHT_WARP_PERSPECTIVE 1  // LiSPSM (host/pipeline/lispsm.h): texels vary over the map; projection rows x, y, w
+                                  // do not depend on z_eye, so a texel's footprint is the 2x2 Jacobian's at the point
 
 typedef struct LightViewGpu {
   pn_float4 view[4];        // rows of the world -> light-eye matrix
@@ -19,11 +23,14 @@ typedef struct LightViewGpu {
   float frustumWidth;       // spot: 2 tan(fov/2) (width of the frustum per unit depth); dir: world width
   int kind;                 // LIGHT_KIND_*
   int width, height;        // shadow-map size in texels
+  int warp;                 // LIGHT_WARP_*; texelScale of a warped map is the geometric mean over its body
+  int pad0, pad1, pad2;
 } LightViewGpu;
 
 #if PENUMBRA_HOST
-static_assert(sizeof(LightViewGpu) == 4 * 16 * 2 + 2 * 16 + 8 * 4, "LightViewGpu layout must match OpenCL C");
+static_assert(sizeof(LightViewGpu) == 4 * 16 * 2 + 2 * 16 + 12 * 4, "LightViewGpu layout must match OpenCL C");
 static_assert(offsetof(LightViewGpu, zNear) == 160, "LightViewGpu layout must match OpenCL C");
+static_assert(offsetof(LightViewGpu, warp) == 192, "LightViewGpu layout must match OpenCL C");
 #else
 // Row-major matrix times column vector.
 inline float4 lv_transform(__constant const float4* rows, float4 p) {
@@ -41,6 +48,20 @@ inline float3 lv_project(__constant const LightViewGpu* lv, float3 world) {
 // World-space width of one texel at light depth `depth`.
 inline float lv_texel_world(__constant const LightViewGpu* lv, float depth) {
   return lv->kind == LIGHT_KIND_SPOT ? lv->texelScale * depth : lv->texelScale;
+}
+
+// World-space width of one texel at world point `world` (light depth `depth`): lv_texel_world for uniform maps;
+// for a warped map the longer side of the texel's footprint across the light, from the Jacobian
+// J = d(texel x, y) / d(light-eye x, y) = (size / 2) (P_r.xy - ndc_r P_3.xy) / w_c: the columns of J^-1 are the
+// world steps of one texel, of lengths |J row| / |det J|.
+inline float lv_texel_world_at(__constant const LightViewGpu* lv, float3 world, float depth) {
+  if (lv->warp == LIGHT_WARP_NONE) return lv_texel_world(lv, depth);
+  float4 clip = lv_transform(lv->projection, lv_transform(lv->view, (float4)(world, 1.0f)));
+  float2 ndc = clip.xy / clip.w;
+  float2 gu = (lv->projection[0].xy - ndc.x * lv->projection[3].xy) * (0.5f * (float)lv->width / clip.w);
+  float2 gv = (lv->projection[1].xy - ndc.y * lv->projection[3].xy) * (0.5f * (float)lv->height / clip.w);
+  float texel = max(length(gu), length(gv)) / fabs(gu.x * gv.y - gu.y * gv.x);
+  return isfinite(texel) && texel > 0.0f ? texel : lv->texelScale;  // behind the warp's centre: a typical texel
 }
 
 // Texels (at the receiver's depth) covered by the half-width of the penumbra that an occluder at light

@@ -7,7 +7,8 @@
 
 #include "kernels/shared/light_view.h"
 
-// Biases in texel footprints (world width of one shadow-map texel at the receiver's light depth).
+// Biases in texel footprints (world width of one shadow-map texel at the receiver: per light depth for uniform maps,
+// the warped texel's longer side at the receiver for LiSPSM maps, lv_texel_world_at).
 typedef struct ShadowBias {
   float base;          // added to every comparison
   float slope;         // times tan(angle between normal and light direction), clamped
@@ -36,7 +37,7 @@ inline Receiver sc_receiver(__constant const LightViewGpu* lv, float3 position, 
     cosTheta = -cosTheta;
   }
   float3 first = lv_project(lv, position);
-  float texel = lv_texel_world(lv, max(first.z, lv->zNear));
+  float texel = lv_texel_world_at(lv, position, max(first.z, lv->zNear));
   float3 moved = position + normal * (bias.normalOffset * texel);
   float3 p = lv_project(lv, moved);
   float tanTheta = min(sqrt(max(1.0f - cosTheta * cosTheta, 0.0f)) / max(cosTheta, 1e-4f), SHADOW_MAX_SLOPE);

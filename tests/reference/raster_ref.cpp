@@ -27,6 +27,15 @@ double clipRow(const glm::mat4& m, int r, const glm::vec3& p) {
          double(m[3][r]);
 }
 
+// The spec's separable form (raster/rasterizer.h): x_c from x and z, y_c from y and z, z_c and w_c from z only, and
+// perspective (w_c = P23 z, P23 < 0) or orthographic (w_c = P33 > 0). Any other matrix is a general one: depth from
+// z_eye carried through clipping as for every matrix, but no far plane.
+bool separable(const glm::dmat4& P) {
+  const bool form = P[1][0] == 0 && P[0][1] == 0 && P[0][2] == 0 && P[1][2] == 0 && P[0][3] == 0 && P[1][3] == 0 &&
+                    P[0][0] != 0 && P[1][1] != 0;
+  return form && ((P[2][3] < 0 && P[3][3] == 0 && P[3][2] != 0) || (P[2][3] == 0 && P[3][3] > 0 && P[2][2] != 0));
+}
+
 // E(a, b, p) > 0 when p is left of a -> b.
 int64_t orient(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t px, int64_t py) {
   return (bx - ax) * (py - ay) - (by - ay) * (px - ax);
@@ -60,6 +69,7 @@ RefRasterizer::RefRasterizer(const Scene& scene, const RasterView& view) : view_
   r.depth.assign(pixels, kInf);
   r.coverage.assign(pixels, 0);
   const glm::dmat4 P(view.projection);
+  const bool farPlane = separable(P);
   for (const Tri& t : tris_)
     for (int y = t.y0; y <= t.y1; ++y)
       for (int x = t.x0; x <= t.x1; ++x) {
@@ -68,7 +78,7 @@ RefRasterizer::RefRasterizer(const Scene& scene, const RasterView& view) : view_
         const size_t i = r.index(x, y);
         ++r.coverage[i];
         const double zc = P[2][2] * -*z + P[3][2], wc = P[2][3] * -*z + P[3][3];
-        if (zc / wc > 1.0) continue;  // beyond the far plane
+        if (farPlane && zc / wc > 1.0) continue;  // beyond the far plane
         if (*z < r.viewZ[i] || (*z == r.viewZ[i] && t.id < r.triangleId[i])) r.viewZ[i] = *z, r.triangleId[i] = t.id;
       }
   for (int y = 0; y < r.height; ++y)

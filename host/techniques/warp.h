@@ -1,0 +1,33 @@
+// The light map's parameterisation as technique parameters: `--warp none|lispsm` and `--lispsm-n` for the
+// techniques that draw one map (sm, pcf) or one per split (pssm), and the fit every such technique calls.
+// LiSPSM itself is host/pipeline/lispsm.h (Wimmer et al. 2004).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "host/pipeline/lispsm.h"
+#include "host/techniques/technique.h"
+
+namespace penumbra {
+
+// warp (none|lispsm), lispsm-n (world units, 0 = Wimmer's n_opt).
+std::vector<ParamSpec> warpParams();
+
+// True when `params` declares "warp" and it is lispsm.
+bool lispsmEnabled(const Params& params);
+
+// The light view of a technique's single map of `size`^2 texels with `marginTexels` texels kept around what it
+// covers (the filter's reach), per the "fit" parameter (whole scene, or the visible receivers). With --warp none
+// (or without the parameter) exactly fitLightView; with lispsm, the LiSPSM view of the camera frustum between the
+// nearest and farthest visible pixel (a G-buffer depth reduction), n from --lispsm-n or n_opt over that range.
+// Records "penumbra:warp" ("none" or LispsmFit::describe()) in frame.attributes when `params` declares "warp". Throws std::invalid_argument
+// (a usage error) for lispsm with a spot light.
+LightView fitWarpedLightView(ShadowFrame& frame, const Params& params, int size, float marginTexels);
+
+// The same for an explicit camera depth range (one split: C_s .. C_{s+1}) and receiver box (nullptr: the whole
+// scene); `fit` receives how the warp came out (untouched with --warp none). Records nothing.
+LightView fitWarpedLightView(const ShadowFrame& frame, const Params& params, int size, float marginTexels,
+                             float nearDepth, float farDepth, const ReceiverBounds* receivers, LispsmFit* fit);
+
+}  // namespace penumbra
