@@ -48,6 +48,18 @@ expect lispsm-snap 2 "pssm-snap" -- "$bin" render builtin:box -t pssm --warp lis
   --light dir:0.3,-1,-0.6 -o "$scratch/x.exr"
 expect lispsm-render 0 "" -- "$bin" render builtin:box -t pssm --warp lispsm --size 32x18 --map-size 64 \
   --light dir:0.3,-1,-0.6 -q -o "$scratch/lispsm.exr"
+expect jitter-passes-negative 2 "jitter-passes" -- "$bin" render builtin:box -t jittered --jitter-passes -1 -o "$scratch/x.exr"
+expect jitter-epsilon-range 2 "jitter-epsilon" -- "$bin" render builtin:box -t jittered --jitter-epsilon 1.5 -o "$scratch/x.exr"
+expect confidence-choice 2 "--confidence: 'best' is not one of simple, adapted, optimal" -- "$bin" render builtin:box \
+  -t jittered --confidence best -o "$scratch/x.exr"
+expect id-buffer-choice 2 "--id-buffer: 'mesh' is not one of off, object, polygon, combined" -- "$bin" render builtin:box \
+  -t sm --id-buffer mesh -o "$scratch/x.exr"
+expect id-buffer-not-for-technique 2 "does not apply to technique 'vsm'" -- "$bin" render builtin:box -t vsm \
+  --id-buffer object -o "$scratch/x.exr"
+expect jitter-rotation-with-warp 2 "need --warp none" -- "$bin" render builtin:box -t jittered --warp lispsm \
+  --jitter-rotation 5 --size 32x18 --light dir:0.3,-1,-0.6 -o "$scratch/x.exr"
+expect jittered-render 0 "" -- "$bin" render builtin:box -t jittered --id-buffer combined --jitter-reduction 0.6 \
+  --size 32x18 --map-size 64 -q -o "$scratch/jittered.exr"
 expect savsm-width-above-max 2 "savsm-width 80 is larger than --savsm-max-width 64" -- "$bin" render builtin:box -t savsm --savsm-width 80 -o "$scratch/x.exr"
 expect bad-choice 2 "'half' is not one of float, fixed32, fixed64, double" -- "$bin" render builtin:box -t savsm --sat-precision half -o "$scratch/x.exr"
 expect render-msm 0 "wrote" -- "$bin" render builtin:box --size 64x48 -t msm --map-size 256 -o "$scratch/msm.exr"
