@@ -128,10 +128,11 @@ __kernel void jittered_first(__global const float4* position, __global const flo
 // reduced frustum, its shift), so a receiver's texel position is c + s R (uv_0 - c) + shift, its plane's gradient
 // R g_0 / s, and the confidence it needs (eq. 5's slack, in pass 0's texels) s times as many texels: Luksch eq. 7
 // scales the required confidence by the reduced frustum for the same reason (it prints f_reduced / f; the sampling
-// rate it argues from grows by s, the ratio of texel sizes, which we use). A receiver outside a reduced map keeps
-// what it has. The depth comparison is sc_hard_lit's against the moved lookup.
+// rate it argues from grows by s, the ratio of texel sizes, which we use). A receiver outside a reduced map (across
+// its window or beyond its far plane) keeps what it has. The depth comparison is sc_hard_lit's against the moved
+// lookup.
 __kernel void jittered_pass(__global const float8* records, uint count, __global const float* map, int mapWidth,
-                            int mapHeight, float4 jitter, int idMode, __global const uint* mapIds,
+                            int mapHeight, float4 jitter, float mapFar, int idMode, __global const uint* mapIds,
                             __global const uint* objectIds, __global const uint* pixelTriangle,
                             __global const uint* pixelObject, JitterShade s, int pass, __global const float* slack,
                             __global float* kept, __global float* passOut, __global int* counters,
@@ -154,7 +155,9 @@ __kernel void jittered_pass(__global const float8* records, uint count, __global
     float depthLit = sc_lit(occluder, record.s2 + dot(g, t + 0.5f - uv));
     float lit =
         id_visibility(mapIds, objectIds, mapWidth, mapHeight, idUv, pixelTriangle[i], pixelObject[i], idMode, depthLit);
-    bool inside = uv.x >= 0.0f && uv.y >= 0.0f && uv.x < (float)mapWidth && uv.y < (float)mapHeight;
+    // A reduced map ends at its slice's deepest receiver: farther receivers are not in it, wherever they project.
+    bool inside =
+        uv.x >= 0.0f && uv.y >= 0.0f && uv.x < (float)mapWidth && uv.y < (float)mapHeight && record.s2 <= mapFar;
     if (inside)
       flags =
           jittered_update(s, pass, lit, jittered_confidence(uv), slack[i] * sqrt(zoom2), kept, passOut, visibility, i);

@@ -26,14 +26,17 @@ import subprocess
 import sys
 
 # The built-in scenes' default camera (eye, target, vertical fov) and light, as host/scene/procedural.cpp builds them
-# with default parameters. Lights: ("spot", position, target, fov) or ("sun", direction).
+# with default parameters. Lights: ("spot", position, target, fov) or ("sun", direction). The "-sun" cases light
+# the spot-lit scenes by a sun along the spot's axis, so directional-only methods (LiSPSM) are measured there too.
 SCENES = {
-    "box": ((3, 2.5, 4), (0, 0.3, 0), 45, ("spot", (-2, 5, -1), (0, 0, 0), 60)),
-    "stacked-planes": ((5, 4, 6), (0, 0.5, 0), 45, ("spot", (0.3, 6, 0.2), (0, 0, 0), 90)),
-    "poles": ((1, 1.7, 4), (0, 0.8, -10), 50, ("sun", (0.6, -1, -0.3))),
-    "staircase": ((4, 4, 4.5), (0, 0.625, 0), 45, ("spot", (0.2, 6, 0.3), (0, 0, 0), 70)),
-    "single-triangle": ((0, 0.75, 3), (0, 0.75, 0), 45, ("spot", (0.5, 4, 2.5), (0, 0.5, 0), 60)),
-    "plane": ((0, 3, 4), (0, 0, 0), 45, ("sun", (0.3, -1, 0.2))),
+    "box": ("box", (3, 2.5, 4), (0, 0.3, 0), 45, ("spot", (-2, 5, -1), (0, 0, 0), 60)),
+    "stacked-planes": ("stacked-planes", (5, 4, 6), (0, 0.5, 0), 45, ("spot", (0.3, 6, 0.2), (0, 0, 0), 90)),
+    "poles": ("poles", (1, 1.7, 4), (0, 0.8, -10), 50, ("sun", (0.6, -1, -0.3))),
+    "staircase": ("staircase", (4, 4, 4.5), (0, 0.625, 0), 45, ("spot", (0.2, 6, 0.3), (0, 0, 0), 70)),
+    "single-triangle": ("single-triangle", (0, 0.75, 3), (0, 0.75, 0), 45, ("spot", (0.5, 4, 2.5), (0, 0.5, 0), 60)),
+    "plane": ("plane", (0, 3, 4), (0, 0, 0), 45, ("sun", (0.3, -1, 0.2))),
+    "box-sun": ("box", (3, 2.5, 4), (0, 0.3, 0), 45, ("sun", (2, -5, 1))),
+    "staircase-sun": ("staircase", (4, 4, 4.5), (0, 0.625, 0), 45, ("sun", (-0.2, -6, -0.3))),
 }
 
 # name -> (technique, extra bench options). The first is the baseline the README compares against.
@@ -121,9 +124,9 @@ def total_row(path):
 def measure(args, out_dir):
     rows = []
     for scene in args.scenes:
-        eye, target, fov, light = SCENES[scene]
+        builtin, eye, target, fov, light = SCENES[scene]
         for cam_name, cam in cameras(eye, target, fov, light).items():
-            common = [f"builtin:{scene}", "--camera", cam, "--light", hard_light(light), "--size", args.size]
+            common = [f"builtin:{builtin}", "--camera", cam, "--light", hard_light(light), "--size", args.size]
             ref = os.path.join(out_dir, f"{scene}.{cam_name}.reference.exr")
             if args.fresh or not os.path.exists(ref):
                 run([args.penumbra, "reference", *common, "-o", ref, "-q"])

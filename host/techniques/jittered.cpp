@@ -229,9 +229,9 @@ class Jittered final : public Technique {
       const int size = map_.view.raster.width;
       Kernel kernel(frame.ctx, "kernels/jittered.cl", "jittered_pass", "shade");
       kernel
-          .args(records_, static_cast<uint32_t>(pixels), map_.targets.depth, size, size, jitter, idMode,
-                map_.targets.triangleId, frame.raster.objectIds(), g.triangleId, g.objectId, shade, pass, slack_, kept_,
-                pass_, counters_, visibility)
+          .args(records_, static_cast<uint32_t>(pixels), map_.targets.depth, size, size, jitter, map_.view.gpu.zFar,
+                idMode, map_.targets.triangleId, frame.raster.objectIds(), g.triangleId, g.objectId, shade, pass,
+                slack_, kept_, pass_, counters_, visibility)
           .moves(pixels * (32 + 4 * 4 + 4))  // the record, slack, kept, pass and visibility
           .launch(pixels, kPixelGroup);
     }
