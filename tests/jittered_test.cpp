@@ -154,6 +154,19 @@ TEST_F(Jittered, FrustumReductionLowersTheWrongPixelsOfALongView) {
   const RenderResult r = renderWith(ctx(), c.scene, c.camera, c.light, "jittered", reduced);
   ASSERT_TRUE(test::saneImage(r.image, "reduced"));
   EXPECT_LT(wrong(r, c.truth), 0.9 * without) << "without reduction " << without;
+  // A reduced map ends at its slice's deepest receiver: receivers beyond it that project into its window must keep
+  // their result (an empty map would light them). A close view of the staircase under its spot light has many.
+  HardCase stairs{"staircase close", makeProcedural("staircase"), {}, {}, {}};
+  stairs.camera.eye = {1.6f, 1.975f, 1.8f}, stairs.camera.target = {0.0f, 0.625f, 0.0f};
+  stairs.camera.width = 200, stairs.camera.height = 120;
+  stairs.light = stairs.scene.lights.front();
+  stairs.light.radius = 0.0f;
+  stairs.truth = reference::renderReference(ctx(), stairs.scene, stairs.camera, stairs.light, {}).image;
+  const double sm =
+      wrong(renderWith(ctx(), stairs.scene, stairs.camera, stairs.light, "sm", {{"map-size", "256"}}), stairs.truth);
+  const double cut =
+      wrong(renderWith(ctx(), stairs.scene, stairs.camera, stairs.light, "jittered", reduced), stairs.truth);
+  EXPECT_LT(cut, sm) << stairs.name;
 }
 
 TEST_F(Jittered, LispsmWarpedPassesBeatWarpedSm) {
