@@ -160,6 +160,11 @@ else
 fi
 expect accuracy-table 0 "wrote" -- "$python" "$tools/accuracy_table.py" "$scratch/accuracy.md" "$scratch/box.csv"
 expect accuracy-table-row 0 "^\| pcf \| pcf-radius=1 \|" -- cat "$scratch/accuracy.md"
+# The Luksch sec. 10 comparison end to end on one tiny scene: references, bench per camera and config, table.
+expect luksch-eval 0 "" -- "$python" "$tools/luksch_eval.py" "$bin" "$scratch/luksch" --size 32x18 --map-size 64 \
+  --scenes box-sun --configs sm,lispsm,jittered
+expect luksch-eval-table 0 "^\| box-sun \| parallel \| [0-9.]+ \| [0-9]+ \| [0-9.]+ \| [0-9]+ \|" -- \
+  cat "$scratch/luksch/pixel-accurate.md"
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -193,14 +193,37 @@ def write_chart(rows, args, base):
     scenes = [s for s in args.scenes if any(r["scene"] == s for r in rows)]
     configs = [c for c in args.configs if any(r["config"] == c for r in rows)]
     cams = ["default", "long", "parallel", "facing", "close"]
-    fig, axes = plt.subplots(len(scenes), 2, figsize=(12, 2.6 * len(scenes)), squeeze=False)
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from chart import pareto  # tools/chart.py, beside this script
+
+    fig, axes = plt.subplots(len(scenes), 3, figsize=(17, 2.8 * len(scenes)), squeeze=False)
     for row_axes, scene in zip(axes, scenes):
+        # Speed against accuracy, as tools/chart.py draws it: each config's mean over the five cameras, the Pareto front.
+        points, names = [], []
+        for c in configs:
+            got = [r for r in rows if r["scene"] == scene and r["config"] == c]
+            if got:
+                points.append((sum(r["ms"] for r in got) / len(got),
+                               max(100 * sum(r["off"] for r in got) / len(got), 1e-4)))
+                names.append(c)
+        front = set(pareto(points))
+        for i, ((x, y), name) in enumerate(zip(points, names)):
+            row_axes[2].scatter([x], [y], s=50 if i in front else 25, edgecolors="black" if i in front else "none",
+                                zorder=3)
+            row_axes[2].annotate(name, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=7)
+        line = sorted(front, key=lambda i: points[i][0])
+        row_axes[2].plot([points[i][0] for i in line], [points[i][1] for i in line], "k--", linewidth=1)
+        row_axes[2].set_xscale("log")
+        row_axes[2].set_yscale("log")
+        row_axes[2].set_xlabel("mean frame time, device (ms, log)", fontsize=8)
+        row_axes[2].set_title(f"{scene}: mean wrong % against mean time (Pareto front dashed)", fontsize=9)
+        row_axes[2].grid(True, which="both", alpha=0.3)
         for c in configs:
             got = {r["camera"]: r for r in rows if r["scene"] == scene and r["config"] == c}
             xs = [i for i, k in enumerate(cams) if k in got]
             row_axes[0].plot(xs, [max(100 * got[cams[i]]["off"], 1e-4) for i in xs], marker="o", label=c)
             row_axes[1].plot(xs, [got[cams[i]]["ms"] for i in xs], marker="o", label=c)
-        for ax, title in zip(row_axes, ("wrong pixels % (log)", "frame time ms (log)")):
+        for ax, title in zip(row_axes[:2], ("wrong pixels % (log)", "frame time ms (log)")):
             ax.set_yscale("log")
             ax.set_xticks(range(len(cams)), cams)
             ax.set_title(f"{scene}: {title}", fontsize=9)
