@@ -67,7 +67,7 @@ TEST_F(Jittered, OnePassIsSmBitForBit) {
   const Light light = scene.lights.front();
   for (const char* mode : {"simple", "adapted", "optimal"}) {
     const RenderResult sm =
-        renderWith(ctx(), scene, camera, light, "sm", {{"map-size", "512"}, {"normal-offset", "0"}});
+        renderWith(ctx(), scene, camera, light, "sm", {{"map-size", "512"}, {"normal-offset", "0.25"}});
     const RenderResult one = renderWith(ctx(), scene, camera, light, "jittered",
                                         {{"map-size", "512"}, {"jitter-passes", "1"}, {"confidence", mode}});
     const auto &a = sm.image.require("visibility.Y").data, &b = one.image.require("visibility.Y").data;
@@ -80,7 +80,10 @@ TEST_F(Jittered, OnePassIsSmBitForBit) {
 }
 
 TEST_F(Jittered, FewerWrongPixelsThanSmAndNoGrowthWithPasses) {
-  // Tolerance of the "does not grow" check: a pass may trade a few pixels for others (0.03 % of them).
+  // Tolerance of the "does not grow" check: a pass may trade a few pixels for others (0.03 % of them). The growth is
+  // checked without a normal offset: with one, more confident lookups converge on the offset point's visibility, and
+  // a pass may trade a correct pixel for one that the offset misplaces (the default 0.25 texels: +0.1 % from 2 to 4
+  // passes on the square under a spot at 256^2).
   constexpr double kGrowth = 3e-4;
   for (const HardCase& c : {polesUnderASun(ctx()), squareUnderASpot(ctx()), grazingWall(ctx())}) {
     const test::Values map = {{"map-size", "256"}};
@@ -88,13 +91,15 @@ TEST_F(Jittered, FewerWrongPixelsThanSmAndNoGrowthWithPasses) {
     double previous = 1.0;
     for (const char* passes : {"1", "2", "4", "8", "16"}) {
       test::Values values = map;
-      values["jitter-passes"] = passes, values["jitter-epsilon"] = "0";
+      values["jitter-passes"] = passes, values["jitter-epsilon"] = "0", values["normal-offset"] = "0";
       const double w = wrong(renderWith(ctx(), c.scene, c.camera, c.light, "jittered", values), c.truth);
       EXPECT_LE(w, previous + kGrowth) << c.name << ": " << passes << " passes";
       previous = w;
     }
     EXPECT_GT(sm, 0.0) << c.name << ": the case must be hard for sm";
     EXPECT_LT(previous, 0.7 * sm) << c.name << ": sm " << sm << ", 16 jittered passes " << previous;
+    const RenderResult defaults = renderWith(ctx(), c.scene, c.camera, c.light, "jittered", map);
+    EXPECT_LT(wrong(defaults, c.truth), 0.7 * sm) << c.name << ": defaults";
     for (const char* mode : {"adapted", "simple"}) {
       const RenderResult r = renderWith(ctx(), c.scene, c.camera, c.light, "jittered",
                                         {{"map-size", "256"}, {"confidence", mode}, {"jitter-passes", "16"}});
