@@ -232,7 +232,7 @@ def write_chart(rows, args, base):
     axes[0][1].legend(fontsize=7)
     fig.tight_layout()
     for ext in ("png", "svg"):
-        fig.savefig(f"{base}.{ext}", dpi=100)
+        fig.savefig(f"{base}.{ext}", dpi=72)
     plt.close(fig)
 
 
