@@ -112,8 +112,9 @@ __kernel void jittered_first(__global const float4* position, __global const flo
     if (r.valid) {
       ReceiverPlane rp = sc_receiver_plane_at(receiverPlane, position, lv, width, height, i, p.xyz, n, r.texel);
       float2 idUv = lv_project(lv, p.xyz).xy;
-      float lit = id_visibility(mapIds, objectIds, lv->width, lv->height, idUv, pixelTriangle[i], pixelObject[i],
-                                idMode, sc_hard_lit(map, lv, r, rp, biasConstant * r.texel));
+      float lit =
+          id_visibility(mapIds, objectIds, lv->width, lv->height, idUv, id_pixel(pixelTriangle, i, idMode),
+                        id_pixel(pixelObject, i, idMode), idMode, sc_hard_lit(map, lv, r, rp, biasConstant * r.texel));
       flags = jittered_update(s, 0, lit, jittered_confidence(r.uv), slack[i], kept, passOut, visibility, i);
       texel = convert_int2_sat(clamp(floor(r.uv), -1.0f, (float)max(lv->width, lv->height)));
       float depth = rp.valid ? r.depth - biasConstant * r.texel : r.depth - r.bias;  // as sc_hard_lit
@@ -153,8 +154,8 @@ __kernel void jittered_pass(__global const float8* records, uint count, __global
     float2 t = floor(uv);
     float occluder = sc_fetch(map, mapWidth, mapHeight, (int)t.x, (int)t.y);
     float depthLit = sc_lit(occluder, record.s2 + dot(g, t + 0.5f - uv));
-    float lit =
-        id_visibility(mapIds, objectIds, mapWidth, mapHeight, idUv, pixelTriangle[i], pixelObject[i], idMode, depthLit);
+    float lit = id_visibility(mapIds, objectIds, mapWidth, mapHeight, idUv, id_pixel(pixelTriangle, i, idMode),
+                              id_pixel(pixelObject, i, idMode), idMode, depthLit);
     // A reduced map ends at its slice's deepest receiver: farther receivers are not in it, wherever they project.
     bool inside =
         uv.x >= 0.0f && uv.y >= 0.0f && uv.x < (float)mapWidth && uv.y < (float)mapHeight && record.s2 <= mapFar;

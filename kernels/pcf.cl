@@ -43,7 +43,7 @@ __kernel void pcf_visibility(__global const float4* position, __global const flo
   ReceiverPlane rp = sc_receiver_plane(f, r.texel);
   if (!receiverPlane) rp.valid = 0;
   const float planeBias = biasConstant * r.texel;
-  const uint ownTriangle = pixelTriangle[i], ownObject = pixelObject[i];
+  const uint ownTriangle = id_pixel(pixelTriangle, i, idMode), ownObject = id_pixel(pixelObject, i, idMode);
   const float2 idUv = lv_project(lv, p.xyz).xy;  // the id lookups' position: no normal offset
   // Half-width of the kernel in texels.
   float reach = (float)radius;

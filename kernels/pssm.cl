@@ -59,7 +59,7 @@ __kernel void pssm_visibility(__global const float4* position, __global const fl
   float3 n = normal[i].xyz;
   float z = viewDepth[i];
   int split = pssm_quad_split(position, viewDepth, splits, s, i), inside = 1;
-  PssmIds ids = {idMode, pixelTriangle[i], pixelObject[i]};
+  PssmIds ids = {idMode, id_pixel(pixelTriangle, i, idMode), id_pixel(pixelObject, i, idMode)};
   float lit = pssm_split_visibility(maps, idMaps, objectIds, lightViews, splits, s, ids, split, p.xyz, n, &inside);
   if (!inside) {  // a quad across a depth discontinuity: this pixel lies outside the quad's split
     split = pssm_split_of(splits, s.splits, z);

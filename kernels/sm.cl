@@ -24,8 +24,9 @@ __kernel void sm_visibility(__global const float4* position, __global const floa
   if (r.valid) {
     // The map holds the occluder's depth at the texel centre: compare it with the receiver's own plane there.
     ReceiverPlane rp = sc_receiver_plane_at(receiverPlane, position, lv, width, height, i, p.xyz, n, r.texel);
-    lit = id_visibility(mapIds, objectIds, lv->width, lv->height, lv_project(lv, p.xyz).xy, pixelTriangle[i],
-                        pixelObject[i], idMode, sc_hard_lit(map, lv, r, rp, biasConstant * r.texel));
+    lit = id_visibility(mapIds, objectIds, lv->width, lv->height, lv_project(lv, p.xyz).xy,
+                        id_pixel(pixelTriangle, i, idMode), id_pixel(pixelObject, i, idMode), idMode,
+                        sc_hard_lit(map, lv, r, rp, biasConstant * r.texel));
   }
   visibility[i] = lit;
 }

@@ -55,6 +55,9 @@ inline int id_depth_decides(__global const uint* mapIds, __global const uint* ob
   return id == ownObject || id == ID_NONE;
 }
 
+// The G-buffer's id of pixel i under `mode`: read only with an ID buffer (0 without: never compared).
+inline uint id_pixel(__global const uint* ids, uint i, int mode) { return mode == ID_BUFFER_OFF ? 0u : ids[i]; }
+
 // The visibility of one lookup at `uv` whose depth test gave `depthLit`, under the ID-buffer mode.
 inline float id_visibility(__global const uint* mapIds, __global const uint* objectIds, int width, int height,
                            float2 uv, uint ownTriangle, uint ownObject, int mode, float depthLit) {
