@@ -31,8 +31,7 @@ double texelAt(const glm::dmat4& P, int size, const glm::dvec3& e) {
 }
 
 void setRows(pn_float4 rows[4], const glm::dmat4& m) {
-  for (int r = 0; r < 4; ++r)
-    rows[r] = {{float(m[0][r]), float(m[1][r]), float(m[2][r]), float(m[3][r])}};
+  for (int r = 0; r < 4; ++r) rows[r] = {{float(m[0][r]), float(m[1][r]), float(m[2][r]), float(m[3][r])}};
 }
 
 struct Range {
@@ -187,63 +186,93 @@ glm::dmat4 composeSpot(const glm::dmat4& W, const glm::dmat4& PL, double zNear, 
   return glm::transpose(glm::dmat4(rows[0], rows[1], rows[2], rows[3]));
 }
 
-// The spot's post-perspective space: B = camera slice ∩ scene box ∩ light frustum (all as planes, so it is clipped
-// to the light's near plane before any divide), its vertices mapped by P_L V_L to post-perspective (x, y), where
-// the light is directional along z. The view direction there is that of the camera's central ray's image; gamma
-// is the world angle between the view and the light's ray through the ray's point nearest B's centroid.
+// The spot's body: B = camera slice ∩ scene box ∩ light frustum (all as planes, so it is clipped to the light's near
+// plane before any divide), its vertices in world and light-eye space, and the hull of their post-perspective
+// (x, y) = (P_L e).xy / w, where the light is directional along z.
+struct SpotBody {
+  std::vector<glm::dvec3> world, eye;
+  std::vector<glm::dvec2> hull;
+  glm::dvec3 centroid{0.0};
+};
+
+SpotBody spotBody(const LispsmInput& in, const Bounds& scene, const glm::dmat4& eye, const glm::dmat4& PL, double zNear,
+                  double slack) {
+  std::vector<Plane> planes = frustumPlanes(in.camera, in.nearDepth, in.farDepth, slack);
+  for (const std::vector<Plane>& more : {boxPlanes(scene, slack), clipPlanes(PL * eye, slack)})
+    planes.insert(planes.end(), more.begin(), more.end());
+  SpotBody b;
+  std::vector<glm::dvec2> pps;
+  for (const glm::dvec3& p : intersectionPoints(planes)) {
+    const glm::dvec4 e = eye * glm::dvec4(p, 1.0), c = PL * e;
+    if (!(c.w > 0.5 * zNear)) continue;  // cannot happen beyond the slack: B is inside the near plane
+    b.world.push_back(p), b.eye.push_back(glm::dvec3(e)), pps.push_back(glm::dvec2(c) / c.w), b.centroid += p;
+  }
+  b.hull = convexHull(pps);
+  if (!b.world.empty()) b.centroid /= double(b.world.size());
+  return b;
+}
+
+// Light space for a spot: the camera's central ray is a line in post-perspective space too, its direction there
+// P_L's Jacobian applied to the view direction at any of its points in front of the light; take the one nearest
+// B's centroid (`at`; the centroid itself if that is not in front). gamma: the world angle between the view and the
+// light's ray through `at`, exactly 0 when the view ray runs through the light.
+struct SpotAxes {
+  Axes axes;
+  glm::dvec3 view, ray;
+  glm::dvec2 at;  // post-perspective (x, y) of `at`
+};
+
+SpotAxes spotAxes(const LispsmInput& in, const SpotBody& body, const glm::dmat4& eye, const glm::dmat4& PL,
+                  double zNear) {
+  SpotAxes s;
+  const glm::dvec3 from(in.camera.eye);
+  s.view = glm::normalize(glm::dvec3(in.camera.target - in.camera.eye));
+  glm::dvec3 at = from + std::max(glm::dot(body.centroid - from, s.view), double(in.nearDepth)) * s.view;
+  if (!((PL * (eye * glm::dvec4(at, 1.0))).w > 0.5 * zNear)) at = body.centroid;
+  s.ray = glm::normalize(at - glm::dvec3(in.light.position));
+  const double across = glm::length(glm::cross(s.view, s.ray));
+  const glm::dvec4 c0 = PL * (eye * glm::dvec4(at, 1.0)), dc = PL * (eye * glm::dvec4(s.view, 0.0));
+  s.at = glm::dvec2(c0) / c0.w;
+  const glm::dvec2 projected = (glm::dvec2(dc) - s.at * dc.w) / c0.w;
+  s.axes = axesAlong(projected, across, glm::degrees(std::atan2(across, glm::dot(s.view, s.ray))));
+  return s;
+}
+
+// Post-perspective units per world unit of n: B's depth along the warp axis in each space (for a distant spot, nearly
+// a sun, the ratio n / depth(B) is then the directional one).
+double perWorldUnit(const SpotBody& body, const SpotAxes& s, double depthB, double minWorld) {
+  if (!(s.axes.sinGamma > 1e-9)) return depthB / minWorld;  // n is clamped to the uniform limit anyway
+  const glm::dvec3 axis = glm::normalize(s.view - glm::dot(s.view, s.ray) * s.ray);
+  Range t;
+  for (const glm::dvec3& p : body.world) t.grow(glm::dot(axis, p));
+  return depthB / std::max(t.hi - t.lo, minWorld);
+}
+
 LightView fitSpot(const LispsmInput& in, LispsmFit& result) {
   LightView lv = fitLightView(in.light, in.scene, in.size, in.receivers, in.marginTexels);
   const LightView uniform = lv;
   const Bounds scene = in.scene.orUnit();
-  const double radius = std::max<double>(scene.radius(), 1e-6), slack = 1e-6 * radius;
+  const double radius = std::max<double>(scene.radius(), 1e-6), zNear = lv.gpu.zNear;
   const glm::dmat4 eye(lv.raster.view), PL(lv.raster.projection);
-  std::vector<Plane> planes = frustumPlanes(in.camera, in.nearDepth, in.farDepth, slack);
-  for (const std::vector<Plane>& more : {boxPlanes(scene, slack), clipPlanes(PL * eye, slack)})
-    planes.insert(planes.end(), more.begin(), more.end());
-  const std::vector<glm::dvec3> world = intersectionPoints(planes);
-  std::vector<glm::dvec3> eyePoints;
-  std::vector<glm::dvec2> pps;
-  glm::dvec3 centroid(0.0);
-  for (const glm::dvec3& p : world) {
-    const glm::dvec4 e = eye * glm::dvec4(p, 1.0), c = PL * e;
-    if (!(c.w > 0.5 * lv.gpu.zNear)) continue;  // cannot happen beyond the slack: B is inside the near plane
-    eyePoints.push_back(glm::dvec3(e)), pps.push_back(glm::dvec2(c) / c.w), centroid += p;
-  }
-  const std::vector<glm::dvec2> body = convexHull(pps);
-  if (body.empty()) return lv;  // B empty (the camera sees nothing of the scene inside the cone): uniform
-  centroid /= double(eyePoints.size());
-  // The camera's central ray is a line in post-perspective space too: its direction there is P_L's Jacobian applied
-  // to the view direction at any of its points in front of the light; take the one nearest B's centroid.
-  const glm::dvec3 view = glm::normalize(glm::dvec3(in.camera.target - in.camera.eye)), from(in.camera.eye);
-  glm::dvec3 at = from + std::max(glm::dot(centroid - from, view), double(in.nearDepth)) * view;
-  if (!((PL * (eye * glm::dvec4(at, 1.0))).w > 0.5 * lv.gpu.zNear)) at = centroid;
-  const glm::dvec3 ray = glm::normalize(at - glm::dvec3(in.light.position));
-  const double across = glm::length(glm::cross(view, ray));
-  const glm::dvec4 e0 = eye * glm::dvec4(at, 1.0), c0 = PL * e0, dc = PL * (eye * glm::dvec4(view, 0.0));
-  const glm::dvec2 projected = (glm::dvec2(dc) - glm::dvec2(c0) / c0.w * dc.w) / c0.w;
-  const Axes axes = axesAlong(projected, across, glm::degrees(std::atan2(across, glm::dot(view, ray))));
+  const SpotBody body = spotBody(in, scene, eye, PL, zNear, 1e-6 * radius);
+  if (body.hull.empty()) return lv;  // B empty (the camera sees nothing of the scene inside the cone): uniform
+  const SpotAxes s = spotAxes(in, body, eye, PL, zNear);
   const double minExtent = 2e-4;  // post-perspective B spans at most 2 (the light frustum's [-1, 1]^2)
-  Warp warp = bodyRanges(body, axes, minExtent);
-  // n in world units carried into post-perspective units by B's depth along the warp axis in each space (for a
-  // distant spot, nearly a sun, the ratio n / depth(B) is then the directional one).
-  Range t;
-  const glm::dvec3 axisWorld = across > 1e-9 ? glm::normalize(view - glm::dot(view, ray) * ray) : glm::dvec3(0.0);
-  for (const glm::dvec3& p : world) t.grow(glm::dot(axisWorld, p));
-  const double perWorld = warp.depthB / std::max(t.hi - t.lo, 1e-4 * radius);
-  const double nOpt = optimalN(in, axes.sinGamma);
+  Warp warp = bodyRanges(body.hull, s.axes, minExtent);
+  const double perWorld = perWorldUnit(body, s, warp.depthB, 1e-4 * radius), nOpt = optimalN(in, s.axes.sinGamma);
   const glm::dvec4 ce = PL * (eye * glm::dvec4(glm::dvec3(in.camera.eye), 1.0));
-  const glm::dvec2 anchor = ce.w > 0 ? glm::dvec2(ce) / ce.w : glm::dvec2(c0) / c0.w;  // camera behind: the ray
-  placeWarp(warp, body, axes, (in.n > 0 ? double(in.n) : nOpt) * perWorld, glm::dot(axes.u, anchor));
-  const glm::dmat4 W = warpMatrix(warp, axes, 1.0, 2.0, keepFor(in), minExtent);  // its z row is replaced
-  const glm::dmat4 M = composeSpot(W, PL, lv.gpu.zNear, warp.n + warp.depthB);
+  const glm::dvec2 anchor = ce.w > 0 ? glm::dvec2(ce) / ce.w : s.at;  // the camera behind the light: its ray
+  placeWarp(warp, body.hull, s.axes, (in.n > 0 ? double(in.n) : nOpt) * perWorld, glm::dot(s.axes.u, anchor));
+  const glm::dmat4 W = warpMatrix(warp, s.axes, 1.0, 2.0, keepFor(in), minExtent);  // its z row is replaced
+  const glm::dmat4 M = composeSpot(W, PL, zNear, warp.n + warp.depthB);
   double texelMin = INFINITY, texelMax = 0, perDepth = 0;
-  for (const glm::dvec3& e : eyePoints) {
+  for (const glm::dvec3& e : body.eye) {
     const double texel = texelAt(M, in.size, e);
     if (!(std::isfinite(texel) && texel > 0 && (M * glm::dvec4(e, 1.0)).w > 0)) return uniform;  // degenerate
     texelMin = std::min(texelMin, texel), texelMax = std::max(texelMax, texel), perDepth += std::log(texel / -e.z);
   }
   result.texelMin = float(texelMin), result.texelMax = float(texelMax);
-  finish(lv, M, std::exp(perDepth / double(eyePoints.size())), result, warp.n / perWorld, nOpt, axes.gammaDeg);
+  finish(lv, M, std::exp(perDepth / double(body.eye.size())), result, warp.n / perWorld, nOpt, s.axes.gammaDeg);
   return lv;
 }
 
