@@ -23,6 +23,7 @@ typedef struct LightViewGpu {
                             // (warped: the geometric mean over the body, in the same unit)
   float lightSize;          // spot: disk radius in world units; dir: tan(angular radius)
   float frustumWidth;       // spot: 2 tan(fov/2) (width of the frustum per unit depth); dir: world width
+                            // (warped: the uniform map's the warp was built on; position, axis, lightSize too)
   int kind;                 // LIGHT_KIND_*
   int width, height;        // shadow-map size in texels
   int warp;                 // LIGHT_WARP_*
