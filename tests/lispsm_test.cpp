@@ -411,8 +411,8 @@ TEST_F(LispsmTechnique, BuiltinSpotScenesRenderSane) {
   }
 }
 
-// Degenerate inputs (as the stability suite's): an empty body falls back to the uniform map, nothing is NaN, and
-// where nothing is seen every pixel is lit.
+// Degenerate inputs (as the stability suite's), under a sun and a spot: an empty body falls back to the uniform map,
+// nothing is NaN, and where nothing is seen every pixel is lit.
 TEST_F(LispsmTechnique, DegenerateScenesStaySane) {
   Camera camera;
   camera.eye = {0, 2, 5}, camera.target = {0, 0, 0}, camera.width = 48, camera.height = 32;
@@ -424,15 +424,17 @@ TEST_F(LispsmTechnique, DegenerateScenesStaySane) {
     const Camera& camera;
     bool allLit;
   };
-  for (const Case& c : {Case{triangle, camera, false}, Case{box, away, true}, Case{empty, camera, true}})
-    for (const char* technique : {"sm", "pcf", "pssm"}) {
-      const RenderResult r = renderWith(ctx(), c.scene, c.camera, parseLight("dir:0.3,-1,-0.6"), technique,
-                                        {{"warp", "lispsm"}, {"map-size", "256"}});
-      ASSERT_TRUE(test::saneImage(r.image, technique));
-      if (c.allLit) {
-        for (float v : r.image.require("visibility.Y").data) ASSERT_EQ(v, 1.0f) << technique << ": nothing seen";
+  for (const char* light : {"dir:0.3,-1,-0.6", "spot:0.5,4,2.5:0,0.5,0:60"})
+    for (const Case& c : {Case{triangle, camera, false}, Case{box, away, true}, Case{empty, camera, true}})
+      for (const char* technique : {"sm", "pcf", "pssm"}) {
+        const RenderResult r = renderWith(ctx(), c.scene, c.camera, parseLight(light), technique,
+                                          {{"warp", "lispsm"}, {"map-size", "256"}});
+        ASSERT_TRUE(test::saneImage(r.image, std::string(light) + " " + technique));
+        if (c.allLit) {
+          for (float v : r.image.require("visibility.Y").data)
+            ASSERT_EQ(v, 1.0f) << light << " " << technique << ": nothing seen";
+        }
       }
-    }
 }
 
 TEST_F(LispsmTechnique, SnappedSplitsAreAUsageError) {
