@@ -42,8 +42,9 @@ expect param-not-for-technique 2 "does not apply to technique 'sm'" -- "$bin" re
 expect warp-choice 2 "--warp: 'lisp' is not one of none, lispsm" -- "$bin" render builtin:box -t sm --warp lisp -o "$scratch/x.exr"
 expect lispsm-n-range 2 "lispsm-n" -- "$bin" render builtin:box -t pcf --lispsm-n -3 -o "$scratch/x.exr"
 expect warp-not-for-technique 2 "does not apply to technique 'vsm'" -- "$bin" render builtin:box -t vsm --warp lispsm -o "$scratch/x.exr"
-expect lispsm-spot 2 "only directional lights" -- "$bin" render builtin:box -t sm --warp lispsm --size 32x18 \
-  --light spot:0,5,0:0,0,0:60 -o "$scratch/x.exr"
+expect lispsm-spot-render 0 "" -- "$bin" render builtin:box -t sm --warp lispsm --size 32x18 --map-size 64 \
+  --light spot:0,5,0:0,0,0:60 -q -o "$scratch/lispsm-spot.exr"
+expect lispsm-spot-warped 0 "lispsm n [0-9.]+ \\(n_opt" -- grep -ao "lispsm n [^;]*" "$scratch/lispsm-spot.exr"
 expect lispsm-snap 2 "pssm-snap" -- "$bin" render builtin:box -t pssm --warp lispsm --pssm-snap on --size 32x18 \
   --light dir:0.3,-1,-0.6 -o "$scratch/x.exr"
 expect lispsm-render 0 "" -- "$bin" render builtin:box -t pssm --warp lispsm --size 32x18 --map-size 64 \

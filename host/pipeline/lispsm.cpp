@@ -1,7 +1,7 @@
-// LiSPSM for directional lights (Wimmer et al. 2004, sec. 4-5): the body B as the convex hull of the camera frustum
-// slice clipped to the scene box, seen along the light; a perspective warp along the view direction projected
-// perpendicular to the light with the projection centre n in front of B; the map window fitted to B in the warped
-// space. Everything is in the light's eye space, so the stored depth stays the light's linear depth.
+// LiSPSM (Wimmer et al. 2004, sec. 4-5): the body B as the convex hull of the camera frustum slice clipped to the
+// scene box, seen along the light; a perspective warp along the view direction projected perpendicular to the light
+// with the projection centre n in front of B; the map window fitted to B in the warped space. Spot lights do this in
+// the light's post-perspective space (the light directional there) and compose the warp with the light's perspective.
 #include "host/pipeline/lispsm.h"
 
 #include <fmt/format.h>
@@ -12,106 +12,18 @@
 #include <stdexcept>
 #include <vector>
 
-#include "host/pipeline/splits.h"
+#include "host/pipeline/lispsm_geometry.h"
 
 namespace penumbra {
 namespace {
 
-using Plane = glm::dvec4;  // f(p) = dot(xyz, p) + w >= 0 inside
+using namespace lispsm;  // NOLINT: the body geometry
 
-// The segment a-b clipped to every plane (Liang-Barsky); appends its end points when something is left.
-void clipSegment(const glm::dvec3& a, const glm::dvec3& b, const std::vector<Plane>& planes,
-                 std::vector<glm::dvec3>& out) {
-  double t0 = 0.0, t1 = 1.0;
-  for (const Plane& p : planes) {
-    const double fa = glm::dot(glm::dvec3(p), a) + p.w, fb = glm::dot(glm::dvec3(p), b) + p.w;
-    if (fa < 0 && fb < 0) return;
-    if (fa < 0) t0 = std::max(t0, fa / (fa - fb));
-    if (fb < 0) t1 = std::min(t1, fa / (fa - fb));
-    if (t0 > t1) return;
-  }
-  out.push_back(a + t0 * (b - a)), out.push_back(a + t1 * (b - a));
-}
-
-// The 12 edges of a box-like solid whose 8 corners are indexed by 3 bits (corners differing in one bit).
-void clipEdges(const std::array<glm::dvec3, 8>& c, const std::vector<Plane>& planes, std::vector<glm::dvec3>& out) {
-  for (int i = 0; i < 8; ++i)
-    for (int bit : {1, 2, 4})
-      if (!(i & bit)) clipSegment(c[i], c[i | bit], planes, out);
-}
-
-// Vertices of (camera frustum between near and far) ∩ (scene box): every vertex of the intersection of two convex
-// solids lies on an edge of one of them inside the other, so these points span the same convex hull.
-std::vector<glm::dvec3> bodyPoints(const Camera& camera, float near, float far, const Bounds& scene) {
-  const std::vector<glm::vec3> fc = frustumSliceCorners(camera, near, far);  // bit 0: x, bit 1: y, bit 2: far
-  std::array<glm::dvec3, 8> frustum, box;
-  for (int i = 0; i < 8; ++i) {
-    frustum[i] = glm::dvec3(fc[i]);
-    box[i] = {i & 1 ? scene.max.x : scene.min.x, i & 2 ? scene.max.y : scene.min.y, i & 4 ? scene.max.z : scene.min.z};
-  }
-  const double slack = 1e-6 * std::max<double>(scene.radius(), 1e-6);  // keeps corners on a face inside
-  std::vector<Plane> boxPlanes;
-  for (int axis = 0; axis < 3; ++axis) {
-    glm::dvec3 n(0.0);
-    n[axis] = 1.0;
-    boxPlanes.push_back(Plane(n, -double(scene.min[axis]) + slack));
-    boxPlanes.push_back(Plane(-n, double(scene.max[axis]) + slack));
-  }
-  // Frustum planes in camera eye space (depth v = -z), carried to world space: f_world(p) = f_eye(V p).
-  const glm::dmat4 view(camera.view());
-  const double ty = std::tan(glm::radians(double(camera.fovYDeg)) * 0.5), tx = ty * camera.aspect();
-  const Plane eyePlanes[6] = {{0, 0, -1, -near}, {0, 0, 1, far}, {-1, 0, -tx, 0}, {1, 0, -tx, 0},
-                              {0, -1, -ty, 0},   {0, 1, -ty, 0}};
-  std::vector<Plane> frustumPlanes;
-  for (const Plane& e : eyePlanes) {
-    Plane w = e * view;  // row vector times matrix
-    w.w += slack * glm::length(glm::dvec3(w));
-    frustumPlanes.push_back(w);
-  }
-  std::vector<glm::dvec3> points;
-  clipEdges(frustum, boxPlanes, points);
-  clipEdges(box, frustumPlanes, points);
-  return points;
-}
-
-double cross(const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
-  return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
-}
-
-// Counter-clockwise convex hull (Andrew's monotone chain).
-std::vector<glm::dvec2> convexHull(std::vector<glm::dvec2> p) {
-  std::sort(p.begin(), p.end(), [](const glm::dvec2& a, const glm::dvec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
-  if (p.size() < 3) return p;
-  std::vector<glm::dvec2> h(2 * p.size());
-  size_t k = 0;
-  for (size_t i = 0; i < p.size(); ++i) {
-    while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
-    h[k++] = p[i];
-  }
-  for (size_t i = p.size() - 1, lower = k + 1; i-- > 0;) {
-    while (k >= lower && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
-    h[k++] = p[i];
-  }
-  h.resize(k - 1);
-  return h;
-}
-
-// The convex polygon cut to coordinate `axis` >= bound (sign 1) or <= bound (sign -1): one Sutherland-Hodgman pass.
-std::vector<glm::dvec2> cutPolygon(const std::vector<glm::dvec2>& poly, int axis, double bound, double sign) {
-  std::vector<glm::dvec2> out;
-  for (size_t i = 0; i < poly.size(); ++i) {
-    const glm::dvec2 &p = poly[i], &q = poly[(i + 1) % poly.size()];
-    const double dp = sign * (p[axis] - bound), dq = sign * (q[axis] - bound);
-    if (dp >= 0) out.push_back(p);
-    if ((dp >= 0) != (dq >= 0)) out.push_back(p + (dp / (dp - dq)) * (q - p));
-  }
-  return out;
-}
-
-// World width of the longer side of a texel at light-eye (x, y) under P (rows x, y, w independent of z_eye):
-// J = d(texel u, v)/d(x, y); the columns of J^-1 are the world steps of one texel, lengths |J row| / |det J|.
-double texelAt(const glm::dmat4& P, int size, double x, double y) {
-  const glm::dvec4 clip = P * glm::dvec4(x, y, 0.0, 1.0);
+// World width of the longer side of a texel at light-eye point e under P: J = d(texel u, v)/d(x, y) at fixed z_eye
+// (across the light's axis, as a uniform spot map's texelScale * depth); the columns of J^-1 are the world steps of
+// one texel, lengths |J row| / |det J|. kernels/shared/light_view.h's lv_texel_world_at is the same in float.
+double texelAt(const glm::dmat4& P, int size, const glm::dvec3& e) {
+  const glm::dvec4 clip = P * glm::dvec4(e, 1.0);
   const double half = 0.5 * size, nx = clip.x / clip.w, ny = clip.y / clip.w;
   const glm::dvec2 gu = glm::dvec2(P[0][0] - nx * P[0][3], P[1][0] - nx * P[1][3]) * (half / clip.w);
   const glm::dvec2 gv = glm::dvec2(P[0][1] - ny * P[0][3], P[1][1] - ny * P[1][3]) * (half / clip.w);
@@ -119,8 +31,7 @@ double texelAt(const glm::dmat4& P, int size, double x, double y) {
 }
 
 void setRows(pn_float4 rows[4], const glm::dmat4& m) {
-  for (int r = 0; r < 4; ++r)
-    rows[r] = {{float(m[0][r]), float(m[1][r]), float(m[2][r]), float(m[3][r])}};
+  for (int r = 0; r < 4; ++r) rows[r] = {{float(m[0][r]), float(m[1][r]), float(m[2][r]), float(m[3][r])}};
 }
 
 struct Range {
@@ -130,10 +41,12 @@ struct Range {
   double half() const { return 0.5 * (hi - lo); }
 };
 
-// B seen along the light: the light-eye (x, y) hull of the frustum slice inside the scene, cut to the receivers.
+// B seen along a directional light: the light-eye (x, y) hull of the frustum slice inside the scene, cut to the
+// receivers.
 std::vector<glm::dvec2> bodyFootprint(const LispsmInput& in, const Bounds& scene, const glm::dmat4& eye) {
+  const double slack = 1e-6 * std::max<double>(scene.radius(), 1e-6);  // keeps corners on a face inside
   std::vector<glm::dvec2> xy;
-  for (const glm::dvec3& p : bodyPoints(in.camera, in.nearDepth, in.farDepth, scene))
+  for (const glm::dvec3& p : frustumBoxPoints(in.camera, in.nearDepth, in.farDepth, scene, slack))
     xy.push_back(glm::dvec2(eye * glm::dvec4(p, 1.0)));
   std::vector<glm::dvec2> body = convexHull(xy);
   if (in.receivers != nullptr && !in.receivers->empty)
@@ -144,49 +57,62 @@ std::vector<glm::dvec2> bodyFootprint(const LispsmInput& in, const Bounds& scene
   return body;
 }
 
-// Light space in light-eye (x, y): w (Wimmer's z) the view direction projected perpendicular to the light, u across
-// it. Exactly parallel views have no projection: any axis will do, the warp is uniform there.
+// Light space in the plane across the light (light-eye x, y; for a spot, post-perspective x, y): w (Wimmer's z) the
+// view direction projected perpendicular to the light, u across it. Exactly parallel views have no projection: any
+// axis will do, the warp is uniform there.
 struct Axes {
   glm::dvec2 u, w;
   double sinGamma, gammaDeg;
 };
 
-Axes lightSpaceAxes(const glm::dmat4& eye, const Camera& camera) {
-  const glm::dvec3 view = glm::dmat3(eye) * glm::normalize(glm::dvec3(camera.target - camera.eye));
+Axes axesAlong(const glm::dvec2& projected, double sinGamma, double gammaDeg) {
   Axes a;
-  a.sinGamma = std::min(glm::length(glm::dvec2(view)), 1.0);
-  a.gammaDeg = glm::degrees(std::atan2(glm::length(glm::dvec2(view)), -view.z));  // the light travels along -z
-  a.w = a.sinGamma > 1e-9 ? glm::dvec2(view) / a.sinGamma : glm::dvec2(0.0, 1.0);
+  a.sinGamma = std::min(sinGamma, 1.0);
+  a.gammaDeg = gammaDeg;
+  const double length = glm::length(projected);
+  a.w = a.sinGamma > 1e-9 && length > 0 ? projected / length : glm::dvec2(0.0, 1.0);
   a.u = glm::dvec2(a.w.y, -a.w.x);
   return a;
+}
+
+Axes lightSpaceAxes(const glm::dmat4& eye, const Camera& camera) {
+  const glm::dvec3 view = glm::dmat3(eye) * glm::normalize(glm::dvec3(camera.target - camera.eye));
+  const double across = glm::length(glm::dvec2(view));
+  return axesAlong(glm::dvec2(view), across, glm::degrees(std::atan2(across, -view.z)));  // light along -z
 }
 
 // The warp: n, the projection centre (sc, tc) in (u, w) coordinates, and B's range in the warped coordinates
 // x' = (s - sc) / t', z' = 1 / t' with t' = t - tc >= n. Both are linear-fractional, so their extremes over the
 // convex body are at its vertices.
 struct Warp {
-  double n, nOpt, depthB, sc, tc;
-  Range xw, zw;
+  double n, depthB, sc, tc;
+  Range s, t, xw, zw;
 };
 
-Warp chooseWarp(const LispsmInput& in, const std::vector<glm::dvec2>& body, const Axes& a, const glm::dmat4& eye,
-                double minExtent) {
-  Range s, t;
-  for (const glm::dvec2& p : body) s.grow(glm::dot(a.u, p)), t.grow(glm::dot(a.w, p));
-  Warp warp;
-  warp.depthB = std::max(t.hi - t.lo, minExtent);
-  // Wimmer's n_opt, generalised by 1 / sin(gamma); clamped where the warp is uniform anyway.
-  const double zn = std::max<double>(in.nearDepth, 1e-6), zf = std::max<double>(in.farDepth, zn);
-  warp.nOpt = a.sinGamma > 0 ? (zn + std::sqrt(zn * zf)) / a.sinGamma : INFINITY;
-  warp.n = std::clamp(in.n > 0 ? double(in.n) : warp.nOpt, 1e-6 * warp.depthB, kLispsmMaxNOverDepth * warp.depthB);
-  const glm::dvec2 eyeXY(eye * glm::dvec4(glm::dvec3(in.camera.eye), 1.0));
-  warp.tc = t.lo - warp.n, warp.sc = std::clamp(glm::dot(a.u, eyeXY), s.lo, s.hi);
+// B's ranges along the axes; depthB at least minExtent.
+Warp bodyRanges(const std::vector<glm::dvec2>& body, const Axes& a, double minExtent) {
+  Warp warp{};
+  for (const glm::dvec2& p : body) warp.s.grow(glm::dot(a.u, p)), warp.t.grow(glm::dot(a.w, p));
+  warp.depthB = std::max(warp.t.hi - warp.t.lo, minExtent);
+  return warp;
+}
+
+// n clamped where the warp is uniform anyway (kLispsmMaxNOverDepth), the centre n in front of B, laterally at the
+// camera's `anchor` (u coordinate) kept within B, and B's warped ranges.
+void placeWarp(Warp& warp, const std::vector<glm::dvec2>& body, const Axes& a, double n, double anchor) {
+  warp.n = std::clamp(n, 1e-6 * warp.depthB, kLispsmMaxNOverDepth * warp.depthB);
+  warp.tc = warp.t.lo - warp.n, warp.sc = std::clamp(anchor, warp.s.lo, warp.s.hi);
   for (const glm::dvec2& p : body) {
     const double tp = glm::dot(a.w, p) - warp.tc;
     warp.xw.grow((glm::dot(a.u, p) - warp.sc) / tp), warp.zw.grow(1.0 / tp);
   }
   warp.zw.grow(1.0 / (warp.n + warp.depthB));  // a body thinner than minExtent still spans some texels
-  return warp;
+}
+
+// Wimmer's n_opt, generalised by 1 / sin(gamma); infinite for a view along the light.
+double optimalN(const LispsmInput& in, double sinGamma) {
+  const double zn = std::max<double>(in.nearDepth, 1e-6), zf = std::max<double>(in.farDepth, zn);
+  return sinGamma > 0 ? (zn + std::sqrt(zn * zf)) / sinGamma : INFINITY;
 }
 
 // Light-eye -> clip, rows over (x, y, z, 1) with t' = w.x x + w.y y - tc and light depth d = -z: x_c = x' t',
@@ -211,6 +137,145 @@ glm::dmat4 warpMatrix(const Warp& warp, const Axes& a, double zNear, double zFar
   return P;
 }
 
+double keepFor(const LispsmInput& in) { return 1.0 - std::min(2.0 * std::max(in.marginTexels, 0.0f) / in.size, 0.5); }
+
+void finish(LightView& lv, const glm::dmat4& P, double texelScale, LispsmFit& result, double n, double nOpt,
+            double gammaDeg) {
+  result.warped = true;
+  result.n = float(n), result.nOpt = float(nOpt), result.gammaDeg = float(gammaDeg);
+  lv.raster.projection = glm::mat4(P);
+  setRows(lv.gpu.projection, P);
+  lv.gpu.warp = LIGHT_WARP_PERSPECTIVE;
+  lv.gpu.texelScale = float(texelScale);
+}
+
+LightView fitDirectional(const LispsmInput& in, LispsmFit& result) {
+  // The uniform view supplies the light's eye space, its depth range (every caster towards the light: B extruded)
+  // and the light's own terms; only the projection and the texel terms change.
+  LightView lv = fitLightView(in.light, in.scene, in.size, in.receivers, in.marginTexels);
+  const Bounds scene = in.scene.orUnit();
+  const glm::dmat4 eye(lv.raster.view);
+  const std::vector<glm::dvec2> body = bodyFootprint(in, scene, eye);
+  if (body.empty()) return lv;
+  const Axes axes = lightSpaceAxes(eye, in.camera);
+  const double minExtent = 1e-4 * std::max<double>(scene.radius(), 1e-6);
+  Warp warp = bodyRanges(body, axes, minExtent);
+  const double nOpt = optimalN(in, axes.sinGamma);
+  const glm::dvec2 eyeXY(eye * glm::dvec4(glm::dvec3(in.camera.eye), 1.0));
+  placeWarp(warp, body, axes, in.n > 0 ? double(in.n) : nOpt, glm::dot(axes.u, eyeXY));
+  const glm::dmat4 P = warpMatrix(warp, axes, lv.gpu.zNear, lv.gpu.zFar, keepFor(in), minExtent);
+  double texelMin = INFINITY, texelMax = 0;
+  for (const glm::dvec2& p : body) {
+    const double texel = texelAt(P, in.size, glm::dvec3(p, 0.0));
+    texelMin = std::min(texelMin, texel), texelMax = std::max(texelMax, texel);
+  }
+  result.texelMin = float(texelMin), result.texelMax = float(texelMax);
+  finish(lv, P, std::sqrt(texelMin * texelMax), result, warp.n, nOpt, axes.gammaDeg);  // a typical texel
+  return lv;
+}
+
+// M = W (P_L V_L) for a spot light: W's rows x, y, w read the post-perspective (x, y, 1) = (x_c, y_c, w_c) / w_c of
+// P_L, so their products with P_L's rows x, y, w are linear in light-eye space with no constant term. The z row is
+// free (the stored depth is -z_eye, raster/rasterizer.h): z_c = k (d - zNear) - w_c puts the rasterizer's near clip
+// z_c >= -w_c exactly on the light's near plane, so nothing behind the light is drawn whatever the sign of w_c.
+glm::dmat4 composeSpot(const glm::dmat4& W, const glm::dmat4& PL, double zNear, double k) {
+  const glm::dmat4 w = glm::transpose(W), pl = glm::transpose(PL);  // rows
+  glm::dvec4 rows[4];
+  for (int r : {0, 1, 3}) rows[r] = w[r].x * pl[0] + w[r].y * pl[1] + w[r].w * pl[3];
+  rows[2] = k * glm::dvec4(0.0, 0.0, -1.0, -zNear) - rows[3];
+  return glm::transpose(glm::dmat4(rows[0], rows[1], rows[2], rows[3]));
+}
+
+// The spot's body: B = camera slice ∩ scene box ∩ light frustum (all as planes, so it is clipped to the light's near
+// plane before any divide), its vertices in world and light-eye space, and the hull of their post-perspective
+// (x, y) = (P_L e).xy / w, where the light is directional along z.
+struct SpotBody {
+  std::vector<glm::dvec3> world, eye;
+  std::vector<glm::dvec2> hull;
+  glm::dvec3 centroid{0.0};
+};
+
+SpotBody spotBody(const LispsmInput& in, const Bounds& scene, const glm::dmat4& eye, const glm::dmat4& PL, double zNear,
+                  double slack) {
+  std::vector<Plane> planes = frustumPlanes(in.camera, in.nearDepth, in.farDepth, slack);
+  for (const std::vector<Plane>& more : {boxPlanes(scene, slack), clipPlanes(PL * eye, slack)})
+    planes.insert(planes.end(), more.begin(), more.end());
+  SpotBody b;
+  std::vector<glm::dvec2> pps;
+  for (const glm::dvec3& p : intersectionPoints(planes)) {
+    const glm::dvec4 e = eye * glm::dvec4(p, 1.0), c = PL * e;
+    if (!(c.w > 0.5 * zNear)) continue;  // cannot happen beyond the slack: B is inside the near plane
+    b.world.push_back(p), b.eye.push_back(glm::dvec3(e)), pps.push_back(glm::dvec2(c) / c.w), b.centroid += p;
+  }
+  b.hull = convexHull(pps);
+  if (!b.world.empty()) b.centroid /= double(b.world.size());
+  return b;
+}
+
+// Light space for a spot: the camera's central ray is a line in post-perspective space too, its direction there
+// P_L's Jacobian applied to the view direction at any of its points in front of the light; take the one nearest
+// B's centroid (`at`; the centroid itself if that is not in front). gamma: the world angle between the view and the
+// light's ray through `at`, exactly 0 when the view ray runs through the light.
+struct SpotAxes {
+  Axes axes;
+  glm::dvec3 view, ray;
+  glm::dvec2 at;  // post-perspective (x, y) of `at`
+};
+
+SpotAxes spotAxes(const LispsmInput& in, const SpotBody& body, const glm::dmat4& eye, const glm::dmat4& PL,
+                  double zNear) {
+  SpotAxes s;
+  const glm::dvec3 from(in.camera.eye);
+  s.view = glm::normalize(glm::dvec3(in.camera.target - in.camera.eye));
+  glm::dvec3 at = from + std::max(glm::dot(body.centroid - from, s.view), double(in.nearDepth)) * s.view;
+  if (!((PL * (eye * glm::dvec4(at, 1.0))).w > 0.5 * zNear)) at = body.centroid;
+  s.ray = glm::normalize(at - glm::dvec3(in.light.position));
+  const double across = glm::length(glm::cross(s.view, s.ray));
+  const glm::dvec4 c0 = PL * (eye * glm::dvec4(at, 1.0)), dc = PL * (eye * glm::dvec4(s.view, 0.0));
+  s.at = glm::dvec2(c0) / c0.w;
+  const glm::dvec2 projected = (glm::dvec2(dc) - s.at * dc.w) / c0.w;
+  s.axes = axesAlong(projected, across, glm::degrees(std::atan2(across, glm::dot(s.view, s.ray))));
+  return s;
+}
+
+// Post-perspective units per world unit of n: B's depth along the warp axis in each space (for a distant spot, nearly
+// a sun, the ratio n / depth(B) is then the directional one).
+double perWorldUnit(const SpotBody& body, const SpotAxes& s, double depthB, double minWorld) {
+  if (!(s.axes.sinGamma > 1e-9)) return depthB / minWorld;  // n is clamped to the uniform limit anyway
+  const glm::dvec3 axis = glm::normalize(s.view - glm::dot(s.view, s.ray) * s.ray);
+  Range t;
+  for (const glm::dvec3& p : body.world) t.grow(glm::dot(axis, p));
+  return depthB / std::max(t.hi - t.lo, minWorld);
+}
+
+LightView fitSpot(const LispsmInput& in, LispsmFit& result) {
+  LightView lv = fitLightView(in.light, in.scene, in.size, in.receivers, in.marginTexels);
+  const LightView uniform = lv;
+  const Bounds scene = in.scene.orUnit();
+  const double radius = std::max<double>(scene.radius(), 1e-6), zNear = lv.gpu.zNear;
+  const glm::dmat4 eye(lv.raster.view), PL(lv.raster.projection);
+  const SpotBody body = spotBody(in, scene, eye, PL, zNear, 1e-6 * radius);
+  if (body.hull.empty()) return lv;  // B empty (the camera sees nothing of the scene inside the cone): uniform
+  const SpotAxes s = spotAxes(in, body, eye, PL, zNear);
+  const double minExtent = 2e-4;  // post-perspective B spans at most 2 (the light frustum's [-1, 1]^2)
+  Warp warp = bodyRanges(body.hull, s.axes, minExtent);
+  const double perWorld = perWorldUnit(body, s, warp.depthB, 1e-4 * radius), nOpt = optimalN(in, s.axes.sinGamma);
+  const glm::dvec4 ce = PL * (eye * glm::dvec4(glm::dvec3(in.camera.eye), 1.0));
+  const glm::dvec2 anchor = ce.w > 0 ? glm::dvec2(ce) / ce.w : s.at;  // the camera behind the light: its ray
+  placeWarp(warp, body.hull, s.axes, (in.n > 0 ? double(in.n) : nOpt) * perWorld, glm::dot(s.axes.u, anchor));
+  const glm::dmat4 W = warpMatrix(warp, s.axes, 1.0, 2.0, keepFor(in), minExtent);  // its z row is replaced
+  const glm::dmat4 M = composeSpot(W, PL, zNear, warp.n + warp.depthB);
+  double texelMin = INFINITY, texelMax = 0, perDepth = 0;
+  for (const glm::dvec3& e : body.eye) {
+    const double texel = texelAt(M, in.size, e);
+    if (!(std::isfinite(texel) && texel > 0 && (M * glm::dvec4(e, 1.0)).w > 0)) return uniform;  // degenerate
+    texelMin = std::min(texelMin, texel), texelMax = std::max(texelMax, texel), perDepth += std::log(texel / -e.z);
+  }
+  result.texelMin = float(texelMin), result.texelMax = float(texelMax);
+  finish(lv, M, std::exp(perDepth / double(body.eye.size())), result, warp.n / perWorld, nOpt, s.axes.gammaDeg);
+  return lv;
+}
+
 }  // namespace
 
 std::string LispsmFit::describe() const {
@@ -220,36 +285,8 @@ std::string LispsmFit::describe() const {
 }
 
 LightView fitLispsmView(const LispsmInput& in, LispsmFit* fit) {
-  if (in.light.type == LightType::Spot)
-    throw std::invalid_argument("--warp lispsm: only directional lights are supported (spot lights are not)");
-  // The uniform view supplies the light's eye space, its depth range (every caster towards the light: B extruded)
-  // and the light's own terms; only the projection and the texel terms change.
-  LightView lv = fitLightView(in.light, in.scene, in.size, in.receivers, in.marginTexels);
   LispsmFit result;
-  const Bounds scene = in.scene.orUnit();
-  const glm::dmat4 eye(lv.raster.view);
-  const std::vector<glm::dvec2> body = bodyFootprint(in, scene, eye);
-  if (body.empty()) {
-    if (fit != nullptr) *fit = result;
-    return lv;
-  }
-  const Axes axes = lightSpaceAxes(eye, in.camera);
-  const double minExtent = 1e-4 * std::max<double>(scene.radius(), 1e-6);
-  const Warp warp = chooseWarp(in, body, axes, eye, minExtent);
-  const double keep = 1.0 - std::min(2.0 * std::max(in.marginTexels, 0.0f) / in.size, 0.5);
-  const glm::dmat4 P = warpMatrix(warp, axes, lv.gpu.zNear, lv.gpu.zFar, keep, minExtent);
-  result.warped = true;
-  result.n = float(warp.n), result.nOpt = float(warp.nOpt), result.gammaDeg = float(axes.gammaDeg);
-  double texelMin = INFINITY, texelMax = 0;
-  for (const glm::dvec2& p : body) {
-    const double texel = texelAt(P, in.size, p.x, p.y);
-    texelMin = std::min(texelMin, texel), texelMax = std::max(texelMax, texel);
-  }
-  result.texelMin = float(texelMin), result.texelMax = float(texelMax);
-  lv.raster.projection = glm::mat4(P);
-  setRows(lv.gpu.projection, P);
-  lv.gpu.warp = LIGHT_WARP_PERSPECTIVE;
-  lv.gpu.texelScale = float(std::sqrt(texelMin * texelMax));  // a typical texel, for filter scales between maps
+  LightView lv = in.light.type == LightType::Spot ? fitSpot(in, result) : fitDirectional(in, result);
   if (fit != nullptr) *fit = result;
   return lv;
 }

@@ -15,7 +15,7 @@ enum WarpChoice { kWarpNone = 0, kWarpLispsm = 1 };
 std::vector<ParamSpec> warpParams() {
   return {
       {"warp", kWarpNone, 0, 1,
-       "Light-map parameterisation: uniform, or light-space perspective (LiSPSM, directional lights only)",
+       "Light-map parameterisation: uniform, or light-space perspective (LiSPSM; sun or spot light)",
        {"none", "lispsm"}},
       {"lispsm-n", 0.0, 0, 1e6,
        "LiSPSM warp distance n in world units (small: more texels near the camera); 0 = automatic n_opt"},

@@ -21,8 +21,7 @@ bool lispsmEnabled(const Params& params);
 // covers (the filter's reach), per the "fit" parameter (whole scene, or the visible receivers). With --warp none
 // (or without the parameter) exactly fitLightView; with lispsm, the LiSPSM view of the camera frustum between the
 // nearest and farthest visible pixel (a G-buffer depth reduction), n from --lispsm-n or n_opt over that range.
-// Records "penumbra:warp" ("none" or LispsmFit::describe()) in frame.attributes when `params` declares "warp". Throws std::invalid_argument
-// (a usage error) for lispsm with a spot light.
+// Records "penumbra:warp" ("none" or LispsmFit::describe()) in frame.attributes when `params` declares "warp".
 LightView fitWarpedLightView(ShadowFrame& frame, const Params& params, int size, float marginTexels);
 
 // The same for an explicit camera depth range (one split: C_s .. C_{s+1}) and receiver box (nullptr: the whole

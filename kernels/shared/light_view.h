@@ -9,8 +9,9 @@
 #define LIGHT_KIND_DIRECTIONAL 1  // orthographic projection (or, with LIGHT_WARP_PERSPECTIVE, LiSPSM's warp)
 
 #define LIGHT_WARP_NONE 0         // texels uniform in light-eye x/y (directional) or in tangents (spot)
-#define LIGHT_WARP_PERSPECTIVE 1  // LiSPSM (host/pipeline/lispsm.h): texels vary over the map; projection rows x, y, w
-                                  // do not depend on z_eye, so a texel's footprint is the 2x2 Jacobian's at the point
+#define LIGHT_WARP_PERSPECTIVE 1  // LiSPSM (host/pipeline/lispsm.h): texels vary over the map; a general projective
+                                  // matrix (spot: the warp times the light's perspective) whose texel is constant
+                                  // along the light's rays, so its footprint is the 2x2 Jacobian's across the light
 
 typedef struct LightViewGpu {
   pn_float4 view[4];        // rows of the world -> light-eye matrix
@@ -19,11 +20,13 @@ typedef struct LightViewGpu {
   pn_float4 axis;           // xyz: unit direction the light travels along its axis
   float zNear, zFar;        // light-eye depth range of the map (linear, world units)
   float texelScale;         // spot: texel width / depth (2 tan(fov/2) / size); dir: texel width in world units
+                            // (warped: the geometric mean over the body, in the same unit)
   float lightSize;          // spot: disk radius in world units; dir: tan(angular radius)
   float frustumWidth;       // spot: 2 tan(fov/2) (width of the frustum per unit depth); dir: world width
+                            // (warped: the uniform map's the warp was built on; position, axis, lightSize too)
   int kind;                 // LIGHT_KIND_*
   int width, height;        // shadow-map size in texels
-  int warp;                 // LIGHT_WARP_*; texelScale of a warped map is the geometric mean over its body
+  int warp;                 // LIGHT_WARP_*
   int pad0, pad1, pad2;
 } LightViewGpu;
 
@@ -37,11 +40,12 @@ inline float4 lv_transform(__constant const float4* rows, float4 p) {
   return (float4)(dot(rows[0], p), dot(rows[1], p), dot(rows[2], p), dot(rows[3], p));
 }
 
-// World position -> (shadow-map texel x, texel y, linear light depth). Texel row 0 is the bottom row.
+// World position -> (shadow-map texel x, texel y, linear light depth). Texel row 0 is the bottom row. A warped map's
+// w_c can be negative in front of the light (beyond the warp's centre, outside the body): no texel there (NaN).
 inline float3 lv_project(__constant const LightViewGpu* lv, float3 world) {
   float4 eye = lv_transform(lv->view, (float4)(world, 1.0f));
   float4 clip = lv_transform(lv->projection, eye);
-  float2 ndc = clip.xy / clip.w;
+  float2 ndc = lv->warp != LIGHT_WARP_NONE && !(clip.w > 0.0f) ? (float2)(NAN) : clip.xy / clip.w;
   return (float3)((ndc.x * 0.5f + 0.5f) * lv->width, (ndc.y * 0.5f + 0.5f) * lv->height, -eye.z);
 }
 
@@ -51,9 +55,10 @@ inline float lv_texel_world(__constant const LightViewGpu* lv, float depth) {
 }
 
 // World-space width of one texel at world point `world` (light depth `depth`): lv_texel_world for uniform maps;
-// for a warped map the longer side of the texel's footprint across the light, from the Jacobian
-// J = d(texel x, y) / d(light-eye x, y) = (size / 2) (P_r.xy - ndc_r P_3.xy) / w_c: the columns of J^-1 are the
-// world steps of one texel, of lengths |J row| / |det J|.
+// for a warped map the longer side of the texel's footprint across the light (in the plane z_eye = const, as the
+// uniform spot's texelScale * depth), from the Jacobian J = d(texel x, y) / d(light-eye x, y) at fixed z_eye
+// = (size / 2) (P_r.xy - ndc_r P_3.xy) / w_c, which holds for any projective P (z_eye enters through ndc and w_c
+// only): the columns of J^-1 are the world steps of one texel, of lengths |J row| / |det J|.
 inline float lv_texel_world_at(__constant const LightViewGpu* lv, float3 world, float depth) {
   if (lv->warp == LIGHT_WARP_NONE) return lv_texel_world(lv, depth);
   float4 clip = lv_transform(lv->projection, lv_transform(lv->view, (float4)(world, 1.0f)));
@@ -61,7 +66,7 @@ inline float lv_texel_world_at(__constant const LightViewGpu* lv, float3 world, 
   float2 gu = (lv->projection[0].xy - ndc.x * lv->projection[3].xy) * (0.5f * (float)lv->width / clip.w);
   float2 gv = (lv->projection[1].xy - ndc.y * lv->projection[3].xy) * (0.5f * (float)lv->height / clip.w);
   float texel = max(length(gu), length(gv)) / fabs(gu.x * gv.y - gu.y * gv.x);
-  return isfinite(texel) && texel > 0.0f ? texel : lv->texelScale;  // behind the warp's centre: a typical texel
+  return isfinite(texel) && texel > 0.0f ? texel : lv_texel_world(lv, depth);  // behind the warp's centre: typical
 }
 
 // Texels (at the receiver's depth) covered by the half-width of the penumbra that an occluder at light
