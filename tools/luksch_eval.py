@@ -40,8 +40,6 @@ SCENES = {
 }
 
 # name -> (technique, extra bench options). The first is the baseline the README compares against.
-# LiSPSM configurations are directional-light only (spot lights refuse --warp lispsm): on spot-lit scenes they
-# report no result and the tables show a dash.
 CONFIGS = {
     "sm": ("sm", []),
     "lispsm": ("sm", ["--warp", "lispsm"]),
