@@ -102,67 +102,37 @@ class Jittered final : public Technique {
   explicit Jittered(const Params& params) : params_(params) {}
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
-    Context& ctx = frame.ctx;
-    const GBuffer& g = frame.gbuffer;
-    const size_t pixels = static_cast<size_t>(g.width) * g.height;
-    const float maxAngle = glm::radians(static_cast<float>(params_.get("jitter-rotation")));
-    // Every pass shares one texel size, so confidences of different passes compare (sec. 6.5.1's caveat).
-    const float scale = std::cos(maxAngle) + std::sin(maxAngle);
-    // LiSPSM (--warp lispsm): translational jitter only; a rotated or reduced warped map is no similarity of the first.
-    const bool warped = lispsmEnabled(params_);
-    if (warped && (maxAngle != 0.0f || params_.get("jitter-reduction") != 0.0))
-      throw std::invalid_argument("--jitter-rotation and --jitter-reduction need --warp none");
-    renderShadowMap(frame, params_, map_, 0.0f);
-    const LightView fitted = map_.view;
-    // Frustum reduction (sec. 6.5.2): pass k's map is cropped to the camera's frustum [near, far factor^k].
-    const float reduction = static_cast<float>(params_.get("jitter-reduction"));
-    const ViewDepthRange depth = reduction > 0.0f ? tightViewDepth(frame) : ViewDepthRange{};
-    const float margin = static_cast<float>(params_.get("normal-offset")) + 1.0f;  // renderShadowMap's, no reach
-    slack_.allocate(ctx, pixels);
-    kept_.allocate(ctx, pixels);
-    pass_.allocate(ctx, pixels);
-    counters_.allocate(ctx, JITTER_COUNTERS);
-    kept_.fill(ctx, -1.0f);
-    pass_.fill(ctx, 0.0f);
-    visibility.fill(ctx, 1.0f);
-    records_.allocate(ctx, pixels);
-    const int mode = params_.getInt("confidence");
-    if (mode != JITTER_OPTIMAL) slack_.fill(ctx, 0.0f);
-
-    const int maxPasses = params_.getInt("jitter-passes"), window = params_.getInt("jitter-window");
+    const Plan plan = planPasses(frame);
+    reset(frame.ctx, static_cast<size_t>(frame.gbuffer.width) * frame.gbuffer.height, visibility);
+    const int mode = params_.getInt("confidence"), maxPasses = params_.getInt("jitter-passes");
+    const int window = params_.getInt("jitter-window");
     const double epsilon = params_.get("jitter-epsilon");
     int quiet = 0;
-    passes_ = 0;
     std::optional<Scissor> scissor;
     for (int pass = 0; pass < maxPasses; ++pass) {
-      const float angle = maxAngle * 2.0f * centred(static_cast<uint32_t>(pass), 5);
+      const float angle = plan.maxAngle * 2.0f * centred(static_cast<uint32_t>(pass), 5);
       const glm::vec2 offset(centred(pass, 2), centred(pass, 3));
-      if (pass > 0 || scale != 1.0f) {
-        LightView base = fitted;
-        if (reduction > 0.0f && pass > 0) {
-          const float far = std::max(depth.far * std::pow(reduction, static_cast<float>(pass)), depth.near * 1.01f);
-          base = sliceLightView(frame, params_, depth.near, far, margin);
-        }
-        map_.view = jitteredView(base, angle, scale, offset);
+      if (pass > 0 || plan.scale != 1.0f) {
+        map_.view = jitteredView(baseView(frame, plan, pass), angle, plan.scale, offset);
         map_.view.raster.scissor = scissor;
         frame.raster.draw(map_.view.raster, map_.targets);
       }
       if (pass == 0) {
-        map_.gpu.upload(ctx, std::span<const LightViewGpu>(&map_.view.gpu, 1));
+        map_.gpu.upload(frame.ctx, std::span<const LightViewGpu>(&map_.view.gpu, 1));
         if (mode == JITTER_OPTIMAL) required(frame);
         first_ = map_.view;
       }
       // A shift in NDC is a shift in texels for any projection, warped ones included.
       const cl_float4 jitter =
-          warped ? cl_float4{{1.0f, 0.0f, offset.x, offset.y}} : texelTransform(first_, map_.view, angle);
+          plan.warped ? cl_float4{{1.0f, 0.0f, offset.x, offset.y}} : texelTransform(first_, map_.view, angle);
       const std::array<int32_t, JITTER_COUNTERS> count = accumulate(frame, pass, jitter, visibility);
       passes_ = pass + 1;
       const double limit = epsilon * count[0];
       if (mode == JITTER_OPTIMAL && count[2] <= limit) break;  // every pixel (but epsilon) has what it needs
       quiet = pass > 0 && count[1] <= limit ? quiet + 1 : 0;
       if (quiet >= window) break;
-      if (params_.getInt("jitter-scissor") == 1 && reduction == 0.0f)
-        scissor = nextScissor(count, mode, maxAngle, fitted.raster.width);
+      if (params_.getInt("jitter-scissor") == 1 && plan.reduction == 0.0f)
+        scissor = nextScissor(count, mode, plan.maxAngle, plan.fitted.raster.width);
     }
     frame.attributes["penumbra:jitter-passes"] = fmt::format("{} of at most {}", passes_, maxPasses);
   }
@@ -188,6 +158,53 @@ class Jittered final : public Technique {
     kernel.args(g.position, width, height, map_.gpu, static_cast<float>(params_.get("jitter-precision")), slack_)
         .moves(uint64_t{width} * height * (16 + 4))
         .launch(static_cast<size_t>(width) * height, kPixelGroup);
+  }
+
+  // What every pass of a frame shares: the fitted map of pass 0 (sm's), the rotation's range and its texel scale,
+  // the frustum reduction's factor and the camera's depth range it cuts.
+  struct Plan {
+    LightView fitted;
+    float maxAngle = 0, scale = 1, reduction = 0, margin = 1;
+    ViewDepthRange depth;
+    bool warped = false;
+  };
+
+  Plan planPasses(ShadowFrame& frame) {
+    Plan plan;
+    plan.maxAngle = glm::radians(static_cast<float>(params_.get("jitter-rotation")));
+    // Every pass shares one texel size, so confidences of different passes compare (sec. 6.5.1's caveat).
+    plan.scale = std::cos(plan.maxAngle) + std::sin(plan.maxAngle);
+    plan.reduction = static_cast<float>(params_.get("jitter-reduction"));
+    // LiSPSM (--warp lispsm): translational jitter only; a rotated or reduced warped map is no similarity of the first.
+    plan.warped = lispsmEnabled(params_);
+    if (plan.warped && (plan.maxAngle != 0.0f || plan.reduction != 0.0f))
+      throw std::invalid_argument("--jitter-rotation and --jitter-reduction need --warp none");
+    renderShadowMap(frame, params_, map_, 0.0f);
+    plan.fitted = map_.view;
+    if (plan.reduction > 0.0f) plan.depth = tightViewDepth(frame);
+    plan.margin = static_cast<float>(params_.get("normal-offset")) + 1.0f;  // renderShadowMap's, no filter reach
+    passes_ = 0;
+    return plan;
+  }
+
+  // Pass k's map before its jitter: pass 0's, or with frustum reduction (sec. 6.5.2) the camera's frustum
+  // [near, far factor^k] cropped like a pssm split.
+  LightView baseView(const ShadowFrame& frame, const Plan& plan, int pass) const {
+    if (plan.reduction == 0.0f || pass == 0) return plan.fitted;
+    const float far =
+        std::max(plan.depth.far * std::pow(plan.reduction, static_cast<float>(pass)), plan.depth.near * 1.01f);
+    return sliceLightView(frame, params_, plan.depth.near, far, plan.margin);
+  }
+
+  // The per-pixel buffers, reused across frames: nothing kept yet, background lit.
+  void reset(Context& ctx, size_t pixels, Buffer<float>& visibility) {
+    for (Buffer<float>* b : {&slack_, &kept_, &pass_}) b->allocate(ctx, pixels);
+    records_.allocate(ctx, pixels);
+    counters_.allocate(ctx, JITTER_COUNTERS);
+    kept_.fill(ctx, -1.0f);
+    pass_.fill(ctx, 0.0f);
+    visibility.fill(ctx, 1.0f);
+    if (params_.getInt("confidence") != JITTER_OPTIMAL) slack_.fill(ctx, 0.0f);
   }
 
   // Optimal mode without rotation: the next pass draws only the texels the still-unconfident pixels look up, their
