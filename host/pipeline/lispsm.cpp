@@ -30,10 +30,6 @@ double texelAt(const glm::dmat4& P, int size, const glm::dvec3& e) {
   return std::max(glm::length(gu), glm::length(gv)) / std::abs(gu.x * gv.y - gu.y * gv.x);
 }
 
-void setRows(pn_float4 rows[4], const glm::dmat4& m) {
-  for (int r = 0; r < 4; ++r) rows[r] = {{float(m[0][r]), float(m[1][r]), float(m[2][r]), float(m[3][r])}};
-}
-
 struct Range {
   double lo = INFINITY, hi = -INFINITY;
   void grow(double v) { lo = std::min(lo, v), hi = std::max(hi, v); }
@@ -144,7 +140,7 @@ void finish(LightView& lv, const glm::dmat4& P, double texelScale, LispsmFit& re
   result.warped = true;
   result.n = float(n), result.nOpt = float(nOpt), result.gammaDeg = float(gammaDeg);
   lv.raster.projection = glm::mat4(P);
-  setRows(lv.gpu.projection, P);
+  setLightViewRows(lv.gpu.projection, lv.raster.projection);
   lv.gpu.warp = LIGHT_WARP_PERSPECTIVE;
   lv.gpu.texelScale = float(texelScale);
 }

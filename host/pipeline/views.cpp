@@ -27,9 +27,6 @@ void depthRange(const glm::mat4& view, const Bounds& bounds, float& zNear, float
   if (!(zNear < zFar)) zNear = zFar * 1e-4f;
 }
 
-void setRows(pn_float4 rows[4], const glm::mat4& m) {
-  for (int r = 0; r < 4; ++r) rows[r] = {{m[0][r], m[1][r], m[2][r], m[3][r]}};
-}
 
 // Square box [center - extent/2, center + extent/2]^2 of the map in the light's x/y units.
 struct MapWindow {
@@ -61,6 +58,10 @@ MapWindow cropWindow(const MapWindow& full, const ReceiverBounds* receivers, int
 }
 
 }  // namespace
+
+void setLightViewRows(pn_float4 rows[4], const glm::mat4& m) {
+  for (int r = 0; r < 4; ++r) rows[r] = {{m[0][r], m[1][r], m[2][r], m[3][r]}};
+}
 
 RasterView cameraView(const Camera& camera, const Bounds& sceneBounds) {
   const Bounds bounds = sceneBounds.orUnit();
@@ -113,8 +114,8 @@ LightView fitLightView(const Light& light, const Bounds& sceneBounds, int size, 
   }
   gpu.frustumWidth = window.extent;
   gpu.texelScale = window.extent / static_cast<float>(size);
-  setRows(gpu.view, raster.view);
-  setRows(gpu.projection, raster.projection);
+  setLightViewRows(gpu.view, raster.view);
+  setLightViewRows(gpu.projection, raster.projection);
   const glm::vec3 axis = light.axis();
   gpu.position = {{light.position.x, light.position.y, light.position.z, 1.0f}};
   gpu.axis = {{axis.x, axis.y, axis.z, 0.0f}};

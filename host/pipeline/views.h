@@ -10,6 +10,9 @@
 
 namespace penumbra {
 
+// The rows of `m` (glm, column-major) as LightViewGpu's row-major float4s (view, projection).
+void setLightViewRows(pn_float4 rows[4], const glm::mat4& m);
+
 // The camera's raster view with near/far fitted to the bounds (near clamped to far * 1e-4).
 RasterView cameraView(const Camera& camera, const Bounds& bounds);
 

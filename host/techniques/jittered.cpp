@@ -40,10 +40,6 @@ float centred(uint32_t pass, uint32_t base) {
   return static_cast<float>(h - std::floor(h) - 0.5);
 }
 
-void setRows(pn_float4 rows[4], const glm::mat4& m) {
-  for (int r = 0; r < 4; ++r) rows[r] = {{m[0][r], m[1][r], m[2][r], m[3][r]}};
-}
-
 // `base` with its texel grid rotated by `angle` about the window centre and scaled by `scale` (>= 1, so the rotated
 // window still holds the fitted one), then shifted by `offset` texels. The rotation turns the light's eye about its
 // axis and re-centres the window (ndc' = (a / s) R (u - c) in the light's x/y units u), so the projection keeps the
@@ -73,8 +69,8 @@ LightView jitteredView(const LightView& base, float angle, float scale, glm::vec
   for (int row = 0; row < 2; ++row)
     if (shift[row] != 0.0f)
       for (int col = 0; col < 4; ++col) P[col][row] += shift[row] * P[col][3];
-  setRows(v.gpu.view, v.raster.view);
-  setRows(v.gpu.projection, P);
+  setLightViewRows(v.gpu.view, v.raster.view);
+  setLightViewRows(v.gpu.projection, P);
   return v;
 }
 

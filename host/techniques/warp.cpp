@@ -1,9 +1,8 @@
 // Warp parameters and the warped (or uniform) fit of a technique's light map.
 #include "host/techniques/warp.h"
 
-#include <algorithm>
-
 #include "host/pipeline/light_fit.h"
+#include "host/techniques/split_maps.h"
 
 namespace penumbra {
 namespace {
@@ -14,7 +13,10 @@ enum WarpChoice { kWarpNone = 0, kWarpLispsm = 1 };
 
 std::vector<ParamSpec> warpParams() {
   return {
-      {"warp", kWarpNone, 0, 1,
+      {"warp",
+       kWarpNone,
+       0,
+       1,
        "Light-map parameterisation: uniform, or light-space perspective (LiSPSM; sun or spot light)",
        {"none", "lispsm"}},
       {"lispsm-n", 0.0, 0, 1e6,
@@ -27,8 +29,9 @@ bool lispsmEnabled(const Params& params) { return params.has("warp") && params.g
 LightView fitWarpedLightView(const ShadowFrame& frame, const Params& params, int size, float marginTexels,
                              float nearDepth, float farDepth, const ReceiverBounds* receivers, LispsmFit* fit) {
   if (!lispsmEnabled(params)) return fitLightView(frame.light, frame.scene.bounds(), size, receivers, marginTexels);
-  const LispsmInput input{frame.light, frame.camera, nearDepth, farDepth, frame.scene.bounds(), receivers, size,
-                          marginTexels, static_cast<float>(params.get("lispsm-n"))};
+  const LispsmInput input{frame.light, frame.camera,         nearDepth,
+                          farDepth,    frame.scene.bounds(), receivers,
+                          size,        marginTexels,         static_cast<float>(params.get("lispsm-n"))};
   return fitLispsmView(input, fit);
 }
 
@@ -39,13 +42,7 @@ LightView fitWarpedLightView(ShadowFrame& frame, const Params& params, int size,
     return fitLightView(frame.light, frame.scene.bounds(), size, receivers, marginTexels);
   }
   // The camera depth range the map serves: the visible pixels' (as pssm's splits take theirs).
-  const GBuffer& g = frame.gbuffer;
-  const DepthRange range = reduceDepthRange(frame.ctx, g.depth, static_cast<size_t>(g.width) * g.height);
-  float near = 1.0f, far = 2.0f;
-  if (range.min <= range.max && range.max > 0.0f) {
-    far = range.max * 1.001f;
-    near = std::clamp(range.min * 0.999f, far * 1e-5f, far * 0.999f);
-  }
+  const auto [near, far] = tightViewDepth(frame);
   LispsmFit fit;
   LightView view = fitWarpedLightView(frame, params, size, marginTexels, near, far, receivers, &fit);
   frame.attributes["penumbra:warp"] = fit.describe();
