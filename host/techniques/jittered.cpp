@@ -40,6 +40,13 @@ float centred(uint32_t pass, uint32_t base) {
   return static_cast<float>(h - std::floor(h) - 0.5);
 }
 
+// ndc = a u + b of a separable map, u in its light eye's x/y units (perspective: u = x / -z, b = -P20; orthographic: u
+// = x, b = P30).
+void ndcTerms(const glm::mat4& P, glm::vec2& a, glm::vec2& b) {
+  a = glm::vec2(P[0][0], P[1][1]);
+  b = P[2][3] != 0.0f ? glm::vec2(-P[2][0], -P[2][1]) : glm::vec2(P[3][0], P[3][1]);
+}
+
 // `base` with its texel grid rotated by `angle` about the window centre and scaled by `scale` (>= 1, so the rotated
 // window still holds the fitted one), then shifted by `offset` texels. The rotation turns the light's eye about its
 // axis and re-centres the window (ndc' = (a / s) R (u - c) in the light's x/y units u), so the projection keeps the
@@ -49,9 +56,8 @@ LightView jitteredView(const LightView& base, float angle, float scale, glm::vec
   glm::mat4& P = v.raster.projection;
   const bool perspective = P[2][3] != 0.0f;
   if (angle != 0.0f || scale != 1.0f) {
-    // ndc = a u + b: perspective b = -P20 (u = x / -z), orthographic b = P30 (u = x).
-    const glm::vec2 a(P[0][0], P[1][1]);
-    const glm::vec2 b = perspective ? glm::vec2(-P[2][0], -P[2][1]) : glm::vec2(P[3][0], P[3][1]);
+    glm::vec2 a, b;
+    ndcTerms(P, a, b);
     const glm::vec2 centre = -b / a;
     const float c = std::cos(angle), s = std::sin(angle);
     const glm::vec2 rotated(c * centre.x - s * centre.y, s * centre.x + c * centre.y);
@@ -72,12 +78,6 @@ LightView jitteredView(const LightView& base, float angle, float scale, glm::vec
   setLightViewRows(v.gpu.view, v.raster.view);
   setLightViewRows(v.gpu.projection, P);
   return v;
-}
-
-// ndc = a u + b of a separable map, u in its light eye's x/y units (jitteredView's form).
-void ndcTerms(const glm::mat4& P, glm::vec2& a, glm::vec2& b) {
-  a = glm::vec2(P[0][0], P[1][1]);
-  b = P[2][3] != 0.0f ? glm::vec2(-P[2][0], -P[2][1]) : glm::vec2(P[3][0], P[3][1]);
 }
 
 // The texel transform from pass 0's map to `to`, whose light eye is pass 0's turned by `angle` about the axis:
@@ -105,6 +105,7 @@ class Jittered final : public Technique {
     const double epsilon = params_.get("jitter-epsilon");
     int quiet = 0;
     std::optional<Scissor> scissor;
+    LightView first;  // pass 0's view: every later pass's lookups are moved from its texels
     for (int pass = 0; pass < maxPasses; ++pass) {
       const float angle = plan.maxAngle * 2.0f * centred(static_cast<uint32_t>(pass), 5);
       const glm::vec2 offset(centred(pass, 2), centred(pass, 3));
@@ -113,14 +114,14 @@ class Jittered final : public Technique {
         map_.view.raster.scissor = scissor;
         frame.raster.draw(map_.view.raster, map_.targets);
       }
-      if (pass == 0) {
-        map_.gpu.upload(frame.ctx, std::span<const LightViewGpu>(&map_.view.gpu, 1));
+      if (pass == 0) {  // renderShadowMap uploaded the unscaled view; a rotation's common scale redrew it
+        if (plan.scale != 1.0f) map_.gpu.upload(frame.ctx, std::span<const LightViewGpu>(&map_.view.gpu, 1));
         if (mode == JITTER_OPTIMAL) required(frame);
-        first_ = map_.view;
+        first = map_.view;
       }
       // A shift in NDC is a shift in texels for any projection, warped ones included.
       const cl_float4 jitter =
-          plan.warped ? cl_float4{{1.0f, 0.0f, offset.x, offset.y}} : texelTransform(first_, map_.view, angle);
+          plan.warped ? cl_float4{{1.0f, 0.0f, offset.x, offset.y}} : texelTransform(first, map_.view, angle);
       const std::array<int32_t, JITTER_COUNTERS> count = accumulate(frame, pass, jitter, visibility);
       passes_ = pass + 1;
       const double limit = epsilon * count[0];
@@ -257,7 +258,6 @@ class Jittered final : public Technique {
   Params params_;
   ShadowMap map_;
   Buffer<float> slack_, kept_, pass_;
-  LightView first_;            // pass 0's view: every later pass's lookups are moved from its texels
   Buffer<cl_float8> records_;  // pass 0's lookup per pixel: uv, biased depth, valid, plane gradient, id uv
   Buffer<int32_t> counters_;
   int passes_ = 0;
