@@ -7,7 +7,9 @@
 // G-buffer neighbours in the map, eq. 5, added so a pixel that has it is final, eq. 6). Each pass counts on the
 // device, with one atomic per work-group, the pixels it changed and those still below the confidence they need:
 // the host's stopping rule (sec. 6.3) reads those counters, once a pass, with the texel box of the unconfident
-// pixels' lookups (the next pass's scissor). Pixels whose kept result is final (optimal) are skipped.
+// pixels' lookups (the next pass's scissor). Each pass also appends the pixels a later pass can still change to a
+// work list, and the next pass runs over that list only: once most pixels are final (optimal, adapted at confidence
+// 1), a pass costs what its few unconfident pixels cost, not the frame's.
 #include "kernels/shared/id_buffer.h"
 #include "kernels/shared/jittered.h"
 #include "kernels/shared/shadow_common.h"
@@ -47,9 +49,28 @@ __kernel void jittered_required(__global const float4* position, uint width, uin
   slack[i] = isfinite(best) ? min(precision * best, 1.0f) : 1.0f;
 }
 
-// One pixel's update by this pass; returns the counter flags (JITTER_COUNT_*) it raises.
-inline uint jittered_update(JitterShade s, int pass, float lit, float conf, float slack, __global float* kept,
-                            __global float* passOut, __global float* visibility, uint i) {
+// Whether every texel within JITTER_AGREEMENT_RADIUS of the lookup's texel `t` gives the result `lit` against the
+// receiver's plane (depth at uv, light depth gradient g per texel) extended to that texel's centre. Beyond Luksch:
+// where it holds in several passes with different jitter, the later passes, whose nearest texel lies within half a
+// texel of the receiver, would find the same result, so the pixel is as final as a confident one. One pass is not
+// enough: a caster thinner than a texel slips between all of one grid's centres (measured in the README).
+inline bool jittered_agree(__global const float* map, int width, int height, float2 t, float2 uv, float depth,
+                           float2 g, float lit) {
+  for (int dy = -JITTER_AGREEMENT_RADIUS; dy <= JITTER_AGREEMENT_RADIUS; ++dy)
+    for (int dx = -JITTER_AGREEMENT_RADIUS; dx <= JITTER_AGREEMENT_RADIUS; ++dx) {
+      float2 n = t + (float2)((float)dx, (float)dy);
+      if (sc_lit(sc_fetch(map, width, height, (int)n.x, (int)n.y), depth + dot(g, n + 0.5f - uv)) != lit) return false;
+    }
+  return true;
+}
+
+// One pixel's update by this pass; returns the counter flags (JITTER_COUNT_*) it raises. `agree`: the lookup's
+// neighbourhood agrees with it (jittered_agree); in optimal mode `streak` counts the consecutive passes whose
+// neighbourhood agreed with the kept result, and s.agreement of them settle the pixel: kept = JITTER_SETTLED (above
+// any confidence), final.
+inline uint jittered_update(JitterShade s, int pass, float lit, float conf, float slack, bool agree,
+                            __global float* kept, __global float* passOut, __global uint* streak,
+                            __global float* visibility, uint i) {
   float stored = kept[i];
   uint flags = JITTER_COUNT_COVERED;
   if (s.mode == JITTER_SIMPLE) {
@@ -61,7 +82,8 @@ inline uint jittered_update(JitterShade s, int pass, float lit, float conf, floa
         flags |= JITTER_COUNT_CHANGED;
       }
     }
-    return flags | (max(stored, conf) < s.threshold ? JITTER_COUNT_UNCONFIDENT : 0u);
+    // Any later lookup at or above the threshold may still add shadow.
+    return flags | JITTER_COUNT_ACTIVE | (max(stored, conf) < s.threshold ? JITTER_COUNT_UNCONFIDENT : 0u);
   }
   float c = s.mode == JITTER_OPTIMAL ? min(conf + slack, 1.0f) : conf;  // eq. 6: saturate(conf + (1 - optConf))
   if (c > stored) {  // the paper's "rendered fragment"; it counts as changed when it changes the result
@@ -70,24 +92,46 @@ inline uint jittered_update(JitterShade s, int pass, float lit, float conf, floa
     visibility[i] = lit;
     passOut[i] = (float)(pass + 1);
   }
-  return flags | (max(stored, c) < 1.0f ? JITTER_COUNT_UNCONFIDENT : 0u);
+  if (s.mode == JITTER_OPTIMAL && s.agreement > 0) {
+    uint n = agree && visibility[i] == lit ? (pass == 0 ? 1u : streak[i] + 1u) : 0u;
+    streak[i] = n;
+    if (n >= (uint)s.agreement) {
+      kept[i] = JITTER_SETTLED;
+      return flags;
+    }
+  }
+  // Nothing beats confidence 1: such a pixel is final and leaves the work list.
+  return flags | (max(stored, c) < 1.0f ? JITTER_COUNT_UNCONFIDENT | JITTER_COUNT_ACTIVE : 0u);
 }
 
-// The pass's counters: work-group totals in local memory, then one global atomic per counter and group.
-inline void jittered_count(uint flags, int2 texel, __local int* group, __global int* counters) {
+// The pass's counters: work-group totals in local memory, then one global atomic per counter and group. An active
+// pixel also takes a slot in the next pass's work list: its rank in the group (the local counter's old value) after
+// the group's base (the global counter's old value, group[JITTER_COUNTERS]). The list's order varies from run to
+// run; no pixel's result depends on it.
+inline void jittered_count(uint flags, int2 texel, uint pixel, __local int* group, __global int* counters,
+                           __global uint* next) {
   uint lid = get_local_id(0);
   if (lid < JITTER_COUNTERS) group[lid] = lid < JITTER_BOX_MIN_X ? 0 : (lid < JITTER_BOX_MIN_X + 2 ? INT_MAX : INT_MIN);
   barrier(CLK_LOCAL_MEM_FENCE);
+  int slot = -1;
   for (int k = 0; k < JITTER_BOX_MIN_X; ++k)
-    if (flags & (1u << k)) atomic_inc(&group[k]);
+    if (flags & (1u << k)) {
+      int rank = atomic_inc(&group[k]);
+      if (k == JITTER_ACTIVE) slot = rank;
+    }
   if (flags & JITTER_COUNT_UNCONFIDENT) {
     atomic_min(&group[JITTER_BOX_MIN_X], texel.x), atomic_min(&group[JITTER_BOX_MIN_X + 1], texel.y);
     atomic_max(&group[JITTER_BOX_MIN_X + 2], texel.x), atomic_max(&group[JITTER_BOX_MIN_X + 3], texel.y);
   }
   barrier(CLK_LOCAL_MEM_FENCE);
-  if (lid < JITTER_BOX_MIN_X && group[lid] > 0) atomic_add(&counters[lid], group[lid]);
+  if (lid < JITTER_BOX_MIN_X && group[lid] > 0) {
+    int before = atomic_add(&counters[lid], group[lid]);
+    if (lid == JITTER_ACTIVE) group[JITTER_COUNTERS] = before;
+  }
   if (lid == JITTER_BOX_MIN_X || lid == JITTER_BOX_MIN_X + 1) atomic_min(&counters[lid], group[lid]);
   if (lid == JITTER_BOX_MIN_X + 2 || lid == JITTER_BOX_MIN_X + 3) atomic_max(&counters[lid], group[lid]);
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (slot >= 0) next[group[JITTER_COUNTERS] + slot] = pixel;
 }
 
 // Pass 0: sm's test of every receiver through the first map, kept as a record of the lookup (texel position, the
@@ -99,8 +143,9 @@ __kernel void jittered_first(__global const float4* position, __global const flo
                              __global const uint* mapIds, __global const uint* objectIds,
                              __global const uint* pixelTriangle, __global const uint* pixelObject, JitterShade s,
                              __global const float* slack, __global float* kept, __global float* passOut,
-                             __global float8* records, __global int* counters, __global float* visibility) {
-  __local int group[JITTER_COUNTERS];
+                             __global uint* streak, __global float8* records, __global int* counters, __global uint* next,
+                             __global float* visibility) {
+  __local int group[JITTER_COUNTERS + 1];
   uint i = get_global_id(0), flags = 0;
   int2 texel = (int2)(0);
   float4 p = i < width * height ? position[i] : (float4)(0.0f);
@@ -115,14 +160,17 @@ __kernel void jittered_first(__global const float4* position, __global const flo
       float lit =
           id_visibility(mapIds, objectIds, lv->width, lv->height, idUv, id_pixel(pixelTriangle, i, idMode),
                         id_pixel(pixelObject, i, idMode), idMode, sc_hard_lit(map, lv, r, rp, biasConstant * r.texel));
-      flags = jittered_update(s, 0, lit, jittered_confidence(r.uv), slack[i], kept, passOut, visibility, i);
-      texel = convert_int2_sat(clamp(floor(r.uv), -1.0f, (float)max(lv->width, lv->height)));
       float depth = rp.valid ? r.depth - biasConstant * r.texel : r.depth - r.bias;  // as sc_hard_lit
+      bool agree = s.agreement > 0 && idMode == ID_BUFFER_OFF &&
+                   jittered_agree(map, lv->width, lv->height, floor(r.uv), r.uv, depth, rp.gradient, lit);
+      flags =
+          jittered_update(s, 0, lit, jittered_confidence(r.uv), slack[i], agree, kept, passOut, streak, visibility, i);
+      texel = convert_int2_sat(clamp(floor(r.uv), -1.0f, (float)max(lv->width, lv->height)));
       record = (float8)(r.uv, depth, 1.0f, rp.gradient, idUv);
     }
   }
   if (i < width * height) records[i] = record;
-  jittered_count(flags, texel, group, counters);
+  jittered_count(flags, texel, i, group, counters, next);
 }
 
 // Pass k > 0: the map differs from pass 0's by a similarity (the host's texelTransform: its rotation, the zoom s of a
@@ -131,20 +179,20 @@ __kernel void jittered_first(__global const float4* position, __global const flo
 // scales the required confidence by the reduced frustum for the same reason (it prints f_reduced / f; the sampling
 // rate it argues from grows by s, the ratio of texel sizes, which we use). A receiver outside a reduced map (across
 // its window or beyond its far plane) keeps what it has. The depth comparison is sc_hard_lit's against the moved
-// lookup.
-__kernel void jittered_pass(__global const float8* records, uint count, __global const float* map, int mapWidth,
+// lookup. It runs over the previous pass's work list (`work`, `count` pixels) and writes the next one (`next`).
+__kernel void jittered_pass(__global const float8* records, __global const uint* work, uint count,
+                            __global const float* map, int mapWidth,
                             int mapHeight, float4 jitter, float mapFar, int idMode, __global const uint* mapIds,
                             __global const uint* objectIds, __global const uint* pixelTriangle,
                             __global const uint* pixelObject, JitterShade s, int pass, __global const float* slack,
-                            __global float* kept, __global float* passOut, __global int* counters,
-                            __global float* visibility) {
-  __local int group[JITTER_COUNTERS];
-  uint i = get_global_id(0), flags = 0;
+                            __global float* kept, __global float* passOut, __global uint* streak,
+                            __global int* counters,
+                            __global uint* next, __global float* visibility) {
+  __local int group[JITTER_COUNTERS + 1];
+  uint flags = 0, i = get_global_id(0) < count ? work[get_global_id(0)] : 0u;
   int2 texel = (int2)(0);
-  float8 record = i < count ? records[i] : (float8)(0.0f);
-  if (record.s3 != 0.0f && s.mode == JITTER_OPTIMAL && kept[i] >= 1.0f) {
-    flags = JITTER_COUNT_COVERED;  // final (eq. 6 saturated): nothing to test
-  } else if (record.s3 != 0.0f) {
+  float8 record = get_global_id(0) < count ? records[i] : (float8)(0.0f);
+  if (record.s3 != 0.0f) {
     float2 centre = 0.5f * (float2)(mapWidth, mapHeight), cs = jitter.xy, offset = jitter.zw;
     float2 d = record.s01 - centre, e = record.s67 - centre;
     float2 uv = centre + (float2)(cs.x * d.x - cs.y * d.y, cs.y * d.x + cs.x * d.y) + offset;
@@ -159,13 +207,17 @@ __kernel void jittered_pass(__global const float8* records, uint count, __global
     // A reduced map ends at its slice's deepest receiver: farther receivers are not in it, wherever they project.
     bool inside =
         uv.x >= 0.0f && uv.y >= 0.0f && uv.x < (float)mapWidth && uv.y < (float)mapHeight && record.s2 <= mapFar;
+    bool agree =
+        inside && s.agreement > 0 && idMode == ID_BUFFER_OFF && jittered_agree(map, mapWidth, mapHeight, t, uv,
+                                                                                record.s2, g, lit);
     if (inside)
-      flags =
-          jittered_update(s, pass, lit, jittered_confidence(uv), slack[i] * sqrt(zoom2), kept, passOut, visibility, i);
+      flags = jittered_update(s, pass, lit, jittered_confidence(uv), slack[i] * sqrt(zoom2), agree, kept, passOut,
+                              streak, visibility, i);
     else  // outside a reduced frustum
       flags = JITTER_COUNT_COVERED |
-              (kept[i] < (s.mode == JITTER_SIMPLE ? s.threshold : 1.0f) ? JITTER_COUNT_UNCONFIDENT : 0u);
+              (kept[i] < (s.mode == JITTER_SIMPLE ? s.threshold : 1.0f) ? JITTER_COUNT_UNCONFIDENT : 0u) |
+              (s.mode == JITTER_SIMPLE || kept[i] < 1.0f ? JITTER_COUNT_ACTIVE : 0u);
     texel = convert_int2_sat(clamp(t, -1.0f, (float)max(mapWidth, mapHeight)));
   }
-  jittered_count(flags, texel, group, counters);
+  jittered_count(flags, texel, i, group, counters, next);
 }

@@ -5,7 +5,7 @@
 // stop once each of the last `jitter-window` passes changed the visibility of at most epsilon of the covered pixels
 // (or, optimal, once at most epsilon are below the confidence they need), else after `jitter-passes`. Occlusion
 // queries have no compute counterpart: the accumulation kernel counts with atomics and the host reads the counters
-// once a pass.
+// once a pass. Each pass runs over the work list of pixels the previous one left changeable (two lists, swapped).
 #include "kernels/shared/jittered.h"
 
 #include <fmt/format.h>
@@ -104,6 +104,7 @@ class Jittered final : public Technique {
     const int window = params_.getInt("jitter-window");
     const double epsilon = params_.get("jitter-epsilon");
     int quiet = 0;
+    int64_t covered = 0;  // pass 0's receivers: the stopping rule's denominator (later passes see their list only)
     std::optional<Scissor> scissor;
     LightView first;  // pass 0's view: every later pass's lookups are moved from its texels
     for (int pass = 0; pass < maxPasses; ++pass) {
@@ -124,7 +125,11 @@ class Jittered final : public Technique {
           plan.warped ? cl_float4{{1.0f, 0.0f, offset.x, offset.y}} : texelTransform(first, map_.view, angle);
       const std::array<int32_t, JITTER_COUNTERS> count = accumulate(frame, pass, jitter, visibility);
       passes_ = pass + 1;
-      const double limit = epsilon * count[0];
+      if (pass == 0) covered = count[0];
+      active_ = count[JITTER_ACTIVE];
+      std::swap(work_, next_);
+      const double limit = epsilon * static_cast<double>(covered);
+      if (active_ == 0) break;                                 // every pixel is final
       if (mode == JITTER_OPTIMAL && count[2] <= limit) break;  // every pixel (but epsilon) has what it needs
       quiet = pass > 0 && count[1] <= limit ? quiet + 1 : 0;
       if (quiet >= window) break;
@@ -136,9 +141,14 @@ class Jittered final : public Technique {
 
   void addDebugChannels(Context& ctx, Image& image) override {
     image.add("pass.Y", pass_.download(ctx));
-    std::vector<float> kept = kept_.download(ctx);
-    for (float& c : kept) c = std::max(c, 0.0f);
+    std::vector<float> kept = kept_.download(ctx), settled(kept.size());
+    for (size_t i = 0; i < kept.size(); ++i) {
+      settled[i] = kept[i] == JITTER_SETTLED ? 1.0f : 0.0f;
+      kept[i] = std::clamp(kept[i], 0.0f, 1.0f);
+    }
     image.add("confidence.Y", kept);
+    if (params_.getInt("confidence") == JITTER_OPTIMAL && params_.getInt("jitter-agreement") > 0)
+      image.add("settled.Y", settled);
     if (params_.getInt("confidence") == JITTER_OPTIMAL) {
       std::vector<float> required = slack_.download(ctx);
       for (float& c : required) c = 1.0f - c;  // optConf, eq. 5
@@ -197,6 +207,9 @@ class Jittered final : public Technique {
   void reset(Context& ctx, size_t pixels, Buffer<float>& visibility) {
     for (Buffer<float>* b : {&slack_, &kept_, &pass_}) b->allocate(ctx, pixels);
     records_.allocate(ctx, pixels);
+    work_.allocate(ctx, pixels);
+    streak_.allocate(ctx, pixels);
+    next_.allocate(ctx, pixels);
     counters_.allocate(ctx, JITTER_COUNTERS);
     kept_.fill(ctx, -1.0f);
     pass_.fill(ctx, 0.0f);
@@ -224,10 +237,11 @@ class Jittered final : public Technique {
     const GBuffer& g = frame.gbuffer;
     const uint32_t width = static_cast<uint32_t>(g.width), height = static_cast<uint32_t>(g.height);
     const uint64_t pixels = uint64_t{width} * height;
-    const JitterShade shade{params_.getInt("confidence"), static_cast<float>(params_.get("confidence-threshold"))};
+    const JitterShade shade{params_.getInt("confidence"), static_cast<float>(params_.get("confidence-threshold")),
+                            params_.getInt("jitter-agreement")};
     const int idMode = params_.getInt("id-buffer");
     constexpr int32_t kLow = std::numeric_limits<int32_t>::min(), kHigh = std::numeric_limits<int32_t>::max();
-    const std::array<int32_t, JITTER_COUNTERS> reset = {0, 0, 0, kHigh, kHigh, kLow, kLow};
+    const std::array<int32_t, JITTER_COUNTERS> reset = {0, 0, 0, 0, kHigh, kHigh, kLow, kLow};
     counters_.upload(frame.ctx, std::span<const int32_t>(reset));
     if (pass == 0) {
       const BiasArgs bias = biasArgs(params_);
@@ -235,19 +249,21 @@ class Jittered final : public Technique {
       kernel
           .args(g.position, g.normal, width, height, map_.targets.depth, map_.gpu, bias.constant, bias.slope,
                 bias.normalOffset, params_.getInt("receiver-plane"), idMode, map_.targets.triangleId,
-                frame.raster.objectIds(), g.triangleId, g.objectId, shade, slack_, kept_, pass_, records_, counters_,
-                visibility)
-          .moves(pixels * (kVisibilityBytesPerPixel + 4 * 4 + 32))  // + slack, kept, pass, the lookup record
+                frame.raster.objectIds(), g.triangleId, g.objectId, shade, slack_, kept_, pass_, streak_, records_,
+                counters_, next_, visibility)
+          // + slack, kept, pass, the lookup record; the work list's entries as a bound
+          .moves(pixels * (kVisibilityBytesPerPixel + 4 * 4 + 32 + 4))
           .launch(pixels, kPixelGroup);
     } else {
       const int size = map_.view.raster.width;
       Kernel kernel(frame.ctx, "kernels/jittered.cl", "jittered_pass", "shade");
       kernel
-          .args(records_, static_cast<uint32_t>(pixels), map_.targets.depth, size, size, jitter, map_.view.gpu.zFar,
-                idMode, map_.targets.triangleId, frame.raster.objectIds(), g.triangleId, g.objectId, shade, pass,
-                slack_, kept_, pass_, counters_, visibility)
-          .moves(pixels * (32 + 4 * 4 + 4))  // the record, slack, kept, pass and visibility
-          .launch(pixels, kPixelGroup);
+          .args(records_, work_, static_cast<uint32_t>(active_), map_.targets.depth, size, size, jitter,
+                map_.view.gpu.zFar, idMode, map_.targets.triangleId, frame.raster.objectIds(), g.triangleId, g.objectId,
+                shade, pass, slack_, kept_, pass_, streak_, counters_, next_, visibility)
+          // per listed pixel: its index, the record, slack, kept, pass, visibility and the next list's entry
+          .moves(uint64_t(active_) * (4 + 32 + 4 * 4 + 4 + 4))
+          .launch(static_cast<size_t>(active_), kPixelGroup);
     }
     const std::vector<int32_t> c = counters_.download(frame.ctx);
     std::array<int32_t, JITTER_COUNTERS> result;
@@ -260,6 +276,9 @@ class Jittered final : public Technique {
   Buffer<float> slack_, kept_, pass_;
   Buffer<cl_float8> records_;  // pass 0's lookup per pixel: uv, biased depth, valid, plane gradient, id uv
   Buffer<int32_t> counters_;
+  Buffer<uint32_t> streak_;       // consecutive passes whose lookup's neighbourhood agreed with the kept result
+  Buffer<uint32_t> work_, next_;  // the pixels the next pass tests, and the list it writes for the one after
+  int32_t active_ = 0;            // work_'s length
   int passes_ = 0;
 };
 
@@ -285,11 +304,14 @@ TechniqueInfo jitteredTechnique() {
                     "confident lookup wins), optimal (adapted, final once a pixel has the confidence it needs)",
                     {"simple", "adapted", "optimal"}});
   params.push_back({"confidence-threshold", 0.5, 0, 1, "simple: the confidence (eq. 4) a lookup needs to add shadow"});
-  params.push_back({"jitter-precision", 0.25, 0, 1,
+  params.push_back({"jitter-precision", 0.125, 0, 1,
                     "optimal: the required confidence of eq. 5 scaled: a lookup is final within precision / 2 pixel "
                     "spacings of its texel centre (1: the paper; smaller: closer to the ray-traced pixel centre)"});
+  params.push_back({"jitter-agreement", 2, 0, 64,
+                    "optimal without the ID buffer: a pixel is also final once this many consecutive passes found "
+                    "the 3x3 texels around its lookup all giving its kept result (beyond the paper; 0: off)"});
   params.push_back({"jitter-passes", 16, 1, 256, "Most passes (jittered maps) per frame"});
-  params.push_back({"jitter-epsilon", 2e-4, 0, 1,
+  params.push_back({"jitter-epsilon", 5e-5, 0, 1,
                     "Stop when the last jitter-window passes each changed at most this fraction of the covered "
                     "pixels (optimal: or at most this fraction still lacks the confidence it needs)"});
   params.push_back({"jitter-window", 2, 1, 64, "Consecutive quiet passes the stopping rule waits for"});

@@ -12,22 +12,30 @@
 
 // Counters a pass raises per pixel (bit k counts into counters[k]): receivers it tested, pixels whose visibility
 // it changed (a more confident lookup with the other result; simple: turned to shadow), pixels still below the
-// confidence they need after it.
+// confidence they need after it, pixels a later pass can still change (appended to the next pass's work list).
 #define JITTER_COUNT_COVERED 1u
 #define JITTER_COUNT_CHANGED 2u
 #define JITTER_COUNT_UNCONFIDENT 4u
-// counters[3..6]: the texel box (min x, min y, max x, max y) of the lookups still unconfident after the pass, so
+#define JITTER_COUNT_ACTIVE 8u
+#define JITTER_ACTIVE 3
+// counters[4..7]: the texel box (min x, min y, max x, max y) of the lookups still unconfident after the pass, so
 // the next pass draws only that part of its map (a scissor).
-#define JITTER_COUNTERS 7
-#define JITTER_BOX_MIN_X 3
+#define JITTER_COUNTERS 8
+#define JITTER_BOX_MIN_X 4
+
+// The kept confidence of a pixel settled by its lookups' neighbourhoods (optimal with agreement): final, above any
+// confidence of eq. 4-6. The neighbourhood: the texels within this radius (max norm) of the lookup's.
+#define JITTER_SETTLED 2.0f
+#define JITTER_AGREEMENT_RADIUS 1
 
 typedef struct JitterShade {
   int mode;         // JITTER_*
   float threshold;  // simple: the confidence a lookup needs to add shadow
+  int agreement;    // optimal: consecutive agreeing passes that settle a pixel (0: off)
 } JitterShade;
 
 #if PENUMBRA_HOST
-static_assert(sizeof(JitterShade) == 8, "JitterShade layout must match OpenCL C");
+static_assert(sizeof(JitterShade) == 12, "JitterShade layout must match OpenCL C");
 #endif
 
 #endif
