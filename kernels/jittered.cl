@@ -107,9 +107,10 @@ inline uint jittered_update(JitterShade s, int pass, float lit, float conf, floa
 // The pass's counters: work-group totals in local memory, then one global atomic per counter and group. An active
 // pixel also takes a slot in the next pass's work list: its rank in the group (the local counter's old value) after
 // the group's base (the global counter's old value, group[JITTER_COUNTERS]). The list's order varies from run to
-// run; no pixel's result depends on it.
+// run; no pixel's result depends on it. With a tile mask (tilesX > 0), an unconfident pixel also marks the map
+// tiles (tileSize texels square) within JITTER_DRAW_MARGIN of its lookup for the next pass to draw.
 inline void jittered_count(uint flags, int2 texel, uint pixel, __local int* group, __global int* counters,
-                           __global uint* next) {
+                           __global uint* next, __global uint* tileMask, int tilesX, int tilesY, int tileSize) {
   uint lid = get_local_id(0);
   if (lid < JITTER_COUNTERS) group[lid] = lid < JITTER_BOX_MIN_X ? 0 : (lid < JITTER_BOX_MIN_X + 2 ? INT_MAX : INT_MIN);
   barrier(CLK_LOCAL_MEM_FENCE);
@@ -122,6 +123,12 @@ inline void jittered_count(uint flags, int2 texel, uint pixel, __local int* grou
   if (flags & JITTER_COUNT_UNCONFIDENT) {
     atomic_min(&group[JITTER_BOX_MIN_X], texel.x), atomic_min(&group[JITTER_BOX_MIN_X + 1], texel.y);
     atomic_max(&group[JITTER_BOX_MIN_X + 2], texel.x), atomic_max(&group[JITTER_BOX_MIN_X + 3], texel.y);
+    if (tilesX > 0) {
+      int2 lo = max((texel - JITTER_DRAW_MARGIN) / tileSize, 0);  // texel >= -1: the division rounds towards 0
+      int2 hi = min((texel + JITTER_DRAW_MARGIN) / tileSize, (int2)(tilesX - 1, tilesY - 1));
+      for (int ty = lo.y; ty <= hi.y; ++ty)
+        for (int tx = lo.x; tx <= hi.x; ++tx) atomic_or(&tileMask[ty * tilesX + tx], 1u);
+    }
   }
   barrier(CLK_LOCAL_MEM_FENCE);
   if (lid < JITTER_BOX_MIN_X && group[lid] > 0) {
@@ -143,7 +150,8 @@ __kernel void jittered_first(__global const float4* position, __global const flo
                              __global const uint* mapIds, __global const uint* objectIds,
                              __global const uint* pixelTriangle, __global const uint* pixelObject, JitterShade s,
                              __global const float* slack, __global float* kept, __global float* passOut,
-                             __global uint* streak, __global float8* records, __global int* counters, __global uint* next,
+                             __global uint* streak, __global float8* records, __global int* counters,
+                             __global uint* next, __global uint* tileMask, int tilesX, int tilesY, int tileSize,
                              __global float* visibility) {
   __local int group[JITTER_COUNTERS + 1];
   uint i = get_global_id(0), flags = 0;
@@ -170,7 +178,7 @@ __kernel void jittered_first(__global const float4* position, __global const flo
     }
   }
   if (i < width * height) records[i] = record;
-  jittered_count(flags, texel, i, group, counters, next);
+  jittered_count(flags, texel, i, group, counters, next, tileMask, tilesX, tilesY, tileSize);
 }
 
 // Pass k > 0: the map differs from pass 0's by a similarity (the host's texelTransform: its rotation, the zoom s of a
@@ -181,13 +189,13 @@ __kernel void jittered_first(__global const float4* position, __global const flo
 // its window or beyond its far plane) keeps what it has. The depth comparison is sc_hard_lit's against the moved
 // lookup. It runs over the previous pass's work list (`work`, `count` pixels) and writes the next one (`next`).
 __kernel void jittered_pass(__global const float8* records, __global const uint* work, uint count,
-                            __global const float* map, int mapWidth,
-                            int mapHeight, float4 jitter, float mapFar, int idMode, __global const uint* mapIds,
+                            __global const float* map, int mapWidth, int mapHeight, float4 jitter, float mapFar,
+                            int idMode, __global const uint* mapIds,
                             __global const uint* objectIds, __global const uint* pixelTriangle,
                             __global const uint* pixelObject, JitterShade s, int pass, __global const float* slack,
                             __global float* kept, __global float* passOut, __global uint* streak,
-                            __global int* counters,
-                            __global uint* next, __global float* visibility) {
+                            __global int* counters, __global uint* next, __global uint* tileMask, int tilesX,
+                            int tilesY, int tileSize, __global float* visibility) {
   __local int group[JITTER_COUNTERS + 1];
   uint flags = 0, i = get_global_id(0) < count ? work[get_global_id(0)] : 0u;
   int2 texel = (int2)(0);
@@ -219,5 +227,5 @@ __kernel void jittered_pass(__global const float8* records, __global const uint*
               (s.mode == JITTER_SIMPLE || kept[i] < 1.0f ? JITTER_COUNT_ACTIVE : 0u);
     texel = convert_int2_sat(clamp(t, -1.0f, (float)max(mapWidth, mapHeight)));
   }
-  jittered_count(flags, texel, i, group, counters, next);
+  jittered_count(flags, texel, i, group, counters, next, tileMask, tilesX, tilesY, tileSize);
 }

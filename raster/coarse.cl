@@ -46,9 +46,10 @@ static CoarseBin coarseBin(const RasterViewParams* p, __global const uint* binCo
 
 #define RASTER_COARSE_PREFETCH 4  // bin queue entries ahead whose record the CPU layout prefetches (types.h)
 
-// Calls BODY(localTile) for every tile of bin `b` whose samples the record `t` may cover. The candidate box lies
-// inside the scissor, so cutting each tile to the box keeps the test inside the scissor too.
-#define COARSE_FOR_EACH_TILE(t, b, BODY)                                                                 \
+// Calls BODY(localTile) for every tile of bin `b` whose samples the record `t` may cover and that the view draws
+// (its tile-mask entry nonzero, when the view has a mask). The candidate box lies inside the scissor, so cutting
+// each tile to the box keeps the test inside the scissor too.
+#define COARSE_FOR_EACH_TILE(t, b, p, mask, BODY)                                                        \
   do {                                                                                                   \
     const int tx0_ = max((int)(t).bbox[0] >> RASTER_TILE_LOG2, (b).tileX0);                              \
     const int ty0_ = max((int)(t).bbox[1] >> RASTER_TILE_LOG2, (b).tileY0);                              \
@@ -56,6 +57,7 @@ static CoarseBin coarseBin(const RasterViewParams* p, __global const uint* binCo
     const int ty1_ = min((int)(t).bbox[3] >> RASTER_TILE_LOG2, (b).tileY0 + RASTER_BIN_TILES - 1);       \
     for (int ty_ = ty0_; ty_ <= ty1_; ++ty_)                                                             \
       for (int tx_ = tx0_; tx_ <= tx1_; ++tx_) {                                                         \
+        if ((p).tileMasked != 0 && (mask)[ty_ * (p).tilesX + tx_] == 0) continue;                        \
         const int px_ = tx_ << RASTER_TILE_LOG2, py_ = ty_ << RASTER_TILE_LOG2;                          \
         bool hit_;                                                                                       \
         RASTER_RECT_OVERLAPS(t, px_, py_, px_ + RASTER_TILE_SIZE - 1, py_ + RASTER_TILE_SIZE - 1, hit_); \
@@ -86,7 +88,7 @@ static ulong coarseScan(ulong value, __local ulong* sums) {
 // Writes tileCount[tile] for the bin's tiles inside the viewport and binTileTotal[bin] (saturated to 2^32 - 1).
 __kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coarse_count(
     __global const RasterTriangle* tris, __global const uint* binEntries, __global const uint* binCount,
-    __global const uint* binOffset, __global uint* tileCount, __global uint* binTileTotal, const RasterViewParams p) {
+    __global const uint* binOffset, __global const uint* tileMask, __global uint* tileCount, __global uint* binTileTotal, const RasterViewParams p) {
   __local uint hits[RASTER_COARSE_WG];
   __local ulong sums[RASTER_COARSE_WG];
   const CoarseBin b = coarseBin(&p, binCount, binOffset);
@@ -96,7 +98,7 @@ __kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coar
   for (uint j = lid; j < b.count; j += RASTER_COARSE_WG) {
     const RasterTriangle t = tris[binEntries[b.begin + j]];
 #define COARSE_COUNT_ONE(localTile) atomic_inc(&hits[localTile])
-    COARSE_FOR_EACH_TILE(t, b, COARSE_COUNT_ONE);
+    COARSE_FOR_EACH_TILE(t, b, p, tileMask, COARSE_COUNT_ONE);
 #undef COARSE_COUNT_ONE
   }
   barrier(CLK_LOCAL_MEM_FENCE);
@@ -110,7 +112,8 @@ __kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coar
 // (indices of set-up records) at tileEntries[tileOffset ...], below tileCapacity.
 __kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coarse_fill(
     __global const RasterTriangle* tris, __global const uint* binEntries, __global const uint* binCount,
-    __global const uint* binOffset, __global const uint* tileCount, __global const uint* binTileBase,
+    __global const uint* binOffset, __global const uint* tileMask, __global const uint* tileCount,
+    __global const uint* binTileBase,
     __global uint* tileOffset, __global uint* tileEntries, const RasterViewParams p) {
   __local uint base[RASTER_COARSE_WG], cursor[RASTER_COARSE_WG];
   __local ulong sums[RASTER_COARSE_WG];
@@ -132,7 +135,7 @@ __kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coar
     const uint slot_ = atomic_inc(&cursor[localTile]), at_ = base[localTile];       \
     if (at_ < capacity && slot_ < capacity - at_) tileEntries[at_ + slot_] = index; \
   } while (0)
-    COARSE_FOR_EACH_TILE(t, b, COARSE_FILL_ONE);
+    COARSE_FOR_EACH_TILE(t, b, p, tileMask, COARSE_FILL_ONE);
 #undef COARSE_FILL_ONE
   }
 }
@@ -149,7 +152,7 @@ __kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coar
 // The same results as the layout above, over `bins` launched bins; binTiles[binCapacity] receives each entry's tile code.
 __kernel __attribute__((reqd_work_group_size(RASTER_WG_COARSE, 1, 1))) void coarse_count(
     __global const RasterTriangle* tris, __global const uint* binEntries, __global const uint* binCount,
-    __global const uint* binOffset, __global uint* tileCount, __global uint* binTileTotal, __global ushort* binTiles,
+    __global const uint* binOffset, __global const uint* tileMask, __global uint* tileCount, __global uint* binTileTotal, __global ushort* binTiles,
     const RasterViewParams p, uint bins) {
   if (get_global_id(0) >= bins) return;
   const CoarseBin b = coarseBinOf(&p, get_global_id(0), binCount, binOffset);
@@ -165,7 +168,7 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_COARSE, 1, 1))) void coar
     ++hits[localTile];                                                           \
     code = code == COARSE_NO_TILE ? (uint)(localTile) : COARSE_SEVERAL_TILES;    \
   } while (0)
-    COARSE_FOR_EACH_TILE(t, b, COARSE_COUNT_ONE);
+    COARSE_FOR_EACH_TILE(t, b, p, tileMask, COARSE_COUNT_ONE);
 #undef COARSE_COUNT_ONE
     binTiles[b.begin + j] = (ushort)code;
   }
@@ -181,7 +184,8 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_COARSE, 1, 1))) void coar
 // The same results as the layout above, over `bins` launched bins, from the tile codes coarse_count left in binTiles.
 __kernel __attribute__((reqd_work_group_size(RASTER_WG_COARSE, 1, 1))) void coarse_fill(
     __global const RasterTriangle* tris, __global const uint* binEntries, __global const uint* binCount,
-    __global const uint* binOffset, __global const uint* tileCount, __global const uint* binTileBase,
+    __global const uint* binOffset, __global const uint* tileMask, __global const uint* tileCount,
+    __global const uint* binTileBase,
     __global uint* tileOffset, __global uint* tileEntries, __global const ushort* binTiles, const RasterViewParams p,
     uint bins) {
   if (get_global_id(0) >= bins) return;
@@ -209,7 +213,7 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_COARSE, 1, 1))) void coar
       COARSE_FILL_ONE(code);
     } else if (code == COARSE_SEVERAL_TILES) {
       const RasterTriangle t = tris[index];
-      COARSE_FOR_EACH_TILE(t, b, COARSE_FILL_ONE);
+      COARSE_FOR_EACH_TILE(t, b, p, tileMask, COARSE_FILL_ONE);
     }
   }
 #undef COARSE_FILL_ONE

@@ -2,7 +2,8 @@
 // against every triangle of the tile's queue with the exact edge functions, keeping the nearest (view depth,
 // triangle id): nearest wins, ties go to the smaller triangle id. That order is total, so the result depends
 // neither on queue order nor on the layout below (no atomics, deterministic). The winner's depth is then stored in
-// the view's DepthMode; every pixel of the tile inside the scissor is written (background: +INFINITY, no id).
+// the view's DepthMode; every pixel of the tile inside the scissor is written (background: +INFINITY, no id), except
+// in tiles the view's tile mask leaves out.
 // Two layouts of the same per-pixel math, chosen by RASTER_WG_FINE (raster/constants.h):
 //   0 (GPUs): one work-group per tile, one work-item per pixel, the queue staged in local memory RASTER_FINE_WG
 //     records at a time;
@@ -40,6 +41,12 @@ static inline void fineStore(const RasterViewParams* p, int x, int y, float best
   depth[pixel] = bestId == RASTER_NO_TRIANGLE ? INFINITY : rasterDepth(p, x, y, best);
 }
 
+// Whether the view draws tile `index` of the launched tiles (its tile-mask entry nonzero, when it has a mask).
+static inline bool fineDraws(const RasterViewParams* p, int index, __global const uint* tileMask) {
+  const int tx = p->tileX0 + index % p->tilesAcross, ty = p->tileY0 + index / p->tilesAcross;
+  return p->tileMasked == 0 || tileMask[ty * p->tilesX + tx] != 0;
+}
+
 // The tile a work-group (layout 0) or work-item (layout N) works on, and its queue range cut to the capacity.
 static inline int2 fineTile(const RasterViewParams* p, int index, __global const uint* tileCount,
                             __global const uint* tileOffset, uint* offset, uint* count) {
@@ -72,9 +79,11 @@ static void fineTest(__local const RasterTriangle* t, int x, int y, int sx, int 
 
 __kernel __attribute__((reqd_work_group_size(RASTER_FINE_WG, 1, 1))) void fine_raster(
     __global const RasterTriangle* tris, __global const uint* tileEntries, __global const uint* tileCount,
-    __global const uint* tileOffset, __global float* depth, __global uint* triangleId, const RasterViewParams p) {
+    __global const uint* tileOffset, __global const uint* tileMask, __global float* depth, __global uint* triangleId,
+    const RasterViewParams p) {
   __local RasterTriangle staged[RASTER_FINE_WG];
   const int lid = get_local_id(0);
+  if (!fineDraws(&p, get_group_id(0), tileMask)) return;  // the whole work-group: no barrier is reached
   uint offset, count;
   const int2 origin = fineTile(&p, get_group_id(0), tileCount, tileOffset, &offset, &count);
   const int x = origin.x + (lid & (RASTER_TILE_SIZE - 1)), y = origin.y + (lid >> RASTER_TILE_LOG2);
@@ -143,10 +152,12 @@ static void fineTestRows(__global const RasterTriangle* t, int2 origin, int r0, 
 
 __kernel __attribute__((reqd_work_group_size(RASTER_WG_FINE, 1, 1))) void fine_raster(
     __global const RasterTriangle* tris, __global const uint* tileEntries, __global const uint* tileCount,
-    __global const uint* tileOffset, __global float* depth, __global uint* triangleId, const RasterViewParams p) {
+    __global const uint* tileOffset, __global const uint* tileMask, __global float* depth, __global uint* triangleId,
+    const RasterViewParams p) {
   const int index = get_global_id(0);
   const int tileRows = (p.rectY1 - 1) / RASTER_TILE_SIZE - p.tileY0 + 1;
   if (index >= p.tilesAcross * tileRows) return;  // padding of the last work-group
+  if (!fineDraws(&p, index, tileMask)) return;    // left untouched
   uint offset, count;
   const int2 origin = fineTile(&p, index, tileCount, tileOffset, &offset, &count);
   float best[RASTER_TILE_PIXELS];

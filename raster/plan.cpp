@@ -142,6 +142,13 @@ Plan makePlan(const RasterView& view, uint32_t triangleCount, uint32_t vertexCou
   p.cullBackFaces = view.cullBackFaces ? 1 : 0;
   p.triangleCount = triangleCount, p.vertexCount = vertexCount;
   plan.pixels = static_cast<size_t>(view.width) * view.height;
+  if (view.tileMask != nullptr) {
+    if (view.tileMask->size() < plan.tiles)
+      throw std::invalid_argument(fmt::format("raster view: tile mask of {} entries for a {}x{} grid of tiles",
+                                              view.tileMask->size(), p.tilesX, p.tilesY));
+    plan.tileMask = view.tileMask;
+    p.tileMasked = 1;
+  }
   return plan;
 }
 

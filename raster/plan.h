@@ -26,6 +26,7 @@ struct Plan {
   size_t bins = 0, tiles = 0;                  // grid sizes over the whole viewport
   size_t launchedBins = 0, launchedTiles = 0;  // those overlapping the scissor (coarse / fine work-groups)
   size_t scissorPixels = 0;                    // pixels inside the scissor (G-buffer work-items)
+  const Buffer<uint32_t>* tileMask = nullptr;  // RasterView::tileMask (params.tileMasked set with it)
   bool empty() const { return scissorPixels == 0; }
 };
 

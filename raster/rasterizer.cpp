@@ -181,6 +181,8 @@ void Rasterizer::draw(const RasterView& view, RasterTargets& targets) {
 
 void Rasterizer::drawGBuffer(const RasterView& view, GBuffer& g) {
   const raster::Plan plan = raster::makePlan(view, impl_->scene.triangleCount, impl_->scene.vertexCount);
+  if (view.tileMask != nullptr)  // gbuffer_resolve would read the untouched tiles' stale ids
+    throw std::invalid_argument("raster view: a tile mask is for shadow-map draws, not the G-buffer");
   if (plan.params.generalProjection)  // the G-buffer reconstructs positions from separable pixel rays (depth.h)
     throw std::invalid_argument(
         "raster view: the G-buffer needs an OpenGL-style perspective or orthographic projection, not a general "

@@ -12,8 +12,11 @@
 #include "host/cl/buffer.h"
 #include "host/cl/context.h"
 #include "host/scene/scene.h"
+#include "raster/constants.h"
 
 namespace penumbra {
+
+inline constexpr int kRasterTileSize = RASTER_TILE_SIZE;  // pixels per side of a tile: RasterView::tileMask's unit
 
 inline constexpr uint32_t kNoTriangle = 0xffffffffu;  // triangle id of background pixels
 
@@ -29,7 +32,7 @@ struct Scissor {
 };
 
 struct RasterView {
-  glm::mat4 view{1.0f};        // world -> eye
+  glm::mat4 view{1.0f};  // world -> eye
   // eye -> clip, OpenGL convention. Separable: perspective (glm::perspective/frustum: w_c = -k z_eye) or
   // orthographic (glm::ortho: w_c constant); x_c may depend on x_eye and z_eye only, y_c on y_eye and z_eye, z_c on
   // z_eye; near and far come from it. General (any other invertible projective matrix, e.g. a LiSPSM warp whose w_c
@@ -37,10 +40,14 @@ struct RasterView {
   // -z_eye; clipped at the near plane z_c = -w_c and the guard band, with no far plane. draw() and drawGBuffer()
   // throw std::invalid_argument for other matrices (singular ones, general ones in other modes) or a bad size.
   glm::mat4 projection{1.0f};
-  int width = 0, height = 0;   // 1x1 .. 8192x8192
+  int width = 0, height = 0;  // 1x1 .. 8192x8192
   DepthMode depthMode = DepthMode::kViewZ;
-  bool cullBackFaces = false;  // counter-clockwise front faces
+  bool cullBackFaces = false;      // counter-clockwise front faces
   std::optional<Scissor> scissor;  // pixels outside are left untouched
+  // draw() only: one entry per 8x8 tile (RASTER_TILE_SIZE) of the viewport, row-major from the bottom row, at least
+  // ceil(width / 8) * ceil(height / 8) of them; tiles whose entry is 0 are left untouched, like pixels outside the
+  // scissor, and cost nothing past binning. For passes that need scattered parts of a map (jittered).
+  const Buffer<uint32_t>* tileMask = nullptr;
 };
 
 // Depth-only targets (shadow maps): width * height each, row-major, row 0 at the bottom (y up in NDC).

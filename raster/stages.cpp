@@ -59,8 +59,10 @@ void Stages::record(const Plan& plan, const SceneBuffers& scene, Queues& q, Buff
   binScan_.args(q.binCount, q.binOffset, q.binCursor, bins, q.counters, cl_uint{0})
       .launch(RASTER_SCAN_WG, RASTER_SCAN_WG);
   binFill_.args(q.records, q.counters, q.binOffset, q.binCursor, q.binEntries, p).launch(binItems, groups_.bin);
-  coarse(plan, q, p);
-  fine_.args(q.records, q.tileEntries, q.tileCount, q.tileOffset, depth, triangleIds, p)
+  if (plan.tileMask == nullptr && q.noTileMask.size() == 0) q.noTileMask.allocate(ctx_, 1);
+  const Buffer<uint32_t>& mask = plan.tileMask != nullptr ? *plan.tileMask : q.noTileMask;
+  coarse(plan, q, p, mask);
+  fine_.args(q.records, q.tileEntries, q.tileCount, q.tileOffset, mask, depth, triangleIds, p)
       .moves(uint64_t{plan.scissorPixels} * (sizeof(float) + sizeof(uint32_t)))
       .launch(groups_.fine == 0 ? plan.launchedTiles * RASTER_FINE_WG : plan.launchedTiles,
               groups_.fine == 0 ? size_t{RASTER_FINE_WG} : groups_.fine);
@@ -68,26 +70,27 @@ void Stages::record(const Plan& plan, const SceneBuffers& scene, Queues& q, Buff
 
 // Coarse count, the scan of the bins' tile totals, coarse fill: a work-group per bin and an item per tile, or
 // (CPUs, groups_.coarse > 0) an item per bin, groups_.coarse bins per work-group.
-void Stages::coarse(const Plan& plan, Queues& q, const RasterViewParams& p) {
+void Stages::coarse(const Plan& plan, Queues& q, const RasterViewParams& p, const Buffer<uint32_t>& mask) {
   const cl_uint bins = static_cast<cl_uint>(plan.bins), launched = static_cast<cl_uint>(plan.launchedBins);
   if (groups_.coarse == 0) {
-    coarseCount_.args(q.records, q.binEntries, q.binCount, q.binOffset, q.tileCount, q.binTileTotal, p)
+    coarseCount_.args(q.records, q.binEntries, q.binCount, q.binOffset, mask, q.tileCount, q.binTileTotal, p)
         .launch(plan.launchedBins * RASTER_COARSE_WG, RASTER_COARSE_WG);
   } else {
-    coarseCount_.args(q.records, q.binEntries, q.binCount, q.binOffset, q.tileCount, q.binTileTotal, q.binTiles, p,
-                      launched)
+    coarseCount_
+        .args(q.records, q.binEntries, q.binCount, q.binOffset, mask, q.tileCount, q.binTileTotal, q.binTiles, p,
+              launched)
         .launch(roundUp(plan.launchedBins, groups_.coarse), groups_.coarse);
   }
   binScan_.args(q.binTileTotal, q.binTileBase, q.binCursor, bins, q.counters, cl_uint{1})
       .launch(RASTER_SCAN_WG, RASTER_SCAN_WG);
   if (groups_.coarse == 0) {
     coarseFill_
-        .args(q.records, q.binEntries, q.binCount, q.binOffset, q.tileCount, q.binTileBase, q.tileOffset,
+        .args(q.records, q.binEntries, q.binCount, q.binOffset, mask, q.tileCount, q.binTileBase, q.tileOffset,
               q.tileEntries, p)
         .launch(plan.launchedBins * RASTER_COARSE_WG, RASTER_COARSE_WG);
   } else {
     coarseFill_
-        .args(q.records, q.binEntries, q.binCount, q.binOffset, q.tileCount, q.binTileBase, q.tileOffset,
+        .args(q.records, q.binEntries, q.binCount, q.binOffset, mask, q.tileCount, q.binTileBase, q.tileOffset,
               q.tileEntries, q.binTiles, p, launched)
         .launch(roundUp(plan.launchedBins, groups_.coarse), groups_.coarse);
   }

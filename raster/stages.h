@@ -29,6 +29,7 @@ struct Queues {
   Buffer<uint32_t> tileCount, tileOffset;
   Buffer<uint32_t> binEntries, tileEntries;  // binCapacity, tileCapacity entries
   Buffer<uint16_t> binTiles;                 // binCapacity entries: the coarse CPU layout's tile codes (coarse.cl)
+  Buffer<uint32_t> noTileMask;               // one entry: the tile-mask argument of draws without one
   uint32_t extraCapacity = 0, binCapacity = 0, tileCapacity = 0;
 };
 
@@ -44,7 +45,7 @@ class Stages {
 
  private:
   RasterViewParams params(const Plan& plan, const Queues& queues) const;
-  void coarse(const Plan& plan, Queues& queues, const RasterViewParams& p);
+  void coarse(const Plan& plan, Queues& queues, const RasterViewParams& p, const Buffer<uint32_t>& mask);
 
   Context& ctx_;
   WorkGroups groups_;

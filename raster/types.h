@@ -81,6 +81,7 @@ typedef struct {
   uint binCapacity;                    // bin queue entries
   uint tileCapacity;                   // tile queue entries
   int generalProjection;               // 1: a general projective matrix (kViewZ only): viewZGeneral, no far plane
+  int tileMasked;                      // 1: only tiles whose tile-mask entry is nonzero are drawn (RasterView)
 } RasterViewParams;
 
 #if PENUMBRA_HOST
@@ -91,7 +92,8 @@ static_assert(offsetof(RasterTriangle, triangleId) == 48 && offsetof(RasterTrian
 static_assert(sizeof(RasterCounters) == 32 && offsetof(RasterCounters, extraTriangles) == 16);
 static_assert(offsetof(RasterViewParams, p00) == 112 && offsetof(RasterViewParams, viewZGeneral) == 168);
 static_assert(offsetof(RasterViewParams, width) == 192 && offsetof(RasterViewParams, generalProjection) == 284);
-static_assert(sizeof(RasterViewParams) == 288, "RasterViewParams layout must match OpenCL C");
+static_assert(offsetof(RasterViewParams, tileMasked) == 288);
+static_assert(sizeof(RasterViewParams) == 292, "RasterViewParams layout must match OpenCL C");
 #endif
 
 #endif

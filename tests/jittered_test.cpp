@@ -239,14 +239,14 @@ TEST_F(Jittered, StoppingRuleStopsEarlyOnAnEasyViewAndRunsToTheMaximumOnAHardOne
   Camera camera = scene.cameras.front();
   // Easy: a thumbnail under a 2048^2 map: neighbouring pixels lie texels apart, the first lookup is all they need at
   // precision 0.25. At the default 0.125 a few pixels on the poles (whose neighbours project close together under
-  // the sun) need the next passes: a second settles them by agreement, a third by confidence.
+  // the sun) need a few more passes (agreement settles a pixel at the second pass at the earliest).
   camera.width = 40, camera.height = 24;
   const RenderResult easy = renderWith(ctx(), scene, camera, scene.lights.front(), "jittered",
                                        {{"map-size", "2048"}, {"jitter-passes", "8"}, {"jitter-precision", "0.25"}});
   EXPECT_EQ(passesUsed(easy), 1);
   const RenderResult easyDefaults = renderWith(ctx(), scene, camera, scene.lights.front(), "jittered",
                                                {{"map-size", "2048"}, {"jitter-passes", "8"}});
-  EXPECT_LE(passesUsed(easyDefaults), 3);
+  EXPECT_LE(passesUsed(easyDefaults), 4);
   // Hard: a 64^2 map under 200x120 pixels: most pixels need nearly texel-centred lookups.
   camera.width = 200, camera.height = 120;
   const RenderResult hard =

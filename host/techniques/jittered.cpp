@@ -106,6 +106,10 @@ class Jittered final : public Technique {
     int quiet = 0;
     int64_t covered = 0;  // pass 0's receivers: the stopping rule's denominator (later passes see their list only)
     std::optional<Scissor> scissor;
+    // Optimal without rotation or reduction: each pass marks the map tiles its unconfident pixels will read, and
+    // the next pass draws only those (inside the scissor box of the same lookups).
+    masking_ = params_.getInt("jitter-scissor") == 1 && mode == JITTER_OPTIMAL && plan.maxAngle == 0.0f &&
+               plan.reduction == 0.0f;
     LightView first;  // pass 0's view: every later pass's lookups are moved from its texels
     for (int pass = 0; pass < maxPasses; ++pass) {
       const float angle = plan.maxAngle * 2.0f * centred(static_cast<uint32_t>(pass), 5);
@@ -113,6 +117,7 @@ class Jittered final : public Technique {
       if (pass > 0 || plan.scale != 1.0f) {
         map_.view = jitteredView(baseView(frame, plan, pass), angle, plan.scale, offset);
         map_.view.raster.scissor = scissor;
+        if (masking_) map_.view.raster.tileMask = &tileMask_;
         frame.raster.draw(map_.view.raster, map_.targets);
       }
       if (pass == 0) {  // renderShadowMap uploaded the unscaled view; a rotation's common scale redrew it
@@ -218,13 +223,13 @@ class Jittered final : public Technique {
   }
 
   // Optimal mode without rotation: the next pass draws only the texels the still-unconfident pixels look up, their
-  // box widened by 3 texels (the next jitter moves a lookup by less than one, the ID buffer reads one further, one
-  // for rounding). Final pixels are never looked up again, so the texels outside keep an older pass's content
-  // unread. Rotated passes move distant texels by more than a box margin: they draw the whole map.
+  // box widened by JITTER_DRAW_MARGIN texels (and, with the tile mask, only the tiles near those lookups). Final
+  // pixels are never looked up again, so the texels outside keep an older pass's content unread. Rotated passes
+  // move distant texels by more than a box margin: they draw the whole map.
   static std::optional<Scissor> nextScissor(const std::array<int32_t, JITTER_COUNTERS>& count, int mode, float maxAngle,
                                             int size) {
     if (mode != JITTER_OPTIMAL || maxAngle != 0.0f || count[2] == 0) return std::nullopt;
-    constexpr int kMargin = 3;
+    constexpr int kMargin = JITTER_DRAW_MARGIN;
     const int* box = &count[JITTER_BOX_MIN_X];
     return Scissor{std::clamp(box[0] - kMargin, 0, size), std::clamp(box[1] - kMargin, 0, size),
                    std::clamp(box[2] + 1 + kMargin, 0, size), std::clamp(box[3] + 1 + kMargin, 0, size)};
@@ -243,6 +248,10 @@ class Jittered final : public Technique {
     constexpr int32_t kLow = std::numeric_limits<int32_t>::min(), kHigh = std::numeric_limits<int32_t>::max();
     const std::array<int32_t, JITTER_COUNTERS> reset = {0, 0, 0, 0, kHigh, kHigh, kLow, kLow};
     counters_.upload(frame.ctx, std::span<const int32_t>(reset));
+    const int size = map_.view.raster.width, tiles = (size + kRasterTileSize - 1) / kRasterTileSize;
+    tileMask_.allocate(frame.ctx, masking_ ? static_cast<size_t>(tiles) * tiles : 1);
+    if (masking_) tileMask_.fill(frame.ctx, 0u);  // the previous pass's draw has read it
+    const int maskTiles = masking_ ? tiles : 0;   // 0: the kernels mark nothing
     if (pass == 0) {
       const BiasArgs bias = biasArgs(params_);
       Kernel kernel(frame.ctx, "kernels/jittered.cl", "jittered_first", "shade");
@@ -250,17 +259,17 @@ class Jittered final : public Technique {
           .args(g.position, g.normal, width, height, map_.targets.depth, map_.gpu, bias.constant, bias.slope,
                 bias.normalOffset, params_.getInt("receiver-plane"), idMode, map_.targets.triangleId,
                 frame.raster.objectIds(), g.triangleId, g.objectId, shade, slack_, kept_, pass_, streak_, records_,
-                counters_, next_, visibility)
+                counters_, next_, tileMask_, maskTiles, maskTiles, kRasterTileSize, visibility)
           // + slack, kept, pass, the lookup record; the work list's entries as a bound
           .moves(pixels * (kVisibilityBytesPerPixel + 4 * 4 + 32 + 4))
           .launch(pixels, kPixelGroup);
     } else {
-      const int size = map_.view.raster.width;
       Kernel kernel(frame.ctx, "kernels/jittered.cl", "jittered_pass", "shade");
       kernel
           .args(records_, work_, static_cast<uint32_t>(active_), map_.targets.depth, size, size, jitter,
                 map_.view.gpu.zFar, idMode, map_.targets.triangleId, frame.raster.objectIds(), g.triangleId, g.objectId,
-                shade, pass, slack_, kept_, pass_, streak_, counters_, next_, visibility)
+                shade, pass, slack_, kept_, pass_, streak_, counters_, next_, tileMask_, maskTiles, maskTiles,
+                kRasterTileSize, visibility)
           // per listed pixel: its index, the record, slack, kept, pass, visibility and the next list's entry
           .moves(uint64_t(active_) * (4 + 32 + 4 * 4 + 4 + 4))
           .launch(static_cast<size_t>(active_), kPixelGroup);
@@ -276,9 +285,11 @@ class Jittered final : public Technique {
   Buffer<float> slack_, kept_, pass_;
   Buffer<cl_float8> records_;  // pass 0's lookup per pixel: uv, biased depth, valid, plane gradient, id uv
   Buffer<int32_t> counters_;
-  Buffer<uint32_t> streak_;       // consecutive passes whose lookup's neighbourhood agreed with the kept result
-  Buffer<uint32_t> work_, next_;  // the pixels the next pass tests, and the list it writes for the one after
-  int32_t active_ = 0;            // work_'s length
+  Buffer<uint32_t> streak_;  // consecutive passes whose lookup's neighbourhood agreed with the kept result
+  Buffer<uint32_t> work_, next_;
+  Buffer<uint32_t> tileMask_;  // map tiles the next pass draws (RasterView::tileMask), when masking_
+  bool masking_ = false;       // the pixels the next pass tests, and the list it writes for the one after
+  int32_t active_ = 0;         // work_'s length
   int passes_ = 0;
 };
 
@@ -310,11 +321,11 @@ TechniqueInfo jitteredTechnique() {
   params.push_back({"jitter-agreement", 2, 0, 64,
                     "optimal without the ID buffer: a pixel is also final once this many consecutive passes found "
                     "the 3x3 texels around its lookup all giving its kept result (beyond the paper; 0: off)"});
-  params.push_back({"jitter-passes", 16, 1, 256, "Most passes (jittered maps) per frame"});
+  params.push_back({"jitter-passes", 32, 1, 256, "Most passes (jittered maps) per frame"});
   params.push_back({"jitter-epsilon", 5e-5, 0, 1,
                     "Stop when the last jitter-window passes each changed at most this fraction of the covered "
                     "pixels (optimal: or at most this fraction still lacks the confidence it needs)"});
-  params.push_back({"jitter-window", 2, 1, 64, "Consecutive quiet passes the stopping rule waits for"});
+  params.push_back({"jitter-window", 4, 1, 64, "Consecutive quiet passes the stopping rule waits for"});
   params.push_back({"jitter-scissor",
                     1,
                     0,

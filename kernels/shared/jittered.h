@@ -22,6 +22,9 @@
 // the next pass draws only that part of its map (a scissor).
 #define JITTER_COUNTERS 8
 #define JITTER_BOX_MIN_X 4
+// Texels around an unconfident lookup the next pass must draw (its scissor box and tile mask): the next jitter moves
+// a lookup by less than one, the ID buffer or the agreement test reads one further, one for rounding.
+#define JITTER_DRAW_MARGIN 3
 
 // The kept confidence of a pixel settled by its lookups' neighbourhoods (optimal with agreement): final, above any
 // confidence of eq. 4-6. The neighbourhood: the texels within this radius (max norm) of the lookup's.
