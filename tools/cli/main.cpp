@@ -6,14 +6,16 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include "host/cl/error.h"
+#include "host/version.h"
 #include "tools/cli/commands.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"penumbra: filtered and soft shadows for glTF scenes, every stage an OpenCL kernel"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "penumbra " PENUMBRA_VERSION);
+  app.set_version_flag("--version", "penumbra " + std::string(penumbra::version()));
   const std::vector<penumbra::cli::Command> commands = penumbra::cli::registerCommands(app);
   try {
     app.parse(argc, argv);
