@@ -79,6 +79,38 @@ else
   passed=$((passed + 1))
 fi
 
+# Outputs: -o's extension picks the format, the preview never lands on the EXR, --png none drops it.
+# check NAME CONDITION...: one pass or fail for a file check.
+check() {
+  local name=$1
+  shift
+  if "$@"; then passed=$((passed + 1)); else failed=$((failed + 1)) && echo "FAIL $name: $*"; fi
+}
+small=(builtin:box --size 32x24 -t sm --map-size 64)
+expect output-unknown-format 2 "^penumbra: -o .*x.tif: unknown output format '.tif'" -- "$bin" render "${small[@]}" -o "$scratch/x.tif"
+expect output-no-extension 2 "unknown output format '\(no extension\)'" -- "$bin" reference "${small[@]:0:3}" -o "$scratch/x"
+check output-unknown-format-writes-nothing test ! -e "$scratch/x.tif"
+expect output-png-only 0 "wrote [^ ]*only.png$" -- "$bin" render "${small[@]}" -o "$scratch/only.png"
+check output-png-only-is-png bash -c "head -c 4 '$scratch/only.png' | grep -q PNG"
+check output-png-only-no-exr test ! -e "$scratch/only.exr"
+expect output-png-twice 2 "is the PNG preview already" -- "$bin" render "${small[@]}" -o "$scratch/x.png" --png "$scratch/y.png"
+expect output-png-none 0 "wrote [^ ]*nopng.exr$" -- "$bin" render "${small[@]}" -o "$scratch/nopng.exr" --png none
+check output-png-none-no-png test ! -e "$scratch/nopng.png"
+expect output-png-is-exr 2 "--png .*same.exr: is the EXR output itself" -- "$bin" render "${small[@]}" \
+  -o "$scratch/same.exr" --png "$scratch/./same.exr"
+expect reference-png-is-exr 2 "is the EXR output itself" -- "$bin" reference "${small[@]:0:3}" -o "$scratch/same.exr" \
+  --png "$scratch/same.exr"
+check output-png-is-exr-writes-nothing test ! -e "$scratch/same.exr"
+version=$("$bin" --version)
+expect version 0 "^penumbra [0-9]+\.[0-9]+\.[0-9]+$" -- echo "$version"
+expect exr-version 0 "string.${version#penumbra }\$" -- bash -c "LC_ALL=C grep -ao 'penumbra:version.\{12\}[0-9.]*' '$scratch/nopng.exr' | tr -d '\\000'"
+expect unknown-subcommand 2 "^penumbra: unknown subcommand 'rendr' \(one of devices, render, reference" -- "$bin" rendr x
+mkdir -p "$scratch/no-kernels"
+expect kernel-dir-empty 1 "PENUMBRA_KERNEL_DIR=.*no-kernels: the folder has no (kernels|raster)/" -- \
+  env PENUMBRA_KERNEL_DIR="$scratch/no-kernels" "$bin" render "${small[@]}" -o "$scratch/x.exr"
+expect kernel-dir-missing 1 "PENUMBRA_KERNEL_DIR=.*nowhere: not a folder" -- \
+  env PENUMBRA_KERNEL_DIR="$scratch/nowhere" "$bin" render "${small[@]}" -o "$scratch/x.exr"
+
 # reference (Embree) and compare: exit codes 0 within thresholds, 1 outside, 2 usage, 4 file errors.
 expect reference-box 0 "wrote .*ref.png" -- "$bin" reference builtin:box --size 64x48 --spp 16 -o "$scratch/ref.exr"
 if [ ! -s "$scratch/ref.exr" ] || [ ! -s "$scratch/ref.png" ]; then

@@ -109,6 +109,26 @@ TEST_P(ExrRoundTrip, EveryChannelAndAttributeSurvivesAsZipFloat) {
 INSTANTIATE_TEST_SUITE_P(ExrOddSizes, ExrRoundTrip, ::testing::Values(Size{1, 1}, Size{3, 7}, Size{257, 129}),
                          [](const auto& param) { return fmt::format("{}x{}", param.param.width, param.param.height); });
 
+// Numbers as EXR doubles and matrices as m44f survive exactly; a name in two maps, or a reserved one, is refused.
+TEST_F(ExrTest, NumbersAndMatricesSurviveAsTypedAttributes) {
+  Image image = patternImage(3, 2);
+  image.numbers() = {{"penumbra:rays", 123456789012.0}, {"penumbra:stderr-mean", 0.1234567890123}};
+  Matrix44 m;
+  for (size_t i = 0; i < m.size(); ++i) m[i] = 0.5f * static_cast<float>(i) - 3.0f;
+  image.matrices()["worldToCamera"] = m;
+  writeExr(dir_ / "typed.exr", image);
+  const Image read = readExr(dir_ / "typed.exr");
+  EXPECT_EQ(read.numbers(), image.numbers());  // nothing of the header's own float fields (pixelAspectRatio)
+  EXPECT_EQ(read.matrices(), image.matrices());
+  EXPECT_EQ(read.attributes().count("penumbra:rays"), 0u);
+
+  image.attributes()["worldToCamera"] = "text";
+  EXPECT_THROW(writeExr(dir_ / "twice.exr", image), std::runtime_error);
+  image.attributes().erase("worldToCamera");
+  image.numbers()["pixelAspectRatio"] = 2.0;
+  EXPECT_THROW(writeExr(dir_ / "reserved.exr", image), std::runtime_error);
+}
+
 TEST_F(ExrTest, HalfChannelsAreHalfAndWithinHalfPrecision) {
   Image image(5, 3);
   std::vector<float> colour(15);

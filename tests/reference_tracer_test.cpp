@@ -201,6 +201,9 @@ TEST_F(Reference, GBufferPixelsAreExactlyThoseOfRender) {
   for (const char* channel : {"A", "P.X", "P.Y", "P.Z", "N.X", "N.Y", "N.Z", "depth.Z"})
     EXPECT_EQ(ref.image.require(channel).data, ours.image.require(channel).data) << channel;
   EXPECT_EQ(ref.image.attributes().at("penumbra:technique"), "reference");
+  EXPECT_EQ(ref.image.numbers().at("penumbra:spp"), 16.0);  // statistics as numbers (EXR doubles)
+  EXPECT_EQ(ref.image.numbers().at("penumbra:rays"), static_cast<double>(ref.rays));
+  EXPECT_EQ(ref.image.numbers().at("penumbra:stderr-max"), ref.stderrMax);
 }
 
 TEST_F(Reference, NoNanAndVisibilityInRangeOnEveryBuiltinScene) {

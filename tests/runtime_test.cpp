@@ -106,6 +106,36 @@ TEST(RuntimeSources, ResolvesIncludesFromTheEmbeddedTable) {
   EXPECT_THROW(resolveKernelSource("kernels/does_not_exist.cl"), std::runtime_error);
 }
 
+// PENUMBRA_KERNEL_DIR: every source and include must be in the folder; nothing falls back to the embedded copy.
+TEST(RuntimeSources, KernelDirMissingFileNamesTheFolderAndTheFile) {
+  const fs::path dir = freshDir("kernel-dir");
+  fs::create_directories(dir / "kernels");
+  std::ofstream(dir / "kernels" / "fill.cl") << "#include \"kernels/shared/common.h\"\n__kernel void k() {}\n";
+  EnvGuard kernels("PENUMBRA_KERNEL_DIR", dir.string());
+  auto message = [](std::string_view name) {
+    try {
+      resolveKernelSource(name);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  const std::string include = message("kernels/fill.cl");  // the include is missing, the source is not
+  EXPECT_NE(include.find("PENUMBRA_KERNEL_DIR=" + dir.string()), std::string::npos) << include;
+  EXPECT_NE(include.find("has no kernels/shared/common.h"), std::string::npos) << include;
+  const std::string source = message("kernels/blur.cl");  // embedded, but not in the folder
+  EXPECT_NE(source.find("has no kernels/blur.cl"), std::string::npos) << source;
+  {
+    EnvGuard missing("PENUMBRA_KERNEL_DIR", (dir / "nothere").string());
+    const std::string folder = message("kernels/fill.cl");
+    EXPECT_NE(folder.find("nothere: not a folder"), std::string::npos) << folder;
+  }
+  fs::create_directories(dir / "kernels" / "shared");
+  std::ofstream(dir / "kernels" / "shared" / "common.h") << "#define FROM_THE_FOLDER 1\n";
+  EXPECT_NE(resolveKernelSource("kernels/fill.cl").find("FROM_THE_FOLDER"), std::string::npos);
+  fs::remove_all(dir);
+}
+
 class Runtime : public ClTest {};
 
 TEST_F(Runtime, ProgramCacheBuildsOnce) {

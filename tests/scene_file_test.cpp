@@ -111,8 +111,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadFile{R"({"models": {"path": "triangle.gltf"}})", {"/models: expected an array"}},
         BadFile{R"({"models": [{"path": "triangle.gltf"}], "models": []})", {"duplicate key \"models\""}},
         BadFile{R"({"models": [{}]})", {"/models/0/path: missing"}},
-        BadFile{R"({"models": [{"path": "../triangle.gltf"}]})", {"/models/0/path", "\"..\" components"}},
-        BadFile{R"({"models": [{"path": "/etc/triangle.gltf"}]})", {"/models/0/path", "absolute paths"}},
+        BadFile{R"({"models": [{"path": "../nothere.gltf"}]})", {"/models/0/path", "file not found (looked for /"}},
+        BadFile{R"({"models": [{"path": "/nonexistent/triangle.gltf"}]})",
+                {"/models/0/path", "file not found (looked for /nonexistent/triangle.gltf)"}},
+        BadFile{R"({"models": [{"path": "file:///tmp/triangle.gltf"}]})", {"/models/0/path", "URI schemes"}},
         BadFile{R"({"models": [{"path": "nothere.glb"}]})", {"/models/0/path", "file not found"}},
         BadFile{R"({"models": [{"path": "triangle.obj"}]})", {"/models/0/path", "not a .gltf or .glb"}},
         BadFile{R"({"models": [{"path": "triangle.gltf", "translation": [1, 2]}]})",
@@ -158,6 +160,24 @@ INSTANTIATE_TEST_SUITE_P(
                 {"/lights/0/angular_radius_deg: expected a number in [0, 45)"}},
         BadFile{R"({"procedural": [{"name": "box"}], "lights": [{"type": "point"}]})",
                 {"/lights/0/type: expected \"spot\" or \"dir\""}}));
+
+// A scene file is the user's own: its models may sit anywhere (absolute paths, ".." from the scene's folder).
+TEST_F(SceneFile, ModelsByAbsolutePathAndDotDot) {
+  fs::create_directories(dir_ / "scenes");
+  const std::string json =
+      R"({"models": [{"path": "../triangle.gltf"}, {"path": ")" + (dir_ / "triangle.gltf").string() + R"("}]})";
+  const Scene s = loadSceneFile(write(json, "scenes/scene.json"));
+  EXPECT_EQ(s.triangleCount(), 2u);
+  EXPECT_TRUE(test::wellFormed(s));
+}
+
+// ... but the URIs inside a model stay in the model's own folder, wherever the model is.
+TEST_F(SceneFile, ModelUrisStayInsideTheModelsFolder) {
+  fs::create_directories(dir_ / "models");
+  fs::copy_file(test::sceneData("malformed/traversal.gltf"), dir_ / "models/traversal.gltf");
+  EXPECT_TRUE(throwsWith([&] { loadSceneFile(write(R"({"models": [{"path": "models/traversal.gltf"}]})")); },
+                         {"scene.json: /models/0", "\"..\" components are not allowed"}));
+}
 
 TEST_F(SceneFile, ModelErrorsNameTheEntryAndTheModel) {
   std::ofstream(dir_ / "broken.gltf") << "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 5}";

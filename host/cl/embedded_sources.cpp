@@ -1,9 +1,11 @@
-// Resolves `#include "..."` in embedded OpenCL sources so that the device compiler never touches the disk.
+// Resolves `#include "..."` in embedded OpenCL sources so that the device compiler never touches the disk
+// (or, with PENUMBRA_KERNEL_DIR, in the sources of that folder, every one of which must be there).
 #include "host/cl/embedded_sources.h"
 
 #include <fmt/format.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <optional>
 #include <set>
@@ -13,11 +15,22 @@
 namespace penumbra {
 namespace {
 
+// With PENUMBRA_KERNEL_DIR set, every source must come from that folder: a missing file is an error, never a
+// silent fall-back to the embedded copy (which would run code other than the one being edited).
 std::optional<std::string> readOverride(std::string_view name) {
   const char* dir = std::getenv("PENUMBRA_KERNEL_DIR");
   if (dir == nullptr || *dir == '\0') return std::nullopt;
-  std::ifstream in(std::string(dir) + "/" + std::string(name), std::ios::binary);
-  if (!in) return std::nullopt;
+  const std::filesystem::path folder(dir), file = folder / std::string(name);
+  std::error_code error;
+  if (!std::filesystem::is_directory(folder, error))
+    throw std::runtime_error(
+        fmt::format("PENUMBRA_KERNEL_DIR={}: not a folder (unset it to use the built-in kernels)", dir));
+  std::ifstream in(file, std::ios::binary);
+  if (!std::filesystem::is_regular_file(file, error) || !in)
+    throw std::runtime_error(fmt::format(
+        "PENUMBRA_KERNEL_DIR={}: the folder has no {} (point it at a source tree's root, or unset it to use the "
+        "built-in kernels)",
+        dir, name));
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();

@@ -18,9 +18,9 @@ struct EmbeddedSource {
 std::span<const EmbeddedSource> embeddedSources();
 
 // The text of one source with its `#include "..."` lines resolved recursively (each header once), ready for
-// clCreateProgramWithSource. With PENUMBRA_KERNEL_DIR set, files are read from that directory instead (a
+// clCreateProgramWithSource. With PENUMBRA_KERNEL_DIR set, every file is read from that directory instead (a
 // quick edit-run loop for kernel developers); otherwise only the embedded table is used. Throws
-// std::runtime_error naming the file on a missing source or include.
+// std::runtime_error naming the file on a missing source or include (and the folder when it is the override's).
 std::string resolveKernelSource(std::string_view name);
 
 }  // namespace penumbra

@@ -11,15 +11,20 @@
 #include <cstring>
 #include <fstream>
 #include <new>
+#include <set>
 #include <stdexcept>
 #include <string_view>
 
 #include <IexBaseExc.h>
 #include <ImfChannelList.h>
 #include <ImfCompression.h>
+#include <ImfDoubleAttribute.h>
+#include <ImfFloatAttribute.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
+#include <ImfIntAttribute.h>
+#include <ImfMatrixAttribute.h>
 #include <ImfOutputFile.h>
 #include <ImfStdIO.h>
 #include <ImfStringAttribute.h>
@@ -58,11 +63,20 @@ Imf::Header makeHeader(const std::filesystem::path& path, const Image& image, co
     const bool half = options.halfChannels.count(channel.name) != 0;
     header.channels().insert(channel.name, Imf::Channel(half ? Imf::HALF : Imf::FLOAT));
   }
-  for (const auto& [name, value] : image.attributes()) {
+  std::set<std::string> names;
+  auto check = [&](const std::string& name) {
     if (name.empty()) fail(path, "attribute with an empty name");
     if (std::find(kReservedAttributes.begin(), kReservedAttributes.end(), name) != kReservedAttributes.end())
       fail(path, fmt::format("attribute name '{}' is reserved by OpenEXR", name));
-    header.insert(name, Imf::StringAttribute(value));
+    if (!names.insert(name).second)
+      fail(path, fmt::format("attribute '{}' is given twice (text, number, matrix)", name));
+  };
+  for (const auto& [name, value] : image.attributes()) check(name), header.insert(name, Imf::StringAttribute(value));
+  for (const auto& [name, value] : image.numbers()) check(name), header.insert(name, Imf::DoubleAttribute(value));
+  for (const auto& [name, m] : image.matrices()) {
+    check(name);
+    header.insert(name, Imf::M44fAttribute(Imath::M44f(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9],
+                                                       m[10], m[11], m[12], m[13], m[14], m[15])));
   }
   return header;
 }
@@ -146,6 +160,25 @@ std::vector<ImageChannel> readChannels(const std::filesystem::path& path, Imf::I
   return channels;
 }
 
+// The attribute types Image carries; others (box2i, chlist, v2f, ...) and the header's own fields
+// (pixelAspectRatio, screenWindowWidth, ...) stay in the file, so that an image read can be written again.
+void readAttribute(const std::string& name, const Imf::Attribute& attribute, Image& image) {
+  if (std::find(kReservedAttributes.begin(), kReservedAttributes.end(), name) != kReservedAttributes.end()) return;
+  if (const auto* text = dynamic_cast<const Imf::StringAttribute*>(&attribute))
+    image.attributes()[name] = text->value();
+  else if (const auto* d = dynamic_cast<const Imf::DoubleAttribute*>(&attribute))
+    image.numbers()[name] = d->value();
+  else if (const auto* f = dynamic_cast<const Imf::FloatAttribute*>(&attribute))
+    image.numbers()[name] = f->value();
+  else if (const auto* i = dynamic_cast<const Imf::IntAttribute*>(&attribute))
+    image.numbers()[name] = i->value();
+  else if (const auto* m = dynamic_cast<const Imf::M44fAttribute*>(&attribute)) {
+    Matrix44& out = image.matrices()[name];
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) out[r * 4 + c] = m->value()[r][c];
+  }
+}
+
 }  // namespace
 
 const char* exrPixelTypeName(ExrPixelType type) {
@@ -202,8 +235,7 @@ Image readExr(const std::filesystem::path& path) {
     for (ImageChannel& channel : readChannels(path, input, image.width(), image.height()))
       image.add(std::move(channel.name), std::move(channel.data));
     for (auto it = input.header().begin(); it != input.header().end(); ++it)
-      if (const auto* text = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
-        image.attributes()[it.name()] = text->value();
+      readAttribute(it.name(), it.attribute(), image);
     return image;
   } catch (const Iex::BaseExc& e) {
     fail(path, fmt::format("cannot read EXR: {}", e.what()));

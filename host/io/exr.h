@@ -1,6 +1,7 @@
 // OpenEXR output and input of Image: lossless ZIP, 32-bit float channels (half on request), string
-// attributes for provenance (technique, parameters, device). Writes are all-or-nothing (temp file +
-// rename). Every failure is a std::runtime_error that starts with the path and says why.
+// attributes for provenance (technique, parameters, device), double and m44f attributes for numbers and matrices.
+// Writes are all-or-nothing (temp file + rename). Every failure is a std::runtime_error that starts with the path and
+// says why.
 #pragma once
 
 #include <filesystem>
@@ -20,12 +21,14 @@ struct ExrOptions {
 };
 
 // Writes every channel of `image` (which must be non-empty and have at least one channel) and
-// each of its attributes as an EXR string attribute. Attribute names that EXR reserves for
-// its own header fields (channels, compression, dataWindow, ...) are refused.
+// each of its attributes as an EXR string attribute, its numbers() as double and its matrices() as
+// m44f attributes. Attribute names that EXR reserves for its own header fields (channels,
+// compression, dataWindow, ...), and a name given in two of the maps, are refused.
 void writeExr(const std::filesystem::path& path, const Image& image, const ExrOptions& options = {});
 
 // Reads every channel of a flat (non-deep) EXR, whatever its pixel type (half, float, uint), as
-// float, plus every string attribute. The image covers the data window: its row 0 is the data
+// float, plus every string attribute, every double, float and int attribute (as numbers()) and
+// every m44f attribute (as matrices()). The image covers the data window: its row 0 is the data
 // window's top row, wherever the window sits (readExrInfo() tells where). Part 0 of multi-part
 // files. Subsampled channels are refused. image.source() is set to `path`.
 Image readExr(const std::filesystem::path& path);

@@ -3,6 +3,7 @@
 // order, as in EXR with INCREASING_Y). Renderers that produce bottom-up rows call flipRows() first.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <map>
 #include <span>
@@ -12,6 +13,10 @@
 #include <vector>
 
 namespace penumbra {
+
+// A 4x4 matrix in OpenEXR's layout and convention (Imath::M44f): m[row * 4 + col], points as row vectors
+// (p' = p M). A glm::mat4 for column vectors (p' = M p) has exactly this memory layout, so glm::value_ptr copies.
+using Matrix44 = std::array<float, 16>;
 
 struct ImageChannel {
   std::string name;         // EXR layer convention: "R", "visibility.Y", "P.X", "depth.Z"
@@ -40,6 +45,12 @@ class Image {
   // Free-form provenance (technique, parameters, device, ...): written as EXR string attributes.
   std::map<std::string, std::string>& attributes() { return attributes_; }
   const std::map<std::string, std::string>& attributes() const { return attributes_; }
+  // Typed header attributes: numbers (EXR double) and matrices (EXR m44f, e.g. the standard worldToCamera and
+  // worldToNDC). A name is in at most one of attributes(), numbers() and matrices() (writeExr checks).
+  std::map<std::string, double>& numbers() { return numbers_; }
+  const std::map<std::string, double>& numbers() const { return numbers_; }
+  std::map<std::string, Matrix44>& matrices() { return matrices_; }
+  const std::map<std::string, Matrix44>& matrices() const { return matrices_; }
 
   // Throws std::invalid_argument naming the image and channel when `data` is not width*height
   // values, the name is empty, or a channel of that name exists already.
@@ -63,6 +74,8 @@ class Image {
   std::string source_;
   std::vector<ImageChannel> channels_;
   std::map<std::string, std::string> attributes_;
+  std::map<std::string, double> numbers_;
+  std::map<std::string, Matrix44> matrices_;
 };
 
 // Reverses the row order of one width*height plane in place; for renderer output (bottom row

@@ -4,11 +4,13 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <vector>
 
 #include "host/cl/kernel.h"
 #include "host/pipeline/views.h"
+#include "host/version.h"
 
 namespace penumbra {
 namespace {
@@ -22,6 +24,14 @@ std::vector<float> component(const std::vector<cl_float4>& data, int c) {
   std::vector<float> channel(data.size());
   for (size_t i = 0; i < data.size(); ++i) channel[i] = data[i].s[c];
   return channel;
+}
+
+// glm's column-major storage of a matrix for column vectors is OpenEXR's row-major storage of the same map for row
+// vectors (Imath: p' = p M), so the 16 floats copy as they are.
+Matrix44 toExr(const glm::mat4& m) {
+  Matrix44 out;
+  std::memcpy(out.data(), &m[0][0], sizeof(out));
+  return out;
 }
 
 }  // namespace
@@ -81,6 +91,12 @@ Image frameImage(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& visi
       fmt::format("{} ({}, {})", ctx.info().name, ctx.info().platformName, ctx.info().driverVersion);
   attributes["penumbra:light"] = light.describe();
   attributes["penumbra:camera"] = cameraProvenance(camera);
+  attributes["penumbra:version"] = std::string(version());
+  // OpenEXR's standard camera attributes: world -> camera (right-handed, looking down -Z, Y up) and world -> NDC
+  // (OpenGL clip space of the G-buffer's own near and far planes; x, y, z in [-1, 1] after the divide, y up).
+  const RasterView view = cameraView(camera, bounds);
+  image.matrices()["worldToCamera"] = toExr(view.view);
+  image.matrices()["worldToNDC"] = toExr(view.projection * view.view);
   return image;
 }
 

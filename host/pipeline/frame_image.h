@@ -15,9 +15,10 @@
 
 namespace penumbra {
 
-// R,G,B,A (A = 1 where a surface is seen), visibility.Y, P.X/Y/Z, N.X/Y/Z, depth.Z, with the light, camera and
-// device as provenance attributes. Rows stay bottom-up like the G-buffer: add any further bottom-up channels,
-// then flipRows(). `visibility` holds gbuffer.width * gbuffer.height values.
+// R,G,B,A (A = 1 where a surface is seen), visibility.Y, P.X/Y/Z, N.X/Y/Z, depth.Z, with the light, camera,
+// device and version as provenance attributes and the standard worldToCamera and worldToNDC matrices. Rows stay
+// bottom-up like the G-buffer: add any further bottom-up channels, then flipRows(). `visibility` holds gbuffer.width *
+// gbuffer.height values.
 Image frameImage(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& visibility, const Camera& camera,
                  const Light& light, const Bounds& bounds);
 

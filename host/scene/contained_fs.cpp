@@ -1,5 +1,6 @@
-// Containment and size checks for every file a scene load reads. Lexical checks first (scheme, absolute,
-// ".."), then the canonical path must still lie under the canonical root, which catches symlinks.
+// Containment and size checks for every file a scene load reads. Inside a model: lexical checks first (scheme,
+// absolute, ".."), then the canonical path must still lie under the canonical root, which catches symlinks.
+// A scene file's model paths are only resolved (the scene file is the user's own, like the command line).
 #include "host/scene/contained_fs.h"
 
 #include <algorithm>
@@ -54,6 +55,21 @@ fs::path resolveInside(const fs::path& root, std::string_view relative) {
   if (!isUnder(root, resolved))
     throw SceneError(
         fmt::format("{}: resolves to {}, outside the scene's folder {}", quoted, resolved.string(), root.string()));
+  if (!fs::is_regular_file(resolved, ec)) throw SceneError(quoted + ": not a regular file");
+  return resolved;
+}
+
+fs::path resolveSceneModel(const fs::path& folder, std::string_view path) {
+  const std::string quoted = fmt::format("\"{}\"", path);
+  if (path.empty()) throw SceneError("empty path");
+  if (path.find('\0') != std::string_view::npos) throw SceneError(quoted + ": path contains a NUL byte");
+  if (hasScheme(path)) throw SceneError(quoted + ": URI schemes are not allowed (give a file path)");
+  const fs::path named(std::string{path});
+  const fs::path joined = named.is_absolute() ? named : folder / named;
+  std::error_code ec;
+  const fs::path resolved = fs::canonical(joined, ec);  // symlinks resolved before "..", as the system does
+  if (ec)
+    throw SceneError(fmt::format("{}: file not found (looked for {})", quoted, joined.lexically_normal().string()));
   if (!fs::is_regular_file(resolved, ec)) throw SceneError(quoted + ": not a regular file");
   return resolved;
 }

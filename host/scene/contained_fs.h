@@ -1,5 +1,6 @@
-// File access for scene loading: paths named inside a scene (buffer URIs, model paths) must stay inside
-// the scene's folder, and every read is a regular file under per-file and per-load size caps.
+// File access for scene loading: URIs inside a glTF model (buffers, images) must stay inside the model's
+// folder; a scene file's model paths are the user's own (absolute, or relative to the scene file, ".." allowed);
+// every read is a regular file under per-file and per-load size caps.
 #pragma once
 
 #include <cstdint>
@@ -16,6 +17,11 @@ namespace penumbra::detail {
 // without a file prefix) for an empty path, a URI scheme, an absolute path, a ".." component, a missing
 // file, a symlink that leads outside `root`, or something that is not a regular file.
 std::filesystem::path resolveInside(const std::filesystem::path& root, std::string_view relative);
+
+// The canonical path of a model a scene file names: `path` absolute, or relative to `folder` (the scene file's
+// canonical folder; ".." allowed). Throws SceneError (message without a file prefix) for an empty path, a URI
+// scheme, a missing file (naming where it was looked for) or something that is not a regular file.
+std::filesystem::path resolveSceneModel(const std::filesystem::path& folder, std::string_view path);
 
 // The canonical path of a file the user named directly (no containment); throws SceneError naming the
 // path when it does not exist or is not a regular file.

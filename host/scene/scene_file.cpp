@@ -46,7 +46,7 @@ Scene readModel(const FileContext& ctx, const Json& value, const std::string& po
   r.finish();
   std::filesystem::path resolved;
   try {
-    resolved = resolveInside(ctx.folder, path);
+    resolved = resolveSceneModel(ctx.folder, path);
   } catch (const SceneError& e) {
     r.fail("path", e.what());
   }

@@ -21,7 +21,8 @@ namespace penumbra {
 //  "lights": [{"type": "spot", "position": [..], "target": [..], "fov_deg": 60, "radius": 0.5},
 //             {"type": "dir", "direction": [..], "angular_radius_deg": 0.5}]}
 //
-// Model paths are relative to the JSON file's folder and must stay inside it. Cameras and lights given in
+// Model paths are absolute or relative to the JSON file's folder (".." allowed: the scene file is the user's
+// own); the URIs inside each model must stay inside that model's folder. Cameras and lights given in
 // the file replace those the built-in scenes bring. Throws SceneError "FILE: /json/pointer: message".
 Scene loadSceneFile(const std::string& path, const LoadOptions& options = {});
 

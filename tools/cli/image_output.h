@@ -1,35 +1,41 @@
-// The EXR + PNG preview output that `render` and `reference` share: the options, and writing both (the EXR's
-// folder created, the PNG beside the EXR unless named).
+// The image output that `render` and `reference` share: `-o` names the format by its extension (.exr: the EXR
+// plus a PNG preview beside it; .png: the preview alone), `--png PATH|none` moves or drops the preview. The plan
+// is checked before any work, so a bad combination is a usage error (std::invalid_argument, exit 2).
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <filesystem>
+#include <optional>
 #include <string>
 
-#include "host/io/exr.h"
 #include "host/io/image.h"
-#include "host/io/png.h"
 
 namespace penumbra::cli {
 
 struct ImageOutput {
-  std::string exr, png;  // png empty: the EXR path with .png
+  std::string path;  // -o: out.exr or out.png
+  std::string png;   // --png: empty = the EXR path with .png, "none" = no preview
+};
+
+// What will be written: at least one of the two.
+struct ImageOutputPlan {
+  std::optional<std::filesystem::path> exr, png;
 };
 
 inline void addImageOutputOptions(CLI::App* sub, ImageOutput& output) {
-  sub->add_option("-o,--output", output.exr, "Output EXR")->capture_default_str();
-  sub->add_option("--png", output.png, "PNG preview (default: the EXR path with .png)");
+  sub->add_option("-o,--output", output.path,
+                  "Output: .exr (EXR with every channel, plus the PNG preview) or .png "
+                  "(the preview alone)")
+      ->capture_default_str();
+  sub->add_option("--png", output.png,
+                  "PNG preview of an .exr output: PATH, or none (default: the EXR path with .png)");
 }
 
-// Writes both files and returns the "wrote A and B" message.
-inline std::string writeImageOutput(const ImageOutput& output, const Image& image) {
-  const std::filesystem::path exr = output.exr;
-  if (exr.has_parent_path()) std::filesystem::create_directories(exr.parent_path());
-  writeExr(exr, image);
-  const std::filesystem::path png =
-      output.png.empty() ? std::filesystem::path(exr).replace_extension(".png") : std::filesystem::path(output.png);
-  writePngPreview(png, image);
-  return "wrote " + exr.string() + " and " + png.string();
-}
+// Throws std::invalid_argument for an extension other than .exr/.png, --png with a .png output, or a --png path
+// that is the EXR's own.
+ImageOutputPlan planImageOutput(const ImageOutput& output);
+
+// Writes what the plan says (creating folders) and returns the "wrote A and B" message.
+std::string writeImageOutput(const ImageOutputPlan& plan, const Image& image);
 
 }  // namespace penumbra::cli

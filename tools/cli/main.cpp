@@ -6,15 +6,37 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include "host/cl/error.h"
+#include "host/version.h"
 #include "tools/cli/commands.h"
+
+namespace {
+
+// CLI11 answers an unknown first word with "A subcommand is required"; this names the word and the choices.
+// Empty when argv[1] is an option or a known subcommand.
+std::string unknownSubcommand(int argc, char** argv, const std::vector<penumbra::cli::Command>& commands) {
+  if (argc < 2 || argv[1][0] == '-') return {};
+  std::string names;
+  for (const penumbra::cli::Command& command : commands) {
+    if (command.app->get_name() == argv[1]) return {};
+    names += (names.empty() ? "" : ", ") + command.app->get_name();
+  }
+  return fmt::format("unknown subcommand '{}' (one of {}; see --help)", argv[1], names);
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"penumbra: filtered and soft shadows for glTF scenes, every stage an OpenCL kernel"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "penumbra " PENUMBRA_VERSION);
+  app.set_version_flag("--version", "penumbra " + std::string(penumbra::version()));
   const std::vector<penumbra::cli::Command> commands = penumbra::cli::registerCommands(app);
+  if (const std::string unknown = unknownSubcommand(argc, argv, commands); !unknown.empty()) {
+    fmt::print(stderr, "penumbra: {}\n", unknown);
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

@@ -38,6 +38,7 @@ void printSummary(const ReferenceOptions& options, const Context& ctx, const Sce
 }
 
 int run(const ReferenceOptions& options) {
+  const ImageOutputPlan plan = planImageOutput(options.output);  // a bad -o is a usage error before any work
   const Scene scene = loadScene(options.view.scene);
   const Camera camera = resolveCamera(options.view, scene);
   const Light light = resolveLight(options.view, scene);
@@ -46,7 +47,7 @@ int run(const ReferenceOptions& options) {
   reference::ReferenceResult result = reference::renderReference(ctx, scene, camera, light, options.trace);
   result.image.attributes()["penumbra:scene"] = options.view.scene;
 
-  const std::string wrote = writeImageOutput(options.output, result.image);
+  const std::string wrote = writeImageOutput(plan, result.image);
   if (!options.quiet) {
     printSummary(options, ctx, scene, camera, light, result);
     fmt::print("{}\n", wrote);

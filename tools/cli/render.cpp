@@ -1,5 +1,6 @@
 // `penumbra render SCENE [options] -o out.exr`: renders a scene with one technique entirely in OpenCL
-// kernels, writes the EXR (all channels + provenance) and a PNG preview, and prints per-pass device times.
+// kernels, writes the EXR (all channels + provenance) and a PNG preview (or, with -o x.png, the preview alone),
+// and prints per-pass device times.
 #include <fmt/format.h>
 
 #include <memory>
@@ -26,6 +27,7 @@ struct RenderOptions {
 };
 
 int run(const RenderOptions& options) {
+  const ImageOutputPlan plan = planImageOutput(options.output);  // a bad -o is a usage error before any work
   const TechniqueInfo& technique = findTechnique(options.technique);
   const Params params = techniqueParams(technique, options.params);
   const Scene scene = loadScene(options.view.scene);
@@ -37,7 +39,7 @@ int run(const RenderOptions& options) {
   RenderResult result = renderer.render(camera, light, technique, params);
   result.image.attributes()["penumbra:scene"] = options.view.scene;
 
-  const std::string wrote = writeImageOutput(options.output, result.image);
+  const std::string wrote = writeImageOutput(plan, result.image);
   if (!options.quiet) {
     fmt::print("{} on {}: {}x{}, {} triangles, technique {} ({})\n", options.view.scene, ctx.info().name, camera.width,
                camera.height, scene.triangleCount(), technique.name, params.describe());

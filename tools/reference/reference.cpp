@@ -94,10 +94,12 @@ ReferenceResult renderReference(Context& ctx, const Scene& scene, const Camera& 
   attributes["penumbra:technique"] = "reference";
   attributes["penumbra:parameters"] =
       fmt::format("spp={} seed={} ray-offset={}", result.spp, settings.seed, ShadowTracer::kRayOffset);
-  attributes["penumbra:stderr-mean"] = fmt::format("{:.6g}", result.stderrMean);
-  attributes["penumbra:stderr-rms"] = fmt::format("{:.6g}", result.stderrRms);
-  attributes["penumbra:stderr-max"] = fmt::format("{:.6g}", result.stderrMax);
-  attributes["penumbra:rays"] = fmt::format("{}", result.rays);
+  auto& numbers = result.image.numbers();  // EXR doubles (nothing read the former strings of the same names)
+  numbers["penumbra:stderr-mean"] = result.stderrMean;
+  numbers["penumbra:stderr-rms"] = result.stderrRms;
+  numbers["penumbra:stderr-max"] = result.stderrMax;
+  numbers["penumbra:rays"] = static_cast<double>(result.rays);
+  numbers["penumbra:spp"] = static_cast<double>(result.spp);
   return result;
 }
 

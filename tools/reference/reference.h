@@ -14,8 +14,8 @@ namespace penumbra::reference {
 
 struct ReferenceResult {
   // R,G,B,A, visibility.Y, stderr.Y, lit.Y (litMask in host/pipeline/frame_image.h), P.*, N.*, depth.Z; rows
-  // top-down; provenance in the attributes (penumbra:technique = "reference", penumbra:parameters,
-  // penumbra:stderr-mean/-rms/-max, penumbra:rays).
+  // top-down; provenance in the attributes (penumbra:technique = "reference", penumbra:parameters) and numbers
+  // (penumbra:stderr-mean/-rms/-max, penumbra:rays, penumbra:spp: EXR doubles).
   Image image;
   size_t covered = 0;  // pixels that see a surface (the ones traced)
   uint64_t rays = 0;

@@ -1,0 +1,81 @@
+// The frame image's header as other tools read it: OpenEXR's standard worldToCamera and worldToNDC (m44f, row
+// vectors) read back through OpenEXR itself project a pixel's world position onto that pixel, and the version
+// matches `penumbra --version`'s.
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfStandardAttributes.h>
+#include <ImfStringAttribute.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+
+#include "host/io/exr.h"
+#include "host/pipeline/renderer.h"
+#include "host/techniques/technique.h"
+#include "host/version.h"
+#include "tests/support/analytic_scenes.h"
+#include "tests/support/cl_test.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr float kPixelTolerance = 1e-2f;   // pixels: float round-off of a world position rasterised and re-projected
+constexpr float kCameraTolerance = 1e-4f;  // world units on a camera 8.6 units from its target
+
+class FrameImage : public test::ClTest {};
+
+TEST_F(FrameImage, CameraMatricesReadBackThroughOpenExrProjectOntoThePixel) {
+  const Camera camera = test::topDown();
+  const TechniqueInfo& sm = findTechnique("sm");
+  Renderer renderer(ctx(), test::squareOverPlane());
+  const RenderResult r = renderer.render(camera, test::pointAbove(), sm, Params(sm.params));
+  const fs::path path = fs::temp_directory_path() / ("penumbra-frame-image-" + std::to_string(getpid()) + ".exr");
+  writeExr(path, r.image);
+  Imf::InputFile file(path.c_str());
+  const Imf::Header& header = file.header();
+  ASSERT_TRUE(Imf::hasWorldToCamera(header));
+  ASSERT_TRUE(Imf::hasWorldToNDC(header));
+  const Imath::M44f toCamera = Imf::worldToCamera(header), toNdc = Imf::worldToNDC(header);
+  const auto* version = header.findTypedAttribute<Imf::StringAttribute>("penumbra:version");
+  ASSERT_NE(version, nullptr);
+  EXPECT_EQ(version->value(), std::string(penumbra::version()));
+  EXPECT_EQ(readExr(path).matrices(), r.image.matrices());
+  fs::remove(path);
+
+  // The camera sits at the origin of camera space and looks down -Z at its target.
+  Imath::V3f eye, target;
+  toCamera.multVecMatrix(Imath::V3f(camera.eye.x, camera.eye.y, camera.eye.z), eye);
+  toCamera.multVecMatrix(Imath::V3f(camera.target.x, camera.target.y, camera.target.z), target);
+  EXPECT_LT(eye.length(), kCameraTolerance);
+  const float distance = glm::length(camera.target - camera.eye);
+  EXPECT_NEAR(target.x, 0.0f, kCameraTolerance);
+  EXPECT_NEAR(target.y, 0.0f, kCameraTolerance);
+  EXPECT_NEAR(target.z, -distance, kCameraTolerance);
+
+  // Every seen pixel's world position (P.*) lands on the pixel's centre: x right, y up in NDC, rows top-down.
+  const auto &px = r.image.require("P.X").data, &py = r.image.require("P.Y").data, &pz = r.image.require("P.Z").data;
+  const auto& seen = r.image.require("A").data;
+  int checked = 0;
+  for (int y = 0; y < camera.height; y += 7)
+    for (int x = 0; x < camera.width; x += 5) {
+      const size_t i = static_cast<size_t>(y) * camera.width + x;
+      if (seen[i] == 0.0f) continue;
+      Imath::V3f ndc;
+      toNdc.multVecMatrix(Imath::V3f(px[i], py[i], pz[i]), ndc);  // with the divide by w
+      EXPECT_NEAR((ndc.x + 1.0f) * 0.5f * camera.width, x + 0.5f, kPixelTolerance) << x << "," << y;
+      EXPECT_NEAR((1.0f - ndc.y) * 0.5f * camera.height, y + 0.5f, kPixelTolerance) << x << "," << y;
+      EXPECT_GT(ndc.z, -1.0f);
+      EXPECT_LT(ndc.z, 1.0f);
+      ++checked;
+    }
+  double sum = 0;
+  for (float a : seen) sum += a;
+  EXPECT_GT(checked, 100) << "A sum " << sum << " of " << seen.size() << " P.Y[0] " << py[0];
+}
+
+}  // namespace
+}  // namespace penumbra

@@ -1,0 +1,78 @@
+// -o's extension picks the format; the preview is never written over the EXR (same path, any spelling).
+#include "tools/cli/image_output.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <stdexcept>
+
+#include "host/io/exr.h"
+#include "host/io/png.h"
+
+namespace penumbra::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string lowerExtension(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+// The same file whatever the spelling (./a.exr, dir/../a.exr, a symlink to it), existing or not.
+bool sameFile(const fs::path& a, const fs::path& b) {
+  std::error_code ea, eb;
+  const fs::path ca = fs::weakly_canonical(a, ea), cb = fs::weakly_canonical(b, eb);
+  if (ea || eb) return fs::absolute(a).lexically_normal() == fs::absolute(b).lexically_normal();
+  return ca == cb;
+}
+
+void createParent(const fs::path& path) {
+  if (path.has_parent_path()) fs::create_directories(path.parent_path());
+}
+
+}  // namespace
+
+ImageOutputPlan planImageOutput(const ImageOutput& output) {
+  const fs::path path = output.path;
+  const std::string ext = lowerExtension(path);
+  ImageOutputPlan plan;
+  if (ext == ".png") {
+    if (!output.png.empty())
+      throw std::invalid_argument(fmt::format("--png {}: -o {} is the PNG preview already (use -o NAME.exr for both)",
+                                              output.png, output.path));
+    plan.png = path;
+    return plan;
+  }
+  if (ext != ".exr")
+    throw std::invalid_argument(
+        fmt::format("-o {}: unknown output format '{}' (use .exr, or .png for the preview alone)", output.path,
+                    ext.empty() ? "(no extension)" : path.extension().string()));
+  plan.exr = path;
+  if (output.png == "none") return plan;
+  plan.png = output.png.empty() ? fs::path(path).replace_extension(".png") : fs::path(output.png);
+  if (sameFile(*plan.png, path))
+    throw std::invalid_argument(
+        fmt::format("--png {}: is the EXR output itself (name another file, or none)", output.png));
+  return plan;
+}
+
+std::string writeImageOutput(const ImageOutputPlan& plan, const Image& image) {
+  std::string wrote;
+  if (plan.exr) {
+    createParent(*plan.exr);
+    writeExr(*plan.exr, image);
+    wrote = plan.exr->string();
+  }
+  if (plan.png) {
+    createParent(*plan.png);
+    writePngPreview(*plan.png, image);
+    wrote += (wrote.empty() ? "" : " and ") + plan.png->string();
+  }
+  return "wrote " + wrote;
+}
+
+}  // namespace penumbra::cli
