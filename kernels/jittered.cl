@@ -24,16 +24,9 @@ inline float jittered_confidence(float2 uv) {
 // pixel's map position to the nearest covered G-buffer neighbour's, times `precision` (1: the paper, a lookup
 // within half a pixel spacing of its texel centre is final; smaller: stricter). The minimum over the four
 // neighbours keeps the pixel's own surface at a depth discontinuity (Fig. 5); a pixel with no covered neighbour
-// needs no more than its first sample (1).
-__kernel void jittered_required(__global const float4* position, uint width, uint height,
-                                __constant const LightViewGpu* lv, float precision, __global float* slack) {
-  uint i = get_global_id(0);
-  if (i >= width * height) return;
-  float4 p = position[i];
-  if (p.w == 0.0f) {
-    slack[i] = 1.0f;
-    return;
-  }
+// needs no more than its first sample (1). For covered pixel i at world position p through map `lv`.
+inline float jittered_slack(__global const float4* position, uint width, uint height,
+                            __constant const LightViewGpu* lv, float precision, uint i, float4 p) {
   uint x = i % width, y = i / width;
   float2 here = lv_project(lv, p.xyz).xy;
   float best = INFINITY;
@@ -46,7 +39,16 @@ __kernel void jittered_required(__global const float4* position, uint width, uin
     float dist = max(d.x, d.y);
     if (isfinite(dist)) best = min(best, dist);
   }
-  slack[i] = isfinite(best) ? min(precision * best, 1.0f) : 1.0f;
+  return isfinite(best) ? min(precision * best, 1.0f) : 1.0f;
+}
+
+// Eq. 5 for every pixel through pass 0's map (background: 1).
+__kernel void jittered_required(__global const float4* position, uint width, uint height,
+                                __constant const LightViewGpu* lv, float precision, __global float* slack) {
+  uint i = get_global_id(0);
+  if (i >= width * height) return;
+  float4 p = position[i];
+  slack[i] = p.w == 0.0f ? 1.0f : jittered_slack(position, width, height, lv, precision, i, p);
 }
 
 // Whether every texel within JITTER_AGREEMENT_RADIUS of the lookup's texel `t` gives the result `lit` against the
@@ -141,9 +143,34 @@ inline void jittered_count(uint flags, int2 texel, uint pixel, __local int* grou
   if (slot >= 0) next[group[JITTER_COUNTERS] + slot] = pixel;
 }
 
-// Pass 0: sm's test of every receiver through the first map, kept as a record of the lookup (texel position, the
-// biased depth at it, the receiver plane's depth gradient in texels, the id lookup's position) that later passes
-// move with their jitter instead of projecting again (jittered_pass).
+// sm's test of covered pixel i (world position p) through map `lv`, the pass's update of the pixel (eq. 4-6 with the
+// required confidence's `slack`) and its counter flags; `texel` receives the lookup's texel and `record` what a later
+// pass needs to move the lookup instead of projecting again (texel position, the biased depth at it, the receiver
+// plane's depth gradient in texels, valid, the id lookup's position).
+inline uint jittered_lookup(__global const float4* position, __global const float4* normal, uint width, uint height,
+                            __global const float* map, __constant const LightViewGpu* lv, ShadowBias bias,
+                            int receiverPlane, int idMode, __global const uint* mapIds, __global const uint* objectIds,
+                            __global const uint* pixelTriangle, __global const uint* pixelObject, JitterShade s,
+                            int pass, float slack, __global float* kept, __global float* passOut,
+                            __global uint* streak, __global float* visibility, uint i, float4 p, int2* texel,
+                            float8* record) {
+  float3 n = normal[i].xyz;
+  Receiver r = sc_receiver(lv, p.xyz, n, bias);
+  if (!r.valid) return 0u;
+  ReceiverPlane rp = sc_receiver_plane_at(receiverPlane, position, lv, width, height, i, p.xyz, n, r.texel);
+  float2 idUv = lv_project(lv, p.xyz).xy;
+  float lit = id_visibility(mapIds, objectIds, lv->width, lv->height, idUv, id_pixel(pixelTriangle, i, idMode),
+                            id_pixel(pixelObject, i, idMode), idMode, sc_hard_lit(map, lv, r, rp, bias.base * r.texel));
+  float depth = rp.valid ? r.depth - bias.base * r.texel : r.depth - r.bias;  // as sc_hard_lit
+  bool agree = s.agreement > 0 && idMode == ID_BUFFER_OFF &&
+               jittered_agree(map, lv->width, lv->height, floor(r.uv), r.uv, depth, rp.gradient, lit);
+  *texel = convert_int2_sat(clamp(floor(r.uv), -1.0f, (float)max(lv->width, lv->height)));
+  *record = (float8)(r.uv, depth, 1.0f, rp.gradient, idUv);
+  return jittered_update(s, pass, lit, jittered_confidence(r.uv), slack, agree, kept, passOut, streak, visibility, i);
+}
+
+// Pass 0: sm's test of every receiver through the first map, kept as a record of the lookup that later passes move
+// with their jitter instead of projecting again (jittered_pass).
 __kernel void jittered_first(__global const float4* position, __global const float4* normal, uint width, uint height,
                              __global const float* map, __constant const LightViewGpu* lv, float biasConstant,
                              float biasSlope, float normalOffset, int receiverPlane, int idMode,
@@ -160,25 +187,43 @@ __kernel void jittered_first(__global const float4* position, __global const flo
   float8 record = (float8)(0.0f);
   if (p.w != 0.0f) {
     ShadowBias bias = {biasConstant, biasSlope, normalOffset};
-    float3 n = normal[i].xyz;
-    Receiver r = sc_receiver(lv, p.xyz, n, bias);
-    if (r.valid) {
-      ReceiverPlane rp = sc_receiver_plane_at(receiverPlane, position, lv, width, height, i, p.xyz, n, r.texel);
-      float2 idUv = lv_project(lv, p.xyz).xy;
-      float lit =
-          id_visibility(mapIds, objectIds, lv->width, lv->height, idUv, id_pixel(pixelTriangle, i, idMode),
-                        id_pixel(pixelObject, i, idMode), idMode, sc_hard_lit(map, lv, r, rp, biasConstant * r.texel));
-      float depth = rp.valid ? r.depth - biasConstant * r.texel : r.depth - r.bias;  // as sc_hard_lit
-      bool agree = s.agreement > 0 && idMode == ID_BUFFER_OFF &&
-                   jittered_agree(map, lv->width, lv->height, floor(r.uv), r.uv, depth, rp.gradient, lit);
-      flags =
-          jittered_update(s, 0, lit, jittered_confidence(r.uv), slack[i], agree, kept, passOut, streak, visibility, i);
-      texel = convert_int2_sat(clamp(floor(r.uv), -1.0f, (float)max(lv->width, lv->height)));
-      record = (float8)(r.uv, depth, 1.0f, rp.gradient, idUv);
-    }
+    flags = jittered_lookup(position, normal, width, height, map, lv, bias, receiverPlane, idMode, mapIds, objectIds,
+                            pixelTriangle, pixelObject, s, 0, slack[i], kept, passOut, streak, visibility, i, p, &texel,
+                            &record);
   }
   if (i < width * height) records[i] = record;
   jittered_count(flags, texel, i, group, counters, next, tileMask, tilesX, tilesY, tileSize);
+}
+
+// Pass k > 0 of LiSPSM n-parameter jittering (Luksch sec. 6.5.1): the pass's warp differs from pass 0's, so it is no
+// similarity of it and every listed pixel is projected again, as in pass 0, with eq. 5's required confidence taken
+// in this pass's texels (the paper: "the optimal confidence has to be recalculated whenever n is changed"; biased by
+// it, confidences of differently warped passes compare again). Over the previous pass's work list.
+__kernel void jittered_reproject(__global const float4* position, __global const float4* normal, uint width,
+                                 uint height, __global const uint* work, uint count, __global const float* map,
+                                 __constant const LightViewGpu* lv, float biasConstant, float biasSlope,
+                                 float normalOffset, int receiverPlane, int idMode, __global const uint* mapIds,
+                                 __global const uint* objectIds, __global const uint* pixelTriangle,
+                                 __global const uint* pixelObject, JitterShade s, int pass, float precision,
+                                 __global float* kept, __global float* passOut, __global uint* streak,
+                                 __global int* counters, __global uint* next, __global float* visibility) {
+  __local int group[JITTER_COUNTERS + 1];
+  uint flags = 0, i = get_global_id(0) < count ? work[get_global_id(0)] : 0u;
+  int2 texel = (int2)(0);
+  float8 record;
+  if (get_global_id(0) < count) {
+    float4 p = position[i];
+    float slack = s.mode == JITTER_OPTIMAL ? jittered_slack(position, width, height, lv, precision, i, p) : 0.0f;
+    ShadowBias bias = {biasConstant, biasSlope, normalOffset};
+    flags = jittered_lookup(position, normal, width, height, map, lv, bias, receiverPlane, idMode, mapIds, objectIds,
+                            pixelTriangle, pixelObject, s, pass, slack, kept, passOut, streak, visibility, i, p, &texel,
+                            &record);
+    // A receiver whose lookup fails here (behind this warp's eye) keeps what it has and stays listed.
+    if (flags == 0u)
+      flags = JITTER_COUNT_COVERED | (kept[i] < (s.mode == JITTER_SIMPLE ? s.threshold : 1.0f) ? JITTER_COUNT_UNCONFIDENT : 0u) |
+              (s.mode == JITTER_SIMPLE || kept[i] < 1.0f ? JITTER_COUNT_ACTIVE : 0u);
+  }
+  jittered_count(flags, texel, i, group, counters, next, next, 0, 0, 1);  // no tile mask: each warp has its own texels
 }
 
 // Pass k > 0: the map differs from pass 0's by a similarity (the host's texelTransform: its rotation, the zoom s of a

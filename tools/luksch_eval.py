@@ -47,6 +47,7 @@ CONFIGS = {
     "pssm-lispsm": ("pssm", ["--pssm-filter", "hard", "--pssm-splits", "auto", "--warp", "lispsm"]),
     "jittered": ("jittered", []),
     "jittered-lispsm": ("jittered", ["--warp", "lispsm"]),
+    "jittered-lispsm-n": ("jittered", ["--warp", "lispsm", "--lispsm-n-jitter", "1"]),
     "jittered-reduced": ("jittered", ["--jitter-reduction", "0.55"]),
     "jittered-adapted": ("jittered", ["--confidence", "adapted"]),
     "sm-id": ("sm", ["--id-buffer", "combined"]),

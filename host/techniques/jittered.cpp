@@ -109,13 +109,15 @@ class Jittered final : public Technique {
     // Optimal without rotation or reduction: each pass marks the map tiles its unconfident pixels will read, and
     // the next pass draws only those (inside the scissor box of the same lookups).
     masking_ = params_.getInt("jitter-scissor") == 1 && mode == JITTER_OPTIMAL && plan.maxAngle == 0.0f &&
-               plan.reduction == 0.0f;
+               plan.reduction == 0.0f && plan.nJitter == 0.0f;
     LightView first;  // pass 0's view: every later pass's lookups are moved from its texels
     for (int pass = 0; pass < maxPasses; ++pass) {
       const float angle = plan.maxAngle * 2.0f * centred(static_cast<uint32_t>(pass), 5);
       const glm::vec2 offset(centred(pass, 2), centred(pass, 3));
       if (pass > 0 || plan.scale != 1.0f) {
-        map_.view = jitteredView(baseView(frame, plan, pass), angle, plan.scale, offset);
+        map_.view = jitteredView(
+            pass > 0 && plan.nJitter > 0.0f ? nJitteredView(frame, plan, pass) : baseView(frame, plan, pass), angle,
+            plan.scale, offset);
         map_.view.raster.scissor = scissor;
         if (masking_) map_.view.raster.tileMask = &tileMask_;
         frame.raster.draw(map_.view.raster, map_.targets);
@@ -128,7 +130,9 @@ class Jittered final : public Technique {
       // A shift in NDC is a shift in texels for any projection, warped ones included.
       const cl_float4 jitter =
           plan.warped ? cl_float4{{1.0f, 0.0f, offset.x, offset.y}} : texelTransform(first, map_.view, angle);
-      const std::array<int32_t, JITTER_COUNTERS> count = accumulate(frame, pass, jitter, visibility);
+      const std::array<int32_t, JITTER_COUNTERS> count = pass > 0 && plan.nJitter > 0.0f
+                                                             ? reproject(frame, pass, visibility)
+                                                             : accumulate(frame, pass, jitter, visibility);
       passes_ = pass + 1;
       if (pass == 0) covered = count[0];
       active_ = count[JITTER_ACTIVE];
@@ -138,7 +142,7 @@ class Jittered final : public Technique {
       if (mode == JITTER_OPTIMAL && count[2] <= limit) break;  // every pixel (but epsilon) has what it needs
       quiet = pass > 0 && count[1] <= limit ? quiet + 1 : 0;
       if (quiet >= window) break;
-      if (params_.getInt("jitter-scissor") == 1 && plan.reduction == 0.0f)
+      if (params_.getInt("jitter-scissor") == 1 && plan.reduction == 0.0f && plan.nJitter == 0.0f)
         scissor = nextScissor(count, mode, plan.maxAngle, plan.fitted.raster.width);
     }
     frame.attributes["penumbra:jitter-passes"] = fmt::format("{} of at most {}", passes_, maxPasses);
@@ -179,6 +183,7 @@ class Jittered final : public Technique {
     float maxAngle = 0, scale = 1, reduction = 0, margin = 1;
     ViewDepthRange depth;
     bool warped = false;
+    float nJitter = 0, n0 = 0;  // LiSPSM n jitter (log2 range) and pass 0's warp distance
   };
 
   Plan planPasses(ShadowFrame& frame) {
@@ -191,12 +196,38 @@ class Jittered final : public Technique {
     plan.warped = lispsmEnabled(params_);
     if (plan.warped && (plan.maxAngle != 0.0f || plan.reduction != 0.0f))
       throw std::invalid_argument("--jitter-rotation and --jitter-reduction need --warp none");
+    plan.nJitter = static_cast<float>(params_.get("lispsm-n-jitter"));
+    if (plan.nJitter > 0.0f && !plan.warped) throw std::invalid_argument("--lispsm-n-jitter needs --warp lispsm");
     renderShadowMap(frame, params_, map_, 0.0f);
     plan.fitted = map_.view;
-    if (plan.reduction > 0.0f) plan.depth = tightViewDepth(frame);
+    if (plan.reduction > 0.0f || plan.nJitter > 0.0f) plan.depth = tightViewDepth(frame);
     plan.margin = static_cast<float>(params_.get("normal-offset")) + 1.0f;  // renderShadowMap's, no filter reach
+    if (plan.nJitter > 0.0f) {  // pass 0's n, as renderShadowMap's fit chose it
+      LispsmFit fit;
+      fitWarpedLightView(frame, params_, params_.getInt("map-size"), plan.margin, plan.depth.near, plan.depth.far,
+                         receivers(frame), &fit);
+      if (fit.warped)
+        plan.n0 = fit.n;
+      else
+        plan.nJitter = 0.0f;  // an empty or degenerate body: the map is uniform, there is no n to vary
+    }
     passes_ = 0;
     return plan;
+  }
+
+  const ReceiverBounds* receivers(ShadowFrame& frame) const {
+    return params_.getInt("fit") == 1 ? &frame.receivers : nullptr;
+  }
+
+  // Pass k's map under LiSPSM n-parameter jittering (Luksch sec. 6.5.1): pass 0's warp with n scaled by
+  // 2^(J h_k), h_k in [-1, 1) from the Halton sequence in base 7 (bases 2 and 3 shift it, base 5 rotates), so
+  // passes alternate between more texels near the camera (smaller n) and more far away (larger n).
+  LightView nJitteredView(ShadowFrame& frame, const Plan& plan, int pass) const {
+    Params warped = params_;
+    const float n = plan.n0 * std::exp2(plan.nJitter * 2.0f * centred(static_cast<uint32_t>(pass), 7));
+    warped.set("lispsm-n", fmt::format("{}", n));
+    return fitWarpedLightView(frame, warped, params_.getInt("map-size"), plan.margin, plan.depth.near, plan.depth.far,
+                              receivers(frame), nullptr);
   }
 
   // Pass k's map before its jitter: pass 0's, or with frustum reduction (sec. 6.5.2) the camera's frustum
@@ -235,6 +266,43 @@ class Jittered final : public Technique {
                    std::clamp(box[2] + 1 + kMargin, 0, size), std::clamp(box[3] + 1 + kMargin, 0, size)};
   }
 
+  // A pass of n jitter: every listed pixel projected through this pass's own warped map (jittered_reproject).
+  std::array<int32_t, JITTER_COUNTERS> reproject(ShadowFrame& frame, int pass, Buffer<float>& visibility) {
+    const GBuffer& g = frame.gbuffer;
+    const uint32_t width = static_cast<uint32_t>(g.width), height = static_cast<uint32_t>(g.height);
+    const JitterShade shade{params_.getInt("confidence"), static_cast<float>(params_.get("confidence-threshold")),
+                            params_.getInt("jitter-agreement")};
+    resetCounters(frame.ctx);
+    passGpu_.allocate(frame.ctx, 1);
+    passGpu_.upload(frame.ctx, std::span<const LightViewGpu>(&map_.view.gpu, 1));
+    const BiasArgs bias = biasArgs(params_);
+    Kernel kernel(frame.ctx, "kernels/jittered.cl", "jittered_reproject", "shade");
+    kernel
+        .args(g.position, g.normal, width, height, work_, static_cast<uint32_t>(active_), map_.targets.depth, passGpu_,
+              bias.constant, bias.slope, bias.normalOffset, params_.getInt("receiver-plane"),
+              params_.getInt("id-buffer"), map_.targets.triangleId, frame.raster.objectIds(), g.triangleId, g.objectId,
+              shade, pass, static_cast<float>(params_.get("jitter-precision")), kept_, pass_, streak_, counters_, next_,
+              visibility)
+        // per listed pixel: its index, its position and normal, four neighbours' positions (eq. 5), kept, pass,
+        // streak, visibility and the next list's entry
+        .moves(uint64_t(active_) * (4 + 16 * 6 + 4 * 4 + 4))
+        .launch(static_cast<size_t>(active_), kPixelGroup);
+    return readCounters(frame.ctx);
+  }
+
+  void resetCounters(Context& ctx) {
+    constexpr int32_t kLow = std::numeric_limits<int32_t>::min(), kHigh = std::numeric_limits<int32_t>::max();
+    const std::array<int32_t, JITTER_COUNTERS> reset = {0, 0, 0, 0, kHigh, kHigh, kLow, kLow};
+    counters_.upload(ctx, std::span<const int32_t>(reset));
+  }
+
+  std::array<int32_t, JITTER_COUNTERS> readCounters(Context& ctx) {
+    const std::vector<int32_t> c = counters_.download(ctx);
+    std::array<int32_t, JITTER_COUNTERS> result;
+    std::copy(c.begin(), c.end(), result.begin());
+    return result;
+  }
+
   // One pass: pass 0 tests every receiver through the map as sm does and records its lookup; later passes move
   // that lookup by `jitter`, their texel transform from pass 0 (kernels/jittered.cl). Returns the pass's counters.
   std::array<int32_t, JITTER_COUNTERS> accumulate(ShadowFrame& frame, int pass, cl_float4 jitter,
@@ -245,9 +313,7 @@ class Jittered final : public Technique {
     const JitterShade shade{params_.getInt("confidence"), static_cast<float>(params_.get("confidence-threshold")),
                             params_.getInt("jitter-agreement")};
     const int idMode = params_.getInt("id-buffer");
-    constexpr int32_t kLow = std::numeric_limits<int32_t>::min(), kHigh = std::numeric_limits<int32_t>::max();
-    const std::array<int32_t, JITTER_COUNTERS> reset = {0, 0, 0, 0, kHigh, kHigh, kLow, kLow};
-    counters_.upload(frame.ctx, std::span<const int32_t>(reset));
+    resetCounters(frame.ctx);
     const int size = map_.view.raster.width, tiles = (size + kRasterTileSize - 1) / kRasterTileSize;
     tileMask_.allocate(frame.ctx, masking_ ? static_cast<size_t>(tiles) * tiles : 1);
     if (masking_) tileMask_.fill(frame.ctx, 0u);  // the previous pass's draw has read it
@@ -274,10 +340,7 @@ class Jittered final : public Technique {
           .moves(uint64_t(active_) * (4 + 32 + 4 * 4 + 4 + 4))
           .launch(static_cast<size_t>(active_), kPixelGroup);
     }
-    const std::vector<int32_t> c = counters_.download(frame.ctx);
-    std::array<int32_t, JITTER_COUNTERS> result;
-    std::copy(c.begin(), c.end(), result.begin());
-    return result;
+    return readCounters(frame.ctx);
   }
 
   Params params_;
@@ -287,9 +350,10 @@ class Jittered final : public Technique {
   Buffer<int32_t> counters_;
   Buffer<uint32_t> streak_;  // consecutive passes whose lookup's neighbourhood agreed with the kept result
   Buffer<uint32_t> work_, next_;
-  Buffer<uint32_t> tileMask_;  // map tiles the next pass draws (RasterView::tileMask), when masking_
-  bool masking_ = false;       // the pixels the next pass tests, and the list it writes for the one after
-  int32_t active_ = 0;         // work_'s length
+  Buffer<uint32_t> tileMask_;     // map tiles the next pass draws (RasterView::tileMask), when masking_
+  Buffer<LightViewGpu> passGpu_;  // an n-jittered pass's own light view (jittered_reproject)
+  bool masking_ = false;          // the pixels the next pass tests, and the list it writes for the one after
+  int32_t active_ = 0;            // work_'s length
   int passes_ = 0;
 };
 
@@ -335,6 +399,9 @@ TechniqueInfo jitteredTechnique() {
   params.push_back({"jitter-reduction", 0, 0, 0.95,
                     "Frustum reduction (Luksch sec. 6.5.2): pass k's map covers the camera's depths up to far * "
                     "factor^k only (its texels finer; required confidence scaled, eq. 7); 0 = off"});
+  params.push_back({"lispsm-n-jitter", 0, 0, 1,
+                    "LiSPSM n-parameter jittering (Luksch sec. 6.5.1, --warp lispsm): later passes scale n by up to "
+                    "2^J either way, each pass projected again with its own required confidence; 0 = off"});
   params.push_back({"jitter-rotation", 0, 0, 45,
                     "Largest rotational jitter about the light axis, degrees (Halton base 5); the map's texels grow "
                     "by cos + sin of it so every rotated pass still covers the fitted window"});
