@@ -25,8 +25,10 @@ struct RenderResult {
 
 class Renderer {
  public:
-  // Uploads the scene's triangles once; render() may be called for many cameras, lights and techniques.
+  // Uploads the scene's triangles once; render() may be called for many cameras, lights and techniques. The
+  // renderer keeps a reference to `scene`, which must outlive it (a temporary does not compile).
   Renderer(Context& ctx, const Scene& scene);
+  Renderer(Context& ctx, const Scene&& scene) = delete;
 
   // The technique instance (and the device buffers it keeps) lives on across calls while the technique and its
   // parameters stay the same, so repeated frames measure the steady state; a change creates a new one.
