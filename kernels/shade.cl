@@ -24,7 +24,9 @@ __kernel void shade_preview(__global const float4* position, __global const floa
     return;
   }
   float3 n = normal[i].xyz;
-  if (dot(n, eye.xyz - p.xyz) < 0.0f) n = -n;  // two-sided: shade the side the camera sees
+  // Two-sided: shade the side the camera sees. eye.w == 0: an orthographic camera, eye.xyz the direction to it.
+  float3 toEye = eye.w != 0.0f ? eye.xyz - p.xyz : eye.xyz;
+  if (dot(n, toEye) < 0.0f) n = -n;
   float3 toLight = lv_to_light(lv, p.xyz);
   float direct = max(dot(n, toLight), 0.0f) * shade_cone(lv, toLight, cosHalfFov) * visibility[i];
   float sky = 0.5f + 0.5f * n.y;

@@ -71,6 +71,40 @@ expect garbage-glb 1 "garbage.glb" -- "$bin" render "$scratch/garbage.glb" -o "$
 models=/usr/share/assimp/models/glTF2
 expect index-out-of-range 1 "out of range" -- "$bin" render "$models/IndexOutOfRange/IndexOutOfRange.gltf" -o "$scratch/x.exr"
 expect infinite-vertices 1 "BoxWithInfinites.glb" -- "$bin" render "$models/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb" -o "$scratch/x.exr"
+# glTF cameras: a generated triangle file with a perspective and an orthographic camera (triangle.bin beside it).
+cp "$(dirname "$0")/data/scenes/triangle.bin" "$scratch/triangle.bin"
+cat >"$scratch/cams.gltf" <<'GLTF'
+{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1, 2]}],
+ "nodes": [{"mesh": 0}, {"name": "Front", "camera": 0, "translation": [0.3, 0.3, 3]},
+           {"camera": 1, "translation": [0.3, 0.3, 3]}],
+ "cameras": [{"type": "perspective", "perspective": {"yfov": 0.6, "aspectRatio": 2.0, "znear": 0.1}},
+             {"type": "orthographic", "name": "Top", "orthographic": {"xmag": 1, "ymag": 1, "znear": 0, "zfar": 10}}],
+ "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 2}]}],
+ "buffers": [{"uri": "triangle.bin", "byteLength": 80}],
+ "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 72, "byteStride": 12},
+                 {"buffer": 0, "byteOffset": 72, "byteLength": 6}],
+ "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+               {"bufferView": 0, "byteOffset": 36, "componentType": 5126, "count": 3, "type": "VEC3"},
+               {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]}
+GLTF
+expect gltf-camera-default 0 '^camera gltf:0 "Front" \(perspective\)' -- "$bin" render "$scratch/cams.gltf" -t sm \
+  --map-size 64 -o "$scratch/cams.exr"
+expect gltf-camera-size 0 "1440x720" -- "$bin" render "$scratch/cams.gltf" -t sm --map-size 64 -o "$scratch/cams.exr"
+expect gltf-camera-name 0 '^camera gltf:1 "Top" \(orthographic\)' -- "$bin" render "$scratch/cams.gltf" \
+  --camera gltf:Top --size 32x32 -t pcss --map-size 64 -o "$scratch/cams.exr"
+expect gltf-camera-index 0 '^camera gltf:1 "Top"' -- "$bin" reference "$scratch/cams.gltf" --camera gltf:1 \
+  --size 32x32 -o "$scratch/cams-ref.exr"
+expect gltf-camera-bad-index 2 '^penumbra: --camera gltf:5: no glTF camera "5" \(the scene.s glTF cameras: 0 "Front" \(perspective\), 1 "Top" \(orthographic\)\)$' \
+  -- "$bin" render "$scratch/cams.gltf" --camera gltf:5 -o "$scratch/x.exr"
+expect gltf-camera-bad-name 2 'no glTF camera "Back".*"Front"' -- "$bin" render "$scratch/cams.gltf" --camera gltf:Back \
+  -o "$scratch/x.exr"
+expect gltf-camera-none 2 'no glTF camera "0" \(the scene has no glTF cameras\)' -- "$bin" render builtin:box \
+  --camera gltf:0 -o "$scratch/x.exr"
+expect gltf-camera-lispsm-ortho 0 "warning: --warp lispsm with an orthographic camera" -- "$bin" render \
+  "$scratch/cams.gltf" --camera gltf:Top --size 32x32 -t sm --warp lispsm --map-size 64 -o "$scratch/x.exr"
+sed 's/"yfov": 0.6/"yfov": 4/' "$scratch/cams.gltf" >"$scratch/badcam.gltf"
+expect gltf-camera-malformed 1 "badcam.gltf: /cameras/0/perspective/yfov: 4 radians is not below pi" -- "$bin" render \
+  "$scratch/badcam.gltf" -o "$scratch/x.exr"
 expect render-box 0 "wrote" -- "$bin" render builtin:box --size 64x48 -t pcss --map-size 256 -o "$scratch/box.exr"
 if [ ! -s "$scratch/box.exr" ] || [ ! -s "$scratch/box.png" ]; then
   failed=$((failed + 1))

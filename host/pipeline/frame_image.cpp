@@ -37,6 +37,9 @@ Matrix44 toExr(const glm::mat4& m) {
 }  // namespace
 
 std::string cameraProvenance(const Camera& camera) {
+  const bool plain = !camera.orthographic() && camera.up == glm::vec3(0, 1, 0) && camera.clipNear == 0.0f &&
+                     !std::isfinite(camera.clipFar);
+  if (!plain) return camera.describe();  // glTF cameras: projection kind, up and clip planes too
   return fmt::format("{},{},{}:{},{},{}:{}", camera.eye.x, camera.eye.y, camera.eye.z, camera.target.x, camera.target.y,
                      camera.target.z, camera.fovYDeg);
 }
@@ -51,7 +54,9 @@ std::vector<float> litMask(std::span<const cl_float4> position, std::span<const 
     if (position[i].s[3] == 0.0f) continue;
     const glm::vec3 p(position[i].s[0], position[i].s[1], position[i].s[2]);
     glm::vec3 n(normal[i].s[0], normal[i].s[1], normal[i].s[2]);
-    if (glm::dot(n, camera.eye - p) < 0.0f) n = -n;  // two-sided, like the preview
+    // Two-sided, like the preview (kernels/shade.cl): the side facing the eye, or an orthographic camera.
+    const glm::vec3 toEye = camera.orthographic() ? -camera.forward() : camera.eye - p;
+    if (glm::dot(n, toEye) < 0.0f) n = -n;
     const glm::vec3 toLight = spot ? glm::normalize(light.position - p) : -axis;
     const bool faces = glm::dot(n, toLight) > 0.0f;
     const bool inCone = !spot || glm::dot(-toLight, axis) > cosHalfFov;
@@ -70,7 +75,9 @@ Image frameImage(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& visi
   const LightView shading = fitLightView(light, bounds, 1);
   Buffer<LightViewGpu> shadingGpu(ctx, std::span<const LightViewGpu>(&shading.gpu, 1), CL_MEM_READ_ONLY);
   Buffer<cl_float4> rgba(ctx, count);
-  const cl_float4 eye = {{camera.eye.x, camera.eye.y, camera.eye.z, 1.0f}};
+  // The point the camera sees from (w = 1), or for an orthographic camera the direction towards it (w = 0).
+  const glm::vec4 toEye = camera.orthographic() ? glm::vec4(-camera.forward(), 0.0f) : glm::vec4(camera.eye, 1.0f);
+  const cl_float4 eye = {{toEye.x, toEye.y, toEye.z, toEye.w}};
   const float cosHalfFov = light.type == LightType::Spot ? std::cos(glm::radians(light.fovDeg) * 0.5f) : -1.0f;
   Kernel shade(ctx, "kernels/shade.cl", "shade_preview", "shade");
   shade.args(gbuffer.position, gbuffer.normal, visibility, count, shadingGpu, eye, cosHalfFov, rgba)
@@ -91,6 +98,7 @@ Image frameImage(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& visi
       fmt::format("{} ({}, {})", ctx.info().name, ctx.info().platformName, ctx.info().driverVersion);
   attributes["penumbra:light"] = light.describe();
   attributes["penumbra:camera"] = cameraProvenance(camera);
+  if (!camera.label().empty()) attributes["penumbra:camera-source"] = camera.label();
   attributes["penumbra:version"] = std::string(version());
   // OpenEXR's standard camera attributes: world -> camera (right-handed, looking down -Z, Y up) and world -> NDC
   // (OpenGL clip space of the G-buffer's own near and far planes; x, y, z in [-1, 1] after the divide, y up).

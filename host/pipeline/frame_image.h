@@ -22,7 +22,9 @@ namespace penumbra {
 Image frameImage(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& visibility, const Camera& camera,
                  const Light& light, const Bounds& bounds);
 
-// "EX,EY,EZ:TX,TY,TZ:FOVY": the camera as the header's penumbra:camera records it.
+// "EX,EY,EZ:TX,TY,TZ:FOVY": the camera as the header's penumbra:camera records it (Camera::describe() for
+// orthographic cameras and those with an up vector or clip planes of their own). A glTF camera's label()
+// goes into penumbra:camera-source.
 std::string cameraProvenance(const Camera& camera);
 
 // The "lit.Y" mask of the G-buffer's pixels (same order): 1 where the preview's direct term can be non-zero, as

@@ -275,7 +275,7 @@ LightView fitSpot(const LispsmInput& in, LispsmFit& result) {
 }  // namespace
 
 std::string LispsmFit::describe() const {
-  if (!warped) return "lispsm: empty body, uniform map";
+  if (!warped) return fmt::format("lispsm: {}, uniform map", uniformBecause);
   return fmt::format("lispsm n {:.6g} (n_opt {:.6g}, gamma {:.3g} deg), texel {:.4g}..{:.4g}", n, nOpt, gammaDeg,
                      texelMin, texelMax);
 }

@@ -32,6 +32,7 @@ struct LispsmFit {
   float nOpt = 0.0f;     // (z_n + sqrt(z_n z_f)) / sin(gamma) before the uniform limit
   float gammaDeg = 0.0f; // angle between the view and the light direction
   float texelMin = 0.0f, texelMax = 0.0f;  // world width of a texel over the body's footprint (longer side)
+  std::string uniformBecause = "empty body";  // why, when !warped
   std::string describe() const;            // "lispsm n 12.5 (n_opt 12.5, gamma 63.4 deg), texel 0.01..0.05"
 };
 

@@ -40,9 +40,16 @@ double cross(const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
 std::vector<Plane> frustumPlanes(const Camera& camera, double near, double far, double slack) {
   // Frustum planes in camera eye space (depth v = -z), carried to world space: f_world(p) = f_eye(V p).
   const glm::dmat4 view(camera.view());
-  const double ty = std::tan(glm::radians(double(camera.fovYDeg)) * 0.5), tx = ty * camera.aspect();
-  const Plane eyePlanes[6] = {{0, 0, -1, -near}, {0, 0, 1, far},  {-1, 0, -tx, 0},
-                              {1, 0, -tx, 0},    {0, -1, -ty, 0}, {0, 1, -ty, 0}};
+  const glm::dvec2 half(camera.halfExtentAt(1.0f));  // tangents for a pinhole, half extents for ortho
+  const double tx = half.x, ty = half.y;
+  const bool ortho = camera.orthographic();
+  // Side planes: |x| <= tx v for a pinhole (through the eye), |x| <= tx for ortho (parallel to the axis).
+  const Plane eyePlanes[6] = {{0, 0, -1, -near},
+                              {0, 0, 1, far},
+                              ortho ? Plane{-1, 0, 0, tx} : Plane{-1, 0, -tx, 0},
+                              ortho ? Plane{1, 0, 0, tx} : Plane{1, 0, -tx, 0},
+                              ortho ? Plane{0, -1, 0, ty} : Plane{0, -1, -ty, 0},
+                              ortho ? Plane{0, 1, 0, ty} : Plane{0, 1, -ty, 0}};
   std::vector<Plane> planes;
   for (const Plane& e : eyePlanes) {
     Plane w = e * view;  // row vector times matrix

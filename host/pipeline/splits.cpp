@@ -59,11 +59,12 @@ void biasSplitDistances(std::vector<float>& distances, float delta) {
 
 std::vector<glm::vec3> frustumSliceCorners(const Camera& camera, float near, float far) {
   const glm::mat4 toWorld = glm::inverse(camera.view());
-  const float ty = std::tan(glm::radians(camera.fovYDeg) * 0.5f), tx = ty * camera.aspect();
   std::vector<glm::vec3> corners;
-  for (float d : {near, far})
+  for (float d : {near, far}) {
+    const glm::vec2 half = camera.halfExtentAt(d);  // grows with d for a pinhole; constant for ortho (a box)
     for (int i = 0; i < 4; ++i)
-      corners.push_back(glm::vec3(toWorld * glm::vec4((i & 1 ? tx : -tx) * d, (i & 2 ? ty : -ty) * d, -d, 1.0f)));
+      corners.push_back(glm::vec3(toWorld * glm::vec4(i & 1 ? half.x : -half.x, i & 2 ? half.y : -half.y, -d, 1.0f)));
+  }
   return corners;
 }
 

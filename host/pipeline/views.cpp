@@ -69,6 +69,13 @@ RasterView cameraView(const Camera& camera, const Bounds& sceneBounds) {
   view.view = camera.view();
   float zNear, zFar;
   depthRange(view.view, bounds, zNear, zFar);
+  // The file's own planes clip inside the fitted range; when nothing lies between them, their range as it is.
+  const float clipNear = std::max(zNear, camera.clipNear), clipFar = std::min(zFar, camera.clipFar);
+  if (clipNear < clipFar) {
+    zNear = clipNear, zFar = clipFar;
+  } else if (camera.clipNear > 0.0f && std::isfinite(camera.clipFar)) {
+    zNear = camera.clipNear, zFar = camera.clipFar;
+  }
   view.projection = camera.projection(zNear, zFar);
   view.width = camera.width;
   view.height = camera.height;

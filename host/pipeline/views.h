@@ -13,7 +13,8 @@ namespace penumbra {
 // The rows of `m` (glm, column-major) as LightViewGpu's row-major float4s (view, projection).
 void setLightViewRows(pn_float4 rows[4], const glm::mat4& m);
 
-// The camera's raster view with near/far fitted to the bounds (near clamped to far * 1e-4).
+// The camera's raster view (perspective or orthographic) with near/far fitted to the bounds (near clamped to
+// far * 1e-4) and clipped to the camera's clipNear/clipFar.
 RasterView cameraView(const Camera& camera, const Bounds& bounds);
 
 // The light's raster view (linear depth) for a square map of `size` texels, and the matching GPU struct.

@@ -42,16 +42,38 @@ glm::mat4 Camera::view() const {
   return glm::lookAt(eye, target, chooseUp(target - eye, up));
 }
 
+glm::vec2 Camera::halfExtentAt(float depth) const {
+  const float halfY = orthographic() ? orthoHalfHeight : std::tan(glm::radians(fovYDeg) * 0.5f) * depth;
+  return {halfY * aspect(), halfY};
+}
+
 glm::mat4 Camera::projection(float zNear, float zFar) const {
-  if (!(zNear > 0.0f && zFar > zNear && std::isfinite(zFar)))
+  const bool nearOk = orthographic() ? zNear >= 0.0f : zNear > 0.0f;
+  if (!(nearOk && zFar > zNear && std::isfinite(zFar)))
     throw std::invalid_argument(fmt::format("camera: bad depth range near {} far {}", zNear, zFar));
   if (width < 1 || height < 1) throw std::invalid_argument(fmt::format("camera: bad image size {}x{}", width, height));
+  if (orthographic()) {
+    if (!(orthoHalfHeight > 0.0f && std::isfinite(orthoHalfHeight)))
+      throw std::invalid_argument(fmt::format("camera: orthographic half height {} is not positive", orthoHalfHeight));
+    const glm::vec2 half = halfExtentAt(0.0f);
+    return glm::ortho(-half.x, half.x, -half.y, half.y, zNear, zFar);
+  }
   checkFov(fovYDeg, "camera: fovy");
   return glm::perspective(glm::radians(fovYDeg), aspect(), zNear, zFar);
 }
 
 std::string Camera::describe() const {
-  return detail::formatVec3(eye) + ":" + detail::formatVec3(target) + ":" + detail::formatFloat(fovYDeg);
+  std::string s = detail::formatVec3(eye) + ":" + detail::formatVec3(target) + ":";
+  s += orthographic() ? "ortho=" + detail::formatFloat(orthoHalfHeight) : detail::formatFloat(fovYDeg);
+  if (up != glm::vec3(0, 1, 0)) s += ":up=" + detail::formatVec3(up);
+  if (clipNear > 0.0f) s += ":near=" + detail::formatFloat(clipNear);
+  if (std::isfinite(clipFar)) s += ":far=" + detail::formatFloat(clipFar);
+  return s;
+}
+
+std::string Camera::label() const {
+  if (gltfIndex < 0) return {};
+  return fmt::format("gltf:{} \"{}\" ({})", gltfIndex, name, orthographic() ? "orthographic" : "perspective");
 }
 
 Camera parseCamera(std::string_view spec) {

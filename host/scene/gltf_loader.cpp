@@ -1,6 +1,6 @@
 // glTF loading pipeline: read (contained, capped) -> GLB container check -> JSON schema and required
 // extensions -> tinygltf -> node forest -> primitives read once per mesh (instances share them) ->
-// limits checked -> every instance transformed into world space.
+// limits checked -> every instance transformed into world space -> the default scene's cameras (gltf_camera.h).
 #include "host/scene/gltf_loader.h"
 
 #include <cmath>
@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "host/scene/geometry.h"
+#include "host/scene/gltf_camera.h"
 #include "host/scene/gltf_glb.h"
 #include "host/scene/gltf_mesh.h"
 #include "host/scene/gltf_nodes.h"
@@ -120,6 +121,7 @@ Scene loadGltfResolved(const std::filesystem::path& path, const std::string& dis
   const PrimitiveCache cache = readPrimitives(ctx, instances);
   Scene scene = buildScene(ctx, instances, cache);
   if (scene.triangles.empty()) failGltf(ctx, "no triangles (nothing in the scene can cast or receive shadows)");
+  scene.cameras = readGltfCameras(ctx, instances);
   return scene;
 }
 

@@ -14,7 +14,7 @@ namespace penumbra {
 // Loads the default scene (or scene 0, or every root node when the file has no scenes): one object per
 // mesh-primitive instance, named "node/mesh/primitive" (names, or indices where unnamed). Buffers must lie
 // inside the file's folder. Throws SceneError naming the file and element for bad or unsupported input,
-// including "no triangles". Cameras and lights of the file are not imported.
+// including "no triangles". Every camera instance of that scene becomes one of Scene::cameras (gltf_camera.h).
 Scene loadGltf(const std::string& path, const LoadOptions& options = {});
 
 namespace detail {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <string_view>
 
 #include <fmt/format.h>
@@ -179,6 +180,38 @@ struct Checker {
         boolean(m, "doubleSided", p);
   }
 
+  // A number at o[key] above `lo` (or at least lo when `inclusive`), or missing when not `required`.
+  void bounded(const Json& o, const char* key, const std::string& ptr, bool required, double lo, bool inclusive) const {
+    const Json* v = get(o, key, ptr, required);
+    if (!v) return;
+    const bool ok = v->is_number() && std::isfinite(v->get<double>()) &&
+                    (inclusive ? v->get<double>() >= lo : v->get<double>() > lo);
+    kind(o, key, ptr, ok, inclusive ? "a finite number >= 0" : "a finite number > 0");
+  }
+
+  // glTF 2.0 sec. 5.12-5.14: a camera's type and the projection object it names, with every range checked here
+  // (zfar > znear too) so the importer (gltf_camera.cpp) reads plain valid numbers.
+  void camera(const Json& c, const std::string& p) const {
+    string(c, "type", p, true);
+    const std::string type = c["type"].get<std::string>();
+    if (type != "perspective" && type != "orthographic")
+      fail(pointerTo(p, "type"), "expected \"perspective\" or \"orthographic\", got " + brief(c["type"]));
+    child(c, type.c_str(), p, true, [&](const Json& proj, const std::string& pp) {
+      if (type == "perspective") {
+        bounded(proj, "yfov", pp, true, 0.0, false), bounded(proj, "aspectRatio", pp, false, 0.0, false);
+        bounded(proj, "znear", pp, true, 0.0, false), bounded(proj, "zfar", pp, false, 0.0, false);
+        if (proj["yfov"].get<double>() >= std::numbers::pi)
+          fail(pointerTo(pp, "yfov"), fmt::format("{} radians is not below pi", proj["yfov"].get<double>()));
+      } else {
+        bounded(proj, "xmag", pp, true, 0.0, false), bounded(proj, "ymag", pp, true, 0.0, false);
+        bounded(proj, "znear", pp, true, 0.0, true), bounded(proj, "zfar", pp, true, 0.0, false);
+      }
+      if (proj.contains("zfar") && !(proj["zfar"].get<double>() > proj["znear"].get<double>()))
+        fail(pointerTo(pp, "zfar"),
+             fmt::format("{} is not beyond znear {}", proj["zfar"].get<double>(), proj["znear"].get<double>()));
+    });
+  }
+
   void document() const {
     object(root, "");
     child(root, "asset", "", true, [&](const Json& a, const std::string& p) {
@@ -207,7 +240,7 @@ struct Checker {
     each(root, "samplers", "", [&](const Json& s, const std::string& p) {
       uint(s, "magFilter", p), uint(s, "minFilter", p), uint(s, "wrapS", p), uint(s, "wrapT", p);
     });
-    each(root, "cameras", "", [&](const Json& c, const std::string& p) { string(c, "type", p, true); });
+    each(root, "cameras", "", [&](const Json& c, const std::string& p) { camera(c, p); });
     each(root, "skins", "", [](const Json&, const std::string&) {});
     each(root, "animations", "", [](const Json&, const std::string&) {});
   }

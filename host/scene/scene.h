@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -33,14 +34,26 @@ struct Scene {
   std::vector<glm::uvec3> triangles;  // indices into positions, counter-clockwise front faces
   std::vector<uint32_t> objectIds;    // one per triangle: index into objectNames
   std::vector<std::string> objectNames;  // one per object (mesh primitive instance, or procedural part)
-  std::vector<Camera> cameras;        // from a scene file; may be empty
+  // The default first: a scene file's, a built-in scene's, or a glTF file's (Camera::gltfIndex >= 0, the default
+  // scene's camera instances in order). May be empty.
+  std::vector<Camera> cameras;
   std::vector<Light> lights;          // from a scene file; may be empty
 
   size_t triangleCount() const { return triangles.size(); }
   Bounds bounds() const;
-  // Appends another scene's geometry (object ids renumbered after ours), cameras and lights.
+  // Appends another scene's geometry (object ids renumbered after ours), cameras (glTF indices renumbered after
+  // ours) and lights.
   void append(const Scene& other);
 };
+
+// The glTF camera `key` names: its index among the scene's glTF cameras ("0", "1", ...) or its name (the first of
+// that name). Throws std::invalid_argument: `no glTF camera "KEY" (the scene's glTF cameras: 0 "Main"
+// (perspective), ...)`, or "(the scene has no glTF cameras)".
+const Camera& findGltfCamera(const Scene& scene, std::string_view key);
+
+// Moves the cameras by an affine transform (eye and target as points, up as a direction); the projection is
+// left as it is (a scale moves a camera, it does not zoom it).
+void transformCameras(Scene& scene, const glm::mat4& transform);
 
 // Applies an affine transform to the geometry (positions; normals by the inverse-transpose, renormalised;
 // winding flipped when the transform mirrors). Cameras and lights are left alone.

@@ -57,6 +57,7 @@ Scene readModel(const FileContext& ctx, const Json& value, const std::string& po
     failAt(ctx.file, pointer, e.what());
   }
   transformGeometry(model, placement);
+  transformCameras(model, placement);
   for (const glm::vec3& p : model.positions)
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
       failAt(ctx.file, pointer, "placed geometry overflows (scale too large?)");
@@ -94,15 +95,36 @@ void readGround(const FileContext& ctx, ObjectReader& root, Scene& scene) {
   addGroundPlane(scene, bounds, margin, y ? static_cast<float>(y->get<double>()) : bounds.min.y);
 }
 
+// "camera": "gltf:INDEX|NAME" picks one of the models' glTF cameras (indices count across models, in order).
+Camera chooseModelCamera(ObjectReader& root, const Json& value, const Scene& scene) {
+  const std::string spec = value.get<std::string>();
+  if (spec.rfind("gltf:", 0) != 0)
+    root.fail("camera", fmt::format("expected a camera object or \"gltf:INDEX|NAME\", got \"{}\"", spec));
+  try {
+    return findGltfCamera(scene, std::string_view(spec).substr(5));
+  } catch (const std::invalid_argument& e) {
+    root.fail("camera", e.what());
+  }
+}
+
+// Cameras given here come first (the default) and replace the built-in scenes'; the models' glTF cameras stay
+// behind them for --camera gltf:.
 void readViews(const FileContext& ctx, ObjectReader& root, Scene& scene) {
   std::vector<Camera> cameras;
   std::vector<Light> lights;
-  if (const Json* c = root.find("camera")) cameras.push_back(readCamera(*c, ctx.file, root.pointer("camera")));
+  if (const Json* c = root.find("camera"))
+    cameras.push_back(c->is_string() ? chooseModelCamera(root, *c, scene)
+                                     : readCamera(*c, ctx.file, root.pointer("camera")));
   forEach(root, "cameras", [&](const Json& v, const std::string& p) { cameras.push_back(readCamera(v, ctx.file, p)); });
   forEach(root, "lights", [&](const Json& v, const std::string& p) { lights.push_back(readLight(v, ctx.file, p)); });
   if (root.has("lights") && lights.empty())
     root.fail("lights", "is empty (leave it out to keep the built-in scenes' lights)");
-  if (!cameras.empty()) scene.cameras = std::move(cameras);
+  if (!cameras.empty()) {
+    const int chosen = cameras.front().gltfIndex;  // "gltf:..." moved to the front, not listed twice
+    for (const Camera& c : scene.cameras)
+      if (c.gltfIndex >= 0 && c.gltfIndex != chosen) cameras.push_back(c);
+    scene.cameras = std::move(cameras);
+  }
   if (!lights.empty()) scene.lights = std::move(lights);
 }
 

@@ -18,12 +18,15 @@ namespace penumbra {
 //  "procedural": [{"name": "box", "size": 1.0}],            // built-in scenes, with their parameters
 //  "ground": {"enabled": true, "margin": 1.0, "y": 0.0},    // y defaults to the geometry's min y
 //  "camera": {"eye": [..], "target": [..], "fovy_deg": 45, "size": [1280, 720]}, "cameras": [...],
+//  "camera": "gltf:INDEX|NAME" (instead: one of the models' glTF cameras, placed with its model),
 //  "lights": [{"type": "spot", "position": [..], "target": [..], "fov_deg": 60, "radius": 0.5},
 //             {"type": "dir", "direction": [..], "angular_radius_deg": 0.5}]}
 //
 // Model paths are absolute or relative to the JSON file's folder (".." allowed: the scene file is the user's
 // own); the URIs inside each model must stay inside that model's folder. Cameras and lights given in
-// the file replace those the built-in scenes bring. Throws SceneError "FILE: /json/pointer: message".
+// the file replace those the built-in scenes bring; the models' glTF cameras (gltfIndex counted across the
+// models in order) stay behind a given camera for --camera gltf:, and without one the first model camera is the
+// default. Throws SceneError "FILE: /json/pointer: message".
 Scene loadSceneFile(const std::string& path, const LoadOptions& options = {});
 
 namespace detail {

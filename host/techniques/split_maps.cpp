@@ -47,7 +47,8 @@ struct SplitFit {
 float autoFactor(const SplitFit& fit, float near, float far, float rho, std::string& how) {
   const Camera& camera = fit.frame.camera;
   const float res = static_cast<float>(camera.width);
-  const float widthPerDepth = 2.0f * std::tan(glm::radians(camera.fovYDeg) * 0.5f) * camera.aspect();
+  // The camera's width per unit depth at the far plane (an orthographic camera's width is the same at every depth).
+  const float widthPerDepth = 2.0f * camera.halfExtentAt(far).x / far;
   float factor = optimalTilingFactor(res, 1.0f, rho, fit.size), sigma = 1.0f;
   if (factor < 1.0f) {
     const LightView last = fit.view(std::max(near, factor * far), far);

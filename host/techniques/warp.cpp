@@ -8,6 +8,7 @@ namespace penumbra {
 namespace {
 
 enum WarpChoice { kWarpNone = 0, kWarpLispsm = 1 };
+constexpr const char* kOrthographicFallback = "orthographic camera (no eye point to warp towards)";
 
 }  // namespace
 
@@ -29,6 +30,10 @@ bool lispsmEnabled(const Params& params) { return params.has("warp") && params.g
 LightView fitWarpedLightView(const ShadowFrame& frame, const Params& params, int size, float marginTexels,
                              float nearDepth, float farDepth, const ReceiverBounds* receivers, LispsmFit* fit) {
   if (!lispsmEnabled(params)) return fitLightView(frame.light, frame.scene.bounds(), size, receivers, marginTexels);
+  if (frame.camera.orthographic()) {  // LiSPSM warps towards the eye point; parallel view rays have none
+    if (fit != nullptr) *fit = LispsmFit{}, fit->uniformBecause = kOrthographicFallback;
+    return fitLightView(frame.light, frame.scene.bounds(), size, receivers, marginTexels);
+  }
   const LispsmInput input{frame.light, frame.camera,         nearDepth,
                           farDepth,    frame.scene.bounds(), receivers,
                           size,        marginTexels,         static_cast<float>(params.get("lispsm-n"))};

@@ -22,6 +22,8 @@ bool lispsmEnabled(const Params& params);
 // (or without the parameter) exactly fitLightView; with lispsm, the LiSPSM view of the camera frustum between the
 // nearest and farthest visible pixel (a G-buffer depth reduction), n from --lispsm-n or n_opt over that range.
 // Records "penumbra:warp" ("none" or LispsmFit::describe()) in frame.attributes when `params` declares "warp".
+// An orthographic camera has no eye point for the warp to follow: lispsm then falls back to the uniform map
+// (LispsmFit::warped false, "lispsm: orthographic camera ..., uniform map" in the header).
 LightView fitWarpedLightView(ShadowFrame& frame, const Params& params, int size, float marginTexels);
 
 // The same for an explicit camera depth range (one split: C_s .. C_{s+1}) and receiver box (nullptr: the whole

@@ -28,6 +28,7 @@ void printSummary(const ReferenceOptions& options, const Context& ctx, const Sce
                   const Light& light, const reference::ReferenceResult& r) {
   fmt::print("{} (reference) with G-buffer on {}: {}x{}, {} triangles, light {}\n", options.view.scene, ctx.info().name,
              camera.width, camera.height, scene.triangleCount(), light.describe());
+  fmt::print("camera {}\n", cameraSummary(options.view, scene, camera));
   fmt::print("  {:<22} {:>9.3f} s\n", "G-buffer (OpenCL)", r.rasterSeconds);
   fmt::print("  {:<22} {:>9.3f} s\n", "BVH build (Embree)", r.buildSeconds);
   fmt::print("  {:<22} {:>9.3f} s  {} rays ({} per pixel, {} covered pixels), {} threads, {:.2f} Mrays/s\n",

@@ -9,6 +9,7 @@
 #include "host/pipeline/renderer.h"
 #include "host/scene/load.h"
 #include "host/techniques/technique.h"
+#include "host/techniques/warp.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/image_output.h"
 #include "tools/cli/technique_options.h"
@@ -33,6 +34,10 @@ int run(const RenderOptions& options) {
   const Scene scene = loadScene(options.view.scene);
   const Camera camera = resolveCamera(options.view, scene);
   const Light light = resolveLight(options.view, scene);
+  if (camera.orthographic() && lispsmEnabled(params))
+    fmt::print(stderr,
+               "penumbra: warning: --warp lispsm with an orthographic camera: no eye point to warp towards, "
+               "using the uniform map\n");
 
   Context ctx(options.device);
   Renderer renderer(ctx, scene);
@@ -43,6 +48,7 @@ int run(const RenderOptions& options) {
   if (!options.quiet) {
     fmt::print("{} on {}: {}x{}, {} triangles, technique {} ({})\n", options.view.scene, ctx.info().name, camera.width,
                camera.height, scene.triangleCount(), technique.name, params.describe());
+    fmt::print("camera {}\n", cameraSummary(options.view, scene, camera));
     fmt::print("{}", formatTimings(result.passes));
     fmt::print("{}\n", wrote);
   }

@@ -16,18 +16,41 @@ struct ViewOptions {
 
 inline void addViewOptions(CLI::App* sub, ViewOptions& options) {
   sub->add_option("scene", options.scene, "Scene: a .gltf/.glb model, a .json scene file, or builtin:NAME")->required();
-  sub->add_option("--camera", options.camera, "EX,EY,EZ:TX,TY,TZ[:FOVY_DEG] (default: the scene's or a framing view)");
-  sub->add_option("--size", options.size, "Image size WxH (default: the scene's or 1280x720)");
+  sub->add_option("--camera", options.camera,
+                  "EX,EY,EZ:TX,TY,TZ[:FOVY_DEG] or gltf:INDEX|NAME (default: the scene's first camera, glTF "
+                  "cameras included, or a framing view)");
+  sub->add_option("--size", options.size,
+                  "Image size WxH (default: the camera's: a glTF camera's 720 high at its aspect ratio, else "
+                  "1280x720)");
   sub->add_option("--light", options.light,
                   "spot:PX,PY,PZ:TX,TY,TZ:FOV_DEG[:RADIUS] or dir:DX,DY,DZ[:ANGULAR_RADIUS_DEG]");
 }
 
+// --camera gltf:KEY (findGltfCamera), --camera EX,..., else the scene's first camera, else the framing view. --size
+// replaces the camera's size; a glTF camera keeps its vertical fov (or ymag) and takes the image's aspect ratio.
 inline Camera resolveCamera(const ViewOptions& options, const Scene& scene) {
-  Camera camera = options.camera.empty()
-                      ? (scene.cameras.empty() ? framingCamera(scene.bounds()) : scene.cameras.front())
-                      : parseCamera(options.camera);
+  Camera camera;
+  if (options.camera.rfind("gltf:", 0) == 0) {
+    try {
+      camera = findGltfCamera(scene, std::string_view(options.camera).substr(5));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("--camera " + options.camera + ": " + e.what());
+    }
+  } else {
+    camera = options.camera.empty() ? (scene.cameras.empty() ? framingCamera(scene.bounds()) : scene.cameras.front())
+                                    : parseCamera(options.camera);
+  }
   if (!options.size.empty()) parseSize(options.size, camera.width, camera.height);
   return camera;
+}
+
+// Which camera resolveCamera took, for the summary: "gltf:0 \"Main\" (perspective)", "--camera", "the scene's"
+// or "a framing view", then its describe().
+inline std::string cameraSummary(const ViewOptions& options, const Scene& scene, const Camera& camera) {
+  std::string source = camera.label();
+  if (source.empty())
+    source = !options.camera.empty() ? "--camera" : scene.cameras.empty() ? "a framing view" : "the scene's";
+  return source + ", " + camera.describe();
 }
 
 inline Light resolveLight(const ViewOptions& options, const Scene& scene) {
