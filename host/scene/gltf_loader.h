@@ -14,7 +14,8 @@ namespace penumbra {
 // Loads the default scene (or scene 0, or every root node when the file has no scenes): one object per
 // mesh-primitive instance, named "node/mesh/primitive" (names, or indices where unnamed). Buffers must lie
 // inside the file's folder. Throws SceneError naming the file and element for bad or unsupported input,
-// including "no triangles". Cameras and lights of the file are not imported.
+// including "no triangles". The lights of the default scene (KHR_lights_punctual) come in Scene::lights, in
+// node order (gltf_lights.h); cameras of the file are not imported.
 Scene loadGltf(const std::string& path, const LoadOptions& options = {});
 
 namespace detail {
