@@ -33,6 +33,7 @@ int run(const RenderOptions& options) {
   const Scene scene = loadScene(options.view.scene);
   const Camera camera = resolveCamera(options.view, scene);
   const Light light = resolveLight(options.view, scene);
+  refusePointLight(light, "technique " + technique.name);  // a usage error, before a device is opened
 
   Context ctx(options.device);
   Renderer renderer(ctx, scene);
@@ -43,6 +44,7 @@ int run(const RenderOptions& options) {
   if (!options.quiet) {
     fmt::print("{} on {}: {}x{}, {} triangles, technique {} ({})\n", options.view.scene, ctx.info().name, camera.width,
                camera.height, scene.triangleCount(), technique.name, params.describe());
+    fmt::print("{}\n", describeLightChoice(options.view, scene, light));
     fmt::print("{}", formatTimings(result.passes));
     fmt::print("{}\n", wrote);
   }
