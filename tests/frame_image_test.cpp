@@ -31,7 +31,8 @@ class FrameImage : public test::ClTest {};
 TEST_F(FrameImage, CameraMatricesReadBackThroughOpenExrProjectOntoThePixel) {
   const Camera camera = test::topDown();
   const TechniqueInfo& sm = findTechnique("sm");
-  Renderer renderer(ctx(), test::squareOverPlane());
+  const Scene scene = test::squareOverPlane();  // the Renderer keeps a reference: the scene must outlive it
+  Renderer renderer(ctx(), scene);
   const RenderResult r = renderer.render(camera, test::pointAbove(), sm, Params(sm.params));
   const fs::path path = fs::temp_directory_path() / ("penumbra-frame-image-" + std::to_string(getpid()) + ".exr");
   writeExr(path, r.image);
