@@ -233,5 +233,67 @@ expect luksch-eval 0 "" -- "$python" "$tools/luksch_eval.py" "$bin" "$scratch/lu
 expect luksch-eval-table 0 "^\| box-sun \| parallel \| [0-9.]+ \| [0-9]+ \| [0-9.]+ \| [0-9]+ \|" -- \
   cat "$scratch/luksch/pixel-accurate.md"
 
+# glTF lights (KHR_lights_punctual) on the triangle model over a box (a scene file; the box brings "light2"): the
+# first light by default, --light gltf:INDEX|NAME, one clear line for a bad selection, and point lights refused by
+# every command.
+cp "$(dirname "$0")/data/scenes/triangle.bin" "$scratch/"
+lit_gltf() {  # lit_gltf FILE LIGHTS NODES ROOTS: the triangle model (node 0) plus light nodes
+  cat >"$1" <<EOF
+{"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_lights_punctual"],
+ "extensions": {"KHR_lights_punctual": {"lights": $2}},
+ "scene": 0, "scenes": [{"nodes": [$4]}], "nodes": [{"name": "tri", "mesh": 0}, $3],
+ "meshes": [{"name": "tri", "primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 2}]}],
+ "buffers": [{"uri": "triangle.bin", "byteLength": 80}],
+ "bufferViews": [{"buffer": 0, "byteLength": 72, "byteStride": 12}, {"buffer": 0, "byteOffset": 72, "byteLength": 6}],
+ "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+               {"bufferView": 0, "byteOffset": 36, "componentType": 5126, "count": 3, "type": "VEC3"},
+               {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]}
+EOF
+}
+# Key: 6 m up, turned -90 degrees about X so its -Z points down; Sun: -60 degrees about X.
+lit_gltf "$scratch/lit.gltf" '[{"type": "spot", "name": "Key", "spot": {"outerConeAngle": 0.6},
+  "extras": {"penumbra": {"radius": 0.2}}}, {"type": "directional", "name": "Sun"}]' \
+  '{"translation": [0, 6, 0], "rotation": [-0.7071068, 0, 0, 0.7071068], "extensions": {"KHR_lights_punctual": {"light": 0}}},
+   {"rotation": [-0.5, 0, 0, 0.8660254], "extensions": {"KHR_lights_punctual": {"light": 1}}}' '0, 1, 2'
+lit_gltf "$scratch/bulb.gltf" '[{"type": "point", "name": "Bulb"}]' \
+  '{"translation": [0, 4, 0], "extensions": {"KHR_lights_punctual": {"light": 0}}}' '0, 1'
+lit_gltf "$scratch/bad-type.gltf" '[{"type": "area"}]' '{"extensions": {"KHR_lights_punctual": {"light": 0}}}' '0, 1'
+lit_gltf "$scratch/bad-index.gltf" '[{"type": "point"}]' '{"extensions": {"KHR_lights_punctual": {"light": 3}}}' '0, 1'
+for f in lit bulb; do
+  printf '{"models": [{"path": "%s.gltf", "translation": [0, 1, 0]}], "procedural": [{"name": "box"}]}' "$f" \
+    >"$scratch/$f.json"
+done
+lit=("$scratch/lit.json" --size 32x24 -t sm --map-size 64)
+expect gltf-light-default 0 'light "Key" \(the scene.s first of 3\): spot:0,7,0:' -- \
+  "$bin" render "${lit[@]}" -o "$scratch/lit.exr"
+expect gltf-light-exr-name 0 "penumbra:light-name.*Key" -- bash -c "LC_ALL=C grep -ao 'penumbra:light-name.\{12\}Key' '$scratch/lit.exr' | tr -d '\\000'"
+expect gltf-light-by-name 0 'light "Sun" \(--light gltf:Sun\): dir:' -- "$bin" render "${lit[@]}" --light gltf:Sun \
+  -o "$scratch/x.exr"
+expect gltf-light-by-index 0 'light "Sun" \(--light gltf:1\)' -- "$bin" render "${lit[@]}" --light gltf:1 -o "$scratch/x.exr"
+expect gltf-light-overridden 0 'light \(--light\): dir:0,-1,0$' -- "$bin" render "${lit[@]}" --light dir:0,-1,0 \
+  -o "$scratch/x.exr"
+expect gltf-light-quiet 0 '^$' -- "$bin" render "${lit[@]}" -q -o "$scratch/x.exr"
+expect gltf-light-bad-index 2 '^penumbra: --light gltf:5: no light 5 \(the scene.s lights: 0 "Key" \(spot\), 1 "Sun" \(dir\), 2 "light2" \(spot\)\)$' -- \
+  "$bin" render "${lit[@]}" --light gltf:5 -o "$scratch/x.exr"
+expect gltf-light-unknown-name 2 '^penumbra: --light gltf:Fill: no light named "Fill" \(the scene.s lights: 0 "Key"' -- \
+  "$bin" render "${lit[@]}" --light gltf:Fill -o "$scratch/x.exr"
+expect gltf-light-reference 0 'light "Key" \(the scene.s first of 3\)' -- "$bin" reference "$scratch/lit.json" \
+  --size 32x24 --spp 4 -o "$scratch/lit-ref.exr"
+expect gltf-light-bad-type 1 'bad-type.gltf: /extensions/KHR_lights_punctual/lights/0/type: expected "spot", "directional" or "point", got "area"$' -- \
+  "$bin" render "$scratch/bad-type.gltf" -o "$scratch/x.exr"
+expect gltf-light-bad-node-index 1 'bad-index.gltf: /nodes/1/extensions/KHR_lights_punctual/light: no light 3 in KHR_lights_punctual \(the file has 1\)$' -- \
+  "$bin" render "$scratch/bad-index.gltf" -o "$scratch/x.exr"
+for t in sm pcf pcss vsm evsm2 evsm4 esm msm savsm vssm lvsm pssm psvsm jittered; do  # every technique (registry.cpp)
+  expect "point-light-$t" 2 "^penumbra: light \"Bulb\" is a point light: point lights are not supported yet by technique $t " -- \
+    "$bin" render "$scratch/bulb.json" --size 32x24 -t "$t" -o "$scratch/x.exr"
+done
+expect point-light-cli 2 "^penumbra: light point:0,4,0:0.1 is a point light: .* not supported yet by technique pcss" -- \
+  "$bin" render builtin:box --light point:0,4,0:0.1 -o "$scratch/x.exr"
+expect point-light-reference 2 "light \"Bulb\" is a point light: .* not supported yet by penumbra reference" -- \
+  "$bin" reference "$scratch/bulb.json" --size 32x24 -o "$scratch/x.exr"
+expect point-light-bench 2 "light \"Bulb\" is a point light: .* not supported yet by technique sm" -- \
+  "$bin" bench "$scratch/bulb.json" --size 32x24 --techniques sm --no-reference -o "$scratch/x.csv"
+expect point-light-bad-radius 2 "radius: -1 is negative" -- "$bin" render builtin:box --light point:0,4,0:-1 -o "$scratch/x.exr"
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "host/scene/scene_file.h"
 #include "scene_test_util.h"
@@ -158,8 +159,69 @@ INSTANTIATE_TEST_SUITE_P(
         BadFile{R"({"procedural": [{"name": "box"}], "lights": [{"type": "dir", "direction": [0, -1, 0], )"
                 R"("angular_radius_deg": 45}]})",
                 {"/lights/0/angular_radius_deg: expected a number in [0, 45)"}},
-        BadFile{R"({"procedural": [{"name": "box"}], "lights": [{"type": "point"}]})",
-                {"/lights/0/type: expected \"spot\" or \"dir\""}}));
+        BadFile{R"({"procedural": [{"name": "box"}], "lights": [{"type": "area"}]})",
+                {"/lights/0/type: expected \"spot\", \"dir\" or \"point\""}},
+        BadFile{R"({"procedural": [{"name": "box"}], "lights": [{"type": "point"}]})", {"/lights/0/position"}}));
+
+// triangle.gltf plus a spot light "Lamp" at (0, 5, 0) shining down and a directional "Sun" (KHR_lights_punctual).
+void writeLitModel(const fs::path& dir) {
+  std::ifstream in(dir / "triangle.gltf");
+  nlohmann::json doc = nlohmann::json::parse(in);
+  doc["extensions"]["KHR_lights_punctual"]["lights"] = {
+      {{"type", "spot"}, {"name", "Lamp"}, {"spot", nlohmann::json::object()}},
+      {{"type", "directional"}, {"name", "Sun"}}};
+  const std::vector<double> down = {1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 5, 0, 1};  // local -Z onto world -Y
+  doc["nodes"].push_back({{"matrix", down}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  doc["nodes"].push_back({{"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
+  doc["scenes"][0]["nodes"] = {0, 1, 2};
+  std::ofstream(dir / "lit.gltf") << doc.dump();
+}
+
+TEST_F(SceneFile, ModelLightsMoveWithTheirPlacementAndTakeSizesByName) {
+  writeLitModel(dir_);
+  const Scene s = load(R"({"models": [{"path": "lit.gltf", "translation": [10, 0, 0], "scale": 2},
+                                      {"path": "lit.gltf"}],
+                           "lights": [{"name": "Lamp", "radius": 0.3}, {"name": "Lamp-2", "radius": 0.1},
+                                      {"name": "Sun", "angular_radius_deg": 0.5}]})");
+  ASSERT_EQ(s.lights.size(), 4u);
+  EXPECT_EQ(s.lights[0].name, "Lamp");
+  EXPECT_EQ(s.lights[0].position, glm::vec3(10, 10, 0));  // scaled by 2, then moved
+  EXPECT_EQ(s.lights[0].axis(), glm::vec3(0, -1, 0));
+  EXPECT_EQ(s.lights[0].radius, 0.3f);  // the placement's scale changes no size
+  EXPECT_EQ(s.lights[1].name, "Sun");
+  EXPECT_EQ(s.lights[1].angularRadiusDeg, 0.5f);
+  EXPECT_EQ(s.lights[2].name, "Lamp-2");
+  EXPECT_EQ(s.lights[2].position, glm::vec3(0, 5, 0));
+  EXPECT_EQ(s.lights[2].radius, 0.1f);
+  EXPECT_EQ(s.lights[3].name, "Sun-2");
+  EXPECT_EQ(s.lights[3].angularRadiusDeg, 0.0f);
+}
+
+TEST_F(SceneFile, LightSizesNameALightOfTheModels) {
+  writeLitModel(dir_);
+  EXPECT_TRUE(refused(R"({"models": [{"path": "lit.gltf"}], "lights": [{"name": "Fill", "radius": 1}]})",
+                      {"/lights/0/name", "no light named \"Fill\"", "0 \"Lamp\" (spot), 1 \"Sun\" (dir)"}));
+  EXPECT_TRUE(refused(R"({"models": [{"path": "lit.gltf"}], "lights": [{"name": "Sun", "radius": 1}]})",
+                      {"/lights/0/radius", "directional"}));
+  EXPECT_TRUE(refused(R"({"models": [{"path": "lit.gltf"}], "lights": [{"name": "Lamp", "radius": -1}]})",
+                      {"/lights/0/radius", "[0, inf)"}));
+  EXPECT_TRUE(refused(R"({"models": [{"path": "lit.gltf"}], "lights": [{"name": "Lamp"}]})", {"/lights/0/radius"}));
+  EXPECT_TRUE(refused(R"({"models": [{"path": "lit.gltf"}],
+                          "lights": [{"name": "Lamp", "radius": 1}, {"type": "dir", "direction": [0, -1, 0]}]})",
+                      {"/lights/0", "also defines lights"}));
+}
+
+TEST_F(SceneFile, DefinedLightsMayBePointsAndGetUniqueNames) {
+  writeLitModel(dir_);
+  const Scene s = load(R"({"models": [{"path": "lit.gltf"}],
+                           "lights": [{"type": "point", "position": [0, 3, 0], "radius": 0.2, "name": "bulb 1"},
+                                      {"type": "dir", "direction": [0, -1, 0]}]})");
+  ASSERT_EQ(s.lights.size(), 2u);  // the defined lights replace the model's
+  EXPECT_EQ(s.lights[0].type, LightType::Point);
+  EXPECT_EQ(s.lights[0].name, "bulb_1");
+  EXPECT_EQ(s.lights[0].radius, 0.2f);
+  EXPECT_EQ(s.lights[1].name, "light1");
+}
 
 // A scene file is the user's own: its models may sit anywhere (absolute paths, ".." from the scene's folder).
 TEST_F(SceneFile, ModelsByAbsolutePathAndDotDot) {

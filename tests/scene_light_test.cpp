@@ -1,5 +1,5 @@
-// Light: the command-line forms of spot and directional lights (good and bad), the axis, and describe()
-// giving back a form that parses to the same light.
+// Light: the command-line forms of spot, directional and point lights (good and bad), the axis, describe()
+// giving back a form that parses to the same light, and the refusal of point lights.
 #include <stdexcept>
 
 #include <gtest/gtest.h>
@@ -51,7 +51,9 @@ TEST_P(LightParseBad, NamesTheBadPart) {
 
 INSTANTIATE_TEST_SUITE_P(
     Light, LightParseBad,
-    ::testing::Values(BadLight{"", "unknown light type"}, BadLight{"point:0,0,0", "unknown light type"},
+    ::testing::Values(BadLight{"", "unknown light type"}, BadLight{"area:0,0,0", "unknown light type"},
+                      BadLight{"point:0,0", "position"}, BadLight{"point:0,0,0:-1", "radius"},
+                      BadLight{"point:0,0,0:1:2", "expected point"}, BadLight{"point:nan,0,0", "position"},
                       BadLight{"spot:0,1,0:0,0,0", "expected spot"},
                       BadLight{"spot:0,1,0:0,0,0:60:1:2", "expected spot"}, BadLight{"spot:0,1:0,0,0:60", "position"},
                       BadLight{"spot:0,1,0:0,0,q:60", "target z"},
@@ -63,9 +65,26 @@ INSTANTIATE_TEST_SUITE_P(
                       BadLight{"dir:0,-1,0,", "direction"}, BadLight{"dir:1e30,1e30,1e30", "direction"},
                       BadLight{"spot:0,1,0:0,0,0:60:", "radius"}));
 
+TEST(LightParse, PointAndItsRefusal) {
+  const Light l = parseLight("point:1,2,3:0.5");
+  EXPECT_EQ(l.type, LightType::Point);
+  EXPECT_EQ(l.position, glm::vec3(1, 2, 3));
+  EXPECT_EQ(l.radius, 0.5f);
+  EXPECT_TRUE(l.isArea());
+  EXPECT_FALSE(parseLight("point:1,2,3").isArea());
+  EXPECT_TRUE(throwsWith<std::invalid_argument>(
+      [&] { refusePointLight(l, "technique sm"); },
+      {"light point:1,2,3:0.5 is a point light", "point lights are not supported yet by technique sm"}));
+  Light named = l;
+  named.name = "Bulb";
+  EXPECT_TRUE(throwsWith<std::invalid_argument>([&] { refusePointLight(named, "x"); }, {"light \"Bulb\" is"}));
+  refusePointLight(parseLight("spot:0,1,0:0,0,0:60"), "technique sm");  // others pass
+  refusePointLight(parseLight("dir:0,-1,0"), "technique sm");
+}
+
 TEST(LightDescribe, RoundTrips) {
-  for (const char* spec :
-       {"spot:0,10,0:0,0,0:60", "spot:1.5,2,-3:0.1,0.2,0.3:33:0.125", "dir:0,-1,0", "dir:0.6,-0.8,0:0.25"}) {
+  for (const char* spec : {"spot:0,10,0:0,0,0:60", "spot:1.5,2,-3:0.1,0.2,0.3:33:0.125", "dir:0,-1,0",
+                           "dir:0.6,-0.8,0:0.25", "point:1,2,3", "point:-1,0.5,2:0.25"}) {
     const Light l = parseLight(spec);
     const Light m = parseLight(l.describe());
     EXPECT_EQ(l.describe(), m.describe()) << spec;

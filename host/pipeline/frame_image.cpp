@@ -97,6 +97,7 @@ Image frameImage(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& visi
   attributes["penumbra:device"] =
       fmt::format("{} ({}, {})", ctx.info().name, ctx.info().platformName, ctx.info().driverVersion);
   attributes["penumbra:light"] = light.describe();
+  if (!light.name.empty()) attributes["penumbra:light-name"] = light.name;  // the scene's (unique) name for it
   attributes["penumbra:camera"] = cameraProvenance(camera);
   if (!camera.label().empty()) attributes["penumbra:camera-source"] = camera.label();
   attributes["penumbra:version"] = std::string(version());

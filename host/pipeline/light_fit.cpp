@@ -26,6 +26,7 @@ cl_float4 row(const glm::mat4& m, int r) { return {{m[0][r], m[1][r], m[2][r], m
 }  // namespace
 
 glm::mat4 lightEyeMatrix(const Light& light, const Bounds& sceneBounds) {
+  refusePointLight(light, "the light views (one frustum per light)");  // never a point taken for a directional
   const Bounds scene = sceneBounds.orUnit();
   const glm::vec3 axis = light.axis();
   if (light.type == LightType::Spot) return glm::lookAt(light.position, light.target, chooseUp(axis));

@@ -25,6 +25,7 @@ Technique& Renderer::techniqueFor(const TechniqueInfo& technique, const Params& 
 
 RenderResult Renderer::render(const Camera& camera, const Light& light, const TechniqueInfo& technique,
                               const Params& params) {
+  refusePointLight(light, "technique " + technique.name);  // before any work: no technique draws cube maps yet
   Profiler profiler;
   ProfilerScope scope(ctx_, profiler);
   const Bounds bounds = scene_.bounds();

@@ -1,6 +1,7 @@
 // glTF loading pipeline: read (contained, capped) -> GLB container check -> JSON schema and required
 // extensions -> tinygltf -> node forest -> primitives read once per mesh (instances share them) ->
-// limits checked -> every instance transformed into world space -> the default scene's cameras (gltf_camera.h).
+// limits checked -> every instance transformed into world space -> the default scene's cameras (gltf_camera.h)
+// and KHR_lights_punctual lights (gltf_lights.h).
 #include "host/scene/gltf_loader.h"
 
 #include <cmath>
@@ -13,6 +14,7 @@
 #include "host/scene/geometry.h"
 #include "host/scene/gltf_camera.h"
 #include "host/scene/gltf_glb.h"
+#include "host/scene/gltf_lights.h"
 #include "host/scene/gltf_mesh.h"
 #include "host/scene/gltf_nodes.h"
 #include "host/scene/gltf_schema.h"
@@ -120,6 +122,7 @@ Scene loadGltfResolved(const std::filesystem::path& path, const std::string& dis
   const std::vector<NodeInstance> instances = flattenNodes(ctx);
   const PrimitiveCache cache = readPrimitives(ctx, instances);
   Scene scene = buildScene(ctx, instances, cache);
+  scene.lights = readLights(ctx, instances);
   if (scene.triangles.empty()) failGltf(ctx, "no triangles (nothing in the scene can cast or receive shadows)");
   scene.cameras = readGltfCameras(ctx, instances);
   return scene;

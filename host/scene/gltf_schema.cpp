@@ -245,6 +245,40 @@ struct Checker {
     each(root, "animations", "", [](const Json&, const std::string&) {});
   }
 
+  // KHR_lights_punctual: tinygltf 2.7 keeps mistyped optional light properties at their defaults and reads a
+  // node's light only as a raw extension value, so every property and node reference is checked here.
+  void lightsPunctual() const {
+    const Json* ext = root.contains("extensions") ? get(root["extensions"], "KHR_lights_punctual", "", false) : nullptr;
+    const std::string extPtr = "/extensions/KHR_lights_punctual";
+    if (ext) each(*ext, "lights", extPtr, [&](const Json& l, const std::string& p) { light(l, p); });
+    const size_t count = ext && ext->contains("lights") ? (*ext)["lights"].size() : 0;
+    if (!root.contains("nodes")) return;
+    for (size_t i = 0; i < root["nodes"].size(); ++i) {
+      const Json& n = root["nodes"][i];
+      if (!n.contains("extensions") || !n["extensions"].contains("KHR_lights_punctual")) continue;
+      const std::string p = pointerTo(pointerTo(pointerTo("/nodes", i), "extensions"), "KHR_lights_punctual");
+      const Json* index = get(n["extensions"]["KHR_lights_punctual"], "light", p, true);
+      if (!index->is_number_unsigned()) fail(pointerTo(p, "light"), "expected a light index, got " + brief(*index));
+      if (index->get<uint64_t>() >= count)
+        fail(pointerTo(p, "light"),
+             fmt::format("no light {} in KHR_lights_punctual (the file has {})", index->get<uint64_t>(), count));
+    }
+  }
+
+  void light(const Json& l, const std::string& p) const {
+    string(l, "type", p, true);
+    const std::string type = l["type"].get<std::string>();
+    if (type != "spot" && type != "directional" && type != "point")
+      fail(pointerTo(p, "type"), "expected \"spot\", \"directional\" or \"point\", got " + brief(l["type"]));
+    numbers(l, "color", 3, p), number(l, "intensity", p), number(l, "range", p);
+    if (l.contains("range") && !(l["range"].get<double>() > 0.0))
+      fail(pointerTo(p, "range"), "must be positive (leave it out for an unlimited range)");
+    if (type == "spot")
+      child(l, "spot", p, true, [&](const Json& s, const std::string& sp) {
+        number(s, "innerConeAngle", sp), number(s, "outerConeAngle", sp);
+      });
+  }
+
   void requiredExtensions() const {
     for (const char* key : {"extensionsUsed", "extensionsRequired"}) {
       const Json* v = get(root, key, "", false);
@@ -272,6 +306,7 @@ void checkGltfJson(const Json& doc, const std::string& file) {
   if (!doc.is_object()) failAt(file, "", "expected a glTF JSON object");
   checker.requiredExtensions();
   checker.document();
+  checker.lightsPunctual();
 }
 
 }  // namespace penumbra::detail

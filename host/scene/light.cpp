@@ -1,5 +1,6 @@
-// Spot (optionally disk area) and directional (optionally sun disk) lights: the centre axis and the
-// strict parsing and printing of "spot:PX,PY,PZ:TX,TY,TZ:FOV_DEG[:RADIUS]" and "dir:DX,DY,DZ[:ANG_DEG]".
+// Spot (optionally disk area), directional (optionally sun disk) and point (optionally sphere) lights: the
+// centre axis and the strict parsing and printing of "spot:PX,PY,PZ:TX,TY,TZ:FOV_DEG[:RADIUS]",
+// "dir:DX,DY,DZ[:ANG_DEG]" and "point:PX,PY,PZ[:RADIUS]".
 #include "host/scene/light.h"
 
 #include <cmath>
@@ -14,6 +15,12 @@ namespace {
 
 constexpr float kMaxAngularRadiusDeg = 45.0f;  // exclusive; a sun disk wider than this is not a "sun"
 
+float parseRadius(std::string_view text) {
+  const float radius = detail::parseFiniteFloat(text, "radius");
+  if (radius < 0.0f) throw std::invalid_argument(fmt::format("radius: {} is negative", radius));
+  return radius;
+}
+
 Light parseSpot(const std::vector<std::string_view>& parts) {
   if (parts.size() != 4 && parts.size() != 5)
     throw std::invalid_argument("expected spot:PX,PY,PZ:TX,TY,TZ:FOV_DEG[:RADIUS]");
@@ -25,10 +32,16 @@ Light parseSpot(const std::vector<std::string_view>& parts) {
   light.fovDeg = detail::parseFiniteFloat(parts[3], "fov");
   if (!(light.fovDeg > 0.0f && light.fovDeg < 180.0f))
     throw std::invalid_argument(fmt::format("fov: {} degrees is outside (0, 180)", light.fovDeg));
-  if (parts.size() == 5) {
-    light.radius = detail::parseFiniteFloat(parts[4], "radius");
-    if (light.radius < 0.0f) throw std::invalid_argument(fmt::format("radius: {} is negative", light.radius));
-  }
+  if (parts.size() == 5) light.radius = parseRadius(parts[4]);
+  return light;
+}
+
+Light parsePoint(const std::vector<std::string_view>& parts) {
+  if (parts.size() != 2 && parts.size() != 3) throw std::invalid_argument("expected point:PX,PY,PZ[:RADIUS]");
+  Light light;
+  light.type = LightType::Point;
+  light.position = detail::parseVec3(parts[1], "position");
+  if (parts.size() == 3) light.radius = parseRadius(parts[2]);
   return light;
 }
 
@@ -52,6 +65,7 @@ Light parseDirectional(const std::vector<std::string_view>& parts) {
 }  // namespace
 
 glm::vec3 Light::axis() const {
+  if (type == LightType::Point) return {0, -1, 0};
   const glm::vec3 d = type == LightType::Spot ? target - position : direction;
   const float len = glm::length(d);
   return len > 0.0f ? d / len : glm::vec3(0, -1, 0);
@@ -63,19 +77,32 @@ std::string Light::describe() const {
         "spot:" + detail::formatVec3(position) + ":" + detail::formatVec3(target) + ":" + detail::formatFloat(fovDeg);
     return radius > 0.0f ? s + ":" + detail::formatFloat(radius) : s;
   }
+  if (type == LightType::Point) {
+    const std::string s = "point:" + detail::formatVec3(position);
+    return radius > 0.0f ? s + ":" + detail::formatFloat(radius) : s;
+  }
   std::string s = "dir:" + detail::formatVec3(direction);
   return angularRadiusDeg > 0.0f ? s + ":" + detail::formatFloat(angularRadiusDeg) : s;
 }
+
+std::string Light::label() const { return name.empty() ? describe() : "\"" + name + "\""; }
 
 Light parseLight(std::string_view spec) {
   try {
     const auto parts = detail::splitParts(spec, ':');
     if (parts[0] == "spot") return parseSpot(parts);
     if (parts[0] == "dir") return parseDirectional(parts);
-    throw std::invalid_argument(fmt::format("unknown light type \"{}\" (expected spot or dir)", parts[0]));
+    if (parts[0] == "point") return parsePoint(parts);
+    throw std::invalid_argument(fmt::format("unknown light type \"{}\" (expected spot, dir or point)", parts[0]));
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(fmt::format("light \"{}\": {}", spec, e.what()));
   }
+}
+
+void refusePointLight(const Light& light, std::string_view who) {
+  if (light.type != LightType::Point) return;
+  throw std::invalid_argument(fmt::format(
+      "light {} is a point light: point lights are not supported yet by {} (they need cube maps)", light.label(), who));
 }
 
 }  // namespace penumbra

@@ -1,5 +1,6 @@
-// Lights that cast the shadows we filter: spot lights (optionally disk area lights) and directional
-// lights (optionally sun disks with an angular radius), and their command-line form.
+// Lights that cast the shadows we filter: spot lights (optionally disk area lights), directional lights
+// (optionally sun disks with an angular radius) and point lights (optionally spheres; no technique renders them
+// yet: they need cube maps), their command-line form, and the refusal of point lights.
 #pragma once
 
 #include <string>
@@ -9,29 +10,45 @@
 
 namespace penumbra {
 
-enum class LightType { Spot, Directional };
+enum class LightType { Spot, Directional, Point };
 
 struct Light {
   LightType type = LightType::Spot;
+  // Who the light is: a glTF light's (or its node's) name, a scene file's "name", or empty for a light given
+  // on the command line or by a framing default. Loaders make the names of a scene's lights unique and
+  // channel-safe (light_names.h).
+  std::string name;
   // Spot: a light at `position` aiming at `target` with a full cone angle `fovDeg`. radius > 0 makes it a
-  // disk area light of that radius centred at position, facing target.
+  // disk area light of that radius centred at position, facing target. Point: a light at `position` shining
+  // every way; radius > 0 makes it a sphere light of that radius.
   glm::vec3 position{0, 10, 0};
   glm::vec3 target{0, 0, 0};
   float fovDeg = 60.0f;
   float radius = 0.0f;
+  // Spot: the full angle of the fully lit inner cone (glTF 2 x innerConeAngle), kept for a shading falloff
+  // between it and fovDeg; negative: no falloff (a hard-edged cone, the command line's spots). Not used yet.
+  float innerFovDeg = -1.0f;
+  // Spot and point: glTF's range in metres beyond which the light does not reach; 0: unlimited. Not used yet.
+  float range = 0.0f;
   // Directional: `direction` is the direction the light travels (unit length). angularRadiusDeg > 0 makes
   // it a sun disk of that angular radius.
   glm::vec3 direction{0, -1, 0};
   float angularRadiusDeg = 0.0f;
 
-  bool isArea() const { return type == LightType::Spot ? radius > 0 : angularRadiusDeg > 0; }
-  glm::vec3 axis() const;  // unit direction light travels along its centre axis
+  bool isArea() const { return type == LightType::Directional ? angularRadiusDeg > 0 : radius > 0; }
+  glm::vec3 axis() const;        // unit direction light travels along its centre axis ((0, -1, 0) for points)
   std::string describe() const;  // the command-line form, for EXR provenance
+  std::string label() const;     // for messages: "\"NAME\"" when named, else the command-line form
 };
 
-// "spot:PX,PY,PZ:TX,TY,TZ:FOV_DEG[:RADIUS]" or "dir:DX,DY,DZ[:ANGULAR_RADIUS_DEG]". Throws
-// std::invalid_argument naming the bad part: non-finite numbers, zero direction, P == T, fov outside
+// "spot:PX,PY,PZ:TX,TY,TZ:FOV_DEG[:RADIUS]", "dir:DX,DY,DZ[:ANGULAR_RADIUS_DEG]" or "point:PX,PY,PZ[:RADIUS]".
+// Throws std::invalid_argument naming the bad part: non-finite numbers, zero direction, P == T, fov outside
 // (0, 180), negative radius, angular radius outside [0, 45).
 Light parseLight(std::string_view spec);
+
+// Point lights need cube maps, which nothing renders yet: throws std::invalid_argument (a usage error)
+// "light L is a point light: point lights are not supported yet by WHO" for one; `who` is e.g.
+// "technique pcss". Every entry point that renders a light calls this, so no path treats a point as a spot.
+void refusePointLight(const Light& light, std::string_view who);
 
 }  // namespace penumbra

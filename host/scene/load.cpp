@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "host/scene/gltf_loader.h"
+#include "host/scene/light_names.h"
 #include "host/scene/procedural.h"
 #include "host/scene/scene_file.h"
 
@@ -24,7 +25,11 @@ void emitWarning(const LoadOptions& options, const std::string& message) {
 
 Scene loadScene(const std::string& spec, const LoadOptions& options) {
   constexpr std::string_view kBuiltin = "builtin:";
-  if (spec.rfind(kBuiltin, 0) == 0) return makeProceduralFromSpec(std::string_view(spec).substr(kBuiltin.size()));
+  if (spec.rfind(kBuiltin, 0) == 0) {
+    Scene scene = makeProceduralFromSpec(std::string_view(spec).substr(kBuiltin.size()));
+    nameLights(scene.lights);  // "light0", ...: every scene's lights have channel-safe names
+    return scene;
+  }
   std::string ext = std::filesystem::path(spec).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });

@@ -9,6 +9,7 @@
 
 #include "host/scene/gltf_loader.h"
 #include "host/scene/json_util.h"
+#include "host/scene/light_names.h"
 #include "host/scene/procedural.h"
 #include "host/scene/procedural_mesh.h"
 #include "host/scene/scene_file_parts.h"
@@ -38,6 +39,21 @@ bool isGltfPath(const std::string& path) {
   return ext == ".gltf" || ext == ".glb";
 }
 
+// The model's own lights (KHR_lights_punctual) move with it; like glTF's node scale, the placement's scale changes
+// no light's size, cone or range.
+void placeLights(const FileContext& ctx, Scene& model, const glm::mat4& placement, const std::string& pointer) {
+  const auto finite = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  for (Light& light : model.lights) {
+    light.position = glm::vec3(placement * glm::vec4(light.position, 1.0f));
+    light.target = glm::vec3(placement * glm::vec4(light.target, 1.0f));
+    const glm::vec3 d = glm::mat3(placement) * light.direction;
+    light.direction = d / glm::length(d);
+    if (!finite(light.position) || !finite(light.target) || !finite(light.direction) ||
+        (light.type == LightType::Spot && light.position == light.target))
+      failAt(ctx.file, pointer, fmt::format("placed light \"{}\" overflows (scale too large?)", light.name));
+  }
+}
+
 Scene readModel(const FileContext& ctx, const Json& value, const std::string& pointer) {
   ObjectReader r(value, ctx.file, pointer);
   const std::string path = r.string("path");
@@ -61,6 +77,7 @@ Scene readModel(const FileContext& ctx, const Json& value, const std::string& po
   for (const glm::vec3& p : model.positions)
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
       failAt(ctx.file, pointer, "placed geometry overflows (scale too large?)");
+  placeLights(ctx, model, placement, pointer);
   return model;
 }
 
@@ -107,25 +124,43 @@ Camera chooseModelCamera(ObjectReader& root, const Json& value, const Scene& sce
   }
 }
 
+// Entries with a "type" define lights, which replace those the models and built-in scenes bring; entries without
+// one set the size of a light the models bring, by name (after the names are made unique across the models).
+void readSceneLights(const FileContext& ctx, ObjectReader& root, Scene& scene) {
+  std::vector<Light> lights;
+  std::vector<std::pair<const Json*, std::string>> sizes;
+  forEach(root, "lights", [&](const Json& v, const std::string& p) {
+    if (v.is_object() && !v.contains("type"))
+      sizes.emplace_back(&v, p);
+    else
+      lights.push_back(readLight(v, ctx.file, p));
+  });
+  if (root.has("lights") && lights.empty() && sizes.empty())
+    root.fail("lights", "is empty (leave it out to keep the built-in scenes' lights)");
+  if (!lights.empty() && !sizes.empty())
+    failAt(ctx.file, sizes.front().second,
+           "sets the size of a model's light, but the file also defines lights (with \"type\"), which replace the "
+           "models' lights");
+  if (!lights.empty()) scene.lights = std::move(lights);
+  nameLights(scene.lights);
+  for (const auto& [value, pointer] : sizes) readLightSize(*value, ctx.file, pointer, scene.lights);
+}
+
 // Cameras given here come first (the default) and replace the built-in scenes'; the models' glTF cameras stay
 // behind them for --camera gltf:.
 void readViews(const FileContext& ctx, ObjectReader& root, Scene& scene) {
   std::vector<Camera> cameras;
-  std::vector<Light> lights;
   if (const Json* c = root.find("camera"))
     cameras.push_back(c->is_string() ? chooseModelCamera(root, *c, scene)
                                      : readCamera(*c, ctx.file, root.pointer("camera")));
   forEach(root, "cameras", [&](const Json& v, const std::string& p) { cameras.push_back(readCamera(v, ctx.file, p)); });
-  forEach(root, "lights", [&](const Json& v, const std::string& p) { lights.push_back(readLight(v, ctx.file, p)); });
-  if (root.has("lights") && lights.empty())
-    root.fail("lights", "is empty (leave it out to keep the built-in scenes' lights)");
   if (!cameras.empty()) {
     const int chosen = cameras.front().gltfIndex;  // "gltf:..." moved to the front, not listed twice
     for (const Camera& c : scene.cameras)
       if (c.gltfIndex >= 0 && c.gltfIndex != chosen) cameras.push_back(c);
     scene.cameras = std::move(cameras);
   }
-  if (!lights.empty()) scene.lights = std::move(lights);
+  readSceneLights(ctx, root, scene);
 }
 
 }  // namespace

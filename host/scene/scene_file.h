@@ -20,13 +20,18 @@ namespace penumbra {
 //  "camera": {"eye": [..], "target": [..], "fovy_deg": 45, "size": [1280, 720]}, "cameras": [...],
 //  "camera": "gltf:INDEX|NAME" (instead: one of the models' glTF cameras, placed with its model),
 //  "lights": [{"type": "spot", "position": [..], "target": [..], "fov_deg": 60, "radius": 0.5},
-//             {"type": "dir", "direction": [..], "angular_radius_deg": 0.5}]}
+//             {"type": "dir", "direction": [..], "angular_radius_deg": 0.5},
+//             {"type": "point", "position": [..], "radius": 0.5}]}     // each may have a "name"
+//
+// A "lights" entry without "type" sets the size of a light a model brings (KHR_lights_punctual), by its name:
+// {"name": "Lamp", "radius": 0.2} or {"name": "Sun", "angular_radius_deg": 0.27}; it cannot be mixed with entries
+// that define lights. A model's lights move with its placement (sizes, cones and ranges do not scale).
 //
 // Model paths are absolute or relative to the JSON file's folder (".." allowed: the scene file is the user's
 // own); the URIs inside each model must stay inside that model's folder. Cameras and lights given in
-// the file replace those the built-in scenes bring; the models' glTF cameras (gltfIndex counted across the
-// models in order) stay behind a given camera for --camera gltf:, and without one the first model camera is the
-// default. Throws SceneError "FILE: /json/pointer: message".
+// the file replace those the models and built-in scenes bring; the models' glTF cameras (gltfIndex counted across
+// the models in order) stay behind a given camera for --camera gltf:, and without one the first model camera is the
+// default. Lights get unique, channel-safe names (light_names.h). Throws SceneError "FILE: /json/pointer: message".
 Scene loadSceneFile(const std::string& path, const LoadOptions& options = {});
 
 namespace detail {

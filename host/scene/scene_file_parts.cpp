@@ -2,11 +2,14 @@
 // (camera.h, light.h): fields outside them are refused with the field's JSON pointer.
 #include "host/scene/scene_file_parts.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
+
+#include "host/scene/light_names.h"
 
 namespace penumbra::detail {
 namespace {
@@ -48,6 +51,7 @@ Camera readCamera(const Json& value, const std::string& file, const std::string&
 Light readLight(const Json& value, const std::string& file, const std::string& pointer) {
   ObjectReader r(value, file, pointer);
   Light light;
+  if (r.has("name")) light.name = r.string("name");
   const std::string type = r.string("type");
   if (type == "spot") {
     light.type = LightType::Spot;
@@ -60,11 +64,34 @@ Light readLight(const Json& value, const std::string& file, const std::string& p
     light.type = LightType::Directional;
     light.direction = glm::normalize(nonZero(r, "direction"));
     light.angularRadiusDeg = static_cast<float>(r.number("angular_radius_deg", 0, 45, "[0, 45)", 0.0));
+  } else if (type == "point") {
+    light.type = LightType::Point;
+    light.position = r.vec3("position");
+    light.radius = static_cast<float>(r.number("radius", 0, HUGE_VAL, "[0, inf)", 0.0));
   } else {
-    r.fail("type", fmt::format("expected \"spot\" or \"dir\", got \"{}\"", type));
+    r.fail("type", fmt::format("expected \"spot\", \"dir\" or \"point\", got \"{}\"", type));
   }
   r.finish();
   return light;
+}
+
+void readLightSize(const Json& value, const std::string& file, const std::string& pointer, std::vector<Light>& lights) {
+  ObjectReader r(value, file, pointer);
+  const std::string name = r.string("name");
+  const auto it = std::find_if(lights.begin(), lights.end(), [&](const Light& l) { return l.name == name; });
+  if (it == lights.end())
+    r.fail("name", fmt::format("no light named \"{}\" in the models (their lights: {}); give \"type\" to define a "
+                               "new light",
+                               name, listLights(lights)));
+  if (it->type == LightType::Directional) {
+    if (r.has("radius")) r.fail("radius", fmt::format("light \"{}\" is directional: give angular_radius_deg", name));
+    it->angularRadiusDeg = static_cast<float>(r.number("angular_radius_deg", 0, 45, "[0, 45)"));
+  } else {
+    if (r.has("angular_radius_deg"))
+      r.fail("angular_radius_deg", fmt::format("light \"{}\" is not directional: give radius", name));
+    it->radius = static_cast<float>(r.number("radius", 0, HUGE_VAL, "[0, inf)"));
+  }
+  r.finish();
 }
 
 glm::mat4 readPlacement(ObjectReader& r) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -15,9 +16,14 @@ namespace penumbra::detail {
 // {"eye":[..], "target":[..], "fovy_deg": 45, "size": [1280, 720]}
 Camera readCamera(const Json& value, const std::string& file, const std::string& pointer);
 
-// {"type":"spot", "position":[..], "target":[..], "fov_deg":60, "radius":0.5} or
-// {"type":"dir", "direction":[..], "angular_radius_deg":0.5}
+// {"type":"spot", "position":[..], "target":[..], "fov_deg":60, "radius":0.5},
+// {"type":"dir", "direction":[..], "angular_radius_deg":0.5} or {"type":"point", "position":[..], "radius":0.5},
+// each with an optional "name".
 Light readLight(const Json& value, const std::string& file, const std::string& pointer);
+
+// {"name":"Lamp", "radius":0.2} (spot and point lights) or {"name":"Sun", "angular_radius_deg":0.27}
+// (directional): sets the size of the light of `lights` with that name, or throws naming the lights there are.
+void readLightSize(const Json& value, const std::string& file, const std::string& pointer, std::vector<Light>& lights);
 
 // T * R * S from the optional "translation", "rotation_deg" (X, then Y, then Z, about the world axes:
 // R = Rz * Ry * Rx) or "rotation_quat" ([x, y, z, w], glTF order), and "scale" (a number or [x, y, z]).

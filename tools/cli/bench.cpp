@@ -173,6 +173,8 @@ int run(const BenchOptions& o) {
   const Scene scene = loadScene(o.view.scene);
   const Camera camera = resolveCamera(o.view, scene);
   const Light light = resolveLight(o.view, scene);
+  for (const Job& job : jobs) refusePointLight(light, "technique " + job.technique->name);  // before any work
+  if (!o.quiet) fmt::print(stderr, "bench: {}\n", describeLightChoice(o.view, scene, light));
   Context ctx(o.device);
 
   BenchMeta meta;

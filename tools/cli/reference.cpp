@@ -26,9 +26,10 @@ struct ReferenceOptions {
 
 void printSummary(const ReferenceOptions& options, const Context& ctx, const Scene& scene, const Camera& camera,
                   const Light& light, const reference::ReferenceResult& r) {
-  fmt::print("{} (reference) with G-buffer on {}: {}x{}, {} triangles, light {}\n", options.view.scene, ctx.info().name,
-             camera.width, camera.height, scene.triangleCount(), light.describe());
+  fmt::print("{} (reference) with G-buffer on {}: {}x{}, {} triangles\n", options.view.scene, ctx.info().name,
+             camera.width, camera.height, scene.triangleCount());
   fmt::print("camera {}\n", cameraSummary(options.view, scene, camera));
+  fmt::print("{}\n", describeLightChoice(options.view, scene, light));
   fmt::print("  {:<22} {:>9.3f} s\n", "G-buffer (OpenCL)", r.rasterSeconds);
   fmt::print("  {:<22} {:>9.3f} s\n", "BVH build (Embree)", r.buildSeconds);
   fmt::print("  {:<22} {:>9.3f} s  {} rays ({} per pixel, {} covered pixels), {} threads, {:.2f} Mrays/s\n",
@@ -43,6 +44,7 @@ int run(const ReferenceOptions& options) {
   const Scene scene = loadScene(options.view.scene);
   const Camera camera = resolveCamera(options.view, scene);
   const Light light = resolveLight(options.view, scene);
+  refusePointLight(light, "penumbra reference");
   if (light.isArea()) reference::SampleLayout::fromSpp(options.trace.spp);  // a bad --spp is a usage error
   Context ctx(options.device);
   reference::ReferenceResult result = reference::renderReference(ctx, scene, camera, light, options.trace);

@@ -34,6 +34,7 @@ int run(const RenderOptions& options) {
   const Scene scene = loadScene(options.view.scene);
   const Camera camera = resolveCamera(options.view, scene);
   const Light light = resolveLight(options.view, scene);
+  refusePointLight(light, "technique " + technique.name);  // a usage error, before a device is opened
   if (camera.orthographic() && lispsmEnabled(params))
     fmt::print(stderr,
                "penumbra: warning: --warp lispsm with an orthographic camera: no eye point to warp towards, "
@@ -48,6 +49,7 @@ int run(const RenderOptions& options) {
   if (!options.quiet) {
     fmt::print("{} on {}: {}x{}, {} triangles, technique {} ({})\n", options.view.scene, ctx.info().name, camera.width,
                camera.height, scene.triangleCount(), technique.name, params.describe());
+    fmt::print("{}\n", describeLightChoice(options.view, scene, light));
     fmt::print("camera {}\n", cameraSummary(options.view, scene, camera));
     fmt::print("{}", formatTimings(result.passes));
     fmt::print("{}\n", wrote);

@@ -1,11 +1,16 @@
 // The scene, camera, size and light options that `render` and `reference` share, and how they resolve: the
-// command line first, else the scene file's, else a view framing the scene and a soft spot light above it.
+// command line first, else the scene's (a scene file's or a glTF file's lights), else a view framing the scene and
+// a soft spot light above it.
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <string>
+#include <string_view>
+
+#include <fmt/format.h>
 
 #include "host/scene/framing.h"
+#include "host/scene/light_names.h"
 #include "host/scene/scene.h"
 
 namespace penumbra::cli {
@@ -23,7 +28,9 @@ inline void addViewOptions(CLI::App* sub, ViewOptions& options) {
                   "Image size WxH (default: the camera's: a glTF camera's 720 high at its aspect ratio, else "
                   "1280x720)");
   sub->add_option("--light", options.light,
-                  "spot:PX,PY,PZ:TX,TY,TZ:FOV_DEG[:RADIUS] or dir:DX,DY,DZ[:ANGULAR_RADIUS_DEG]");
+                  "spot:PX,PY,PZ:TX,TY,TZ:FOV_DEG[:RADIUS], dir:DX,DY,DZ[:ANGULAR_RADIUS_DEG], point:PX,PY,PZ[:RADIUS] "
+                  "or gltf:INDEX|NAME, one of the scene's lights (default: the scene's first light, or a framing "
+                  "spot light)");
 }
 
 // --camera gltf:KEY (findGltfCamera), --camera EX,..., else the scene's first camera, else the framing view. --size
@@ -53,9 +60,28 @@ inline std::string cameraSummary(const ViewOptions& options, const Scene& scene,
   return source + ", " + camera.describe();
 }
 
+inline constexpr std::string_view kSceneLightPrefix = "gltf:";  // --light gltf:INDEX|NAME
+
+// One light per frame for now (the multi-light frame comes next): --light, else the scene's first light.
 inline Light resolveLight(const ViewOptions& options, const Scene& scene) {
+  if (options.light.rfind(kSceneLightPrefix, 0) == 0)
+    return scene.lights[findLight(scene.lights, std::string_view(options.light).substr(kSceneLightPrefix.size()))];
   if (!options.light.empty()) return parseLight(options.light);
   return scene.lights.empty() ? framingLight(scene.bounds()) : scene.lights.front();
+}
+
+// Which light resolveLight chose and why, for the summary: "light \"Key\" (the scene's first of 2): spot:...".
+inline std::string describeLightChoice(const ViewOptions& options, const Scene& scene, const Light& light) {
+  std::string origin;
+  if (options.light.rfind(kSceneLightPrefix, 0) == 0)
+    origin = "--light " + options.light;
+  else if (!options.light.empty())
+    origin = "--light";
+  else if (!scene.lights.empty())
+    origin = fmt::format("the scene's first of {}", scene.lights.size());
+  else
+    origin = "framing the scene, which has no lights";
+  return fmt::format("light{} ({}): {}", light.name.empty() ? "" : " \"" + light.name + "\"", origin, light.describe());
 }
 
 }  // namespace penumbra::cli

@@ -31,6 +31,7 @@ glm::vec2 concentricDisk(glm::vec2 u) {
 
 LightSampler::LightSampler(const Light& light)
     : type_(light.type), exact_(!light.isArea()), centre_(light.position), toLight_(-light.axis()) {
+  refusePointLight(light, "the reference's light samples");  // never a point taken for a directional
   const glm::vec3 axis = light.axis();
   tangent_ = glm::normalize(glm::cross(axis, chooseUp(axis)));
   bitangent_ = glm::cross(axis, tangent_);

@@ -57,6 +57,7 @@ void summarise(ReferenceResult& result, const std::vector<float>& standardError)
 
 ReferenceResult renderReference(Context& ctx, const Scene& scene, const Camera& camera, const Light& light,
                                 const TraceSettings& settings) {
+  refusePointLight(light, "penumbra reference");  // before any work: the tracer has no point-light samples yet
   using Clock = std::chrono::steady_clock;
   ReferenceResult result;
   const Bounds bounds = scene.bounds();
