@@ -1,13 +1,11 @@
 // glTF cameras through the whole pipeline: the rasterized G-buffer against primary rays traced independently
 // (tests/reference/camera_rays_ref.h) for a perspective and an orthographic camera, and full sm / pcss renders
 // seen by an orthographic glTF camera against the Embree reference.
-#include <atomic>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include "host/eval/metrics.h"
 #include "host/pipeline/views.h"
@@ -18,6 +16,7 @@
 #include "tests/support/gltf_builder.h"
 #include "tests/support/render.h"
 #include "tools/reference/reference.h"
+#include "tests/support/temp_dir.h"
 
 namespace penumbra {
 namespace {
@@ -46,12 +45,8 @@ Scene cameraScene() {
   const int c0 = b.addNode({{"camera", persp}}, false), c1 = b.addNode({{"camera", ortho}}, false);
   const double s = std::sin(glm::radians(-22.5)), c = std::cos(glm::radians(-22.5));
   b.addNode({{"translation", {0, 6, 6}}, {"rotation", {s, 0, 0, c}}, {"children", {c0, c1}}});
-  static std::atomic<int> counter{0};
-  const fs::path dir = fs::temp_directory_path() /
-                       ("penumbra_camera_render_test_" + std::to_string(getpid()) + "_" + std::to_string(counter++));
-  fs::create_directories(dir);
-  Scene scene = loadGltf(b.write(dir, "cameras"));
-  fs::remove_all(dir);
+  const test::TempDir dir("penumbra_camera_render_test");
+  Scene scene = loadGltf(b.write(dir.path(), "cameras"));
   return scene;
 }
 

@@ -2,17 +2,16 @@
 // bundled scene file (the camera sees the model, the light's cone holds it), and the errors for unknown
 // keys and bad values, each naming the file and the JSON pointer.
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "host/scene/scene_file.h"
 #include "scene_test_util.h"
+#include "tests/support/temp_dir.h"
 
 namespace penumbra {
 namespace {
@@ -26,13 +25,8 @@ constexpr float kPlacementTolerance = 1e-5f;  // float round-off of composed pla
 class SceneFile : public ::testing::Test {
  protected:
   void SetUp() override {
-    static std::atomic<int> counter{0};
-    dir_ = fs::temp_directory_path() /
-           ("penumbra_scene_file_test_" + std::to_string(getpid()) + "_" + std::to_string(counter++));
-    fs::create_directories(dir_);
     for (const char* f : {"triangle.gltf", "triangle.bin"}) fs::copy_file(test::sceneData(f), dir_ / f);
   }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string write(const std::string& json, const std::string& name = "scene.json") {
     std::ofstream(dir_ / name) << json;
     return (dir_ / name).string();
@@ -43,7 +37,8 @@ class SceneFile : public ::testing::Test {
     all.push_back("scene.json: ");
     return throwsWith([&] { loadSceneFile(write(json)); }, all);
   }
-  fs::path dir_;
+  test::TempDir scratch_{"penumbra_scene_file_test"};  // removed with the fixture
+  const fs::path dir_ = scratch_.path();
 };
 
 TEST_F(SceneFile, ComposesModelsBuiltinsGroundAndViews) {

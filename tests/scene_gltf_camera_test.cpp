@@ -1,14 +1,12 @@
 // glTF cameras: import under transformed nodes (a known world point lands on the expected pixel, for a perspective
 // and an orthographic camera), names, image size from the aspect ratio, gltf:INDEX|NAME selection in files and
 // scene files, and clear errors for malformed camera JSON.
-#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -17,6 +15,7 @@
 #include "host/scene/scene_file.h"
 #include "tests/scene_test_util.h"
 #include "tests/support/gltf_builder.h"
+#include "tests/support/temp_dir.h"
 
 namespace penumbra {
 namespace {
@@ -40,13 +39,6 @@ glm::vec2 pixelOf(const Camera& camera, const glm::vec3& p, const Bounds& bounds
 
 class GltfCameras : public ::testing::Test {
  protected:
-  void SetUp() override {
-    static std::atomic<int> counter{0};
-    dir_ = fs::temp_directory_path() /
-           ("penumbra_gltf_camera_test_" + std::to_string(getpid()) + "_" + std::to_string(counter++));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
 
   static GltfBuilder ground() {
     std::vector<glm::vec3> soup;
@@ -55,7 +47,8 @@ class GltfCameras : public ::testing::Test {
   }
   std::string write(const GltfBuilder& b, const std::string& name = "cams") const { return b.write(dir_, name); }
 
-  fs::path dir_;
+  test::TempDir scratch_{"penumbra_gltf_camera_test"};  // removed with the fixture
+  const fs::path dir_ = scratch_.path();
 };
 
 // Parent: T (2, 3, 4), R 90 deg about +Y, S 2; child: T (0, 0, 1). The lens (local -Z) then looks down world -X,

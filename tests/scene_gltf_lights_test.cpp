@@ -1,12 +1,10 @@
 // KHR_lights_punctual import, on glTF files written at run time (the triangle model plus lights): world transforms
 // through a rotated and translated parent, cones, ranges and extras sizes, names made unique and channel-safe,
 // and malformed light JSON refused with the file and the element named.
-#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
-#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -14,6 +12,7 @@
 #include "host/scene/gltf_loader.h"
 #include "host/scene/light_names.h"
 #include "scene_test_util.h"
+#include "tests/support/temp_dir.h"
 
 namespace penumbra {
 namespace {
@@ -30,13 +29,8 @@ constexpr double kDeg = 180.0 / std::numbers::pi;
 class GltfLights : public ::testing::Test {
  protected:
   void SetUp() override {
-    static std::atomic<int> counter{0};
-    dir_ = fs::temp_directory_path() /
-           ("penumbra_lights_test_" + std::to_string(getpid()) + "_" + std::to_string(counter++));
-    fs::create_directories(dir_);
     fs::copy_file(test::sceneData("triangle.bin"), dir_ / "triangle.bin");
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   // The triangle (node 0) plus `nodes` (appended from index 1, all roots of the scene unless `roots` says which).
   static Json model(const Json& lights, const Json& nodes, Json roots = nullptr) {
@@ -63,7 +57,8 @@ class GltfLights : public ::testing::Test {
   // One light of `light`'s JSON on one node at the origin.
   std::string single(const Json& light) { return write(model(Json::array({light}), Json::array({lightNode(0)}))); }
 
-  fs::path dir_;
+  test::TempDir scratch_{"penumbra_lights_test"};  // removed with the fixture
+  const fs::path dir_ = scratch_.path();
 };
 
 void expectNear(const glm::vec3& actual, const glm::dvec3& expected, const char* what) {

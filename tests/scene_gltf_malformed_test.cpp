@@ -1,15 +1,14 @@
 // glTF files broken in one way each (tests/data/scenes/malformed/, written by make_test_files.py) must be
 // refused with a SceneError naming the file and the element; plus cases built at run time: symlinks out
 // of the folder, directories, size limits, empty and garbage files.
-#include <atomic>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 
 #include <gtest/gtest.h>
 
 #include "host/scene/gltf_loader.h"
 #include "scene_test_util.h"
+#include "tests/support/temp_dir.h"
 
 namespace penumbra {
 namespace {
@@ -78,13 +77,6 @@ INSTANTIATE_TEST_SUITE_P(
 // A fresh folder per test, removed afterwards; files are written into it at run time.
 class GltfRuntime : public ::testing::Test {
  protected:
-  void SetUp() override {
-    static std::atomic<int> counter{0};
-    dir_ = fs::temp_directory_path() /
-           ("penumbra_scene_test_" + std::to_string(getpid()) + "_" + std::to_string(counter++));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string write(const std::string& name, const std::string& bytes) {
     std::ofstream(dir_ / name, std::ios::binary) << bytes;
     return (dir_ / name).string();
@@ -95,7 +87,8 @@ class GltfRuntime : public ::testing::Test {
     text.replace(text.find("triangle.bin"), 12, binName);
     return write("scene.gltf", text);
   }
-  fs::path dir_;
+  test::TempDir scratch_{"penumbra_scene_test"};  // removed with the fixture
+  const fs::path dir_ = scratch_.path();
 };
 
 TEST_F(GltfRuntime, SymlinkOutOfTheFolderIsRefused) {
