@@ -1,4 +1,4 @@
-// Bounds reductions for fitting the light's frustum (host/pipeline/light_fit.cpp): the light-space box of the
+// Bounds reductions for fitting the light's frustum (host/views/light_fit.cpp): the light-space box of the
 // receivers the camera sees (G-buffer positions) and the depth range of a rasterized map. Two passes without
 // atomics: every work-group reduces a fixed chunk in local memory and writes one partial; the host reduces
 // the few partials. Min and max only, so the result does not depend on the order.

@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "host/eval/metrics.h"
-#include "host/pipeline/views.h"
+#include "host/views/views.h"
 #include "host/scene/gltf_loader.h"
 #include "raster/rasterizer.h"
 #include "tests/reference/camera_rays_ref.h"

@@ -1,4 +1,4 @@
-// The light fit (host/pipeline/light_fit.h, views.h, kernels/fit.cl): the device reductions against plain
+// The light fit (host/views/light_fit.h, views.h, kernels/fit.cl): the device reductions against plain
 // C++ over the same data, adversarial inputs (NaN, background only, empty), and the fitted view keeping
 // every visible receiver inside the map with the requested margin while using fewer world units per texel.
 #include <gtest/gtest.h>
@@ -6,8 +6,8 @@
 #include <cmath>
 #include <limits>
 
-#include "host/pipeline/light_fit.h"
-#include "host/pipeline/views.h"
+#include "host/views/light_fit.h"
+#include "host/views/views.h"
 #include "host/scene/procedural.h"
 #include "raster/rasterizer.h"
 #include "tests/support/analytic_scenes.h"

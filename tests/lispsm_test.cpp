@@ -1,9 +1,9 @@
-// LiSPSM (host/pipeline/lispsm.h, Wimmer et al. 2004) and --warp: the view itself (Wimmer's n_opt at a right angle,
+// LiSPSM (host/views/lispsm.h, Wimmer et al. 2004) and --warp: the view itself (Wimmer's n_opt at a right angle,
 // the uniform limit as the view turns parallel to the light, never NaN, the body inside the map, the n override),
 // --warp none exactly the uniform fit, and against the Embree reference on the long field of poles under a hard
 // sun: fewer wrong pixels than plain sm where the view range is long, no worse (within a stated tolerance) with
 // the view along, across and into the light, and exactly parallel to it.
-#include "host/pipeline/lispsm.h"
+#include "host/views/lispsm.h"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "host/eval/metrics.h"
-#include "host/pipeline/views.h"
+#include "host/views/views.h"
 #include "host/scene/procedural.h"
 #include "host/techniques/registry.h"
 #include "host/techniques/warp.h"

@@ -16,7 +16,7 @@
 #include <sstream>
 
 #include "host/pipeline/renderer.h"
-#include "host/pipeline/views.h"
+#include "host/views/views.h"
 #include "host/scene/procedural.h"
 #include "host/techniques/lvsm_layers.h"
 #include "host/techniques/technique.h"

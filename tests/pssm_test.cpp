@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "host/pipeline/renderer.h"
-#include "host/pipeline/splits.h"
+#include "host/views/splits.h"
 #include "host/scene/procedural.h"
 #include "host/techniques/technique.h"
 #include "tests/support/analytic_scenes.h"

@@ -10,7 +10,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "host/pipeline/views.h"
+#include "host/views/views.h"
 #include "host/scene/gltf_loader.h"
 #include "host/scene/scene_file.h"
 #include "tests/scene_test_util.h"

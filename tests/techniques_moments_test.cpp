@@ -17,7 +17,7 @@
 #include <glm/glm.hpp>
 
 #include "host/pipeline/renderer.h"
-#include "host/pipeline/views.h"
+#include "host/views/views.h"
 #include "host/scene/procedural.h"
 #include "host/scene/procedural_mesh.h"
 #include "host/techniques/technique.h"

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "host/cl/kernel.h"
-#include "host/pipeline/views.h"
+#include "host/views/views.h"
 #include "host/version.h"
 
 namespace penumbra {

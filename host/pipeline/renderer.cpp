@@ -5,7 +5,7 @@
 #include <fmt/format.h>
 
 #include "host/pipeline/frame_image.h"
-#include "host/pipeline/views.h"
+#include "host/views/views.h"
 
 namespace penumbra {
 

@@ -3,7 +3,7 @@
 
 #include <fmt/format.h>
 
-#include "host/pipeline/light_fit.h"
+#include "host/views/light_fit.h"
 #include "kernels/shared/id_buffer.h"
 #include "host/techniques/warp.h"
 

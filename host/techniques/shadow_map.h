@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "host/cl/kernel.h"
-#include "host/pipeline/views.h"
+#include "host/views/views.h"
 #include "host/techniques/params.h"
 #include "host/techniques/technique.h"
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "host/cl/buffer.h"
-#include "host/pipeline/splits.h"
+#include "host/views/splits.h"
 #include "host/techniques/shadow_map.h"
 #include "host/techniques/warp.h"
 #include "kernels/shared/pssm.h"

@@ -11,7 +11,7 @@
 #include "host/cl/buffer.h"
 #include "host/cl/context.h"
 #include "host/io/image.h"
-#include "host/pipeline/light_fit.h"
+#include "host/views/light_fit.h"
 #include "host/scene/scene.h"
 #include "host/techniques/params.h"
 #include "raster/rasterizer.h"

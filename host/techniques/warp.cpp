@@ -1,7 +1,7 @@
 // Warp parameters and the warped (or uniform) fit of a technique's light map.
 #include "host/techniques/warp.h"
 
-#include "host/pipeline/light_fit.h"
+#include "host/views/light_fit.h"
 #include "host/techniques/split_maps.h"
 
 namespace penumbra {

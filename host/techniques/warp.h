@@ -1,12 +1,12 @@
 // The light map's parameterisation as technique parameters: `--warp none|lispsm` and `--lispsm-n` for the
 // techniques that draw one map (sm, pcf) or one per split (pssm), and the fit every such technique calls.
-// LiSPSM itself is host/pipeline/lispsm.h (Wimmer et al. 2004).
+// LiSPSM itself is host/views/lispsm.h (Wimmer et al. 2004).
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "host/pipeline/lispsm.h"
+#include "host/views/lispsm.h"
 #include "host/techniques/technique.h"
 
 namespace penumbra {

@@ -9,7 +9,7 @@
 #define LIGHT_KIND_DIRECTIONAL 1  // orthographic projection (or, with LIGHT_WARP_PERSPECTIVE, LiSPSM's warp)
 
 #define LIGHT_WARP_NONE 0         // texels uniform in light-eye x/y (directional) or in tangents (spot)
-#define LIGHT_WARP_PERSPECTIVE 1  // LiSPSM (host/pipeline/lispsm.h): texels vary over the map; a general projective
+#define LIGHT_WARP_PERSPECTIVE 1  // LiSPSM (host/views/lispsm.h): texels vary over the map; a general projective
                                   // matrix (spot: the warp times the light's perspective) whose texel is constant
                                   // along the light's rays, so its footprint is the 2x2 Jacobian's across the light
 

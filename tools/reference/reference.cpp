@@ -1,4 +1,4 @@
-// The reference frame: rasterize the G-buffer (host/pipeline/views.h cameraView, as the Renderer does, so the
+// The reference frame: rasterize the G-buffer (host/views/views.h cameraView, as the Renderer does, so the
 // pixels match `render` exactly), turn covered pixels into receivers with their triangle's geometric normal,
 // trace, scatter back (background: visibility 1, stderr 0) and shade the preview with the same kernel.
 #include "tools/reference/reference.h"
@@ -11,7 +11,7 @@
 
 #include "host/eval/metrics.h"
 #include "host/pipeline/frame_image.h"
-#include "host/pipeline/views.h"
+#include "host/views/views.h"
 #include "raster/rasterizer.h"
 
 namespace penumbra::reference {

@@ -1,5 +1,5 @@
 // Convex geometry for LiSPSM's body B (Wimmer et al. 2004, sec. 4): solids as plane sets, the vertices of their
-// intersection, the 2D hull of B seen along the light and its cut to a box. Private to host/pipeline/lispsm.cpp.
+// intersection, the 2D hull of B seen along the light and its cut to a box. Private to host/views/lispsm.cpp.
 #pragma once
 
 #include <glm/glm.hpp>

@@ -1,11 +1,11 @@
 // Convex geometry for LiSPSM's body: plane sets, Liang-Barsky edge clipping, vertex enumeration, 2D hull and cut.
-#include "host/pipeline/lispsm_geometry.h"
+#include "host/views/lispsm_geometry.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 
-#include "host/pipeline/splits.h"
+#include "host/views/splits.h"
 
 namespace penumbra::lispsm {
 namespace {

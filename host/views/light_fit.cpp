@@ -1,5 +1,5 @@
 // Device reductions for the light fit: one work-group per fixed chunk, a few partials finished on the host.
-#include "host/pipeline/light_fit.h"
+#include "host/views/light_fit.h"
 
 #include <algorithm>
 #include <cmath>

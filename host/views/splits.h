@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "host/pipeline/light_fit.h"
-#include "host/pipeline/views.h"
+#include "host/views/light_fit.h"
+#include "host/views/views.h"
 #include "host/scene/camera.h"
 #include "host/scene/light.h"
 

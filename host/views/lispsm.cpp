@@ -2,7 +2,7 @@
 // scene box, seen along the light; a perspective warp along the view direction projected perpendicular to the light
 // with the projection centre n in front of B; the map window fitted to B in the warped space. Spot lights do this in
 // the light's post-perspective space (the light directional there) and compose the warp with the light's perspective.
-#include "host/pipeline/lispsm.h"
+#include "host/views/lispsm.h"
 
 #include <fmt/format.h>
 
@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "host/pipeline/lispsm_geometry.h"
+#include "host/views/lispsm_geometry.h"
 
 namespace penumbra {
 namespace {

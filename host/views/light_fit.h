@@ -1,6 +1,6 @@
 // What the light's frustum is fitted to: the light-space box of the receivers the camera sees (a min/max
 // reduction of the G-buffer on the device) and, once the map is drawn, the depth range of its casters
-// (kernels/fit.cl). host/pipeline/views.h turns these into the light's view.
+// (kernels/fit.cl). host/views/views.h turns these into the light's view.
 #pragma once
 
 #include <glm/glm.hpp>

@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "host/pipeline/views.h"
+#include "host/views/views.h"
 #include "host/scene/camera.h"
 
 namespace penumbra {

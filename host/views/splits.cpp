@@ -1,5 +1,5 @@
 // Split distances (uniform, logarithmic, practical, automatic) and each split's light-space crop box.
-#include "host/pipeline/splits.h"
+#include "host/views/splits.h"
 
 #include <fmt/format.h>
 

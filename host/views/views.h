@@ -1,9 +1,9 @@
 // Where the camera and the light look: the camera's near/far fitted to the scene bounds, and the light's
 // view (perspective for spot lights, orthographic for directional lights) fitted to what can matter: the
-// receivers the camera sees (host/pipeline/light_fit.h) and the casters between them and the light.
+// receivers the camera sees (host/views/light_fit.h) and the casters between them and the light.
 #pragma once
 
-#include "host/pipeline/light_fit.h"
+#include "host/views/light_fit.h"
 #include "host/scene/scene.h"
 #include "kernels/shared/light_view.h"
 #include "raster/rasterizer.h"

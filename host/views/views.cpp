@@ -1,5 +1,5 @@
 // Camera and light views: the camera fitted to the scene's bounds, the light to the visible receivers.
-#include "host/pipeline/views.h"
+#include "host/views/views.h"
 
 #include <algorithm>
 #include <array>
