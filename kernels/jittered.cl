@@ -42,15 +42,6 @@ inline float jittered_slack(__global const float4* position, uint width, uint he
   return isfinite(best) ? min(precision * best, 1.0f) : 1.0f;
 }
 
-// Eq. 5 for every pixel through pass 0's map (background: 1).
-__kernel void jittered_required(__global const float4* position, uint width, uint height,
-                                __constant const LightViewGpu* lv, float precision, __global float* slack) {
-  uint i = get_global_id(0);
-  if (i >= width * height) return;
-  float4 p = position[i];
-  slack[i] = p.w == 0.0f ? 1.0f : jittered_slack(position, width, height, lv, precision, i, p);
-}
-
 // Whether every texel within JITTER_AGREEMENT_RADIUS of the lookup's texel `t` gives the result `lit` against the
 // receiver's plane (depth at uv, light depth gradient g per texel) extended to that texel's centre. Beyond Luksch:
 // where it holds in several passes with different jitter, the later passes, whose nearest texel lies within half a
@@ -170,13 +161,14 @@ inline uint jittered_lookup(__global const float4* position, __global const floa
 }
 
 // Pass 0: sm's test of every receiver through the first map, kept as a record of the lookup that later passes move
-// with their jitter instead of projecting again (jittered_pass).
+// with their jitter instead of projecting again (jittered_pass), and (optimal) eq. 5's slack of every pixel in pass
+// 0's texels, which translations and the common rotation scale keep for every pass (background: 1; other modes: 0).
 __kernel void jittered_first(__global const float4* position, __global const float4* normal, uint width, uint height,
                              __global const float* map, __constant const LightViewGpu* lv, float biasConstant,
                              float biasSlope, float normalOffset, int receiverPlane, int idMode,
                              __global const uint* mapIds, __global const uint* objectIds,
                              __global const uint* pixelTriangle, __global const uint* pixelObject, JitterShade s,
-                             __global const float* slack, __global float* kept, __global float* passOut,
+                             float precision, __global float* slack, __global float* kept, __global float* passOut,
                              __global uint* streak, __global float8* records, __global int* counters,
                              __global uint* next, __global uint* tileMask, int tilesX, int tilesY, int tileSize,
                              __global float* visibility) {
@@ -185,13 +177,16 @@ __kernel void jittered_first(__global const float4* position, __global const flo
   int2 texel = (int2)(0);
   float4 p = i < width * height ? position[i] : (float4)(0.0f);
   float8 record = (float8)(0.0f);
+  float need = 0.0f;
+  if (s.mode == JITTER_OPTIMAL && i < width * height)
+    need = p.w == 0.0f ? 1.0f : jittered_slack(position, width, height, lv, precision, i, p);
   if (p.w != 0.0f) {
     ShadowBias bias = {biasConstant, biasSlope, normalOffset};
     flags = jittered_lookup(position, normal, width, height, map, lv, bias, receiverPlane, idMode, mapIds, objectIds,
-                            pixelTriangle, pixelObject, s, 0, slack[i], kept, passOut, streak, visibility, i, p, &texel,
+                            pixelTriangle, pixelObject, s, 0, need, kept, passOut, streak, visibility, i, p, &texel,
                             &record);
   }
-  if (i < width * height) records[i] = record;
+  if (i < width * height) records[i] = record, slack[i] = need;
   jittered_count(flags, texel, i, group, counters, next, tileMask, tilesX, tilesY, tileSize);
 }
 

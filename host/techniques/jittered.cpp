@@ -124,7 +124,6 @@ class Jittered final : public Technique {
       }
       if (pass == 0) {  // renderShadowMap uploaded the unscaled view; a rotation's common scale redrew it
         if (plan.scale != 1.0f) map_.gpu.upload(frame.ctx, std::span<const LightViewGpu>(&map_.view.gpu, 1));
-        if (mode == JITTER_OPTIMAL) required(frame);
         first = map_.view;
       }
       // A shift in NDC is a shift in texels for any projection, warped ones included.
@@ -166,16 +165,6 @@ class Jittered final : public Technique {
   }
 
  private:
-  // Eq. 5 from pass 0's map: translations and the common rotation scale keep the texel size of every pass.
-  void required(ShadowFrame& frame) {
-    const GBuffer& g = frame.gbuffer;
-    const uint32_t width = static_cast<uint32_t>(g.width), height = static_cast<uint32_t>(g.height);
-    Kernel kernel(frame.ctx, "kernels/jittered.cl", "jittered_required", "shade");
-    kernel.args(g.position, width, height, map_.gpu, static_cast<float>(params_.get("jitter-precision")), slack_)
-        .moves(uint64_t{width} * height * (16 + 4))
-        .launch(static_cast<size_t>(width) * height, kPixelGroup);
-  }
-
   // What every pass of a frame shares: the fitted map of pass 0 (sm's), the rotation's range and its texel scale,
   // the frustum reduction's factor and the camera's depth range it cuts.
   struct Plan {
@@ -250,7 +239,6 @@ class Jittered final : public Technique {
     kept_.fill(ctx, -1.0f);
     pass_.fill(ctx, 0.0f);
     visibility.fill(ctx, 1.0f);
-    if (params_.getInt("confidence") != JITTER_OPTIMAL) slack_.fill(ctx, 0.0f);
   }
 
   // Optimal mode without rotation: the next pass draws only the texels the still-unconfident pixels look up, their
@@ -324,8 +312,9 @@ class Jittered final : public Technique {
       kernel
           .args(g.position, g.normal, width, height, map_.targets.depth, map_.gpu, bias.constant, bias.slope,
                 bias.normalOffset, params_.getInt("receiver-plane"), idMode, map_.targets.triangleId,
-                frame.raster.objectIds(), g.triangleId, g.objectId, shade, slack_, kept_, pass_, streak_, records_,
-                counters_, next_, tileMask_, maskTiles, maskTiles, kRasterTileSize, visibility)
+                frame.raster.objectIds(), g.triangleId, g.objectId, shade,
+                static_cast<float>(params_.get("jitter-precision")), slack_, kept_, pass_, streak_, records_, counters_,
+                next_, tileMask_, maskTiles, maskTiles, kRasterTileSize, visibility)
           // + slack, kept, pass, the lookup record; the work list's entries as a bound
           .moves(pixels * (kVisibilityBytesPerPixel + 4 * 4 + 32 + 4))
           .launch(pixels, kPixelGroup);
