@@ -33,3 +33,38 @@ __kernel void shade_preview(__global const float4* position, __global const floa
   float value = SHADE_ALBEDO * (direct + SHADE_AMBIENT * sky);
   rgba[i] = (float4)(value, value, value, 1.0f);
 }
+
+// Several lights: shade_add_direct adds one light's direct term to `direct` (zeroed first), once per light, then
+// shade_finish shades the sum as shade_preview shades one light's term. One light keeps shade_preview itself, so
+// its preview stays bit for bit what it was.
+inline float3 shade_facing_normal(float4 p, float3 n, float4 eye) {
+  float3 toEye = eye.w != 0.0f ? eye.xyz - p.xyz : eye.xyz;
+  return dot(n, toEye) < 0.0f ? -n : n;
+}
+
+__kernel void shade_add_direct(__global const float4* position, __global const float4* normal,
+                               __global const float* visibility, uint count, __constant const LightViewGpu* lv,
+                               float4 eye, float cosHalfFov, __global float* direct) {
+  uint i = get_global_id(0);
+  if (i >= count) return;
+  float4 p = position[i];
+  if (p.w == 0.0f) return;
+  float3 n = shade_facing_normal(p, normal[i].xyz, eye);
+  float3 toLight = lv_to_light(lv, p.xyz);
+  direct[i] += max(dot(n, toLight), 0.0f) * shade_cone(lv, toLight, cosHalfFov) * visibility[i];
+}
+
+__kernel void shade_finish(__global const float4* position, __global const float4* normal,
+                           __global const float* direct, uint count, float4 eye, __global float4* rgba) {
+  uint i = get_global_id(0);
+  if (i >= count) return;
+  float4 p = position[i];
+  if (p.w == 0.0f) {
+    rgba[i] = (float4)(0.0f);
+    return;
+  }
+  float3 n = shade_facing_normal(p, normal[i].xyz, eye);
+  float sky = 0.5f + 0.5f * n.y;
+  float value = SHADE_ALBEDO * (direct[i] + SHADE_AMBIENT * sky);
+  rgba[i] = (float4)(value, value, value, 1.0f);
+}

@@ -102,6 +102,7 @@ TEST(Sweep, MovesSeveralParametersTogether) {
 
 std::vector<BenchRow> exampleRows() {
   BenchRow pass{"builtin:box", "pcf", "map-size=512", "bias=1, \"x\"", "shade/pcf_visibility", 1, 2.5, 3600, 0.25, {}};
+  pass.light = "Key";
   BenchRow total = pass;
   total.pass = kTotalPass;
   total.bytes = 0;
@@ -130,13 +131,13 @@ TEST(BenchReport, CsvHasTheColumnsAndQuotesFields) {
   ASSERT_EQ(lines.size(), 3u);
   EXPECT_EQ(lines[0],
             "scene,technique,setting,pass,calls,ms,bytes,floor_ms,mae,rmse,p95,max,off,leak,false_shadow,mean_signed,"
-            "pixels,width,height,runs,copy_gbps,device,parameters");
+            "pixels,width,height,runs,copy_gbps,device,parameters,light");
   EXPECT_EQ(lines[1],
             "builtin:box,pcf,map-size=512,shade/pcf_visibility,1,2.5,3600,0.25,,,,,,,,,,64,32,3,2,"
-            "\"Device, v1\",\"bias=1, \"\"x\"\"\"");
+            "\"Device, v1\",\"bias=1, \"\"x\"\"\",Key");
   EXPECT_EQ(lines[2],
             "builtin:box,pcf,map-size=512,total,1,2.5,,,0.125,0,0,0,0,0.5,0,0,10,64,32,3,2,"
-            "\"Device, v1\",\"bias=1, \"\"x\"\"\"");
+            "\"Device, v1\",\"bias=1, \"\"x\"\"\",Key");
 }
 
 TEST(BenchReport, JsonCarriesMetaAndTheSameRows) {

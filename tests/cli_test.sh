@@ -264,7 +264,7 @@ for f in lit bulb; do
     >"$scratch/$f.json"
 done
 lit=("$scratch/lit.json" --size 32x24 -t sm --map-size 64)
-expect gltf-light-default 0 'light "Key" \(the scene.s first of 3\): spot:0,7,0:' -- \
+expect gltf-light-default 0 'light "Key" \(the scene.s 1 of 3\): spot:0,7,0:' -- \
   "$bin" render "${lit[@]}" -o "$scratch/lit.exr"
 expect gltf-light-exr-name 0 "penumbra:light-name.*Key" -- bash -c "LC_ALL=C grep -ao 'penumbra:light-name.\{12\}Key' '$scratch/lit.exr' | tr -d '\\000'"
 expect gltf-light-by-name 0 'light "Sun" \(--light gltf:Sun\): dir:' -- "$bin" render "${lit[@]}" --light gltf:Sun \
@@ -277,8 +277,35 @@ expect gltf-light-bad-index 2 '^penumbra: --light gltf:5: no light 5 \(the scene
   "$bin" render "${lit[@]}" --light gltf:5 -o "$scratch/x.exr"
 expect gltf-light-unknown-name 2 '^penumbra: --light gltf:Fill: no light named "Fill" \(the scene.s lights: 0 "Key"' -- \
   "$bin" render "${lit[@]}" --light gltf:Fill -o "$scratch/x.exr"
-expect gltf-light-reference 0 'light "Key" \(the scene.s first of 3\)' -- "$bin" reference "$scratch/lit.json" \
+expect gltf-light-reference 0 'light "Sun" \(the scene.s 2 of 3\)' -- "$bin" reference "$scratch/lit.json" \
   --size 32x24 --spp 4 -o "$scratch/lit-ref.exr"
+# Several lights per frame: every light in its own layer (the first also as visibility.Y), traced the same way by
+# the reference; compare --light NAME picks visibility.NAME.Y and lit.NAME.Y; bench reports per light.
+expect multi-light-layers 0 'visibility.Sun.Y' -- bash -c "LC_ALL=C grep -ao 'visibility.Sun.Y' '$scratch/lit.exr' | head -n 1"
+expect multi-light-ref-lit 0 'lit.light2.Y' -- bash -c "LC_ALL=C grep -ao 'lit.light2.Y' '$scratch/lit-ref.exr' | head -n 1"
+expect compare-light 0 'visibility.Sun.Y over [0-9]+ covered and lit.Sun.Y pixels' -- \
+  "$bin" compare "$scratch/lit.exr" "$scratch/lit-ref.exr" --light Sun
+expect compare-light-unknown 4 '^penumbra compare: --light Fill: .*lit.exr has no light "Fill" \(its lights: Key, Sun, light2\)$' -- \
+  "$bin" compare "$scratch/lit.exr" "$scratch/lit-ref.exr" --light Fill
+expect compare-light-and-channel 2 'excludes' -- \
+  "$bin" compare "$scratch/lit.exr" "$scratch/lit-ref.exr" --light Sun --channel visibility.Y
+expect bench-per-light 0 '' -- "$bin" bench "$scratch/lit.json" --size 32x24 --map-size 64 --techniques sm --runs 1 --warmup 0 --no-reference -q \
+  -o "$scratch/lit-bench.csv"
+expect bench-per-light-rows 0 '^sm,.*,total,.*,Sun$' -- bash -c "grep -E ',total,' '$scratch/lit-bench.csv' | sed 's/^[^,]*,//'"
+# Per-light techniques from a scene file: "technique" and "params" on a light entry, checked like -t and --PARAM.
+printf '{"procedural": [{"name": "box"}], "lights": [%s, %s]}' \
+  '{"name": "Key", "type": "spot", "position": [0, 5, 0], "target": [0, 0, 0], "radius": 0.2, "technique": "pcss", "params": {"pcss-filter-taps": 4}}' \
+  '{"name": "Sun", "type": "dir", "direction": [0.3, -1, 0.2]}' >"$scratch/two-techniques.json"
+expect light-own-technique 0 'light "Key" shadowed by its own technique pcss \(.*pcss-filter-taps=4' -- \
+  "$bin" render "$scratch/two-techniques.json" --size 32x24 -t sm --map-size 64 -o "$scratch/two.exr"
+printf '{"procedural": [{"name": "box"}], "lights": [%s]}' \
+  '{"name": "Key", "type": "spot", "position": [0, 5, 0], "target": [0, 0, 0], "technique": "sm", "params": {"pcss-filter-taps": 4}}' \
+  >"$scratch/bad-technique-param.json"
+expect light-own-technique-bad-param 2 'bad-technique-param.json: light "Key": params: "pcss-filter-taps" is not a parameter of technique .sm.' -- \
+  "$bin" render "$scratch/bad-technique-param.json" --size 32x24 -o "$scratch/x.exr"
+sed 's/"technique": "sm", "params": {"pcss-filter-taps": 4}/"technique": "nope"/' "$scratch/bad-technique-param.json" >"$scratch/bad-technique.json"
+expect light-own-technique-unknown 2 'bad-technique.json: light "Key": unknown technique .nope.' -- \
+  "$bin" render "$scratch/bad-technique.json" --size 32x24 -o "$scratch/x.exr"
 expect gltf-light-bad-type 1 'bad-type.gltf: /extensions/KHR_lights_punctual/lights/0/type: expected "spot", "directional" or "point", got "area"$' -- \
   "$bin" render "$scratch/bad-type.gltf" -o "$scratch/x.exr"
 expect gltf-light-bad-node-index 1 'bad-index.gltf: /nodes/1/extensions/KHR_lights_punctual/light: no light 3 in KHR_lights_punctual \(the file has 1\)$' -- \
@@ -293,6 +320,8 @@ expect point-light-reference 2 "light \"Bulb\" is a point light: .* not supporte
   "$bin" reference "$scratch/bulb.json" --size 32x24 -o "$scratch/x.exr"
 expect point-light-bench 2 "light \"Bulb\" is a point light: .* not supported yet by technique sm" -- \
   "$bin" bench "$scratch/bulb.json" --size 32x24 --techniques sm --no-reference -o "$scratch/x.csv"
+expect point-light-among-lights 2 'light "Bulb" is a point light: .*render one of the others with --light gltf:light1$' -- \
+  "$bin" render "$scratch/bulb.json" --size 32x24 -t sm -o "$scratch/x.exr"
 expect point-light-bad-radius 2 "radius: -1 is negative" -- "$bin" render builtin:box --light point:0,4,0:-1 -o "$scratch/x.exr"
 
 echo "$passed passed, $failed failed"

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -190,6 +191,30 @@ TEST_F(SceneFile, ModelLightsMoveWithTheirPlacementAndTakeSizesByName) {
   EXPECT_EQ(s.lights[2].radius, 0.1f);
   EXPECT_EQ(s.lights[3].name, "Sun-2");
   EXPECT_EQ(s.lights[3].angularRadiusDeg, 0.0f);
+}
+
+TEST_F(SceneFile, LightsMayNameTheirOwnTechnique) {
+  const Scene s = load(R"({"procedural": [{"name": "box"}], "lights": [
+    {"name": "Key", "type": "spot", "position": [0, 5, 0], "target": [0, 0, 0], "technique": "pcss",
+     "params": {"pcss-filter-taps": 4, "fit": "receivers", "receiver-plane": true}},
+    {"name": "Sun", "type": "dir", "direction": [0, -1, 0]}]})");
+  ASSERT_EQ(s.lights.size(), 2u);
+  EXPECT_EQ(s.lights[0].technique, "pcss");
+  EXPECT_EQ(s.lights[0].params, (std::map<std::string, std::string>{
+                                    {"fit", "receivers"}, {"pcss-filter-taps", "4"}, {"receiver-plane", "on"}}));
+  EXPECT_TRUE(s.lights[1].technique.empty());
+  EXPECT_TRUE(s.lights[1].params.empty());
+  const std::string spot = R"("type": "spot", "position": [0, 5, 0], "target": [0, 0, 0])";
+  EXPECT_TRUE(refused(R"({"procedural": [{"name": "box"}], "lights": [{)" + spot + R"(, "params": {"bias": 1}}]})",
+                      {"/lights/0/params: needs \"technique\" beside it"}));
+  EXPECT_TRUE(refused(R"({"procedural": [{"name": "box"}], "lights": [{)" + spot + R"(, "technique": ""}]})",
+                      {"/lights/0/technique: is empty"}));
+  EXPECT_TRUE(
+      refused(R"({"procedural": [{"name": "box"}], "lights": [{)" + spot + R"(, "technique": "sm", "params": [1]}]})",
+              {"/lights/0/params: expected an object"}));
+  EXPECT_TRUE(refused(
+      R"({"procedural": [{"name": "box"}], "lights": [{)" + spot + R"(, "technique": "sm", "params": {"bias": [1]}}]})",
+      {"/lights/0/params/bias: expected a number, a string or a boolean"}));
 }
 
 TEST_F(SceneFile, LightSizesNameALightOfTheModels) {

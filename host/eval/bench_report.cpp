@@ -41,7 +41,8 @@ Cells cells(const BenchMeta& meta, const BenchRow& r) {
           {"runs", meta.runs},
           {"copy_gbps", meta.copyBytesPerSecond * 1e-9},
           {"device", meta.device},
-          {"parameters", r.parameters}};
+          {"parameters", r.parameters},
+          {"light", r.light}};
 }
 
 std::string csvText(const nlohmann::json& value) {

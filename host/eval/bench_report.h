@@ -1,5 +1,5 @@
-// The rows `penumbra bench` writes: one per technique x setting x pass, then a "total" row carrying the accuracy
-// metrics, as CSV (one header line, RFC 4180 quoting) or JSON ({"meta": ..., "rows": [...]}). Plain C++.
+// The rows `penumbra bench` writes: one per technique x setting x light x pass, then a "total" row carrying the
+// accuracy metrics, as CSV (one header line, RFC 4180 quoting) or JSON ({"meta": ..., "rows": [...]}). Plain C++.
 #pragma once
 
 #include <cstdint>
@@ -23,6 +23,7 @@ struct BenchRow {
   uint64_t bytes = 0;                   // least bytes moved (0: no hint)
   std::optional<double> floorMs;        // bytes / copy bandwidth
   std::optional<ErrorMetrics> metrics;  // total rows, when a reference was compared
+  std::string light;                    // the light's layer (light_names.h lightLayer): rows per light of the frame
 };
 
 struct BenchMeta {
@@ -33,7 +34,8 @@ struct BenchMeta {
   bool masked = false;    // metrics restricted to the reference's lit.Y mask
 };
 
-// The CSV's columns, in order (the chart and table scripts read them by name).
+// The CSV's columns, in order (the chart and table scripts read them by name; "light" came last, after
+// "parameters", so older readers by position keep working).
 const std::vector<std::string>& benchCsvColumns();
 
 // Quotes a field when it holds a comma, a quote or a line break (quotes doubled).

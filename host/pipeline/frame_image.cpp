@@ -5,10 +5,12 @@
 
 #include <cmath>
 #include <cstring>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "host/cl/kernel.h"
+#include "host/scene/light_names.h"
 #include "host/views/views.h"
 #include "host/version.h"
 
@@ -18,6 +20,8 @@ namespace {
 constexpr size_t kShadeGroup = 64;
 // shade_preview's bandwidth floor: read position and normal (two float4) and visibility, write one float4.
 constexpr uint64_t kShadeBytesPerPixel = 2 * 16 + 4 + 16;
+// shade_add_direct's: read position, normal, visibility and the running sum, write the sum.
+constexpr uint64_t kShadeAddBytesPerPixel = 2 * 16 + 4 + 2 * 4;
 
 // Component `c` of every element of a float4 buffer as one channel.
 std::vector<float> component(const std::vector<cl_float4>& data, int c) {
@@ -65,29 +69,83 @@ std::vector<float> litMask(std::span<const cl_float4> position, std::span<const 
   return mask;
 }
 
-Image frameImage(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& visibility, const Camera& camera,
-                 const Light& light, const Bounds& bounds) {
-  const uint32_t count = static_cast<uint32_t>(gbuffer.width) * static_cast<uint32_t>(gbuffer.height);
-  if (visibility.size() != count)
-    throw std::invalid_argument(
-        fmt::format("frameImage: {} visibility values for {} pixels", visibility.size(), count));
-  // The preview needs only the light's position, axis and cone, not a map: a 1-texel view suffices.
-  const LightView shading = fitLightView(light, bounds, 1);
-  Buffer<LightViewGpu> shadingGpu(ctx, std::span<const LightViewGpu>(&shading.gpu, 1), CL_MEM_READ_ONLY);
+namespace {
+
+// The preview's light-dependent arguments of kernels/shade.cl for one light. It needs only the light's position,
+// axis and cone, not a map: a 1-texel view suffices.
+struct ShadeLight {
+  LightView fitted;
+  Buffer<LightViewGpu> view;
+  float cosHalfFov;
+  ShadeLight(Context& ctx, const Light& light, const Bounds& bounds)
+      : fitted(fitLightView(light, bounds, 1)),
+        view(ctx, std::span<const LightViewGpu>(&fitted.gpu, 1), CL_MEM_READ_ONLY),
+        cosHalfFov(light.type == LightType::Spot ? std::cos(glm::radians(light.fovDeg) * 0.5f) : -1.0f) {}
+};
+
+// One light: shade_preview, as ever. Several: each light's direct term summed (shade_add_direct), then shaded
+// with the ambient term once (shade_finish).
+Buffer<cl_float4> shadePreview(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisibility> lights,
+                               const Camera& camera, const Bounds& bounds, uint32_t count) {
   Buffer<cl_float4> rgba(ctx, count);
   // The point the camera sees from (w = 1), or for an orthographic camera the direction towards it (w = 0).
   const glm::vec4 toEye = camera.orthographic() ? glm::vec4(-camera.forward(), 0.0f) : glm::vec4(camera.eye, 1.0f);
   const cl_float4 eye = {{toEye.x, toEye.y, toEye.z, toEye.w}};
-  const float cosHalfFov = light.type == LightType::Spot ? std::cos(glm::radians(light.fovDeg) * 0.5f) : -1.0f;
-  Kernel shade(ctx, "kernels/shade.cl", "shade_preview", "shade");
-  shade.args(gbuffer.position, gbuffer.normal, visibility, count, shadingGpu, eye, cosHalfFov, rgba)
+  if (lights.size() == 1) {
+    const ShadeLight shading(ctx, *lights[0].light, bounds);
+    Kernel shade(ctx, "kernels/shade.cl", "shade_preview", "shade");
+    shade
+        .args(gbuffer.position, gbuffer.normal, *lights[0].visibility, count, shading.view, eye, shading.cosHalfFov,
+              rgba)
+        .moves(uint64_t{count} * kShadeBytesPerPixel)
+        .launch(count, kShadeGroup);
+    return rgba;
+  }
+  Buffer<float> direct(ctx, count);
+  direct.fill(ctx, 0.0f);
+  for (const LightVisibility& lit : lights) {
+    const ShadeLight shading(ctx, *lit.light, bounds);
+    Kernel add(ctx, "kernels/shade.cl", "shade_add_direct", "shade");
+    add.args(gbuffer.position, gbuffer.normal, *lit.visibility, count, shading.view, eye, shading.cosHalfFov, direct)
+        .moves(uint64_t{count} * kShadeAddBytesPerPixel)
+        .launch(count, kShadeGroup);
+  }
+  Kernel finish(ctx, "kernels/shade.cl", "shade_finish", "shade");
+  finish.args(gbuffer.position, gbuffer.normal, direct, count, eye, rgba)
       .moves(uint64_t{count} * kShadeBytesPerPixel)
       .launch(count, kShadeGroup);
+  return rgba;
+}
+
+}  // namespace
+
+Image frameImage(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& visibility, const Camera& camera,
+                 const Light& light, const Bounds& bounds) {
+  const LightVisibility one{&light, &visibility};
+  return frameImage(ctx, gbuffer, std::span<const LightVisibility>(&one, 1), camera, bounds);
+}
+
+Image frameImage(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisibility> lights, const Camera& camera,
+                 const Bounds& bounds) {
+  const uint32_t count = static_cast<uint32_t>(gbuffer.width) * static_cast<uint32_t>(gbuffer.height);
+  if (lights.empty()) throw std::invalid_argument("frameImage: no lights");
+  std::set<std::string> layers;
+  for (const LightVisibility& lit : lights) {
+    if (lit.visibility->size() != count)
+      throw std::invalid_argument(
+          fmt::format("frameImage: {} visibility values for {} pixels", lit.visibility->size(), count));
+    if (!layers.insert(lightLayer(*lit.light)).second)
+      throw std::invalid_argument(fmt::format("frameImage: two lights named \"{}\"", lightLayer(*lit.light)));
+  }
+  const Buffer<cl_float4> rgba = shadePreview(ctx, gbuffer, lights, camera, bounds, count);
+  const Light& light = *lights[0].light;
 
   Image image(gbuffer.width, gbuffer.height);
   const std::vector<cl_float4> preview = rgba.download(ctx);
   for (int c = 0; c < 4; ++c) image.add(std::string(1, "RGBA"[c]), component(preview, c));
-  image.add("visibility.Y", visibility.download(ctx));
+  image.add("visibility.Y", lights[0].visibility->download(ctx));
+  for (const LightVisibility& lit : lights)
+    image.add(lightChannel("visibility", lightLayer(*lit.light)), lit.visibility->download(ctx));
   const std::vector<cl_float4> position = gbuffer.position.download(ctx), normal = gbuffer.normal.download(ctx);
   for (int c = 0; c < 3; ++c) image.add(fmt::format("P.{}", "XYZ"[c]), component(position, c));
   for (int c = 0; c < 3; ++c) image.add(fmt::format("N.{}", "XYZ"[c]), component(normal, c));
@@ -98,6 +156,12 @@ Image frameImage(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& visi
       fmt::format("{} ({}, {})", ctx.info().name, ctx.info().platformName, ctx.info().driverVersion);
   attributes["penumbra:light"] = light.describe();
   if (!light.name.empty()) attributes["penumbra:light-name"] = light.name;  // the scene's (unique) name for it
+  if (lights.size() > 1) {
+    std::string all;
+    for (const LightVisibility& lit : lights)
+      all += fmt::format("{}{}={}", all.empty() ? "" : "; ", lightLayer(*lit.light), lit.light->describe());
+    attributes["penumbra:lights"] = all;  // every light's layer and form; penumbra:light is the first's
+  }
   attributes["penumbra:camera"] = cameraProvenance(camera);
   if (!camera.label().empty()) attributes["penumbra:camera-source"] = camera.label();
   attributes["penumbra:version"] = std::string(version());

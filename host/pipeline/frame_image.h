@@ -15,12 +15,25 @@
 
 namespace penumbra {
 
-// R,G,B,A (A = 1 where a surface is seen), visibility.Y, P.X/Y/Z, N.X/Y/Z, depth.Z, with the light, camera,
-// device and version as provenance attributes and the standard worldToCamera and worldToNDC matrices. Rows stay
-// bottom-up like the G-buffer: add any further bottom-up channels, then flipRows(). `visibility` holds gbuffer.width *
-// gbuffer.height values.
+// R,G,B,A (A = 1 where a surface is seen), visibility.Y (and visibility.<layer>.Y, the same), P.X/Y/Z, N.X/Y/Z,
+// depth.Z, with the light, camera, device and version as provenance attributes and the standard worldToCamera and
+// worldToNDC matrices. Rows stay bottom-up like the G-buffer: add any further bottom-up channels, then flipRows().
+// `visibility` holds gbuffer.width * gbuffer.height values.
 Image frameImage(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& visibility, const Camera& camera,
                  const Light& light, const Bounds& bounds);
+
+// One light of a frame and its visibility buffer (gbuffer.width * gbuffer.height values, rows bottom-up).
+struct LightVisibility {
+  const Light* light;
+  const Buffer<float>* visibility;
+};
+
+// Several lights (at least one, their layers lightLayer() distinct): each light's visibility as
+// "visibility.<layer>.Y" and the first's also as "visibility.Y"; the preview sums the lights' direct terms over one
+// ambient term (one light: exactly the single-light preview); penumbra:light and penumbra:light-name are the first
+// light's, penumbra:lights ("LAYER=FORM; ...") lists them all when there are several.
+Image frameImage(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisibility> lights, const Camera& camera,
+                 const Bounds& bounds);
 
 // "EX,EY,EZ:TX,TY,TZ:FOVY": the camera as the header's penumbra:camera records it (Camera::describe() for
 // orthographic cameras and those with an up vector or clip planes of their own). A glTF camera's label()

@@ -16,9 +16,17 @@
 
 namespace penumbra {
 
+// One light of a frame and the technique that shadows it.
+struct FrameLight {
+  Light light;
+  const TechniqueInfo* technique;
+  Params params;
+};
+
 struct RenderResult {
-  // R,G,B,A (shaded preview, A = 1 where a surface is seen), visibility.Y, P.X/Y/Z, N.X/Y/Z, depth.Z and
-  // the technique's debug channels; rows top-down; provenance in the attributes.
+  // R,G,B,A (shaded preview of every light, A = 1 where a surface is seen), visibility.Y (the first light's),
+  // visibility.<layer>.Y per light (light_names.h lightLayer), P.X/Y/Z, N.X/Y/Z, depth.Z and the first light's
+  // technique's debug channels; rows top-down; provenance in the attributes.
   Image image;
   std::vector<PassTime> passes;  // device time per named pass, in recording order
 };
@@ -34,16 +42,24 @@ class Renderer {
   // parameters stay the same, so repeated frames measure the steady state; a change creates a new one.
   RenderResult render(const Camera& camera, const Light& light, const TechniqueInfo& technique, const Params& params);
 
+  // Several lights in one frame (one G-buffer), each with its own technique. The renderer keeps one technique
+  // instance and visibility buffer per position in `lights`, so repeated frames of the same lights stay in the
+  // steady state. Every light is checked (refusePointLights) before any work.
+  RenderResult render(const Camera& camera, const std::vector<FrameLight>& lights);
+
  private:
-  Technique& techniqueFor(const TechniqueInfo& technique, const Params& params);
+  struct Slot {
+    std::unique_ptr<Technique> technique;
+    std::string key;  // "name: parameters" of technique
+    Buffer<float> visibility;
+  };
+  Technique& techniqueFor(Slot& slot, const TechniqueInfo& technique, const Params& params);
 
   Context& ctx_;
   const Scene& scene_;
   Rasterizer raster_;
   GBuffer gbuffer_;
-  Buffer<float> visibility_;
-  std::unique_ptr<Technique> technique_;
-  std::string techniqueKey_;  // "name: parameters" of technique_
+  std::vector<Slot> slots_;  // one per light of the frame, in order
 };
 
 }  // namespace penumbra

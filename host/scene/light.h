@@ -3,8 +3,10 @@
 // yet: they need cube maps), their command-line form, and the refusal of point lights.
 #pragma once
 
+#include <map>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -34,6 +36,10 @@ struct Light {
   // it a sun disk of that angular radius.
   glm::vec3 direction{0, -1, 0};
   float angularRadiusDeg = 0.0f;
+  // A scene file's per-light shadow technique ("technique", "params"): empty = the command line's. The scene layer
+  // keeps them as text; the tools check them against the technique registry (an unknown name or value: exit 2).
+  std::string technique;
+  std::map<std::string, std::string> params;  // parameter name (no dashes) -> value as text
 
   bool isArea() const { return type == LightType::Directional ? angularRadiusDeg > 0 : radius > 0; }
   glm::vec3 axis() const;        // unit direction light travels along its centre axis ((0, -1, 0) for points)
@@ -50,5 +56,9 @@ Light parseLight(std::string_view spec);
 // "light L is a point light: point lights are not supported yet by WHO" for one; `who` is e.g.
 // "technique pcss". Every entry point that renders a light calls this, so no path treats a point as a spot.
 void refusePointLight(const Light& light, std::string_view who);
+
+// refusePointLight for every light of a frame; with several, the message ends by suggesting
+// "--light gltf:NAME" for the first light that is not a point light.
+void refusePointLights(const std::vector<Light>& lights, std::string_view who);
 
 }  // namespace penumbra

@@ -73,4 +73,10 @@ size_t findLight(const std::vector<Light>& lights, std::string_view key) {
       fmt::format("--light gltf:{}: {} (the scene's lights: {})", key, what, listLights(lights)));
 }
 
+std::string lightLayer(const Light& light) { return light.name.empty() ? std::string(kUnnamedLightLayer) : light.name; }
+
+std::string lightChannel(std::string_view prefix, std::string_view layer) {
+  return fmt::format("{}.{}.Y", prefix, layer);
+}
+
 }  // namespace penumbra

@@ -24,6 +24,14 @@ void nameLights(std::vector<Light>& lights);
 // std::invalid_argument "--light gltf:KEY: ..." listing the lights there are, for a bad index or unknown name.
 size_t findLight(const std::vector<Light>& lights, std::string_view key);
 
+// The light's layer in a frame's EXR: its name, or kUnnamedLightLayer for a light without one (one given with
+// --light SPEC, or the framing light of a scene that has none).
+inline constexpr std::string_view kUnnamedLightLayer = "light";
+std::string lightLayer(const Light& light);
+
+// "PREFIX.LAYER.Y", e.g. lightChannel("visibility", "Key") == "visibility.Key.Y".
+std::string lightChannel(std::string_view prefix, std::string_view layer);
+
 // "0 \"Key\" (spot), 1 \"Sun\" (dir)", or "none" for no lights.
 std::string listLights(const std::vector<Light>& lights);
 

@@ -48,6 +48,34 @@ Camera readCamera(const Json& value, const std::string& file, const std::string&
   return camera;
 }
 
+namespace {
+
+// "technique": "pcss" and "params": {"light-size": 2, "filter": "poisson"}: kept as text (numbers as JSON writes
+// them, booleans as on/off); the tools check the name and the values against the technique registry.
+void readLightTechnique(ObjectReader& r, Light& light) {
+  if (r.has("technique")) {
+    light.technique = r.string("technique");
+    if (light.technique.empty()) r.fail("technique", "is empty");
+  }
+  const Json* params = r.find("params");
+  if (params == nullptr) return;
+  if (light.technique.empty()) r.fail("params", "needs \"technique\" beside it");
+  if (!params->is_object()) r.fail("params", fmt::format("expected an object, got {}", brief(*params)));
+  for (const auto& [name, value] : params->items()) {
+    const std::string pointer = pointerTo(r.pointer("params"), name);
+    if (value.is_string())
+      light.params[name] = value.get<std::string>();
+    else if (value.is_boolean())
+      light.params[name] = value.get<bool>() ? "on" : "off";
+    else if (value.is_number() && std::isfinite(value.get<double>()))
+      light.params[name] = value.dump();
+    else
+      failAt(r.file(), pointer, fmt::format("expected a number, a string or a boolean, got {}", brief(value)));
+  }
+}
+
+}  // namespace
+
 Light readLight(const Json& value, const std::string& file, const std::string& pointer) {
   ObjectReader r(value, file, pointer);
   Light light;
@@ -71,6 +99,7 @@ Light readLight(const Json& value, const std::string& file, const std::string& p
   } else {
     r.fail("type", fmt::format("expected \"spot\", \"dir\" or \"point\", got \"{}\"", type));
   }
+  readLightTechnique(r, light);
   r.finish();
   return light;
 }

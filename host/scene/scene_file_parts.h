@@ -18,7 +18,8 @@ Camera readCamera(const Json& value, const std::string& file, const std::string&
 
 // {"type":"spot", "position":[..], "target":[..], "fov_deg":60, "radius":0.5},
 // {"type":"dir", "direction":[..], "angular_radius_deg":0.5} or {"type":"point", "position":[..], "radius":0.5},
-// each with an optional "name".
+// each with an optional "name" and an optional "technique" with its "params" ({"technique": "pcss", "params":
+// {"light-size": 2}}: Light::technique and Light::params).
 Light readLight(const Json& value, const std::string& file, const std::string& pointer);
 
 // {"name":"Lamp", "radius":0.2} (spot and point lights) or {"name":"Sun", "angular_radius_deg":0.27}

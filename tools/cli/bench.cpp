@@ -1,4 +1,5 @@
-// `penumbra bench SCENE --techniques LIST [--sweep PARAM=a,b,c]...`: every technique x parameter setting rendered
+// `penumbra bench SCENE --techniques LIST [--sweep PARAM=a,b,c]...`: every technique x parameter setting x light
+// of the frame (each light alone, with the command line's techniques) rendered
 // `--warmup` + `--runs` times with one Renderer (the technique's buffers kept, so the runs measure the steady state);
 // per pass the median device time (OpenCL profiling events) beside its bandwidth floor (the pass's least bytes moved
 // / the device's measured copy bandwidth), and the accuracy of the last run against a reference (given, or traced
@@ -18,6 +19,7 @@
 #include "host/io/exr.h"
 #include "host/pipeline/frame_image.h"
 #include "host/pipeline/renderer.h"
+#include "host/scene/light_names.h"
 #include "host/scene/load.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/progress.h"
@@ -83,14 +85,21 @@ std::vector<Job> planJobs(const BenchOptions& options) {
 }
 
 // What identifies a traced reference: a cached one is reused only when this matches its header.
-std::string referenceKey(const BenchOptions& o, const Camera& camera, const Light& light) {
+std::string referenceKey(const BenchOptions& o, const Camera& camera, const std::vector<Light>& lights) {
+  std::string forms;
+  bool area = false;
+  for (const Light& light : lights) {
+    forms += (forms.empty() ? "" : ";") + lightLayer(light) + "=" + light.describe();
+    area = area || light.isArea();
+  }
+  if (lights.size() == 1) forms = lights[0].describe();  // the single-light key as before: caches stay valid
   return fmt::format("scene={} camera={} size={}x{} light={} spp={}", o.view.scene, cameraProvenance(camera),
-                     camera.width, camera.height, light.describe(), light.isArea() ? o.spp : 1);
+                     camera.width, camera.height, forms, area ? o.spp : 1);
 }
 
 // The given reference, or the cached trace next to the output, or a fresh trace written there.
 std::optional<Image> loadReference(const BenchOptions& o, Context& ctx, const Scene& scene, const Camera& camera,
-                                   const Light& light, std::string& path) {
+                                   const std::vector<Light>& lights, std::string& path) {
   if (o.noReference) return std::nullopt;
   if (!o.reference.empty()) {
     path = o.reference;
@@ -101,7 +110,7 @@ std::optional<Image> loadReference(const BenchOptions& o, Context& ctx, const Sc
     return ref;
   }
   path = std::filesystem::path(o.output).replace_extension(".reference.exr").string();
-  const std::string key = referenceKey(o, camera, light);
+  const std::string key = referenceKey(o, camera, lights);
   if (std::filesystem::exists(path)) {
     Image cached = readExr(path);
     auto it = cached.attributes().find("penumbra:bench-key");
@@ -110,11 +119,12 @@ std::optional<Image> loadReference(const BenchOptions& o, Context& ctx, const Sc
       return cached;
     }
   }
-  if (light.isArea()) reference::SampleLayout::fromSpp(o.spp);  // a bad --spp is a usage error
+  for (const Light& light : lights)
+    if (light.isArea()) reference::SampleLayout::fromSpp(o.spp);  // a bad --spp is a usage error
   if (!o.quiet) fmt::print(stderr, "bench: tracing the reference ({} spp) into {}\n", o.spp, path);
   reference::TraceSettings trace;
   trace.spp = o.spp;
-  reference::ReferenceResult result = reference::renderReference(ctx, scene, camera, light, trace);
+  reference::ReferenceResult result = reference::renderReference(ctx, scene, camera, lights, trace);
   result.image.attributes()["penumbra:scene"] = o.view.scene;
   result.image.attributes()["penumbra:bench-key"] = key;
   if (std::filesystem::path(path).has_parent_path())
@@ -123,9 +133,10 @@ std::optional<Image> loadReference(const BenchOptions& o, Context& ctx, const Sc
   return std::move(result.image);
 }
 
-void addRows(const BenchOptions& o, const Job& job, const RunSummary& summary, double bandwidth,
+void addRows(const BenchOptions& o, const Job& job, const Light& light, const RunSummary& summary, double bandwidth,
              const std::optional<ErrorMetrics>& metrics, std::vector<BenchRow>& rows) {
-  BenchRow base{o.view.scene, job.technique->name, job.setting.label, job.params.describe(), {}, 0, 0, 0, {}, {}};
+  BenchRow base{o.view.scene, job.technique->name, job.setting.label, job.params.describe(), {}, 0, 0, 0, {},
+                {},           lightLayer(light)};
   for (const PassSummary& pass : summary.passes) {
     BenchRow row = base;
     row.pass = pass.name, row.calls = pass.calls, row.ms = pass.ms, row.bytes = pass.bytes;
@@ -138,6 +149,16 @@ void addRows(const BenchOptions& o, const Job& job, const RunSummary& summary, d
   total.floorMs = bandwidthFloorMs(summary.totalBytes, bandwidth);
   total.metrics = metrics;
   rows.push_back(std::move(total));
+}
+
+// The comparison of one light's frame: one light compares visibility.Y within lit.Y as ever; several compare each
+// light's layer, visibility.<layer>.Y within lit.<layer>.Y.
+CompareSpec lightSpec(const CompareSpec& spec, const Light& light, size_t lightCount) {
+  if (lightCount == 1) return spec;
+  CompareSpec out = spec;
+  out.channel = lightChannel("visibility", lightLayer(light));
+  if (!out.mask.empty()) out.mask = lightChannel("lit", lightLayer(light));
+  return out;
 }
 
 void writeOutputs(const BenchOptions& o, const BenchMeta& meta, const std::vector<BenchRow>& rows) {
@@ -157,12 +178,12 @@ void writeOutputs(const BenchOptions& o, const BenchMeta& meta, const std::vecto
 void printSummary(const BenchMeta& meta, const std::vector<BenchRow>& rows) {
   fmt::print("{}: {}x{}, median of {} runs after {} warm-up; copy bandwidth {:.2f} GB/s\n", meta.device, meta.width,
              meta.height, meta.runs, meta.warmup, meta.copyBytesPerSecond * 1e-9);
-  fmt::print("  {:<8} {:<28} {:>10} {:>10} {:>9} {:>9} {:>9}\n", "technique", "setting", "ms", "floor ms", "mae",
-             "leak", "false sh.");
+  fmt::print("  {:<8} {:<28} {:<10} {:>10} {:>10} {:>9} {:>9} {:>9}\n", "technique", "setting", "light", "ms",
+             "floor ms", "mae", "leak", "false sh.");
   for (const BenchRow& r : rows) {
     if (r.pass != kTotalPass) continue;
     const auto metric = [&](double v) { return r.metrics ? fmt::format("{:.5f}", v) : std::string("-"); };
-    fmt::print("  {:<8} {:<28} {:>10.3f} {:>10} {:>9} {:>9} {:>9}\n", r.technique, r.setting, r.ms,
+    fmt::print("  {:<8} {:<28} {:<10} {:>10.3f} {:>10} {:>9} {:>9} {:>9}\n", r.technique, r.setting, r.light, r.ms,
                r.floorMs ? fmt::format("{:.3f}", *r.floorMs) : "-", metric(r.metrics ? r.metrics->mae : 0),
                metric(r.metrics ? r.metrics->leak : 0), metric(r.metrics ? r.metrics->falseShadow : 0));
   }
@@ -172,15 +193,16 @@ int run(const BenchOptions& o) {
   const std::vector<Job> jobs = planJobs(o);
   const Scene scene = loadScene(o.view.scene);
   const Camera camera = resolveCamera(o.view, scene);
-  const Light light = resolveLight(o.view, scene);
-  for (const Job& job : jobs) refusePointLight(light, "technique " + job.technique->name);  // before any work
-  if (!o.quiet) fmt::print(stderr, "bench: {}\n", describeLightChoice(o.view, scene, light));
+  const std::vector<Light> lights = resolveLights(o.view, scene);
+  for (const Job& job : jobs) refusePointLights(lights, "technique " + job.technique->name);  // before any work
+  if (!o.quiet)
+    for (const Light& light : lights) fmt::print(stderr, "bench: {}\n", describeLightChoice(o.view, scene, {light}));
   Context ctx(o.device);
 
   BenchMeta meta;
   meta.device = fmt::format("{} ({}, {})", ctx.info().name, ctx.info().platformName, ctx.info().driverVersion);
   meta.width = camera.width, meta.height = camera.height, meta.runs = o.runs, meta.warmup = o.warmup;
-  const std::optional<Image> ref = loadReference(o, ctx, scene, camera, light, meta.reference);
+  const std::optional<Image> ref = loadReference(o, ctx, scene, camera, lights, meta.reference);
   CompareSpec spec;
   if (o.noMask) spec.mask.clear();
   meta.masked = ref && !o.noMask && ref->find(spec.mask) != nullptr;
@@ -192,28 +214,30 @@ int run(const BenchOptions& o) {
 
   Renderer renderer(ctx, scene);
   std::vector<BenchRow> rows;
-  Progress progress(jobs.size() * static_cast<size_t>(o.warmup + o.runs), !o.quiet);
+  Progress progress(jobs.size() * lights.size() * static_cast<size_t>(o.warmup + o.runs), !o.quiet);
   std::vector<std::string> failed;
-  for (const Job& job : jobs) {
-    const std::string label = fmt::format("{} {}", job.technique->name, job.setting.label);
-    progress.announce(label);
-    std::vector<std::vector<PassTime>> runs;
-    RenderResult last;
-    try {
-      for (int i = 0; i < o.warmup + o.runs; ++i) {
-        last = renderer.render(camera, light, *job.technique, job.params);
-        if (i >= o.warmup) runs.push_back(last.passes);
-        progress.advance();
+  for (const Job& job : jobs)
+    for (const Light& light : lights) {  // each light alone, its own frames: per-light times and accuracy
+      const std::string label = fmt::format("{} {}{}", job.technique->name, job.setting.label,
+                                            lights.size() > 1 ? " light " + lightLayer(light) : "");
+      progress.announce(label);
+      std::vector<std::vector<PassTime>> runs;
+      RenderResult last;
+      try {
+        for (int i = 0; i < o.warmup + o.runs; ++i) {
+          last = renderer.render(camera, light, *job.technique, job.params);
+          if (i >= o.warmup) runs.push_back(last.passes);
+          progress.advance();
+        }
+      } catch (const std::exception& e) {  // one failing setting must not lose the others' measurements
+        fmt::print(stderr, "bench: {} failed: {}\n", label, e.what());
+        failed.push_back(label);
+        continue;
       }
-    } catch (const std::exception& e) {  // one failing setting must not lose the others' measurements
-      fmt::print(stderr, "bench: {} failed: {}\n", label, e.what());
-      failed.push_back(label);
-      continue;
+      std::optional<ErrorMetrics> metrics;
+      if (ref) metrics = compareImages(last.image, *ref, lightSpec(spec, light, lights.size()));
+      addRows(o, job, light, summariseRuns(runs), copy.bytesPerSecond, metrics, rows);
     }
-    std::optional<ErrorMetrics> metrics;
-    if (ref) metrics = compareImages(last.image, *ref, spec);
-    addRows(o, job, summariseRuns(runs), copy.bytesPerSecond, metrics, rows);
-  }
   progress.finish();
   writeOutputs(o, meta, rows);
   if (!o.quiet) {
@@ -221,8 +245,8 @@ int run(const BenchOptions& o) {
     fmt::print("wrote {}{}\n", o.output, o.json.empty() ? "" : " and " + o.json);
   }
   if (!failed.empty()) {
-    fmt::print(stderr, "bench: {} of {} settings failed (left out of the results): {}\n", failed.size(), jobs.size(),
-               fmt::join(failed, ", "));
+    fmt::print(stderr, "bench: {} of {} settings failed (left out of the results): {}\n", failed.size(),
+               jobs.size() * lights.size(), fmt::join(failed, ", "));
     return 1;
   }
   return 0;

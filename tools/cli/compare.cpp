@@ -1,9 +1,11 @@
-// `penumbra compare ours.exr ref.exr`: accuracy of one channel (visibility.Y) against a reference over the covered
-// pixels (host/eval/metrics.h), an optional signed error image (EXR + false-colour PNG), a table or JSON on stdout.
-// Exit codes as idiff's: 0 within every threshold given, 1 not (or a NaN pixel), 2 usage, 4 file error.
+// `penumbra compare ours.exr ref.exr`: accuracy of one channel (visibility.Y, or with --light NAME one light's
+// visibility.NAME.Y within lit.NAME.Y) against a reference over the covered pixels (host/eval/metrics.h), an optional
+// signed error image (EXR + false-colour PNG), a table or JSON on stdout. Exit codes as idiff's: 0 within every
+// threshold given, 1 not (or a NaN pixel), 2 usage, 4 file error.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -14,6 +16,7 @@
 #include "host/eval/metrics.h"
 #include "host/io/exr.h"
 #include "host/io/png.h"
+#include "host/scene/light_names.h"
 #include "tools/cli/commands.h"
 
 namespace penumbra::cli {
@@ -23,7 +26,7 @@ constexpr int kExitOutside = 1;
 constexpr int kExitFile = 4;
 
 struct CompareOptions {
-  std::string ours, reference, errorImage, errorPng;
+  std::string ours, reference, errorImage, errorPng, light;
   CompareSpec spec;
   MetricThresholds limits;
   double errorRange = 0.5;
@@ -45,6 +48,30 @@ std::optional<ReferenceNoise> referenceNoise(const Image& ours, const Image& ref
       sum += noise->data[i], sumSq += double{noise->data[i]} * noise->data[i], n += 1;
   if (n == 0) return ReferenceNoise{};
   return ReferenceNoise{sum / n, std::sqrt(sumSq / n)};
+}
+
+// The layers of the lights an image holds: NAME of every "visibility.NAME.Y".
+std::vector<std::string> lightLayers(const Image& image) {
+  std::vector<std::string> layers;
+  const std::string prefix = "visibility.", suffix = ".Y";
+  for (const std::string& name : image.channelNames())
+    if (name.size() > prefix.size() + suffix.size() && name.starts_with(prefix) && name.ends_with(suffix))
+      layers.push_back(name.substr(prefix.size(), name.size() - prefix.size() - suffix.size()));
+  return layers;
+}
+
+// --light NAME: compare visibility.NAME.Y within lit.NAME.Y (unless --no-mask). Throws naming the image that lacks
+// the light and the lights it has.
+void selectLight(CompareOptions& options, const Image& ours, const Image& ref) {
+  for (const auto& [image, path] : {std::pair{&ours, &options.ours}, std::pair{&ref, &options.reference}}) {
+    const std::vector<std::string> layers = lightLayers(*image);
+    if (std::find(layers.begin(), layers.end(), options.light) == layers.end())
+      throw std::runtime_error(fmt::format("--light {}: {} has no light \"{}\" (its lights: {})", options.light, *path,
+                                           options.light,
+                                           layers.empty() ? "none" : fmt::format("{}", fmt::join(layers, ", "))));
+  }
+  options.spec.channel = lightChannel("visibility", options.light);
+  if (!options.spec.mask.empty()) options.spec.mask = lightChannel("lit", options.light);
 }
 
 void writeErrorImage(const CompareOptions& options, const Image& ours, const Image& ref) {
@@ -118,6 +145,7 @@ int run(CompareOptions options) {
   try {  // every failure from here on is about a file: unreadable, mismatched, lacking the channel, unwritable
     ours = readExr(options.ours);
     ref = readExr(options.reference);
+    if (!options.light.empty()) selectLight(options, ours, ref);
     metrics = compareImages(ours, ref, options.spec);
     noise = referenceNoise(ours, ref, options.spec);
     masked = hasMask(ours, ref, options.spec);
@@ -159,7 +187,11 @@ Command addCompareCommand(CLI::App& app) {
   sub->add_option("ours", o->ours, "Our EXR (penumbra render)")->required();
   sub->add_option("reference", o->reference, "The reference EXR (penumbra reference)")->required();
   sub->add_flag("--json", o->json, "Print JSON instead of a table");
-  sub->add_option("--channel", o->spec.channel, "Channel compared")->capture_default_str();
+  auto* channel = sub->add_option("--channel", o->spec.channel, "Channel compared")->capture_default_str();
+  sub->add_option("--light", o->light,
+                  "A light's layer: compares visibility.NAME.Y within the reference's lit.NAME.Y (exit 4, listing "
+                  "the lights there are, when an image lacks it)")
+      ->excludes(channel);
   sub->add_option("--coverage", o->spec.coverage,
                   "Coverage channel, > 0 where a pixel counts (the reference's, else ours; neither: all pixels)")
       ->capture_default_str();

@@ -1,11 +1,12 @@
 // `penumbra reference SCENE [view options] -o ref.exr [--spp N] [--seed S]`: ray-traced (Embree) visibility for
-// the same camera, light and G-buffer as `render`, written with the same channels plus "stderr.Y", a PNG preview
-// beside it, and the cost and the reference's own noise on stdout.
+// the same camera, lights and G-buffer as `render`, written with the same channels plus "stderr.Y" and "lit.Y" (and
+// per light stderr.<layer>.Y, lit.<layer>.Y), a PNG preview beside it, and the cost and the first light's noise.
 #include "tools/reference/reference.h"
 
 #include <fmt/format.h>
 
 #include <memory>
+#include <vector>
 
 #include "host/cl/context.h"
 #include "host/scene/load.h"
@@ -25,11 +26,11 @@ struct ReferenceOptions {
 };
 
 void printSummary(const ReferenceOptions& options, const Context& ctx, const Scene& scene, const Camera& camera,
-                  const Light& light, const reference::ReferenceResult& r) {
+                  const std::vector<Light>& lights, const reference::ReferenceResult& r) {
   fmt::print("{} (reference) with G-buffer on {}: {}x{}, {} triangles\n", options.view.scene, ctx.info().name,
              camera.width, camera.height, scene.triangleCount());
   fmt::print("camera {}\n", cameraSummary(options.view, scene, camera));
-  fmt::print("{}\n", describeLightChoice(options.view, scene, light));
+  fmt::print("{}\n", describeLightChoice(options.view, scene, lights));
   fmt::print("  {:<22} {:>9.3f} s\n", "G-buffer (OpenCL)", r.rasterSeconds);
   fmt::print("  {:<22} {:>9.3f} s\n", "BVH build (Embree)", r.buildSeconds);
   fmt::print("  {:<22} {:>9.3f} s  {} rays ({} per pixel, {} covered pixels), {} threads, {:.2f} Mrays/s\n",
@@ -43,16 +44,17 @@ int run(const ReferenceOptions& options) {
   const ImageOutputPlan plan = planImageOutput(options.output);  // a bad -o is a usage error before any work
   const Scene scene = loadScene(options.view.scene);
   const Camera camera = resolveCamera(options.view, scene);
-  const Light light = resolveLight(options.view, scene);
-  refusePointLight(light, "penumbra reference");
-  if (light.isArea()) reference::SampleLayout::fromSpp(options.trace.spp);  // a bad --spp is a usage error
+  const std::vector<Light> lights = resolveLights(options.view, scene);
+  refusePointLights(lights, "penumbra reference");
+  for (const Light& light : lights)
+    if (light.isArea()) reference::SampleLayout::fromSpp(options.trace.spp);  // a bad --spp is a usage error
   Context ctx(options.device);
-  reference::ReferenceResult result = reference::renderReference(ctx, scene, camera, light, options.trace);
+  reference::ReferenceResult result = reference::renderReference(ctx, scene, camera, lights, options.trace);
   result.image.attributes()["penumbra:scene"] = options.view.scene;
 
   const std::string wrote = writeImageOutput(plan, result.image);
   if (!options.quiet) {
-    printSummary(options, ctx, scene, camera, light, result);
+    printSummary(options, ctx, scene, camera, lights, result);
     fmt::print("{}\n", wrote);
   }
   return 0;

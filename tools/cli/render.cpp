@@ -1,9 +1,10 @@
-// `penumbra render SCENE [options] -o out.exr`: renders a scene with one technique entirely in OpenCL
-// kernels, writes the EXR (all channels + provenance) and a PNG preview (or, with -o x.png, the preview alone),
-// and prints per-pass device times.
+// `penumbra render SCENE [options] -o out.exr`: renders a scene's lights (each with the command line's technique or
+// its own) entirely in OpenCL kernels, writes the EXR (all channels + provenance) and a PNG preview (or, with
+// -o x.png, the preview alone), and prints per-pass device times.
 #include <fmt/format.h>
 
 #include <memory>
+#include <vector>
 
 #include "host/cl/context.h"
 #include "host/pipeline/renderer.h"
@@ -27,14 +28,43 @@ struct RenderOptions {
   ParamValues params;  // technique parameters given on the command line
 };
 
+// Each light's technique: the command line's, or a scene file light's own ("technique", checked here) with the
+// command line's parameters that it has and then the light's "params" on top (both checked, a usage error).
+std::vector<FrameLight> frameLights(const RenderOptions& options, const std::vector<Light>& lights,
+                                    const TechniqueInfo& technique, const Params& params) {
+  std::vector<FrameLight> out;
+  for (const Light& light : lights) {
+    if (light.technique.empty()) {
+      out.push_back({light, &technique, params});
+      continue;
+    }
+    try {
+      const TechniqueInfo& own = findTechnique(light.technique);
+      Params ownParams = techniqueParams(own, options.params, false);
+      for (const auto& [name, value] : light.params) {
+        if (!own.hasParam(name))
+          throw std::invalid_argument(
+              fmt::format("params: \"{}\" is not a parameter of technique '{}'", name, own.name));
+        ownParams.set(name, value);
+      }
+      out.push_back({light, &own, std::move(ownParams)});
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(fmt::format("{}: light {}: {}", options.view.scene, light.label(), e.what()));
+    }
+  }
+  return out;
+}
+
 int run(const RenderOptions& options) {
   const ImageOutputPlan plan = planImageOutput(options.output);  // a bad -o is a usage error before any work
   const TechniqueInfo& technique = findTechnique(options.technique);
   const Params params = techniqueParams(technique, options.params);
   const Scene scene = loadScene(options.view.scene);
   const Camera camera = resolveCamera(options.view, scene);
-  const Light light = resolveLight(options.view, scene);
-  refusePointLight(light, "technique " + technique.name);  // a usage error, before a device is opened
+  const std::vector<Light> lights = resolveLights(options.view, scene);
+  const std::vector<FrameLight> frame = frameLights(options, lights, technique, params);
+  for (const FrameLight& l : frame)  // a usage error, before a device is opened
+    if (l.light.type == LightType::Point) refusePointLights(lights, "technique " + l.technique->name);
   if (camera.orthographic() && lispsmEnabled(params))
     fmt::print(stderr,
                "penumbra: warning: --warp lispsm with an orthographic camera: no eye point to warp towards, "
@@ -42,14 +72,18 @@ int run(const RenderOptions& options) {
 
   Context ctx(options.device);
   Renderer renderer(ctx, scene);
-  RenderResult result = renderer.render(camera, light, technique, params);
+  RenderResult result = renderer.render(camera, frame);
   result.image.attributes()["penumbra:scene"] = options.view.scene;
 
   const std::string wrote = writeImageOutput(plan, result.image);
   if (!options.quiet) {
     fmt::print("{} on {}: {}x{}, {} triangles, technique {} ({})\n", options.view.scene, ctx.info().name, camera.width,
                camera.height, scene.triangleCount(), technique.name, params.describe());
-    fmt::print("{}\n", describeLightChoice(options.view, scene, light));
+    fmt::print("{}\n", describeLightChoice(options.view, scene, lights));
+    for (const FrameLight& l : frame)
+      if (!l.light.technique.empty())
+        fmt::print("light {} shadowed by its own technique {} ({})\n", l.light.label(), l.technique->name,
+                   l.params.describe());
     fmt::print("camera {}\n", cameraSummary(options.view, scene, camera));
     fmt::print("{}", formatTimings(result.passes));
     fmt::print("{}\n", wrote);

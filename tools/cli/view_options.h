@@ -1,11 +1,12 @@
 // The scene, camera, size and light options that `render` and `reference` share, and how they resolve: the
-// command line first, else the scene's (a scene file's or a glTF file's lights), else a view framing the scene and
-// a soft spot light above it.
+// command line first, else the scene's (a scene file's or a glTF file's lights: all of them), else a view framing the
+// scene and a soft spot light above it.
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -29,8 +30,8 @@ inline void addViewOptions(CLI::App* sub, ViewOptions& options) {
                   "1280x720)");
   sub->add_option("--light", options.light,
                   "spot:PX,PY,PZ:TX,TY,TZ:FOV_DEG[:RADIUS], dir:DX,DY,DZ[:ANGULAR_RADIUS_DEG], point:PX,PY,PZ[:RADIUS] "
-                  "or gltf:INDEX|NAME, one of the scene's lights (default: the scene's first light, or a framing "
-                  "spot light)");
+                  "or gltf:INDEX|NAME, one of the scene's lights: one light instead of the default, every light of "
+                  "the scene (or a framing spot light when it has none)");
 }
 
 // --camera gltf:KEY (findGltfCamera), --camera EX,..., else the scene's first camera, else the framing view. --size
@@ -62,26 +63,37 @@ inline std::string cameraSummary(const ViewOptions& options, const Scene& scene,
 
 inline constexpr std::string_view kSceneLightPrefix = "gltf:";  // --light gltf:INDEX|NAME
 
-// One light per frame for now (the multi-light frame comes next): --light, else the scene's first light.
-inline Light resolveLight(const ViewOptions& options, const Scene& scene) {
+// The frame's lights: --light gltf:KEY, that one of the scene's; --light SPEC, that light (unnamed: its EXR layer is
+// kUnnamedLightLayer, "light"); else every light of the scene (their names unique and channel-safe), else the
+// framing light (unnamed too).
+inline std::vector<Light> resolveLights(const ViewOptions& options, const Scene& scene) {
   if (options.light.rfind(kSceneLightPrefix, 0) == 0)
-    return scene.lights[findLight(scene.lights, std::string_view(options.light).substr(kSceneLightPrefix.size()))];
-  if (!options.light.empty()) return parseLight(options.light);
-  return scene.lights.empty() ? framingLight(scene.bounds()) : scene.lights.front();
+    return {scene.lights[findLight(scene.lights, std::string_view(options.light).substr(kSceneLightPrefix.size()))]};
+  if (!options.light.empty()) return {parseLight(options.light)};
+  if (scene.lights.empty()) return {framingLight(scene.bounds())};
+  return scene.lights;
 }
 
-// Which light resolveLight chose and why, for the summary: "light \"Key\" (the scene's first of 2): spot:...".
-inline std::string describeLightChoice(const ViewOptions& options, const Scene& scene, const Light& light) {
-  std::string origin;
-  if (options.light.rfind(kSceneLightPrefix, 0) == 0)
-    origin = "--light " + options.light;
-  else if (!options.light.empty())
-    origin = "--light";
-  else if (!scene.lights.empty())
-    origin = fmt::format("the scene's first of {}", scene.lights.size());
-  else
-    origin = "framing the scene, which has no lights";
-  return fmt::format("light{} ({}): {}", light.name.empty() ? "" : " \"" + light.name + "\"", origin, light.describe());
+// Which lights resolveLights chose and why, one line each, for the summary: "light \"Key\" (the scene's 1 of 2):
+// spot:...", "light \"Sun\" (--light gltf:Sun): dir:...", "light (--light): dir:...".
+inline std::string describeLightChoice(const ViewOptions& options, const Scene& scene,
+                                       const std::vector<Light>& lights) {
+  std::string lines;
+  for (size_t i = 0; i < lights.size(); ++i) {
+    std::string origin;
+    if (options.light.rfind(kSceneLightPrefix, 0) == 0)
+      origin = "--light " + options.light;
+    else if (!options.light.empty())
+      origin = "--light";
+    else if (!scene.lights.empty())
+      origin = fmt::format("the scene's {} of {}", i + 1, scene.lights.size());
+    else
+      origin = "framing the scene, which has no lights";
+    const Light& light = lights[i];
+    lines += fmt::format("{}light{} ({}): {}", lines.empty() ? "" : "\n",
+                         light.name.empty() ? "" : " \"" + light.name + "\"", origin, light.describe());
+  }
+  return lines;
 }
 
 }  // namespace penumbra::cli

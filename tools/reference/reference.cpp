@@ -1,6 +1,6 @@
 // The reference frame: rasterize the G-buffer (host/views/views.h cameraView, as the Renderer does, so the
 // pixels match `render` exactly), turn covered pixels into receivers with their triangle's geometric normal,
-// trace, scatter back (background: visibility 1, stderr 0) and shade the preview with the same kernel.
+// trace each light, scatter back (background: visibility 1, stderr 0) and shade the preview with the same kernels.
 #include "tools/reference/reference.h"
 
 #include <fmt/format.h>
@@ -11,6 +11,7 @@
 
 #include "host/eval/metrics.h"
 #include "host/pipeline/frame_image.h"
+#include "host/scene/light_names.h"
 #include "host/views/views.h"
 #include "raster/rasterizer.h"
 
@@ -57,7 +58,14 @@ void summarise(ReferenceResult& result, const std::vector<float>& standardError)
 
 ReferenceResult renderReference(Context& ctx, const Scene& scene, const Camera& camera, const Light& light,
                                 const TraceSettings& settings) {
-  refusePointLight(light, "penumbra reference");  // before any work: the tracer has no point-light samples yet
+  return renderReference(ctx, scene, camera, std::vector<Light>{light}, settings);
+}
+
+ReferenceResult renderReference(Context& ctx, const Scene& scene, const Camera& camera,
+                                const std::vector<Light>& lights, const TraceSettings& settings) {
+  if (lights.empty()) throw std::invalid_argument("renderReference: no lights");
+  // Before any work: the tracer has no point-light samples yet.
+  refusePointLights(lights, "penumbra reference");
   using Clock = std::chrono::steady_clock;
   ReferenceResult result;
   const Bounds bounds = scene.bounds();
@@ -71,25 +79,40 @@ ReferenceResult renderReference(Context& ctx, const Scene& scene, const Camera& 
   result.rasterSeconds = std::chrono::duration<double>(Clock::now() - start).count();
 
   const ShadowTracer tracer(scene);
-  const TraceResult traced = tracer.trace(r.points, light, settings);
   const size_t count = static_cast<size_t>(gbuffer.width) * static_cast<size_t>(gbuffer.height);
-  std::vector<float> visibility(count, 1.0f), standardError(count, 0.0f);
-  for (size_t k = 0; k < r.pixels.size(); ++k) {
-    visibility[r.pixels[k]] = traced.visibility[k];
-    standardError[r.pixels[k]] = traced.standardError[k];
+  std::vector<Buffer<float>> visibilityGpu;
+  std::vector<std::vector<float>> standardErrors;
+  TraceResult first;
+  for (size_t l = 0; l < lights.size(); ++l) {
+    TraceResult traced = tracer.trace(r.points, lights[l], settings);
+    std::vector<float> visibility(count, 1.0f), standardError(count, 0.0f);
+    for (size_t k = 0; k < r.pixels.size(); ++k) {
+      visibility[r.pixels[k]] = traced.visibility[k];
+      standardError[r.pixels[k]] = traced.standardError[k];
+    }
+    visibilityGpu.emplace_back(ctx, std::span<const float>(visibility));
+    standardErrors.push_back(std::move(standardError));
+    result.traceSeconds += traced.seconds;
+    result.rays += traced.rays;
+    if (l == 0) first = std::move(traced);
   }
-  Buffer<float> visibilityGpu(ctx, std::span<const float>(visibility));
-  result.image = frameImage(ctx, gbuffer, visibilityGpu, camera, light, bounds);
-  result.image.add("stderr.Y", std::move(standardError));
-  result.image.add(kLitChannel, litMask(position, normal, camera, light));
+  std::vector<LightVisibility> layers;
+  for (size_t l = 0; l < lights.size(); ++l) layers.push_back({&lights[l], &visibilityGpu[l]});
+  result.image = frameImage(ctx, gbuffer, layers, camera, bounds);
+  result.image.add("stderr.Y", standardErrors[0]);
+  result.image.add(kLitChannel, litMask(position, normal, camera, lights[0]));
+  for (size_t l = 0; l < lights.size(); ++l) {
+    const std::string layer = lightLayer(lights[l]);
+    result.image.add(lightChannel("stderr", layer), std::move(standardErrors[l]));
+    result.image.add(lightChannel("lit", layer), litMask(position, normal, camera, lights[l]));
+  }
   result.image.flipRows();  // the rasterizer's row 0 is the bottom row
 
+  const TraceResult& traced = first;
   result.covered = r.points.size();
-  result.rays = traced.rays;
   result.spp = traced.spp;
   result.threads = traced.threads;
   result.buildSeconds = tracer.buildSeconds();
-  result.traceSeconds = traced.seconds;
   summarise(result, traced.standardError);
   auto& attributes = result.image.attributes();
   attributes["penumbra:technique"] = "reference";

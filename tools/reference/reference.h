@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <vector>
 
 #include "host/cl/context.h"
 #include "host/io/image.h"
@@ -26,5 +27,12 @@ struct ReferenceResult {
 
 ReferenceResult renderReference(Context& ctx, const Scene& scene, const Camera& camera, const Light& light,
                                 const TraceSettings& settings);
+
+// Every light traced (same G-buffer, same settings and seed for each) into the layers `render` writes:
+// visibility.<layer>.Y, stderr.<layer>.Y and lit.<layer>.Y per light (light_names.h lightLayer), and the first
+// light's also as visibility.Y, stderr.Y and lit.Y. rays and traceSeconds count every light; spp and the
+// standard-error summary are the first light's.
+ReferenceResult renderReference(Context& ctx, const Scene& scene, const Camera& camera,
+                                const std::vector<Light>& lights, const TraceSettings& settings);
 
 }  // namespace penumbra::reference
