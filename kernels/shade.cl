@@ -13,6 +13,25 @@ inline float shade_cone(__constant const LightViewGpu* lv, float3 toLight, float
   return clamp((c - cosHalfFov) / max(inner - cosHalfFov, 1e-6f), 0.0f, 1.0f);
 }
 
+// The side of the surface the camera sees. eye.w == 0: an orthographic camera, eye.xyz the direction to it.
+inline float3 shade_facing_normal(float4 p, float3 n, float4 eye) {
+  float3 toEye = eye.w != 0.0f ? eye.xyz - p.xyz : eye.xyz;
+  return dot(n, toEye) < 0.0f ? -n : n;
+}
+
+// One light's direct term at p with facing normal n.
+inline float shade_direct(__constant const LightViewGpu* lv, float3 p, float3 n, float cosHalfFov, float visibility) {
+  float3 toLight = lv_to_light(lv, p);
+  return max(dot(n, toLight), 0.0f) * shade_cone(lv, toLight, cosHalfFov) * visibility;
+}
+
+// The grey surface under `direct` (the lights' terms summed) and the sky.
+inline float4 shade_rgba(float3 n, float direct) {
+  float sky = 0.5f + 0.5f * n.y;
+  float value = SHADE_ALBEDO * (direct + SHADE_AMBIENT * sky);
+  return (float4)(value, value, value, 1.0f);
+}
+
 __kernel void shade_preview(__global const float4* position, __global const float4* normal,
                             __global const float* visibility, uint count, __constant const LightViewGpu* lv, float4 eye,
                             float cosHalfFov, __global float4* rgba) {
@@ -23,25 +42,12 @@ __kernel void shade_preview(__global const float4* position, __global const floa
     rgba[i] = (float4)(0.0f);
     return;
   }
-  float3 n = normal[i].xyz;
-  // Two-sided: shade the side the camera sees. eye.w == 0: an orthographic camera, eye.xyz the direction to it.
-  float3 toEye = eye.w != 0.0f ? eye.xyz - p.xyz : eye.xyz;
-  if (dot(n, toEye) < 0.0f) n = -n;
-  float3 toLight = lv_to_light(lv, p.xyz);
-  float direct = max(dot(n, toLight), 0.0f) * shade_cone(lv, toLight, cosHalfFov) * visibility[i];
-  float sky = 0.5f + 0.5f * n.y;
-  float value = SHADE_ALBEDO * (direct + SHADE_AMBIENT * sky);
-  rgba[i] = (float4)(value, value, value, 1.0f);
+  float3 n = shade_facing_normal(p, normal[i].xyz, eye);  // two-sided
+  rgba[i] = shade_rgba(n, shade_direct(lv, p.xyz, n, cosHalfFov, visibility[i]));
 }
 
 // Several lights: shade_add_direct adds one light's direct term to `direct` (zeroed first), once per light, then
-// shade_finish shades the sum as shade_preview shades one light's term. One light keeps shade_preview itself, so
-// its preview stays bit for bit what it was.
-inline float3 shade_facing_normal(float4 p, float3 n, float4 eye) {
-  float3 toEye = eye.w != 0.0f ? eye.xyz - p.xyz : eye.xyz;
-  return dot(n, toEye) < 0.0f ? -n : n;
-}
-
+// shade_finish shades the sum as shade_preview shades one light's term.
 __kernel void shade_add_direct(__global const float4* position, __global const float4* normal,
                                __global const float* visibility, uint count, __constant const LightViewGpu* lv,
                                float4 eye, float cosHalfFov, __global float* direct) {
@@ -50,8 +56,7 @@ __kernel void shade_add_direct(__global const float4* position, __global const f
   float4 p = position[i];
   if (p.w == 0.0f) return;
   float3 n = shade_facing_normal(p, normal[i].xyz, eye);
-  float3 toLight = lv_to_light(lv, p.xyz);
-  direct[i] += max(dot(n, toLight), 0.0f) * shade_cone(lv, toLight, cosHalfFov) * visibility[i];
+  direct[i] += shade_direct(lv, p.xyz, n, cosHalfFov, visibility[i]);
 }
 
 __kernel void shade_finish(__global const float4* position, __global const float4* normal,
@@ -63,8 +68,5 @@ __kernel void shade_finish(__global const float4* position, __global const float
     rgba[i] = (float4)(0.0f);
     return;
   }
-  float3 n = shade_facing_normal(p, normal[i].xyz, eye);
-  float sky = 0.5f + 0.5f * n.y;
-  float value = SHADE_ALBEDO * (direct[i] + SHADE_AMBIENT * sky);
-  rgba[i] = (float4)(value, value, value, 1.0f);
+  rgba[i] = shade_rgba(shade_facing_normal(p, normal[i].xyz, eye), direct[i]);
 }
