@@ -5,12 +5,19 @@
 #define SHADE_ALBEDO 0.75f
 #define SHADE_AMBIENT 0.12f  // sky irradiance relative to the light
 
-// Smooth spot cone: full inside 90% of the half angle, zero outside it. Directional lights: 1.
-inline float shade_cone(__constant const LightViewGpu* lv, float3 toLight, float cosHalfFov) {
+// Spot cone. cone.x: cos of the outer half angle; cone.y: cos of the inner one, or below -1 for a light without one.
+// With an inner cone (glTF's KHR_lights_punctual), the extension's falloff: ((c - cos outer) / (cos inner - cos
+// outer))^2, clamped to [0, 1]. Without, full inside 90% of the half angle, falling linearly to zero at its edge.
+// Directional lights: 1.
+inline float shade_cone(__constant const LightViewGpu* lv, float3 toLight, float2 cone) {
   if (lv->kind != LIGHT_KIND_SPOT) return 1.0f;
   float c = dot(-toLight, lv->axis.xyz);
-  float inner = cos(acos(cosHalfFov) * 0.9f);
-  return clamp((c - cosHalfFov) / max(inner - cosHalfFov, 1e-6f), 0.0f, 1.0f);
+  if (cone.y >= -1.0f) {
+    float t = clamp((c - cone.x) / max(cone.y - cone.x, 1e-3f), 0.0f, 1.0f);
+    return t * t;
+  }
+  float inner = cos(acos(cone.x) * 0.9f);
+  return clamp((c - cone.x) / max(inner - cone.x, 1e-6f), 0.0f, 1.0f);
 }
 
 // The side of the surface the camera sees. eye.w == 0: an orthographic camera, eye.xyz the direction to it.
@@ -20,9 +27,9 @@ inline float3 shade_facing_normal(float4 p, float3 n, float4 eye) {
 }
 
 // One light's direct term at p with facing normal n.
-inline float shade_direct(__constant const LightViewGpu* lv, float3 p, float3 n, float cosHalfFov, float visibility) {
+inline float shade_direct(__constant const LightViewGpu* lv, float3 p, float3 n, float2 cone, float visibility) {
   float3 toLight = lv_to_light(lv, p);
-  return max(dot(n, toLight), 0.0f) * shade_cone(lv, toLight, cosHalfFov) * visibility;
+  return max(dot(n, toLight), 0.0f) * shade_cone(lv, toLight, cone) * visibility;
 }
 
 // The grey surface under `direct` (the lights' terms summed) and the sky.
@@ -34,7 +41,7 @@ inline float4 shade_rgba(float3 n, float direct) {
 
 __kernel void shade_preview(__global const float4* position, __global const float4* normal,
                             __global const float* visibility, uint count, __constant const LightViewGpu* lv, float4 eye,
-                            float cosHalfFov, __global float4* rgba) {
+                            float2 cone, __global float4* rgba) {
   uint i = get_global_id(0);
   if (i >= count) return;
   float4 p = position[i];
@@ -43,20 +50,20 @@ __kernel void shade_preview(__global const float4* position, __global const floa
     return;
   }
   float3 n = shade_facing_normal(p, normal[i].xyz, eye);  // two-sided
-  rgba[i] = shade_rgba(n, shade_direct(lv, p.xyz, n, cosHalfFov, visibility[i]));
+  rgba[i] = shade_rgba(n, shade_direct(lv, p.xyz, n, cone, visibility[i]));
 }
 
 // Several lights: shade_add_direct adds one light's direct term to `direct` (zeroed first), once per light, then
 // shade_finish shades the sum as shade_preview shades one light's term.
 __kernel void shade_add_direct(__global const float4* position, __global const float4* normal,
                                __global const float* visibility, uint count, __constant const LightViewGpu* lv,
-                               float4 eye, float cosHalfFov, __global float* direct) {
+                               float4 eye, float2 cone, __global float* direct) {
   uint i = get_global_id(0);
   if (i >= count) return;
   float4 p = position[i];
   if (p.w == 0.0f) return;
   float3 n = shade_facing_normal(p, normal[i].xyz, eye);
-  direct[i] += shade_direct(lv, p.xyz, n, cosHalfFov, visibility[i]);
+  direct[i] += shade_direct(lv, p.xyz, n, cone, visibility[i]);
 }
 
 __kernel void shade_finish(__global const float4* position, __global const float4* normal,

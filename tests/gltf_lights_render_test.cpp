@@ -1,6 +1,9 @@
 // Lights from glTF files through the renderer: a spot light read from KHR_lights_punctual renders bit for bit
 // like the same spot given on the command line, and a point light is refused by every technique and by the
-// reference with one clear message (no technique draws cube maps yet).
+// reference with one clear message (no technique draws cube maps yet); the preview falls off between a glTF spot's
+// inner and outer cone as KHR_lights_punctual prescribes.
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -59,6 +62,39 @@ TEST_F(GltfLightsRender, FileSpotRendersLikeTheCommandLineSpot) {
     EXPECT_EQ(a.attributes().at("penumbra:light-name"), "Key");
     EXPECT_EQ(a.attributes().at("penumbra:light"), fromCli.describe());
   }
+}
+
+TEST_F(GltfLightsRender, PreviewFallsOffBetweenTheInnerAndOuterCone) {
+  // KHR_lights_punctual's angular attenuation, ((cos - cos outer) / (cos inner - cos outer))^2 clamped, in the preview
+  // of every lit pixel: R = 0.75 (n.l attenuation + 0.12 sky) (kernels/shade.cl). The file's spot above (a 60 degree
+  // inner cone in a 120 degree one) from the light's own inner angle; a spot without one keeps the old preview.
+  const std::vector<double> down = {1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 4, 0, 1};
+  const Json spot = {{"type", "spot"},
+                     {"spot", {{"innerConeAngle", std::numbers::pi / 6}, {"outerConeAngle", std::numbers::pi / 3}}}};
+  const Light light = lightFromGltf(spot, down);
+  ASSERT_NEAR(light.innerFovDeg, 60.0f, 1e-3f);
+  const Image image = test::renderWith(ctx(), test::squareOverPlane(), test::topDown(), light, "sm").image;
+  const auto &r = image.require("R").data, &vis = image.require("visibility.Y").data, &a = image.require("A").data;
+  const auto &px = image.require("P.X").data, &py = image.require("P.Y").data, &pz = image.require("P.Z").data;
+  const auto& ny = image.require("N.Y").data;
+  const float cosOuter = std::cos(glm::radians(60.0f)), cosInner = std::cos(glm::radians(30.0f));
+  size_t band = 0, checked = 0;
+  for (size_t i = 0; i < r.size(); ++i) {
+    if (a[i] == 0.0f || vis[i] != 1.0f || ny[i] < 0.999f) continue;  // lit ground (normal +Y)
+    const glm::vec3 toLight = glm::normalize(light.position - glm::vec3(px[i], py[i], pz[i]));
+    const float t = std::clamp((toLight.y - cosOuter) / (cosInner - cosOuter), 0.0f, 1.0f);  // axis -Y
+    const float expected = 0.75f * (std::max(toLight.y, 0.0f) * t * t + 0.12f * (0.5f + 0.5f * ny[i]));
+    ASSERT_NEAR(r[i], expected, 2e-4f) << i;
+    band += t > 0.05f && t < 0.95f;
+    ++checked;
+  }
+  EXPECT_GT(checked, 1000u);
+  EXPECT_GT(band, 200u) << "pixels inside the falloff band";
+  Light plain = light;
+  plain.innerFovDeg = -1.0f;  // no inner cone: the preview's own falloff, brighter between the cones
+  const Image old = test::renderWith(ctx(), test::squareOverPlane(), test::topDown(), plain, "sm").image;
+  EXPECT_EQ(old.require("visibility.Y").data, vis);
+  EXPECT_NE(old.require("R").data, r);
 }
 
 TEST_F(GltfLightsRender, PointLightIsRefusedByEveryTechniqueAndTheReference) {

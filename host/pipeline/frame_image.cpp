@@ -11,8 +11,8 @@
 
 #include "host/cl/kernel.h"
 #include "host/scene/light_names.h"
-#include "host/views/views.h"
 #include "host/version.h"
+#include "host/views/views.h"
 
 namespace penumbra {
 namespace {
@@ -71,16 +71,24 @@ std::vector<float> litMask(std::span<const cl_float4> position, std::span<const 
 
 namespace {
 
+// shade_cone's cone argument (kernels/shade.cl): the cosines of the outer and inner half angles, the inner one -2
+// for a light without an inner cone (command-line and scene-file spots keep the preview's own falloff).
+cl_float2 shadeCone(const Light& light) {
+  if (light.type != LightType::Spot) return {{-1.0f, -2.0f}};
+  const float inner = light.innerFovDeg >= 0.0f ? std::cos(glm::radians(light.innerFovDeg) * 0.5f) : -2.0f;
+  return {{std::cos(glm::radians(light.fovDeg) * 0.5f), inner}};
+}
+
 // The preview's light-dependent arguments of kernels/shade.cl for one light. It needs only the light's position,
 // axis and cone, not a map: a 1-texel view suffices.
 struct ShadeLight {
   LightView fitted;
   Buffer<LightViewGpu> view;
-  float cosHalfFov;
+  cl_float2 cone;
   ShadeLight(Context& ctx, const Light& light, const Bounds& bounds)
       : fitted(fitLightView(light, bounds, 1)),
         view(ctx, std::span<const LightViewGpu>(&fitted.gpu, 1), CL_MEM_READ_ONLY),
-        cosHalfFov(light.type == LightType::Spot ? std::cos(glm::radians(light.fovDeg) * 0.5f) : -1.0f) {}
+        cone(shadeCone(light)) {}
 };
 
 // One light: shade_preview, as ever. Several: each light's direct term summed (shade_add_direct), then shaded
@@ -94,9 +102,7 @@ Buffer<cl_float4> shadePreview(Context& ctx, const GBuffer& gbuffer, std::span<c
   if (lights.size() == 1) {
     const ShadeLight shading(ctx, *lights[0].light, bounds);
     Kernel shade(ctx, "kernels/shade.cl", "shade_preview", "shade");
-    shade
-        .args(gbuffer.position, gbuffer.normal, *lights[0].visibility, count, shading.view, eye, shading.cosHalfFov,
-              rgba)
+    shade.args(gbuffer.position, gbuffer.normal, *lights[0].visibility, count, shading.view, eye, shading.cone, rgba)
         .moves(uint64_t{count} * kShadeBytesPerPixel)
         .launch(count, kShadeGroup);
     return rgba;
@@ -106,7 +112,7 @@ Buffer<cl_float4> shadePreview(Context& ctx, const GBuffer& gbuffer, std::span<c
   for (const LightVisibility& lit : lights) {
     const ShadeLight shading(ctx, *lit.light, bounds);
     Kernel add(ctx, "kernels/shade.cl", "shade_add_direct", "shade");
-    add.args(gbuffer.position, gbuffer.normal, *lit.visibility, count, shading.view, eye, shading.cosHalfFov, direct)
+    add.args(gbuffer.position, gbuffer.normal, *lit.visibility, count, shading.view, eye, shading.cone, direct)
         .moves(uint64_t{count} * kShadeAddBytesPerPixel)
         .launch(count, kShadeGroup);
   }

@@ -27,8 +27,9 @@ struct Light {
   glm::vec3 target{0, 0, 0};
   float fovDeg = 60.0f;
   float radius = 0.0f;
-  // Spot: the full angle of the fully lit inner cone (glTF 2 x innerConeAngle), kept for a shading falloff
-  // between it and fovDeg; negative: no falloff (a hard-edged cone, the command line's spots). Not used yet.
+  // Spot: the full angle of the fully lit inner cone (glTF 2 x innerConeAngle): the preview falls off between it and
+  // fovDeg as KHR_lights_punctual prescribes (kernels/shade.cl); negative: the preview's own falloff (the command
+  // line's spots). Visibility never depends on it.
   float innerFovDeg = -1.0f;
   // Spot and point: glTF's range in metres beyond which the light does not reach; 0: unlimited. Not used yet.
   float range = 0.0f;
