@@ -57,6 +57,14 @@ inline bool jittered_agree(__global const float* map, int width, int height, flo
   return true;
 }
 
+// The counter flags of a receiver this pass could not test (outside a reduced map, behind a warp's eye): it keeps
+// what it has, unconfident and listed as its kept confidence says.
+inline uint jittered_untested(JitterShade s, float stored) {
+  float needed = s.mode == JITTER_SIMPLE ? s.threshold : 1.0f;
+  return JITTER_COUNT_COVERED | (stored < needed ? JITTER_COUNT_UNCONFIDENT : 0u) |
+         (s.mode == JITTER_SIMPLE || stored < 1.0f ? JITTER_COUNT_ACTIVE : 0u);
+}
+
 // One pixel's update by this pass; returns the counter flags (JITTER_COUNT_*) it raises. `agree`: the lookup's
 // neighbourhood agrees with it (jittered_agree); in optimal mode `streak` counts the consecutive passes whose
 // neighbourhood agreed with the kept result, and s.agreement of them settle the pixel: kept = JITTER_SETTLED (above
@@ -214,9 +222,7 @@ __kernel void jittered_reproject(__global const float4* position, __global const
                             pixelTriangle, pixelObject, s, pass, slack, kept, passOut, streak, visibility, i, p, &texel,
                             &record);
     // A receiver whose lookup fails here (behind this warp's eye) keeps what it has and stays listed.
-    if (flags == 0u)
-      flags = JITTER_COUNT_COVERED | (kept[i] < (s.mode == JITTER_SIMPLE ? s.threshold : 1.0f) ? JITTER_COUNT_UNCONFIDENT : 0u) |
-              (s.mode == JITTER_SIMPLE || kept[i] < 1.0f ? JITTER_COUNT_ACTIVE : 0u);
+    if (flags == 0u) flags = jittered_untested(s, kept[i]);
   }
   jittered_count(flags, texel, i, group, counters, next, next, 0, 0, 1);  // no tile mask: each warp has its own texels
 }
@@ -262,9 +268,7 @@ __kernel void jittered_pass(__global const float8* records, __global const uint*
       flags = jittered_update(s, pass, lit, jittered_confidence(uv), slack[i] * sqrt(zoom2), agree, kept, passOut,
                               streak, visibility, i);
     else  // outside a reduced frustum
-      flags = JITTER_COUNT_COVERED |
-              (kept[i] < (s.mode == JITTER_SIMPLE ? s.threshold : 1.0f) ? JITTER_COUNT_UNCONFIDENT : 0u) |
-              (s.mode == JITTER_SIMPLE || kept[i] < 1.0f ? JITTER_COUNT_ACTIVE : 0u);
+      flags = jittered_untested(s, kept[i]);
     texel = convert_int2_sat(clamp(t, -1.0f, (float)max(mapWidth, mapHeight)));
   }
   jittered_count(flags, texel, i, group, counters, next, tileMask, tilesX, tilesY, tileSize);

@@ -108,6 +108,7 @@ class Jittered final : public Technique {
     std::optional<Scissor> scissor;
     // Optimal without rotation or reduction: each pass marks the map tiles its unconfident pixels will read, and
     // the next pass draws only those (inside the scissor box of the same lookups).
+    // Rotated, reduced or n-jittered passes move distant texels by more than the margin: they draw whole maps.
     masking_ = params_.getInt("jitter-scissor") == 1 && mode == JITTER_OPTIMAL && plan.maxAngle == 0.0f &&
                plan.reduction == 0.0f && plan.nJitter == 0.0f;
     LightView first;  // pass 0's view: every later pass's lookups are moved from its texels
@@ -141,8 +142,7 @@ class Jittered final : public Technique {
       if (mode == JITTER_OPTIMAL && count[2] <= limit) break;  // every pixel (but epsilon) has what it needs
       quiet = pass > 0 && count[1] <= limit ? quiet + 1 : 0;
       if (quiet >= window) break;
-      if (params_.getInt("jitter-scissor") == 1 && plan.reduction == 0.0f && plan.nJitter == 0.0f)
-        scissor = nextScissor(count, mode, plan.maxAngle, plan.fitted.raster.width);
+      if (masking_) scissor = nextScissor(count, plan.fitted.raster.width);
     }
     frame.attributes["penumbra:jitter-passes"] = fmt::format("{} of at most {}", passes_, maxPasses);
   }
@@ -241,13 +241,11 @@ class Jittered final : public Technique {
     visibility.fill(ctx, 1.0f);
   }
 
-  // Optimal mode without rotation: the next pass draws only the texels the still-unconfident pixels look up, their
-  // box widened by JITTER_DRAW_MARGIN texels (and, with the tile mask, only the tiles near those lookups). Final
-  // pixels are never looked up again, so the texels outside keep an older pass's content unread. Rotated passes
-  // move distant texels by more than a box margin: they draw the whole map.
-  static std::optional<Scissor> nextScissor(const std::array<int32_t, JITTER_COUNTERS>& count, int mode, float maxAngle,
-                                            int size) {
-    if (mode != JITTER_OPTIMAL || maxAngle != 0.0f || count[2] == 0) return std::nullopt;
+  // With masking_, the next pass draws only the texels the still-unconfident pixels look up, their box widened by
+  // JITTER_DRAW_MARGIN texels (and within it, through the tile mask, only the tiles near those lookups). Final pixels
+  // are never looked up again, so the texels outside keep an older pass's content unread.
+  static std::optional<Scissor> nextScissor(const std::array<int32_t, JITTER_COUNTERS>& count, int size) {
+    if (count[2] == 0) return std::nullopt;
     constexpr int kMargin = JITTER_DRAW_MARGIN;
     const int* box = &count[JITTER_BOX_MIN_X];
     return Scissor{std::clamp(box[0] - kMargin, 0, size), std::clamp(box[1] - kMargin, 0, size),
@@ -258,8 +256,7 @@ class Jittered final : public Technique {
   std::array<int32_t, JITTER_COUNTERS> reproject(ShadowFrame& frame, int pass, Buffer<float>& visibility) {
     const GBuffer& g = frame.gbuffer;
     const uint32_t width = static_cast<uint32_t>(g.width), height = static_cast<uint32_t>(g.height);
-    const JitterShade shade{params_.getInt("confidence"), static_cast<float>(params_.get("confidence-threshold")),
-                            params_.getInt("jitter-agreement")};
+    const JitterShade shade = shadeArgs();
     resetCounters(frame.ctx);
     passGpu_.allocate(frame.ctx, 1);
     passGpu_.upload(frame.ctx, std::span<const LightViewGpu>(&map_.view.gpu, 1));
@@ -276,6 +273,11 @@ class Jittered final : public Technique {
         .moves(uint64_t(active_) * (4 + 16 * 6 + 4 * 4 + 4))
         .launch(static_cast<size_t>(active_), kPixelGroup);
     return readCounters(frame.ctx);
+  }
+
+  JitterShade shadeArgs() const {
+    return {params_.getInt("confidence"), static_cast<float>(params_.get("confidence-threshold")),
+            params_.getInt("jitter-agreement")};
   }
 
   void resetCounters(Context& ctx) {
@@ -298,8 +300,7 @@ class Jittered final : public Technique {
     const GBuffer& g = frame.gbuffer;
     const uint32_t width = static_cast<uint32_t>(g.width), height = static_cast<uint32_t>(g.height);
     const uint64_t pixels = uint64_t{width} * height;
-    const JitterShade shade{params_.getInt("confidence"), static_cast<float>(params_.get("confidence-threshold")),
-                            params_.getInt("jitter-agreement")};
+    const JitterShade shade = shadeArgs();
     const int idMode = params_.getInt("id-buffer");
     resetCounters(frame.ctx);
     const int size = map_.view.raster.width, tiles = (size + kRasterTileSize - 1) / kRasterTileSize;
@@ -337,12 +338,12 @@ class Jittered final : public Technique {
   Buffer<float> slack_, kept_, pass_;
   Buffer<cl_float8> records_;  // pass 0's lookup per pixel: uv, biased depth, valid, plane gradient, id uv
   Buffer<int32_t> counters_;
-  Buffer<uint32_t> streak_;  // consecutive passes whose lookup's neighbourhood agreed with the kept result
-  Buffer<uint32_t> work_, next_;
+  Buffer<uint32_t> streak_;       // consecutive passes whose lookup's neighbourhood agreed with the kept result
+  Buffer<uint32_t> work_, next_;  // the pixels the next pass tests, and the list it writes for the one after
+  int32_t active_ = 0;            // work_'s length
   Buffer<uint32_t> tileMask_;     // map tiles the next pass draws (RasterView::tileMask), when masking_
   Buffer<LightViewGpu> passGpu_;  // an n-jittered pass's own light view (jittered_reproject)
-  bool masking_ = false;          // the pixels the next pass tests, and the list it writes for the one after
-  int32_t active_ = 0;            // work_'s length
+  bool masking_ = false;          // this frame's later passes draw only what their listed pixels read
   int passes_ = 0;
 };
 
