@@ -25,8 +25,8 @@ inline float jittered_confidence(float2 uv) {
 // within half a pixel spacing of its texel centre is final; smaller: stricter). The minimum over the four
 // neighbours keeps the pixel's own surface at a depth discontinuity (Fig. 5); a pixel with no covered neighbour
 // needs no more than its first sample (1). For covered pixel i at world position p through map `lv`.
-inline float jittered_slack(__global const float4* position, uint width, uint height,
-                            __constant const LightViewGpu* lv, float precision, uint i, float4 p) {
+inline float jittered_slack(__global const float4* position, uint width, uint height, __constant const LightViewGpu* lv,
+                            float precision, uint i, float4 p) {
   uint x = i % width, y = i / width;
   float2 here = lv_project(lv, p.xyz).xy;
   float best = INFINITY;
@@ -47,14 +47,23 @@ inline float jittered_slack(__global const float4* position, uint width, uint he
 // where it holds in several passes with different jitter, the later passes, whose nearest texel lies within half a
 // texel of the receiver, would find the same result, so the pixel is as final as a confident one. One pass is not
 // enough: a caster thinner than a texel slips between all of one grid's centres (measured in the README).
-inline bool jittered_agree(__global const float* map, int width, int height, float2 t, float2 uv, float depth,
-                           float2 g, float lit) {
+inline bool jittered_agree(const float* occluders, float2 t, float2 uv, float depth, float2 g, float lit) {
+  int k = 0;
   for (int dy = -JITTER_AGREEMENT_RADIUS; dy <= JITTER_AGREEMENT_RADIUS; ++dy)
     for (int dx = -JITTER_AGREEMENT_RADIUS; dx <= JITTER_AGREEMENT_RADIUS; ++dx) {
       float2 n = t + (float2)((float)dx, (float)dy);
-      if (sc_lit(sc_fetch(map, width, height, (int)n.x, (int)n.y), depth + dot(g, n + 0.5f - uv)) != lit) return false;
+      if (sc_lit(occluders[k++], depth + dot(g, n + 0.5f - uv)) != lit) return false;
     }
   return true;
+}
+
+// The occluder depths jittered_agree compares: the texels within JITTER_AGREEMENT_RADIUS of texel `t`, row by row
+// (the lookup's own at JITTER_NEIGHBOURS / 2); only the lookup's own when `all` is false.
+inline void jittered_gather(__global const float* map, int width, int height, float2 t, bool all, float* occluders) {
+  int k = 0;
+  for (int dy = -JITTER_AGREEMENT_RADIUS; dy <= JITTER_AGREEMENT_RADIUS; ++dy)
+    for (int dx = -JITTER_AGREEMENT_RADIUS; dx <= JITTER_AGREEMENT_RADIUS; ++dx, ++k)
+      if (all || k == JITTER_NEIGHBOURS / 2) occluders[k] = sc_fetch(map, width, height, (int)t.x + dx, (int)t.y + dy);
 }
 
 // The counter flags of a receiver this pass could not test (outside a reduced map, behind a warp's eye): it keeps
@@ -65,21 +74,19 @@ inline uint jittered_untested(JitterShade s, float stored) {
          (s.mode == JITTER_SIMPLE || stored < 1.0f ? JITTER_COUNT_ACTIVE : 0u);
 }
 
-// One pixel's update by this pass; returns the counter flags (JITTER_COUNT_*) it raises. `agree`: the lookup's
-// neighbourhood agrees with it (jittered_agree); in optimal mode `streak` counts the consecutive passes whose
-// neighbourhood agreed with the kept result, and s.agreement of them settle the pixel: kept = JITTER_SETTLED (above
-// any confidence), final.
-inline uint jittered_update(JitterShade s, int pass, float lit, float conf, float slack, bool agree,
-                            __global float* kept, __global float* passOut, __global uint* streak,
-                            __global float* visibility, uint i) {
-  float stored = kept[i];
+// One pixel's update by this pass, on its state `px`; returns the counter flags (JITTER_COUNT_*) it raises.
+// `agree`: the lookup's neighbourhood agrees with it (jittered_agree); in optimal mode px->streak counts the
+// consecutive passes whose neighbourhood agreed with the kept result, and s.agreement of them settle the pixel:
+// kept = JITTER_SETTLED (above any confidence), final.
+inline uint jittered_update(JitterShade s, int pass, float lit, float conf, float slack, bool agree, JitterPixel* px) {
+  float stored = px->kept;
   uint flags = JITTER_COUNT_COVERED;
   if (s.mode == JITTER_SIMPLE) {
     if (conf >= s.threshold) {
-      kept[i] = max(stored, conf);
-      if (lit == 0.0f && visibility[i] != 0.0f) {
-        visibility[i] = 0.0f;
-        passOut[i] = (float)(pass + 1);
+      px->kept = max(stored, conf);
+      if (lit == 0.0f && px->lit != 0.0f) {
+        px->lit = 0.0f;
+        px->pass = (float)(pass + 1);
         flags |= JITTER_COUNT_CHANGED;
       }
     }
@@ -88,16 +95,16 @@ inline uint jittered_update(JitterShade s, int pass, float lit, float conf, floa
   }
   float c = s.mode == JITTER_OPTIMAL ? min(conf + slack, 1.0f) : conf;  // eq. 6: saturate(conf + (1 - optConf))
   if (c > stored) {  // the paper's "rendered fragment"; it counts as changed when it changes the result
-    kept[i] = c;
-    if (pass > 0 && visibility[i] != lit) flags |= JITTER_COUNT_CHANGED;
-    visibility[i] = lit;
-    passOut[i] = (float)(pass + 1);
+    px->kept = c;
+    if (pass > 0 && px->lit != lit) flags |= JITTER_COUNT_CHANGED;
+    px->lit = lit;
+    px->pass = (float)(pass + 1);
   }
   if (s.mode == JITTER_OPTIMAL && s.agreement > 0) {
-    uint n = agree && visibility[i] == lit ? (pass == 0 ? 1u : streak[i] + 1u) : 0u;
-    streak[i] = n;
+    uint n = agree && px->lit == lit ? (pass == 0 ? 1u : px->streak + 1u) : 0u;
+    px->streak = n;
     if (n >= (uint)s.agreement) {
-      kept[i] = JITTER_SETTLED;
+      px->kept = JITTER_SETTLED;
       return flags;
     }
   }
@@ -105,54 +112,90 @@ inline uint jittered_update(JitterShade s, int pass, float lit, float conf, floa
   return flags | (max(stored, c) < 1.0f ? JITTER_COUNT_UNCONFIDENT | JITTER_COUNT_ACTIVE : 0u);
 }
 
-// The pass's counters: work-group totals in local memory, then one global atomic per counter and group. An active
-// pixel also takes a slot in the next pass's work list: its rank in the group (the local counter's old value) after
-// the group's base (the global counter's old value, group[JITTER_COUNTERS]). The list's order varies from run to
-// run; no pixel's result depends on it. With a tile mask (tilesX > 0), an unconfident pixel also marks the map
-// tiles (tileSize texels square) within JITTER_DRAW_MARGIN of its lookup for the next pass to draw.
-inline void jittered_count(uint flags, int2 texel, uint pixel, __local int* group, __global int* counters,
-                           __global uint* next, __global uint* tileMask, int tilesX, int tilesY, int tileSize) {
-  uint lid = get_local_id(0);
-  if (lid < JITTER_COUNTERS) group[lid] = lid < JITTER_BOX_MIN_X ? 0 : (lid < JITTER_BOX_MIN_X + 2 ? INT_MAX : INT_MIN);
-  barrier(CLK_LOCAL_MEM_FENCE);
-  int slot = -1;
-  for (int k = 0; k < JITTER_BOX_MIN_X; ++k)
-    if (flags & (1u << k)) {
-      int rank = atomic_inc(&group[k]);
-      if (k == JITTER_ACTIVE) slot = rank;
-    }
-  if (flags & JITTER_COUNT_UNCONFIDENT) {
-    atomic_min(&group[JITTER_BOX_MIN_X], texel.x), atomic_min(&group[JITTER_BOX_MIN_X + 1], texel.y);
-    atomic_max(&group[JITTER_BOX_MIN_X + 2], texel.x), atomic_max(&group[JITTER_BOX_MIN_X + 3], texel.y);
-    if (tilesX > 0) {
-      int2 lo = max((texel - JITTER_DRAW_MARGIN) / tileSize, 0);  // texel >= -1: the division rounds towards 0
-      int2 hi = min((texel + JITTER_DRAW_MARGIN) / tileSize, (int2)(tilesX - 1, tilesY - 1));
-      for (int ty = lo.y; ty <= hi.y; ++ty)
-        for (int tx = lo.x; tx <= hi.x; ++tx) atomic_or(&tileMask[ty * tilesX + tx], 1u);
-    }
-  }
-  barrier(CLK_LOCAL_MEM_FENCE);
-  if (lid < JITTER_BOX_MIN_X && group[lid] > 0) {
-    int before = atomic_add(&counters[lid], group[lid]);
-    if (lid == JITTER_ACTIVE) group[JITTER_COUNTERS] = before;
-  }
-  if (lid == JITTER_BOX_MIN_X || lid == JITTER_BOX_MIN_X + 1) atomic_min(&counters[lid], group[lid]);
-  if (lid == JITTER_BOX_MIN_X + 2 || lid == JITTER_BOX_MIN_X + 3) atomic_max(&counters[lid], group[lid]);
-  barrier(CLK_LOCAL_MEM_FENCE);
-  if (slot >= 0) next[group[JITTER_COUNTERS] + slot] = pixel;
+// Stores pixel i's state after a pass, and its visibility where the pass changed it (every pixel in pass 0).
+inline void jittered_store(__global JitterPixel* state, __global float* visibility, uint i, JitterPixel px,
+                           float before, int pass) {
+  state[i] = px;
+  if (pass == 0 || px.lit != before) visibility[i] = px.lit;
 }
 
-// sm's test of covered pixel i (world position p) through map `lv`, the pass's update of the pixel (eq. 4-6 with the
-// required confidence's `slack`) and its counter flags; `texel` receives the lookup's texel and `record` what a later
-// pass needs to move the lookup instead of projecting again (texel position, the biased depth at it, the receiver
-// plane's depth gradient in texels, valid, the id lookup's position).
+// A work-group's pass results, gathered for jittered_count.
+typedef struct JitterGroup {
+  uint flags[JITTER_GROUP];
+  int2 texel[JITTER_GROUP];
+  int4 tiles[JITTER_GROUP];
+  int rank[JITTER_GROUP];          // an active pixel's place among the group's active ones
+  int count[JITTER_COUNTERS + 1];  // the group's counters; then its base in the next work list
+} JitterGroup;
+
+// The pass's counters: work-group totals, then one global atomic per counter and group. The totals are plain loops
+// over the group's flags, one work-item per counter (local atomics cost a CPU device 7 locked instructions a pixel).
+// An active pixel also takes a slot in the next pass's work list: its rank among the group's active pixels after
+// the group's base (the global counter's old value). The list's order varies from run to run with the groups'; no
+// pixel's result depends on it. With a tile mask (tilesX > 0), an unconfident pixel also marks the map tiles
+// (tileSize texels square) within JITTER_DRAW_MARGIN of its lookup for the next pass to draw.
+inline void jittered_count(uint flags, int2 texel, uint pixel, __local JitterGroup* wg, __global int* counters,
+                           __global uint* next, __global uint* tileMask, int tilesX, int tilesY, int tileSize) {
+  uint lid = get_local_id(0);
+  int4 box = (int4)(0, 0, -1, -1);  // the map tiles this pixel marks (x0, y0, x1, y1); none
+  if ((flags & JITTER_COUNT_UNCONFIDENT) && tilesX > 0) {
+    // texel >= -1: the division rounds towards 0. A vector bound: oclgrind 21.10 gets max(int2, int) wrong.
+    int2 lo = max((texel - JITTER_DRAW_MARGIN) / tileSize, (int2)(0));
+    int2 hi = min((texel + JITTER_DRAW_MARGIN) / tileSize, (int2)(tilesX - 1, tilesY - 1));
+    box = (int4)(lo, hi);
+  }
+  wg->flags[lid] = flags, wg->texel[lid] = texel, wg->tiles[lid] = box;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (lid < JITTER_BOX_MIN_X) {  // pixels with flag bit lid
+    int n = 0;
+    for (int j = 0; j < JITTER_GROUP; ++j) n += (int)((wg->flags[j] >> lid) & 1u);
+    wg->count[lid] = n;
+  } else if (lid < JITTER_COUNTERS) {  // min x, min y, max x, max y of the unconfident pixels' lookups
+    bool low = lid < JITTER_BOX_MIN_X + 2, y = (lid - JITTER_BOX_MIN_X) & 1u;
+    int v = low ? INT_MAX : INT_MIN;
+    for (int j = 0; j < JITTER_GROUP; ++j)
+      if (wg->flags[j] & JITTER_COUNT_UNCONFIDENT) {
+        int t = y ? wg->texel[j].y : wg->texel[j].x;
+        v = low ? min(v, t) : max(v, t);
+      }
+    wg->count[lid] = v;
+  } else if (lid == JITTER_COUNTERS) {
+    int r = 0;
+    for (int j = 0; j < JITTER_GROUP; ++j) {
+      wg->rank[j] = r;
+      r += (wg->flags[j] & JITTER_COUNT_ACTIVE) ? 1 : 0;
+    }
+  }
+  // Neighbouring work-items mostly look up the same tiles: a tile the previous one marks is left to it, and the
+  // marks are plain stores of one value (no atomics, no read). The box spans at most 2x2 tiles
+  // (JITTER_DRAW_MARGIN < tileSize): four candidate marks, no loop.
+  int4 previous = lid > 0 ? wg->tiles[lid - 1] : (int4)(0, 0, -1, -1);
+  for (int k = 0; k < 4; ++k) {
+    int tx = k & 1 ? box.z : box.x, ty = k & 2 ? box.w : box.y;
+    bool repeat = (k & 1 && box.z == box.x) || (k & 2 && box.w == box.y);
+    bool theirs = tx >= previous.x && tx <= previous.z && ty >= previous.y && ty <= previous.w;
+    if (box.x <= box.z && !repeat && !theirs) tileMask[ty * tilesX + tx] = 1u;
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (lid < JITTER_BOX_MIN_X && wg->count[lid] > 0) {
+    int base = atomic_add(&counters[lid], wg->count[lid]);
+    if (lid == JITTER_ACTIVE) wg->count[JITTER_COUNTERS] = base;
+  }
+  if (lid == JITTER_BOX_MIN_X || lid == JITTER_BOX_MIN_X + 1) atomic_min(&counters[lid], wg->count[lid]);
+  if (lid == JITTER_BOX_MIN_X + 2 || lid == JITTER_BOX_MIN_X + 3) atomic_max(&counters[lid], wg->count[lid]);
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (flags & JITTER_COUNT_ACTIVE) next[wg->count[JITTER_COUNTERS] + wg->rank[lid]] = pixel;
+}
+
+// sm's test of covered pixel i (world position p) through map `lv`, the pass's update of its state `px` (eq. 4-6
+// with the required confidence's `slack`) and its counter flags; `texel` receives the lookup's texel. With `record`,
+// px also receives what a later pass needs to move the lookup instead of projecting again (texel position, the
+// biased depth at it, the receiver plane's depth gradient in texels, valid, the id lookup's position).
 inline uint jittered_lookup(__global const float4* position, __global const float4* normal, uint width, uint height,
                             __global const float* map, __constant const LightViewGpu* lv, ShadowBias bias,
                             int receiverPlane, int idMode, __global const uint* mapIds, __global const uint* objectIds,
                             __global const uint* pixelTriangle, __global const uint* pixelObject, JitterShade s,
-                            int pass, float slack, __global float* kept, __global float* passOut,
-                            __global uint* streak, __global float* visibility, uint i, float4 p, int2* texel,
-                            float8* record) {
+                            int pass, float slack, uint i, float4 p, bool record, int2* texel, JitterPixel* px) {
   float3 n = normal[i].xyz;
   Receiver r = sc_receiver(lv, p.xyz, n, bias);
   if (!r.valid) return 0u;
@@ -161,70 +204,75 @@ inline uint jittered_lookup(__global const float4* position, __global const floa
   float lit = id_visibility(mapIds, objectIds, lv->width, lv->height, idUv, id_pixel(pixelTriangle, i, idMode),
                             id_pixel(pixelObject, i, idMode), idMode, sc_hard_lit(map, lv, r, rp, bias.base * r.texel));
   float depth = rp.valid ? r.depth - bias.base * r.texel : r.depth - r.bias;  // as sc_hard_lit
-  bool agree = s.agreement > 0 && idMode == ID_BUFFER_OFF &&
-               jittered_agree(map, lv->width, lv->height, floor(r.uv), r.uv, depth, rp.gradient, lit);
+  bool agree = false;
+  if (s.agreement > 0 && idMode == ID_BUFFER_OFF) {
+    float occluders[JITTER_NEIGHBOURS];
+    jittered_gather(map, lv->width, lv->height, floor(r.uv), true, occluders);
+    agree = jittered_agree(occluders, floor(r.uv), r.uv, depth, rp.gradient, lit);
+  }
   *texel = convert_int2_sat(clamp(floor(r.uv), -1.0f, (float)max(lv->width, lv->height)));
-  *record = (float8)(r.uv, depth, 1.0f, rp.gradient, idUv);
-  return jittered_update(s, pass, lit, jittered_confidence(r.uv), slack, agree, kept, passOut, streak, visibility, i);
+  if (record) {
+    px->u = r.uv.x, px->v = r.uv.y, px->depth = depth, px->valid = 1.0f;
+    px->gu = rp.gradient.x, px->gv = rp.gradient.y, px->idU = idUv.x, px->idV = idUv.y;
+  }
+  return jittered_update(s, pass, lit, jittered_confidence(r.uv), slack, agree, px);
 }
 
-// Pass 0: sm's test of every receiver through the first map, kept as a record of the lookup that later passes move
-// with their jitter instead of projecting again (jittered_pass), and (optimal) eq. 5's slack of every pixel in pass
-// 0's texels, which translations and the common rotation scale keep for every pass (background: 1; other modes: 0).
-__kernel void jittered_first(__global const float4* position, __global const float4* normal, uint width, uint height,
-                             __global const float* map, __constant const LightViewGpu* lv, float biasConstant,
-                             float biasSlope, float normalOffset, int receiverPlane, int idMode,
-                             __global const uint* mapIds, __global const uint* objectIds,
-                             __global const uint* pixelTriangle, __global const uint* pixelObject, JitterShade s,
-                             float precision, __global float* slack, __global float* kept, __global float* passOut,
-                             __global uint* streak, __global float8* records, __global int* counters,
-                             __global uint* next, __global uint* tileMask, int tilesX, int tilesY, int tileSize,
-                             __global float* visibility) {
-  __local int group[JITTER_COUNTERS + 1];
+// Pass 0: sm's test of every receiver through the first map, kept in its state as a record of the lookup that later
+// passes move with their jitter instead of projecting again (jittered_pass), and (optimal) eq. 5's slack of every
+// pixel in pass 0's texels, which translations and the common rotation scale keep for every pass (background: 1;
+// other modes: 0). Every pixel's state and visibility are written (background: lit, nothing kept).
+__kernel __attribute__((reqd_work_group_size(JITTER_GROUP, 1, 1))) void jittered_first(
+    __global const float4* position, __global const float4* normal, uint width, uint height, __global const float* map,
+    __constant const LightViewGpu* lv, float biasConstant, float biasSlope, float normalOffset, int receiverPlane,
+    int idMode, __global const uint* mapIds, __global const uint* objectIds, __global const uint* pixelTriangle,
+    __global const uint* pixelObject, JitterShade s, float precision, __global JitterPixel* state,
+    __global int* counters, __global uint* next, __global uint* tileMask, int tilesX, int tilesY, int tileSize,
+    __global float* visibility) {
+  __local JitterGroup wg;
   uint i = get_global_id(0), flags = 0;
   int2 texel = (int2)(0);
   float4 p = i < width * height ? position[i] : (float4)(0.0f);
-  float8 record = (float8)(0.0f);
-  float need = 0.0f;
+  JitterPixel px = {0.0f};
+  px.kept = -1.0f, px.lit = 1.0f;
   if (s.mode == JITTER_OPTIMAL && i < width * height)
-    need = p.w == 0.0f ? 1.0f : jittered_slack(position, width, height, lv, precision, i, p);
+    px.slack = p.w == 0.0f ? 1.0f : jittered_slack(position, width, height, lv, precision, i, p);
   if (p.w != 0.0f) {
     ShadowBias bias = {biasConstant, biasSlope, normalOffset};
     flags = jittered_lookup(position, normal, width, height, map, lv, bias, receiverPlane, idMode, mapIds, objectIds,
-                            pixelTriangle, pixelObject, s, 0, need, kept, passOut, streak, visibility, i, p, &texel,
-                            &record);
+                            pixelTriangle, pixelObject, s, 0, px.slack, i, p, true, &texel, &px);
   }
-  if (i < width * height) records[i] = record, slack[i] = need;
-  jittered_count(flags, texel, i, group, counters, next, tileMask, tilesX, tilesY, tileSize);
+  if (i < width * height) jittered_store(state, visibility, i, px, 1.0f, 0);
+  jittered_count(flags, texel, i, &wg, counters, next, tileMask, tilesX, tilesY, tileSize);
 }
 
 // Pass k > 0 of LiSPSM n-parameter jittering (Luksch sec. 6.5.1): the pass's warp differs from pass 0's, so it is no
 // similarity of it and every listed pixel is projected again, as in pass 0, with eq. 5's required confidence taken
 // in this pass's texels (the paper: "the optimal confidence has to be recalculated whenever n is changed"; biased by
 // it, confidences of differently warped passes compare again). Over the previous pass's work list.
-__kernel void jittered_reproject(__global const float4* position, __global const float4* normal, uint width,
-                                 uint height, __global const uint* work, uint count, __global const float* map,
-                                 __constant const LightViewGpu* lv, float biasConstant, float biasSlope,
-                                 float normalOffset, int receiverPlane, int idMode, __global const uint* mapIds,
-                                 __global const uint* objectIds, __global const uint* pixelTriangle,
-                                 __global const uint* pixelObject, JitterShade s, int pass, float precision,
-                                 __global float* kept, __global float* passOut, __global uint* streak,
-                                 __global int* counters, __global uint* next, __global float* visibility) {
-  __local int group[JITTER_COUNTERS + 1];
+__kernel __attribute__((reqd_work_group_size(JITTER_GROUP, 1, 1))) void jittered_reproject(
+    __global const float4* position, __global const float4* normal, uint width, uint height, __global const uint* work,
+    uint count, __global const float* map, __constant const LightViewGpu* lv, float biasConstant, float biasSlope,
+    float normalOffset, int receiverPlane, int idMode, __global const uint* mapIds, __global const uint* objectIds,
+    __global const uint* pixelTriangle, __global const uint* pixelObject, JitterShade s, int pass, float precision,
+    __global JitterPixel* state, __global int* counters, __global uint* next, __global float* visibility) {
+  __local JitterGroup wg;
   uint flags = 0, i = get_global_id(0) < count ? work[get_global_id(0)] : 0u;
   int2 texel = (int2)(0);
-  float8 record;
   if (get_global_id(0) < count) {
     float4 p = position[i];
+    JitterPixel px = state[i];
+    float before = px.lit;
     float slack = s.mode == JITTER_OPTIMAL ? jittered_slack(position, width, height, lv, precision, i, p) : 0.0f;
     ShadowBias bias = {biasConstant, biasSlope, normalOffset};
     flags = jittered_lookup(position, normal, width, height, map, lv, bias, receiverPlane, idMode, mapIds, objectIds,
-                            pixelTriangle, pixelObject, s, pass, slack, kept, passOut, streak, visibility, i, p, &texel,
-                            &record);
+                            pixelTriangle, pixelObject, s, pass, slack, i, p, false, &texel, &px);
     // A receiver whose lookup fails here (behind this warp's eye) keeps what it has and stays listed.
-    if (flags == 0u) flags = jittered_untested(s, kept[i]);
+    if (flags == 0u) flags = jittered_untested(s, px.kept);
+    jittered_store(state, visibility, i, px, before, pass);
   }
-  jittered_count(flags, texel, i, group, counters, next, next, 0, 0, 1);  // no tile mask: each warp has its own texels
+  // No tile mask: each warp has its own texels.
+  jittered_count(flags, texel, i, &wg, counters, next, next, 0, 0, 1);
 }
 
 // Pass k > 0: the map differs from pass 0's by a similarity (the host's texelTransform: its rotation, the zoom s of a
@@ -234,42 +282,54 @@ __kernel void jittered_reproject(__global const float4* position, __global const
 // rate it argues from grows by s, the ratio of texel sizes, which we use). A receiver outside a reduced map (across
 // its window or beyond its far plane) keeps what it has. The depth comparison is sc_hard_lit's against the moved
 // lookup. It runs over the previous pass's work list (`work`, `count` pixels) and writes the next one (`next`).
-__kernel void jittered_pass(__global const float8* records, __global const uint* work, uint count,
-                            __global const float* map, int mapWidth, int mapHeight, float4 jitter, float mapFar,
-                            int idMode, __global const uint* mapIds,
-                            __global const uint* objectIds, __global const uint* pixelTriangle,
-                            __global const uint* pixelObject, JitterShade s, int pass, __global const float* slack,
-                            __global float* kept, __global float* passOut, __global uint* streak,
-                            __global int* counters, __global uint* next, __global uint* tileMask, int tilesX,
-                            int tilesY, int tileSize, __global float* visibility) {
-  __local int group[JITTER_COUNTERS + 1];
-  uint flags = 0, i = get_global_id(0) < count ? work[get_global_id(0)] : 0u;
+__kernel __attribute__((reqd_work_group_size(JITTER_GROUP, 1, 1))) void jittered_pass(
+    __global const uint* work, uint count, __global const float* map, int mapWidth, int mapHeight, float4 jitter,
+    float mapFar, int idMode, __global const uint* mapIds, __global const uint* objectIds,
+    __global const uint* pixelTriangle, __global const uint* pixelObject, JitterShade s, int pass,
+    __global JitterPixel* state, __global int* counters, __global uint* next, __global uint* tileMask, int tilesX,
+    int tilesY, int tileSize, __global float* visibility) {
+  __local JitterGroup wg;
+  __local JitterPixel staged[JITTER_GROUP];
+  __local float near[JITTER_GROUP * JITTER_NEIGHBOURS];
+  uint flags = 0, lid = get_local_id(0), i = get_global_id(0) < count ? work[get_global_id(0)] : 0u;
   int2 texel = (int2)(0);
-  float8 record = get_global_id(0) < count ? records[i] : (float8)(0.0f);
-  if (record.s3 != 0.0f) {
-    float2 centre = 0.5f * (float2)(mapWidth, mapHeight), cs = jitter.xy, offset = jitter.zw;
-    float2 d = record.s01 - centre, e = record.s67 - centre;
-    float2 uv = centre + (float2)(cs.x * d.x - cs.y * d.y, cs.y * d.x + cs.x * d.y) + offset;
+  // The listed pixels and their lookups lie scattered over the frame and the map: the group gathers their states,
+  // then the texels they compare, each with nothing else between the loads, so that a CPU device overlaps the cache
+  // misses (the poles view's 31 later passes, alternating runs: 59-75 ms against 63-101 ms loading in place).
+  if (get_global_id(0) < count) staged[lid] = state[i];
+  barrier(CLK_LOCAL_MEM_FENCE);
+  JitterPixel px = {0.0f};
+  if (get_global_id(0) < count) px = staged[lid];
+  float2 centre = 0.5f * (float2)(mapWidth, mapHeight), cs = jitter.xy, offset = jitter.zw;
+  float2 d = (float2)(px.u, px.v) - centre;
+  float2 uv = centre + (float2)(cs.x * d.x - cs.y * d.y, cs.y * d.x + cs.x * d.y) + offset, t = floor(uv);
+  bool agreement = s.agreement > 0 && idMode == ID_BUFFER_OFF;
+  float occluders[JITTER_NEIGHBOURS];
+  if (px.valid != 0.0f) {
+    jittered_gather(map, mapWidth, mapHeight, t, agreement, occluders);
+    for (int k = 0; k < JITTER_NEIGHBOURS; ++k) near[lid * JITTER_NEIGHBOURS + k] = occluders[k];
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (px.valid != 0.0f) {
+    for (int k = 0; k < JITTER_NEIGHBOURS; ++k) occluders[k] = near[lid * JITTER_NEIGHBOURS + k];
+    float before = px.lit;
+    float2 e = (float2)(px.idU, px.idV) - centre;
     float2 idUv = centre + (float2)(cs.x * e.x - cs.y * e.y, cs.y * e.x + cs.x * e.y) + offset;
     float zoom2 = dot(cs, cs);
-    float2 g = (float2)(cs.x * record.s4 - cs.y * record.s5, cs.y * record.s4 + cs.x * record.s5) / zoom2;
-    float2 t = floor(uv);
-    float occluder = sc_fetch(map, mapWidth, mapHeight, (int)t.x, (int)t.y);
-    float depthLit = sc_lit(occluder, record.s2 + dot(g, t + 0.5f - uv));
+    float2 g = (float2)(cs.x * px.gu - cs.y * px.gv, cs.y * px.gu + cs.x * px.gv) / zoom2;
+    float depthLit = sc_lit(occluders[JITTER_NEIGHBOURS / 2], px.depth + dot(g, t + 0.5f - uv));
     float lit = id_visibility(mapIds, objectIds, mapWidth, mapHeight, idUv, id_pixel(pixelTriangle, i, idMode),
                               id_pixel(pixelObject, i, idMode), idMode, depthLit);
     // A reduced map ends at its slice's deepest receiver: farther receivers are not in it, wherever they project.
     bool inside =
-        uv.x >= 0.0f && uv.y >= 0.0f && uv.x < (float)mapWidth && uv.y < (float)mapHeight && record.s2 <= mapFar;
-    bool agree =
-        inside && s.agreement > 0 && idMode == ID_BUFFER_OFF && jittered_agree(map, mapWidth, mapHeight, t, uv,
-                                                                                record.s2, g, lit);
+        uv.x >= 0.0f && uv.y >= 0.0f && uv.x < (float)mapWidth && uv.y < (float)mapHeight && px.depth <= mapFar;
+    bool agree = inside && agreement && jittered_agree(occluders, t, uv, px.depth, g, lit);
     if (inside)
-      flags = jittered_update(s, pass, lit, jittered_confidence(uv), slack[i] * sqrt(zoom2), agree, kept, passOut,
-                              streak, visibility, i);
+      flags = jittered_update(s, pass, lit, jittered_confidence(uv), px.slack * sqrt(zoom2), agree, &px);
     else  // outside a reduced frustum
-      flags = jittered_untested(s, kept[i]);
+      flags = jittered_untested(s, px.kept);
     texel = convert_int2_sat(clamp(t, -1.0f, (float)max(mapWidth, mapHeight)));
+    jittered_store(state, visibility, i, px, before, pass);
   }
-  jittered_count(flags, texel, i, group, counters, next, tileMask, tilesX, tilesY, tileSize);
+  jittered_count(flags, texel, i, &wg, counters, next, tileMask, tilesX, tilesY, tileSize);
 }

@@ -59,7 +59,7 @@ expect id-buffer-not-for-technique 2 "does not apply to technique 'vsm'" -- "$bi
   --id-buffer object -o "$scratch/x.exr"
 expect jitter-rotation-with-warp 2 "need --warp none" -- "$bin" render builtin:box -t jittered --warp lispsm \
   --jitter-rotation 5 --size 32x18 --light dir:0.3,-1,-0.6 -o "$scratch/x.exr"
-expect jittered-render 0 "" -- "$bin" render builtin:box -t jittered --id-buffer combined --jitter-reduction 0.6 \
+expect jittered-render 0 "" -- "$bin" render builtin:box -t jittered --id-buffer combined --jitter-reduction 0.6 --warp none \
   --size 32x18 --map-size 64 -q -o "$scratch/jittered.exr"
 expect savsm-width-above-max 2 "savsm-width 80 is larger than --savsm-max-width 64" -- "$bin" render builtin:box -t savsm --savsm-width 80 -o "$scratch/x.exr"
 expect bad-choice 2 "'half' is not one of float, fixed32, fixed64, double" -- "$bin" render builtin:box -t savsm --sat-precision half -o "$scratch/x.exr"
@@ -198,6 +198,17 @@ else
   head -n 3 "$scratch/bench/bench.csv" 2>&1 | sed 's/^/    /'
 fi
 cp "$scratch/bench/bench.csv" "$scratch/box.csv" 2>/dev/null  # the runs below rewrite bench.csv
+# --interleave (round-robin over the settings, one Renderer each): the same rows and the same images' metrics.
+expect bench-interleave 0 "wrote" -- "${bench[@]}" --techniques sm,pcf --sweep pcf-radius=1,2 --interleave \
+  -o "$scratch/bench/interleaved.csv"
+metrics() { awk -F, '$4 == "total" { print $2, $3, $9, $13 }' "$1"; }
+if [ -n "$(metrics "$scratch/box.csv")" ] &&
+  [ "$(metrics "$scratch/box.csv")" = "$(metrics "$scratch/bench/interleaved.csv" 2>/dev/null)" ]; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1))
+  echo "FAIL bench-interleave-rows: interleaved totals differ from the sequential run's"
+fi
 expect bench-sweep-skipped 0 "pcf-radius skipped for sm" -- "${bench[@]}" --techniques sm,pcf --sweep pcf-radius=1 \
   -o "$scratch/bench/bench.csv"
 expect bench-reuses-reference 0 "reusing the reference" -- "${bench[@]}" --techniques sm -o "$scratch/bench/bench.csv"

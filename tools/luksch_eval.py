@@ -39,16 +39,18 @@ SCENES = {
     "staircase-sun": ("staircase", (4, 4, 4.5), (0, 0.625, 0), 45, ("sun", (-0.2, -6, -0.3))),
 }
 
-# name -> (technique, extra bench options). The first is the baseline the README compares against.
+# name -> (technique, extra bench options). The first is the baseline the README compares against. Configs with no
+# extra options (each technique's defaults) are measured together in one `bench --interleave` call per case, so the
+# ratio of their times does not carry the drift of this shared machine's speed between calls.
 CONFIGS = {
     "sm": ("sm", []),
     "lispsm": ("sm", ["--warp", "lispsm"]),
     "pssm": ("pssm", ["--pssm-filter", "hard", "--pssm-splits", "auto"]),
     "pssm-lispsm": ("pssm", ["--pssm-filter", "hard", "--pssm-splits", "auto", "--warp", "lispsm"]),
-    "jittered": ("jittered", []),
-    "jittered-lispsm": ("jittered", ["--warp", "lispsm"]),
-    "jittered-lispsm-n": ("jittered", ["--warp", "lispsm", "--lispsm-n-jitter", "1"]),
-    "jittered-reduced": ("jittered", ["--jitter-reduction", "0.55"]),
+    "jittered": ("jittered", []),  # its default warp is lispsm
+    "jittered-uniform": ("jittered", ["--warp", "none"]),
+    "jittered-lispsm-n": ("jittered", ["--lispsm-n-jitter", "1"]),
+    "jittered-reduced": ("jittered", ["--warp", "none", "--jitter-reduction", "0.55"]),
     "jittered-adapted": ("jittered", ["--confidence", "adapted"]),
     "sm-id": ("sm", ["--id-buffer", "combined"]),
 }
@@ -112,12 +114,19 @@ def run(cmd):
     return result
 
 
-def total_row(path):
+def total_row(path, technique):
     with open(path, newline="") as f:
         for row in csv.DictReader(f):
-            if row["pass"] == "total" and row["off"] != "":
+            if row["pass"] == "total" and row["technique"] == technique and row["off"] != "":
                 return row
     return None
+
+
+def batches(configs):
+    """The bench calls of one case: the configs without extra options together (interleaved), each other alone."""
+    plain = [c for c in configs if not CONFIGS[c][1]]
+    out = [plain] if plain else []
+    return out + [[c] for c in configs if CONFIGS[c][1]]
 
 
 def measure(args, out_dir):
@@ -129,22 +138,24 @@ def measure(args, out_dir):
             ref = os.path.join(out_dir, f"{scene}.{cam_name}.reference.exr")
             if args.fresh or not os.path.exists(ref):
                 run([args.penumbra, "reference", *common, "-o", ref, "-q"])
-            for config in args.configs:
-                technique, extra = CONFIGS[config]
-                csv_path = os.path.join(out_dir, f"{scene}.{cam_name}.{config}.csv")
+            for batch in batches(args.configs):
+                csv_path = os.path.join(out_dir, f"{scene}.{cam_name}.{'+'.join(batch)}.csv")
                 if args.fresh or not os.path.exists(csv_path):  # cases measured before are kept (delete to redo)
-                    run([args.penumbra, "bench", *common, "--techniques", technique, *extra, "--map-size",
+                    technique_list = ",".join(CONFIGS[c][0] for c in batch)
+                    extra = CONFIGS[batch[0]][1] if len(batch) == 1 else ["--interleave"]
+                    run([args.penumbra, "bench", *common, "--techniques", technique_list, *extra, "--map-size",
                          str(args.map_size), "--reference", ref, "--runs", str(args.runs), "--warmup", "1", "-o",
                          csv_path, "-q"])
-                row = total_row(csv_path)
-                if row is None:
-                    print(f"{scene} {cam_name} {config}: no result", file=sys.stderr)
-                    continue
-                rows.append({"scene": scene, "camera": cam_name, "config": config, "ms": float(row["ms"]),
-                             "off": float(row["off"]), "mae": float(row["mae"]), "pixels": int(row["pixels"]),
-                             "device": row["device"]})
-                print(f"{scene:16} {cam_name:9} {config:17} {float(row['ms']):9.1f} ms  wrong "
-                      f"{100 * float(row['off']):7.3f} %", file=sys.stderr)
+                for config in batch:
+                    row = total_row(csv_path, CONFIGS[config][0])
+                    if row is None:
+                        print(f"{scene} {cam_name} {config}: no result", file=sys.stderr)
+                        continue
+                    rows.append({"scene": scene, "camera": cam_name, "config": config, "ms": float(row["ms"]),
+                                 "off": float(row["off"]), "mae": float(row["mae"]), "pixels": int(row["pixels"]),
+                                 "device": row["device"]})
+                    print(f"{scene:16} {cam_name:9} {config:17} {float(row['ms']):9.1f} ms  wrong "
+                          f"{100 * float(row['off']):7.3f} %", file=sys.stderr)
     return rows
 
 

@@ -99,7 +99,7 @@ class Jittered final : public Technique {
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     const Plan plan = planPasses(frame);
-    reset(frame.ctx, static_cast<size_t>(frame.gbuffer.width) * frame.gbuffer.height, visibility);
+    reset(frame.ctx, static_cast<size_t>(frame.gbuffer.width) * frame.gbuffer.height);
     const int mode = params_.getInt("confidence"), maxPasses = params_.getInt("jitter-passes");
     const int window = params_.getInt("jitter-window");
     const double epsilon = params_.get("jitter-epsilon");
@@ -148,20 +148,19 @@ class Jittered final : public Technique {
   }
 
   void addDebugChannels(Context& ctx, Image& image) override {
-    image.add("pass.Y", pass_.download(ctx));
-    std::vector<float> kept = kept_.download(ctx), settled(kept.size());
-    for (size_t i = 0; i < kept.size(); ++i) {
-      settled[i] = kept[i] == JITTER_SETTLED ? 1.0f : 0.0f;
-      kept[i] = std::clamp(kept[i], 0.0f, 1.0f);
+    const std::vector<JitterPixel> state = state_.download(ctx);
+    std::vector<float> pass(state.size()), kept(state.size()), settled(state.size()), required(state.size());
+    for (size_t i = 0; i < state.size(); ++i) {
+      pass[i] = state[i].pass;
+      settled[i] = state[i].kept == JITTER_SETTLED ? 1.0f : 0.0f;
+      kept[i] = std::clamp(state[i].kept, 0.0f, 1.0f);
+      required[i] = 1.0f - state[i].slack;  // optConf, eq. 5
     }
+    image.add("pass.Y", pass);
     image.add("confidence.Y", kept);
     if (params_.getInt("confidence") == JITTER_OPTIMAL && params_.getInt("jitter-agreement") > 0)
       image.add("settled.Y", settled);
-    if (params_.getInt("confidence") == JITTER_OPTIMAL) {
-      std::vector<float> required = slack_.download(ctx);
-      for (float& c : required) c = 1.0f - c;  // optConf, eq. 5
-      image.add("requiredConfidence.Y", required);
-    }
+    if (params_.getInt("confidence") == JITTER_OPTIMAL) image.add("requiredConfidence.Y", required);
   }
 
  private:
@@ -184,7 +183,8 @@ class Jittered final : public Technique {
     // LiSPSM (--warp lispsm): translational jitter only; a rotated or reduced warped map is no similarity of the first.
     plan.warped = lispsmEnabled(params_);
     if (plan.warped && (plan.maxAngle != 0.0f || plan.reduction != 0.0f))
-      throw std::invalid_argument("--jitter-rotation and --jitter-reduction need --warp none");
+      throw std::invalid_argument(
+          "--jitter-rotation and --jitter-reduction need --warp none (jittered warps its map with lispsm by default)");
     plan.nJitter = static_cast<float>(params_.get("lispsm-n-jitter"));
     if (plan.nJitter > 0.0f && !plan.warped) throw std::invalid_argument("--lispsm-n-jitter needs --warp lispsm");
     renderShadowMap(frame, params_, map_, 0.0f);
@@ -228,17 +228,12 @@ class Jittered final : public Technique {
     return sliceLightView(frame, params_, plan.depth.near, far, plan.margin);
   }
 
-  // The per-pixel buffers, reused across frames: nothing kept yet, background lit.
-  void reset(Context& ctx, size_t pixels, Buffer<float>& visibility) {
-    for (Buffer<float>* b : {&slack_, &kept_, &pass_}) b->allocate(ctx, pixels);
-    records_.allocate(ctx, pixels);
+  // The per-pixel buffers, reused across frames (pass 0 writes every pixel's state and visibility).
+  void reset(Context& ctx, size_t pixels) {
+    state_.allocate(ctx, pixels);
     work_.allocate(ctx, pixels);
-    streak_.allocate(ctx, pixels);
     next_.allocate(ctx, pixels);
     counters_.allocate(ctx, JITTER_COUNTERS);
-    kept_.fill(ctx, -1.0f);
-    pass_.fill(ctx, 0.0f);
-    visibility.fill(ctx, 1.0f);
   }
 
   // With masking_, the next pass draws only the texels the still-unconfident pixels look up, their box widened by
@@ -266,12 +261,11 @@ class Jittered final : public Technique {
         .args(g.position, g.normal, width, height, work_, static_cast<uint32_t>(active_), map_.targets.depth, passGpu_,
               bias.constant, bias.slope, bias.normalOffset, params_.getInt("receiver-plane"),
               params_.getInt("id-buffer"), map_.targets.triangleId, frame.raster.objectIds(), g.triangleId, g.objectId,
-              shade, pass, static_cast<float>(params_.get("jitter-precision")), kept_, pass_, streak_, counters_, next_,
-              visibility)
-        // per listed pixel: its index, its position and normal, four neighbours' positions (eq. 5), kept, pass,
-        // streak, visibility and the next list's entry
-        .moves(uint64_t(active_) * (4 + 16 * 6 + 4 * 4 + 4))
-        .launch(static_cast<size_t>(active_), kPixelGroup);
+              shade, pass, static_cast<float>(params_.get("jitter-precision")), state_, counters_, next_, visibility)
+        // per listed pixel: its index, its position and normal, four neighbours' positions (eq. 5), its state read
+        // and written, and the next list's entry
+        .moves(uint64_t(active_) * (4 + 16 * 6 + 2 * sizeof(JitterPixel) + 4))
+        .launch(static_cast<size_t>(active_), size_t{JITTER_GROUP});
     return readCounters(frame.ctx);
   }
 
@@ -314,31 +308,28 @@ class Jittered final : public Technique {
           .args(g.position, g.normal, width, height, map_.targets.depth, map_.gpu, bias.constant, bias.slope,
                 bias.normalOffset, params_.getInt("receiver-plane"), idMode, map_.targets.triangleId,
                 frame.raster.objectIds(), g.triangleId, g.objectId, shade,
-                static_cast<float>(params_.get("jitter-precision")), slack_, kept_, pass_, streak_, records_, counters_,
-                next_, tileMask_, maskTiles, maskTiles, kRasterTileSize, visibility)
-          // + slack, kept, pass, the lookup record; the work list's entries as a bound
-          .moves(pixels * (kVisibilityBytesPerPixel + 4 * 4 + 32 + 4))
-          .launch(pixels, kPixelGroup);
+                static_cast<float>(params_.get("jitter-precision")), state_, counters_, next_, tileMask_, maskTiles,
+                maskTiles, kRasterTileSize, visibility)
+          // + the state; the work list's entries as a bound
+          .moves(pixels * (kVisibilityBytesPerPixel + sizeof(JitterPixel) + 4))
+          .launch(pixels, size_t{JITTER_GROUP});
     } else {
       Kernel kernel(frame.ctx, "kernels/jittered.cl", "jittered_pass", "shade");
       kernel
-          .args(records_, work_, static_cast<uint32_t>(active_), map_.targets.depth, size, size, jitter,
-                map_.view.gpu.zFar, idMode, map_.targets.triangleId, frame.raster.objectIds(), g.triangleId, g.objectId,
-                shade, pass, slack_, kept_, pass_, streak_, counters_, next_, tileMask_, maskTiles, maskTiles,
-                kRasterTileSize, visibility)
-          // per listed pixel: its index, the record, slack, kept, pass, visibility and the next list's entry
-          .moves(uint64_t(active_) * (4 + 32 + 4 * 4 + 4 + 4))
-          .launch(static_cast<size_t>(active_), kPixelGroup);
+          .args(work_, static_cast<uint32_t>(active_), map_.targets.depth, size, size, jitter, map_.view.gpu.zFar,
+                idMode, map_.targets.triangleId, frame.raster.objectIds(), g.triangleId, g.objectId, shade, pass,
+                state_, counters_, next_, tileMask_, maskTiles, maskTiles, kRasterTileSize, visibility)
+          // per listed pixel: its index, its state read and written, and the next list's entry
+          .moves(uint64_t(active_) * (4 + 2 * sizeof(JitterPixel) + 4))
+          .launch(static_cast<size_t>(active_), size_t{JITTER_GROUP});
     }
     return readCounters(frame.ctx);
   }
 
   Params params_;
   ShadowMap map_;
-  Buffer<float> slack_, kept_, pass_;
-  Buffer<cl_float8> records_;  // pass 0's lookup per pixel: uv, biased depth, valid, plane gradient, id uv
+  Buffer<JitterPixel> state_;  // per pixel: pass 0's lookup, slack, what is kept (kernels/shared/jittered.h)
   Buffer<int32_t> counters_;
-  Buffer<uint32_t> streak_;       // consecutive passes whose lookup's neighbourhood agreed with the kept result
   Buffer<uint32_t> work_, next_;  // the pixels the next pass tests, and the list it writes for the one after
   int32_t active_ = 0;            // work_'s length
   Buffer<uint32_t> tileMask_;     // map tiles the next pass draws (RasterView::tileMask), when masking_
@@ -360,7 +351,9 @@ TechniqueInfo jitteredTechnique() {
     if (spec.name == "normal-offset") spec.defaultValue = 0.25;
   params.push_back(receiverPlaneParam());
   params.push_back(idBufferParam());
-  for (ParamSpec& spec : warpParams()) params.push_back(spec);
+  // LiSPSM by default: jittering removes projection aliasing, the warp perspective aliasing (Luksch sec. 5-6 combine
+  // them); measured in the README's comparison (every case as accurate or more, at about the same time).
+  for (ParamSpec& spec : warpParams(true)) params.push_back(spec);
   params.push_back({"confidence",
                     JITTER_OPTIMAL,
                     JITTER_SIMPLE,

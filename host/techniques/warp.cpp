@@ -12,13 +12,14 @@ constexpr const char* kOrthographicFallback = "orthographic camera (no eye point
 
 }  // namespace
 
-std::vector<ParamSpec> warpParams() {
+std::vector<ParamSpec> warpParams(bool lispsmByDefault) {
   return {
       {"warp",
-       kWarpNone,
+       static_cast<double>(lispsmByDefault ? kWarpLispsm : kWarpNone),
        0,
        1,
-       "Light-map parameterisation: uniform, or light-space perspective (LiSPSM; sun or spot light)",
+       "Light-map parameterisation: uniform, or light-space perspective (LiSPSM; sun or spot light); default none, "
+       "jittered: lispsm",
        {"none", "lispsm"}},
       {"lispsm-n", 0.0, 0, 1e6,
        "LiSPSM warp distance n in world units (small: more texels near the camera); 0 = automatic n_opt"},

@@ -11,8 +11,8 @@
 
 namespace penumbra {
 
-// warp (none|lispsm), lispsm-n (world units, 0 = Wimmer's n_opt).
-std::vector<ParamSpec> warpParams();
+// warp (none|lispsm; none unless `lispsmByDefault`), lispsm-n (world units, 0 = Wimmer's n_opt).
+std::vector<ParamSpec> warpParams(bool lispsmByDefault = false);
 
 // True when `params` declares "warp" and it is lispsm.
 bool lispsmEnabled(const Params& params);

@@ -26,10 +26,14 @@
 // a lookup by less than one, the ID buffer or the agreement test reads one further, one for rounding.
 #define JITTER_DRAW_MARGIN 3
 
+// Work-group size of the jittered kernels (their local tile lists).
+#define JITTER_GROUP 64
+
 // The kept confidence of a pixel settled by its lookups' neighbourhoods (optimal with agreement): final, above any
 // confidence of eq. 4-6. The neighbourhood: the texels within this radius (max norm) of the lookup's.
 #define JITTER_SETTLED 2.0f
 #define JITTER_AGREEMENT_RADIUS 1
+#define JITTER_NEIGHBOURS ((2 * JITTER_AGREEMENT_RADIUS + 1) * (2 * JITTER_AGREEMENT_RADIUS + 1))
 
 typedef struct JitterShade {
   int mode;         // JITTER_*
@@ -37,8 +41,26 @@ typedef struct JitterShade {
   int agreement;    // optimal: consecutive agreeing passes that settle a pixel (0: off)
 } JitterShade;
 
+// One receiver's state across a frame's passes, in one 64-byte line so that a later pass, which reads its listed
+// pixels scattered over the frame, touches one line per pixel: pass 0's lookup (later passes move it with their
+// jitter instead of projecting again), eq. 5's slack, and what the accumulation keeps.
+typedef struct JitterPixel {
+  float u, v;      // pass 0's continuous texel position of the lookup
+  float depth;     // the biased receiver depth there (as sc_hard_lit compares it)
+  float valid;     // 1: pass 0 made the lookup (a covered receiver in front of the light)
+  float gu, gv;    // the receiver plane's depth gradient per texel
+  float idU, idV;  // the ID buffer lookup's texel position
+  float slack;     // eq. 5's 1 - optConf in pass 0's texels (optimal; background 1), else 0
+  float kept;      // the kept result's confidence: -1 none yet, JITTER_SETTLED settled
+  float lit;       // the kept result (the pixel's visibility)
+  uint streak;     // consecutive passes whose lookup's neighbourhood agreed with the kept result
+  float pass;      // the pass (1-based) that set the kept result; 0 none (the passes-used AOV)
+  float unused[3];
+} JitterPixel;
+
 #if PENUMBRA_HOST
 static_assert(sizeof(JitterShade) == 12, "JitterShade layout must match OpenCL C");
+static_assert(sizeof(JitterPixel) == 64, "JitterPixel is one cache line, laid out as in OpenCL C");
 #endif
 
 #endif

@@ -1,6 +1,7 @@
 // `penumbra bench SCENE --techniques LIST [--sweep PARAM=a,b,c]...`: every technique x parameter setting x light
 // of the frame (each light alone, with the command line's techniques) rendered
-// `--warmup` + `--runs` times with one Renderer (the technique's buffers kept, so the runs measure the steady state);
+// `--warmup` + `--runs` times with one Renderer (the technique's buffers kept, so the runs measure the steady state;
+// with --interleave, round-robin over the settings with one Renderer each);
 // per pass the median device time (OpenCL profiling events) beside its bandwidth floor (the pass's least bytes moved
 // / the device's measured copy bandwidth), and the accuracy of the last run against a reference (given, or traced
 // with Embree once and cached next to the output). Writes CSV (and JSON); progress on stderr.
@@ -35,7 +36,7 @@ struct BenchOptions {
   std::string techniques = "all", device, output = "out/bench.csv", json, reference;
   std::vector<std::string> sweeps;
   int runs = 5, warmup = 1, spp = 256;
-  bool noReference = false, noMask = false, quiet = false;
+  bool noReference = false, noMask = false, quiet = false, interleave = false;
   ParamValues params;  // fixed technique parameters, applied to every technique that has them
 };
 
@@ -212,32 +213,65 @@ int run(const BenchOptions& o) {
     fmt::print(stderr, "bench: copy bandwidth {:.2f} GB/s ({} MiB clEnqueueCopyBuffer, median {:.3f} ms)\n",
                copy.bytesPerSecond * 1e-9, copy.bufferBytes >> 20, copy.medianMs);
 
-  Renderer renderer(ctx, scene);
-  std::vector<BenchRow> rows;
-  Progress progress(jobs.size() * lights.size() * static_cast<size_t>(o.warmup + o.runs), !o.quiet);
-  std::vector<std::string> failed;
+  // One cell per setting and light. Interleaved, every round renders each cell once, each with its own Renderer
+  // (so each stays in its steady state), and a drift of the machine's speed during the run reaches every cell
+  // alike; otherwise a cell's runs follow one another on one shared Renderer.
+  struct Cell {
+    const Job* job = nullptr;
+    const Light* light = nullptr;
+    std::string label;
+    std::unique_ptr<Renderer> own;
+    std::vector<std::vector<PassTime>> runs;
+    RenderResult last;
+    bool failed = false;
+  };
+  Renderer shared(ctx, scene);
+  std::vector<Cell> cells;
   for (const Job& job : jobs)
     for (const Light& light : lights) {  // each light alone, its own frames: per-light times and accuracy
-      const std::string label = fmt::format("{} {}{}", job.technique->name, job.setting.label,
-                                            lights.size() > 1 ? " light " + lightLayer(light) : "");
-      progress.announce(label);
-      std::vector<std::vector<PassTime>> runs;
-      RenderResult last;
-      try {
-        for (int i = 0; i < o.warmup + o.runs; ++i) {
-          last = renderer.render(camera, light, *job.technique, job.params);
-          if (i >= o.warmup) runs.push_back(last.passes);
-          progress.advance();
-        }
-      } catch (const std::exception& e) {  // one failing setting must not lose the others' measurements
-        fmt::print(stderr, "bench: {} failed: {}\n", label, e.what());
-        failed.push_back(label);
-        continue;
-      }
-      std::optional<ErrorMetrics> metrics;
-      if (ref) metrics = compareImages(last.image, *ref, lightSpec(spec, light, lights.size()));
-      addRows(o, job, light, summariseRuns(runs), copy.bytesPerSecond, metrics, rows);
+      Cell& cell = cells.emplace_back();
+      cell.job = &job, cell.light = &light;
+      cell.label = fmt::format("{} {}{}", job.technique->name, job.setting.label,
+                               lights.size() > 1 ? " light " + lightLayer(light) : "");
+      if (o.interleave && cells.size() > 1) cell.own = std::make_unique<Renderer>(ctx, scene);
     }
+  Progress progress(cells.size() * static_cast<size_t>(o.warmup + o.runs), !o.quiet);
+  std::vector<std::string> failed;
+  auto frame = [&](Cell& cell, int i) {
+    if (cell.failed) return;
+    try {
+      Renderer& renderer = cell.own ? *cell.own : shared;
+      cell.last = renderer.render(camera, *cell.light, *cell.job->technique, cell.job->params);
+      if (i >= o.warmup) cell.runs.push_back(cell.last.passes);
+    } catch (const std::exception& e) {  // one failing setting must not lose the others' measurements
+      fmt::print(stderr, "bench: {} failed: {}\n", cell.label, e.what());
+      failed.push_back(cell.label);
+      cell.failed = true;
+      cell.own.reset();
+    }
+    progress.advance();
+  };
+  std::vector<BenchRow> rows;
+  auto finish = [&](Cell& cell) {  // the cell's rows; its last image is freed
+    if (cell.failed) return;
+    std::optional<ErrorMetrics> metrics;
+    if (ref) metrics = compareImages(cell.last.image, *ref, lightSpec(spec, *cell.light, lights.size()));
+    addRows(o, *cell.job, *cell.light, summariseRuns(cell.runs), copy.bytesPerSecond, metrics, rows);
+    cell.last = {};
+    cell.own.reset();
+  };
+  if (o.interleave) {
+    progress.announce(fmt::format("{} settings interleaved", cells.size()));
+    for (int i = 0; i < o.warmup + o.runs; ++i)
+      for (Cell& cell : cells) frame(cell, i);
+    for (Cell& cell : cells) finish(cell);
+  } else {
+    for (Cell& cell : cells) {
+      progress.announce(cell.label);
+      for (int i = 0; i < o.warmup + o.runs; ++i) frame(cell, i);
+      finish(cell);
+    }
+  }
   progress.finish();
   writeOutputs(o, meta, rows);
   if (!o.quiet) {
@@ -266,6 +300,9 @@ Command addBenchCommand(CLI::App& app) {
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
   sub->add_option("--warmup", o->warmup, "Untimed runs first")->check(CLI::Range(0, 100))->capture_default_str();
+  sub->add_flag("--interleave", o->interleave,
+                "Round-robin: each round renders every setting once (one Renderer each), so a drift in the machine's "
+                "speed reaches all settings alike; for comparing settings' times");
   sub->add_option("--reference", o->reference, "Reference EXR (penumbra reference) for the accuracy metrics");
   sub->add_option("--spp", o->spp, "Without --reference: trace one at this many samples per pixel, cached beside -o")
       ->capture_default_str();
