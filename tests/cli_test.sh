@@ -71,6 +71,15 @@ expect garbage-glb 1 "garbage.glb" -- "$bin" render "$scratch/garbage.glb" -o "$
 models=/usr/share/assimp/models/glTF2
 expect index-out-of-range 1 "out of range" -- "$bin" render "$models/IndexOutOfRange/IndexOutOfRange.gltf" -o "$scratch/x.exr"
 expect infinite-vertices 1 "BoxWithInfinites.glb" -- "$bin" render "$models/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb" -o "$scratch/x.exr"
+# glTF animation: --time poses the tutorial's skinned strip (named in the summary); --animation needs --time and
+# names an animation the file has.
+skin="$models/simple_skin/simple_skin.gltf"
+expect animation-time 0 "simple_skin.gltf --time 1 on" -- "$bin" render "$skin" --time 1 --size 32x18 --map-size 64 \
+  --png none -o "$scratch/skin.exr"
+expect animation-needs-time 2 "requires --time" -- "$bin" render "$skin" --animation 0 -o "$scratch/x.exr"
+expect animation-unknown 1 "--animation Walk: no such animation" -- "$bin" render "$skin" --time 1 --animation Walk \
+  -o "$scratch/x.exr"
+expect animation-bad-time 2 "--time" -- "$bin" render "$skin" --time soon -o "$scratch/x.exr"
 # glTF cameras: a generated triangle file with a perspective and an orthographic camera (triangle.bin beside it).
 cp "$(dirname "$0")/data/scenes/triangle.bin" "$scratch/triangle.bin"
 cat >"$scratch/cams.gltf" <<'GLTF'

@@ -50,8 +50,25 @@ const char* typeName(int type) {
       return "VEC3";
     case TINYGLTF_TYPE_VEC4:
       return "VEC4";
+    case TINYGLTF_TYPE_MAT4:
+      return "MAT4";
     default:
-      return "a matrix or invalid type";
+      return "another matrix or an invalid type";
+  }
+}
+
+const char* typeOf(int components) {
+  switch (components) {
+    case 1:
+      return "SCALAR";
+    case 2:
+      return "VEC2";
+    case 3:
+      return "VEC3";
+    case 4:
+      return "VEC4";
+    default:
+      return "MAT4";
   }
 }
 
@@ -65,6 +82,65 @@ uint64_t indexSize(int componentType) {
       return 4;
     default:
       return 0;
+  }
+}
+
+// The accessor type's number of components (SCALAR 1 ... MAT4 16); 0 for anything else.
+int componentCount(int type) {
+  switch (type) {
+    case TINYGLTF_TYPE_SCALAR:
+      return 1;
+    case TINYGLTF_TYPE_VEC2:
+      return 2;
+    case TINYGLTF_TYPE_VEC3:
+      return 3;
+    case TINYGLTF_TYPE_VEC4:
+      return 4;
+    case TINYGLTF_TYPE_MAT4:
+      return 16;
+    default:
+      return 0;
+  }
+}
+
+uint64_t componentSize(int componentType) {
+  switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return 1;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return 4;
+    default:
+      return 0;
+  }
+}
+
+// One component at p as a float: FLOAT as is, normalized integers per glTF 2.0 sec. 3.11.
+float decodeComponent(const unsigned char* p, int componentType) {
+  switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+      float v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return static_cast<float>(*p) / 255.0f;
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+      return std::max(static_cast<float>(static_cast<int8_t>(*p)) / 127.0f, -1.0f);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      uint16_t v;
+      std::memcpy(&v, p, 2);
+      return static_cast<float>(v) / 65535.0f;
+    }
+    default: {  // SHORT
+      int16_t v;
+      std::memcpy(&v, p, 2);
+      return std::max(static_cast<float>(v) / 32767.0f, -1.0f);
+    }
   }
 }
 
@@ -122,10 +198,9 @@ Strided locateAccessor(const GltfContext& ctx, int index, const tinygltf::Access
   return locate(ctx, what, a.bufferView, a.byteOffset, a.count, elemSize, viewStride ? viewStride : elemSize);
 }
 
-// Overwrites out[sparse index] with the sparse values (each `elemSize` bytes, copied by `store`).
-template <class T, class Store>
-void applySparse(const GltfContext& ctx, int index, const tinygltf::Accessor& a, uint64_t elemSize, std::vector<T>& out,
-                 Store store) {
+// Calls store(sparse index, its value's bytes) for every sparse value (each `elemSize` bytes).
+template <class Store>
+void applySparse(const GltfContext& ctx, int index, const tinygltf::Accessor& a, uint64_t elemSize, Store store) {
   if (!a.sparse.isSparse) return;
   const std::string what = fmt::format("accessor {}: sparse", index);
   const auto& s = a.sparse;
@@ -143,7 +218,7 @@ void applySparse(const GltfContext& ctx, int index, const tinygltf::Accessor& a,
     const uint32_t target = readIndex(idx.data + i * isize, isize);
     if (target >= a.count || (i > 0 && target <= previous))
       failGltf(ctx, fmt::format("{}: index {} at position {} is out of range or not increasing", what, target, i));
-    store(out[target], val.data + i * elemSize);
+    store(target, val.data + i * elemSize);
     previous = target;
   }
 }
@@ -169,7 +244,7 @@ std::vector<glm::vec3> readVec3(const GltfContext& ctx, int index, const char* s
   std::vector<glm::vec3> out(a.count, glm::vec3(0.0f));
   if (src.data)
     for (size_t i = 0; i < a.count; ++i) std::memcpy(&out[i], src.data + i * src.stride, 12);
-  applySparse(ctx, index, a, 12, out, [](glm::vec3& v, const unsigned char* p) { std::memcpy(&v, p, 12); });
+  applySparse(ctx, index, a, 12, [&out](uint32_t i, const unsigned char* p) { std::memcpy(&out[i], p, 12); });
   return out;
 }
 
@@ -188,7 +263,51 @@ std::vector<uint32_t> readIndices(const GltfContext& ctx, int index) {
   std::vector<uint32_t> out(a.count, 0u);
   if (src.data)
     for (size_t i = 0; i < a.count; ++i) out[i] = readIndex(src.data + i * size, size);
-  applySparse(ctx, index, a, size, out, [size](uint32_t& v, const unsigned char* p) { v = readIndex(p, size); });
+  applySparse(ctx, index, a, size, [&out, size](uint32_t i, const unsigned char* p) { out[i] = readIndex(p, size); });
+  return out;
+}
+
+std::vector<float> readFloats(const GltfContext& ctx, int index, int components, bool normalizedToo,
+                              const char* semantic) {
+  const tinygltf::Accessor& a = accessorAt(ctx, index);
+  const bool normalized = a.normalized && a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT &&
+                          a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT;
+  const bool typeOk = a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ? !a.normalized : normalizedToo && normalized;
+  if (componentCount(a.type) != components || !typeOk)
+    failGltf(ctx, fmt::format("accessor {}: {} must be {} of FLOAT{}, got {} of {}{}", index, semantic,
+                              typeOf(components), normalizedToo ? " or of a normalized integer type" : "",
+                              typeName(a.type), a.normalized ? "normalized " : "", componentName(a.componentType)));
+  // Matrices of 1- and 2-byte components pad their columns to 4 bytes (sec. 3.6.2.4); MAT4 of FLOAT has none.
+  const uint64_t csize = componentSize(a.componentType), n = static_cast<uint64_t>(components);
+  if (components == 16 && csize < 4)
+    failGltf(ctx, fmt::format("accessor {}: {} must be MAT4 of FLOAT", index, semantic));
+  const Strided src = locateAccessor(ctx, index, a, n * csize);
+  std::vector<float> out(a.count * n, 0.0f);
+  auto decode = [&](float* dst, const unsigned char* p) {
+    for (uint64_t c = 0; c < n; ++c) dst[c] = decodeComponent(p + c * csize, a.componentType);
+  };
+  if (src.data)
+    for (size_t i = 0; i < a.count; ++i) decode(&out[i * n], src.data + i * src.stride);
+  applySparse(ctx, index, a, n * csize, [&](uint32_t i, const unsigned char* p) { decode(&out[i * n], p); });
+  return out;
+}
+
+std::vector<glm::uvec4> readJoints(const GltfContext& ctx, int index, const char* semantic) {
+  const tinygltf::Accessor& a = accessorAt(ctx, index);
+  const uint64_t csize = a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 1
+                         : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
+                                                                                     : 0;
+  if (a.type != TINYGLTF_TYPE_VEC4 || csize == 0 || a.normalized)
+    failGltf(ctx, fmt::format("accessor {}: {} must be VEC4 of UNSIGNED_BYTE or UNSIGNED_SHORT, got {} of {}", index,
+                              semantic, typeName(a.type), componentName(a.componentType)));
+  const Strided src = locateAccessor(ctx, index, a, 4 * csize);
+  std::vector<glm::uvec4> out(a.count, glm::uvec4(0u));
+  auto decode = [csize](glm::uvec4& v, const unsigned char* p) {
+    for (int c = 0; c < 4; ++c) v[c] = readIndex(p + static_cast<uint64_t>(c) * csize, csize);
+  };
+  if (src.data)
+    for (size_t i = 0; i < a.count; ++i) decode(out[i], src.data + i * src.stride);
+  applySparse(ctx, index, a, 4 * csize, [&](uint32_t i, const unsigned char* p) { decode(out[i], p); });
   return out;
 }
 

@@ -33,4 +33,13 @@ std::vector<glm::vec3> readVec3(const GltfContext& ctx, int index, const char* s
 // A SCALAR UNSIGNED_BYTE / UNSIGNED_SHORT / UNSIGNED_INT accessor, widened to 32 bits.
 std::vector<uint32_t> readIndices(const GltfContext& ctx, int index);
 
+// An accessor of `components` numbers per element (1 SCALAR, 2 VEC2, 3 VEC3, 4 VEC4, 16 MAT4) as floats, element
+// after element: FLOAT, or with `normalizedToo` also the normalized integer types, decoded as glTF 2.0 sec. 3.11
+// prescribes (unsigned c / max, signed max(c / max, -1)). `semantic` names it in messages. Non-finite values kept.
+std::vector<float> readFloats(const GltfContext& ctx, int index, int components, bool normalizedToo,
+                              const char* semantic);
+
+// A VEC4 UNSIGNED_BYTE / UNSIGNED_SHORT accessor that is not normalized (JOINTS_n).
+std::vector<glm::uvec4> readJoints(const GltfContext& ctx, int index, const char* semantic);
+
 }  // namespace penumbra::detail

@@ -1,7 +1,8 @@
 // glTF loading pipeline: read (contained, capped) -> GLB container check -> JSON schema and required
-// extensions -> tinygltf -> node forest -> primitives read once per mesh (instances share them) ->
-// limits checked -> every instance transformed into world space -> the default scene's cameras (gltf_camera.h)
-// and KHR_lights_punctual lights (gltf_lights.h).
+// extensions -> tinygltf -> animations sampled at --time (gltf_animation.h) -> node forest -> primitives read once
+// per mesh (instances share them) -> limits checked -> every instance morphed and skinned where it must be
+// (gltf_deform.h) and transformed into world space -> the default scene's cameras (gltf_camera.h) and
+// KHR_lights_punctual lights (gltf_lights.h).
 #include "host/scene/gltf_loader.h"
 
 #include <cmath>
@@ -12,7 +13,9 @@
 #include <fmt/format.h>
 
 #include "host/scene/geometry.h"
+#include "host/scene/gltf_animation.h"
 #include "host/scene/gltf_camera.h"
+#include "host/scene/gltf_deform.h"
 #include "host/scene/gltf_glb.h"
 #include "host/scene/gltf_lights.h"
 #include "host/scene/gltf_mesh.h"
@@ -34,14 +37,6 @@ tinygltf::Model parseFile(const std::vector<unsigned char>& bytes, const std::fi
                                        : std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   checkGltfJson(parseJson(display, json, false, options.maxJsonValues), display);
   return parseWithTinygltf(bytes, binary, path.parent_path(), reader, display, options);
-}
-
-void warnIgnoredFeatures(const GltfContext& ctx) {
-  bool morphs = false;
-  for (const auto& mesh : ctx.model.meshes)
-    for (const auto& prim : mesh.primitives) morphs = morphs || !prim.targets.empty();
-  if (morphs) emitWarning(ctx.options, ctx.file + ": morph targets are ignored (base shapes are used)");
-  if (!ctx.model.skins.empty()) emitWarning(ctx.options, ctx.file + ": skins are ignored (bind shapes are used)");
 }
 
 // Reads each primitive of every instanced mesh once and checks the flattened totals against the limits.
@@ -83,18 +78,30 @@ void appendInstance(Scene& scene, const LocalPrimitive& prim, const glm::dmat4& 
   transformRange(scene, world, vbase, tbase);
 }
 
-Scene buildScene(const GltfContext& ctx, const std::vector<NodeInstance>& instances, const PrimitiveCache& cache) {
+Scene buildScene(const GltfContext& ctx, const std::vector<NodeInstance>& instances, const PrimitiveCache& cache,
+                 const std::vector<NodePose>& poses) {
   Scene scene;
   std::set<PrimitiveKey> warnedNormals;
+  std::map<int, glm::dmat4> worlds;  // every flattened node's world matrix: skins' joints
+  for (const NodeInstance& inst : instances) worlds.emplace(inst.node, inst.world);
   for (const NodeInstance& inst : instances) {
     const int mesh = ctx.model.nodes[static_cast<size_t>(inst.node)].mesh;
     if (mesh < 0) continue;
+    const std::vector<double> weights = morphWeights(ctx, inst.node, poses[static_cast<size_t>(inst.node)]);
+    const bool deformed = deforms(ctx, inst.node, weights);
     for (size_t p = 0; p < ctx.model.meshes[static_cast<size_t>(mesh)].primitives.size(); ++p) {
       const PrimitiveKey key{mesh, static_cast<int>(p)};
-      const LocalPrimitive& prim = cache.at(key);
-      if (prim.triangles.empty()) continue;
+      const LocalPrimitive& read = cache.at(key);
+      if (read.triangles.empty()) continue;
+      LocalPrimitive own;  // this instance's shape when morphed or skinned
+      glm::dmat4 world = inst.world;
+      if (deformed) {
+        own = read;
+        if (deformPrimitive(ctx, inst, key.second, weights, worlds, own)) world = glm::dmat4(1.0);
+      }
+      const LocalPrimitive& prim = deformed ? own : read;
       const size_t vbase = scene.positions.size(), tbase = scene.triangles.size();
-      appendInstance(scene, prim, inst.world, static_cast<uint32_t>(scene.objectNames.size()));
+      appendInstance(scene, prim, world, static_cast<uint32_t>(scene.objectNames.size()));
       scene.objectNames.push_back(objectName(ctx.model, inst.node, mesh, key.second));
       const size_t repaired = repairNormals(scene, vbase, tbase);
       if (repaired > 0 && warnedNormals.insert(key).second)
@@ -118,10 +125,10 @@ Scene loadGltfResolved(const std::filesystem::path& path, const std::string& dis
   const tinygltf::Model model = parseFile(bytes, path, display, options, reader);
   bytes = {};
   const GltfContext ctx{model, display, options};
-  warnIgnoredFeatures(ctx);
-  const std::vector<NodeInstance> instances = flattenNodes(ctx);
+  const std::vector<NodePose> poses = evaluateAnimations(ctx);
+  const std::vector<NodeInstance> instances = flattenNodes(ctx, poses);
   const PrimitiveCache cache = readPrimitives(ctx, instances);
-  Scene scene = buildScene(ctx, instances, cache);
+  Scene scene = buildScene(ctx, instances, cache, poses);
   scene.lights = readLights(ctx, instances);
   if (scene.triangles.empty()) failGltf(ctx, "no triangles (nothing in the scene can cast or receive shadows)");
   scene.cameras = readGltfCameras(ctx, instances);

@@ -56,13 +56,16 @@ void makeFlat(LocalPrimitive& p) {
   positions.reserve(p.triangles.size() * 3);
   p.normals.clear();
   p.normals.reserve(p.triangles.size() * 3);
+  p.source.reserve(p.triangles.size() * 3);
   for (glm::uvec3& t : p.triangles) {
     const glm::vec3 n = faceNormal(p.positions[t.x], p.positions[t.y], p.positions[t.z]);
     const auto base = static_cast<uint32_t>(positions.size());
-    for (int k = 0; k < 3; ++k) positions.push_back(p.positions[t[k]]), p.normals.push_back(n);
+    for (int k = 0; k < 3; ++k)
+      positions.push_back(p.positions[t[k]]), p.normals.push_back(n), p.source.push_back(t[k]);
     t = glm::uvec3(base, base + 1, base + 2);
   }
   p.positions = std::move(positions);
+  p.flat = true;
 }
 
 }  // namespace

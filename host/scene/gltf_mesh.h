@@ -15,6 +15,11 @@ struct LocalPrimitive {
   std::vector<glm::vec3> normals;  // one per position; may hold zero or non-finite ones (repaired later)
   std::vector<glm::uvec3> triangles;
   bool isTriangles = true;  // false: points or lines, skipped (a warning was emitted)
+  // Without NORMAL every triangle got three vertices of its own with its face normal (flat): source[i] is the
+  // accessor vertex position i came from, so that morph targets and skins (gltf_deform.h) find their data and the
+  // face normals are made again after them. Empty: position i is accessor vertex i.
+  bool flat = false;
+  std::vector<uint32_t> source;
 };
 
 // Throws SceneError for a missing POSITION, wrong accessor types, mismatched counts, non-finite positions,

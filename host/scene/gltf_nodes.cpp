@@ -26,12 +26,12 @@ void checkProperty(const GltfContext& ctx, int index, const char* name, const st
   if (!allFinite(v)) failGltf(ctx, fmt::format("node {}: {} contains a non-finite value", index, name));
 }
 
-glm::dmat4 localMatrix(const GltfContext& ctx, int index, const tinygltf::Node& n) {
+glm::dmat4 localMatrix(const GltfContext& ctx, int index, const tinygltf::Node& n, const NodePose& pose) {
   checkProperty(ctx, index, "matrix", n.matrix, 16);
   checkProperty(ctx, index, "translation", n.translation, 3);
   checkProperty(ctx, index, "rotation", n.rotation, 4);
   checkProperty(ctx, index, "scale", n.scale, 3);
-  if (!n.matrix.empty()) {
+  if (!n.matrix.empty()) {  // never animated (evaluateAnimations refuses channels on it)
     if (!n.translation.empty() || !n.rotation.empty() || !n.scale.empty())
       emitWarning(ctx.options, fmt::format("{}: node {}: has both matrix and TRS; using the matrix", ctx.file, index));
     const glm::dmat4 m = glm::make_mat4(n.matrix.data());  // glTF matrices are column-major, as glm's
@@ -42,14 +42,24 @@ glm::dmat4 localMatrix(const GltfContext& ctx, int index, const tinygltf::Node& 
     return m;
   }
   glm::dmat4 m(1.0);
-  if (!n.translation.empty()) m = glm::translate(m, glm::make_vec3(n.translation.data()));
-  if (!n.rotation.empty()) {
-    const glm::dquat q(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);  // glTF stores x, y, z, w
+  if (pose.translation)
+    m = glm::translate(m, *pose.translation);
+  else if (!n.translation.empty())
+    m = glm::translate(m, glm::make_vec3(n.translation.data()));
+  if (pose.rotation || !n.rotation.empty()) {
+    // glTF stores x, y, z, w
+    const glm::dquat q =
+        pose.rotation ? *pose.rotation : glm::dquat(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);
     const double len = glm::length(q);
-    if (!(len > 0.0)) failGltf(ctx, fmt::format("node {}: rotation is a zero quaternion", index));
+    if (!(len > 0.0) || !std::isfinite(len))
+      failGltf(ctx, fmt::format("node {}: rotation is a zero or non-finite quaternion{}", index,
+                                pose.rotation ? " (animated)" : ""));
     m *= glm::mat4_cast(q / len);
   }
-  if (!n.scale.empty()) m = glm::scale(m, glm::make_vec3(n.scale.data()));
+  if (pose.scale)
+    m = glm::scale(m, *pose.scale);
+  else if (!n.scale.empty())
+    m = glm::scale(m, glm::make_vec3(n.scale.data()));
   return m;
 }
 
@@ -121,7 +131,7 @@ std::vector<int> sceneRoots(const GltfContext& ctx, const std::vector<int>& pare
 
 }  // namespace
 
-std::vector<NodeInstance> flattenNodes(const GltfContext& ctx) {
+std::vector<NodeInstance> flattenNodes(const GltfContext& ctx, const std::vector<NodePose>& poses) {
   const std::vector<int> parent = parentLinks(ctx);
   checkAcyclic(ctx, parent);
   std::vector<NodeInstance> out, stack;
@@ -131,7 +141,7 @@ std::vector<NodeInstance> flattenNodes(const GltfContext& ctx) {
     const NodeInstance top = stack.back();
     stack.pop_back();
     const tinygltf::Node& node = ctx.model.nodes[static_cast<size_t>(top.node)];
-    const glm::dmat4 world = top.world * localMatrix(ctx, top.node, node);
+    const glm::dmat4 world = top.world * localMatrix(ctx, top.node, node, poses[static_cast<size_t>(top.node)]);
     for (int c = 0; c < 4; ++c)
       for (int r = 0; r < 4; ++r)
         if (!std::isfinite(world[c][r])) failGltf(ctx, fmt::format("node {}: world transform overflows", top.node));

@@ -7,6 +7,7 @@
 #include <glm/glm.hpp>
 
 #include "host/scene/gltf_accessor.h"
+#include "host/scene/gltf_animation.h"
 
 namespace penumbra::detail {
 
@@ -16,8 +17,9 @@ struct NodeInstance {
 };
 
 // Every node reachable from the default scene (or scene 0, or all root nodes when there is no scene),
-// depth first, with its world matrix. Throws SceneError for cycles, nodes with two parents, scene roots
-// that are not roots, malformed or non-finite matrices/TRS, and non-affine matrices.
-std::vector<NodeInstance> flattenNodes(const GltfContext& ctx);
+// depth first, with its world matrix; a node's animated translation, rotation or scale in `poses` (one per node,
+// evaluateAnimations) replaces its own. Throws SceneError for cycles, nodes with two parents, scene roots that are
+// not roots, malformed or non-finite matrices/TRS, and non-affine matrices.
+std::vector<NodeInstance> flattenNodes(const GltfContext& ctx, const std::vector<NodePose>& poses);
 
 }  // namespace penumbra::detail

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -24,6 +25,10 @@ struct LoadOptions {
   uint64_t maxVertices = uint64_t{1} << 27;    // after instances are flattened; indices are 32-bit
   uint64_t maxJsonValues = uint64_t{1} << 24;  // per JSON document: parsed JSON takes ~100 bytes per value
   WarningSink warn;                            // empty: one line per warning on stderr
+  // glTF animation: the time in seconds at which the animations are evaluated (none: the file's static pose), and
+  // which ones ("": every animation; else an animation's index or name).
+  std::optional<double> time;
+  std::string animation;
 };
 
 // Sends `message` to options.warn, or to stderr when no sink is set.

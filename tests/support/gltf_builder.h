@@ -2,6 +2,7 @@
 // nodes and cameras a test adds as JSON, written as NAME.gltf + NAME.bin into a folder.
 #pragma once
 
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -41,6 +42,15 @@ class GltfBuilder {
   }
   Json& doc() { return doc_; }
 
+  // Adds an accessor of `type` ("SCALAR", "VEC3", "MAT4", ...) over `values`, stored as FLOAT, or as
+  // `componentType` (5120 BYTE ... 5123 UNSIGNED_SHORT) when given, `normalized` or not; returns its index. The data
+  // goes after the geometry in NAME.bin, in a bufferView of its own (4-byte aligned).
+  int addAccessor(const std::vector<double>& values, const std::string& type, int componentType = 5126,
+                  bool normalized = false) {
+    extras_.push_back({values, type, componentType, normalized});
+    return 2 + static_cast<int>(extras_.size()) - 1;
+  }
+
   // Writes DIR/NAME.gltf and DIR/NAME.bin; returns the .gltf path.
   std::string write(const std::filesystem::path& dir, const std::string& name) const {
     std::vector<float> data;
@@ -64,15 +74,57 @@ class GltfBuilder {
           {"min", {lo.x, lo.y, lo.z}},
           {"max", {hi.x, hi.y, hi.z}}},
          {{"bufferView", 0}, {"byteOffset", half}, {"componentType", 5126}, {"count", count}, {"type", "VEC3"}}});
+    std::vector<unsigned char> bytes(data.size() * sizeof(float));
+    std::memcpy(bytes.data(), data.data(), bytes.size());
+    for (const Extra& e : extras_) appendExtra(e, doc, bytes);
+    doc["buffers"][0]["byteLength"] = bytes.size();
     std::ofstream(dir / (name + ".bin"), std::ios::binary)
-        .write(reinterpret_cast<const char*>(data.data()), static_cast<std::streamsize>(data.size() * sizeof(float)));
+        .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
     std::ofstream(dir / (name + ".gltf")) << doc.dump(1);
     return (dir / (name + ".gltf")).string();
   }
 
  private:
+  struct Extra {
+    std::vector<double> values;
+    std::string type;
+    int componentType;
+    bool normalized;
+  };
+
+  static int width(const std::string& type) {
+    return type == "SCALAR" ? 1 : type == "VEC2" ? 2 : type == "VEC3" ? 3 : type == "VEC4" ? 4 : 16;
+  }
+
+  static void appendExtra(const Extra& e, Json& doc, std::vector<unsigned char>& bytes) {
+    while (bytes.size() % 4 != 0) bytes.push_back(0);
+    const size_t offset = bytes.size();
+    const size_t size = e.componentType == 5126 ? 4 : e.componentType <= 5121 ? 1 : 2;
+    for (double v : e.values) {
+      unsigned char raw[4] = {};
+      if (e.componentType == 5126) {
+        const float f = static_cast<float>(v);
+        std::memcpy(raw, &f, 4);
+      } else if (size == 1) {
+        raw[0] = static_cast<unsigned char>(static_cast<int>(v) & 0xff);
+      } else {
+        const auto h = static_cast<uint16_t>(static_cast<int>(v) & 0xffff);
+        std::memcpy(raw, &h, 2);
+      }
+      bytes.insert(bytes.end(), raw, raw + size);
+    }
+    doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", bytes.size() - offset}});
+    Json accessor = {{"bufferView", doc["bufferViews"].size() - 1},
+                     {"componentType", e.componentType},
+                     {"count", e.values.size() / static_cast<size_t>(width(e.type))},
+                     {"type", e.type}};
+    if (e.normalized) accessor["normalized"] = true;
+    doc["accessors"].push_back(accessor);
+  }
+
   std::vector<glm::vec3> soup_;
   Json doc_;
+  std::vector<Extra> extras_;
 };
 
 // A square in the y = `y` plane, facing +Y, of half size `half` around (cx, cz).

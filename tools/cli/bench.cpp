@@ -94,7 +94,7 @@ std::string referenceKey(const BenchOptions& o, const Camera& camera, const std:
     area = area || light.isArea();
   }
   if (lights.size() == 1) forms = lights[0].describe();  // the single-light key as before: caches stay valid
-  return fmt::format("scene={} camera={} size={}x{} light={} spp={}", o.view.scene, cameraProvenance(camera),
+  return fmt::format("scene={} camera={} size={}x{} light={} spp={}", sceneProvenance(o.view), cameraProvenance(camera),
                      camera.width, camera.height, forms, area ? o.spp : 1);
 }
 
@@ -126,7 +126,7 @@ std::optional<Image> loadReference(const BenchOptions& o, Context& ctx, const Sc
   reference::TraceSettings trace;
   trace.spp = o.spp;
   reference::ReferenceResult result = reference::renderReference(ctx, scene, camera, lights, trace);
-  result.image.attributes()["penumbra:scene"] = o.view.scene;
+  result.image.attributes()["penumbra:scene"] = sceneProvenance(o.view);
   result.image.attributes()["penumbra:bench-key"] = key;
   if (std::filesystem::path(path).has_parent_path())
     std::filesystem::create_directories(std::filesystem::path(path).parent_path());
@@ -192,7 +192,7 @@ void printSummary(const BenchMeta& meta, const std::vector<BenchRow>& rows) {
 
 int run(const BenchOptions& o) {
   const std::vector<Job> jobs = planJobs(o);
-  const Scene scene = loadScene(o.view.scene);
+  const Scene scene = loadScene(o.view.scene, loadOptions(o.view));
   const Camera camera = resolveCamera(o.view, scene);
   const std::vector<Light> lights = resolveLights(o.view, scene);
   for (const Job& job : jobs) refusePointLights(lights, "technique " + job.technique->name);  // before any work

@@ -12,12 +12,16 @@
 
 #include "host/scene/framing.h"
 #include "host/scene/light_names.h"
+#include "host/scene/load_options.h"
 #include "host/scene/scene.h"
 
 namespace penumbra::cli {
 
 struct ViewOptions {
   std::string scene, camera, size, light;
+  double time = 0.0;  // with timeGiven: glTF animations at this time (seconds)
+  bool timeGiven = false;
+  std::string animation;
 };
 
 inline void addViewOptions(CLI::App* sub, ViewOptions& options) {
@@ -32,6 +36,31 @@ inline void addViewOptions(CLI::App* sub, ViewOptions& options) {
                   "spot:PX,PY,PZ:TX,TY,TZ:FOV_DEG[:RADIUS], dir:DX,DY,DZ[:ANGULAR_RADIUS_DEG], point:PX,PY,PZ[:RADIUS] "
                   "or gltf:INDEX|NAME, one of the scene's lights: one light instead of the default, every light of "
                   "the scene (or a framing spot light when it has none)");
+  CLI::Option* time =
+      sub->add_option_function<double>(
+             "--time", [&options](double t) { options.time = t, options.timeGiven = true; },
+             "Seconds: glTF animations (node transforms, skins, morph weights) evaluated at this time, each held at "
+             "its first or last key outside its range (default: the file's static pose)")
+          ->check(CLI::Number);
+  sub->add_option("--animation", options.animation,
+                  "With --time: the one glTF animation to play, by index or name (default: every animation)")
+      ->needs(time);
+}
+
+// The scene as the command line loads it, for EXR provenance and cache keys: the spec, then --time and --animation
+// when given ("walk.glb --time 0.5 --animation Run").
+inline std::string sceneProvenance(const ViewOptions& options) {
+  if (!options.timeGiven) return options.scene;
+  return fmt::format("{} --time {}{}", options.scene, options.time,
+                     options.animation.empty() ? "" : " --animation " + options.animation);
+}
+
+// The scene loader's options these view options ask for (--time, --animation).
+inline LoadOptions loadOptions(const ViewOptions& options) {
+  LoadOptions load;
+  if (options.timeGiven) load.time = options.time;
+  load.animation = options.animation;
+  return load;
 }
 
 // --camera gltf:KEY (findGltfCamera), --camera EX,..., else the scene's first camera, else the framing view. --size
