@@ -87,6 +87,26 @@ TEST(RuntimeDevices, SelectsBySpec) {
   EXPECT_EQ(selectDevice(cpu.name.substr(0, 5)).name, cpu.name);  // name substring, any case
 }
 
+// "auto" takes hardware first: Oclgrind reports itself as a GPU, yet a real CPU device comes before it, and it is
+// chosen only alone or by name.
+TEST(RuntimeDevices, AutoPrefersHardwareOverSimulators) {
+  auto device = [](const char* platform, const char* name, cl_device_type type, unsigned index) {
+    DeviceInfo d;
+    d.platformName = platform, d.name = name, d.type = type, d.platformIndex = index;
+    return d;
+  };
+  const DeviceInfo grind = device("Oclgrind", "Oclgrind Simulator", CL_DEVICE_TYPE_GPU, 0);
+  const DeviceInfo pocl = device("Portable Computing Language", "pthread-skylake", CL_DEVICE_TYPE_CPU, 1);
+  const DeviceInfo gpu = device("NVIDIA CUDA", "NVIDIA H200", CL_DEVICE_TYPE_GPU, 2);
+  EXPECT_TRUE(grind.isSimulator());
+  EXPECT_FALSE(pocl.isSimulator());
+  EXPECT_EQ(chooseDevice({grind, pocl}, "auto").name, pocl.name);
+  EXPECT_EQ(chooseDevice({grind, pocl, gpu}, "auto").name, gpu.name);
+  EXPECT_EQ(chooseDevice({grind}, "auto").name, grind.name);
+  EXPECT_EQ(chooseDevice({grind, pocl}, "oclgrind").name, grind.name);
+  EXPECT_EQ(chooseDevice({grind, pocl}, "gpu").name, grind.name);  // asked for a GPU by type: the only one
+}
+
 TEST(RuntimeDevices, UnknownSpecListsDevices) {
   try {
     selectDevice("no-such-device-anywhere");

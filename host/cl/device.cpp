@@ -153,13 +153,18 @@ std::vector<DeviceInfo> listDevices() {
   return devices;
 }
 
+bool DeviceInfo::isSimulator() const { return contains(platformName, "oclgrind") || contains(name, "oclgrind"); }
+
 DeviceInfo selectDevice(const std::string& requested) {
   std::string spec = requested;
   if (spec.empty()) {
     const char* env = std::getenv("PENUMBRA_DEVICE");
     spec = env != nullptr && *env != '\0' ? env : "auto";
   }
-  const std::vector<DeviceInfo> devices = listDevices();
+  return chooseDevice(listDevices(), spec);
+}
+
+DeviceInfo chooseDevice(const std::vector<DeviceInfo>& devices, const std::string& spec) {
   auto first = [&](auto&& predicate) -> const DeviceInfo* {
     auto it = std::find_if(devices.begin(), devices.end(), predicate);
     return it == devices.end() ? nullptr : &*it;
@@ -167,8 +172,9 @@ DeviceInfo selectDevice(const std::string& requested) {
   const DeviceInfo* chosen = nullptr;
   const std::string key = lower(spec);
   if (key == "auto") {
-    chosen = first([](const DeviceInfo& d) { return d.isGpu(); });
-    if (chosen == nullptr) chosen = first([](const DeviceInfo& d) { return d.isCpu(); });
+    chosen = first([](const DeviceInfo& d) { return d.isGpu() && !d.isSimulator(); });
+    if (chosen == nullptr) chosen = first([](const DeviceInfo& d) { return d.isCpu() && !d.isSimulator(); });
+    if (chosen == nullptr) chosen = first([](const DeviceInfo& d) { return !d.isSimulator(); });
     if (chosen == nullptr && !devices.empty()) chosen = &devices.front();
   } else if (key == "gpu" || key == "cpu") {
     chosen = first([&](const DeviceInfo& d) { return key == "gpu" ? d.isGpu() : d.isCpu(); });

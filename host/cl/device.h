@@ -40,6 +40,8 @@ struct DeviceInfo {
 
   bool isGpu() const { return (type & CL_DEVICE_TYPE_GPU) != 0; }
   bool isCpu() const { return (type & CL_DEVICE_TYPE_CPU) != 0; }
+  // A simulator rather than hardware: Oclgrind (which reports itself as a GPU) by its platform or device name.
+  bool isSimulator() const;
   bool hasExtension(const std::string& name) const;
   std::string typeName() const;  // "GPU", "CPU", "ACCELERATOR", ...
 };
@@ -47,11 +49,15 @@ struct DeviceInfo {
 // Every device of every platform, platforms sorted by name. Empty when there is no ICD or no platform.
 std::vector<DeviceInfo> listDevices();
 
-// Picks a device by spec: "auto" (first GPU, else first CPU, else first device), "cpu", "gpu", a
-// case-insensitive name substring matched against device and platform names ("H100", "pthread"), or
-// "P:D" where P is a platform index or platform-name substring and D a device index. An empty spec
-// means PENUMBRA_DEVICE, else "auto". Throws NoDeviceError with the list of devices when none matches.
+// Picks a device by spec: "auto" (the first GPU, else the first CPU, else the first device, simulators such as
+// Oclgrind only when there is nothing else), "cpu", "gpu", a case-insensitive name substring matched against device
+// and platform names ("H100", "pthread", "oclgrind"), or "P:D" where P is a platform index or platform-name
+// substring and D a device index. An empty spec means PENUMBRA_DEVICE, else "auto". Throws NoDeviceError with the
+// list of devices when none matches.
 DeviceInfo selectDevice(const std::string& spec);
+
+// selectDevice's choice among `devices` for a non-empty `spec`.
+DeviceInfo chooseDevice(const std::vector<DeviceInfo>& devices, const std::string& spec);
 
 nlohmann::json toJson(const DeviceInfo& info);
 std::string describeDevices(const std::vector<DeviceInfo>& devices);  // the `penumbra devices` table
