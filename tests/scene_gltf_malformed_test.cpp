@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "host/scene/gltf_loader.h"
 #include "scene_test_util.h"
@@ -135,6 +136,15 @@ TEST_F(GltfRuntime, CountTimesStrideOverflowIsCaught) {
   options.maxVertices = ~uint64_t{0};  // let the count through to the byte-range arithmetic
   EXPECT_TRUE(throwsWith([&] { loadGltf(sceneData("malformed/count_overflow.gltf"), options); },
                          {"accessor 0: count 18446744073709551615 x stride 12 overflows"}));
+}
+
+TEST_F(GltfRuntime, NormalizedFloatPositionsNameTheFlag) {
+  fs::copy_file(sceneData("triangle.bin"), dir_ / "triangle.bin");
+  std::ifstream in(sceneData("triangle.gltf"));
+  nlohmann::json doc = nlohmann::json::parse(in);
+  doc["accessors"][0]["normalized"] = true;  // FLOAT may not be normalized: the message must say what is wrong
+  const std::string path = write("normalized.gltf", doc.dump());
+  EXPECT_TRUE(throwsWith([&] { loadGltf(path); }, {"POSITION must be VEC3 of FLOAT, got VEC3 of normalized FLOAT"}));
 }
 
 TEST_F(GltfRuntime, EmptyGarbageAndMissingFiles) {

@@ -238,8 +238,8 @@ const tinygltf::Accessor& accessorAt(const GltfContext& ctx, int index) {
 std::vector<glm::vec3> readVec3(const GltfContext& ctx, int index, const char* semantic) {
   const tinygltf::Accessor& a = accessorAt(ctx, index);
   if (a.type != TINYGLTF_TYPE_VEC3 || a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || a.normalized)
-    failGltf(ctx, fmt::format("accessor {}: {} must be VEC3 of FLOAT, got {} of {}", index, semantic, typeName(a.type),
-                              componentName(a.componentType)));
+    failGltf(ctx, fmt::format("accessor {}: {} must be VEC3 of FLOAT, got {} of {}{}", index, semantic,
+                              typeName(a.type), a.normalized ? "normalized " : "", componentName(a.componentType)));
   const Strided src = locateAccessor(ctx, index, a, 12);
   std::vector<glm::vec3> out(a.count, glm::vec3(0.0f));
   if (src.data)
