@@ -1,5 +1,6 @@
-// The shaded preview: a grey Lambertian surface lit by the shadowing light (visibility x cos x spot cone)
-// plus a dim hemispherical ambient term so shadowed regions keep their shape. Linear RGB, A = coverage.
+// The shaded preview: a grey Lambertian surface lit by the shadowing light (visibility x cos x spot cone; point
+// lights shine every way, without a cone; no light falls off with distance) plus a dim hemispherical ambient term so
+// shadowed regions keep their shape. Linear RGB, A = coverage.
 #include "kernels/shared/light_view.h"
 
 #define SHADE_ALBEDO 0.75f
@@ -8,7 +9,7 @@
 // Spot cone. cone.x: cos of the outer half angle; cone.y: cos of the inner one, or below -1 for a light without one.
 // With an inner cone (glTF's KHR_lights_punctual), the extension's falloff: ((c - cos outer) / (cos inner - cos
 // outer))^2, clamped to [0, 1]. Without, full inside 90% of the half angle, falling linearly to zero at its edge.
-// Directional lights: 1.
+// Directional and point lights: 1.
 inline float shade_cone(__constant const LightViewGpu* lv, float3 toLight, float2 cone) {
   if (lv->kind != LIGHT_KIND_SPOT) return 1.0f;
   float c = dot(-toLight, lv->axis.xyz);

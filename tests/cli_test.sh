@@ -254,8 +254,8 @@ expect luksch-eval-table 0 "^\| box-sun \| parallel \| [0-9.]+ \| [0-9]+ \| [0-9
   cat "$scratch/luksch/pixel-accurate.md"
 
 # glTF lights (KHR_lights_punctual) on the triangle model over a box (a scene file; the box brings "light2"): the
-# first light by default, --light gltf:INDEX|NAME, one clear line for a bad selection, and point lights refused by
-# every command.
+# first light by default, --light gltf:INDEX|NAME, one clear line for a bad selection, and point lights in every
+# command.
 cp "$(dirname "$0")/data/scenes/triangle.bin" "$scratch/"
 lit_gltf() {  # lit_gltf FILE LIGHTS NODES ROOTS: the triangle model (node 0) plus light nodes
   cat >"$1" <<EOF
@@ -330,18 +330,47 @@ expect gltf-light-bad-type 1 'bad-type.gltf: /extensions/KHR_lights_punctual/lig
   "$bin" render "$scratch/bad-type.gltf" -o "$scratch/x.exr"
 expect gltf-light-bad-node-index 1 'bad-index.gltf: /nodes/1/extensions/KHR_lights_punctual/light: no light 3 in KHR_lights_punctual \(the file has 1\)$' -- \
   "$bin" render "$scratch/bad-index.gltf" -o "$scratch/x.exr"
+# Point lights (six cube faces): every technique renders one (registry.cpp; none refuses), and so do reference,
+# compare and bench; the header records the faces drawn, the EXR has the face layer, --cube-guard is a parameter.
 for t in sm pcf pcss vsm evsm2 evsm4 esm msm savsm vssm lvsm pssm psvsm jittered; do  # every technique (registry.cpp)
-  expect "point-light-$t" 2 "^penumbra: light \"Bulb\" is a point light: point lights are not supported yet by technique $t " -- \
-    "$bin" render "$scratch/bulb.json" --size 32x24 -t "$t" -o "$scratch/x.exr"
+  expect "point-light-$t" 0 'light "Bulb" \(the scene.s 1 of 2\): point:0,5,0' -- \
+    "$bin" render "$scratch/bulb.json" --size 32x24 --map-size 64 -t "$t" -o "$scratch/bulb-$t.exr"
 done
-expect point-light-cli 2 "^penumbra: light point:0,4,0:0.1 is a point light: .* not supported yet by technique pcss" -- \
-  "$bin" render builtin:box --light point:0,4,0:0.1 -o "$scratch/x.exr"
-expect point-light-reference 2 "light \"Bulb\" is a point light: .* not supported yet by penumbra reference" -- \
-  "$bin" reference "$scratch/bulb.json" --size 32x24 -o "$scratch/x.exr"
-expect point-light-bench 2 "light \"Bulb\" is a point light: .* not supported yet by technique sm" -- \
-  "$bin" bench "$scratch/bulb.json" --size 32x24 --techniques sm --no-reference -o "$scratch/x.csv"
-expect point-light-among-lights 2 'light "Bulb" is a point light: .*render one of the others with --light gltf:light1$' -- \
-  "$bin" render "$scratch/bulb.json" --size 32x24 -t sm -o "$scratch/x.exr"
+expect point-light-header 0 'faces drawn: ' -- bash -c "LC_ALL=C grep -ao 'faces drawn: [^;]*' '$scratch/bulb-sm.exr' | head -n 1"
+expect point-light-face-layer 0 'cubeFace.Y' -- bash -c "LC_ALL=C grep -ao 'cubeFace.Y' '$scratch/bulb-sm.exr' | head -n 1"
+expect point-light-cli 0 'light \(--light\): point:0,4,0:0.1$' -- \
+  "$bin" render builtin:box --light point:0,4,0:0.1 --size 32x24 --map-size 64 -o "$scratch/x.exr"
+expect point-light-reference 0 'light "Bulb" \(the scene.s 1 of 2\)' -- \
+  "$bin" reference "$scratch/bulb.json" --size 32x24 -o "$scratch/bulb-ref.exr"
+expect point-light-compare 0 'visibility.Bulb.Y over [0-9]+ covered and lit.Bulb.Y pixels' -- \
+  "$bin" compare "$scratch/bulb-sm.exr" "$scratch/bulb-ref.exr" --light Bulb --max-off 0.1
+expect point-light-bench 0 '' -- "$bin" bench "$scratch/bulb.json" --size 32x24 --map-size 64 --techniques sm,pcf \
+  --runs 1 --warmup 0 --reference "$scratch/bulb-ref.exr" -q -o "$scratch/bulb-bench.csv"
+expect point-light-bench-rows 0 '^pcf,.*,total,.*,Bulb$' -- bash -c "grep -E ',total,' '$scratch/bulb-bench.csv' | sed 's/^[^,]*,//'"
+expect point-light-guard-sweep 0 '' -- "$bin" bench "$scratch/bulb.json" --light gltf:Bulb --size 32x24 --map-size 64 \
+  --techniques pcf --sweep cube-guard=0,8 --runs 1 --warmup 0 --no-reference -q -o "$scratch/guard.csv"
+expect point-light-guard-rows 0 '^pcf,cube-guard=8,total,' -- bash -c "grep -E ',total,' '$scratch/guard.csv' | sed 's/^[^,]*,//'"
+expect point-light-guard-range 2 'cube-guard' -- "$bin" render "$scratch/bulb.json" -t pcf --cube-guard -1 -o "$scratch/x.exr"
+# A glTF file with a camera and a point light renders and traces with no view options (its camera, its light).
+cat >"$scratch/cam-bulb.gltf" <<EOF
+{"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_lights_punctual"],
+ "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "name": "Bulb"}]}},
+ "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "aspectRatio": 1.0, "znear": 0.05}}],
+ "scene": 0, "scenes": [{"nodes": [0, 1, 2]}],
+ "nodes": [{"name": "tri", "mesh": 0}, {"translation": [0.5, 0.4, 0.6], "extensions": {"KHR_lights_punctual": {"light": 0}}},
+           {"camera": 0, "translation": [0.4, 0.5, 2.5]}],
+ "meshes": [{"name": "tri", "primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 2}]}],
+ "buffers": [{"uri": "triangle.bin", "byteLength": 80}],
+ "bufferViews": [{"buffer": 0, "byteLength": 72, "byteStride": 12}, {"buffer": 0, "byteOffset": 72, "byteLength": 6}],
+ "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+               {"bufferView": 0, "byteOffset": 36, "componentType": 5126, "count": 3, "type": "VEC3"},
+               {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]}
+EOF
+expect point-light-gltf-camera 0 'light "Bulb" \(the scene.s 1 of 1\): point:0.5,0.4,0.6' -- \
+  "$bin" render "$scratch/cam-bulb.gltf" -t sm --map-size 256 -o "$scratch/cam-bulb.exr"
+expect point-light-gltf-camera-ref 0 'camera gltf:0' -- "$bin" reference "$scratch/cam-bulb.gltf" -o "$scratch/cam-bulb-ref.exr"
+expect point-light-gltf-camera-compare 0 'off' -- \
+  "$bin" compare "$scratch/cam-bulb.exr" "$scratch/cam-bulb-ref.exr" --max-off 0.01
 expect point-light-bad-radius 2 "radius: -1 is negative" -- "$bin" render builtin:box --light point:0,4,0:-1 -o "$scratch/x.exr"
 
 echo "$passed passed, $failed failed"

@@ -1,6 +1,7 @@
 // Several lights in one frame: each light's layer equals the single-light render of that light bit for bit, the
 // preview sums the lights' direct terms over one ambient term, the reference traces every light into the same
-// layers, each light may have its own technique, same-named lights get distinct layers, and point lights are refused.
+// layers, each light may have its own technique, same-named lights get distinct layers, and a point light among them
+// (six cube faces) gets its layer like any other.
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -163,21 +164,26 @@ TEST_F(MultiLight, ReferenceTracesEveryLightAndSmMatchesPerLight) {
   EXPECT_NE(ref.image.require("lit.Key.Y").data, ref.image.require("lit.Sun.Y").data);
 }
 
-TEST_F(MultiLight, APointLightAmongTheLightsIsRefusedNamingAnother) {
+TEST_F(MultiLight, APointLightAmongTheLightsGetsItsOwnLayer) {
   std::vector<Light> lights = spotAndSun();
   Light bulb = parseLight("point:0,4,0");
   bulb.name = "Bulb";
   lights.insert(lights.begin(), bulb);
-  EXPECT_TRUE(test::throwsWith<std::invalid_argument>(
-      [&] { refusePointLights(lights, "technique sm"); },
-      {"light \"Bulb\" is a point light", "not supported yet by technique sm", "--light gltf:Key"}));
-  EXPECT_TRUE(test::throwsWith<std::invalid_argument>(
-      [&] { reference::renderReference(ctx(), test::squareOverPlane(), test::topDown(), lights, {}); },
-      {"light \"Bulb\" is a point light", "penumbra reference", "--light gltf:Key"}));
   const Scene scene = test::squareOverPlane();
   Renderer renderer(ctx(), scene);
-  EXPECT_TRUE(test::throwsWith<std::invalid_argument>(
-      [&] { renderer.render(test::topDown(), withTechnique(lights, "sm")); }, {"light \"Bulb\" is a point light"}));
+  const Image all = renderer.render(test::topDown(), withTechnique(lights, "sm")).image;
+  for (const Light& light : lights)  // the point light's faces leave the other lights' frames alone, and vice versa
+    EXPECT_EQ(all.require(lightChannel("visibility", light.name)).data,
+              renderOne(ctx(), scene, light, "sm").image.require("visibility.Y").data)
+        << light.name;
+  EXPECT_EQ(all.require("visibility.Y").data, all.require("visibility.Bulb.Y").data);
+  EXPECT_TRUE(all.find("cubeFace.Y") != nullptr) << "the first light is a point: its face layer";
+  const reference::ReferenceResult ref = reference::renderReference(ctx(), scene, test::topDown(), lights, {});
+  CompareSpec spec;
+  spec.channel = "visibility.Bulb.Y", spec.mask = "lit.Bulb.Y";
+  const ErrorMetrics m = compareImages(all, ref.image, spec);
+  EXPECT_GT(m.pixels, 1000u);
+  EXPECT_LT(m.off, 0.02);  // a hard point light: sm differs along the shadow's edge pixels only
 }
 
 }  // namespace

@@ -65,21 +65,14 @@ INSTANTIATE_TEST_SUITE_P(
                       BadLight{"dir:0,-1,0,", "direction"}, BadLight{"dir:1e30,1e30,1e30", "direction"},
                       BadLight{"spot:0,1,0:0,0,0:60:", "radius"}));
 
-TEST(LightParse, PointAndItsRefusal) {
+TEST(LightParse, Point) {
   const Light l = parseLight("point:1,2,3:0.5");
   EXPECT_EQ(l.type, LightType::Point);
   EXPECT_EQ(l.position, glm::vec3(1, 2, 3));
   EXPECT_EQ(l.radius, 0.5f);
   EXPECT_TRUE(l.isArea());
   EXPECT_FALSE(parseLight("point:1,2,3").isArea());
-  EXPECT_TRUE(throwsWith<std::invalid_argument>(
-      [&] { refusePointLight(l, "technique sm"); },
-      {"light point:1,2,3:0.5 is a point light", "point lights are not supported yet by technique sm"}));
-  Light named = l;
-  named.name = "Bulb";
-  EXPECT_TRUE(throwsWith<std::invalid_argument>([&] { refusePointLight(named, "x"); }, {"light \"Bulb\" is"}));
-  refusePointLight(parseLight("spot:0,1,0:0,0,0:60"), "technique sm");  // others pass
-  refusePointLight(parseLight("dir:0,-1,0"), "technique sm");
+  EXPECT_EQ(l.label(), "point:1,2,3:0.5");
 }
 
 TEST(LightDescribe, RoundTrips) {

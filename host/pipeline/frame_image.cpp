@@ -50,7 +50,7 @@ std::string cameraProvenance(const Camera& camera) {
 
 std::vector<float> litMask(std::span<const cl_float4> position, std::span<const cl_float4> normal, const Camera& camera,
                            const Light& light) {
-  const bool spot = light.type == LightType::Spot;
+  const bool spot = light.type == LightType::Spot, positional = light.type != LightType::Directional;
   const float cosHalfFov = spot ? std::cos(glm::radians(light.fovDeg) * 0.5f) : -1.0f;
   const glm::vec3 axis = light.axis();
   std::vector<float> mask(position.size(), 0.0f);
@@ -61,7 +61,7 @@ std::vector<float> litMask(std::span<const cl_float4> position, std::span<const 
     // Two-sided, like the preview (kernels/shade.cl): the side facing the eye, or an orthographic camera.
     const glm::vec3 toEye = camera.orthographic() ? -camera.forward() : camera.eye - p;
     if (glm::dot(n, toEye) < 0.0f) n = -n;
-    const glm::vec3 toLight = spot ? glm::normalize(light.position - p) : -axis;
+    const glm::vec3 toLight = positional ? glm::normalize(light.position - p) : -axis;
     const bool faces = glm::dot(n, toLight) > 0.0f;
     const bool inCone = !spot || glm::dot(-toLight, axis) > cosHalfFov;
     mask[i] = faces && inCone ? 1.0f : 0.0f;
@@ -79,15 +79,26 @@ cl_float2 shadeCone(const Light& light) {
   return {{std::cos(glm::radians(light.fovDeg) * 0.5f), inner}};
 }
 
-// The preview's light-dependent arguments of kernels/shade.cl for one light. It needs only the light's position,
-// axis and cone, not a map: a 1-texel view suffices.
+// The light as kernels/shade.cl reads it: its position, axis and kind. It needs no map: a 1-texel view suffices for
+// spot and directional lights; a point light (no single frustum) is its position alone.
+LightViewGpu shadeView(const Light& light, const Bounds& bounds) {
+  if (light.type != LightType::Point) return fitLightView(light, bounds, 1).gpu;
+  LightViewGpu gpu{};
+  gpu.kind = LIGHT_KIND_POINT;
+  gpu.position = {{light.position.x, light.position.y, light.position.z, 1.0f}};
+  gpu.axis = {{0.0f, -1.0f, 0.0f, 0.0f}};
+  gpu.width = gpu.height = 1;
+  return gpu;
+}
+
+// The preview's light-dependent arguments of kernels/shade.cl for one light.
 struct ShadeLight {
-  LightView fitted;
+  LightViewGpu gpu;
   Buffer<LightViewGpu> view;
   cl_float2 cone;
   ShadeLight(Context& ctx, const Light& light, const Bounds& bounds)
-      : fitted(fitLightView(light, bounds, 1)),
-        view(ctx, std::span<const LightViewGpu>(&fitted.gpu, 1), CL_MEM_READ_ONLY),
+      : gpu(shadeView(light, bounds)),
+        view(ctx, std::span<const LightViewGpu>(&gpu, 1), CL_MEM_READ_ONLY),
         cone(shadeCone(light)) {}
 };
 

@@ -42,8 +42,9 @@ std::string cameraProvenance(const Camera& camera);
 
 // The "lit.Y" mask of the G-buffer's pixels (same order): 1 where the preview's direct term can be non-zero, as
 // kernels/shade.cl computes it: the normal turned towards the camera faces the light's centre (N.L > 0; a
-// directional light: against its direction) and, for a spot light, the point lies inside the cone. 0 elsewhere and
-// where no surface is seen (position.w == 0). Where it is 0 no visibility can show, so compare leaves it out.
+// directional light: against its direction; a spot or point light: towards its position) and, for a spot light, the
+// point lies inside the cone. 0 elsewhere and where no surface is seen (position.w == 0). Where it is 0 no
+// visibility can show, so compare leaves it out.
 std::vector<float> litMask(std::span<const cl_float4> position, std::span<const cl_float4> normal, const Camera& camera,
                            const Light& light);
 

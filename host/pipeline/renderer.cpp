@@ -9,9 +9,21 @@
 #include "host/views/views.h"
 
 namespace penumbra {
+namespace {
+
+const ReceiverBounds kNoReceivers{};  // a point light's frame: each cube face reduces its own
+
+}  // namespace
 
 Renderer::Renderer(Context& ctx, const Scene& scene) : ctx_(ctx), scene_(scene), raster_(ctx) {
   raster_.setScene(scene);
+}
+
+void Renderer::addDebugChannels(const Light& light, Slot& slot, Image& image) {
+  if (light.type != LightType::Point) return slot.technique->addDebugChannels(ctx_, image);
+  std::vector<float> faces;
+  for (int32_t face : slot.cube.faces().download(ctx_)) faces.push_back(static_cast<float>(face));
+  image.add("cubeFace.Y", std::move(faces));
 }
 
 Technique& Renderer::techniqueFor(Slot& slot, const TechniqueInfo& technique, const Params& params) {
@@ -24,6 +36,20 @@ Technique& Renderer::techniqueFor(Slot& slot, const TechniqueInfo& technique, co
   return *slot.technique;
 }
 
+std::map<std::string, std::string> Renderer::shadow(const Camera& camera, const FrameLight& light, Slot& slot) {
+  Technique& shadows = techniqueFor(slot, *light.technique, light.params);
+  if (light.light.type == LightType::Point) {
+    ShadowFrame frame{ctx_, raster_, scene_, light.light, camera, gbuffer_, kNoReceivers};
+    slot.cube.render(frame, shadows, light.params, slot.visibility);
+    return std::move(frame.attributes);
+  }
+  const ReceiverBounds receivers = reduceReceivers(ctx_, gbuffer_, lightEyeMatrix(light.light, scene_.bounds()),
+                                                   light.light.type == LightType::Spot);
+  ShadowFrame frame{ctx_, raster_, scene_, light.light, camera, gbuffer_, receivers};
+  shadows.render(frame, slot.visibility);
+  return std::move(frame.attributes);
+}
+
 RenderResult Renderer::render(const Camera& camera, const Light& light, const TechniqueInfo& technique,
                               const Params& params) {
   return render(camera, {FrameLight{light, &technique, params}});
@@ -31,8 +57,7 @@ RenderResult Renderer::render(const Camera& camera, const Light& light, const Te
 
 RenderResult Renderer::render(const Camera& camera, const std::vector<FrameLight>& lights) {
   if (lights.empty()) throw std::invalid_argument("Renderer::render: no lights");
-  for (const FrameLight& l : lights)  // before any work: no technique draws cube maps yet
-    refusePointLight(l.light, "technique " + l.technique->name);
+  for (const FrameLight& l : lights) refuseUnsupportedLight(l.light, *l.technique);  // before any work
   Profiler profiler;
   ProfilerScope scope(ctx_, profiler);
   const Bounds bounds = scene_.bounds();
@@ -46,19 +71,15 @@ RenderResult Renderer::render(const Camera& camera, const std::vector<FrameLight
     const Light& light = lights[i].light;
     Slot& slot = slots_[i];
     if (slot.visibility.size() != count) slot.visibility.allocate(ctx_, count);
-    Technique& shadows = techniqueFor(slot, *lights[i].technique, lights[i].params);
-    const ReceiverBounds receivers =
-        reduceReceivers(ctx_, gbuffer_, lightEyeMatrix(light, bounds), light.type == LightType::Spot);
-    ShadowFrame frame{ctx_, raster_, scene_, light, camera, gbuffer_, receivers};
-    shadows.render(frame, slot.visibility);
-    if (i == 0) firstAttributes = std::move(frame.attributes);
+    std::map<std::string, std::string> attributes = shadow(camera, lights[i], slot);
+    if (i == 0) firstAttributes = std::move(attributes);
     layers.push_back({&light, &slot.visibility});
   }
 
   RenderResult result;
   result.image = frameImage(ctx_, gbuffer_, layers, camera, bounds);
-  slots_[0].technique->addDebugChannels(ctx_, result.image);  // the first light's only
-  result.image.flipRows();                                    // the rasterizer's row 0 is the bottom row
+  addDebugChannels(lights[0].light, slots_[0], result.image);  // the first light's only
+  result.image.flipRows();                                     // the rasterizer's row 0 is the bottom row
   auto& attributes = result.image.attributes();
   attributes.insert(firstAttributes.begin(), firstAttributes.end());
   attributes["penumbra:technique"] = lights[0].technique->name;

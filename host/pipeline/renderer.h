@@ -3,6 +3,7 @@
 // per-pass device times from OpenCL profiling events.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "host/cl/context.h"
 #include "host/cl/profiler.h"
 #include "host/io/image.h"
+#include "host/pipeline/point_light.h"
 #include "host/scene/scene.h"
 #include "host/techniques/technique.h"
 #include "raster/rasterizer.h"
@@ -26,7 +28,9 @@ struct FrameLight {
 struct RenderResult {
   // R,G,B,A (shaded preview of every light, A = 1 where a surface is seen), visibility.Y (the first light's),
   // visibility.<layer>.Y per light (light_names.h lightLayer), P.X/Y/Z, N.X/Y/Z, depth.Z and the first light's
-  // technique's debug channels; rows top-down; provenance in the attributes.
+  // technique's debug channels (a point light: cubeFace.Y, each pixel's cube face 0..5 = +X -X +Y -Y +Z -Z, -1 for
+  // background, instead: a technique's debug layers would hold its last face's alone); rows top-down; provenance in
+  // the attributes.
   Image image;
   std::vector<PassTime> passes;  // device time per named pass, in recording order
 };
@@ -44,7 +48,8 @@ class Renderer {
 
   // Several lights in one frame (one G-buffer), each with its own technique. The renderer keeps one technique
   // instance and visibility buffer per position in `lights`, so repeated frames of the same lights stay in the
-  // steady state. Every light is checked (refusePointLights) before any work.
+  // steady state. A point light is shadowed as six cube faces (host/pipeline/point_light.h). Every light is checked
+  // against its technique (refuseUnsupportedLight) before any work.
   RenderResult render(const Camera& camera, const std::vector<FrameLight>& lights);
 
  private:
@@ -52,8 +57,13 @@ class Renderer {
     std::unique_ptr<Technique> technique;
     std::string key;  // "name: parameters" of technique
     Buffer<float> visibility;
+    CubeShadows cube;  // a point light's faces
   };
   Technique& techniqueFor(Slot& slot, const TechniqueInfo& technique, const Params& params);
+  // One light's visibility into slot.visibility: a point light's cube faces, or the technique on the light's frame
+  // fitted to the receivers it sees. Returns what the technique recorded for the header.
+  std::map<std::string, std::string> shadow(const Camera& camera, const FrameLight& light, Slot& slot);
+  void addDebugChannels(const Light& light, Slot& slot, Image& image);
 
   Context& ctx_;
   const Scene& scene_;

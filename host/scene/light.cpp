@@ -99,27 +99,4 @@ Light parseLight(std::string_view spec) {
   }
 }
 
-void refusePointLight(const Light& light, std::string_view who) {
-  if (light.type != LightType::Point) return;
-  throw std::invalid_argument(fmt::format(
-      "light {} is a point light: point lights are not supported yet by {} (they need cube maps)", light.label(), who));
-}
-
-void refusePointLights(const std::vector<Light>& lights, std::string_view who) {
-  if (lights.size() == 1) return refusePointLight(lights.front(), who);
-  for (const Light& light : lights) {
-    if (light.type != LightType::Point) continue;
-    std::string other;
-    for (const Light& l : lights)
-      if (l.type != LightType::Point) {
-        other = l.name;
-        break;
-      }
-    throw std::invalid_argument(fmt::format(
-        "light {} is a point light: point lights are not supported yet by {} (they need cube maps); render one of "
-        "the others with --light gltf:{}",
-        light.label(), who, other.empty() ? "NAME" : other));
-  }
-}
-
 }  // namespace penumbra

@@ -1,6 +1,6 @@
 // Lights that cast the shadows we filter: spot lights (optionally disk area lights), directional lights
-// (optionally sun disks with an angular radius) and point lights (optionally spheres; no technique renders them
-// yet: they need cube maps), their command-line form, and the refusal of point lights.
+// (optionally sun disks with an angular radius) and point lights (optionally sphere lights; shadowed as six cube
+// faces, host/pipeline/point_light.h), and their command-line form.
 #pragma once
 
 #include <map>
@@ -52,14 +52,5 @@ struct Light {
 // Throws std::invalid_argument naming the bad part: non-finite numbers, zero direction, P == T, fov outside
 // (0, 180), negative radius, angular radius outside [0, 45).
 Light parseLight(std::string_view spec);
-
-// Point lights need cube maps, which nothing renders yet: throws std::invalid_argument (a usage error)
-// "light L is a point light: point lights are not supported yet by WHO" for one; `who` is e.g.
-// "technique pcss". Every entry point that renders a light calls this, so no path treats a point as a spot.
-void refusePointLight(const Light& light, std::string_view who);
-
-// refusePointLight for every light of a frame; with several, the message ends by suggesting
-// "--light gltf:NAME" for the first light that is not a point light.
-void refusePointLights(const std::vector<Light>& lights, std::string_view who);
 
 }  // namespace penumbra

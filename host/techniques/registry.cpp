@@ -41,4 +41,14 @@ const TechniqueInfo& findTechnique(const std::string& name) {
   throw std::invalid_argument(fmt::format("unknown technique '{}' (known: {})", name, known));
 }
 
+void refuseUnsupportedLight(const Light& light, const TechniqueInfo& technique) {
+  if (light.type != LightType::Point || technique.shadowsPointLights()) return;
+  std::string others;
+  for (const TechniqueInfo& info : techniques())
+    if (info.shadowsPointLights()) others += (others.empty() ? "" : ", ") + info.name;
+  throw std::invalid_argument(fmt::format("light {} is a point light, which technique {} cannot shadow ({}); {}",
+                                          light.label(), technique.name, technique.pointLightRefusal,
+                                          others.empty() ? "no technique can" : "point lights work with " + others));
+}
+
 }  // namespace penumbra

@@ -16,6 +16,9 @@ std::vector<ParamSpec> shadowMapParams() {
       {"bias", 1.0, 0, 100, "Constant depth bias, in texel footprints at the receiver"},
       {"slope-bias", 1.0, 0, 100, "Slope-scaled depth bias, in texel footprints times tan(angle to the light)"},
       {"normal-offset", 1.0, 0, 100, "Receiver offset along its normal, in texel footprints"},
+      {"cube-guard", 32, 0, 2048,
+       "Point lights: each cube face's map reaches this many texels beyond its 90-degree square on every side, so "
+       "filters near a face edge read drawn texels (at most map-size / 4)"},
   };
 }
 

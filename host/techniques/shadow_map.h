@@ -23,7 +23,7 @@ struct ShadowMap {
   Buffer<LightViewGpu> gpu;  // view.gpu on the device (one element) for __constant arguments
 };
 
-// map-size, fit, bias, slope-bias, normal-offset.
+// map-size, fit, bias, slope-bias, normal-offset, cube-guard (point lights: host/pipeline/point_light.h).
 std::vector<ParamSpec> shadowMapParams();
 
 // Fits the light's view (per the "fit" parameter: the whole scene, or the visible receivers with a margin

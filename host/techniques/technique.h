@@ -48,13 +48,22 @@ struct TechniqueInfo {
   std::string description;
   std::vector<ParamSpec> params;
   std::function<std::unique_ptr<Technique>(const Params&)> create;
+  // Point lights: empty when the technique shadows them, as six cube faces that it renders as spot lights
+  // (host/pipeline/point_light.h); otherwise why six spot faces cannot work for it (the refusal's reason).
+  std::string pointLightRefusal = {};
 
   bool hasParam(const std::string& param) const;  // a parameter of that name (without dashes)
+  bool shadowsPointLights() const { return pointLightRefusal.empty(); }
 };
 
 // The registry, in the order `penumbra render --help` lists them.
 const std::vector<TechniqueInfo>& techniques();
 // Throws std::invalid_argument listing the known names.
 const TechniqueInfo& findTechnique(const std::string& name);
+
+// Throws std::invalid_argument (a usage error: call it before any work) when `light` is a point light that
+// `technique` cannot shadow: "light L is a point light, which technique T cannot shadow (REASON); point lights work
+// with sm, pcf, ...".
+void refuseUnsupportedLight(const Light& light, const TechniqueInfo& technique);
 
 }  // namespace penumbra

@@ -2,6 +2,7 @@
 #include "host/views/light_fit.h"
 
 #include <algorithm>
+#include <stdexcept>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <vector>
@@ -26,7 +27,8 @@ cl_float4 row(const glm::mat4& m, int r) { return {{m[0][r], m[1][r], m[2][r], m
 }  // namespace
 
 glm::mat4 lightEyeMatrix(const Light& light, const Bounds& sceneBounds) {
-  refusePointLight(light, "the light views (one frustum per light)");  // never a point taken for a directional
+  if (light.type == LightType::Point)  // never a point taken for a directional: its faces are spots (cube.h)
+    throw std::invalid_argument("lightEyeMatrix: a point light has no single frustum (it is drawn as cube faces)");
   const Bounds scene = sceneBounds.orUnit();
   const glm::vec3 axis = light.axis();
   if (light.type == LightType::Spot) return glm::lookAt(light.position, light.target, chooseUp(axis));

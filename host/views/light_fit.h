@@ -21,7 +21,8 @@ struct ReceiverBounds {
   float depthMin = 0.0f, depthMax = 0.0f;
 };
 
-// The light's world -> eye matrix before fitting (its orientation does not depend on the fit).
+// The light's world -> eye matrix before fitting (its orientation does not depend on the fit). Throws
+// std::invalid_argument for a point light, which has one per cube face (host/views/cube.h cubeFaceLight).
 glm::mat4 lightEyeMatrix(const Light& light, const Bounds& scene);
 
 // Box of the covered G-buffer pixels seen from `lightEye`. Launch "fit/fit_receivers_partial".

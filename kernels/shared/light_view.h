@@ -7,6 +7,8 @@
 
 #define LIGHT_KIND_SPOT 0         // perspective projection from a point / disk
 #define LIGHT_KIND_DIRECTIONAL 1  // orthographic projection (or, with LIGHT_WARP_PERSPECTIVE, LiSPSM's warp)
+#define LIGHT_KIND_POINT 2        // every way from a point (its position alone): the preview's only, kernels/shade.cl
+                                  // (a point light's maps are six LIGHT_KIND_SPOT faces: kernels/shared/cube.h)
 
 #define LIGHT_WARP_NONE 0         // texels uniform in light-eye x/y (directional) or in tangents (spot)
 #define LIGHT_WARP_PERSPECTIVE 1  // LiSPSM (host/views/lispsm.h): texels vary over the map; a general projective
@@ -78,9 +80,9 @@ inline float lv_penumbra_texels(__constant const LightViewGpu* lv, float receive
   return max(world, 0.0f) / lv_texel_world(lv, receiver);
 }
 
-// Unit vector from a world point towards the light.
+// Unit vector from a world point towards the light (spot and point: its position; directional: against its axis).
 inline float3 lv_to_light(__constant const LightViewGpu* lv, float3 world) {
-  return lv->kind == LIGHT_KIND_SPOT ? normalize(lv->position.xyz - world) : -lv->axis.xyz;
+  return lv->kind == LIGHT_KIND_DIRECTIONAL ? -lv->axis.xyz : normalize(lv->position.xyz - world);
 }
 #endif
 

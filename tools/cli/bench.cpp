@@ -195,7 +195,8 @@ int run(const BenchOptions& o) {
   const Scene scene = loadScene(o.view.scene, loadOptions(o.view));
   const Camera camera = resolveCamera(o.view, scene);
   const std::vector<Light> lights = resolveLights(o.view, scene);
-  for (const Job& job : jobs) refusePointLights(lights, "technique " + job.technique->name);  // before any work
+  for (const Job& job : jobs)  // before any work
+    for (const Light& light : lights) refuseUnsupportedLight(light, *job.technique);
   if (!o.quiet)
     for (const Light& light : lights) fmt::print(stderr, "bench: {}\n", describeLightChoice(o.view, scene, {light}));
   Context ctx(o.device);

@@ -45,7 +45,6 @@ int run(const ReferenceOptions& options) {
   const Scene scene = loadScene(options.view.scene, loadOptions(options.view));
   const Camera camera = resolveCamera(options.view, scene);
   const std::vector<Light> lights = resolveLights(options.view, scene);
-  refusePointLights(lights, "penumbra reference");
   for (const Light& light : lights)
     if (light.isArea()) reference::SampleLayout::fromSpp(options.trace.spp);  // a bad --spp is a usage error
   Context ctx(options.device);

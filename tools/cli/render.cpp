@@ -63,8 +63,7 @@ int run(const RenderOptions& options) {
   const Camera camera = resolveCamera(options.view, scene);
   const std::vector<Light> lights = resolveLights(options.view, scene);
   const std::vector<FrameLight> frame = frameLights(options, lights, technique, params);
-  for (const FrameLight& l : frame)  // a usage error, before a device is opened
-    if (l.light.type == LightType::Point) refusePointLights(lights, "technique " + l.technique->name);
+  for (const FrameLight& l : frame) refuseUnsupportedLight(l.light, *l.technique);  // before a device is opened
   if (camera.orthographic() && lispsmEnabled(params))
     fmt::print(stderr,
                "penumbra: warning: --warp lispsm with an orthographic camera: no eye point to warp towards, "

@@ -1,5 +1,6 @@
-// Light samples for the reference: concentric disk mapping, disk points for spot area lights and cone
-// directions (area-preserving disk -> spherical cap map, cos theta = 1 - r^2 (1 - cos alpha)) for sun disks.
+// Light samples for the reference: concentric disk mapping, disk points for spot area lights and for sphere lights
+// (the disk facing the receiver) and cone directions (area-preserving disk -> spherical cap map, cos theta = 1 - r^2
+// (1 - cos alpha)) for sun disks.
 #include "tools/reference/light_samples.h"
 
 #include <cmath>
@@ -11,8 +12,14 @@
 namespace penumbra::reference {
 namespace {
 
-// Ray end just short of a spot light's point, so geometry through the light point itself does not count.
+// Ray end just short of a spot or point light's point, so geometry through the light point itself does not count.
 constexpr float kSpotTfar = 1.0f - 1e-6f;
+
+// Two unit vectors perpendicular to unit `axis` and to each other.
+void diskBasis(const glm::vec3& axis, glm::vec3& tangent, glm::vec3& bitangent) {
+  tangent = glm::normalize(glm::cross(axis, chooseUp(axis)));
+  bitangent = glm::cross(axis, tangent);
+}
 
 }  // namespace
 
@@ -31,10 +38,7 @@ glm::vec2 concentricDisk(glm::vec2 u) {
 
 LightSampler::LightSampler(const Light& light)
     : type_(light.type), exact_(!light.isArea()), centre_(light.position), toLight_(-light.axis()) {
-  refusePointLight(light, "the reference's light samples");  // never a point taken for a directional
-  const glm::vec3 axis = light.axis();
-  tangent_ = glm::normalize(glm::cross(axis, chooseUp(axis)));
-  bitangent_ = glm::cross(axis, tangent_);
+  diskBasis(light.axis(), tangent_, bitangent_);
   radius_ = light.radius;
   const float half = 0.5f * glm::radians(light.angularRadiusDeg);
   oneMinusCos_ = 2.0f * std::sin(half) * std::sin(half);  // 1 - cos alpha without cancellation for small alpha
@@ -51,6 +55,13 @@ ShadowRay LightSampler::ray(const glm::vec3& origin, glm::vec2 u) const {
   const glm::vec2 disk = exact_ ? glm::vec2(0.0f) : concentricDisk(u);
   if (type_ == LightType::Spot) {
     const glm::vec3 point = centre_ + radius_ * (disk.x * tangent_ + disk.y * bitangent_);
+    return {point - origin, kSpotTfar};
+  }
+  if (type_ == LightType::Point) {
+    if (exact_) return {centre_ - origin, kSpotTfar};
+    glm::vec3 tangent, bitangent;  // the sphere's disk faces the receiver
+    diskBasis(towardsCentre(origin), tangent, bitangent);
+    const glm::vec3 point = centre_ + radius_ * (disk.x * tangent + disk.y * bitangent);
     return {point - origin, kSpotTfar};
   }
   constexpr float kInf = std::numeric_limits<float>::infinity();

@@ -1,6 +1,8 @@
 // The light model of the ray-traced reference, the same as the techniques' (host/scene/light.h,
 // kernels/shared/light_view.h): a spot light is a point at `position`, or a disk of `radius` there facing along
-// the axis (sampled uniformly by area); a directional light is parallel rays, or a sun disk of angular radius
+// the axis (sampled uniformly by area); a point light is a point, or a sphere of `radius` there, sampled as the disk
+// of that radius through its centre facing the receiver (uniformly by area: the sphere's outline seen from a distance
+// D subtends asin(R / D), the disk atan(R / D)); a directional light is parallel rays, or a sun disk of angular radius
 // alpha (directions uniform over the cone's solid angle). The spot cone is not part of visibility.
 #pragma once
 
@@ -23,9 +25,9 @@ class LightSampler {
  public:
   explicit LightSampler(const Light& light);
 
-  // A point light or parallel rays: one ray gives the exact answer.
+  // A point (a spot or point light of radius 0) or parallel rays: one ray gives the exact answer.
   bool exact() const { return exact_; }
-  // Unit vector from `p` towards the light's centre (what the ray origin is offset towards).
+  // Unit vector from `p` towards the light's centre (what the ray origin is offset towards; a sphere's disk faces it).
   glm::vec3 towardsCentre(const glm::vec3& p) const;
   // The ray from `origin` to the light point or direction that `u` in [0,1)^2 selects; `u` is ignored when exact().
   ShadowRay ray(const glm::vec3& origin, glm::vec2 u) const;
@@ -33,10 +35,10 @@ class LightSampler {
  private:
   LightType type_;
   bool exact_;
-  glm::vec3 centre_;               // spot: light position
+  glm::vec3 centre_;               // spot and point: light position
   glm::vec3 toLight_;              // directional: unit direction towards the light (-axis)
-  glm::vec3 tangent_, bitangent_;  // orthonormal basis of the disk / cone, perpendicular to the axis
-  float radius_;                   // spot: disk radius (world units)
+  glm::vec3 tangent_, bitangent_;  // orthonormal basis of the disk / cone, perpendicular to the axis (not points')
+  float radius_;                   // spot and point: disk radius (world units)
   float oneMinusCos_;              // directional: 1 - cos(angular radius)
 };
 

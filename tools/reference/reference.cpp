@@ -64,8 +64,6 @@ ReferenceResult renderReference(Context& ctx, const Scene& scene, const Camera& 
 ReferenceResult renderReference(Context& ctx, const Scene& scene, const Camera& camera,
                                 const std::vector<Light>& lights, const TraceSettings& settings) {
   if (lights.empty()) throw std::invalid_argument("renderReference: no lights");
-  // Before any work: the tracer has no point-light samples yet.
-  refusePointLights(lights, "penumbra reference");
   using Clock = std::chrono::steady_clock;
   ReferenceResult result;
   const Bounds bounds = scene.bounds();
