@@ -105,6 +105,33 @@ TEST_F(GltfLightsRender, PreviewFallsOffBetweenTheInnerAndOuterCone) {
   EXPECT_NE(old.require("R").data, r);
 }
 
+// KHR_lights_punctual's range: the preview fades a point light out as clamp(1 - (d / range)^4, 0, 1) (the extension's
+// recommended window; the preview has no 1 / d^2 for any light) and leaves visibility alone.
+TEST_F(GltfLightsRender, PreviewFadesAPointLightOutAtItsRange) {
+  const std::vector<double> above = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 4, 0, 1};
+  const Light light = lightFromGltf({{"type", "point"}, {"range", 5.0}}, above);
+  ASSERT_FLOAT_EQ(light.range, 5.0f);
+  const Image image = test::renderWith(ctx(), test::squareOverPlane(), test::topDown(), light, "sm").image;
+  const auto &r = image.require("R").data, &vis = image.require("visibility.Y").data, &a = image.require("A").data;
+  const auto &px = image.require("P.X").data, &py = image.require("P.Y").data, &pz = image.require("P.Z").data;
+  const auto& ny = image.require("N.Y").data;
+  size_t faded = 0, dark = 0, checked = 0;
+  for (size_t i = 0; i < r.size(); ++i) {
+    if (a[i] == 0.0f || vis[i] != 1.0f || ny[i] < 0.999f) continue;  // lit ground (normal +Y)
+    const glm::vec3 d = light.position - glm::vec3(px[i], py[i], pz[i]);
+    const float q = glm::length(d) / 5.0f, window = std::clamp(1.0f - q * q * q * q, 0.0f, 1.0f);
+    const float expected = 0.75f * (std::max(glm::normalize(d).y, 0.0f) * window + 0.12f * (0.5f + 0.5f * ny[i]));
+    ASSERT_NEAR(r[i], expected, 2e-4f) << i;
+    faded += window > 0.05f && window < 0.95f, dark += window == 0.0f, ++checked;
+  }
+  EXPECT_GT(faded, 500u) << "pixels inside the fade";
+  EXPECT_GT(dark, 100u) << "ground beyond the range";
+  Light unlimited = light;
+  unlimited.range = 0.0f;
+  const Image full = test::renderWith(ctx(), test::squareOverPlane(), test::topDown(), unlimited, "sm").image;
+  EXPECT_EQ(full.require("visibility.Y").data, vis);
+}
+
 // A 8x8 ground, a slab floating above it, a perspective camera and a point light of radius 0.1 (extras) above the
 // slab's inner edge, so that the slab's shadow crosses the edge between the light's -Y and +X cube faces.
 Scene pointLightScene(const fs::path& dir) {

@@ -71,12 +71,13 @@ std::vector<float> litMask(std::span<const cl_float4> position, std::span<const 
 
 namespace {
 
-// shade_cone's cone argument (kernels/shade.cl): the cosines of the outer and inner half angles, the inner one -2
-// for a light without an inner cone (command-line and scene-file spots keep the preview's own falloff).
-cl_float2 shadeCone(const Light& light) {
-  if (light.type != LightType::Spot) return {{-1.0f, -2.0f}};
+// kernels/shade.cl's light terms: the cosines of the outer and inner half angles, the inner one -2 for a light without
+// an inner cone (command-line and scene-file spots keep the preview's own falloff), and glTF's range (0: unlimited).
+cl_float4 shadeTerms(const Light& light) {
+  const float range = light.type == LightType::Directional ? 0.0f : light.range;
+  if (light.type != LightType::Spot) return {{-1.0f, -2.0f, range, 0.0f}};
   const float inner = light.innerFovDeg >= 0.0f ? std::cos(glm::radians(light.innerFovDeg) * 0.5f) : -2.0f;
-  return {{std::cos(glm::radians(light.fovDeg) * 0.5f), inner}};
+  return {{std::cos(glm::radians(light.fovDeg) * 0.5f), inner, range, 0.0f}};
 }
 
 // The light as kernels/shade.cl reads it: its position, axis and kind. It needs no map: a 1-texel view suffices for
@@ -95,11 +96,11 @@ LightViewGpu shadeView(const Light& light, const Bounds& bounds) {
 struct ShadeLight {
   LightViewGpu gpu;
   Buffer<LightViewGpu> view;
-  cl_float2 cone;
+  cl_float4 terms;
   ShadeLight(Context& ctx, const Light& light, const Bounds& bounds)
       : gpu(shadeView(light, bounds)),
         view(ctx, std::span<const LightViewGpu>(&gpu, 1), CL_MEM_READ_ONLY),
-        cone(shadeCone(light)) {}
+        terms(shadeTerms(light)) {}
 };
 
 // One light: shade_preview, as ever. Several: each light's direct term summed (shade_add_direct), then shaded
@@ -113,7 +114,7 @@ Buffer<cl_float4> shadePreview(Context& ctx, const GBuffer& gbuffer, std::span<c
   if (lights.size() == 1) {
     const ShadeLight shading(ctx, *lights[0].light, bounds);
     Kernel shade(ctx, "kernels/shade.cl", "shade_preview", "shade");
-    shade.args(gbuffer.position, gbuffer.normal, *lights[0].visibility, count, shading.view, eye, shading.cone, rgba)
+    shade.args(gbuffer.position, gbuffer.normal, *lights[0].visibility, count, shading.view, eye, shading.terms, rgba)
         .moves(uint64_t{count} * kShadeBytesPerPixel)
         .launch(count, kShadeGroup);
     return rgba;
@@ -123,7 +124,7 @@ Buffer<cl_float4> shadePreview(Context& ctx, const GBuffer& gbuffer, std::span<c
   for (const LightVisibility& lit : lights) {
     const ShadeLight shading(ctx, *lit.light, bounds);
     Kernel add(ctx, "kernels/shade.cl", "shade_add_direct", "shade");
-    add.args(gbuffer.position, gbuffer.normal, *lit.visibility, count, shading.view, eye, shading.cone, direct)
+    add.args(gbuffer.position, gbuffer.normal, *lit.visibility, count, shading.view, eye, shading.terms, direct)
         .moves(uint64_t{count} * kShadeAddBytesPerPixel)
         .launch(count, kShadeGroup);
   }

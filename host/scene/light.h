@@ -31,7 +31,8 @@ struct Light {
   // fovDeg as KHR_lights_punctual prescribes (kernels/shade.cl); negative: the preview's own falloff (the command
   // line's spots). Visibility never depends on it.
   float innerFovDeg = -1.0f;
-  // Spot and point: glTF's range in metres beyond which the light does not reach; 0: unlimited. Not used yet.
+  // Spot and point: glTF's range in metres beyond which the light does not reach; 0: unlimited. The preview fades
+  // the light out towards it (kernels/shade.cl); visibility never depends on it.
   float range = 0.0f;
   // Directional: `direction` is the direction the light travels (unit length). angularRadiusDeg > 0 makes
   // it a sun disk of that angular radius.
