@@ -53,6 +53,10 @@ std::vector<DeviceInfo> listDevices();
 // means PENUMBRA_DEVICE, else "auto". Throws NoDeviceError with the list of devices when none matches.
 DeviceInfo selectDevice(const std::string& spec);
 
+// What `device` (a caller's, issue 17's interop) can do, with its "P:D" indices as listDevices() numbers it.
+// Throws ClError when the device cannot be queried.
+DeviceInfo describeDevice(cl_device_id device);
+
 nlohmann::json toJson(const DeviceInfo& info);
 std::string describeDevices(const std::vector<DeviceInfo>& devices);  // the `penumbra devices` table
 
