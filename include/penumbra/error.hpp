@@ -20,6 +20,7 @@ inline namespace v0 {
 /// Status PN_ERROR_OPENCL, the OpenCL error code.
 class Error : public std::runtime_error {
  public:
+  /// A failure with `status`, its `message` and, for PN_ERROR_OPENCL, the OpenCL error code.
   Error(pn_status status, const std::string& message, cl_int clError)
       : std::runtime_error(message), status_(status), clError_(clError) {}
   /// The C API's status code.

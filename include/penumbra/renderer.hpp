@@ -142,6 +142,7 @@ class Frame {
 /// Draws frames of one scene on one context (pn_renderer); keeps both alive.
 class Renderer {
  public:
+  /// A renderer of `scene` on `context`, keeping both alive.
   Renderer(const Context& context, const Scene& scene) {
     pn_renderer* renderer = nullptr;
     detail::check(pn_renderer_create(context.get(), scene.get(), &renderer));

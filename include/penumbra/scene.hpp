@@ -19,13 +19,18 @@ inline namespace v0 {
 
 /// A camera, Y up, right-handed (pn_camera); the defaults are pn_camera_init()'s.
 struct Camera {
-  std::array<float, 3> eye, target, up;  ///< Position, the point it looks at, the preferred up.
-  bool orthographic;                     ///< false: perspective (fovYDeg); true: orthographic (orthoHalfHeight).
-  float fovYDeg;                         ///< Perspective: vertical field of view, degrees.
-  float orthoHalfHeight;                 ///< Orthographic: half the view's height, world units.
-  float clipNear, clipFar;               ///< View-space clip distances (0, INFINITY: none).
-  int width, height;                     ///< Image size, pixels.
+  std::array<float, 3> eye;     ///< Position.
+  std::array<float, 3> target;  ///< The point it looks at.
+  std::array<float, 3> up;      ///< The preferred up direction.
+  bool orthographic;            ///< false: perspective (fovYDeg); true: orthographic (orthoHalfHeight).
+  float fovYDeg;                ///< Perspective: vertical field of view, degrees.
+  float orthoHalfHeight;        ///< Orthographic: half the view's height, world units.
+  float clipNear;               ///< View-space near clip distance (0: none).
+  float clipFar;                ///< View-space far clip distance (INFINITY: none).
+  int width;                    ///< Image width, pixels.
+  int height;                   ///< Image height, pixels.
 
+  /// pn_camera_init()'s camera.
   Camera() : Camera(initial()) {}
   /// The C value as C++.
   explicit Camera(const pn_camera& c)
@@ -80,6 +85,7 @@ struct Light {
   std::array<float, 3> direction;  ///< Directional: the direction the light travels.
   float angularRadiusDeg;          ///< Directional: sun disk angular radius, degrees.
 
+  /// pn_light_init()'s light.
   Light() : Light(initial()) {}
   /// The C value as C++ (its name copied).
   explicit Light(const pn_light& l)

@@ -20,8 +20,10 @@ inline namespace v0 {
 
 /// width x height texels of `channels` interleaved floats (1, 2 or 4).
 struct ImageShape {
-  uint32_t width = 0, height = 0;  ///< Texels.
-  uint32_t channels = 1;           ///< 1, 2 or 4.
+  uint32_t width = 0;     ///< Texels per row.
+  uint32_t height = 0;    ///< Rows.
+  uint32_t channels = 1;  ///< 1, 2 or 4.
+  /// As the C API takes it.
   pn_image_shape toC() const { return {width, height, channels}; }
 };
 
@@ -38,16 +40,19 @@ enum class MomentStorage { Float32 = PN_STORAGE_FLOAT32, Float16 = PN_STORAGE_FL
 
 /// One LVSM layer: the normalised depth interval [p, q].
 struct LvsmLayer {
-  float p = 0.0f, q = 1.0f;  ///< Interval.
+  float p = 0.0f;  ///< Start.
+  float q = 1.0f;  ///< End (> p).
 };
 
 /// The moments stage's settings (pn_moments_config; the same defaults).
 struct MomentsConfig {
-  MomentKind kind = MomentKind::Vsm;                ///< Encoding.
-  float depthNear = 0.0f, depthFar = 1.0f;          ///< Light depth mapped to [0, 1].
-  float evsmPositive = 40.0f, evsmNegative = 5.0f;  ///< EVSM exponents (clamped to the storage).
-  MomentStorage storage = MomentStorage::Float32;   ///< Output element type.
-  std::vector<LvsmLayer> layers;                    ///< LVSM only.
+  MomentKind kind = MomentKind::Vsm;               ///< Encoding.
+  float depthNear = 0.0f;                          ///< Light depth mapped to 0.
+  float depthFar = 1.0f;                           ///< Light depth mapped to 1.
+  float evsmPositive = 40.0f;                      ///< EVSM positive exponent (clamped to the storage).
+  float evsmNegative = 5.0f;                       ///< EVSM negative exponent (clamped likewise).
+  MomentStorage storage = MomentStorage::Float32;  ///< Output element type.
+  std::vector<LvsmLayer> layers;                   ///< LVSM only.
   /// As the C API takes it; its layers point into this config.
   pn_moments_config toC() const {
     static_assert(sizeof(LvsmLayer) == sizeof(pn_lvsm_layer), "LvsmLayer mirrors pn_lvsm_layer");
@@ -73,6 +78,7 @@ struct BlurConfig {
   float sigma = 1.0f;                        ///< Gaussian standard deviation, texels.
   int radius = 1;                            ///< Box half-width, texels.
   BlurMethod method = BlurMethod::Auto;      ///< How it runs.
+  /// As the C API takes it.
   pn_blur_config toC() const {
     return {static_cast<pn_blur_filter>(filter), sigma, radius, static_cast<pn_blur_method>(method)};
   }
@@ -95,6 +101,7 @@ struct SatConfig {
   int fractionBits = -1;                           ///< Fixed point: -1 for 16 (fixed32) or 32 (fixed64).
   bool zeroMean = true;                            ///< fp32: subtract the mean first.
   std::optional<std::array<float, 4>> offset;      ///< fp32: subtract this instead of the mean.
+  /// As the C API takes it.
   pn_sat_config toC() const {
     pn_sat_config c{static_cast<pn_sat_precision>(precision),
                     static_cast<pn_sat_algorithm>(algorithm),
