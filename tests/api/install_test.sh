@@ -34,6 +34,8 @@ echo "== one version: $version"
 export PKG_CONFIG_PATH=$lib/pkgconfig
 [ "$(pkg-config --modversion penumbra)" = "$version" ] || fail "pkg-config --modversion penumbra"
 grep -q "PN_VERSION_STRING \"$version\"" "$prefix/include/penumbra/version.h" || fail "version.h"
+grep -q "set(PACKAGE_VERSION \"$version\")" "$prefix/$libdir/cmake/penumbra/penumbraConfigVersion.cmake" ||
+  fail "penumbraConfigVersion.cmake"
 
 echo "== the CLI's frame"
 frame=(builtin:box 64x48 pcf)
@@ -45,24 +47,26 @@ for kind in shared static; do
         -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF -DPENUMBRA_EXAMPLE_STATIC=$([ $kind = static ] && echo ON || echo OFF) \
         > "$scratch/cpp-$kind.log"
   cmake --build "$scratch/cpp-$kind" >> "$scratch/cpp-$kind.log"
-  "$scratch/cpp-$kind/render_frame" "${frame[@]}" "$scratch/cpp-$kind.exr" "$scratch/cpp-$kind.blur"
+  "$scratch/cpp-$kind/render_frame" "${frame[@]}" "$scratch/cpp-$kind.exr" "$scratch/cpp-$kind.blur" |
+    tee "$scratch/cpp-$kind.out"
 done
 ! readelf -d "$scratch/cpp-static/render_frame" | grep -q libpenumbra || fail "the static example loads libpenumbra.so"
 
 echo "== examples/c through pkg-config"
 make -s -C "$scratch" -f "$source/examples/c/Makefile" SRC_DIR="$source/examples/c" > "$scratch/c.log"
-"$scratch/render_frame_c" "${frame[@]}" "$scratch/c.exr" "$scratch/c.blur"
+"$scratch/render_frame_c" "${frame[@]}" "$scratch/c.exr" "$scratch/c.blur" | tee "$scratch/c.out"
 
 outputs=(cpp-shared cpp-static c)
 if [ -n "$python" ]; then
   echo "== examples/python"
   PYTHONPATH="$prefix/$python_dir" "$python" "$source/examples/python/render_frame.py" "${frame[@]}" \
-    "$scratch/python.exr" "$scratch/python.blur"
+    "$scratch/python.exr" "$scratch/python.blur" | tee "$scratch/python.out"
   outputs+=(python)
 fi
 
 echo "== bit for bit"
 for out in "${outputs[@]}"; do
+  grep -qx "penumbra $version" "$scratch/$out.out" || fail "$out reports another version"
   "$exr_equal" "$scratch/cli.exr" "$scratch/$out.exr" visibility.Y R G B || fail "$out's frame differs from the CLI's"
   cmp "$scratch/cpp-shared.blur" "$scratch/$out.blur" || fail "$out's stage output differs from the C++ example's"
 done
