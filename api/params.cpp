@@ -2,6 +2,7 @@
 // as the CLI validates its options.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <map>
 #include <mutex>
 #include <string>
@@ -95,6 +96,10 @@ pn_status pn_params_get(const pn_params* params, const char* name, double* value
     const std::string key = require(name, "pn_params_get", "name");
     if (!p.technique->hasParam(key))
       throw std::invalid_argument(fmt::format("\"{}\" is not a parameter of technique '{}'", key, p.technique->name));
+    const auto& specs = p.technique->params;
+    if (std::any_of(specs.begin(), specs.end(),
+                    [&](const penumbra::ParamSpec& spec) { return spec.name == key && spec.text; }))
+      throw std::invalid_argument(fmt::format("\"{}\" is a text parameter (pn_params_describe shows its value)", key));
     *require(value, "pn_params_get", "value") = p.params.get(key);
   });
 }

@@ -49,7 +49,7 @@ PN_API pn_status pn_params_release(pn_params* params);
 /** Sets a parameter from text, as the CLI's option would ("0.002", "adaptive"); the message names the parameter and
  *  the valid range or choices. */
 PN_API pn_status pn_params_set(pn_params* params, const char* name, const char* value);
-/** A number's value, or a choice's index. */
+/** A number's value, or a choice's index (a text parameter is PN_ERROR_INVALID_ARGUMENT: see pn_params_describe). */
 PN_API pn_status pn_params_get(const pn_params* params, const char* name, double* value);
 /** The technique's name; valid while `params` lives. */
 PN_API const char* pn_params_technique(const pn_params* params);

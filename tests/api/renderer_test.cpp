@@ -227,6 +227,12 @@ TEST(ApiRenderer, TechniquesAndTheirParameters) {
   EXPECT_EQ(value, 3.0);
   EXPECT_NE(std::string(pn_params_describe(params)).find("pcf-radius=3"), std::string::npos);
   pn_params_release(params);
+  PN_ASSERT_OK(pn_params_create("lvsm", &params));  // a text parameter: set as text, read through the description
+  PN_ASSERT_OK(pn_params_set(params, "lvsm-splits", "0.3,0.6"));
+  EXPECT_NE(std::string(pn_params_describe(params)).find("lvsm-splits=0.3,0.6"), std::string::npos);
+  EXPECT_EQ(pn_params_get(params, "lvsm-splits", &value), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_STREQ(pn_last_error_message(), "\"lvsm-splits\" is a text parameter (pn_params_describe shows its value)");
+  pn_params_release(params);
 }
 
 }  // namespace
