@@ -26,7 +26,7 @@ extern "C" {
 /** What a call returned. Every failure also sets the calling thread's message (pn_last_error_message()). */
 typedef enum pn_status {
   PN_SUCCESS = 0,                /**< The call did what it says. */
-  PN_ERROR_INVALID_ARGUMENT = 1, /**< A bad value, size, name, handle or buffer; nothing was enqueued. */
+  PN_ERROR_INVALID_ARGUMENT = 1, /**< A bad value, size, name, handle or buffer; no kernel was enqueued. */
   PN_ERROR_NO_DEVICE = 2,        /**< No OpenCL device, or none matching the device spec. */
   PN_ERROR_OPENCL = 3,           /**< An OpenCL call failed; pn_last_cl_error() holds its code. */
   PN_ERROR_BUILD = 4,            /**< A kernel did not compile; the message holds the device, options and log. */
