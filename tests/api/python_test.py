@@ -99,6 +99,14 @@ class Module(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "is a point light"):
             self.renderer.render("sm", lights=[light])
 
+    def test_a_context_on_existing_opencl_handles(self):
+        # The integer handles pyopencl's int_ptr would give; here those of another context's objects.
+        shared = penumbra.Context.from_cl(self.context.cl_context, self.context.cl_device, self.context.cl_queue)
+        self.assertEqual(shared.cl_queue, self.context.cl_queue)  # no second queue
+        ours = penumbra.Renderer(shared, self.scene).render("sm", camera=self.camera(40, 30))
+        theirs = self.renderer.render("sm", camera=self.camera(40, 30))
+        np.testing.assert_array_equal(ours["visibility.Y"], theirs["visibility.Y"])
+
     def test_lights_with_their_own_techniques(self):
         key, sun = penumbra.Light.parse("spot:2,6,1:0,0,0:50:0.3"), penumbra.Light.parse("dir:-0.3,-1,0.2:2")
         key.name, sun.name = "Key", "Sun"
