@@ -14,6 +14,8 @@ PACKAGES=(
   libopengl-dev libgl-dev libegl-dev libgl1-mesa-dri libegl-mesa0  # raster_bench's OpenGL peer: glvnd, llvmpipe
   assimp-testmodels  # malformed glTF files the test suite feeds the loader
   python3-matplotlib  # tools/chart.py: the speed-vs-error charts (scripts/charts.sh)
+  pybind11-dev python3-dev python3-numpy  # the Python module (python/, PENUMBRA_BUILD_PYTHON)
+  doxygen  # the API reference of include/penumbra/ (target penumbra_api_docs, test api-docs)
 )
 
 missing=()

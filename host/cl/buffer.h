@@ -27,6 +27,30 @@ class Buffer {
     upload(ctx, data);
   }
 
+  // A read-only buffer created holding a copy of `data` (CL_MEM_COPY_HOST_PTR): no command on the queue, so unlike
+  // the uploading constructor it never waits for what the queue holds (a caller's events, issue 17's interop).
+  static Buffer copyOf(Context& ctx, std::span<const T> data) {
+    Buffer copy;
+    cl_int err = CL_SUCCESS;
+    copy.flags_ = CL_MEM_READ_ONLY;
+    copy.buffer_ = cl::Buffer(ctx.context(), CL_MEM_READ_ONLY | (data.empty() ? 0 : CL_MEM_COPY_HOST_PTR),
+                              std::max<size_t>(data.size(), 1) * sizeof(T), const_cast<T*>(data.data()), &err);
+    clCheck(err, "clCreateBuffer(CL_MEM_COPY_HOST_PTR)");
+    copy.count_ = data.size();
+    copy.context_ = ctx.context()();
+    return copy;
+  }
+
+  // `count` elements over memory someone else created (the public API's caller's cl_mem, in `context`): `memory`
+  // holds a retain of its own, released with this Buffer, so the owner's reference count ends where it began.
+  static Buffer over(cl::Buffer memory, size_t count, cl_context context) {
+    Buffer view;
+    view.buffer_ = std::move(memory);
+    view.count_ = count;
+    view.context_ = context;
+    return view;
+  }
+
   // Makes this hold `count` elements of undefined contents. Keeps the current device memory when it already
   // has that count and flags in that context: a stage that re-allocates its buffers every frame then reuses
   // them (fresh allocations cost page faults on first touch, ~200 MB/s on PoCL, and driver allocations on GPUs).
@@ -90,6 +114,15 @@ class Buffer {
       return ctx.queue().enqueueReadBuffer(buffer_, CL_TRUE, 0, bytes(), data.data(), nullptr, event);
     });
     return data;
+  }
+
+  // Copies `source`'s elements to the start of this buffer on the device, without waiting ("transfer/copy").
+  void copyFrom(Context& ctx, const Buffer& source) {
+    if (source.count_ == 0) return;
+    if (source.count_ > count_) throw std::out_of_range("Buffer::copyFrom past the end");
+    record(ctx, "copy", 2 * source.bytes(), [&](cl::Event* event) {
+      return ctx.queue().enqueueCopyBuffer(source.buffer_, buffer_, 0, 0, source.bytes(), nullptr, event);
+    });
   }
 
   void fill(Context& ctx, const T& value) {

@@ -3,10 +3,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
+#include <vector>
 
 #include "host/cl/embedded_sources.h"
 #include "host/cl/error.h"
@@ -52,7 +55,7 @@ std::string buildLog(const cl::Program& program, const cl::Device& device) {
 Context::Context(const std::string& deviceSpec) : Context(selectDevice(deviceSpec)) {}
 
 Context::~Context() {
-  if (queue_() != nullptr) clFinish(queue_());  // errors ignored: nothing left to report them to
+  if (ownsQueue_ && queue_() != nullptr) clFinish(queue_());  // errors ignored: nothing left to report them to
 }
 
 Context::Context(DeviceInfo device) : info_(std::move(device)), device_(info_.device, true) {
@@ -61,6 +64,47 @@ Context::Context(DeviceInfo device) : info_(std::move(device)), device_(info_.de
   clCheck(err, "clCreateContext", {}, "runtime");
   queue_ = cl::CommandQueue(context_, device_, CL_QUEUE_PROFILING_ENABLE, &err);
   clCheck(err, "clCreateCommandQueue", {}, "runtime");
+}
+
+namespace {
+
+template <class T>
+T queueInfo(cl_command_queue queue, cl_command_queue_info param) {
+  T value{};
+  clCheck(clGetCommandQueueInfo(queue, param, sizeof(T), &value, nullptr), "clGetCommandQueueInfo", {}, "runtime");
+  return value;
+}
+
+// The caller's objects must fit together: the device in the context, the queue on both, in order.
+void checkCallerObjects(cl_context context, cl_device_id device, cl_command_queue queue) {
+  if (context == nullptr || device == nullptr || queue == nullptr)
+    throw std::invalid_argument("OpenCL interop: the context, device and queue must all be given");
+  size_t bytes = 0;
+  clCheck(clGetContextInfo(context, CL_CONTEXT_DEVICES, 0, nullptr, &bytes), "clGetContextInfo", {}, "runtime");
+  std::vector<cl_device_id> devices(bytes / sizeof(cl_device_id));
+  clCheck(clGetContextInfo(context, CL_CONTEXT_DEVICES, bytes, devices.data(), nullptr), "clGetContextInfo", {},
+          "runtime");
+  if (std::find(devices.begin(), devices.end(), device) == devices.end())
+    throw std::invalid_argument("OpenCL interop: the device is not one of the context's devices");
+  if (queueInfo<cl_context>(queue, CL_QUEUE_CONTEXT) != context)
+    throw std::invalid_argument("OpenCL interop: the queue belongs to another context");
+  if (queueInfo<cl_device_id>(queue, CL_QUEUE_DEVICE) != device)
+    throw std::invalid_argument("OpenCL interop: the queue belongs to another device");
+  if (queueInfo<cl_command_queue_properties>(queue, CL_QUEUE_PROPERTIES) & CL_QUEUE_OUT_OF_ORDER_EXEC_MODE_ENABLE)
+    throw std::invalid_argument(
+        "OpenCL interop: the queue is out of order; penumbra's stages need an in-order queue (their passes "
+        "depend on each other)");
+}
+
+}  // namespace
+
+Context::Context(cl_context context, cl_device_id device, cl_command_queue queue) {
+  checkCallerObjects(context, device, queue);
+  info_ = describeDevice(device);
+  device_ = cl::Device(device, true);  // each cl:: wrapper holds one retain and releases it when destroyed
+  context_ = cl::Context(context, true);
+  queue_ = cl::CommandQueue(queue, true);
+  ownsQueue_ = false;
 }
 
 std::string Context::buildOptions(const std::string& options) const {

@@ -20,11 +20,17 @@ class Context {
   // Opens the device chosen by `deviceSpec` (see selectDevice). Throws NoDeviceError / ClError.
   explicit Context(const std::string& deviceSpec = {});
   explicit Context(DeviceInfo device);
+  // Works on the caller's objects (the public API's interop, issue 17): no context or queue of its own. Keeps one
+  // retain on each for its lifetime and releases only that; never finishes the queue. The queue must be in-order
+  // (the stages rely on it) and belong to `context` and `device`: throws std::invalid_argument otherwise. Without
+  // CL_QUEUE_PROFILING_ENABLE on the queue, pass times read 0 (Profiler::resolve).
+  Context(cl_context context, cl_device_id device, cl_command_queue queue);
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;
-  // Waits for every command enqueued on the queue: a stage that throws leaves earlier launches in flight, and
-  // releasing the queue does not wait for them. PoCL's device threads, still building such a kernel while the
-  // process exits, crashed in LLVM's torn-down statics (exit 139 instead of the error's exit code).
+  // Waits for every command enqueued on its own queue (a caller's queue is left alone): a stage that throws leaves
+  // earlier launches in flight, and releasing the queue does not wait for them. PoCL's device threads, still
+  // building such a kernel while the process exits, crashed in LLVM's torn-down statics (exit 139 instead of the
+  // error's exit code).
   ~Context();
 
   const DeviceInfo& info() const { return info_; }
@@ -43,6 +49,7 @@ class Context {
   std::string buildOptions(const std::string& options) const;
 
   size_t programsBuilt() const { return programsBuilt_; }  // compiled here, not loaded from a cache
+  bool ownsQueue() const { return ownsQueue_; }             // false: the caller's queue (the interop constructor)
   void finish();
 
   // Where launches report their events (nullptr: nowhere). Owned by the caller.
@@ -62,6 +69,7 @@ class Context {
   std::mutex mutex_;
   std::map<std::tuple<std::string, std::string>, std::unique_ptr<cl::Program>> programs_;
   size_t programsBuilt_ = 0;
+  bool ownsQueue_ = true;
   class Profiler* profiler_ = nullptr;
 };
 

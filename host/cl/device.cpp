@@ -195,6 +195,16 @@ DeviceInfo chooseDevice(const std::vector<DeviceInfo>& devices, const std::strin
   return *chosen;
 }
 
+DeviceInfo describeDevice(cl_device_id device) {
+  cl_platform_id platform = nullptr;
+  clCheck(clGetDeviceInfo(device, CL_DEVICE_PLATFORM, sizeof(platform), &platform, nullptr),
+          "clGetDeviceInfo(CL_DEVICE_PLATFORM)", {}, "runtime");
+  DeviceInfo info = describe(platform, device);
+  for (const DeviceInfo& listed : listDevices())
+    if (listed.device == device) info.platformIndex = listed.platformIndex, info.deviceIndex = listed.deviceIndex;
+  return info;
+}
+
 nlohmann::json toJson(const DeviceInfo& d) {
   return {{"platform_index", d.platformIndex},
           {"device_index", d.deviceIndex},

@@ -59,6 +59,10 @@ DeviceInfo selectDevice(const std::string& spec);
 // selectDevice's choice among `devices` for a non-empty `spec`.
 DeviceInfo chooseDevice(const std::vector<DeviceInfo>& devices, const std::string& spec);
 
+// What `device` (a caller's, issue 17's interop) can do, with its "P:D" indices as listDevices() numbers it.
+// Throws ClError when the device cannot be queried.
+DeviceInfo describeDevice(cl_device_id device);
+
 nlohmann::json toJson(const DeviceInfo& info);
 std::string describeDevices(const std::vector<DeviceInfo>& devices);  // the `penumbra devices` table
 

@@ -16,8 +16,12 @@ std::vector<PassTime> Profiler::resolve() const {
   for (const auto& [name, event, bytes] : events_) {
     clCheck(event.wait(), "clWaitForEvents", name, "profiler");
     cl_ulong start = 0, end = 0;
-    clCheck(event.getProfilingInfo(CL_PROFILING_COMMAND_START, &start), "clGetEventProfilingInfo", name, "profiler");
-    clCheck(event.getProfilingInfo(CL_PROFILING_COMMAND_END, &end), "clGetEventProfilingInfo", name, "profiler");
+    // A caller's queue without CL_QUEUE_PROFILING_ENABLE (Context's interop constructor) has no times: 0 ms.
+    const cl_int status = event.getProfilingInfo(CL_PROFILING_COMMAND_START, &start);
+    if (status != CL_PROFILING_INFO_NOT_AVAILABLE) {
+      clCheck(status, "clGetEventProfilingInfo", name, "profiler");
+      clCheck(event.getProfilingInfo(CL_PROFILING_COMMAND_END, &end), "clGetEventProfilingInfo", name, "profiler");
+    }
     auto it = std::find_if(passes.begin(), passes.end(), [&](const PassTime& p) { return p.name == name; });
     if (it == passes.end()) it = passes.insert(passes.end(), PassTime{name, 0.0, 0});
     it->ms += end >= start ? static_cast<double>(end - start) * 1e-6 : 0.0;

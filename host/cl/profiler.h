@@ -20,7 +20,8 @@ class Profiler {
  public:
   // `bytes`: the least the command must read plus write in device memory (0: unknown); see Kernel::moves.
   void record(std::string name, cl::Event event, uint64_t bytes = 0);
-  // Waits for all recorded events and returns their times by name, in first-recorded order.
+  // Waits for all recorded events and returns their times by name, in first-recorded order (0 ms for events of a
+  // queue without profiling).
   std::vector<PassTime> resolve() const;
   double totalMs() const;
   void clear() { events_.clear(); }

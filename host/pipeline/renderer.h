@@ -52,6 +52,9 @@ class Renderer {
   // against its technique (refuseUnsupportedLight) before any work.
   RenderResult render(const Camera& camera, const std::vector<FrameLight>& lights);
 
+  // Light `index`'s visibility buffer of the last frame (rows bottom-up); the next render() overwrites it.
+  const Buffer<float>& visibility(size_t index) const { return slots_.at(index).visibility; }
+
  private:
   struct Slot {
     std::unique_ptr<Technique> technique;

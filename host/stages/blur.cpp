@@ -164,7 +164,7 @@ std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>
 
   if (plan.direct) {
     const bool runs = resolveBlurLayout(config.layout, ctx.info(), shape, plan.radius) == BlurLayout::Runs;
-    Buffer<float> weights(ctx, std::span<const float>(plan.weights), CL_MEM_READ_ONLY);
+    Buffer<float> weights = Buffer<float>::copyOf(ctx, plan.weights);
     launchRowPass(ctx, options, in, scratch, shape, plan, weights, runs, events);
     launchColumns(ctx, options, scratch, out, shape, plan, weights, runs, events);
     return events;
@@ -192,7 +192,7 @@ std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>
       BlurPlan box;
       box.radius = r;
       box.weights.assign(2 * r + 1, 1.0f / float(2 * r + 1));
-      Buffer<float> weights(ctx, std::span<const float>(box.weights), CL_MEM_READ_ONLY);
+      Buffer<float> weights = Buffer<float>::copyOf(ctx, box.weights);
       if (pass < plan.boxRadii.size())
         launchRowPass(ctx, options, *src, *dst, shape, box, weights, true, events);
       else
@@ -239,7 +239,7 @@ std::vector<cl::Event> blurMomentsInto(Context& ctx, const Buffer<float>& depth,
     }
   }
   const std::string options = fmt::format("{} -DBLUR_MOMENTS={}", blurOptions(shape), kind);
-  Buffer<float> weights(ctx, std::span<const float>(plan.weights), CL_MEM_READ_ONLY);
+  Buffer<float> weights = Buffer<float>::copyOf(ctx, plan.weights);
   std::vector<cl::Event> events;
   const bool runs = resolveBlurLayout(config.layout, ctx.info(), shape, plan.radius) == BlurLayout::Runs;
   Kernel rows(ctx, "kernels/blur.cl", runs ? "blur_rows_runs_moments" : "blur_rows_moments", "blur", options);

@@ -119,7 +119,7 @@ cl::Event launchMoments(Context& ctx, const Buffer<float>& depth, uint32_t width
 
   std::vector<cl_float2> layers(config.layers.size());
   for (size_t i = 0; i < layers.size(); ++i) layers[i] = {{config.layers[i].p, config.layers[i].q}};
-  Buffer<cl_float2> layerBuffer(ctx, std::span<const cl_float2>(layers), CL_MEM_READ_ONLY);
+  Buffer<cl_float2> layerBuffer = Buffer<cl_float2>::copyOf(ctx, layers);
   return kernel.args(depth, out, layerBuffer, params).moves(bytes).launch(global, local);
 }
 

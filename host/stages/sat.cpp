@@ -25,7 +25,7 @@ void computeOffset(Context& ctx, const std::string& options, const Buffer<float>
     return;
   }
   if (config.offset) {
-    offset.upload(ctx, std::span<const float>(config.offset->data(), 4));
+    offset.copyFrom(ctx, Buffer<float>::copyOf(ctx, *config.offset));  // no blocking write: stages never wait
     return;
   }
   const uint32_t texels = static_cast<uint32_t>(shape.texels());

@@ -49,8 +49,10 @@ void msmDecode(const double q[4], double out[4]) {
 
 std::vector<double> moments(const std::vector<float>& depth, const MomentsConfig& config) {
   const size_t n = depth.size();
-  const size_t channels = momentChannels(config.kind);
-  std::vector<double> out(n * channels * momentPlanes(config));
+  // Its own layout arithmetic, not the stage's: four moments for EVSM4 and MSM, two otherwise; one plane per LVSM layer.
+  const size_t channels = config.kind == MomentKind::Evsm4 || config.kind == MomentKind::Msm ? 4 : 2;
+  const size_t planes = config.kind == MomentKind::Lvsm ? config.layers.size() : 1;
+  std::vector<double> out(n * channels * planes);
   const double cp = clampExponent(config.evsmPositive, config.storage);
   const double cn = clampExponent(config.evsmNegative, config.storage);
   for (size_t i = 0; i < n; ++i) {

@@ -1,0 +1,51 @@
+// The C boundary: every API function runs its body through guard(), which turns any exception into a status and this
+// thread's message, so none crosses into C; retainHandle / releaseHandle count the handles' references.
+#pragma once
+
+#include <atomic>
+#include <stdexcept>
+#include <string>
+
+#include "penumbra/status.h"
+
+namespace penumbra::api {
+
+// Records a failure for pn_last_error_message() / pn_last_cl_error() and returns `status`. Never throws.
+pn_status fail(pn_status status, const char* message, cl_int clError = CL_SUCCESS) noexcept;
+
+// The status and message of the exception in flight (call inside a catch block).
+pn_status failCurrentException() noexcept;
+
+// Runs body(); PN_SUCCESS, or the status of the exception it threw.
+template <class Body>
+pn_status guard(Body&& body) noexcept {
+  try {
+    body();
+    return PN_SUCCESS;
+  } catch (...) {
+    return failCurrentException();
+  }
+}
+
+// Throws std::invalid_argument "FUNCTION: NAME is NULL" for a null pointer argument.
+template <class T>
+T* require(T* pointer, const char* function, const char* name) {
+  if (pointer == nullptr) throw std::invalid_argument(std::string(function) + ": " + name + " is NULL");
+  return pointer;
+}
+
+template <class Handle>
+pn_status retainHandle(Handle* handle, const char* function) noexcept {
+  if (handle == nullptr) return fail(PN_ERROR_INVALID_ARGUMENT, (std::string(function) + ": NULL handle").c_str());
+  handle->references.fetch_add(1, std::memory_order_relaxed);
+  return PN_SUCCESS;
+}
+
+// Frees the handle when this was its last reference; NULL is a no-op. Destructors never throw.
+template <class Handle>
+pn_status releaseHandle(Handle* handle) noexcept {
+  if (handle != nullptr && handle->references.fetch_sub(1, std::memory_order_acq_rel) == 1) delete handle;
+  return PN_SUCCESS;
+}
+
+}  // namespace penumbra::api

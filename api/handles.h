@@ -1,0 +1,53 @@
+// What the C API's opaque handles hold: each a reference count and the internal objects it stands for. Only api/
+// sees these definitions; callers see incomplete types.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "host/cl/buffer.h"
+#include "host/cl/context.h"
+#include "host/cl/profiler.h"
+#include "host/io/image.h"
+#include "host/pipeline/renderer.h"
+#include "host/scene/scene.h"
+#include "host/techniques/technique.h"
+#include "penumbra/penumbra.h"
+
+// Every handle starts with one reference (the creator's); api/guard.h's retainHandle / releaseHandle count them.
+struct pn_handle_base {
+  std::atomic<int> references{1};
+};
+
+struct pn_context : pn_handle_base {
+  std::unique_ptr<penumbra::Context> context;
+  std::mutex mutex;  // serialises every call that enqueues on the context's queue
+};
+
+struct pn_scene : pn_handle_base {
+  penumbra::Scene scene;
+  std::string spec;  // what was loaded: the frames' penumbra:scene
+};
+
+struct pn_params : pn_handle_base {
+  const penumbra::TechniqueInfo* technique = nullptr;  // in the static registry
+  penumbra::Params params;
+  std::string description;  // pn_params_describe's text, refreshed by every change
+};
+
+struct pn_renderer : pn_handle_base {
+  pn_context* context = nullptr;  // retained: the Renderer keeps a reference to the Context
+  pn_scene* scene = nullptr;      // retained: and to the Scene
+  std::unique_ptr<penumbra::Renderer> renderer;
+  ~pn_renderer();
+};
+
+struct pn_frame : pn_handle_base {
+  penumbra::Image image;
+  std::vector<std::string> layers;                  // per light
+  std::vector<penumbra::Buffer<float>> visibility;  // per light: the frame's own device copy, rows bottom-up
+  std::vector<penumbra::PassTime> passes;
+};

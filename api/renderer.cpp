@@ -1,0 +1,134 @@
+// pn_renderer: host/pipeline/renderer.h on a pn_context and pn_scene (both retained), with the frame's lights
+// resolved as the CLI resolves them (tools/cli/view_options.h): the given ones, else the scene's, else the framing
+// light; the camera likewise. Each frame keeps a device copy of every light's visibility.
+#include <fmt/format.h>
+
+#include <set>
+#include <string>
+
+#include "api/convert.h"
+#include "api/guard.h"
+#include "api/handles.h"
+#include "host/scene/framing.h"
+#include "host/scene/light_names.h"
+
+using penumbra::api::guard;
+using penumbra::api::require;
+
+pn_renderer::~pn_renderer() {
+  renderer.reset();  // before the context and scene it refers to
+  penumbra::api::releaseHandle(scene);
+  penumbra::api::releaseHandle(context);
+}
+
+namespace {
+
+const penumbra::TechniqueInfo& techniqueOf(const pn_params* own, const pn_params* fallback, size_t light) {
+  const pn_params* params = own != nullptr ? own : fallback;
+  if (params == nullptr)
+    throw std::invalid_argument(
+        fmt::format("pn_renderer_render: light {} has no params and the call gives none", light));
+  return *params->technique;
+}
+
+std::vector<penumbra::FrameLight> frameLights(const penumbra::Scene& scene, const pn_frame_light* lights, size_t count,
+                                              const pn_params* params) {
+  std::vector<penumbra::FrameLight> out;
+  if (count == 0) {
+    const pn_params& all = *require(params, "pn_renderer_render", "params (the default lights' technique)");
+    const std::vector<penumbra::Light> defaults =
+        scene.lights.empty() ? std::vector<penumbra::Light>{penumbra::framingLight(scene.bounds())} : scene.lights;
+    for (const penumbra::Light& light : defaults) out.push_back({light, all.technique, all.params});
+    return out;
+  }
+  require(lights, "pn_renderer_render", "lights");
+  std::set<std::string> layers;
+  for (size_t i = 0; i < count; ++i) {
+    const pn_params* own = lights[i].params;
+    const penumbra::TechniqueInfo& technique = techniqueOf(own, params, i);
+    penumbra::Light light = penumbra::api::fromC(*require(lights[i].light, "pn_renderer_render", "lights[i].light"));
+    if (penumbra::channelSafeName(light.name) != light.name)
+      throw std::invalid_argument(fmt::format(
+          "pn_renderer_render: light {} name \"{}\" is not channel-safe (ASCII letters, digits, '_', '-', at most {})",
+          i, light.name, penumbra::kMaxLightNameLength));
+    if (!layers.insert(penumbra::lightLayer(light)).second)
+      throw std::invalid_argument(fmt::format(
+          "pn_renderer_render: light {} has the layer \"{}\" of an earlier light (give the lights distinct names)", i,
+          penumbra::lightLayer(light)));
+    out.push_back({std::move(light), &technique, (own != nullptr ? own : params)->params});
+  }
+  return out;
+}
+
+// The frame's own copy of each light's visibility, complete when this returns: the renderer overwrites its buffers
+// with the next frame, and a frame is a snapshot. Waits on its own copies only.
+std::vector<penumbra::Buffer<float>> copyVisibility(penumbra::Context& ctx, const penumbra::Renderer& renderer,
+                                                    size_t lights) {
+  std::vector<penumbra::Buffer<float>> copies(lights);
+  for (size_t i = 0; i < lights; ++i) {
+    copies[i].allocate(ctx, renderer.visibility(i).size());
+    copies[i].copyFrom(ctx, renderer.visibility(i));
+  }
+  cl::Event done;
+  penumbra::clCheck(ctx.queue().enqueueMarkerWithWaitList(nullptr, &done), "clEnqueueMarkerWithWaitList", {}, "api");
+  penumbra::clCheck(done.wait(), "clWaitForEvents", {}, "api");
+  return copies;
+}
+
+}  // namespace
+
+extern "C" {
+
+pn_status pn_renderer_create(pn_context* context, pn_scene* scene, pn_renderer** renderer) {
+  return guard([&] {
+    require(renderer, "pn_renderer_create", "renderer");
+    *renderer = nullptr;
+    require(context, "pn_renderer_create", "context");
+    require(scene, "pn_renderer_create", "scene");
+    auto created = std::make_unique<pn_renderer>();
+    {
+      std::lock_guard lock(context->mutex);  // uploads the scene on the context's queue
+      created->renderer = std::make_unique<penumbra::Renderer>(*context->context, scene->scene);
+    }
+    penumbra::api::retainHandle(context, "pn_renderer_create");
+    created->context = context;
+    penumbra::api::retainHandle(scene, "pn_renderer_create");
+    created->scene = scene;
+    *renderer = created.release();
+  });
+}
+
+pn_status pn_renderer_retain(pn_renderer* renderer) {
+  return penumbra::api::retainHandle(renderer, "pn_renderer_retain");
+}
+
+pn_status pn_renderer_release(pn_renderer* renderer) { return penumbra::api::releaseHandle(renderer); }
+
+pn_status pn_renderer_render(pn_renderer* renderer, const pn_camera* camera, const pn_frame_light* lights,
+                             size_t light_count, const pn_params* params, pn_frame** frame) {
+  return guard([&] {
+    require(frame, "pn_renderer_render", "frame");
+    *frame = nullptr;
+    pn_renderer& r = *require(renderer, "pn_renderer_render", "renderer");
+    const penumbra::Scene& scene = r.scene->scene;
+    // No camera: pn_scene_default_camera's (the scene's first, else the framing view).
+    const penumbra::Camera cam = camera != nullptr       ? penumbra::api::fromC(*camera)
+                                 : scene.cameras.empty() ? penumbra::framingCamera(scene.bounds())
+                                                         : scene.cameras.front();
+    const std::vector<penumbra::FrameLight> frameLights = ::frameLights(scene, lights, light_count, params);
+    // Renderer::render checks every light against its technique before any work.
+
+    auto created = std::make_unique<pn_frame>();
+    penumbra::Context& ctx = *r.context->context;
+    std::lock_guard lock(r.context->mutex);
+    penumbra::RenderResult result = r.renderer->render(cam, frameLights);
+    created->visibility = copyVisibility(ctx, *r.renderer, frameLights.size());
+    result.image.attributes()["penumbra:scene"] = r.scene->spec;
+    created->image = std::move(result.image);
+    created->passes = std::move(result.passes);
+    for (const penumbra::FrameLight& l : frameLights) created->layers.push_back(penumbra::lightLayer(l.light));
+    *frame = created.release();
+  });
+}
+
+}  // extern "C"

@@ -1,0 +1,126 @@
+// pn_scene, pn_camera and pn_light: loading (host/scene/load.h), the plain structs' defaults and command-line forms,
+// and the defaults a frame falls back to (host/scene/framing.h), as the CLI resolves them.
+#include <fmt/format.h>
+
+#include "api/convert.h"
+#include "api/guard.h"
+#include "api/handles.h"
+#include "host/scene/framing.h"
+#include "host/scene/load.h"
+
+using penumbra::api::guard;
+using penumbra::api::require;
+
+namespace {
+
+const pn_scene& sceneArg(const pn_scene* scene, const char* function) { return *require(scene, function, "scene"); }
+
+void checkIndex(size_t index, size_t count, const char* function, const char* what) {
+  if (index >= count)
+    throw std::out_of_range(
+        fmt::format("{}: {} index {} out of range (the scene has {})", function, what, index, count));
+}
+
+}  // namespace
+
+extern "C" {
+
+void pn_camera_init(pn_camera* camera) {
+  if (camera != nullptr) *camera = penumbra::api::toC(penumbra::Camera{});
+}
+
+pn_status pn_camera_parse(const char* spec, pn_camera* camera) {
+  return guard([&] {
+    require(camera, "pn_camera_parse", "camera");
+    *camera = penumbra::api::toC(penumbra::parseCamera(require(spec, "pn_camera_parse", "spec")));
+  });
+}
+
+void pn_light_init(pn_light* light) {
+  if (light != nullptr) {
+    static const penumbra::Light kDefault;  // its name ("") outlives every pn_light
+    *light = penumbra::api::toC(kDefault);
+    light->name = nullptr;
+  }
+}
+
+pn_status pn_light_parse(const char* spec, pn_light* light) {
+  return guard([&] {
+    require(light, "pn_light_parse", "light");
+    *light = penumbra::api::toC(penumbra::parseLight(require(spec, "pn_light_parse", "spec")));
+    light->name = nullptr;  // a parsed light is unnamed
+  });
+}
+
+void pn_scene_load_options_init(pn_scene_load_options* options) {
+  if (options != nullptr) *options = pn_scene_load_options{0, 0.0, nullptr};
+}
+
+pn_status pn_scene_load(const char* spec, const pn_scene_load_options* options, pn_scene** scene) {
+  return guard([&] {
+    require(scene, "pn_scene_load", "scene");
+    *scene = nullptr;
+    require(spec, "pn_scene_load", "spec");
+    penumbra::LoadOptions load;
+    if (options != nullptr && options->has_time != 0) load.time = options->time;
+    if (options != nullptr && options->animation != nullptr) load.animation = options->animation;
+    auto loaded = std::make_unique<pn_scene>();
+    loaded->scene = penumbra::loadScene(spec, load);
+    loaded->spec = spec;
+    *scene = loaded.release();
+  });
+}
+
+pn_status pn_scene_retain(pn_scene* scene) { return penumbra::api::retainHandle(scene, "pn_scene_retain"); }
+
+pn_status pn_scene_release(pn_scene* scene) { return penumbra::api::releaseHandle(scene); }
+
+size_t pn_scene_triangle_count(const pn_scene* scene) { return scene != nullptr ? scene->scene.triangleCount() : 0; }
+
+pn_status pn_scene_bounds(const pn_scene* scene, float min[3], float max[3]) {
+  return guard([&] {
+    const penumbra::Bounds bounds = sceneArg(scene, "pn_scene_bounds").scene.bounds();
+    float* lo = require(min, "pn_scene_bounds", "min");
+    float* hi = require(max, "pn_scene_bounds", "max");
+    for (int i = 0; i < 3; ++i) lo[i] = bounds.min[i], hi[i] = bounds.max[i];
+  });
+}
+
+size_t pn_scene_camera_count(const pn_scene* scene) { return scene != nullptr ? scene->scene.cameras.size() : 0; }
+
+pn_status pn_scene_camera(const pn_scene* scene, size_t index, pn_camera* camera) {
+  return guard([&] {
+    const auto& cameras = sceneArg(scene, "pn_scene_camera").scene.cameras;
+    checkIndex(index, cameras.size(), "pn_scene_camera", "camera");
+    *require(camera, "pn_scene_camera", "camera") = penumbra::api::toC(cameras[index]);
+  });
+}
+
+pn_status pn_scene_default_camera(const pn_scene* scene, pn_camera* camera) {
+  return guard([&] {
+    const penumbra::Scene& s = sceneArg(scene, "pn_scene_default_camera").scene;
+    require(camera, "pn_scene_default_camera", "camera");
+    *camera = penumbra::api::toC(s.cameras.empty() ? penumbra::framingCamera(s.bounds()) : s.cameras.front());
+  });
+}
+
+size_t pn_scene_light_count(const pn_scene* scene) { return scene != nullptr ? scene->scene.lights.size() : 0; }
+
+pn_status pn_scene_light(const pn_scene* scene, size_t index, pn_light* light) {
+  return guard([&] {
+    const auto& lights = sceneArg(scene, "pn_scene_light").scene.lights;
+    checkIndex(index, lights.size(), "pn_scene_light", "light");
+    *require(light, "pn_scene_light", "light") = penumbra::api::toC(lights[index]);
+  });
+}
+
+pn_status pn_scene_framing_light(const pn_scene* scene, pn_light* light) {
+  return guard([&] {
+    const penumbra::Scene& s = sceneArg(scene, "pn_scene_framing_light").scene;
+    require(light, "pn_scene_framing_light", "light");
+    *light = penumbra::api::toC(penumbra::framingLight(s.bounds()));
+    light->name = nullptr;
+  });
+}
+
+}  // extern "C"

@@ -1,0 +1,94 @@
+// One stage call on the caller's objects (penumbra/stages.h): checks the wait list and the caller's cl_mem buffers
+// (type, context, size), holds the context's lock, enqueues a barrier on the wait list before the stage's kernels
+// and a marker after them for the caller's event, and flushes the queue without finishing it.
+#pragma once
+
+#include <fmt/format.h>
+
+#include <mutex>
+#include <stdexcept>
+#include <string>
+
+#include "api/guard.h"
+#include "api/handles.h"
+#include "host/cl/error.h"
+
+namespace penumbra::api {
+
+class StageCall {
+ public:
+  StageCall(pn_context* context, const char* function, cl_uint waitCount, const cl_event* waitList, cl_event* event)
+      : function_(function), waitCount_(waitCount), waitList_(waitList), event_(event) {
+    if (event_ != nullptr) *event_ = nullptr;
+    context_ = require(context, function, "context");
+    if ((waitCount == 0) != (waitList == nullptr))
+      throw std::invalid_argument(fmt::format("{}: a wait list of {} events {}", function, waitCount,
+                                              waitList == nullptr ? "is NULL" : "is not NULL"));
+    lock_ = std::unique_lock(context_->mutex);
+  }
+
+  Context& ctx() { return *context_->context; }
+
+  // The caller's buffer `mem` as elements of T (as many as fit its size), retained for this call only.
+  template <class T>
+  Buffer<T> buffer(cl_mem mem, const char* what) const {
+    if (mem == nullptr) throw std::invalid_argument(fmt::format("{}: {} is NULL", function_, what));
+    cl_mem_object_type type = 0;
+    const cl_int err = clGetMemObjectInfo(mem, CL_MEM_TYPE, sizeof(type), &type, nullptr);
+    if (err == CL_INVALID_MEM_OBJECT)
+      throw std::invalid_argument(fmt::format("{}: {} is not a valid cl_mem", function_, what));
+    clCheck(err, "clGetMemObjectInfo", {}, "api");
+    if (type != CL_MEM_OBJECT_BUFFER)
+      throw std::invalid_argument(fmt::format("{}: {} is an image, not a buffer", function_, what));
+    cl_context owner = nullptr;
+    size_t bytes = 0;
+    clCheck(clGetMemObjectInfo(mem, CL_MEM_CONTEXT, sizeof(owner), &owner, nullptr), "clGetMemObjectInfo", {}, "api");
+    clCheck(clGetMemObjectInfo(mem, CL_MEM_SIZE, sizeof(bytes), &bytes, nullptr), "clGetMemObjectInfo", {}, "api");
+    if (owner != context_->context->context()())
+      throw std::invalid_argument(
+          fmt::format("{}: {} belongs to another OpenCL context than the pn_context's", function_, what));
+    return Buffer<T>::over(cl::Buffer(mem, true), bytes / sizeof(T), owner);
+  }
+
+  // The caller's scratch buffer, or (NULL) a temporary of `count` elements, freed once the stage's commands are done.
+  template <class T>
+  Buffer<T> scratch(cl_mem mem, size_t count, const char* what) {
+    return mem != nullptr ? buffer<T>(mem, what) : Buffer<T>(ctx(), count);
+  }
+
+  // Enqueues the barrier, runs `stage` (which enqueues the kernels), then the marker for the caller's event; flushes.
+  template <class Stage>
+  void run(Stage&& stage) {
+    cl_command_queue queue = ctx().queue()();
+    if (waitCount_ > 0)
+      clCheck(clEnqueueBarrierWithWaitList(queue, waitCount_, waitList_, nullptr), "clEnqueueBarrierWithWaitList", {},
+              function_);
+    stage();
+    if (event_ != nullptr)
+      clCheck(clEnqueueMarkerWithWaitList(queue, 0, nullptr, event_), "clEnqueueMarkerWithWaitList", {}, function_);
+    if (const cl_int err = clFlush(queue); err != CL_SUCCESS) {
+      if (event_ != nullptr) clReleaseEvent(*event_), *event_ = nullptr;  // a failed call hands out no event
+      throw ClError(err, "clFlush", {}, function_);
+    }
+  }
+
+  const char* function() const { return function_; }
+
+ private:
+  const char* function_;
+  pn_context* context_ = nullptr;
+  cl_uint waitCount_;
+  const cl_event* waitList_;
+  cl_event* event_;
+  std::unique_lock<std::mutex> lock_;
+};
+
+// Throws std::invalid_argument unless `value` is one of the enum's `count` values 0..count-1.
+template <class Enum>
+void checkEnum(Enum value, int count, const char* function, const char* what) {
+  if (static_cast<int>(value) < 0 || static_cast<int>(value) >= count)
+    throw std::invalid_argument(
+        fmt::format("{}: {} {} is not one of 0..{}", function, what, static_cast<int>(value), count - 1));
+}
+
+}  // namespace penumbra::api

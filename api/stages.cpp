@@ -1,0 +1,140 @@
+// The moments and blur stages on the caller's buffers (penumbra/stages.h over host/stages/moments.h and blur.h).
+#include "api/stage_call.h"
+#include "host/stages/blur.h"
+#include "host/stages/moments.h"
+
+using penumbra::api::checkEnum;
+using penumbra::api::guard;
+using penumbra::api::require;
+using penumbra::api::StageCall;
+
+namespace {
+
+penumbra::MomentsConfig momentsConfig(const pn_moments_config* c, const char* function) {
+  require(c, function, "config");
+  checkEnum(c->kind, 5, function, "moment kind");
+  checkEnum(c->storage, 2, function, "moment storage");
+  penumbra::MomentsConfig config;
+  const penumbra::MomentKind kinds[] = {penumbra::MomentKind::Vsm, penumbra::MomentKind::Evsm2,
+                                        penumbra::MomentKind::Evsm4, penumbra::MomentKind::Lvsm,
+                                        penumbra::MomentKind::Msm};
+  config.kind = kinds[c->kind];
+  config.depthNear = c->depth_near;
+  config.depthFar = c->depth_far;
+  config.evsmPositive = c->evsm_positive;
+  config.evsmNegative = c->evsm_negative;
+  config.storage =
+      c->storage == PN_STORAGE_FLOAT16 ? penumbra::MomentStorage::Float16 : penumbra::MomentStorage::Float32;
+  if (c->layer_count > 0) require(c->layers, function, "config->layers");
+  for (size_t i = 0; i < c->layer_count; ++i) config.layers.push_back({c->layers[i].p, c->layers[i].q});
+  return config;
+}
+
+penumbra::BlurConfig blurConfig(const pn_blur_config* c, const char* function) {
+  require(c, function, "blur config");
+  checkEnum(c->filter, 2, function, "blur filter");
+  checkEnum(c->method, 3, function, "blur method");
+  penumbra::BlurConfig config;
+  config.filter = c->filter == PN_BLUR_BOX ? penumbra::BlurFilter::Box : penumbra::BlurFilter::Gaussian;
+  config.sigma = c->sigma;
+  config.radius = c->radius;
+  const penumbra::BlurMethod methods[] = {penumbra::BlurMethod::Auto, penumbra::BlurMethod::Direct,
+                                          penumbra::BlurMethod::RunningSums};
+  config.method = methods[c->method];
+  return config;
+}
+
+penumbra::ImageShape imageShape(const pn_image_shape* s, const char* function) {
+  require(s, function, "shape");
+  const penumbra::ImageShape shape{s->width, s->height, s->channels};
+  penumbra::checkShape(shape, function);
+  return shape;
+}
+
+}  // namespace
+
+extern "C" {
+
+void pn_moments_config_init(pn_moments_config* config) {
+  if (config == nullptr) return;
+  const penumbra::MomentsConfig d;
+  *config = pn_moments_config{PN_MOMENTS_VSM, d.depthNear,        d.depthFar, d.evsmPositive,
+                              d.evsmNegative, PN_STORAGE_FLOAT32, nullptr,    0};
+}
+
+uint32_t pn_moment_channels(pn_moment_kind kind) {
+  return kind == PN_MOMENTS_EVSM4 || kind == PN_MOMENTS_MSM ? 4u : 2u;
+}
+
+pn_status pn_moments(pn_context* context, cl_mem depth, uint32_t width, uint32_t height,
+                     const pn_moments_config* config, cl_mem out, cl_uint num_events_in_wait_list,
+                     const cl_event* event_wait_list, cl_event* event) {
+  return guard([&] {
+    StageCall call(context, "pn_moments", num_events_in_wait_list, event_wait_list, event);
+    const penumbra::MomentsConfig moments = momentsConfig(config, call.function());
+    const auto in = call.buffer<float>(depth, "depth");
+    if (moments.storage == penumbra::MomentStorage::Float16) {
+      auto target = call.buffer<cl_half>(out, "out");
+      call.run([&] { penumbra::computeMoments(call.ctx(), in, width, height, moments, target); });
+    } else {
+      auto target = call.buffer<float>(out, "out");
+      call.run([&] { penumbra::computeMoments(call.ctx(), in, width, height, moments, target); });
+    }
+  });
+}
+
+void pn_blur_config_init(pn_blur_config* config) {
+  if (config == nullptr) return;
+  const penumbra::BlurConfig d;
+  *config = pn_blur_config{PN_BLUR_GAUSSIAN, d.sigma, d.radius, PN_BLUR_AUTO};
+}
+
+pn_status pn_blur(pn_context* context, cl_mem in, cl_mem out, cl_mem scratch, const pn_image_shape* shape,
+                  const pn_blur_config* config, cl_uint num_events_in_wait_list, const cl_event* event_wait_list,
+                  cl_event* event) {
+  return guard([&] {
+    StageCall call(context, "pn_blur", num_events_in_wait_list, event_wait_list, event);
+    const penumbra::ImageShape s = imageShape(shape, call.function());
+    const penumbra::BlurConfig blur = blurConfig(config, call.function());
+    const auto source = call.buffer<float>(in, "in");
+    auto target = call.buffer<float>(out, "out");
+    auto temp = call.scratch<float>(scratch, s.count(), "scratch");
+    call.run([&] { penumbra::blur(call.ctx(), source, target, temp, s, blur); });
+  });
+}
+
+pn_status pn_blur_moments(pn_context* context, cl_mem depth, uint32_t width, uint32_t height,
+                          const pn_moments_config* moments, const pn_blur_config* blur, cl_mem out, cl_mem scratch,
+                          cl_uint num_events_in_wait_list, const cl_event* event_wait_list, cl_event* event) {
+  return guard([&] {
+    StageCall call(context, "pn_blur_moments", num_events_in_wait_list, event_wait_list, event);
+    const penumbra::MomentsConfig m = momentsConfig(moments, call.function());
+    const penumbra::BlurConfig b = blurConfig(blur, call.function());
+    const penumbra::ImageShape shape{width, height, penumbra::momentChannels(m.kind)};
+    penumbra::checkShape(shape, call.function());
+    const auto in = call.buffer<float>(depth, "depth");
+    auto temp = call.scratch<float>(scratch, penumbra::blurMomentsScratch(call.ctx(), shape, b, m.storage), "scratch");
+    if (m.storage == penumbra::MomentStorage::Float16) {
+      auto target = call.buffer<cl_half>(out, "out");
+      call.run([&] { penumbra::blurMoments(call.ctx(), in, m, target, temp, width, height, b); });
+    } else {
+      auto target = call.buffer<float>(out, "out");
+      call.run([&] { penumbra::blurMoments(call.ctx(), in, m, target, temp, width, height, b); });
+    }
+  });
+}
+
+pn_status pn_blur_moments_scratch(pn_context* context, uint32_t width, uint32_t height,
+                                  const pn_moments_config* moments, const pn_blur_config* blur, size_t* floats) {
+  return guard([&] {
+    pn_context& c = *require(context, "pn_blur_moments_scratch", "context");
+    const penumbra::MomentsConfig m = momentsConfig(moments, "pn_blur_moments_scratch");
+    const penumbra::BlurConfig b = blurConfig(blur, "pn_blur_moments_scratch");
+    const penumbra::ImageShape shape{width, height, penumbra::momentChannels(m.kind)};
+    penumbra::checkShape(shape, "pn_blur_moments_scratch");
+    *require(floats, "pn_blur_moments_scratch", "floats") =
+        penumbra::blurMomentsScratch(*c.context, shape, b, m.storage);
+  });
+}
+
+}  // extern "C"

@@ -1,0 +1,127 @@
+/* penumbra's C API: the shadow techniques and their parameters, the renderer (camera G-buffer, one technique per
+ * light, shaded preview) and the frames it returns as host channels and as OpenCL buffers. */
+#ifndef PENUMBRA_RENDERER_H
+#define PENUMBRA_RENDERER_H
+
+#include "penumbra/context.h"
+#include "penumbra/scene.h"
+
+/** @file
+ *  Techniques, parameters, the renderer and its frames. */
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** One parameter of a technique, as the registry declares it. Strings are static (valid for the program's life). */
+typedef struct pn_param_info {
+  const char* name;         /**< "pcf-radius" (the CLI's option without dashes). */
+  const char* help;         /**< One line. */
+  double default_value;     /**< Numbers; a choice's index into `choices`. */
+  double min;               /**< Smallest valid number (inclusive). */
+  double max;               /**< Largest valid number (inclusive). */
+  const char* choices;      /**< Named choices, comma-separated ("uniform,adaptive"); "" for numbers and text. */
+  int is_text;              /**< Non-zero: free-form text (a list such as "0.2,0.5"). */
+  const char* text_default; /**< Text parameters: the default; "" otherwise. */
+} pn_param_info;
+
+/** Techniques in the registry ("sm", "pcf", "pcss", ...), in the order the CLI lists them. */
+PN_API size_t pn_technique_count(void);
+/** Name of technique `index`; NULL past the end. */
+PN_API const char* pn_technique_name(size_t index);
+/** One-line description of technique `index`; NULL past the end. */
+PN_API const char* pn_technique_description(size_t index);
+/** Parameters of the technique called `technique`; 0 for an unknown name (which also sets the error). */
+PN_API size_t pn_technique_param_count(const char* technique);
+/** Parameter `index` of `technique`. */
+PN_API pn_status pn_technique_param(const char* technique, size_t index, pn_param_info* info);
+
+/** A technique and values for its parameters. Reference counted; not for concurrent modification. */
+typedef struct pn_params pn_params;
+
+/** The technique called `technique` with every parameter at its default. PN_ERROR_INVALID_ARGUMENT lists the known
+ *  techniques. */
+PN_API pn_status pn_params_create(const char* technique, pn_params** params);
+/** Adds a reference. */
+PN_API pn_status pn_params_retain(pn_params* params);
+/** Drops a reference; frees at 0. NULL is a no-op. */
+PN_API pn_status pn_params_release(pn_params* params);
+/** Sets a parameter from text, as the CLI's option would ("0.002", "adaptive"); the message names the parameter and
+ *  the valid range or choices. */
+PN_API pn_status pn_params_set(pn_params* params, const char* name, const char* value);
+/** A number's value, or a choice's index (a text parameter is PN_ERROR_INVALID_ARGUMENT: see pn_params_describe). */
+PN_API pn_status pn_params_get(const pn_params* params, const char* name, double* value);
+/** The technique's name; valid while `params` lives. */
+PN_API const char* pn_params_technique(const pn_params* params);
+/** "bias=0.002 pcf-radius=2": every parameter, as frames record them; valid until `params` next changes. */
+PN_API const char* pn_params_describe(const pn_params* params);
+
+/** One light of a frame and the technique that shadows it. */
+typedef struct pn_frame_light {
+  const pn_light* light;   /**< The light (copied by the call). */
+  const pn_params* params; /**< Its technique and parameters; NULL: the call's `params`. */
+} pn_frame_light;
+
+/** Draws frames of one scene on one context: uploads the triangles once and keeps each light's technique (and its
+ *  device buffers) while the technique and parameters stay the same. Retains its context and scene. Reference
+ *  counted; one render at a time (renders of one context are serialised by its lock). */
+typedef struct pn_renderer pn_renderer;
+
+/** A rendered frame: host channels and a device copy of each light's visibility. Immutable; reference counted. */
+typedef struct pn_frame pn_frame;
+
+/** A renderer of `scene` on `context` (both retained until the renderer is freed). */
+PN_API pn_status pn_renderer_create(pn_context* context, pn_scene* scene, pn_renderer** renderer);
+/** Adds a reference. */
+PN_API pn_status pn_renderer_retain(pn_renderer* renderer);
+/** Drops a reference; frees at 0. NULL is a no-op. */
+PN_API pn_status pn_renderer_release(pn_renderer* renderer);
+
+/** Renders one frame, synchronously: it returns when the frame's host channels and device buffers are complete
+ *  (it waits on its own events, never finishes the queue).
+ *  - `camera`: NULL for pn_scene_default_camera() (at its size).
+ *  - `lights`, `light_count`: the frame's lights, each with its own technique or `params`; NULL and 0 for the
+ *    scene's lights, else the framing light, all shadowed by `params` (as the CLI does without --light).
+ *  - `params`: the technique of the lights that name none; may be NULL only when every light names one.
+ *  A point light is refused (PN_ERROR_INVALID_ARGUMENT) before any work. */
+PN_API pn_status pn_renderer_render(pn_renderer* renderer, const pn_camera* camera, const pn_frame_light* lights,
+                                    size_t light_count, const pn_params* params, pn_frame** frame);
+
+/** Adds a reference. */
+PN_API pn_status pn_frame_retain(pn_frame* frame);
+/** Drops a reference; frees at 0, releasing the device buffers it holds. NULL is a no-op. */
+PN_API pn_status pn_frame_release(pn_frame* frame);
+/** Width in pixels; 0 for NULL. */
+PN_API int pn_frame_width(const pn_frame* frame);
+/** Height in pixels; 0 for NULL. */
+PN_API int pn_frame_height(const pn_frame* frame);
+/** Channels: R, G, B, A (the shaded preview; A = 1 where a surface is seen), visibility.Y (the first light's),
+ *  visibility.LAYER.Y per light, P.X/Y/Z, N.X/Y/Z, depth.Z and the first light's technique's debug channels. */
+PN_API size_t pn_frame_channel_count(const pn_frame* frame);
+/** Name of channel `index`; NULL past the end. */
+PN_API const char* pn_frame_channel_name(const pn_frame* frame, size_t index);
+/** The channel called `name`: width * height floats, row 0 the top row, valid while the frame lives. A missing
+ *  channel is PN_ERROR_INVALID_ARGUMENT listing those the frame has. */
+PN_API pn_status pn_frame_channel(const pn_frame* frame, const char* name, const float** data);
+/** The frame's lights, in the order they were given. */
+PN_API size_t pn_frame_light_count(const pn_frame* frame);
+/** The EXR layer of light `index` ("light", or its name): its channel is "visibility.LAYER.Y". */
+PN_API const char* pn_frame_light_layer(const pn_frame* frame, size_t index);
+/** Light `index`'s visibility on the device: a buffer of width * height floats in the context's cl_context, rows
+ *  bottom-up (row 0 the bottom row, as OpenCL and OpenGL framebuffers). Owned by the frame (valid while it lives;
+ *  clRetainMemObject it to keep it longer). */
+PN_API pn_status pn_frame_visibility_buffer(const pn_frame* frame, size_t index, cl_mem* buffer);
+/** A provenance attribute ("penumbra:technique", "penumbra:version", "penumbra:light", ...); NULL when absent. */
+PN_API const char* pn_frame_attribute(const pn_frame* frame, const char* name);
+/** Named passes with device times, in recording order. */
+PN_API size_t pn_frame_pass_count(const pn_frame* frame);
+/** Pass `index`: its name ("shade/pcss_visibility") and summed device time (0 without queue profiling). */
+PN_API pn_status pn_frame_pass(const pn_frame* frame, size_t index, const char** name, double* milliseconds);
+/** Writes every channel and attribute to an OpenEXR file (32-bit float, ZIP), as `penumbra render` does. */
+PN_API pn_status pn_frame_save_exr(const pn_frame* frame, const char* path);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

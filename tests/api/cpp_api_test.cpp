@@ -1,0 +1,111 @@
+// The C++ API (header-only over the C API): handles that retain on copy and release on destruction, penumbra::Error
+// with the C API's status and message, defaults equal to the C structs' initialisers (so the two layers cannot
+// drift), and a frame whose device buffer feeds a stage, all on the caller's OpenCL objects.
+#include <cmath>
+#include <cstring>
+#include <penumbra/penumbra.hpp>
+#include <string>
+#include <vector>
+
+#include "tests/api/caller_cl.h"
+
+namespace penumbra::test {
+namespace {
+
+TEST(ApiCpp, ErrorsCarryTheStatusAndMessage) {
+  try {
+    Params params("nope");
+    FAIL() << "no exception";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.status(), PN_ERROR_INVALID_ARGUMENT);
+    EXPECT_STREQ(e.what(), pn_last_error_message());
+    EXPECT_NE(std::string(e.what()).find("unknown technique 'nope' (known: sm, pcf, pcss"), std::string::npos);
+  }
+  try {
+    Scene scene("no/such/scene.json");
+    FAIL() << "no exception";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.status(), PN_ERROR_SCENE);
+  }
+  EXPECT_EQ(version(), PN_VERSION_STRING);
+}
+
+TEST(ApiCpp, DefaultsAreTheCApis) {
+  pn_camera c;
+  pn_camera_init(&c);
+  const pn_camera fromCpp = Camera().toC();
+  EXPECT_EQ(std::memcmp(&c, &fromCpp, sizeof(c)), 0);
+  pn_light l;
+  pn_light_init(&l);
+  const Light light;
+  EXPECT_EQ(light.type, LightType::Spot);
+  EXPECT_EQ(light.fovDeg, l.fov_deg);
+  EXPECT_EQ(light.position[1], l.position[1]);
+  pn_moments_config m;
+  pn_moments_config_init(&m);
+  const pn_moments_config mc = MomentsConfig().toC();
+  EXPECT_EQ(mc.kind, m.kind);
+  EXPECT_EQ(mc.depth_far, m.depth_far);
+  EXPECT_EQ(mc.evsm_positive, m.evsm_positive);
+  EXPECT_EQ(mc.evsm_negative, m.evsm_negative);
+  pn_blur_config b;
+  pn_blur_config_init(&b);
+  const pn_blur_config bc = BlurConfig().toC();
+  EXPECT_EQ(std::memcmp(&b, &bc, sizeof(b)), 0);
+  pn_sat_config s;
+  pn_sat_config_init(&s);
+  const pn_sat_config sc = SatConfig().toC();
+  EXPECT_EQ(std::memcmp(&s, &sc, sizeof(s)), 0);
+}
+
+TEST(ApiCpp, HandlesRetainOnCopyAndReleaseOnDestruction) {
+  CallerCl cl;
+  const cl_uint context0 = references(cl.context);
+  {
+    Context ctx(cl.context, cl.device, cl.queue);
+    Context copy = ctx;  // one pn_context, one retain of the caller's context
+    EXPECT_EQ(copy.get(), ctx.get());
+    EXPECT_EQ(settled(cl.context, context0 + 1), context0 + 1);
+    Scene scene("builtin:single-triangle");
+    Renderer renderer(copy, scene);
+    Camera camera = scene.defaultCamera();
+    camera.width = 32, camera.height = 24;
+    Frame frame = renderer.render(camera, Params("sm"));
+    EXPECT_EQ(frame.width(), 32);
+    EXPECT_EQ(frame.attribute("penumbra:technique").value_or(""), "sm");
+    EXPECT_FALSE(frame.attribute("nope").has_value());
+  }
+  clFinish(cl.queue);
+  EXPECT_EQ(settled(cl.context, context0), context0);
+}
+
+// The frame's device buffer straight into a stage, on the caller's queue, with the caller waiting on the event.
+TEST(ApiCpp, AFramesBufferFeedsAStage) {
+  CallerCl cl;
+  Context ctx(cl.context, cl.device, cl.queue);
+  Scene scene("builtin:box");
+  Renderer renderer(ctx, scene);
+  Camera camera = scene.defaultCamera();
+  camera.width = 40, camera.height = 30;
+  Params params("pcf");
+  params.set("pcf-radius", 1);
+  EXPECT_EQ(params.value("pcf-radius"), 1.0);
+  const Frame frame = renderer.render(camera, scene.lights().front(), params);
+  const size_t n = 40 * 30;
+  cl_mem table = cl.buffer<uint64_t>(n);
+  SatConfig config;
+  config.precision = SatPrecision::Fixed64;
+  cl_event done = nullptr;
+  sat(ctx, frame.visibilityBuffer(), {40, 30, 1}, config, table, nullptr, {}, &done);
+  ASSERT_EQ(clWaitForEvents(1, &done), CL_SUCCESS);
+  clReleaseEvent(done);
+  const std::vector<uint64_t> got = cl.read<uint64_t>(table, n);
+  const float* visibility = frame.channel("visibility.Y");
+  double sum = 0;
+  for (size_t i = 0; i < n; ++i) sum += std::nearbyint(std::ldexp(double(visibility[i]), 32));
+  EXPECT_EQ(double(got.back()), sum);  // the whole frame's sum, exact in fixed point (row order does not matter)
+  clReleaseMemObject(table);
+}
+
+}  // namespace
+}  // namespace penumbra::test

@@ -1,0 +1,38 @@
+// exr_channel_equal A.exr B.exr CHANNEL...: exit 0 when every named channel of the two EXR files holds the same
+// float bits at every pixel (the install test's bit-identical check of a library frame against the CLI's), 1 naming
+// the first pixel that differs, 2 for a usage or file error.
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <cstring>
+#include <exception>
+
+#include "host/io/exr.h"
+
+int main(int argc, char** argv) {
+  if (argc < 4) {
+    fmt::print(stderr, "usage: exr_channel_equal A.exr B.exr CHANNEL...\n");
+    return 2;
+  }
+  try {
+    const penumbra::Image a = penumbra::readExr(argv[1]), b = penumbra::readExr(argv[2]);
+    if (a.width() != b.width() || a.height() != b.height()) {
+      fmt::print(stderr, "{} is {}x{}, {} is {}x{}\n", argv[1], a.width(), a.height(), argv[2], b.width(), b.height());
+      return 1;
+    }
+    for (int c = 3; c < argc; ++c) {
+      const auto &x = a.require(argv[c]).data, &y = b.require(argv[c]).data;
+      for (size_t i = 0; i < x.size(); ++i)
+        if (std::memcmp(&x[i], &y[i], sizeof(float)) != 0) {
+          fmt::print(stderr, "{}: pixel ({}, {}) is {} in {} but {} in {}\n", argv[c], i % a.width(), i / a.width(),
+                     x[i], argv[1], y[i], argv[2]);
+          return 1;
+        }
+      fmt::print("{}: {} pixels bit-identical\n", argv[c], x.size());
+    }
+    return 0;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "exr_channel_equal: {}\n", e.what());
+    return 2;
+  }
+}

@@ -1,0 +1,157 @@
+"""The installed Python module (ctest api-python, after api-install): frames bit for bit equal to the installed
+CLI's, channels as read-only numpy views that keep their frame alive, the GIL released while rendering, penumbra's
+errors as Python exceptions with the library's messages, and the stages on numpy arrays against numpy references."""
+import os
+import subprocess
+import threading
+import time
+import unittest
+
+import numpy as np
+import penumbra
+
+CLI = os.environ["PENUMBRA_TEST_CLI"]
+EXR_EQUAL = os.environ["PENUMBRA_TEST_EXR_EQUAL"]
+SCRATCH = os.environ["PENUMBRA_TEST_SCRATCH"]
+
+
+def box_blur_reference(image, radius):
+    """Clamp-to-edge box filter along rows, then columns, in double precision."""
+    out = image.astype(np.float64)
+    for axis in (1, 0):
+        padded = np.concatenate([np.repeat(np.take(out, [0], axis), radius, axis), out,
+                                 np.repeat(np.take(out, [-1], axis), radius, axis)], axis)
+        out = sum(np.take(padded, range(k, k + out.shape[axis]), axis) for k in range(2 * radius + 1))
+        out /= 2 * radius + 1
+    return out
+
+
+class Module(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        os.makedirs(SCRATCH, exist_ok=True)
+        cls.context = penumbra.Context()
+        cls.scene = penumbra.Scene("builtin:box")
+        cls.renderer = penumbra.Renderer(cls.context, cls.scene)
+
+    def camera(self, width, height):
+        camera = self.scene.default_camera()
+        camera.width, camera.height = width, height
+        return camera
+
+    def test_version_is_the_clis(self):
+        cli = subprocess.run([CLI, "--version"], check=True, capture_output=True, text=True).stdout.strip()
+        self.assertEqual(cli, "penumbra " + penumbra.__version__)
+
+    def test_frame_equals_the_clis_bit_for_bit(self):
+        frame = self.renderer.render("pcss", {"pcss-filter-taps": 6}, camera=self.camera(64, 48))
+        ours, theirs = os.path.join(SCRATCH, "python-pcss.exr"), os.path.join(SCRATCH, "cli-pcss.exr")
+        frame.save_exr(ours)
+        subprocess.run([CLI, "render", "builtin:box", "--size", "64x48", "-t", "pcss", "--pcss-filter-taps", "6",
+                        "-o", theirs, "--png", "none", "-q"], check=True)
+        subprocess.run([EXR_EQUAL, theirs, ours, "visibility.Y", "R", "depth.Z"], check=True)
+        self.assertEqual(frame.attribute("penumbra:technique"), "pcss")
+        self.assertEqual(frame.attribute("penumbra:version"), penumbra.__version__)
+
+    def test_channels_are_read_only_views_that_keep_the_frame(self):
+        frame = self.renderer.render("sm", camera=self.camera(40, 30))
+        visibility = frame["visibility.Y"]
+        self.assertEqual(visibility.shape, (30, 40))
+        self.assertEqual(visibility.dtype, np.float32)
+        self.assertFalse(visibility.flags.writeable)
+        self.assertFalse(visibility.flags.owndata)
+        self.assertIs(visibility.base, frame)  # zero-copy: the frame's own memory
+        copy = np.array(visibility)
+        del frame
+        np.testing.assert_array_equal(visibility, copy)  # still valid: the view keeps its frame
+        self.assertTrue(np.all((visibility >= 0) & (visibility <= 1)))
+        with self.assertRaises(ValueError):
+            visibility[0, 0] = 2.0
+
+    def test_render_releases_the_gil(self):
+        camera = self.camera(480, 360)
+        self.renderer.render("pcss", camera=camera)  # kernels built: the timed frames only render
+        start = time.perf_counter()
+        self.renderer.render("pcss", camera=camera)
+        duration = time.perf_counter() - start
+        worker = threading.Thread(target=self.renderer.render, args=("pcss",), kwargs={"camera": camera})
+        longest, last = 0.0, time.perf_counter()
+        worker.start()
+        while worker.is_alive():  # holding the GIL, render would stop this loop for its whole duration
+            now = time.perf_counter()
+            longest, last = max(longest, now - last), now
+        worker.join()
+        self.assertLess(longest, 0.5 * duration, f"the loop stalled {longest:.3f} s of a {duration:.3f} s render")
+
+    def test_errors_are_python_exceptions_with_the_librarys_messages(self):
+        with self.assertRaisesRegex(ValueError, r"^unknown technique 'nope' \(known: sm, pcf, pcss"):
+            self.renderer.render("nope")
+        with self.assertRaisesRegex(ValueError, r"--pcf-radius: 99 is outside \[0, 16\]"):
+            self.renderer.render("pcf", {"pcf-radius": 99})
+        with self.assertRaises(penumbra.SceneError) as caught:
+            penumbra.Scene("no/such/model.gltf")
+        self.assertIn("no/such/model.gltf", str(caught.exception))
+        self.assertIsInstance(caught.exception, penumbra.Error)
+        self.assertIsInstance(caught.exception, RuntimeError)
+        with self.assertRaises(penumbra.NoDeviceError):
+            penumbra.Context("no-such-device-anywhere")
+        light = penumbra.Light.parse("point:0,5,0")  # six cube faces
+        self.assertIn("visibility.Y", self.renderer.render("sm", lights=[light]).channel_names)
+
+    def test_a_context_on_existing_opencl_handles(self):
+        # The integer handles pyopencl's int_ptr would give; here those of another context's objects.
+        shared = penumbra.Context.from_cl(self.context.cl_context, self.context.cl_device, self.context.cl_queue)
+        self.assertEqual(shared.cl_queue, self.context.cl_queue)  # no second queue
+        ours = penumbra.Renderer(shared, self.scene).render("sm", camera=self.camera(40, 30))
+        theirs = self.renderer.render("sm", camera=self.camera(40, 30))
+        np.testing.assert_array_equal(ours["visibility.Y"], theirs["visibility.Y"])
+
+    def test_lights_with_their_own_techniques(self):
+        key, sun = penumbra.Light.parse("spot:2,6,1:0,0,0:50:0.3"), penumbra.Light.parse("dir:-0.3,-1,0.2:2")
+        key.name, sun.name = "Key", "Sun"
+        frame = self.renderer.render("sm", camera=self.camera(40, 30),
+                                     lights=[key, (sun, "pcf", {"pcf-radius": 1})])
+        self.assertEqual(frame.light_layers, ["Key", "Sun"])
+        self.assertIn("visibility.Sun.Y", frame)
+        self.assertIn("Sun=pcf", frame.attribute("penumbra:light-techniques"))
+
+    def test_stages_on_numpy_arrays(self):
+        rng = np.random.default_rng(5)
+        image = rng.random((23, 37), dtype=np.float32)
+        blurred = penumbra.blur(self.context, image, filter="box", radius=3)
+        np.testing.assert_allclose(blurred, box_blur_reference(image, 3), atol=2e-6)
+
+        table, offset = penumbra.sat(self.context, image, precision="float64")
+        np.testing.assert_allclose(table, image.astype(np.float64).cumsum(0).cumsum(1), rtol=1e-12)
+        fixed, _ = penumbra.sat(self.context, np.floor(image * 8), precision="fixed32", fraction_bits=0)
+        np.testing.assert_array_equal(fixed, np.floor(image * 8).astype(np.int64).cumsum(0).cumsum(1))
+
+        depth = rng.uniform(2, 10, (23, 37)).astype(np.float32)
+        moments = penumbra.moments(self.context, depth, kind="vsm", depth_near=2, depth_far=10)
+        z = (depth.astype(np.float64) - 2) / 8
+        np.testing.assert_allclose(moments, np.stack([z, z * z], -1), atol=1e-6, rtol=1e-6)
+        half = penumbra.moments(self.context, depth, kind="vsm", depth_near=2, depth_far=10, storage="float16")
+        self.assertEqual(half.dtype, np.float16)
+        np.testing.assert_allclose(half.astype(np.float64), np.stack([z, z * z], -1), rtol=1.0 / 2048, atol=1e-6)
+
+        levels = penumbra.minmax_pyramid(self.context, depth)
+        self.assertEqual([level.shape for level in levels], [(23, 37, 2), (11, 18, 2), (5, 9, 2), (2, 4, 2),
+                                                             (1, 2, 2), (1, 1, 2)])
+        self.assertEqual(levels[-1][0, 0, 0], depth.min())
+        self.assertEqual(levels[-1][0, 0, 1], depth.max())
+        even = rng.random((16, 20, 2), dtype=np.float32)
+        mips = penumbra.moment_mips(self.context, even)
+        np.testing.assert_allclose(mips[0], even.reshape(8, 2, 10, 2, 2).mean((1, 3)), atol=1e-6)
+
+        x, w = rng.random(5000, dtype=np.float32), rng.random(5000, dtype=np.float32)
+        stats = penumbra.lloyd_stats(self.context, x, w, np.array([0.5], np.float32))
+        low = x < 0.5
+        np.testing.assert_allclose(stats["sum_w"], [w[low].sum(), w[~low].sum()], rtol=1e-5)
+        np.testing.assert_array_equal(stats["samples"], [low.sum(), (~low).sum()])
+
+        with self.assertRaisesRegex(ValueError, "filter 'median' is not gaussian or box"):
+            penumbra.blur(self.context, image, filter="median")
+
+
+if __name__ == "__main__":
+    unittest.main()

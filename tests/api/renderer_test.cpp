@@ -1,0 +1,243 @@
+// The C API's renderer on the caller's context: frames as host channels and as cl_mem in the caller's cl_context
+// (the same values, rows bottom-up), snapshots that outlive their renderer, the same bits as on penumbra's own
+// context, the caller's reference counts where they began, and errors that say what is wrong.
+#include <penumbra/penumbra.h>
+
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "tests/api/caller_cl.h"
+
+namespace penumbra::test {
+namespace {
+
+constexpr int kWidth = 64, kHeight = 48;
+
+struct Rendered {
+  pn_scene* scene = nullptr;
+  pn_params* params = nullptr;
+  pn_renderer* renderer = nullptr;
+  ~Rendered() {
+    pn_renderer_release(renderer);
+    pn_params_release(params);
+    pn_scene_release(scene);
+  }
+};
+
+// builtin:box at 64x48 with `technique`, the scene's default camera and lights.
+pn_frame* renderBox(pn_context* ctx, const char* technique, Rendered& r) {
+  EXPECT_EQ(pn_scene_load("builtin:box", nullptr, &r.scene), PN_SUCCESS) << pn_last_error_message();
+  EXPECT_EQ(pn_params_create(technique, &r.params), PN_SUCCESS);
+  EXPECT_EQ(pn_renderer_create(ctx, r.scene, &r.renderer), PN_SUCCESS) << pn_last_error_message();
+  pn_camera camera;
+  EXPECT_EQ(pn_scene_default_camera(r.scene, &camera), PN_SUCCESS);
+  camera.width = kWidth, camera.height = kHeight;
+  pn_frame* frame = nullptr;
+  EXPECT_EQ(pn_renderer_render(r.renderer, &camera, nullptr, 0, r.params, &frame), PN_SUCCESS)
+      << pn_last_error_message();
+  return frame;
+}
+
+std::vector<float> channel(const pn_frame* frame, const char* name) {
+  const float* data = nullptr;
+  EXPECT_EQ(pn_frame_channel(frame, name, &data), PN_SUCCESS) << pn_last_error_message();
+  return data == nullptr ? std::vector<float>{} : std::vector<float>(data, data + size_t(kWidth) * kHeight);
+}
+
+std::vector<float> flipped(std::vector<float> rows) {
+  for (int y = 0; y < kHeight / 2; ++y)
+    std::swap_ranges(rows.begin() + y * kWidth, rows.begin() + (y + 1) * kWidth, rows.end() - (y + 1) * kWidth);
+  return rows;
+}
+
+bool sameBits(const std::vector<float>& a, const std::vector<float>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+TEST(ApiRenderer, FramesOnTheCallersContext) {
+  CallerCl cl;
+  const cl_uint context0 = references(cl.context), queue0 = references(cl.queue);
+  pn_context* ctx = nullptr;
+  PN_ASSERT_OK(pn_context_create_from_cl(cl.context, cl.device, cl.queue, &ctx));
+  pn_frame* frame = nullptr;
+  {
+    Rendered r;
+    frame = renderBox(ctx, "pcf", r);
+    ASSERT_NE(frame, nullptr);
+  }  // the frame outlives its renderer, scene and parameters
+  PN_ASSERT_OK(pn_context_release(ctx));
+  EXPECT_EQ(pn_frame_width(frame), kWidth);
+  EXPECT_EQ(pn_frame_height(frame), kHeight);
+  ASSERT_EQ(pn_frame_light_count(frame), 1u);
+  const std::string layer = pn_frame_light_layer(frame, 0);
+  const std::vector<float> visibility = channel(frame, "visibility.Y");
+  EXPECT_TRUE(sameBits(visibility, channel(frame, ("visibility." + layer + ".Y").c_str())));
+  EXPECT_STREQ(pn_frame_attribute(frame, "penumbra:technique"), "pcf");
+  EXPECT_STREQ(pn_frame_attribute(frame, "penumbra:version"), pn_version());
+  EXPECT_STREQ(pn_frame_attribute(frame, "penumbra:scene"), "builtin:box");
+  EXPECT_EQ(pn_frame_attribute(frame, "no-such-attribute"), nullptr);
+  for (size_t i = 0; i < pn_frame_pass_count(frame); ++i) {
+    double ms = -1;
+    PN_ASSERT_OK(pn_frame_pass(frame, i, nullptr, &ms));
+    EXPECT_EQ(ms, 0.0);  // the caller's queue has no profiling
+  }
+
+  cl_mem device = nullptr;
+  PN_ASSERT_OK(pn_frame_visibility_buffer(frame, 0, &device));
+  cl_context owner = nullptr;
+  clGetMemObjectInfo(device, CL_MEM_CONTEXT, sizeof(owner), &owner, nullptr);
+  EXPECT_EQ(owner, cl.context);
+  EXPECT_TRUE(sameBits(cl.read<float>(device, visibility.size()), flipped(visibility)));  // rows bottom-up
+  PN_ASSERT_OK(pn_frame_release(frame));
+  clFinish(cl.queue);
+  EXPECT_EQ(settled(cl.context, context0), context0);
+  EXPECT_EQ(settled(cl.queue, queue0), queue0);
+}
+
+TEST(ApiRenderer, TheSameBitsOnPenumbrasOwnContext) {
+  CallerCl cl;
+  pn_context *mine = nullptr, *theirs = nullptr;
+  PN_ASSERT_OK(pn_context_create(nullptr, &mine));
+  PN_ASSERT_OK(pn_context_create_from_cl(cl.context, cl.device, cl.queue, &theirs));
+  Rendered a, b;
+  pn_frame* own = renderBox(mine, "pcss", a);
+  pn_frame* caller = renderBox(theirs, "pcss", b);
+  ASSERT_NE(own, nullptr);
+  ASSERT_NE(caller, nullptr);
+  EXPECT_TRUE(sameBits(channel(own, "visibility.Y"), channel(caller, "visibility.Y")));
+  EXPECT_TRUE(sameBits(channel(own, "R"), channel(caller, "R")));
+  double total = 0;
+  for (size_t i = 0; i < pn_frame_pass_count(own); ++i) {
+    double ms = 0;
+    PN_ASSERT_OK(pn_frame_pass(own, i, nullptr, &ms));
+    total += ms;
+  }
+  EXPECT_GT(total, 0.0);  // penumbra's own queue profiles
+  pn_frame_release(own);
+  pn_frame_release(caller);
+  pn_context_release(mine);
+  pn_context_release(theirs);
+}
+
+// Each frame is a snapshot: the next render (another light) leaves the first frame's device copy alone.
+TEST(ApiRenderer, LightsTechniquesAndSnapshots) {
+  pn_context* ctx = nullptr;
+  PN_ASSERT_OK(pn_context_create(nullptr, &ctx));
+  Rendered r;
+  pn_frame* first = renderBox(ctx, "sm", r);
+  ASSERT_NE(first, nullptr);
+  cl_mem firstDevice = nullptr;
+  PN_ASSERT_OK(pn_frame_visibility_buffer(first, 0, &firstDevice));
+  const std::vector<float> before = channel(first, "visibility.Y");
+
+  pn_light key, sun;
+  PN_ASSERT_OK(pn_light_parse("spot:2,6,1:0,0,0:50:0.3", &key));
+  PN_ASSERT_OK(pn_light_parse("dir:-0.3,-1,0.2:2", &sun));
+  key.name = "Key", sun.name = "Sun";
+  pn_params* pcss = nullptr;
+  PN_ASSERT_OK(pn_params_create("pcss", &pcss));
+  PN_ASSERT_OK(pn_params_set(pcss, "pcss-filter-taps", "16"));
+  const pn_frame_light lights[] = {{&key, nullptr}, {&sun, pcss}};
+  pn_camera camera;
+  PN_ASSERT_OK(pn_camera_parse("6,5,8:0,0,0:40", &camera));
+  camera.width = 40, camera.height = 30;
+  pn_frame* second = nullptr;
+  PN_ASSERT_OK(pn_renderer_render(r.renderer, &camera, lights, 2, r.params, &second));
+  EXPECT_EQ(pn_frame_width(second), 40);
+  ASSERT_EQ(pn_frame_light_count(second), 2u);
+  EXPECT_STREQ(pn_frame_light_layer(second, 1), "Sun");
+  EXPECT_NE(std::string(pn_frame_attribute(second, "penumbra:light-techniques")).find("Sun=pcss"), std::string::npos);
+  const float* sunVisibility = nullptr;
+  PN_ASSERT_OK(pn_frame_channel(second, "visibility.Sun.Y", &sunVisibility));
+
+  std::vector<float> after(before.size());
+  clEnqueueReadBuffer(pn_context_cl_queue(ctx), firstDevice, CL_TRUE, 0, after.size() * sizeof(float), after.data(), 0,
+                      nullptr, nullptr);
+  EXPECT_TRUE(sameBits(after, flipped(before)));
+  pn_frame_release(first);
+  pn_frame_release(second);
+  pn_params_release(pcss);
+  pn_context_release(ctx);
+}
+
+TEST(ApiRenderer, ErrorsSayWhatIsWrong) {
+  pn_context* ctx = nullptr;
+  PN_ASSERT_OK(pn_context_create(nullptr, &ctx));
+  Rendered r;
+  pn_frame* frame = renderBox(ctx, "pcf", r);
+  ASSERT_NE(frame, nullptr);
+  const float* data = nullptr;
+  EXPECT_EQ(pn_frame_channel(frame, "visibility.Nope.Y", &data), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pn_last_error_message()).find("has no channel \"visibility.Nope.Y\" (it has R, G, B, A"),
+            std::string::npos)
+      << pn_last_error_message();
+  EXPECT_EQ(pn_params_set(r.params, "pcf-radius", "-3"), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pn_last_error_message()).find("--pcf-radius: -3 is outside"), std::string::npos)
+      << pn_last_error_message();
+  EXPECT_EQ(pn_params_set(r.params, "pcss-filter-taps", "4"), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_STREQ(pn_last_error_message(), "\"pcss-filter-taps\" is not a parameter of technique 'pcf'");
+
+  pn_light point, a, b;
+  PN_ASSERT_OK(pn_light_parse("point:0,5,0", &point));
+  pn_frame* none = nullptr;
+  const pn_frame_light points[] = {{&point, nullptr}};  // a point light renders as six cube faces
+  pn_frame* lit = nullptr;
+  PN_ASSERT_OK(pn_renderer_render(r.renderer, nullptr, points, 1, r.params, &lit));
+  const float* pointVisibility = nullptr;
+  EXPECT_EQ(pn_frame_channel(lit, "visibility.Y", &pointVisibility), PN_SUCCESS);
+  EXPECT_NE(pointVisibility, nullptr);
+  PN_ASSERT_OK(pn_frame_release(lit));
+  PN_ASSERT_OK(pn_light_parse("spot:0,5,0:0,0,0:40", &a));
+  PN_ASSERT_OK(pn_light_parse("spot:1,5,0:0,0,0:40", &b));
+  const pn_frame_light twins[] = {{&a, nullptr}, {&b, nullptr}};
+  EXPECT_EQ(pn_renderer_render(r.renderer, nullptr, twins, 2, r.params, &none), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pn_last_error_message()).find("has the layer \"light\" of an earlier light"),
+            std::string::npos);
+  EXPECT_EQ(pn_renderer_render(r.renderer, nullptr, twins, 1, nullptr, &none), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_STREQ(pn_last_error_message(), "pn_renderer_render: light 0 has no params and the call gives none");
+  EXPECT_EQ(none, nullptr);
+
+  pn_scene* scene = nullptr;
+  EXPECT_EQ(pn_scene_load("no/such/model.glb", nullptr, &scene), PN_ERROR_SCENE);
+  EXPECT_NE(std::string(pn_last_error_message()).find("no/such/model.glb"), std::string::npos);
+  pn_camera camera;
+  EXPECT_EQ(pn_camera_parse("1,2,3:1,2,3", &camera), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(pn_frame_save_exr(frame, "/no/such/dir/x.exr"), PN_ERROR_RUNTIME);
+  EXPECT_NE(std::string(pn_last_error_message()).find("/no/such/dir/x.exr"), std::string::npos);
+  pn_frame_release(frame);
+  pn_context_release(ctx);
+}
+
+TEST(ApiRenderer, TechniquesAndTheirParameters) {
+  ASSERT_GE(pn_technique_count(), 14u);
+  EXPECT_STREQ(pn_technique_name(0), "sm");
+  EXPECT_EQ(pn_technique_name(pn_technique_count()), nullptr);
+  const size_t count = pn_technique_param_count("pcf");
+  ASSERT_GT(count, 0u);
+  bool radius = false;
+  for (size_t i = 0; i < count; ++i) {
+    pn_param_info info;
+    PN_ASSERT_OK(pn_technique_param("pcf", i, &info));
+    radius = radius || std::string(info.name) == "pcf-radius";
+  }
+  EXPECT_TRUE(radius);
+  EXPECT_EQ(pn_technique_param_count("nope"), 0u);
+  pn_params* params = nullptr;
+  PN_ASSERT_OK(pn_params_create("pcf", &params));
+  PN_ASSERT_OK(pn_params_set(params, "pcf-radius", "3"));
+  double value = 0;
+  PN_ASSERT_OK(pn_params_get(params, "pcf-radius", &value));
+  EXPECT_EQ(value, 3.0);
+  EXPECT_NE(std::string(pn_params_describe(params)).find("pcf-radius=3"), std::string::npos);
+  pn_params_release(params);
+  PN_ASSERT_OK(pn_params_create("lvsm", &params));  // a text parameter: set as text, read through the description
+  PN_ASSERT_OK(pn_params_set(params, "lvsm-splits", "0.3,0.6"));
+  EXPECT_NE(std::string(pn_params_describe(params)).find("lvsm-splits=0.3,0.6"), std::string::npos);
+  EXPECT_EQ(pn_params_get(params, "lvsm-splits", &value), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_STREQ(pn_last_error_message(), "\"lvsm-splits\" is a text parameter (pn_params_describe shows its value)");
+  pn_params_release(params);
+}
+
+}  // namespace
+}  // namespace penumbra::test
