@@ -173,6 +173,35 @@ std::vector<glm::vec3> readVec3(const GltfContext& ctx, int index, const char* s
   return out;
 }
 
+std::vector<glm::vec2> readVec2(const GltfContext& ctx, int index, const std::string& semantic) {
+  const tinygltf::Accessor& a = accessorAt(ctx, index);
+  const int type = a.componentType;
+  const bool normalized =
+      a.normalized && (type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+  if (a.type != TINYGLTF_TYPE_VEC2 || !(normalized || (type == TINYGLTF_COMPONENT_TYPE_FLOAT && !a.normalized)))
+    failGltf(ctx,
+             fmt::format("accessor {}: {} must be VEC2 of FLOAT or of normalized UNSIGNED_BYTE or UNSIGNED_SHORT, "
+                         "got {} of {}{}",
+                         index, semantic, typeName(a.type), a.normalized ? "normalized " : "", componentName(type)));
+  const uint64_t size = type == TINYGLTF_COMPONENT_TYPE_FLOAT ? 4 : indexSize(type);
+  // Normalized unsigned integers are c / (2^bits - 1), as glTF defines them.
+  const auto load = [type, size](glm::vec2& v, const unsigned char* p) {
+    if (type == TINYGLTF_COMPONENT_TYPE_FLOAT) {
+      std::memcpy(&v, p, 8);
+      return;
+    }
+    const float scale = type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ? 255.0f : 65535.0f;
+    v = glm::vec2(static_cast<float>(readIndex(p, size)) / scale,
+                  static_cast<float>(readIndex(p + size, size)) / scale);
+  };
+  const Strided src = locateAccessor(ctx, index, a, 2 * size);
+  std::vector<glm::vec2> out(a.count, glm::vec2(0.0f));
+  if (src.data)
+    for (size_t i = 0; i < a.count; ++i) load(out[i], src.data + i * src.stride);
+  applySparse(ctx, index, a, 2 * size, out, load);
+  return out;
+}
+
 std::vector<uint32_t> readIndices(const GltfContext& ctx, int index) {
   const tinygltf::Accessor& a = accessorAt(ctx, index);
   const uint64_t size = indexSize(a.componentType);
