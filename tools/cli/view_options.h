@@ -1,6 +1,6 @@
-// The scene, camera, size and light options that `render` and `reference` share, and how they resolve: the
-// command line first, else the scene's (a scene file's or a glTF file's lights: all of them), else a view framing the
-// scene and a soft spot light above it.
+// The scene, camera, size, light and material options that `render`, `reference` and `bench` share, and how they
+// resolve: the command line first, else the scene's (a scene file's or a glTF file's lights: all of them), else a view
+// framing the scene and a soft spot light above it.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -10,14 +10,17 @@
 
 #include <fmt/format.h>
 
+#include "host/io/image.h"
 #include "host/scene/framing.h"
 #include "host/scene/light_names.h"
+#include "host/scene/load.h"
 #include "host/scene/scene.h"
 
 namespace penumbra::cli {
 
 struct ViewOptions {
   std::string scene, camera, size, light;
+  float blendCutoff = LoadOptions{}.blendCutoff;  // alphaMode BLEND's cutoff (drawn as MASK)
 };
 
 inline void addViewOptions(CLI::App* sub, ViewOptions& options) {
@@ -32,6 +35,26 @@ inline void addViewOptions(CLI::App* sub, ViewOptions& options) {
                   "spot:PX,PY,PZ:TX,TY,TZ:FOV_DEG[:RADIUS], dir:DX,DY,DZ[:ANGULAR_RADIUS_DEG], point:PX,PY,PZ[:RADIUS] "
                   "or gltf:INDEX|NAME, one of the scene's lights: one light instead of the default, every light of "
                   "the scene (or a framing spot light when it has none)");
+  sub->add_option("--blend-cutoff", options.blendCutoff,
+                  "Alpha cutoff of glTF alphaMode BLEND materials, which are drawn as MASK (shadows have no "
+                  "translucency)")
+      ->check(CLI::Range(0.0f, 1.0f))
+      ->capture_default_str();
+}
+
+// The scene the options name, loaded with their material options.
+inline Scene loadViewScene(const ViewOptions& options) {
+  LoadOptions load;
+  load.blendCutoff = options.blendCutoff;
+  return loadScene(options.scene, load);
+}
+
+// The materials line of the tools' summaries and the EXR header's penumbra:materials ("" without materials).
+inline void recordMaterials(const Scene& scene, Image& image) {
+  const std::string materials = describeMaterials(scene);
+  if (materials.empty()) return;
+  image.attributes()["penumbra:materials"] = materials;
+  image.numbers()["penumbra:alpha-texture-bytes"] = static_cast<double>(scene.alphaTexels.size());
 }
 
 // --camera gltf:KEY (findGltfCamera), --camera EX,..., else the scene's first camera, else the framing view. --size
