@@ -98,11 +98,13 @@ std::string describeMaterials(const Scene& scene) {
     ++count, mask += m.alphaMode == AlphaMode::kMask, blend += m.alphaMode == AlphaMode::kBlend;
     single += !m.doubleSided;
   }
+  const double bytes = static_cast<double>(scene.alphaTexels.size());
+  const std::string size =
+      bytes < (1 << 20) ? fmt::format("{:.1f} KiB", bytes / (1 << 10)) : fmt::format("{:.1f} MiB", bytes / (1 << 20));
   return fmt::format(
-      "{} material{} ({} MASK, {} BLEND as MASK, {} single-sided), {} alpha texture{}, {:.2f} MiB of "
-      "alpha texels",
-      count, count == 1 ? "" : "s", mask, blend, single, scene.alphaTextures.size(),
-      scene.alphaTextures.size() == 1 ? "" : "s", static_cast<double>(scene.alphaTexels.size()) / (1 << 20));
+      "{} material{} ({} MASK, {} BLEND as MASK, {} single-sided), {} alpha texture{}, {} of alpha texels", count,
+      count == 1 ? "" : "s", mask, blend, single, scene.alphaTextures.size(),
+      scene.alphaTextures.size() == 1 ? "" : "s", size);
 }
 
 const Camera& findGltfCamera(const Scene& scene, std::string_view key) {

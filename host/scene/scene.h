@@ -66,7 +66,7 @@ struct Scene {
 const Camera& findGltfCamera(const Scene& scene, std::string_view key);
 
 // One line on the materials its triangles use, as far as shadows care, for the tools' summaries and the EXR header:
-// "3 materials (1 MASK, 1 BLEND as MASK, 1 single-sided), 2 alpha textures, 1.00 MiB of alpha texels"; "" for a
+// "3 materials (1 MASK, 1 BLEND as MASK, 1 single-sided), 2 alpha textures, 1.5 MiB of alpha texels"; "" for a
 // scene without materials.
 std::string describeMaterials(const Scene& scene);
 
