@@ -65,6 +65,13 @@
 #define RASTER_SATURATED 0xffffffffu    // a queue offset past every capacity: write nothing
 #define RASTER_FLAG_VALID 1u            // RasterTriangle.flags: the record is drawn
 #define RASTER_FLAG_OWNS_EDGE0 2u       // edge k owns its samples (top-left): bit 1 << (k+1)
+#define RASTER_FLAG_ALPHA 16u           // alpha-tested: the fine stage samples its material's alpha before the depth test
+#define RASTER_FLAG_ALPHA_SHIFT 5       // flags >> 5: its RasterAlphaTriangle (so at most 2^27 alpha-tested triangles)
+// Per-triangle material bits (SceneBuffers::triangleBits, read by setup when RasterViewParams::triangleBits is set).
+#define RASTER_TRI_SINGLE_SIDED 1u  // culled when back-facing in views that cull single-sided triangles
+#define RASTER_TRI_ALPHA 2u         // alpha-tested; bits >> RASTER_TRI_ALPHA_SHIFT: its RasterAlphaTriangle
+#define RASTER_TRI_ALPHA_SHIFT 2
+#define RASTER_MAX_ALPHA_TRIANGLES (1u << (32 - RASTER_FLAG_ALPHA_SHIFT))  // alpha-tested triangles per scene
 
 // DepthMode (raster/rasterizer.h) as the kernels see it.
 #define RASTER_DEPTH_NDC 0       // window depth in [0, 1]

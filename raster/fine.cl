@@ -14,6 +14,11 @@
 // View depth is interpolated perspective-correctly from the integer edge values at the sample,
 //   v = sum(e_k * v_k / w_k) / sum(e_k / w_k)   (e_k >= 0 inside, so neither sum cancels),
 // in float: within 16 ulp of the exact value for the snapped triangle (measured <= 5; tests/raster_support.h).
+// Alpha-tested triangles (RASTER_FLAG_ALPHA, glTF MASK and BLEND): a covered sample that would win the depth test is
+// first alpha-tested at the pixel centre (raster/alpha.h) and discarded below its material's cutoff, so what lies
+// behind a hole wins instead; only those samples pay for the texture reads, and opaque records take the same path as
+// without alpha-tested triangles.
+#include "raster/alpha.h"
 #include "raster/constants.h"
 #include "raster/coverage.h"
 #include "raster/depth.h"
@@ -59,9 +64,17 @@ static inline int2 fineTile(const RasterViewParams* p, int index, __global const
 
 #if RASTER_WG_FINE == 0
 
-// Tests pixel (x, y) against one staged triangle and keeps it when it is nearer (or as near, with a smaller id).
-static void fineTest(__local const RasterTriangle* t, int x, int y, int sx, int sy, float farViewZ, float* best,
-                     uint* bestId) {
+// Alpha-tested triangles' data (raster/alpha.h), passed on to the sample tests.
+typedef struct {
+  __global const RasterAlphaTriangle* triangles;
+  __global const AlphaMaterial* materials;
+  __global const uchar* texels;
+} FineAlpha;
+
+// Tests pixel (x, y) against one staged triangle and keeps it when it is nearer (or as near, with a smaller id) and,
+// for an alpha-tested one, passes its alpha test.
+static void fineTest(__local const RasterTriangle* t, int x, int y, int sx, int sy, const RasterViewParams* p,
+                     const FineAlpha* alpha, float* best, uint* bestId) {
   if (x < t->bbox[0] || x > t->bbox[2] || y < t->bbox[1] || y > t->bbox[3]) return;
   const uint flags = t->flags;
   const long e0 = rasterEdgeAt(RASTER_EDGE_A(*t, 0), RASTER_EDGE_B(*t, 0), t->x[0], t->y[0], sx, sy);
@@ -71,17 +84,23 @@ static void fineTest(__local const RasterTriangle* t, int x, int y, int sx, int 
   const long e2 = rasterEdgeAt(RASTER_EDGE_A(*t, 2), RASTER_EDGE_B(*t, 2), t->x[2], t->y[2], sx, sy);
   if (!rasterEdgeAccepts(e2, flags, 2)) return;
   const float v = FINE_VIEW_Z((float)e0, (float)e1, (float)e2, vload3(0, t->viewZOverW), vload3(0, t->invW));
-  if (FINE_NEARER(v, t->triangleId, farViewZ, *best, *bestId)) {
-    *best = v;
-    *bestId = t->triangleId;
+  if (!FINE_NEARER(v, t->triangleId, p->farViewZ, *best, *bestId)) return;
+  if ((flags & RASTER_FLAG_ALPHA) != 0) {
+    const RasterAlphaFragment f =
+        rasterAlphaFragment(p, alpha->triangles, alpha->materials, flags >> RASTER_FLAG_ALPHA_SHIFT);
+    if (!rasterAlphaPasses(p, &f, alpha->texels, x, y)) return;
   }
+  *best = v;
+  *bestId = t->triangleId;
 }
 
 __kernel __attribute__((reqd_work_group_size(RASTER_FINE_WG, 1, 1))) void fine_raster(
     __global const RasterTriangle* tris, __global const uint* tileEntries, __global const uint* tileCount,
-    __global const uint* tileOffset, __global const uint* tileMask, __global float* depth, __global uint* triangleId,
-    const RasterViewParams p) {
+    __global const uint* tileOffset, __global const uint* tileMask, __global const RasterAlphaTriangle* alphaTriangles,
+    __global const AlphaMaterial* alphaMaterials, __global const uchar* alphaTexels, __global float* depth,
+    __global uint* triangleId, const RasterViewParams p) {
   __local RasterTriangle staged[RASTER_FINE_WG];
+  const FineAlpha alpha = {alphaTriangles, alphaMaterials, alphaTexels};
   const int lid = get_local_id(0);
   if (!fineDraws(&p, get_group_id(0), tileMask)) return;  // the whole work-group: no barrier is reached
   uint offset, count;
@@ -97,7 +116,7 @@ __kernel __attribute__((reqd_work_group_size(RASTER_FINE_WG, 1, 1))) void fine_r
     barrier(CLK_LOCAL_MEM_FENCE);
     const uint n = min((uint)RASTER_FINE_WG, count - base);
     if (live)
-      for (uint j = 0; j < n; ++j) fineTest(&staged[j], x, y, sx, sy, p.farViewZ, &best, &bestId);
+      for (uint j = 0; j < n; ++j) fineTest(&staged[j], x, y, sx, sy, &p, &alpha, &best, &bestId);
   }
   if (live) fineStore(&p, x, y, best, bestId, depth, triangleId);
 }
@@ -109,13 +128,26 @@ __kernel __attribute__((reqd_work_group_size(RASTER_FINE_WG, 1, 1))) void fine_r
 #endif
 #define RASTER_FINE_PREFETCH 8  // queue entries ahead whose record is prefetched (RASTER_PREFETCH_RECORD)
 
-// Depth-tests row r of the tile: the samples `inside` the triangle (mask), with edge values w0, w1, w2.
-static inline void fineKeepRow(int r, int8 inside, float8 w0, float8 w1, float8 w2, float3 viewZOverW, float3 invW,
-                               uint id, float farViewZ, float* best, uint* bestId) {
+// An alpha-tested triangle's fragment data for fineTestRows (null for other triangles).
+typedef struct {
+  const RasterViewParams* p;
+  RasterAlphaFragment fragment;
+  __global const uchar* texels;
+} FineAlphaRows;
+
+// Depth-tests row r of the tile: the samples `inside` the triangle (mask), with edge values w0, w1, w2; with `alpha`,
+// the samples that would be kept are alpha-tested first. Always inlined, so that the opaque call (alpha a constant
+// null) compiles to the test without it.
+static inline __attribute__((always_inline)) void fineKeepRow(int r, int8 inside, float8 w0, float8 w1, float8 w2,
+                                                              float3 viewZOverW, float3 invW, uint id, float farViewZ,
+                                                              int2 origin, const FineAlphaRows* alpha, float* best,
+                                                              uint* bestId) {
   const float8 v = FINE_VIEW_Z(w0, w1, w2, viewZOverW, invW);
   const float8 nearest = vload8(r, best);
   const uint8 nearestId = vload8(r, bestId);
-  const int8 keep = inside & FINE_NEARER(v, (uint8)id, farViewZ, nearest, nearestId);
+  int8 keep = inside & FINE_NEARER(v, (uint8)id, farViewZ, nearest, nearestId);
+  if (alpha != 0 && any(keep))
+    keep = rasterAlphaPassesRow(alpha->p, &alpha->fragment, alpha->texels, keep, origin.x, origin.y + r);
   vstore8(select(nearest, v, keep), r, best);
   vstore8(select(nearestId, (uint8)id, keep), r, bestId);
 }
@@ -123,8 +155,9 @@ static inline void fineKeepRow(int r, int8 inside, float8 w0, float8 w1, float8 
 // Tests the pixels of tile rows r0..r1 (origin: the tile's bottom-left pixel) against one triangle, a row of 8 pixels
 // as one OpenCL vector (explicit vectors: the loop vectorizer left the running minimum in masked stores, slower).
 // Per row the edge values start from the exact 64-bit value at the row's first sample and step by 256 a_k per pixel.
-static void fineTestRows(__global const RasterTriangle* t, int2 origin, int r0, int r1, float farViewZ, float* best,
-                         uint* bestId) {
+static inline __attribute__((always_inline)) void fineTestRows(__global const RasterTriangle* t, int2 origin, int r0,
+                                                               int r1, float farViewZ, const FineAlphaRows* alpha,
+                                                               float* best, uint* bestId) {
   const int x0 = t->x[0], x1 = t->x[1], x2 = t->x[2], y0 = t->y[0], y1 = t->y[1], y2 = t->y[2];
   const int a0 = y0 - y1, a1 = y1 - y2, a2 = y2 - y0, b0 = x1 - x0, b1 = x2 - x1, b2 = x0 - x2;  // coverage.h
   const long da0 = (long)a0 << RASTER_SUBPIXEL_LOG2, da1 = (long)a1 << RASTER_SUBPIXEL_LOG2;
@@ -146,14 +179,15 @@ static void fineTestRows(__global const RasterTriangle* t, int2 origin, int r0, 
     const int8 inside = inBox & convert_int8(RASTER_EDGE_PASSES(e0, owns0) & RASTER_EDGE_PASSES(e1, owns1) &
                                              RASTER_EDGE_PASSES(e2, owns2));
     fineKeepRow(r, inside, convert_float8(e0), convert_float8(e1), convert_float8(e2), viewZOverW, invW, id, farViewZ,
-                best, bestId);
+                origin, alpha, best, bestId);
   }
 }
 
 __kernel __attribute__((reqd_work_group_size(RASTER_WG_FINE, 1, 1))) void fine_raster(
     __global const RasterTriangle* tris, __global const uint* tileEntries, __global const uint* tileCount,
-    __global const uint* tileOffset, __global const uint* tileMask, __global float* depth, __global uint* triangleId,
-    const RasterViewParams p) {
+    __global const uint* tileOffset, __global const uint* tileMask, __global const RasterAlphaTriangle* alphaTriangles,
+    __global const AlphaMaterial* alphaMaterials, __global const uchar* alphaTexels, __global float* depth,
+    __global uint* triangleId, const RasterViewParams p) {
   const int index = get_global_id(0);
   const int tileRows = (p.rectY1 - 1) / RASTER_TILE_SIZE - p.tileY0 + 1;
   if (index >= p.tilesAcross * tileRows) return;  // padding of the last work-group
@@ -167,7 +201,15 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_FINE, 1, 1))) void fine_r
     if (j + RASTER_FINE_PREFETCH < count) RASTER_PREFETCH_RECORD(&tris[tileEntries[offset + j + RASTER_FINE_PREFETCH]]);
     __global const RasterTriangle* t = &tris[tileEntries[offset + j]];
     const int r0 = max((int)t->bbox[1] - origin.y, 0), r1 = min((int)t->bbox[3] - origin.y, RASTER_TILE_SIZE - 1);
-    fineTestRows(t, origin, r0, r1, p.farViewZ, best, bestId);
+    const uint flags = t->flags;
+    if ((flags & RASTER_FLAG_ALPHA) == 0) {
+      fineTestRows(t, origin, r0, r1, p.farViewZ, (const FineAlphaRows*)0, best, bestId);
+      continue;
+    }
+    FineAlphaRows alpha;
+    alpha.p = &p, alpha.texels = alphaTexels;
+    alpha.fragment = rasterAlphaFragment(&p, alphaTriangles, alphaMaterials, flags >> RASTER_FLAG_ALPHA_SHIFT);
+    fineTestRows(t, origin, r0, r1, p.farViewZ, &alpha, best, bestId);
   }
   const int live0 = max(p.rectX0 - origin.x, 0), live1 = min(p.rectX1 - origin.x, RASTER_TILE_SIZE);
   for (int r = 0; r < RASTER_TILE_SIZE; ++r) {  // the row's pixels inside the scissor: [live0, live1)

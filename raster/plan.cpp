@@ -122,7 +122,7 @@ WorkGroups workGroupsFor(const DeviceInfo& device) {
   return groups;
 }
 
-Plan makePlan(const RasterView& view, uint32_t triangleCount, uint32_t vertexCount) {
+Plan makePlan(const RasterView& view, uint32_t triangleCount, uint32_t vertexCount, const SceneMaterials& materials) {
   if (view.width < 1 || view.width > RASTER_MAX_VIEWPORT || view.height < 1 || view.height > RASTER_MAX_VIEWPORT)
     throw std::invalid_argument(fmt::format("raster view: size {}x{} outside 1x1 .. {}x{}", view.width, view.height,
                                             RASTER_MAX_VIEWPORT, RASTER_MAX_VIEWPORT));
@@ -139,7 +139,9 @@ Plan makePlan(const RasterView& view, uint32_t triangleCount, uint32_t vertexCou
   p.guardX = guardBand(view.width), p.guardY = guardBand(view.height);
   p.width = view.width, p.height = view.height;
   p.depthMode = mode;
-  p.cullBackFaces = view.cullBackFaces ? 1 : 0;
+  p.cullBackFaces = view.cullBackFaces || (view.cullSingleSided && materials.allSingleSided) ? 1 : 0;
+  p.cullSingleSided = !p.cullBackFaces && view.cullSingleSided && materials.anySingleSided ? 1 : 0;
+  p.triangleBits = materials.alphaTested || p.cullSingleSided ? 1 : 0;
   p.triangleCount = triangleCount, p.vertexCount = vertexCount;
   plan.pixels = static_cast<size_t>(view.width) * view.height;
   if (view.tileMask != nullptr) {

@@ -30,8 +30,19 @@ struct Plan {
   bool empty() const { return scissorPixels == 0; }
 };
 
+// What a draw needs to know of the uploaded scene's materials (Rasterizer::setScene).
+struct SceneMaterials {
+  bool alphaTested = false;     // some triangle is alpha-tested
+  bool anySingleSided = false;  // some triangle's material is single-sided
+  bool allSingleSided = false;  // every triangle's is
+  // Whether setup needs the per-triangle bits (RASTER_TRI_*) at all: alpha tests, or sidedness that differs.
+  bool needsTriangleBits() const { return alphaTested || (anySingleSided && !allSingleSided); }
+};
+
 // Validates `view` (std::invalid_argument naming the problem) and plans a draw of `triangleCount` triangles over
-// `vertexCount` vertices.
-Plan makePlan(const RasterView& view, uint32_t triangleCount, uint32_t vertexCount);
+// `vertexCount` vertices whose materials are `materials`: a view that culls single-sided triangles culls every back
+// face when all are single-sided, and reads the per-triangle bits when only some are.
+Plan makePlan(const RasterView& view, uint32_t triangleCount, uint32_t vertexCount,
+              const SceneMaterials& materials = {});
 
 }  // namespace penumbra::raster

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "host/cl/error.h"
+#include "raster/alpha_tables.h"
 #include "raster/plan.h"
 #include "raster/stages.h"
 
@@ -55,6 +56,7 @@ struct Rasterizer::Impl {
   explicit Impl(Context& context) : ctx(context), stages(context) { upload(Scene{}); }
 
   void upload(const Scene& scene);
+  void uploadMaterials(const Scene& scene);
   void run(const raster::Plan& plan, Buffer<float>& depth, Buffer<uint32_t>& triangleIds);
   void sizeQueues(const raster::Plan& plan);
   bool grow(const char* queue, const char* kernel, uint32_t& capacity, uint64_t requested, size_t recordBytes,
@@ -84,7 +86,26 @@ void Rasterizer::Impl::upload(const Scene& s) {
   std::vector<uint32_t> objectIds = s.objectIds;
   objectIds.resize(s.triangles.size(), 0);
   scene.objectIds = Buffer<uint32_t>(ctx, std::span<const uint32_t>(objectIds), CL_MEM_READ_ONLY);
+  uploadMaterials(s);
   capacitiesChosen = false;
+}
+
+// The alpha and sidedness tables (raster/alpha_tables.h); one placeholder entry each where a scene needs none.
+void Rasterizer::Impl::uploadMaterials(const Scene& s) {
+  raster::MaterialTables tables = raster::materialTables(s);
+  scene.materials = tables.summary;
+  if (tables.triangleBits.empty()) tables.triangleBits.assign(1, 0u);
+  if (tables.alphaTriangles.empty()) tables.alphaTriangles.assign(1, RasterAlphaTriangle{});
+  if (tables.materials.empty()) tables.materials.assign(1, AlphaMaterial{});
+  static constexpr uint8_t kNoTexel = 0;
+  const std::span<const uint8_t> texels = tables.summary.alphaTested && !s.alphaTexels.empty()
+                                              ? std::span<const uint8_t>(s.alphaTexels)
+                                              : std::span<const uint8_t>(&kNoTexel, 1);
+  scene.triangleBits = Buffer<uint32_t>(ctx, std::span<const uint32_t>(tables.triangleBits), CL_MEM_READ_ONLY);
+  scene.alphaTriangles =
+      Buffer<RasterAlphaTriangle>(ctx, std::span<const RasterAlphaTriangle>(tables.alphaTriangles), CL_MEM_READ_ONLY);
+  scene.alphaMaterials = Buffer<AlphaMaterial>(ctx, std::span<const AlphaMaterial>(tables.materials), CL_MEM_READ_ONLY);
+  scene.alphaTexels = Buffer<uint8_t>(ctx, texels, CL_MEM_READ_ONLY);
 }
 
 // Capacities: the caller's initial ones, else estimates from the scene and grid; then buffers to match.
@@ -173,14 +194,16 @@ const Buffer<uint32_t>& Rasterizer::objectIds() const { return impl_->scene.obje
 const RasterStats& Rasterizer::stats() const { return impl_->stats; }
 
 void Rasterizer::draw(const RasterView& view, RasterTargets& targets) {
-  const raster::Plan plan = raster::makePlan(view, impl_->scene.triangleCount, impl_->scene.vertexCount);
+  const raster::Plan plan =
+      raster::makePlan(view, impl_->scene.triangleCount, impl_->scene.vertexCount, impl_->scene.materials);
   ensureTarget(impl_->ctx, targets.depth, plan.pixels, std::numeric_limits<float>::infinity());
   ensureTarget(impl_->ctx, targets.triangleId, plan.pixels, kNoTriangle);
   impl_->run(plan, targets.depth, targets.triangleId);
 }
 
 void Rasterizer::drawGBuffer(const RasterView& view, GBuffer& g) {
-  const raster::Plan plan = raster::makePlan(view, impl_->scene.triangleCount, impl_->scene.vertexCount);
+  const raster::Plan plan =
+      raster::makePlan(view, impl_->scene.triangleCount, impl_->scene.vertexCount, impl_->scene.materials);
   if (view.tileMask != nullptr)  // gbuffer_resolve would read the untouched tiles' stale ids
     throw std::invalid_argument("raster view: a tile mask is for shadow-map draws, not the G-buffer");
   if (plan.params.generalProjection)  // the G-buffer reconstructs positions from separable pixel rays (depth.h)

@@ -1,6 +1,7 @@
 // The binned compute rasterizer's host interface (in the spirit of Laine & Karras, "High-Performance
 // Software Rasterization on GPUs", HPG 2011): triangle setup -> bin -> coarse -> fine, each stage its own
-// kernel file in raster/. Used for light-view depth maps and the camera's G-buffer.
+// kernel file in raster/. Used for light-view depth maps and the camera's G-buffer. Alpha-tested materials (glTF
+// MASK, BLEND drawn as MASK) discard fragments below their cutoff in every draw; opaque triangles draw as before.
 #pragma once
 
 #include <cstdint>
@@ -43,6 +44,9 @@ struct RasterView {
   int width = 0, height = 0;  // 1x1 .. 8192x8192
   DepthMode depthMode = DepthMode::kViewZ;
   bool cullBackFaces = false;      // counter-clockwise front faces
+  // Cull the back faces of triangles whose material is single-sided (glTF doubleSided false): the camera's G-buffer.
+  // Shadow maps leave it off: a caster blocks light whichever side faces the light (README, Double-sided).
+  bool cullSingleSided = false;
   std::optional<Scissor> scissor;  // pixels outside are left untouched
   // draw() only: one entry per 8x8 tile (RASTER_TILE_SIZE) of the viewport, row-major from the bottom row, at least
   // ceil(width / 8) * ceil(height / 8) of them; tiles whose entry is 0 are left untouched, like pixels outside the
@@ -94,7 +98,9 @@ class Rasterizer {
   Rasterizer(const Rasterizer&) = delete;
   Rasterizer& operator=(const Rasterizer&) = delete;
 
-  // Uploads the scene's world-space triangles once; later draws reuse them.
+  // Uploads the scene's world-space triangles once, with its alpha-tested triangles' texture coordinates, materials
+  // and alpha textures (the atlas: Scene::alphaTexels) and the per-triangle material bits when they are needed;
+  // later draws reuse them. Throws std::invalid_argument for inconsistent material data.
   void setScene(const Scene& scene);
 
   // Rasterizes into targets (allocated/resized as needed to view.width * view.height and cleared inside

@@ -138,8 +138,10 @@ static void setupVertexTermsVector(const real4* v, const RasterViewParams* p, fl
 #endif
 
 // Builds the record of one clip-space triangle; returns false (record invalid) when it is dropped: w <= 0,
-// zero snapped area, back-facing with culling on, or no pixel centre of the scissor inside its bounds.
-static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, uint id, RasterTriangle* r) {
+// zero snapped area, back-facing with `cull` set, or no pixel centre of the scissor inside its bounds. `alpha`: the
+// RASTER_FLAG_ALPHA bits of an alpha-tested triangle (0 for others), added to the flags of a drawn record.
+static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, uint id, bool cull, uint alpha,
+                      RasterTriangle* r) {
   r->flags = 0;
   r->triangleId = id;
   if (!(v0.w > 0 && v1.w > 0 && v2.w > 0)) return false;
@@ -152,7 +154,7 @@ static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, u
   int2 s[3] = {setupSnap(v0, sx, sy), setupSnap(v1, sx, sy), setupSnap(v2, sx, sy)};
 #endif
   long area = (long)(s[1].x - s[0].x) * (s[2].y - s[0].y) - (long)(s[2].x - s[0].x) * (s[1].y - s[0].y);
-  if (area == 0 || (p->cullBackFaces && area < 0)) return false;
+  if (area == 0 || (cull && area < 0)) return false;
   if (area < 0) {  // make it counter-clockwise: edge functions positive inside
     int2 ts = s[1];
     s[1] = s[2];
@@ -191,14 +193,14 @@ static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, u
     r->viewZOverW[k] = (float)(viewZ / v[o].w);
 #endif
   }
-  r->flags = flags;
+  r->flags = flags | alpha;
   return true;
 }
 
 // Near-plane and guard-band clipping into a fan: the first triangle goes to `out[t]`, the others are appended.
 // Returns how many are drawn.
-static uint setupClipped(real4 c0, real4 c1, real4 c2, const RasterViewParams* p, uint t, __global RasterTriangle* out,
-                         __global RasterCounters* counters) {
+static uint setupClipped(real4 c0, real4 c1, real4 c2, const RasterViewParams* p, uint t, bool cull, uint alpha,
+                         __global RasterTriangle* out, __global RasterCounters* counters) {
   real4 poly[RASTER_MAX_CLIP_VERTICES], next[RASTER_MAX_CLIP_VERTICES];
   poly[0] = c0, poly[1] = c1, poly[2] = c2;
   int n = 3;
@@ -214,10 +216,10 @@ static uint setupClipped(real4 c0, real4 c1, real4 c2, const RasterViewParams* p
     out[t] = r;
     return 0;
   }
-  drawn += setupEmit(poly[0], poly[1], poly[2], p, t, &r);
+  drawn += setupEmit(poly[0], poly[1], poly[2], p, t, cull, alpha, &r);
   out[t] = r;
   for (int k = 2; k + 1 < n; ++k) {
-    if (!setupEmit(poly[0], poly[k], poly[k + 1], p, t, &r)) continue;
+    if (!setupEmit(poly[0], poly[k], poly[k + 1], p, t, cull, alpha, &r)) continue;
     uint slot = atomic_inc(&counters->extraTriangles);
     if (slot < p->extraCapacity) out[p->triangleCount + slot] = r;
     ++drawn;
@@ -242,8 +244,18 @@ static bool setupOutside(real4 v, int plane) {  // trivial reject against the vi
   }
 }
 
-static uint setupTriangle(__global const float* positions, __global const uint* triangles, uint t,
-                          const RasterViewParams* p, __global RasterTriangle* out, __global RasterCounters* counters) {
+// The culling decision and the record's alpha flags from the triangle's material bits (RASTER_TRI_*).
+static bool setupCulls(const RasterViewParams* p, uint bits) {
+  return p->cullBackFaces || (p->cullSingleSided && (bits & RASTER_TRI_SINGLE_SIDED) != 0);
+}
+static uint setupAlphaFlags(uint bits) {
+  return (bits & RASTER_TRI_ALPHA) != 0 ? RASTER_FLAG_ALPHA | (bits >> RASTER_TRI_ALPHA_SHIFT) << RASTER_FLAG_ALPHA_SHIFT
+                                        : 0u;
+}
+
+static uint setupTriangle(__global const float* positions, __global const uint* triangles,
+                          __global const uint* triangleBits, uint t, const RasterViewParams* p,
+                          __global RasterTriangle* out, __global RasterCounters* counters) {
   RasterTriangle r;
   r.flags = 0;
   r.triangleId = t;
@@ -273,18 +285,22 @@ static uint setupTriangle(__global const float* positions, __global const uint* 
   for (int plane = 0; plane < RASTER_CLIP_PLANES; ++plane)
     clip = clip || setupPlaneDistance(c0, plane, gx, gy) < 0 || setupPlaneDistance(c1, plane, gx, gy) < 0 ||
            setupPlaneDistance(c2, plane, gx, gy) < 0;
-  if (clip) return setupClipped(c0, c1, c2, p, t, out, counters);
-  bool drawn = setupEmit(c0, c1, c2, p, t, &r);
+  const uint bits = p->triangleBits ? triangleBits[t] : 0u;
+  const bool cull = setupCulls(p, bits);
+  const uint alpha = setupAlphaFlags(bits);
+  if (clip) return setupClipped(c0, c1, c2, p, t, cull, alpha, out, counters);
+  bool drawn = setupEmit(c0, c1, c2, p, t, cull, alpha, &r);
   out[t] = r;
   return drawn ? 1 : 0;
 }
 
 // out: triangleCount + extraCapacity records. counters->extraTriangles must be 0 and counters->setUp 0 on entry.
+// triangleBits: one entry per triangle when p.triangleBits is set (else never read).
 __kernel __attribute__((reqd_work_group_size(RASTER_WG_SETUP, 1, 1))) void setup_triangles(
-    __global const float* positions, __global const uint* triangles, __global RasterTriangle* out,
-    __global RasterCounters* counters, const RasterViewParams p) {
+    __global const float* positions, __global const uint* triangles, __global const uint* triangleBits,
+    __global RasterTriangle* out, __global RasterCounters* counters, const RasterViewParams p) {
   const uint t = get_global_id(0), lid = get_local_id(0);
-  const uint n = t < p.triangleCount ? setupTriangle(positions, triangles, t, &p, out, counters) : 0;
+  const uint n = t < p.triangleCount ? setupTriangle(positions, triangles, triangleBits, t, &p, out, counters) : 0;
 #if RASTER_SETUP_VECTOR
   // CPUs run a work-group's items one after another: a plain sum by item 0 beats a locked add per item.
   __local uint drawnBy[RASTER_WG_SETUP];

@@ -51,9 +51,10 @@ void Stages::record(const Plan& plan, const SceneBuffers& scene, Queues& q, Buff
   q.binCount.fill(ctx_, 0u);
   q.binTileTotal.fill(ctx_, 0u);
   // Bytes floors (Kernel::moves): setup reads every vertex position and triangle's indices once (3 floats, 3
-  // uints); fine writes one depth and one triangle id per scissor pixel. Bins and tiles are data-dependent.
-  setup_.args(scene.positions, scene.triangles, q.records, q.counters, p)
-      .moves(uint64_t{scene.vertexCount} * 12 + uint64_t{scene.triangleCount} * 12)
+  // uints), and its material bits when the draw needs them (1 uint); fine writes one depth and one triangle id per
+  // scissor pixel. Bins, tiles and alpha-texture reads are data-dependent.
+  setup_.args(scene.positions, scene.triangles, scene.triangleBits, q.records, q.counters, p)
+      .moves(uint64_t{scene.vertexCount} * 12 + uint64_t{scene.triangleCount} * (p.triangleBits ? 16 : 12))
       .launch(scene.triangleCount, groups_.setup);
   binCount_.args(q.records, q.counters, q.binCount, p).launch(binItems, groups_.bin);
   binScan_.args(q.binCount, q.binOffset, q.binCursor, bins, q.counters, cl_uint{0})
@@ -62,7 +63,8 @@ void Stages::record(const Plan& plan, const SceneBuffers& scene, Queues& q, Buff
   if (plan.tileMask == nullptr && q.noTileMask.size() == 0) q.noTileMask.allocate(ctx_, 1);
   const Buffer<uint32_t>& mask = plan.tileMask != nullptr ? *plan.tileMask : q.noTileMask;
   coarse(plan, q, p, mask);
-  fine_.args(q.records, q.tileEntries, q.tileCount, q.tileOffset, mask, depth, triangleIds, p)
+  fine_.args(q.records, q.tileEntries, q.tileCount, q.tileOffset, mask, scene.alphaTriangles, scene.alphaMaterials,
+             scene.alphaTexels, depth, triangleIds, p)
       .moves(uint64_t{plan.scissorPixels} * (sizeof(float) + sizeof(uint32_t)))
       .launch(groups_.fine == 0 ? plan.launchedTiles * RASTER_FINE_WG : plan.launchedTiles,
               groups_.fine == 0 ? size_t{RASTER_FINE_WG} : groups_.fine);

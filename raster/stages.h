@@ -8,17 +8,25 @@
 #include "host/cl/buffer.h"
 #include "host/cl/context.h"
 #include "host/cl/kernel.h"
+#include "kernels/shared/alpha.h"
 #include "raster/plan.h"
 #include "raster/rasterizer.h"
 #include "raster/types.h"
 
 namespace penumbra::raster {
 
-// The scene on the device, flattened: 3 floats per position and normal, 3 indices per triangle.
+// The scene on the device, flattened: 3 floats per position and normal, 3 indices per triangle; the alpha-tested
+// triangles' records, their materials and the alpha atlas, and the per-triangle material bits (RASTER_TRI_*) when
+// materials.needsTriangleBits() (else each of these holds one unused entry: OpenCL has no empty buffers).
 struct SceneBuffers {
   Buffer<float> positions, normals;
   Buffer<uint32_t> triangles, objectIds;
+  Buffer<uint32_t> triangleBits;
+  Buffer<RasterAlphaTriangle> alphaTriangles;
+  Buffer<AlphaMaterial> alphaMaterials;
+  Buffer<uint8_t> alphaTexels;
   uint32_t vertexCount = 0, triangleCount = 0;
+  SceneMaterials materials;
 };
 
 // Queues of one draw. Per-bin arrays always hold RASTER_MAX_BINS entries; per-tile arrays at least plan.tiles.

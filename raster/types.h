@@ -1,6 +1,6 @@
-// Records shared by the rasterizer's host code and kernels (valid OpenCL C 1.2 and C++20): the set-up triangle,
-// the queue counters and the per-draw parameters. Only 4- and 8-byte scalars, ordered largest first, so both
-// compilers lay them out identically; the host static_asserts sizes and offsets.
+// Records shared by the rasterizer's host code and kernels (valid OpenCL C 1.2 and C++20): the set-up triangle, an
+// alpha-tested triangle's texture data, the queue counters and the per-draw parameters. Only 4- and 8-byte scalars,
+// ordered largest first, so both compilers lay them out identically; the host static_asserts sizes and offsets.
 #ifndef PENUMBRA_RASTER_TYPES_H
 #define PENUMBRA_RASTER_TYPES_H
 
@@ -30,9 +30,17 @@ typedef struct {
   float invW[3];          // 1 / w_clip of the vertex opposite edge k
   float viewZOverW[3];    // -z_eye / w_clip of the vertex opposite edge k (eye units)
   uint triangleId;        // index into Scene::triangles
-  uint flags;             // RASTER_FLAG_VALID | RASTER_FLAG_OWNS_EDGE0 << k
+  uint flags;             // RASTER_FLAG_VALID | RASTER_FLAG_OWNS_EDGE0 << k | RASTER_FLAG_ALPHA | alpha index << 5
   raster_ushort bbox[4];  // candidate pixels: x0, y0, x1, y1 inclusive, inside the scissor
 } RasterTriangle;
+
+// What the fine stage needs of an alpha-tested triangle, 64 bytes (one cache line): its world-space vertices (the pixel
+// centre's barycentrics come from their clip coordinates, raster/alpha.h), their texture coordinates and its material.
+typedef struct {
+  float position[9];  // vertices 0, 1, 2 of Scene::triangles, x y z each
+  float uv[6];        // their texture coordinates (Scene::uvs), u v each
+  uint material;      // index into the AlphaMaterial table (kernels/shared/alpha.h)
+} RasterAlphaTriangle;
 
 #if !PENUMBRA_HOST
 // Queues hold record indices in an order unrelated to the record buffer's, so on a CPU nearly every record read
@@ -82,6 +90,8 @@ typedef struct {
   uint tileCapacity;                   // tile queue entries
   int generalProjection;               // 1: a general projective matrix (kViewZ only): viewZGeneral, no far plane
   int tileMasked;                      // 1: only tiles whose tile-mask entry is nonzero are drawn (RasterView)
+  int triangleBits;                    // 1: setup reads the per-triangle material bits (RASTER_TRI_*)
+  int cullSingleSided;                 // 1: drop clockwise triangles whose bits say RASTER_TRI_SINGLE_SIDED
 } RasterViewParams;
 
 #if PENUMBRA_HOST
@@ -92,8 +102,9 @@ static_assert(offsetof(RasterTriangle, triangleId) == 48 && offsetof(RasterTrian
 static_assert(sizeof(RasterCounters) == 32 && offsetof(RasterCounters, extraTriangles) == 16);
 static_assert(offsetof(RasterViewParams, p00) == 112 && offsetof(RasterViewParams, viewZGeneral) == 168);
 static_assert(offsetof(RasterViewParams, width) == 192 && offsetof(RasterViewParams, generalProjection) == 284);
-static_assert(offsetof(RasterViewParams, tileMasked) == 288);
-static_assert(sizeof(RasterViewParams) == 292, "RasterViewParams layout must match OpenCL C");
+static_assert(offsetof(RasterViewParams, tileMasked) == 288 && offsetof(RasterViewParams, cullSingleSided) == 296);
+static_assert(sizeof(RasterViewParams) == 300, "RasterViewParams layout must match OpenCL C");
+static_assert(sizeof(RasterAlphaTriangle) == 64 && offsetof(RasterAlphaTriangle, uv) == 36);
 #endif
 
 #endif

@@ -114,6 +114,26 @@ expect gltf-camera-lispsm-ortho 0 "warning: --warp lispsm with an orthographic c
 sed 's/"yfov": 0.6/"yfov": 4/' "$scratch/cams.gltf" >"$scratch/badcam.gltf"
 expect gltf-camera-malformed 1 "badcam.gltf: /cameras/0/perspective/yfov: 4 radians is not below pi" -- "$bin" render \
   "$scratch/badcam.gltf" -o "$scratch/x.exr"
+# Alpha-tested materials: the triangle file with a MASK material whose texture's image is missing must fail with one
+# line naming the file, the image and the cause, and exit 1.
+sed 's/"indices": 2}]}]/"indices": 2, "material": 0}]}], "materials": [{"alphaMode": "MASK", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}], "textures": [{"source": 0}], "images": [{"uri": "missing.png"}]/' \
+  "$scratch/cams.gltf" >"$scratch/masked.gltf"
+out=$("$bin" render "$scratch/masked.gltf" -o "$scratch/x.exr" 2>&1)
+rc=$?
+if [ "$rc" -eq 1 ] && [ "$(printf '%s\n' "$out" | wc -l)" -eq 1 ] &&
+  grep -qE '^penumbra: .*masked.gltf: image 0 "missing.png": "missing.png": file not found' <<<"$out"; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1))
+  echo "FAIL alpha-missing-texture: exit $rc (want 1, one line naming masked.gltf and image 0), output:"
+  sed 's/^/    /' <<<"$out" | head -n 5
+fi
+expect blend-cutoff-range 2 "blend-cutoff" -- "$bin" render builtin:cards --blend-cutoff 1.5 -o "$scratch/x.exr"
+expect cards-render 0 "materials: 2 materials \(1 MASK, 0 BLEND as MASK, 0 single-sided\), 1 alpha texture" -- \
+  "$bin" render builtin:cards --size 64x48 -t pcf --map-size 256 -o "$scratch/cards.exr"
+expect cards-header 0 "penumbra:materials" -- grep -ao "penumbra:materials" "$scratch/cards.exr"
+expect cards-reference 0 "materials: 2 materials" -- "$bin" reference builtin:cards --size 32x24 --spp 16 \
+  -o "$scratch/cards-ref.exr"
 expect render-box 0 "wrote" -- "$bin" render builtin:box --size 64x48 -t pcss --map-size 256 -o "$scratch/box.exr"
 if [ ! -s "$scratch/box.exr" ] || [ ! -s "$scratch/box.png" ]; then
   failed=$((failed + 1))

@@ -200,7 +200,7 @@ inline RasterComparison compareWithReference(const RasterOutput& out, const RefR
       const bool tie = mine && want != kNoTriangle && std::abs(*mine - r.viewZ[i]) <= tieTol;
       const bool atFar = (want == kNoTriangle && mine && std::abs(*mine - farViewZ) <= tieTol) ||
                          (id == kNoTriangle && std::abs(r.viewZ[i] - farViewZ) <= tieTol);
-      if (tie || atFar)
+      if (tie || atFar || r.alphaBorder[i])
         ++c.ambiguous;
       else
         fail(x, y, fmt::format("triangle {} (depth {}) vs reference {} (view depth {})", id, d, want, r.viewZ[i]));

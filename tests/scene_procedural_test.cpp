@@ -43,7 +43,8 @@ TEST_P(ProceduralScenes, WellFormedClosedAndViewed) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Procedural, ProceduralScenes,
-                         ::testing::Values("box", "stacked-planes", "poles", "staircase", "single-triangle", "plane"),
+                         ::testing::Values("box", "stacked-planes", "poles", "staircase", "single-triangle", "plane",
+                                           "cards"),
                          [](const auto& test_info) {
                            std::string n = test_info.param;
                            std::replace(n.begin(), n.end(), '-', '_');
@@ -70,6 +71,24 @@ TEST(Procedural, StackedPlanesAreThreeLevels) {
   for (size_t t = 0; t < s.triangleCount(); t += 2) heights.push_back(s.positions[s.triangles[t].x].y);
   EXPECT_EQ(heights, (std::vector<float>{0.0f, 0.5f, 1.0f}));
   for (const glm::vec3& n : s.normals) EXPECT_EQ(n, glm::vec3(0, 1, 0));
+}
+
+TEST(Procedural, CardsCarryAHoledAlphaTexture) {
+  const Scene s = makeProcedural("cards", {{"count", 2}, {"holes", 2}, {"texels", 32}});
+  EXPECT_EQ(s.objectNames, (std::vector<std::string>{"ground", "card-0", "card-1"}));
+  ASSERT_EQ(s.materials.size(), 2u);
+  const Material& m = s.materials[1];
+  EXPECT_EQ(m.alphaMode, AlphaMode::kMask);
+  EXPECT_TRUE(m.mayDiscard() && m.needsUvs() && m.doubleSided);
+  EXPECT_EQ(s.materialIds, (std::vector<uint32_t>{0, 0, 1, 1, 1, 1}));
+  ASSERT_EQ(s.alphaTextures.size(), 1u);
+  EXPECT_EQ(s.alphaTexels.size(), 32u * 32u);
+  EXPECT_EQ(s.uvs.size(), s.positions.size());
+  // 2 x 2 holes of 16 texels: a hole's centre is transparent, the corners between holes opaque.
+  EXPECT_EQ(s.alphaTexels[8 * 32 + 8], 0);
+  EXPECT_EQ(s.alphaTexels[0], 255);
+  EXPECT_EQ(s.alphaTexels[16 * 32 + 16], 255);
+  EXPECT_NE(describeMaterials(s).find("1 MASK"), std::string::npos);
 }
 
 TEST(Procedural, PolesFieldHasLongDepthRange) {

@@ -49,10 +49,15 @@ template <class Error = SceneError, class Fn>
   return ::testing::AssertionFailure() << "did not throw";
 }
 
-// Sizes agree, indices and object ids are in range, positions are finite, normals finite and unit.
+// Sizes agree, indices, object and material ids are in range, positions are finite, normals finite and unit.
 inline ::testing::AssertionResult wellFormed(const Scene& s) {
   if (s.normals.size() != s.positions.size() || s.objectIds.size() != s.triangles.size())
     return ::testing::AssertionFailure() << "array sizes disagree";
+  if ((!s.materials.empty() && s.materialIds.size() != s.triangles.size()) ||
+      (!s.uvs.empty() && s.uvs.size() != s.positions.size()))
+    return ::testing::AssertionFailure() << "material ids or texture coordinates disagree with the geometry";
+  for (uint32_t id : s.materialIds)
+    if (id >= s.materials.size()) return ::testing::AssertionFailure() << "material id " << id << " out of range";
   for (const glm::uvec3& t : s.triangles)
     if (t.x >= s.positions.size() || t.y >= s.positions.size() || t.z >= s.positions.size())
       return ::testing::AssertionFailure() << "index out of range";

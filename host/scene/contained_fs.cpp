@@ -101,4 +101,13 @@ std::vector<unsigned char> FileReader::read(const fs::path& path) {
   return data;
 }
 
+void FileReader::claimTextureBytes(uint64_t bytes, const std::string& what) {
+  if (bytes > remainingTextureBytes_)
+    throw SceneError(
+        fmt::format("{}: its {} alpha texels would exceed the limit of {} bytes of decoded textures per "
+                    "load ({} used by earlier textures)",
+                    what, bytes, maxTextureBytes_, maxTextureBytes_ - remainingTextureBytes_));
+  remainingTextureBytes_ -= bytes;
+}
+
 }  // namespace penumbra::detail

@@ -27,17 +27,28 @@ std::filesystem::path resolveSceneModel(const std::filesystem::path& folder, std
 // path when it does not exist or is not a regular file.
 std::filesystem::path resolveUserFile(const std::string& path);
 
-// Reads whole files for one load, enforcing LoadOptions::maxFileBytes per file and maxTotalBytes overall.
+// Reads whole files for one load, enforcing LoadOptions::maxFileBytes per file and maxTotalBytes overall, and keeps
+// the load's budget of decoded alpha-texture bytes (LoadOptions::maxTextureBytes).
 class FileReader {
  public:
   explicit FileReader(const LoadOptions& options)
-      : maxFileBytes_(options.maxFileBytes), remainingBytes_(options.maxTotalBytes) {}
+      : maxFileBytes_(options.maxFileBytes),
+        remainingBytes_(options.maxTotalBytes),
+        maxTextureBytes_(options.maxTextureBytes),
+        remainingTextureBytes_(options.maxTextureBytes) {}
   // Throws SceneError (message without a file prefix) when the file is too big or cannot be read.
   std::vector<unsigned char> read(const std::filesystem::path& path);
+
+  // Takes `bytes` of decoded texels from the budget; throws SceneError (message without a file prefix, naming
+  // `what`) when they do not fit.
+  void claimTextureBytes(uint64_t bytes, const std::string& what);
+  uint64_t maxTextureBytes() const { return maxTextureBytes_; }
 
  private:
   uint64_t maxFileBytes_;
   uint64_t remainingBytes_;
+  uint64_t maxTextureBytes_;
+  uint64_t remainingTextureBytes_;
 };
 
 }  // namespace penumbra::detail

@@ -248,6 +248,22 @@ std::vector<glm::vec3> readVec3(const GltfContext& ctx, int index, const char* s
   return out;
 }
 
+std::vector<glm::vec2> readVec2(const GltfContext& ctx, int index, const std::string& semantic) {
+  const tinygltf::Accessor& a = accessorAt(ctx, index);
+  const int type = a.componentType;
+  const bool normalized =
+      a.normalized && (type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+  if (a.type != TINYGLTF_TYPE_VEC2 || !(normalized || (type == TINYGLTF_COMPONENT_TYPE_FLOAT && !a.normalized)))
+    failGltf(ctx,
+             fmt::format("accessor {}: {} must be VEC2 of FLOAT or of normalized UNSIGNED_BYTE or UNSIGNED_SHORT, "
+                         "got {} of {}{}",
+                         index, semantic, typeName(a.type), a.normalized ? "normalized " : "", componentName(type)));
+  const std::vector<float> values = readFloats(ctx, index, 2, true, semantic.c_str());  // the checks above first
+  std::vector<glm::vec2> out(values.size() / 2);
+  for (size_t i = 0; i < out.size(); ++i) out[i] = glm::vec2(values[2 * i], values[2 * i + 1]);
+  return out;
+}
+
 std::vector<uint32_t> readIndices(const GltfContext& ctx, int index) {
   const tinygltf::Accessor& a = accessorAt(ctx, index);
   const uint64_t size = indexSize(a.componentType);

@@ -30,6 +30,10 @@ const tinygltf::Accessor& accessorAt(const GltfContext& ctx, int index);
 // A VEC3 FLOAT accessor (POSITION, NORMAL); `semantic` names it in messages. Non-finite values are kept.
 std::vector<glm::vec3> readVec3(const GltfContext& ctx, int index, const char* semantic);
 
+// A VEC2 accessor of FLOAT, or of normalized UNSIGNED_BYTE / UNSIGNED_SHORT (TEXCOORD_n, glTF 2.0 sec. 3.7.2.1),
+// as floats in [0, 1] for the normalized ones; `semantic` names it in messages. Non-finite values are kept.
+std::vector<glm::vec2> readVec2(const GltfContext& ctx, int index, const std::string& semantic);
+
 // A SCALAR UNSIGNED_BYTE / UNSIGNED_SHORT / UNSIGNED_INT accessor, widened to 32 bits.
 std::vector<uint32_t> readIndices(const GltfContext& ctx, int index);
 

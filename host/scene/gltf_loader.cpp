@@ -1,8 +1,9 @@
 // glTF loading pipeline: read (contained, capped) -> GLB container check -> JSON schema and required
-// extensions -> tinygltf -> animations sampled at --time (gltf_animation.h) -> node forest -> primitives read once
-// per mesh (instances share them) -> limits checked -> every instance morphed and skinned where it must be
-// (gltf_deform.h) and transformed into world space -> the default scene's cameras (gltf_camera.h) and
-// KHR_lights_punctual lights (gltf_lights.h).
+// extensions -> tinygltf -> animations sampled at --time (gltf_animation.h) -> node forest -> materials (the alpha
+// textures of the alpha-tested ones the instances use, gltf_materials.h) -> primitives read once per mesh (instances
+// share them) -> limits checked -> every instance morphed and skinned where it must be (gltf_deform.h) and
+// transformed into world space -> the default scene's cameras (gltf_camera.h) and KHR_lights_punctual lights
+// (gltf_lights.h).
 #include "host/scene/gltf_loader.h"
 
 #include <cmath>
@@ -30,8 +31,8 @@ namespace {
 using PrimitiveKey = std::pair<int, int>;  // mesh, primitive
 using PrimitiveCache = std::map<PrimitiveKey, LocalPrimitive>;
 
-tinygltf::Model parseFile(const std::vector<unsigned char>& bytes, const std::filesystem::path& path,
-                          const std::string& display, const LoadOptions& options, FileReader& reader) {
+ParsedGltf parseFile(const std::vector<unsigned char>& bytes, const std::filesystem::path& path,
+                     const std::string& display, const LoadOptions& options, FileReader& reader) {
   const bool binary = hasGlbMagic(bytes) || path.extension() == ".glb" || path.extension() == ".GLB";
   const std::string_view json = binary ? parseGlb(bytes, display).json
                                        : std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
@@ -39,8 +40,20 @@ tinygltf::Model parseFile(const std::vector<unsigned char>& bytes, const std::fi
   return parseWithTinygltf(bytes, binary, path.parent_path(), reader, display, options);
 }
 
+// The materials the instanced meshes' primitives use (-1: some primitive has none).
+std::set<int> usedMaterials(const GltfContext& ctx, const std::vector<NodeInstance>& instances) {
+  std::set<int> used;
+  for (const NodeInstance& inst : instances) {
+    const int mesh = ctx.model.nodes[static_cast<size_t>(inst.node)].mesh;
+    if (mesh < 0 || static_cast<size_t>(mesh) >= ctx.model.meshes.size()) continue;
+    for (const auto& prim : ctx.model.meshes[static_cast<size_t>(mesh)].primitives) used.insert(prim.material);
+  }
+  return used;
+}
+
 // Reads each primitive of every instanced mesh once and checks the flattened totals against the limits.
-PrimitiveCache readPrimitives(const GltfContext& ctx, const std::vector<NodeInstance>& instances) {
+PrimitiveCache readPrimitives(const GltfContext& ctx, const std::vector<NodeInstance>& instances,
+                              const GltfMaterials& materials) {
   PrimitiveCache cache;
   uint64_t triangles = 0, vertices = 0;
   for (const NodeInstance& inst : instances) {
@@ -51,7 +64,7 @@ PrimitiveCache readPrimitives(const GltfContext& ctx, const std::vector<NodeInst
     for (size_t p = 0; p < ctx.model.meshes[static_cast<size_t>(mesh)].primitives.size(); ++p) {
       const PrimitiveKey key{mesh, static_cast<int>(p)};
       auto it = cache.find(key);
-      if (it == cache.end()) it = cache.emplace(key, readPrimitive(ctx, mesh, static_cast<int>(p))).first;
+      if (it == cache.end()) it = cache.emplace(key, readPrimitive(ctx, mesh, static_cast<int>(p), materials)).first;
       triangles += it->second.triangles.size();
       vertices += it->second.positions.size();
       if (triangles > ctx.options.maxTriangles || vertices > ctx.options.maxVertices)
@@ -69,18 +82,26 @@ std::string objectName(const tinygltf::Model& model, int node, int mesh, int pri
                      meshName.empty() ? std::to_string(mesh) : meshName, primitive);
 }
 
-void appendInstance(Scene& scene, const LocalPrimitive& prim, const glm::dmat4& world, uint32_t objectId) {
+// `uvs`: whether the scene keeps texture coordinates (zeros for primitives that read none).
+void appendInstance(Scene& scene, const LocalPrimitive& prim, const glm::dmat4& world, uint32_t objectId, bool uvs) {
   const size_t vbase = scene.positions.size(), tbase = scene.triangles.size();
   scene.positions.insert(scene.positions.end(), prim.positions.begin(), prim.positions.end());
   scene.normals.insert(scene.normals.end(), prim.normals.begin(), prim.normals.end());
+  if (uvs && prim.uvs.empty()) scene.uvs.resize(scene.positions.size(), glm::vec2(0.0f));
+  if (uvs && !prim.uvs.empty()) scene.uvs.insert(scene.uvs.end(), prim.uvs.begin(), prim.uvs.end());
   for (const glm::uvec3& t : prim.triangles) scene.triangles.push_back(t + glm::uvec3(static_cast<uint32_t>(vbase)));
   scene.objectIds.insert(scene.objectIds.end(), prim.triangles.size(), objectId);
+  scene.materialIds.insert(scene.materialIds.end(), prim.triangles.size(), prim.material);
   transformRange(scene, world, vbase, tbase);
 }
 
 Scene buildScene(const GltfContext& ctx, const std::vector<NodeInstance>& instances, const PrimitiveCache& cache,
-                 const std::vector<NodePose>& poses) {
+                 const std::vector<NodePose>& poses, GltfMaterials materials) {
   Scene scene;
+  const bool uvs = materials.needsUvs();
+  scene.materials = std::move(materials.materials);
+  scene.alphaTextures = std::move(materials.textures);
+  scene.alphaTexels = std::move(materials.texels);
   std::set<PrimitiveKey> warnedNormals;
   std::map<int, glm::dmat4> worlds;  // every flattened node's world matrix: skins' joints
   for (const NodeInstance& inst : instances) worlds.emplace(inst.node, inst.world);
@@ -101,7 +122,7 @@ Scene buildScene(const GltfContext& ctx, const std::vector<NodeInstance>& instan
       }
       const LocalPrimitive& prim = deformed ? own : read;
       const size_t vbase = scene.positions.size(), tbase = scene.triangles.size();
-      appendInstance(scene, prim, world, static_cast<uint32_t>(scene.objectNames.size()));
+      appendInstance(scene, prim, world, static_cast<uint32_t>(scene.objectNames.size()), uvs);
       scene.objectNames.push_back(objectName(ctx.model, inst.node, mesh, key.second));
       const size_t repaired = repairNormals(scene, vbase, tbase);
       if (repaired > 0 && warnedNormals.insert(key).second)
@@ -122,13 +143,15 @@ Scene buildScene(const GltfContext& ctx, const std::vector<NodeInstance>& instan
 Scene loadGltfResolved(const std::filesystem::path& path, const std::string& display, const LoadOptions& options,
                        FileReader& reader) {
   std::vector<unsigned char> bytes = reader.read(path);  // its errors name the path
-  const tinygltf::Model model = parseFile(bytes, path, display, options, reader);
+  const ParsedGltf parsed = parseFile(bytes, path, display, options, reader);
   bytes = {};
-  const GltfContext ctx{model, display, options};
+  const GltfContext ctx{parsed.model, display, options};
   const std::vector<NodePose> poses = evaluateAnimations(ctx);
   const std::vector<NodeInstance> instances = flattenNodes(ctx, poses);
-  const PrimitiveCache cache = readPrimitives(ctx, instances);
-  Scene scene = buildScene(ctx, instances, cache, poses);
+  const ImageSources images{parsed.dataUriImages, path.parent_path(), reader};
+  GltfMaterials materials = readMaterials(ctx, images, usedMaterials(ctx, instances));
+  const PrimitiveCache cache = readPrimitives(ctx, instances, materials);
+  Scene scene = buildScene(ctx, instances, cache, poses, std::move(materials));
   scene.lights = readLights(ctx, instances);
   if (scene.triangles.empty()) failGltf(ctx, "no triangles (nothing in the scene can cast or receive shadows)");
   scene.cameras = readGltfCameras(ctx, instances);

@@ -50,27 +50,53 @@ void checkPositions(const GltfContext& ctx, int accessor, const std::vector<glm:
   }
 }
 
-// No NORMAL: the spec asks for flat normals, so every triangle gets its own three vertices.
+// No NORMAL: the spec asks for flat normals, so every triangle gets its own three vertices (texture coordinates
+// follow them).
 void makeFlat(LocalPrimitive& p) {
   std::vector<glm::vec3> positions;
+  std::vector<glm::vec2> uvs;
   positions.reserve(p.triangles.size() * 3);
+  uvs.reserve(p.uvs.empty() ? 0 : p.triangles.size() * 3);
   p.normals.clear();
   p.normals.reserve(p.triangles.size() * 3);
   p.source.reserve(p.triangles.size() * 3);
   for (glm::uvec3& t : p.triangles) {
     const glm::vec3 n = faceNormal(p.positions[t.x], p.positions[t.y], p.positions[t.z]);
     const auto base = static_cast<uint32_t>(positions.size());
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k < 3; ++k) {
       positions.push_back(p.positions[t[k]]), p.normals.push_back(n), p.source.push_back(t[k]);
+      if (!p.uvs.empty()) uvs.push_back(p.uvs[t[k]]);
+    }
     t = glm::uvec3(base, base + 1, base + 2);
   }
   p.positions = std::move(positions);
+  p.uvs = std::move(uvs);
   p.flat = true;
+}
+
+// The texture coordinates an alpha-tested material reads (TEXCOORD_<texCoord>), checked against the positions.
+std::vector<glm::vec2> readUvs(const GltfContext& ctx, const tinygltf::Primitive& prim, const std::string& what,
+                               const GltfMaterials& materials, uint32_t material, size_t vertexCount) {
+  const Material& m = materials.materials[material];
+  const std::string semantic = fmt::format("TEXCOORD_{}", m.texCoord);
+  const auto it = prim.attributes.find(semantic);
+  if (it == prim.attributes.end())
+    failGltf(ctx, fmt::format("{}: material {} (\"{}\", alphaMode {}) reads {}, which the primitive does not have",
+                              what, material, m.name, alphaModeName(m.alphaMode), semantic));
+  std::vector<glm::vec2> uvs = readVec2(ctx, it->second, semantic);
+  if (uvs.size() != vertexCount)
+    failGltf(ctx, fmt::format("{}: {} has {} elements but POSITION has {}", what, semantic, uvs.size(), vertexCount));
+  for (size_t i = 0; i < uvs.size(); ++i)
+    if (!std::isfinite(uvs[i].x) || !std::isfinite(uvs[i].y))
+      failGltf(ctx,
+               fmt::format("accessor {}: {} {} is not finite ({}, {})", it->second, semantic, i, uvs[i].x, uvs[i].y));
+  return uvs;
 }
 
 }  // namespace
 
-LocalPrimitive readPrimitive(const GltfContext& ctx, int meshIndex, int primitiveIndex) {
+LocalPrimitive readPrimitive(const GltfContext& ctx, int meshIndex, int primitiveIndex,
+                             const GltfMaterials& materials) {
   const tinygltf::Primitive& prim =
       ctx.model.meshes[static_cast<size_t>(meshIndex)].primitives[static_cast<size_t>(primitiveIndex)];
   const std::string what = fmt::format("mesh {} primitive {}", meshIndex, primitiveIndex);
@@ -100,6 +126,9 @@ LocalPrimitive readPrimitive(const GltfContext& ctx, int meshIndex, int primitiv
     std::iota(indices.begin(), indices.end(), 0u);
   }
   out.triangles = assemble(ctx, what, prim.mode, indices);
+  out.material = prim.material >= 0 ? static_cast<uint32_t>(prim.material) : materials.defaultMaterial;
+  if (materials.materials[out.material].needsUvs())
+    out.uvs = readUvs(ctx, prim, what, materials, out.material, out.positions.size());
   const auto normal = prim.attributes.find("NORMAL");
   if (normal == prim.attributes.end()) {
     makeFlat(out);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <initializer_list>
 #include <numbers>
 #include <string_view>
 
@@ -167,17 +168,46 @@ struct Checker {
   void textureInfo(const Json& m, const char* key, const std::string& p) const {
     child(m, key, p, false, [&](const Json& t, const std::string& tp) {
       uint(t, "texCoord", tp), number(t, "scale", tp), number(t, "strength", tp), id(t, "index", "textures", tp, true);
+      if (!t.contains("extensions") || !t["extensions"].contains("KHR_texture_transform")) return;
+      const std::string xp = pointerTo(pointerTo(tp, "extensions"), "KHR_texture_transform");
+      const Json& x = t["extensions"]["KHR_texture_transform"];
+      numbers(x, "offset", 2, xp), number(x, "rotation", xp), numbers(x, "scale", 2, xp), uint(x, "texCoord", xp);
     });
+  }
+
+  // One of `allowed` at o[key] when present (glTF's enumerations of strings and integers).
+  template <class T>
+  void oneOf(const Json& o, const char* key, const std::string& ptr, std::initializer_list<T> allowed) const {
+    if (!o.contains(key)) return;
+    for (const T& a : allowed)
+      if (o[key] == a) return;
+    std::string list;
+    for (const T& a : allowed) list += fmt::format("{}{}", list.empty() ? "" : ", ", Json(a).dump());
+    fail(pointerTo(ptr, key), fmt::format("expected one of {}, got {}", list, brief(o[key])));
   }
 
   void material(const Json& m, const std::string& p) const {
     child(m, "pbrMetallicRoughness", p, false, [&](const Json& pbr, const std::string& pp) {
       numbers(pbr, "baseColorFactor", 4, pp), number(pbr, "metallicFactor", pp), number(pbr, "roughnessFactor", pp);
+      if (pbr.contains("baseColorFactor"))
+        for (size_t i = 0; i < 4; ++i)
+          if (!(pbr["baseColorFactor"][i].get<double>() >= 0.0 && pbr["baseColorFactor"][i].get<double>() <= 1.0))
+            fail(pointerTo(pointerTo(pp, "baseColorFactor"), i), "expected a number in [0, 1]");
       textureInfo(pbr, "baseColorTexture", pp), textureInfo(pbr, "metallicRoughnessTexture", pp);
     });
     textureInfo(m, "normalTexture", p), textureInfo(m, "occlusionTexture", p), textureInfo(m, "emissiveTexture", p);
-    numbers(m, "emissiveFactor", 3, p), string(m, "alphaMode", p), number(m, "alphaCutoff", p),
-        boolean(m, "doubleSided", p);
+    numbers(m, "emissiveFactor", 3, p), string(m, "alphaMode", p), boolean(m, "doubleSided", p);
+    oneOf<std::string>(m, "alphaMode", p, {"OPAQUE", "MASK", "BLEND"});
+    bounded(m, "alphaCutoff", p, false, 0.0, true);
+  }
+
+  // glTF 2.0 sec. 5.26: filters 9728 NEAREST, 9729 LINEAR, 9984..9987 the mipmapped ones (minFilter only); wraps
+  // 33071 CLAMP_TO_EDGE, 33648 MIRRORED_REPEAT, 10497 REPEAT.
+  void sampler(const Json& s, const std::string& p) const {
+    uint(s, "magFilter", p), uint(s, "minFilter", p), uint(s, "wrapS", p), uint(s, "wrapT", p);
+    oneOf<int>(s, "magFilter", p, {9728, 9729});
+    oneOf<int>(s, "minFilter", p, {9728, 9729, 9984, 9985, 9986, 9987});
+    oneOf<int>(s, "wrapS", p, {33071, 33648, 10497}), oneOf<int>(s, "wrapT", p, {33071, 33648, 10497});
   }
 
   // A number at o[key] above `lo` (or at least lo when `inclusive`), or missing when not `required`.
@@ -237,9 +267,7 @@ struct Checker {
     each(root, "images", "", [&](const Json& i, const std::string& p) {
       string(i, "uri", p), string(i, "mimeType", p), id(i, "bufferView", "bufferViews", p);
     });
-    each(root, "samplers", "", [&](const Json& s, const std::string& p) {
-      uint(s, "magFilter", p), uint(s, "minFilter", p), uint(s, "wrapS", p), uint(s, "wrapT", p);
-    });
+    each(root, "samplers", "", [&](const Json& s, const std::string& p) { sampler(s, p); });
     each(root, "cameras", "", [&](const Json& c, const std::string& p) { camera(c, p); });
     each(root, "skins", "", [](const Json&, const std::string&) {});
     each(root, "animations", "", [](const Json&, const std::string&) {});

@@ -1,6 +1,7 @@
 // tinygltf's implementation lives in this translation unit only (TINYGLTF_IMPLEMENTATION), built without
-// stb_image and without external images: this loader needs geometry, never pixels. Also holds the
-// file-system callbacks that keep buffer URIs inside the scene's folder.
+// stb_image and without external images: tinygltf decodes no pixels (gltf_images.cpp decodes the images alpha masks
+// need, with their URIs kept inside the scene's folder). Also holds the file-system callbacks that keep buffer URIs
+// inside the scene's folder.
 #define TINYGLTF_IMPLEMENTATION
 #define TINYGLTF_NO_STB_IMAGE
 #define TINYGLTF_NO_STB_IMAGE_WRITE
@@ -48,8 +49,12 @@ bool writeWholeFile(std::string* err, const std::string&, const std::vector<unsi
   return false;
 }
 
-// Images are neither decoded nor needed; accepting them keeps textured files loadable.
-bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+// Images are not decoded here; a data: URI's bytes are kept (tinygltf keeps no URI for it), others are left where they
+// are (a buffer view, a file).
+bool keepDataUriImage(tinygltf::Image* image, const int index, std::string*, std::string*, int, int,
+                      const unsigned char* bytes, int size, void* user) {
+  if (image->bufferView < 0 && size > 0)
+    (*static_cast<std::map<int, std::vector<unsigned char>>*>(user))[index].assign(bytes, bytes + size);
   return true;
 }
 
@@ -66,14 +71,15 @@ void forwardWarnings(const std::string& warn, const std::string& file, const Loa
 
 }  // namespace
 
-tinygltf::Model parseWithTinygltf(const std::vector<unsigned char>& bytes, bool binary, const fs::path& root,
-                                  FileReader& reader, const std::string& file, const LoadOptions& options) {
+ParsedGltf parseWithTinygltf(const std::vector<unsigned char>& bytes, bool binary, const fs::path& root,
+                             FileReader& reader, const std::string& file, const LoadOptions& options) {
   FsContext ctx{root, root.string(), &reader, {}};
   if (ctx.prefix.empty() || ctx.prefix.back() != '/') ctx.prefix += '/';
   tinygltf::TinyGLTF loader;
   loader.SetFsCallbacks({&fileExists, &expandFilePath, &readWholeFile, &writeWholeFile, &ctx});
-  loader.SetImageLoader(&ignoreImage, nullptr);
-  tinygltf::Model model;
+  ParsedGltf parsed;
+  loader.SetImageLoader(&keepDataUriImage, &parsed.dataUriImages);
+  tinygltf::Model& model = parsed.model;
   std::string err, warn;
   bool ok = false;
   try {
@@ -89,7 +95,9 @@ tinygltf::Model parseWithTinygltf(const std::vector<unsigned char>& bytes, bool 
     throw SceneError(fmt::format("{}: {}", file, firstLine(err)));
   }
   forwardWarnings(warn, file, options);
-  return model;
+  return parsed;
 }
+
+std::string decodeUri(const std::string& uri) { return tinygltf::dlib::urldecode(uri); }
 
 }  // namespace penumbra::detail

@@ -1,8 +1,10 @@
 // The one place that calls tinygltf (Debian's tiny_gltf.h 2.7): parsing with our own file-system
-// callbacks (contained, capped, read-only), no image decoding, and errors turned into SceneError.
+// callbacks (contained, capped, read-only), no image decoding (gltf_images.h decodes the few images alpha masks
+// need), and errors turned into SceneError.
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -13,10 +15,19 @@
 
 namespace penumbra::detail {
 
+struct ParsedGltf {
+  tinygltf::Model model;
+  // The encoded bytes of every image given as a data: URI, by image index (tinygltf decodes the base64 and keeps no
+  // URI for them). Images in buffer views are read from the buffer, external ones from their file, when needed.
+  std::map<int, std::vector<unsigned char>> dataUriImages;
+};
+
 // Parses a .gltf (binary == false) or a .glb whose container was already checked. External buffers are
 // read through `reader`, relative to `root` and contained in it. Warnings go to options.warn.
-tinygltf::Model parseWithTinygltf(const std::vector<unsigned char>& bytes, bool binary,
-                                  const std::filesystem::path& root, FileReader& reader, const std::string& file,
-                                  const LoadOptions& options);
+ParsedGltf parseWithTinygltf(const std::vector<unsigned char>& bytes, bool binary, const std::filesystem::path& root,
+                             FileReader& reader, const std::string& file, const LoadOptions& options);
+
+// A URI as tinygltf decodes buffer URIs before opening them (%XX escapes, '+' as a space), for image URIs alike.
+std::string decodeUri(const std::string& uri);
 
 }  // namespace penumbra::detail

@@ -24,7 +24,12 @@ struct LoadOptions {
   uint64_t maxTriangles = uint64_t{1} << 26;   // after instances are flattened (~3 GiB of scene)
   uint64_t maxVertices = uint64_t{1} << 27;    // after instances are flattened; indices are 32-bit
   uint64_t maxJsonValues = uint64_t{1} << 24;  // per JSON document: parsed JSON takes ~100 bytes per value
-  WarningSink warn;                            // empty: one line per warning on stderr
+  // Decoded alpha-texture bytes (one per texel) of all the textures one load keeps; more is an error naming the
+  // image. Also the bound on the texels of one image decoded on the way (pixels x channels). At most 2^32 - 1.
+  uint64_t maxTextureBytes = uint64_t{256} << 20;
+  // The cutoff of alphaMode BLEND materials, drawn as MASK (glTF has no cutoff for BLEND). In [0, 1].
+  float blendCutoff = 0.5f;
+  WarningSink warn;  // empty: one line per warning on stderr
   // glTF animation: the time in seconds at which the animations are evaluated (none: the file's static pose), and
   // which ones ("": every animation; else an animation's index or name).
   std::optional<double> time;

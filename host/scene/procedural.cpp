@@ -1,6 +1,6 @@
 // The built-in scenes. Each is built in world units (metres) on a ground at y = 0 with the light above,
-// and picks a camera that shows the shadow it exists for. Parameters are checked against a table, so the
-// help text, ranges and defaults live in one place.
+// and picks a camera that shows the shadow it exists for; `cards` carries its own alpha texture (no file needed).
+// Parameters are checked against a table, so the help text, ranges and defaults live in one place.
 #include "host/scene/procedural.h"
 
 #include <algorithm>
@@ -127,8 +127,51 @@ Scene plane(const Args& a) {
   return s;
 }
 
+// `holes` x `holes` round holes of radius 0.3 cells in a `size`^2 alpha texture: alpha 0.5 exactly on each circle,
+// rising linearly to 1 (0) half a texel outside (inside) it, so its LINEAR-filtered 0.5 contour is the circle.
+std::vector<uint8_t> holeTexture(int size, int holes) {
+  std::vector<uint8_t> texels(static_cast<size_t>(size) * size);
+  const double cell = static_cast<double>(size) / holes;  // texels per hole
+  for (int j = 0; j < size; ++j)
+    for (int i = 0; i < size; ++i) {
+      const double x = std::fmod((i + 0.5) / cell, 1.0) - 0.5, y = std::fmod((j + 0.5) / cell, 1.0) - 0.5;
+      const double outside = (std::sqrt(x * x + y * y) - 0.3) * cell;  // texels beyond the rim
+      texels[static_cast<size_t>(j) * size + i] =
+          static_cast<uint8_t>(std::lround(255.0 * std::clamp(0.5 + outside, 0.0, 1.0)));
+    }
+  return texels;
+}
+
+// Alpha-tested cards: `count` 2x2 horizontal cards at `height` in a row along x, each with `holes` x `holes` round
+// holes (one alpha texture spanning each card once, MASK at 0.5, LINEAR, REPEAT, double-sided) over a ground.
+Scene cards(const Args& a) {
+  Scene s;
+  const int count = static_cast<int>(a("count")), holes = static_cast<int>(a("holes"));
+  const int size = static_cast<int>(a("texels"));
+  const auto height = static_cast<float>(a("height"));
+  const float span = 2.6f * static_cast<float>(count);
+  ground(s, 0.5f * span + 2, -3, 3);
+  Material mask;
+  mask.name = "holes";
+  mask.alphaMode = AlphaMode::kMask;
+  mask.alphaTexture = 0;
+  s.alphaTextures.push_back(
+      {fmt::format("builtin {}x{} holes", holes, holes), static_cast<uint32_t>(size), static_cast<uint32_t>(size), 0});
+  s.alphaTexels = holeTexture(size, holes);
+  s.materials = {plainMaterial(), mask};
+  s.materialIds.assign(s.triangles.size(), 0);
+  for (int i = 0; i < count; ++i) {
+    const float x = (static_cast<float>(i) - 0.5f * static_cast<float>(count - 1)) * 2.6f;
+    detail::addTexturedQuad(s, addObject(s, fmt::format("card-{}", i)), 1, {x - 1, height, -1}, {x - 1, height, 1},
+                            {x + 1, height, 1}, {x + 1, height, -1});
+  }
+  s.cameras.push_back(camera({0.4f * span, height + 3.5f, 0.8f * span + 3}, {0, 0.3f * height, 0}));
+  s.lights.push_back(spot({0.3f, height + 4, 0.2f}, {0, 0, 0}, 100, 0.05f));
+  return s;
+}
+
 using Builder = Scene (*)(const Args&);
-const std::vector<Builder> kBuilders = {box, stackedPlanes, poles, staircase, singleTriangle, plane};
+const std::vector<Builder> kBuilders = {box, stackedPlanes, poles, staircase, singleTriangle, plane, cards};
 
 }  // namespace
 
@@ -156,6 +199,12 @@ const std::vector<ProceduralInfo>& proceduralScenes() {
         {"plate_gap", 0.75, 0.01, 100, false, "plate height above the top step"}}},
       {"single-triangle", "one triangle facing +Z", {}},
       {"plane", "just a ground plane under a sun (everything lit)", {{"size", 10, 0.1, 1000, false, "edge length"}}},
+      {"cards",
+       "alpha-tested cards with round holes above a ground plane (holed shadows; the ground seen through the holes)",
+       {{"count", 3, 1, 16, true, "cards in a row along X"},
+        {"holes", 3, 1, 32, true, "holes per card side"},
+        {"texels", 64, 4, 2048, true, "alpha texture size per side"},
+        {"height", 1.5, 0.05, 100, false, "card height above the ground"}}},
   };
   return kScenes;
 }

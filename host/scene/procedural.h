@@ -1,5 +1,5 @@
 // Built-in scenes for tests and the demo, each with a default camera and a soft-shadowing light:
-// box, stacked-planes, poles, staircase, single-triangle, plane.
+// box, stacked-planes, poles, staircase, single-triangle, plane, cards (alpha-tested).
 #pragma once
 
 #include <functional>

@@ -1,5 +1,7 @@
 // Building blocks for procedural geometry: objects, flat quads and triangles, closed axis-aligned boxes
-// and ground quads, all counter-clockwise seen from the side their normal points to.
+// and ground quads, all counter-clockwise seen from the side their normal points to. Added to a scene that has
+// materials (or texture coordinates), they keep Scene::materialIds (the plain material) and Scene::uvs (zeros) in
+// step.
 #pragma once
 
 #include <cstdint>
@@ -18,6 +20,11 @@ uint32_t addObject(Scene& scene, std::string name);
 void addTriangle(Scene& scene, uint32_t object, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c);
 void addQuad(Scene& scene, uint32_t object, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,
              const glm::vec3& d);
+
+// A quad (a, b, c, d) with texture coordinates (0, 0), (0, 1), (1, 1), (1, 0) at its corners and material `material`
+// of the scene (a card's alpha texture spans it once).
+void addTexturedQuad(Scene& scene, uint32_t object, uint32_t material, const glm::vec3& a, const glm::vec3& b,
+                     const glm::vec3& c, const glm::vec3& d);
 
 // A closed box [min, max]: 6 outward faces, 24 vertices, flat normals.
 void addBox(Scene& scene, uint32_t object, const glm::vec3& min, const glm::vec3& max);

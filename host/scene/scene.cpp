@@ -1,5 +1,5 @@
-// The flattened scene: its bounds, appending one scene to another (renumbering vertices and object ids)
-// and transforming its geometry.
+// The flattened scene: its bounds, appending one scene to another (renumbering vertices, object and material ids and
+// alpha textures), its materials' summary and transforming its geometry.
 #include "host/scene/scene.h"
 
 #include <algorithm>
@@ -18,10 +18,59 @@ Bounds Scene::bounds() const {
   return b;
 }
 
+namespace {
+
+// Gives a scene without materials one plain material for all its triangles, so it can join a scene that has some.
+Scene withMaterials(const Scene& s) {
+  Scene out;
+  out.materials = {plainMaterial()};
+  out.materialIds.assign(s.triangles.size(), 0);
+  return out;
+}
+
+void appendUvs(Scene& scene, const Scene& other, size_t vertexBase) {
+  if (scene.uvs.empty() && other.uvs.empty()) return;
+  scene.uvs.resize(vertexBase, glm::vec2(0.0f));  // a part without texture coordinates: zeros, never read
+  if (other.uvs.empty())
+    scene.uvs.resize(vertexBase + other.positions.size(), glm::vec2(0.0f));
+  else
+    scene.uvs.insert(scene.uvs.end(), other.uvs.begin(), other.uvs.end());
+}
+
+void appendMaterials(Scene& scene, const Scene& other) {
+  if (other.materials.empty() && (scene.materials.empty() || other.triangles.empty())) return;
+  if (scene.materials.empty() && !scene.triangles.empty()) {
+    Scene plain = withMaterials(scene);
+    scene.materials = std::move(plain.materials), scene.materialIds = std::move(plain.materialIds);
+  }
+  const Scene plain = other.materials.empty() ? withMaterials(other) : Scene{};
+  const Scene& source = other.materials.empty() ? plain : other;
+  const auto materialBase = static_cast<uint32_t>(scene.materials.size());
+  const auto textureBase = static_cast<int>(scene.alphaTextures.size());
+  for (Material m : source.materials) {
+    if (m.alphaTexture >= 0) m.alphaTexture += textureBase;
+    scene.materials.push_back(std::move(m));
+  }
+  for (uint32_t id : source.materialIds) scene.materialIds.push_back(id + materialBase);
+  for (AlphaTexture t : other.alphaTextures) {
+    t.offset += scene.alphaTexels.size();
+    scene.alphaTextures.push_back(std::move(t));
+  }
+  scene.alphaTexels.insert(scene.alphaTexels.end(), other.alphaTexels.begin(), other.alphaTexels.end());
+}
+
+}  // namespace
+
+bool Scene::anyMayDiscard() const {
+  return std::any_of(materials.begin(), materials.end(), [](const Material& m) { return m.mayDiscard(); });
+}
+
 void Scene::append(const Scene& other) {
   const size_t vertexBase = positions.size(), objectBase = objectNames.size();
   if (vertexBase + other.positions.size() > std::numeric_limits<uint32_t>::max())
     throw std::length_error("Scene::append: more than 2^32 - 1 vertices");
+  appendUvs(*this, other, vertexBase);
+  appendMaterials(*this, other);
   positions.insert(positions.end(), other.positions.begin(), other.positions.end());
   normals.insert(normals.end(), other.normals.begin(), other.normals.end());
   triangles.reserve(triangles.size() + other.triangles.size());
@@ -36,6 +85,26 @@ void Scene::append(const Scene& other) {
     cameras.push_back(std::move(c));
   }
   lights.insert(lights.end(), other.lights.begin(), other.lights.end());
+}
+
+std::string describeMaterials(const Scene& scene) {
+  if (scene.materials.empty()) return {};
+  std::vector<bool> used(scene.materials.size(), false);
+  for (uint32_t id : scene.materialIds) used[id] = true;
+  size_t count = 0, mask = 0, blend = 0, single = 0;
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    if (!used[i]) continue;
+    const Material& m = scene.materials[i];
+    ++count, mask += m.alphaMode == AlphaMode::kMask, blend += m.alphaMode == AlphaMode::kBlend;
+    single += !m.doubleSided;
+  }
+  const double bytes = static_cast<double>(scene.alphaTexels.size());
+  const std::string size =
+      bytes < (1 << 20) ? fmt::format("{:.1f} KiB", bytes / (1 << 10)) : fmt::format("{:.1f} MiB", bytes / (1 << 20));
+  return fmt::format(
+      "{} material{} ({} MASK, {} BLEND as MASK, {} single-sided), {} alpha texture{}, {} of alpha texels", count,
+      count == 1 ? "" : "s", mask, blend, single, scene.alphaTextures.size(),
+      scene.alphaTextures.size() == 1 ? "" : "s", size);
 }
 
 const Camera& findGltfCamera(const Scene& scene, std::string_view key) {

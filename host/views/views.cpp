@@ -80,6 +80,7 @@ RasterView cameraView(const Camera& camera, const Bounds& sceneBounds) {
   view.width = camera.width;
   view.height = camera.height;
   view.depthMode = DepthMode::kViewZ;
+  view.cullSingleSided = true;  // glTF's doubleSided false: the camera never sees such a triangle's back
   return view;
 }
 

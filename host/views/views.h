@@ -14,7 +14,7 @@ namespace penumbra {
 void setLightViewRows(pn_float4 rows[4], const glm::mat4& m);
 
 // The camera's raster view (perspective or orthographic) with near/far fitted to the bounds (near clamped to
-// far * 1e-4) and clipped to the camera's clipNear/clipFar.
+// far * 1e-4) and clipped to the camera's clipNear/clipFar; it culls the back faces of single-sided materials.
 RasterView cameraView(const Camera& camera, const Bounds& bounds);
 
 // The light's raster view (linear depth) for a square map of `size` texels, and the matching GPU struct.

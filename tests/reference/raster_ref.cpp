@@ -1,11 +1,14 @@
 // Naive reference rasterizer: clip (near plane, guard band), snap, orient, then test every pixel centre of each
 // triangle's box with exact 64-bit edge functions and the top-left rule; depth in double, perspective-correct
-// from eye-space z carried through clipping; nearest wins, ties to the smaller triangle id.
+// from eye-space z carried through clipping; alpha-tested fragments kept only where their alpha reaches the cutoff;
+// nearest wins, ties to the smaller triangle id.
 #include "tests/reference/raster_ref.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "tests/reference/alpha_ref.h"
 
 namespace penumbra::test {
 namespace {
@@ -50,7 +53,12 @@ RefRasterizer::RefRasterizer(const Scene& scene, const RasterView& view) : view_
   const glm::mat4 clip = rasterClipMatrix(view);
   const glm::dmat4 eye(view.view);
   byId_.resize(scene.triangles.size());
+  materials_ = scene.materials, textures_ = scene.alphaTextures, texels_ = scene.alphaTexels;
+  cull_.assign(scene.triangles.size(), view.cullBackFaces);
+  if (scene.anyMayDiscard()) alpha_.resize(scene.triangles.size());
   for (uint32_t t = 0; t < scene.triangles.size(); ++t) {
+    const Material* m = scene.materialOf(t);
+    if (m != nullptr && view.cullSingleSided && !m->doubleSided) cull_[t] = true;
     Vertex v[3];
     bool finite = true;
     for (int k = 0; k < 3; ++k) {
@@ -58,6 +66,17 @@ RefRasterizer::RefRasterizer(const Scene& scene, const RasterView& view) : view_
       finite = finite && std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
       v[k] = {clipRow(clip, 0, p), clipRow(clip, 1, p), clipRow(clip, 2, p), clipRow(clip, 3, p),
               (eye * glm::dvec4(glm::dvec3(p), 1.0)).z};
+    }
+    if (m != nullptr && m->mayDiscard()) {
+      AlphaTri& a = alpha_[t];
+      a.material = static_cast<int>(scene.materialIds[t]);
+      a.x = {v[0].x, v[1].x, v[2].x}, a.y = {v[0].y, v[1].y, v[2].y}, a.w = {v[0].w, v[1].w, v[2].w};
+      double largest = 0;
+      for (int k = 0; k < 3; ++k) {
+        a.uv[k] = scene.uvs.empty() ? glm::dvec2(0.0) : glm::dvec2(scene.uvs[scene.triangles[t][k]]);
+        largest = std::max({largest, std::abs(a.uv[k].x), std::abs(a.uv[k].y)});
+      }
+      a.slack = kUvSlack * (1 + largest);
     }
     if (finite) addTriangle(t, v);
   }
@@ -68,6 +87,7 @@ RefRasterizer::RefRasterizer(const Scene& scene, const RasterView& view) : view_
   r.viewZ.assign(pixels, kInf);
   r.depth.assign(pixels, kInf);
   r.coverage.assign(pixels, 0);
+  r.alphaBorder.assign(pixels, 0);
   const glm::dmat4 P(view.projection);
   const bool farPlane = separable(P);
   for (const Tri& t : tris_)
@@ -79,6 +99,10 @@ RefRasterizer::RefRasterizer(const Scene& scene, const RasterView& view) : view_
         ++r.coverage[i];
         const double zc = P[2][2] * -*z + P[3][2], wc = P[2][3] * -*z + P[3][3];
         if (farPlane && zc / wc > 1.0) continue;  // beyond the far plane
+        bool border = false;
+        const bool kept = alphaKeeps(t.id, x, y, &border);
+        r.alphaBorder[i] |= border;
+        if (!kept) continue;
         if (*z < r.viewZ[i] || (*z == r.viewZ[i] && t.id < r.triangleId[i])) r.viewZ[i] = *z, r.triangleId[i] = t.id;
       }
   for (int y = 0; y < r.height; ++y)
@@ -139,7 +163,7 @@ void RefRasterizer::addSnapped(uint32_t id, const Vertex& a, const Vertex& b, co
     t.w[k] = v[k]->w, t.eyeZ[k] = v[k]->eyeZ;
   }
   const int64_t area = orient(t.X[0], t.Y[0], t.X[1], t.Y[1], t.X[2], t.Y[2]);
-  if (area == 0 || (view_.cullBackFaces && area < 0)) return;
+  if (area == 0 || (cull_[id] && area < 0)) return;
   if (area < 0)
     std::swap(t.X[1], t.X[2]), std::swap(t.Y[1], t.Y[2]), std::swap(t.w[1], t.w[2]), std::swap(t.eyeZ[1], t.eyeZ[2]);
   const double minX = std::min({t.X[0], t.X[1], t.X[2]}), maxX = std::max({t.X[0], t.X[1], t.X[2]});
@@ -151,6 +175,27 @@ void RefRasterizer::addSnapped(uint32_t id, const Vertex& a, const Vertex& b, co
   if (t.x0 > t.x1 || t.y0 > t.y1) return;
   byId_[id].push_back(tris_.size());
   tris_.push_back(t);
+}
+
+// The pixel ray against the unsnapped triangle in homogeneous clip space: weights b with sum(b (x - xn w)) = 0 and
+// sum(b (y - yn w)) = 0, clamped to the triangle.
+bool RefRasterizer::alphaKeeps(uint32_t id, int x, int y, bool* border) const {
+  if (alpha_.empty() || alpha_[id].material < 0) return true;
+  const AlphaTri& a = alpha_[id];
+  const double xn = (2.0 * x + 1.0) / view_.width - 1.0, yn = (2.0 * y + 1.0) / view_.height - 1.0;
+  glm::dvec3 b = glm::cross(a.x - xn * a.w, a.y - yn * a.w);
+  b = glm::max(b / (b.x + b.y + b.z), glm::dvec3(0.0));
+  const double sum = b.x + b.y + b.z;
+  b = sum > 0 && std::isfinite(sum) ? b / sum : glm::dvec3(1.0 / 3.0);
+  const glm::dvec2 uv = b.x * a.uv[0] + b.y * a.uv[1] + b.z * a.uv[2];
+  const Material& m = materials_[static_cast<size_t>(a.material)];
+  const double coverage = ref::alphaCoverage(m, textures_, texels_, uv.x, uv.y), cutoff = ref::alphaCutoff(m);
+  const bool keep = coverage >= cutoff;
+  *border = std::abs(coverage - cutoff) < kAlphaBorder;
+  for (const glm::dvec2 d : {glm::dvec2(a.slack, 0), glm::dvec2(-a.slack, 0), glm::dvec2(0, a.slack),
+                             glm::dvec2(0, -a.slack)})
+    *border = *border || (ref::alphaCoverage(m, textures_, texels_, uv.x + d.x, uv.y + d.y) >= cutoff) != keep;
+  return keep;
 }
 
 std::optional<double> RefRasterizer::viewZAt(const Tri& t, int x, int y) const {

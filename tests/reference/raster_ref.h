@@ -19,11 +19,25 @@ struct RefRaster {
   std::vector<double> viewZ;         // -z_eye of the visible point, +inf for background
   std::vector<double> depth;         // per the view's DepthMode, +inf for background
   std::vector<int> coverage;         // how many drawn triangles cover each pixel centre (any depth)
+  // 1 where an alpha-tested triangle covering the pixel centre has an alpha that float and double may decide either
+  // way (kAlphaBorder, kUvSlack).
+  std::vector<uint8_t> alphaBorder;
   size_t index(int x, int y) const { return static_cast<size_t>(y) * width + x; }
 };
 
+// Where a fragment's alpha test may go either way between the kernels (float barycentrics and texture coordinates) and
+// this reference (double): an alpha within kAlphaBorder of the cutoff, or one that crosses it when the texture
+// coordinate moves by kUvSlack times (1 + the triangle's largest |coordinate|) along u or v (NEAREST at texel edges,
+// LINEAR on steep ramps). Float barycentrics from clip coordinates err by ~1e-6 relative; 1e-5 leaves room.
+inline constexpr double kAlphaBorder = 2e-3;
+inline constexpr double kUvSlack = 1e-5;
+
 class RefRasterizer {
  public:
+  // Alpha-tested triangles (Material::mayDiscard) are tested at each covered pixel centre with barycentrics of the
+  // pixel ray against the unsnapped triangle in double and the double alpha reference (tests/reference/alpha_ref.h);
+  // the rest is the opaque reference unchanged. Single-sided triangles are culled like back faces when
+  // view.cullSingleSided is set.
   RefRasterizer(const Scene& scene, const RasterView& view);
 
   const RefRaster& result() const { return result_; }
@@ -46,6 +60,16 @@ class RefRasterizer {
     int x0, y0, x1, y1;  // pixel box inside the scissor
   };
 
+  // An alpha-tested scene triangle: its vertices' clip coordinates, texture coordinates and material.
+  struct AlphaTri {
+    int material = -1;  // index into materials_; -1: opaque
+    glm::dvec3 x, y, w;
+    glm::dvec2 uv[3];
+    double slack = 0;  // kUvSlack * (1 + largest |coordinate|)
+  };
+  // Whether the fragment of scene triangle `id` at pixel (x, y) survives its alpha test; sets *border near the cutoff.
+  bool alphaKeeps(uint32_t id, int x, int y, bool* border) const;
+
   void addTriangle(uint32_t id, const Vertex (&v)[3]);
   void addSnapped(uint32_t id, const Vertex& a, const Vertex& b, const Vertex& c);
   std::optional<double> viewZAt(const Tri& t, int x, int y) const;
@@ -56,6 +80,11 @@ class RefRasterizer {
   size_t fanned_ = 0;
   std::vector<Tri> tris_;
   std::vector<std::vector<size_t>> byId_;
+  std::vector<AlphaTri> alpha_;  // per scene triangle when the scene has alpha-tested materials, else empty
+  std::vector<bool> cull_;       // per scene triangle: culled when back-facing
+  std::vector<Material> materials_;
+  std::vector<AlphaTexture> textures_;
+  std::vector<uint8_t> texels_;
   RefRaster result_;
 };
 

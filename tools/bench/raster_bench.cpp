@@ -1,7 +1,8 @@
 // Google Benchmark of the binned rasterizer (raster/): device time per kernel from OpenCL profiling events (warm-up
 // and queue growth excluded) and triangles/s, for shadow maps (orthographic light views) of FlightHelmet on a
 // ground plane, the 1M-triangle MetalRoughSpheres and a procedural 262k-triangle field of spheres, at 2048^2 and
-// 4096^2, plus a perspective camera view. Device: PENUMBRA_DEVICE (or "auto"). Scenes: PENUMBRA_SCENES_DIR, else
+// 4096^2, plus a perspective camera view; and the sphere field with every triangle alpha-tested (its cost beside the
+// opaque field's). Device: PENUMBRA_DEVICE (or "auto"). Scenes: PENUMBRA_SCENES_DIR, else
 // ../shared/scenes beside the source tree; missing files skip their cases.
 // Beside each case, peer_gl/<same name> (built when glvnd's OpenGL + EGL are found) draws the same triangles with the
 // same clip matrix depth-only through a headless OpenGL driver (tools/bench/gl_depth_peer.h): Mesa's llvmpipe on a
@@ -56,7 +57,34 @@ Scene withGround(Scene scene) {
   scene.triangles.emplace_back(base, base + 2, base + 3);
   scene.objectIds.resize(scene.triangles.size(), static_cast<uint32_t>(scene.objectNames.size()));
   scene.objectNames.push_back("ground");
+  if (!scene.materials.empty()) {  // a glTF scene's triangles have materials: the ground gets the plain one
+    scene.materialIds.resize(scene.triangles.size(), static_cast<uint32_t>(scene.materials.size()));
+    scene.materials.push_back(plainMaterial());
+  }
+  if (!scene.uvs.empty()) scene.uvs.resize(scene.positions.size(), glm::vec2(0.0f));
   return scene;
+}
+
+// The sphere field with every triangle alpha-tested (MASK, LINEAR, REPEAT): texture coordinates (phi / pi, theta / pi)
+// over a 64^2 checker of 8^2-texel squares, alpha 0 or 1, so about half of every sphere is cut away. Its cost beside
+// the opaque field's is the price of the alpha test.
+Scene maskedSphereField(Scene s) {
+  s.alphaTextures.push_back({"checker", 64, 64, 0});
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) s.alphaTexels.push_back(((x / 8 + y / 8) % 2) != 0 ? 255 : 0);
+  Material mask;
+  mask.name = "checker";
+  mask.alphaMode = AlphaMode::kMask;
+  mask.alphaTexture = 0;
+  s.materials = {mask};
+  s.materialIds.assign(s.triangles.size(), 0);
+  s.uvs.clear();
+  for (size_t i = 0; i < s.positions.size(); ++i) {
+    const glm::vec3 d = s.normals[i];  // the unit sphere direction of the vertex
+    s.uvs.emplace_back(std::atan2(d.z, d.x) / glm::pi<float>(), std::acos(std::clamp(d.y, -1.0f, 1.0f)) /
+                                                                      glm::pi<float>());
+  }
+  return s;
 }
 
 // 16 x 16 UV spheres of 16 x 32 quads, two triangles each (the pole ones degenerate): 262,144 triangles.
@@ -255,6 +283,10 @@ int main(int argc, char** argv) {
   for (const auto& [name, scene] : scenes)
     for (int size : {2048, 4096}) add("shadow/" + name, scene, lightView(*scene, size));
   for (const auto& [name, scene] : scenes) add("camera/" + name, scene, cameraView(*scene, 2048));
+  const auto masked = std::make_shared<const Scene>(maskedSphereField(sphereField()));
+  // No OpenGL peer: it draws depth only, without the alpha test.
+  addCase(ctx, "shadow/SphereField262kMasked", masked, lightView(*masked, 2048));
+  addCase(ctx, "camera/SphereField262kMasked", masked, cameraView(*masked, 2048));
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

@@ -94,8 +94,11 @@ std::string referenceKey(const BenchOptions& o, const Camera& camera, const std:
     area = area || light.isArea();
   }
   if (lights.size() == 1) forms = lights[0].describe();  // the single-light key as before: caches stay valid
-  return fmt::format("scene={} camera={} size={}x{} light={} spp={}", sceneProvenance(o.view), cameraProvenance(camera),
-                     camera.width, camera.height, forms, area ? o.spp : 1);
+  // A BLEND cutoff other than the default changes the scene: part of the key (absent otherwise, as before).
+  const std::string blend =
+      o.view.blendCutoff == LoadOptions{}.blendCutoff ? "" : fmt::format(" blend-cutoff={}", o.view.blendCutoff);
+  return fmt::format("scene={} camera={} size={}x{} light={} spp={}{}", sceneProvenance(o.view), cameraProvenance(camera),
+                     camera.width, camera.height, forms, area ? o.spp : 1, blend);
 }
 
 // The given reference, or the cached trace next to the output, or a fresh trace written there.
@@ -192,7 +195,7 @@ void printSummary(const BenchMeta& meta, const std::vector<BenchRow>& rows) {
 
 int run(const BenchOptions& o) {
   const std::vector<Job> jobs = planJobs(o);
-  const Scene scene = loadScene(o.view.scene, loadOptions(o.view));
+  const Scene scene = loadViewScene(o.view);
   const Camera camera = resolveCamera(o.view, scene);
   const std::vector<Light> lights = resolveLights(o.view, scene);
   for (const Job& job : jobs)  // before any work

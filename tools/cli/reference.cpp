@@ -29,6 +29,8 @@ void printSummary(const ReferenceOptions& options, const Context& ctx, const Sce
                   const std::vector<Light>& lights, const reference::ReferenceResult& r) {
   fmt::print("{} (reference) with G-buffer on {}: {}x{}, {} triangles\n", sceneProvenance(options.view),
              ctx.info().name, camera.width, camera.height, scene.triangleCount());
+  if (const std::string materials = describeMaterials(scene); !materials.empty())
+    fmt::print("materials: {}\n", materials);
   fmt::print("camera {}\n", cameraSummary(options.view, scene, camera));
   fmt::print("{}\n", describeLightChoice(options.view, scene, lights));
   fmt::print("  {:<22} {:>9.3f} s\n", "G-buffer (OpenCL)", r.rasterSeconds);
@@ -42,7 +44,7 @@ void printSummary(const ReferenceOptions& options, const Context& ctx, const Sce
 
 int run(const ReferenceOptions& options) {
   const ImageOutputPlan plan = planImageOutput(options.output);  // a bad -o is a usage error before any work
-  const Scene scene = loadScene(options.view.scene, loadOptions(options.view));
+  const Scene scene = loadViewScene(options.view);
   const Camera camera = resolveCamera(options.view, scene);
   const std::vector<Light> lights = resolveLights(options.view, scene);
   for (const Light& light : lights)
@@ -50,6 +52,7 @@ int run(const ReferenceOptions& options) {
   Context ctx(options.device);
   reference::ReferenceResult result = reference::renderReference(ctx, scene, camera, lights, options.trace);
   result.image.attributes()["penumbra:scene"] = sceneProvenance(options.view);
+  recordMaterials(scene, result.image);
 
   const std::string wrote = writeImageOutput(plan, result.image);
   if (!options.quiet) {

@@ -59,7 +59,7 @@ int run(const RenderOptions& options) {
   const ImageOutputPlan plan = planImageOutput(options.output);  // a bad -o is a usage error before any work
   const TechniqueInfo& technique = findTechnique(options.technique);
   const Params params = techniqueParams(technique, options.params);
-  const Scene scene = loadScene(options.view.scene, loadOptions(options.view));
+  const Scene scene = loadViewScene(options.view);
   const Camera camera = resolveCamera(options.view, scene);
   const std::vector<Light> lights = resolveLights(options.view, scene);
   const std::vector<FrameLight> frame = frameLights(options, lights, technique, params);
@@ -73,11 +73,14 @@ int run(const RenderOptions& options) {
   Renderer renderer(ctx, scene);
   RenderResult result = renderer.render(camera, frame);
   result.image.attributes()["penumbra:scene"] = sceneProvenance(options.view);
+  recordMaterials(scene, result.image);
 
   const std::string wrote = writeImageOutput(plan, result.image);
   if (!options.quiet) {
     fmt::print("{} on {}: {}x{}, {} triangles, technique {} ({})\n", sceneProvenance(options.view), ctx.info().name,
                camera.width, camera.height, scene.triangleCount(), technique.name, params.describe());
+    if (const std::string materials = describeMaterials(scene); !materials.empty())
+      fmt::print("materials: {}\n", materials);
     fmt::print("{}\n", describeLightChoice(options.view, scene, lights));
     for (const FrameLight& l : frame)
       if (!l.light.technique.empty())

@@ -1,6 +1,6 @@
-// The scene, camera, size and light options that `render` and `reference` share, and how they resolve: the
-// command line first, else the scene's (a scene file's or a glTF file's lights: all of them), else a view framing the
-// scene and a soft spot light above it.
+// The scene, camera, size, light and material options that `render`, `reference` and `bench` share, and how they
+// resolve: the command line first, else the scene's (a scene file's or a glTF file's lights: all of them), else a view
+// framing the scene and a soft spot light above it.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -10,8 +10,10 @@
 
 #include <fmt/format.h>
 
+#include "host/io/image.h"
 #include "host/scene/framing.h"
 #include "host/scene/light_names.h"
+#include "host/scene/load.h"
 #include "host/scene/load_options.h"
 #include "host/scene/scene.h"
 
@@ -22,6 +24,7 @@ struct ViewOptions {
   double time = 0.0;  // with timeGiven: glTF animations at this time (seconds)
   bool timeGiven = false;
   std::string animation;
+  float blendCutoff = LoadOptions{}.blendCutoff;  // alphaMode BLEND's cutoff (drawn as MASK)
 };
 
 inline void addViewOptions(CLI::App* sub, ViewOptions& options) {
@@ -45,6 +48,11 @@ inline void addViewOptions(CLI::App* sub, ViewOptions& options) {
   sub->add_option("--animation", options.animation,
                   "With --time: the one glTF animation to play, by index or name (default: every animation)")
       ->needs(time);
+  sub->add_option("--blend-cutoff", options.blendCutoff,
+                  "Alpha cutoff of glTF alphaMode BLEND materials, which are drawn as MASK (shadows have no "
+                  "translucency)")
+      ->check(CLI::Range(0.0f, 1.0f))
+      ->capture_default_str();
 }
 
 // The scene as the command line loads it, for EXR provenance and cache keys: the spec, then --time and --animation
@@ -55,12 +63,24 @@ inline std::string sceneProvenance(const ViewOptions& options) {
                      options.animation.empty() ? "" : " --animation " + options.animation);
 }
 
-// The scene loader's options these view options ask for (--time, --animation).
+// The scene loader's options these view options ask for (--time, --animation, --blend-cutoff).
 inline LoadOptions loadOptions(const ViewOptions& options) {
   LoadOptions load;
   if (options.timeGiven) load.time = options.time;
   load.animation = options.animation;
+  load.blendCutoff = options.blendCutoff;
   return load;
+}
+
+// The scene the options name, loaded with their loader options.
+inline Scene loadViewScene(const ViewOptions& options) { return loadScene(options.scene, loadOptions(options)); }
+
+// The materials line of the tools' summaries and the EXR header's penumbra:materials ("" without materials).
+inline void recordMaterials(const Scene& scene, Image& image) {
+  const std::string materials = describeMaterials(scene);
+  if (materials.empty()) return;
+  image.attributes()["penumbra:materials"] = materials;
+  image.numbers()["penumbra:alpha-texture-bytes"] = static_cast<double>(scene.alphaTexels.size());
 }
 
 // --camera gltf:KEY (findGltfCamera), --camera EX,..., else the scene's first camera, else the framing view. --size

@@ -16,6 +16,7 @@
 #include <string>
 #include <thread>
 
+#include "tools/reference/alpha_filter.h"
 #include "tools/reference/light_samples.h"
 
 namespace penumbra::reference {
@@ -57,6 +58,7 @@ struct ShadowTracer::Impl {
   std::string error;  // the first Embree error, from its callback
   float sceneRadius = 0;
   double buildSeconds = 0;
+  std::unique_ptr<AlphaFilter> alpha;  // read by the geometry's filter functions
 
   static void onError(void* self, RTCError code, const char* message) {
     auto* impl = static_cast<Impl*>(self);
@@ -82,6 +84,8 @@ void ShadowTracer::Impl::build(const Scene& source) {
     for (int c = 0; c < 3; ++c) vertices[3 * i + c] = source.positions[i][c];
   for (size_t i = 0; i < source.triangles.size(); ++i)
     for (int c = 0; c < 3; ++c) indices[3 * i + c] = source.triangles[i][c];
+  alpha = std::make_unique<AlphaFilter>(device, source);
+  alpha->attach(mesh);
   rtcCommitGeometry(mesh);
   rtcAttachGeometry(scene, mesh);
   rtcReleaseGeometry(mesh);
@@ -229,6 +233,24 @@ TraceResult ShadowTracer::trace(std::span<const ShadowPoint> points, const Light
   result.seconds = secondsSince(start);
   impl_->check("tracing");
   return result;
+}
+
+std::vector<uint32_t> ShadowTracer::firstHits(std::span<const glm::vec3> origins,
+                                               std::span<const glm::vec3> directions) const {
+  if (origins.size() != directions.size()) throw std::invalid_argument("firstHits: origins and directions differ");
+  std::vector<uint32_t> hits(origins.size(), kNoHit);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  for (size_t i = 0; i < origins.size(); ++i) {
+    const glm::vec3 o = origins[i], d = directions[i];
+    RTCRayHit rh{};
+    rh.ray = RTCRay{o.x, o.y, o.z, 0.0f, d.x, d.y, d.z, 0.0f, std::numeric_limits<float>::infinity(), 0xffffffffu, 0u, 0u};
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(impl_->scene, &context, &rh);
+    if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) hits[i] = rh.hit.primID;
+  }
+  impl_->check("tracing primary rays");
+  return hits;
 }
 
 }  // namespace penumbra::reference

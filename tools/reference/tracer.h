@@ -1,6 +1,7 @@
 // Ray-traced shadow visibility with Embree (occlusion queries, rtcOccluded1M): the ground truth the shadow
 // techniques are measured against. Soft lights use stratified samples in independent replicates, so each point
-// gets an unbiased standard error of its own estimate. Embree stays inside this target (penumbra::reference).
+// gets an unbiased standard error of its own estimate. Alpha-tested materials' holes let rays through as they let
+// the rasterizer's fragments (alpha_filter.h). Embree stays inside this target (penumbra::reference).
 #pragma once
 
 #include <cstdint>
@@ -55,6 +56,12 @@ class ShadowTracer {
   ShadowTracer& operator=(const ShadowTracer&) = delete;
 
   TraceResult trace(std::span<const ShadowPoint> points, const Light& light, const TraceSettings& settings) const;
+
+  // The nearest triangle along each ray (origin, unit direction; kNoHit where none), with the camera's G-buffer rules:
+  // alpha-tested triangles' holes let rays through and single-sided triangles are not hit from behind. Shadow rays
+  // (trace) see through the same holes and hit both sides. One thread; for checking G-buffers.
+  static constexpr uint32_t kNoHit = 0xffffffffu;
+  std::vector<uint32_t> firstHits(std::span<const glm::vec3> origins, std::span<const glm::vec3> directions) const;
 
   double buildSeconds() const;
   // World distance each ray origin is moved off its surface at point p: kRayOffset * max(|p|_inf, scene radius)

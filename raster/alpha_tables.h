@@ -1,0 +1,27 @@
+// The host side of the rasterizer's alpha tests and sidedness: from a Scene's materials, the per-triangle material
+// bits setup reads (RASTER_TRI_*), the records of the alpha-tested triangles the fine stage reads (RasterAlphaTriangle)
+// and one AlphaMaterial per material (kernels/shared/alpha.h), checked against the scene.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "host/scene/scene.h"
+#include "kernels/shared/alpha.h"
+#include "raster/plan.h"
+#include "raster/types.h"
+
+namespace penumbra::raster {
+
+struct MaterialTables {
+  SceneMaterials summary;
+  std::vector<uint32_t> triangleBits;               // one per triangle when summary.needsTriangleBits(), else empty
+  std::vector<RasterAlphaTriangle> alphaTriangles;  // the triangles whose material may discard, in scene order
+  std::vector<AlphaMaterial> materials;             // one per Scene::materials entry
+};
+
+// Throws std::invalid_argument ("raster scene: ...") for material ids, texture coordinates or alpha textures that
+// do not match the scene, or more alpha-tested triangles than RASTER_MAX_ALPHA_TRIANGLES.
+MaterialTables materialTables(const Scene& scene);
+
+}  // namespace penumbra::raster
