@@ -14,7 +14,10 @@
 #include <nlohmann/json.hpp>
 
 #include "host/eval/metrics.h"
+#include "host/pipeline/renderer.h"
 #include "host/scene/gltf_loader.h"
+#include "host/scene/light_names.h"
+#include "host/techniques/registry.h"
 #include "host/techniques/technique.h"
 #include "scene_test_util.h"
 #include "tests/support/analytic_scenes.h"
@@ -176,6 +179,58 @@ TEST_F(GltfLightsRender, FilePointLightWithTheFilesCameraMatchesTheReference) {
     EXPECT_EQ(ours.image.attributes().at("penumbra:light-name"), "Bulb");
     EXPECT_NE(ours.image.attributes().at("penumbra:cube").find("-Y"), std::string::npos);
     EXPECT_NE(ours.image.attributes().at("penumbra:cube").find("+X"), std::string::npos);
+  }
+}
+
+// The file: a camera and a spot, a directional and a point light (all hard), rendered with nothing given but
+// the image size: every light of the file in one frame, each in its own layer, each matching its layer of the
+// reference traced for the same lights.
+TEST_F(GltfLightsRender, FileWithCameraSpotSunAndPointMatchesTheReferencePerLight) {
+  const test::TempDir dir("penumbra_gltf_three_lights");
+  std::vector<glm::vec3> soup;
+  test::addQuadY(soup, 0.0f, 4.0f);
+  test::addBox(soup, {0.8f, 0.9f, -0.6f}, {1.8f, 1.0f, 0.6f});
+  test::GltfBuilder b(soup);
+  const int camera = b.addCamera(
+      {{"type", "perspective"}, {"perspective", {{"yfov", 1.0}, {"aspectRatio", 4.0 / 3}, {"znear", 0.1}}}});
+  const double s = std::sin(glm::radians(-25.0)), c = std::cos(glm::radians(-25.0));
+  b.addNode({{"camera", camera}, {"translation", {0.5, 4.5, 7.0}}, {"rotation", {s, 0, 0, c}}});
+  b.doc()["extensionsUsed"] = {"KHR_lights_punctual"};
+  b.doc()["extensions"]["KHR_lights_punctual"]["lights"] = {
+      {{"type", "spot"}, {"name", "Key"}, {"spot", {{"outerConeAngle", 1.0}}}},
+      {{"type", "directional"}, {"name", "Sun"}},
+      {{"type", "point"}, {"name", "Bulb"}}};
+  const double q = std::sqrt(0.5);  // -90 degrees about +X: local -Z (the spot's axis) to world -Y
+  b.addNode({{"translation", {-1.0, 5.0, 0.5}},
+             {"rotation", {-q, 0, 0, q}},
+             {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  b.addNode({{"rotation", {-0.35, 0.1, 0, 0.93}}, {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
+  b.addNode({{"translation", {0.3, 2.2, 0.1}}, {"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}});
+  const Scene scene = loadGltf(b.write(dir.path(), "three"));
+  ASSERT_EQ(scene.lights.size(), 3u);
+  ASSERT_EQ(scene.cameras.size(), 1u);
+  Camera view = scene.cameras[0];
+  view.width = 160, view.height = 120;
+  const TechniqueInfo& sm = findTechnique("sm");
+  std::vector<FrameLight> frame;
+  for (const Light& light : scene.lights) {
+    Params params(sm.params);
+    params.set("map-size", "512");
+    frame.push_back({light, &sm, params});
+  }
+  Renderer renderer(ctx(), scene);
+  const Image ours = renderer.render(view, frame).image;
+  const reference::ReferenceResult ref = reference::renderReference(ctx(), scene, view, scene.lights, {});
+  for (const Light& light : scene.lights) {
+    CompareSpec spec;
+    spec.channel = lightChannel("visibility", light.name);
+    spec.mask = lightChannel("lit", light.name);
+    const ErrorMetrics m = compareImages(ours, ref.image, spec);
+    EXPECT_GT(m.pixels, 3000u) << light.name;
+    EXPECT_LT(m.mae, 0.01) << light.name;  // hard lights: sm differs only along the shadows' edge pixels
+    EXPECT_LT(m.off, 0.02) << light.name;
+    const auto& v = ours.require(spec.channel).data;
+    EXPECT_LT(*std::min_element(v.begin(), v.end()), 0.5f) << light.name << ": the slab shadows the ground";
   }
 }
 
