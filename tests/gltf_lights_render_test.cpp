@@ -135,9 +135,8 @@ TEST_F(GltfLightsRender, PreviewFadesAPointLightOutAtItsRange) {
   EXPECT_EQ(full.require("visibility.Y").data, vis);
 }
 
-// A 8x8 ground, a slab floating above it, a perspective camera and a point light of radius 0.1 (extras) above the
-// slab's inner edge, so that the slab's shadow crosses the edge between the light's -Y and +X cube faces.
-Scene pointLightScene(const fs::path& dir) {
+// A 8x8 ground, a slab floating above it and a perspective camera looking down at both; the caller adds lights.
+test::GltfBuilder slabWithCamera() {
   std::vector<glm::vec3> soup;
   test::addQuadY(soup, 0.0f, 4.0f);
   test::addBox(soup, {0.8f, 0.9f, -0.6f}, {1.8f, 1.0f, 0.6f});
@@ -147,6 +146,12 @@ Scene pointLightScene(const fs::path& dir) {
   const double s = std::sin(glm::radians(-25.0)), c = std::cos(glm::radians(-25.0));
   b.addNode({{"camera", camera}, {"translation", {0.5, 4.5, 7.0}}, {"rotation", {s, 0, 0, c}}});
   b.doc()["extensionsUsed"] = {"KHR_lights_punctual"};
+  return b;
+}
+
+// slabWithCamera with a point light of radius 0.1 (extras) above the slab's inner edge, so that the slab's shadow crosses the edge between the light's -Y and +X cube faces.
+Scene pointLightScene(const fs::path& dir) {
+  test::GltfBuilder b = slabWithCamera();
   b.doc()["extensions"]["KHR_lights_punctual"]["lights"] = {
       {{"type", "point"}, {"name", "Bulb"}, {"extras", {{"penumbra", {{"radius", 0.1}}}}}}};
   b.addNode({{"translation", {0.3, 2.2, 0.1}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
@@ -187,15 +192,7 @@ TEST_F(GltfLightsRender, FilePointLightWithTheFilesCameraMatchesTheReference) {
 // reference traced for the same lights.
 TEST_F(GltfLightsRender, FileWithCameraSpotSunAndPointMatchesTheReferencePerLight) {
   const test::TempDir dir("penumbra_gltf_three_lights");
-  std::vector<glm::vec3> soup;
-  test::addQuadY(soup, 0.0f, 4.0f);
-  test::addBox(soup, {0.8f, 0.9f, -0.6f}, {1.8f, 1.0f, 0.6f});
-  test::GltfBuilder b(soup);
-  const int camera = b.addCamera(
-      {{"type", "perspective"}, {"perspective", {{"yfov", 1.0}, {"aspectRatio", 4.0 / 3}, {"znear", 0.1}}}});
-  const double s = std::sin(glm::radians(-25.0)), c = std::cos(glm::radians(-25.0));
-  b.addNode({{"camera", camera}, {"translation", {0.5, 4.5, 7.0}}, {"rotation", {s, 0, 0, c}}});
-  b.doc()["extensionsUsed"] = {"KHR_lights_punctual"};
+  test::GltfBuilder b = slabWithCamera();
   b.doc()["extensions"]["KHR_lights_punctual"]["lights"] = {
       {{"type", "spot"}, {"name", "Key"}, {"spot", {{"outerConeAngle", 1.0}}}},
       {{"type", "directional"}, {"name", "Sun"}},
