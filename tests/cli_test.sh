@@ -277,10 +277,12 @@ expect luksch-eval-table 0 "^\| box-sun \| parallel \| [0-9.]+ \| [0-9]+ \| [0-9
 # first light by default, --light gltf:INDEX|NAME, one clear line for a bad selection, and point lights in every
 # command.
 cp "$(dirname "$0")/data/scenes/triangle.bin" "$scratch/"
-lit_gltf() {  # lit_gltf FILE LIGHTS NODES ROOTS: the triangle model (node 0) plus light nodes
+lit_gltf() {  # lit_gltf FILE LIGHTS NODES ROOTS [MORE]: the triangle model (node 0) plus light nodes; MORE: more
+  # top-level members ("cameras": [...])
   cat >"$1" <<EOF
 {"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_lights_punctual"],
- "extensions": {"KHR_lights_punctual": {"lights": $2}},
+ "extensions": {"KHR_lights_punctual": {"lights": $2}},${5:+
+ $5,}
  "scene": 0, "scenes": [{"nodes": [$4]}], "nodes": [{"name": "tri", "mesh": 0}, $3],
  "meshes": [{"name": "tri", "primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 2}]}],
  "buffers": [{"uri": "triangle.bin", "byteLength": 80}],
@@ -372,20 +374,9 @@ expect point-light-guard-sweep 0 '' -- "$bin" bench "$scratch/bulb.json" --light
 expect point-light-guard-rows 0 '^pcf,cube-guard=8,total,' -- bash -c "grep -E ',total,' '$scratch/guard.csv' | sed 's/^[^,]*,//'"
 expect point-light-guard-range 2 'cube-guard' -- "$bin" render "$scratch/bulb.json" -t pcf --cube-guard -1 -o "$scratch/x.exr"
 # A glTF file with a camera and a point light renders and traces with no view options (its camera, its light).
-cat >"$scratch/cam-bulb.gltf" <<EOF
-{"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_lights_punctual"],
- "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "name": "Bulb"}]}},
- "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "aspectRatio": 1.0, "znear": 0.05}}],
- "scene": 0, "scenes": [{"nodes": [0, 1, 2]}],
- "nodes": [{"name": "tri", "mesh": 0}, {"translation": [0.5, 0.4, 0.6], "extensions": {"KHR_lights_punctual": {"light": 0}}},
-           {"camera": 0, "translation": [0.4, 0.5, 2.5]}],
- "meshes": [{"name": "tri", "primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 2}]}],
- "buffers": [{"uri": "triangle.bin", "byteLength": 80}],
- "bufferViews": [{"buffer": 0, "byteLength": 72, "byteStride": 12}, {"buffer": 0, "byteOffset": 72, "byteLength": 6}],
- "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
-               {"bufferView": 0, "byteOffset": 36, "componentType": 5126, "count": 3, "type": "VEC3"},
-               {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]}
-EOF
+lit_gltf "$scratch/cam-bulb.gltf" '[{"type": "point", "name": "Bulb"}]' \
+  '{"translation": [0.5, 0.4, 0.6], "extensions": {"KHR_lights_punctual": {"light": 0}}}, {"camera": 0, "translation": [0.4, 0.5, 2.5]}' \
+  '0, 1, 2' '"cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "aspectRatio": 1.0, "znear": 0.05}}]'
 expect point-light-gltf-camera 0 'light "Bulb" \(the scene.s 1 of 1\): point:0.5,0.4,0.6' -- \
   "$bin" render "$scratch/cam-bulb.gltf" -t sm --map-size 256 -o "$scratch/cam-bulb.exr"
 expect point-light-gltf-camera-ref 0 'camera gltf:0' -- "$bin" reference "$scratch/cam-bulb.gltf" -o "$scratch/cam-bulb-ref.exr"
