@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Renders the gallery (docs/gallery/TECHNIQUE.png): the bundled default scene under every technique at its
-# default parameters, plus the Embree reference, as PNG previews the README shows side by side.
+# default parameters, plus the Embree reference, as PNG previews docs/techniques/README.md (and the README) show side by side.
 # Environment: PENUMBRA (a built tool; default: build with scripts/setup.sh), SCENE (scenes/default.json),
 # SIZE (480x270), SPP (256).
 set -euo pipefail

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs penumbra on the lent NVIDIA machine from a packed build (README, "Running on an NVIDIA GPU"). Here:
+# Runs penumbra on the lent NVIDIA machine from a packed build (docs/gpu.md). Here:
 #   ../shared/gpu/pack.sh .gpu build/tools/raster_bench build/tools/stages_bench build/tools/vssm_bench   (bench)
 #   ../shared/gpu/pack.sh .gpu build/tests/penumbra_tests [build/tools/penumbra]                         (tests)
 # then, there: scripts/gpu-check.sh OUTDIR [tests|bench|all] (default all). Registers NVIDIA's OpenCL driver for

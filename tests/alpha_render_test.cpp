@@ -42,7 +42,7 @@ class AlphaRender : public test::ClTest {};
 // a few texels (every shadow edge a band of partial values the point-light reference does not have), the pcss ones.
 // pcf runs with its adaptive kernel off and radius 1: the adaptive kernel widens to the camera pixel's footprint in
 // the map (about 4 texels here), a blur that is PCF's own, holes or not (then: holed card MAE 0.0117, off 0.038;
-// opaque card 0.0041, 0.0139). Measured on PoCL at 160x120 with 1024^2 maps: the printed lines and the README.
+// opaque card 0.0041, 0.0139). Measured on PoCL at 160x120 with 1024^2 maps: the printed lines and docs/materials.md.
 struct Case {
   std::string technique;
   float radius;  // light radius: 0 a point spot light (exact reference), > 0 a disk

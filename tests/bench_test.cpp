@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "host/cl/bandwidth.h"
+#include "host/eval/bandwidth.h"
 #include "host/eval/bench_report.h"
 #include "host/eval/bench_stats.h"
 #include "host/eval/metrics.h"

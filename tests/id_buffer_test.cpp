@@ -1,7 +1,7 @@
 // The ID buffer (Luksch sec. 9.1) for sm, pcf, pssm and jittered on PoCL: with every bias at 0, flat and grazing
 // receivers show no acne (the depth test does; pcf with object ids, as its taps leave the receiver's triangle);
 // inter-object shadows keep their hard edge; the combined mode keeps the depth test within an object. Its side effects
-// (shrunken shadows, no self-shadowing within one id) are measured in the README.
+// (shrunken shadows, no self-shadowing within one id) are measured in docs/techniques/jittered.md.
 #include <gtest/gtest.h>
 
 #include "host/pipeline/renderer.h"
@@ -41,7 +41,7 @@ TEST_P(IdBuffer, NoAcneWithoutAnyBias) {
   for (const char* light : {"dir:0,-1,0", "dir:1,-1,0.3", "dir:1,-0.18,0", "dir:1,-0.05,0.2", "spot:3,2,1:0,0,0:150"}) {
     for (const char* mode : {"object", "polygon"}) {
       // PCF's taps reach texels beyond the receiver's own triangle: with polygon ids they see the plane's other
-      // triangle and darken along the diagonal (the README's caveat); object ids are the filtering mode.
+      // triangle and darken along the diagonal (the caveat in docs/techniques/jittered.md); object ids are the filtering mode.
       if (GetParam() == "pcf" && mode == std::string("polygon")) continue;
       test::Values values = technique(kNoBias);
       values["map-size"] = "512", values["id-buffer"] = mode;

@@ -39,7 +39,7 @@ SCENES = {
     "staircase-sun": ("staircase", (4, 4, 4.5), (0, 0.625, 0), 45, ("sun", (-0.2, -6, -0.3))),
 }
 
-# name -> (technique, extra bench options). The first is the baseline the README compares against. Configs with no
+# name -> (technique, extra bench options). The first is the baseline docs/techniques/jittered.md compares against. Configs with no
 # extra options (each technique's defaults) are measured together in one `bench --interleave` call per case, so the
 # ratio of their times does not carry the drift of this shared machine's speed between calls.
 CONFIGS = {

@@ -3,7 +3,7 @@
 // which do not; every technique in the registry must also get through every scene (degenerate ones included)
 // without crashing and without a NaN or a visibility outside [0, 1]. Small sizes so CI stays fast; the
 // numbers each assertion guards are printed (`--gtest_also_run_disabled_tests` is not needed) and recorded in
-// the README's "Stability suite" table.
+// the "Stability suite" table of docs/tests.md.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -121,7 +121,7 @@ TEST_F(Stability, LightBleedingOnStackedPlanes) {
   for (const auto& [name, u] : seen)
     std::printf("  bleeding %-14s umbra pixels %zu max %.4f mean %.5f\n", name.c_str(), u.pixels, u.max, u.mean);
   ASSERT_GT(seen["sm"].pixels, 200u);
-  // Fails: the Chebyshev bound over two occluders (measured 0.12 for both; README "Stability suite").
+  // Fails: the Chebyshev bound over two occluders (measured 0.12 for both; docs/tests.md, "Stability suite").
   EXPECT_GT(seen["vsm"].max, 0.05f);
   EXPECT_GT(seen["savsm"].max, 0.05f);
   // Does not fail: exact depth tests, the stronger moment bounds, layers, and the bleeding reduction.

@@ -12,7 +12,7 @@
 #include <fstream>
 #include <memory>
 
-#include "host/cl/bandwidth.h"
+#include "host/eval/bandwidth.h"
 #include "host/cl/context.h"
 #include "host/eval/bench_report.h"
 #include "host/eval/bench_stats.h"

@@ -1,5 +1,5 @@
 // Copy bandwidth from profiling events of clEnqueueCopyBuffer between two device buffers.
-#include "host/cl/bandwidth.h"
+#include "host/eval/bandwidth.h"
 
 #include <algorithm>
 #include <vector>
