@@ -59,6 +59,32 @@ pn_status pn_frame_visibility_buffer(const pn_frame* frame, size_t index, cl_mem
   });
 }
 
+pn_status pn_frame_device_buffer(const pn_frame* frame, pn_frame_output output, cl_mem* buffer) {
+  return guard([&] {
+    require(buffer, "pn_frame_device_buffer", "buffer");
+    *buffer = nullptr;
+    const pn_frame& f = *require(frame, "pn_frame_device_buffer", "frame");
+    switch (output) {
+      case PN_FRAME_PREVIEW:
+        *buffer = f.preview.get()();
+        return;
+      case PN_FRAME_POSITION:
+        *buffer = f.position.get()();
+        return;
+      case PN_FRAME_NORMAL:
+        *buffer = f.normal.get()();
+        return;
+      case PN_FRAME_DEPTH:
+        *buffer = f.depth.get()();
+        return;
+    }
+    throw std::invalid_argument(
+        fmt::format("pn_frame_device_buffer: output {} is none of PN_FRAME_PREVIEW, "
+                    "PN_FRAME_POSITION, PN_FRAME_NORMAL, PN_FRAME_DEPTH",
+                    static_cast<int>(output)));
+  });
+}
+
 const char* pn_frame_attribute(const pn_frame* frame, const char* name) {
   if (frame == nullptr || name == nullptr) return nullptr;
   const auto& attributes = frame->image.attributes();

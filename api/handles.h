@@ -35,6 +35,7 @@ struct pn_scene : pn_handle_base {
 struct pn_params : pn_handle_base {
   const penumbra::TechniqueInfo* technique = nullptr;  // in the static registry
   penumbra::Params params;
+  penumbra::ParamValues given;  // what pn_params_set set, as text: what a scene light's own technique inherits
   std::string description;  // pn_params_describe's text, refreshed by every change
 };
 
@@ -49,5 +50,8 @@ struct pn_frame : pn_handle_base {
   penumbra::Image image;
   std::vector<std::string> layers;                  // per light
   std::vector<penumbra::Buffer<float>> visibility;  // per light: the frame's own device copy, rows bottom-up
+  // The frame's own device copies of the G-buffer and the preview (pn_frame_device_buffer), rows bottom-up.
+  penumbra::Buffer<cl_float4> preview, position, normal;
+  penumbra::Buffer<float> depth;
   std::vector<penumbra::PassTime> passes;
 };

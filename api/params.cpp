@@ -85,7 +85,9 @@ pn_status pn_params_set(pn_params* params, const char* name, const char* value) 
     const std::string key = require(name, "pn_params_set", "name");
     if (!p.technique->hasParam(key))
       throw std::invalid_argument(fmt::format("\"{}\" is not a parameter of technique '{}'", key, p.technique->name));
-    p.params.set(key, require(value, "pn_params_set", "value"));
+    const std::string text = require(value, "pn_params_set", "value");
+    p.params.set(key, text);
+    p.given[key] = text;
     p.description = p.params.describe();
   });
 }

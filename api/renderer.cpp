@@ -9,6 +9,7 @@
 #include "api/convert.h"
 #include "api/guard.h"
 #include "api/handles.h"
+#include "host/pipeline/frame_lights.h"
 #include "host/scene/framing.h"
 #include "host/scene/light_names.h"
 
@@ -31,15 +32,17 @@ const penumbra::TechniqueInfo& techniqueOf(const pn_params* own, const pn_params
   return *params->technique;
 }
 
-std::vector<penumbra::FrameLight> frameLights(const penumbra::Scene& scene, const pn_frame_light* lights, size_t count,
+// No lights given: the scene's (each with a scene file light's own technique, as the CLI does), else the framing
+// light, shadowed with `params`.
+std::vector<penumbra::FrameLight> frameLights(const pn_scene& sceneHandle, const pn_frame_light* lights, size_t count,
                                               const pn_params* params) {
+  const penumbra::Scene& scene = sceneHandle.scene;
   std::vector<penumbra::FrameLight> out;
   if (count == 0) {
     const pn_params& all = *require(params, "pn_renderer_render", "params (the default lights' technique)");
     const std::vector<penumbra::Light> defaults =
         scene.lights.empty() ? std::vector<penumbra::Light>{penumbra::framingLight(scene.bounds())} : scene.lights;
-    for (const penumbra::Light& light : defaults) out.push_back({light, all.technique, all.params});
-    return out;
+    return penumbra::resolveFrameLights(defaults, *all.technique, all.params, all.given, sceneHandle.spec);
   }
   require(lights, "pn_renderer_render", "lights");
   std::set<std::string> layers;
@@ -60,19 +63,24 @@ std::vector<penumbra::FrameLight> frameLights(const penumbra::Scene& scene, cons
   return out;
 }
 
-// The frame's own copy of each light's visibility, complete when this returns: the renderer overwrites its buffers
-// with the next frame, and a frame is a snapshot. Waits on its own copies only.
-std::vector<penumbra::Buffer<float>> copyVisibility(penumbra::Context& ctx, const penumbra::Renderer& renderer,
-                                                    size_t lights) {
-  std::vector<penumbra::Buffer<float>> copies(lights);
-  for (size_t i = 0; i < lights; ++i) {
-    copies[i].allocate(ctx, renderer.visibility(i).size());
-    copies[i].copyFrom(ctx, renderer.visibility(i));
-  }
+template <class T>
+penumbra::Buffer<T> copyOf(penumbra::Context& ctx, const penumbra::Buffer<T>& source) {
+  penumbra::Buffer<T> copy(ctx, source.size());
+  copy.copyFrom(ctx, source);
+  return copy;
+}
+
+// The frame's own copies of each light's visibility and of the G-buffer, complete when this returns: the renderer
+// overwrites its buffers with the next frame, and a frame is a snapshot. Waits on its own copies only.
+void copyDeviceOutputs(penumbra::Context& ctx, const penumbra::Renderer& renderer, size_t lights, pn_frame& frame) {
+  for (size_t i = 0; i < lights; ++i) frame.visibility.push_back(copyOf(ctx, renderer.visibility(i)));
+  const penumbra::GBuffer& gbuffer = renderer.gbuffer();
+  frame.position = copyOf(ctx, gbuffer.position);
+  frame.normal = copyOf(ctx, gbuffer.normal);
+  frame.depth = copyOf(ctx, gbuffer.depth);
   cl::Event done;
   penumbra::clCheck(ctx.queue().enqueueMarkerWithWaitList(nullptr, &done), "clEnqueueMarkerWithWaitList", {}, "api");
   penumbra::clCheck(done.wait(), "clWaitForEvents", {}, "api");
-  return copies;
 }
 
 }  // namespace
@@ -115,14 +123,15 @@ pn_status pn_renderer_render(pn_renderer* renderer, const pn_camera* camera, con
     const penumbra::Camera cam = camera != nullptr       ? penumbra::api::fromC(*camera)
                                  : scene.cameras.empty() ? penumbra::framingCamera(scene.bounds())
                                                          : scene.cameras.front();
-    const std::vector<penumbra::FrameLight> frameLights = ::frameLights(scene, lights, light_count, params);
+    const std::vector<penumbra::FrameLight> frameLights = ::frameLights(*r.scene, lights, light_count, params);
     // Renderer::render checks every light against its technique before any work.
 
     auto created = std::make_unique<pn_frame>();
     penumbra::Context& ctx = *r.context->context;
     std::lock_guard lock(r.context->mutex);
     penumbra::RenderResult result = r.renderer->render(cam, frameLights);
-    created->visibility = copyVisibility(ctx, *r.renderer, frameLights.size());
+    copyDeviceOutputs(ctx, *r.renderer, frameLights.size(), *created);
+    created->preview = std::move(result.preview);  // the frame's own: a new buffer every render
     result.image.attributes()["penumbra:scene"] = r.scene->spec;
     created->image = std::move(result.image);
     created->passes = std::move(result.passes);

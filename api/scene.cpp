@@ -2,11 +2,16 @@
 // and the defaults a frame falls back to (host/scene/framing.h), as the CLI resolves them.
 #include <fmt/format.h>
 
+#include <cstdint>
+#include <glm/gtc/type_ptr.hpp>
+#include <vector>
+
 #include "api/convert.h"
 #include "api/guard.h"
 #include "api/handles.h"
 #include "host/scene/framing.h"
 #include "host/scene/load.h"
+#include "host/scene/mesh_input.h"
 
 using penumbra::api::guard;
 using penumbra::api::require;
@@ -19,6 +24,23 @@ void checkIndex(size_t index, size_t count, const char* function, const char* wh
   if (index >= count)
     throw std::out_of_range(
         fmt::format("{}: {} index {} out of range (the scene has {})", function, what, index, count));
+}
+
+// A pn_mesh as the scene layer's MeshInput (spans over the caller's arrays, read during pn_scene_create only).
+penumbra::MeshInput meshInput(const pn_mesh& mesh, size_t index) {
+  const std::string what = fmt::format("pn_scene_create: meshes[{}]", index);
+  if (mesh.vertex_count > SIZE_MAX / 3 || mesh.triangle_count > SIZE_MAX / 3)
+    throw std::invalid_argument(what + ": vertex or triangle count overflows");
+  if (mesh.vertex_count > 0) require(mesh.positions, what.c_str(), "positions");
+  if (mesh.triangle_count > 0) require(mesh.indices, what.c_str(), "indices");
+  penumbra::MeshInput input;
+  input.positions = {mesh.positions, 3 * mesh.vertex_count};
+  if (mesh.normals != nullptr) input.normals = {mesh.normals, 3 * mesh.vertex_count};
+  input.indices = {mesh.indices, 3 * mesh.triangle_count};
+  if (mesh.transform != nullptr) input.transform = glm::make_mat4(mesh.transform);
+  input.name = mesh.name != nullptr ? mesh.name : "";
+  input.doubleSided = mesh.double_sided != 0;
+  return input;
 }
 
 }  // namespace
@@ -68,6 +90,32 @@ pn_status pn_scene_load(const char* spec, const pn_scene_load_options* options, 
     loaded->scene = penumbra::loadScene(spec, load);
     loaded->spec = spec;
     *scene = loaded.release();
+  });
+}
+
+void pn_mesh_init(pn_mesh* mesh) {
+  if (mesh != nullptr) *mesh = pn_mesh{nullptr, 0, nullptr, nullptr, 0, nullptr, nullptr, 1};
+}
+
+pn_status pn_scene_create(const pn_mesh* meshes, size_t mesh_count, const pn_light* lights, size_t light_count,
+                          pn_scene** scene) {
+  return guard([&] {
+    require(scene, "pn_scene_create", "scene");
+    *scene = nullptr;
+    if (mesh_count > 0) require(meshes, "pn_scene_create", "meshes");
+    if (light_count > 0) require(lights, "pn_scene_create", "lights");
+    std::vector<penumbra::MeshInput> inputs;
+    size_t triangles = 0;
+    for (size_t i = 0; i < mesh_count; ++i) {
+      inputs.push_back(meshInput(meshes[i], i));
+      triangles += meshes[i].triangle_count;
+    }
+    std::vector<penumbra::Light> sceneLights;
+    for (size_t i = 0; i < light_count; ++i) sceneLights.push_back(penumbra::api::fromC(lights[i]));
+    auto created = std::make_unique<pn_scene>();
+    created->scene = penumbra::meshScene(inputs, std::move(sceneLights));
+    created->spec = fmt::format("meshes ({} meshes, {} triangles)", mesh_count, triangles);
+    *scene = created.release();
   });
 }
 

@@ -135,7 +135,8 @@ void bindCameraAndLight(py::module_& m) {
 void bindScene(py::module_& m) {
   bindContext(m);
   bindCameraAndLight(m);
-  py::class_<Scene>(m, "Scene", "A loaded scene: a .gltf/.glb model, a .json scene file or builtin:NAME.")
+  py::class_<Scene> scene(m, "Scene", "A loaded scene: a .gltf/.glb model, a .json scene file or builtin:NAME.");
+  scene
       .def(py::init([](const std::string& spec, std::optional<double> time, const std::string& animation) {
              return Scene(spec, LoadOptions{time, animation});
            }),
@@ -146,6 +147,7 @@ void bindScene(py::module_& m) {
       .def_property_readonly("bounds", &Scene::bounds)
       .def("default_camera", &Scene::defaultCamera, "The scene's first camera, else a framing view.")
       .def("framing_light", &Scene::framingLight, "The light a frame uses when the scene has none.");
+  bindMeshes(scene);
 }
 
 }  // namespace penumbra::python

@@ -3,6 +3,9 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <map>
+#include <string>
+
 #include <penumbra/penumbra.hpp>
 
 #include "python/module.h"
@@ -100,6 +103,21 @@ void bindRender(py::module_& m) {
           [](const Frame& f, size_t light) { return reinterpret_cast<uintptr_t>(f.visibilityBuffer(light)); },
           py::arg("light") = 0,
           "The light's visibility cl_mem (an integer handle, rows bottom-up), owned by the frame.")
+      .def(
+          "device_buffer",
+          [](const Frame& f, const std::string& output) {
+            static const std::map<std::string, pn_frame_output> kOutputs = {{"preview", PN_FRAME_PREVIEW},
+                                                                            {"position", PN_FRAME_POSITION},
+                                                                            {"normal", PN_FRAME_NORMAL},
+                                                                            {"depth", PN_FRAME_DEPTH}};
+            auto it = kOutputs.find(output);
+            if (it == kOutputs.end())
+              throw py::value_error("device_buffer: \"" + output + "\" is none of preview, position, normal, depth");
+            return reinterpret_cast<uintptr_t>(f.deviceBuffer(it->second));
+          },
+          py::arg("output"),
+          "The preview (float4 RGBA), position, normal (float4) or depth (float) cl_mem as an integer handle, rows "
+          "bottom-up, owned by the frame.")
       .def("save_exr", &Frame::saveExr, py::arg("path"));
 
   py::class_<Renderer>(m, "Renderer", "Draws frames of one scene on one context.")

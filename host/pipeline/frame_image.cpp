@@ -144,7 +144,7 @@ Image frameImage(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& visi
 }
 
 Image frameImage(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisibility> lights, const Camera& camera,
-                 const Bounds& bounds) {
+                 const Bounds& bounds, Buffer<cl_float4>* previewOut) {
   const uint32_t count = static_cast<uint32_t>(gbuffer.width) * static_cast<uint32_t>(gbuffer.height);
   if (lights.empty()) throw std::invalid_argument("frameImage: no lights");
   std::set<std::string> layers;
@@ -155,7 +155,7 @@ Image frameImage(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisi
     if (!layers.insert(lightLayer(*lit.light)).second)
       throw std::invalid_argument(fmt::format("frameImage: two lights named \"{}\"", lightLayer(*lit.light)));
   }
-  const Buffer<cl_float4> rgba = shadePreview(ctx, gbuffer, lights, camera, bounds, count);
+  Buffer<cl_float4> rgba = shadePreview(ctx, gbuffer, lights, camera, bounds, count);
   const Light& light = *lights[0].light;
 
   Image image(gbuffer.width, gbuffer.height);
@@ -168,6 +168,7 @@ Image frameImage(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisi
   for (int c = 0; c < 3; ++c) image.add(fmt::format("P.{}", "XYZ"[c]), component(position, c));
   for (int c = 0; c < 3; ++c) image.add(fmt::format("N.{}", "XYZ"[c]), component(normal, c));
   image.add("depth.Z", gbuffer.depth.download(ctx));
+  if (previewOut != nullptr) *previewOut = std::move(rgba);
 
   auto& attributes = image.attributes();
   attributes["penumbra:device"] =

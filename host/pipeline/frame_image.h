@@ -31,9 +31,10 @@ struct LightVisibility {
 // Several lights (at least one, their layers lightLayer() distinct): each light's visibility as
 // "visibility.<layer>.Y" and the first's also as "visibility.Y"; the preview sums the lights' direct terms over one
 // ambient term (one light: exactly the single-light preview); penumbra:light and penumbra:light-name are the first
-// light's, penumbra:lights ("LAYER=FORM; ...") lists them all when there are several.
+// light's, penumbra:lights ("LAYER=FORM; ...") lists them all when there are several. `preview`, when given,
+// receives the device RGBA the R,G,B,A channels are read from (rows bottom-up).
 Image frameImage(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisibility> lights, const Camera& camera,
-                 const Bounds& bounds);
+                 const Bounds& bounds, Buffer<cl_float4>* preview = nullptr);
 
 // "EX,EY,EZ:TX,TY,TZ:FOVY": the camera as the header's penumbra:camera records it (Camera::describe() for
 // orthographic cameras and those with an up vector or clip planes of their own). A glTF camera's label()

@@ -77,7 +77,7 @@ RenderResult Renderer::render(const Camera& camera, const std::vector<FrameLight
   }
 
   RenderResult result;
-  result.image = frameImage(ctx_, gbuffer_, layers, camera, bounds);
+  result.image = frameImage(ctx_, gbuffer_, layers, camera, bounds, &result.preview);
   addDebugChannels(lights[0].light, slots_[0], result.image);  // the first light's only
   result.image.flipRows();                                     // the rasterizer's row 0 is the bottom row
   auto& attributes = result.image.attributes();

@@ -33,6 +33,7 @@ struct RenderResult {
   // the attributes.
   Image image;
   std::vector<PassTime> passes;  // device time per named pass, in recording order
+  Buffer<cl_float4> preview;     // the shaded preview on the device (R, G, B, A per pixel), rows bottom-up
 };
 
 class Renderer {
@@ -54,6 +55,8 @@ class Renderer {
 
   // Light `index`'s visibility buffer of the last frame (rows bottom-up); the next render() overwrites it.
   const Buffer<float>& visibility(size_t index) const { return slots_.at(index).visibility; }
+  // The last frame's G-buffer (rows bottom-up); the next render() overwrites it.
+  const GBuffer& gbuffer() const { return gbuffer_; }
 
  private:
   struct Slot {

@@ -10,20 +10,9 @@ namespace penumbra {
 
 const std::vector<TechniqueInfo>& techniques() {
   static const std::vector<TechniqueInfo> kTechniques = {
-      smTechnique(),
-      pcfTechnique(),
-      pcssTechnique(),
-      vsmTechnique(),
-      evsm2Technique(),
-      evsm4Technique(),
-      esmTechnique(),
-      msmTechnique(),
-      savsmTechnique(),
-      vssmTechnique(),
-      lvsmTechnique(),
-      pssmTechnique(),
-      psvsmTechnique(),
-      jitteredTechnique(),
+      smTechnique(),    pcfTechnique(),  pcssTechnique(),  vsmTechnique(),      evsm2Technique(),
+      evsm4Technique(), esmTechnique(),  msmTechnique(),   savsmTechnique(),    vssmTechnique(),
+      lvsmTechnique(),  pssmTechnique(), psvsmTechnique(), jitteredTechnique(),
   };
   return kTechniques;
 }
@@ -39,6 +28,18 @@ const TechniqueInfo& findTechnique(const std::string& name) {
     known += (known.empty() ? "" : ", ") + info.name;
   }
   throw std::invalid_argument(fmt::format("unknown technique '{}' (known: {})", name, known));
+}
+
+Params techniqueParams(const TechniqueInfo& info, const ParamValues& values, bool strict) {
+  Params params(info.params);
+  for (const auto& [name, value] : values) {
+    if (!info.hasParam(name)) {
+      if (strict) throw std::invalid_argument(fmt::format("--{} does not apply to technique '{}'", name, info.name));
+      continue;
+    }
+    params.set(name, value);
+  }
+  return params;
 }
 
 void refuseUnsupportedLight(const Light& light, const TechniqueInfo& technique) {

@@ -61,6 +61,14 @@ const std::vector<TechniqueInfo>& techniques();
 // Throws std::invalid_argument listing the known names.
 const TechniqueInfo& findTechnique(const std::string& name);
 
+// Parameter values as text by name (no dashes), as the command line and scene files give them.
+using ParamValues = std::map<std::string, std::string>;
+
+// The technique's defaults with `values` applied. strict: a value the technique has no parameter for throws
+// std::invalid_argument ("--NAME does not apply to technique 'T'"); else it is skipped. Bad values always throw
+// (Params::set).
+Params techniqueParams(const TechniqueInfo& info, const ParamValues& values, bool strict = true);
+
 // Throws std::invalid_argument (a usage error: call it before any work) when `light` is a point light that
 // `technique` cannot shadow: "light L is a point light, which technique T cannot shadow (REASON); point lights work
 // with sm, pcf, ...".

@@ -111,6 +111,19 @@ PN_API const char* pn_frame_light_layer(const pn_frame* frame, size_t index);
  *  bottom-up (row 0 the bottom row, as OpenCL and OpenGL framebuffers). Owned by the frame (valid while it lives;
  *  clRetainMemObject it to keep it longer). */
 PN_API pn_status pn_frame_visibility_buffer(const pn_frame* frame, size_t index, cl_mem* buffer);
+
+/** The frame's other device outputs (pn_frame_device_buffer): width * height elements each, rows bottom-up. */
+typedef enum pn_frame_output {
+  PN_FRAME_PREVIEW = 0,  /**< cl_float4 per pixel: the shaded preview's R, G, B, A (the channels R, G, B, A). */
+  PN_FRAME_POSITION = 1, /**< cl_float4: world position xyz; w = 1 where a surface is seen, 0 for background. */
+  PN_FRAME_NORMAL = 2,   /**< cl_float4: unit world shading normal xyz; w = the geometric facing sign. */
+  PN_FRAME_DEPTH = 3     /**< float: linear camera depth (the channel depth.Z); +infinity for background. */
+} pn_frame_output;
+
+/** One of the frame's device outputs in the context's cl_context, owned by the frame like its visibility buffers
+ *  (valid while it lives; clRetainMemObject it to keep it longer). An unknown `output` is
+ *  PN_ERROR_INVALID_ARGUMENT. */
+PN_API pn_status pn_frame_device_buffer(const pn_frame* frame, pn_frame_output output, cl_mem* buffer);
 /** A provenance attribute ("penumbra:technique", "penumbra:version", "penumbra:light", ...); NULL when absent. */
 PN_API const char* pn_frame_attribute(const pn_frame* frame, const char* name);
 /** Named passes with device times, in recording order. */

@@ -114,6 +114,12 @@ class Frame {
     detail::check(pn_frame_visibility_buffer(get(), index, &buffer));
     return buffer;
   }
+  /// The preview, G-buffer position, normal or depth on the device (pn_frame_output), owned by the frame.
+  cl_mem deviceBuffer(pn_frame_output output) const {
+    cl_mem buffer = nullptr;
+    detail::check(pn_frame_device_buffer(get(), output, &buffer));
+    return buffer;
+  }
   /// A provenance attribute ("penumbra:technique", ...), if present.
   std::optional<std::string> attribute(const std::string& name) const {
     const char* value = pn_frame_attribute(get(), name.c_str());

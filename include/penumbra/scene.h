@@ -55,6 +55,19 @@ typedef struct pn_scene_load_options {
   const char* animation; /**< With `has_time`: the one animation to play, by index or name; NULL or "": all. */
 } pn_scene_load_options;
 
+/** One mesh of the caller's own geometry (pn_scene_create); pn_mesh_init() gives the defaults. The arrays are
+ *  read during the call only. */
+typedef struct pn_mesh {
+  const float* positions;  /**< x, y, z per vertex. */
+  size_t vertex_count;     /**< Vertices in `positions` (and `normals`). */
+  const float* normals;    /**< x, y, z per vertex, or NULL: the area-weighted normals of the triangles. */
+  const uint32_t* indices; /**< Three vertex indices per triangle, counter-clockwise front faces. */
+  size_t triangle_count;   /**< Triangles in `indices`. */
+  const float* transform;  /**< 16 floats, column-major (as OpenGL, GLM and glTF), to world space; NULL: identity. */
+  const char* name;        /**< The mesh's object name; NULL or "": "mesh N" (N its index in the call). */
+  int double_sided;        /**< Non-zero (the default): both sides seen; 0: back faces culled in the camera's view. */
+} pn_mesh;
+
 /** A loaded scene: world-space triangles with normals, the cameras and lights it names. Reference counted like
  *  pn_context; immutable, so any number of threads may read it. */
 typedef struct pn_scene pn_scene;
@@ -76,6 +89,15 @@ PN_API void pn_scene_load_options_init(pn_scene_load_options* options);
 /** Loads "builtin:NAME[:key=value,...]", a .json scene file or a .gltf/.glb model (`options` may be NULL).
  *  PN_ERROR_SCENE names the file and the element at fault. */
 PN_API pn_status pn_scene_load(const char* spec, const pn_scene_load_options* options, pn_scene** scene);
+/** The defaults: no arrays, no transform, no name, double-sided. */
+PN_API void pn_mesh_init(pn_mesh* mesh);
+/** A scene of the caller's own triangles (`meshes`, each its own object) and lights (`lights`, may be NULL when
+ *  `light_count` is 0; unnamed ones become "light<I>", as a scene file's). It has no cameras: the default camera
+ *  frames the geometry. Positions that are not finite, indices out of range and counts over the loader's limits
+ *  are PN_ERROR_SCENE naming the mesh and the element; frames record "penumbra:scene" as "meshes (M meshes, T
+ *  triangles)". */
+PN_API pn_status pn_scene_create(const pn_mesh* meshes, size_t mesh_count, const pn_light* lights, size_t light_count,
+                                 pn_scene** scene);
 /** Adds a reference. */
 PN_API pn_status pn_scene_retain(pn_scene* scene);
 /** Drops a reference; frees the scene at 0 (a renderer keeps its own). NULL is a no-op. */

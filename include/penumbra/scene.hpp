@@ -145,6 +145,17 @@ class Scene {
     handle_ = Handle(scene);
   }
 
+  /// The caller's own triangles (pn_mesh: arrays read during the call only) and lights; no cameras.
+  static Scene fromMeshes(const std::vector<pn_mesh>& meshes, const std::vector<Light>& lights = {}) {
+    std::vector<pn_light> c;
+    for (const Light& l : lights) c.push_back(l.toC());
+    pn_scene* scene = nullptr;
+    detail::check(pn_scene_create(meshes.data(), meshes.size(), c.data(), c.size(), &scene));
+    Scene created;
+    created.handle_ = Handle(scene);
+    return created;
+  }
+
   /// Triangles after instancing.
   size_t triangleCount() const { return pn_scene_triangle_count(get()); }
   /// The geometry's bounding box, min then max.
@@ -189,6 +200,7 @@ class Scene {
   pn_scene* get() const noexcept { return handle_.get(); }
 
  private:
+  Scene() = default;
   using Handle = detail::Handle<pn_scene, pn_scene_retain, pn_scene_release>;
   Handle handle_;
 };

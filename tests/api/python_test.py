@@ -68,6 +68,38 @@ class Module(unittest.TestCase):
         with self.assertRaises(ValueError):
             visibility[0, 0] = 2.0
 
+    def test_device_buffers_are_the_frames_own(self):
+        frame = self.renderer.render("sm", camera=self.camera(40, 30))
+        handles = [frame.visibility_buffer(0)] + [frame.device_buffer(name)
+                                                  for name in ("preview", "position", "normal", "depth")]
+        self.assertTrue(all(isinstance(h, int) and h != 0 for h in handles))
+        self.assertEqual(len(set(handles)), len(handles))  # one cl_mem per output
+        with self.assertRaisesRegex(ValueError, "is none of preview, position, normal, depth"):
+            frame.device_buffer("albedo")
+
+    def test_a_scene_of_numpy_arrays(self):
+        ground = np.array([[-5, 0, -5], [-5, 0, 5], [5, 0, 5], [5, 0, -5]], dtype=np.float32)
+        quad = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.uint32)
+        card = {"positions": ground * [0.2, 1, 0.2] + [0, 1, 0], "indices": quad, "name": "card",
+                "transform": np.array([[1, 0, 0, 3], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]])}  # x + 3
+        scene = penumbra.Scene.from_meshes([{"positions": ground, "indices": quad}, card],
+                                           lights=[penumbra.Light.parse("dir:1,-1,0")])
+        self.assertEqual(scene.triangle_count, 4)
+        camera = penumbra.Camera.parse("0,20,0.001:0,0,0:30")
+        camera.width = camera.height = 64
+        frame = penumbra.Renderer(self.context, scene).render("sm", {"map-size": 512}, camera=camera)
+        px, py, pz = frame["P.X"], frame["P.Y"], frame["P.Z"]
+        ground_pixels = np.abs(py) < 1e-3
+        shadowed = ground_pixels & (px > 3.2) & (px < 4.8) & (np.abs(pz) < 0.8)  # the card's shadow: x in [3, 5]
+        lit = ground_pixels & (px < 2.0)
+        self.assertTrue(shadowed.any() and lit.any())
+        self.assertTrue(np.all(frame["visibility.Y"][shadowed] == 0))
+        self.assertTrue(np.all(frame["visibility.Y"][lit] == 1))
+        with self.assertRaisesRegex(penumbra.SceneError, r'mesh 0: triangle 0 index 2 is 9, out of range'):
+            penumbra.Scene.from_meshes([{"positions": ground, "indices": [[0, 1, 9]]}])
+        with self.assertRaisesRegex(ValueError, r'must be an \(N, 3\) array'):
+            penumbra.Scene.from_meshes([{"positions": [1, 2, 3], "indices": quad}])
+
     def test_render_releases_the_gil(self):
         camera = self.camera(480, 360)
         self.renderer.render("pcss", camera=camera)  # kernels built: the timed frames only render

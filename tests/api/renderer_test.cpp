@@ -4,6 +4,8 @@
 #include <penumbra/penumbra.h>
 
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -55,6 +57,42 @@ bool sameBits(const std::vector<float>& a, const std::vector<float>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
 
+// Component `c` of a device buffer of float4s, read back.
+std::vector<float> component(const std::vector<cl_float4>& values, int c) {
+  std::vector<float> out;
+  for (const cl_float4& v : values) out.push_back(v.s[c]);
+  return out;
+}
+
+// The frame's device preview and G-buffer in the caller's context hold its host channels bit for bit (rows
+// bottom-up); an unknown output is refused.
+void expectDeviceOutputs(CallerCl& cl, const pn_frame* frame) {
+  const size_t count = size_t(kWidth) * kHeight;
+  const struct {
+    pn_frame_output output;
+    const char* channels[4];
+  } outputs[] = {{PN_FRAME_PREVIEW, {"R", "G", "B", "A"}},
+                 {PN_FRAME_POSITION, {"P.X", "P.Y", "P.Z", nullptr}},
+                 {PN_FRAME_NORMAL, {"N.X", "N.Y", "N.Z", nullptr}}};
+  for (const auto& o : outputs) {
+    cl_mem buffer = nullptr;
+    PN_ASSERT_OK(pn_frame_device_buffer(frame, o.output, &buffer));
+    cl_context owner = nullptr;
+    clGetMemObjectInfo(buffer, CL_MEM_CONTEXT, sizeof(owner), &owner, nullptr);
+    EXPECT_EQ(owner, cl.context);
+    const std::vector<cl_float4> values = cl.read<cl_float4>(buffer, count);
+    for (int c = 0; c < 4 && o.channels[c] != nullptr; ++c)
+      EXPECT_TRUE(sameBits(component(values, c), flipped(channel(frame, o.channels[c])))) << o.channels[c];
+  }
+  cl_mem depth = nullptr;
+  PN_ASSERT_OK(pn_frame_device_buffer(frame, PN_FRAME_DEPTH, &depth));
+  EXPECT_TRUE(sameBits(cl.read<float>(depth, count), flipped(channel(frame, "depth.Z"))));
+  cl_mem none = nullptr;
+  EXPECT_EQ(pn_frame_device_buffer(frame, static_cast<pn_frame_output>(7), &none), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pn_last_error_message()).find("output 7 is none of"), std::string::npos);
+  EXPECT_EQ(none, nullptr);
+}
+
 TEST(ApiRenderer, FramesOnTheCallersContext) {
   CallerCl cl;
   const cl_uint context0 = references(cl.context), queue0 = references(cl.queue);
@@ -89,6 +127,7 @@ TEST(ApiRenderer, FramesOnTheCallersContext) {
   clGetMemObjectInfo(device, CL_MEM_CONTEXT, sizeof(owner), &owner, nullptr);
   EXPECT_EQ(owner, cl.context);
   EXPECT_TRUE(sameBits(cl.read<float>(device, visibility.size()), flipped(visibility)));  // rows bottom-up
+  expectDeviceOutputs(cl, frame);
   PN_ASSERT_OK(pn_frame_release(frame));
   clFinish(cl.queue);
   EXPECT_EQ(settled(cl.context, context0), context0);
@@ -207,6 +246,65 @@ TEST(ApiRenderer, ErrorsSayWhatIsWrong) {
   EXPECT_NE(std::string(pn_last_error_message()).find("/no/such/dir/x.exr"), std::string::npos);
   pn_frame_release(frame);
   pn_context_release(ctx);
+}
+
+// A scene file light's own technique applies through the library as through the CLI: its technique's defaults, the
+// call's explicitly set parameters that it has, then its own "params". Equal bit for bit to passing the lights with
+// those params by hand; a bad technique is an invalid argument naming the file and the light.
+TEST(ApiRenderer, SceneLightsKeepTheirOwnTechniques) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "penumbra-api-own-techniques";
+  std::filesystem::create_directories(dir);
+  const std::string spot =
+      R"("name": "Key", "type": "spot", "position": [0, 5, 0], "target": [0, 0, 0], "radius": 0.2)";
+  const std::string sun = R"({"name": "Sun", "type": "dir", "direction": [0.3, -1, 0.2]})";
+  std::ofstream(dir / "own.json") << R"({"procedural": [{"name": "box"}], "lights": [{)" << spot
+                                  << R"(, "technique": "pcss", "params": {"pcss-filter-taps": 4}}, )" << sun << "]}";
+  std::ofstream(dir / "bad.json") << R"({"procedural": [{"name": "box"}], "lights": [{)" << spot
+                                  << R"(, "technique": "nope"}]})";
+  pn_context* ctx = nullptr;
+  PN_ASSERT_OK(pn_context_create(nullptr, &ctx));
+  Rendered r;
+  PN_ASSERT_OK(pn_scene_load((dir / "own.json").c_str(), nullptr, &r.scene));
+  PN_ASSERT_OK(pn_params_create("sm", &r.params));
+  PN_ASSERT_OK(pn_params_set(r.params, "map-size", "256"));  // inherited by Key's pcss
+  PN_ASSERT_OK(pn_renderer_create(ctx, r.scene, &r.renderer));
+  pn_camera camera;
+  PN_ASSERT_OK(pn_scene_default_camera(r.scene, &camera));
+  camera.width = kWidth, camera.height = kHeight;
+  pn_frame* own = nullptr;
+  PN_ASSERT_OK(pn_renderer_render(r.renderer, &camera, nullptr, 0, r.params, &own));
+  EXPECT_NE(std::string(pn_frame_attribute(own, "penumbra:light-techniques")).find("Key=pcss"), std::string::npos);
+
+  pn_light key, sunLight;
+  PN_ASSERT_OK(pn_scene_light(r.scene, 0, &key));
+  PN_ASSERT_OK(pn_scene_light(r.scene, 1, &sunLight));
+  pn_params* pcss = nullptr;
+  PN_ASSERT_OK(pn_params_create("pcss", &pcss));
+  PN_ASSERT_OK(pn_params_set(pcss, "map-size", "256"));
+  PN_ASSERT_OK(pn_params_set(pcss, "pcss-filter-taps", "4"));
+  const pn_frame_light lights[] = {{&key, pcss}, {&sunLight, nullptr}};
+  pn_frame* byHand = nullptr;
+  PN_ASSERT_OK(pn_renderer_render(r.renderer, &camera, lights, 2, r.params, &byHand));
+  for (const char* layer : {"visibility.Key.Y", "visibility.Sun.Y"})
+    EXPECT_TRUE(sameBits(channel(own, layer), channel(byHand, layer))) << layer;
+
+  pn_scene* bad = nullptr;
+  pn_renderer* badRenderer = nullptr;
+  pn_frame* none = nullptr;
+  PN_ASSERT_OK(pn_scene_load((dir / "bad.json").c_str(), nullptr, &bad));
+  PN_ASSERT_OK(pn_renderer_create(ctx, bad, &badRenderer));
+  EXPECT_EQ(pn_renderer_render(badRenderer, &camera, nullptr, 0, r.params, &none), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pn_last_error_message()).find("bad.json: light \"Key\": unknown technique 'nope'"),
+            std::string::npos)
+      << pn_last_error_message();
+  EXPECT_EQ(none, nullptr);
+  pn_renderer_release(badRenderer);
+  pn_scene_release(bad);
+  pn_frame_release(own);
+  pn_frame_release(byHand);
+  pn_params_release(pcss);
+  pn_context_release(ctx);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(ApiRenderer, TechniquesAndTheirParameters) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "host/cl/context.h"
+#include "host/pipeline/frame_lights.h"
 #include "host/pipeline/renderer.h"
 #include "host/scene/load.h"
 #include "host/techniques/technique.h"
@@ -28,33 +29,6 @@ struct RenderOptions {
   ParamValues params;  // technique parameters given on the command line
 };
 
-// Each light's technique: the command line's, or a scene file light's own ("technique", checked here) with the
-// command line's parameters that it has and then the light's "params" on top (both checked, a usage error).
-std::vector<FrameLight> frameLights(const RenderOptions& options, const std::vector<Light>& lights,
-                                    const TechniqueInfo& technique, const Params& params) {
-  std::vector<FrameLight> out;
-  for (const Light& light : lights) {
-    if (light.technique.empty()) {
-      out.push_back({light, &technique, params});
-      continue;
-    }
-    try {
-      const TechniqueInfo& own = findTechnique(light.technique);
-      Params ownParams = techniqueParams(own, options.params, false);
-      for (const auto& [name, value] : light.params) {
-        if (!own.hasParam(name))
-          throw std::invalid_argument(
-              fmt::format("params: \"{}\" is not a parameter of technique '{}'", name, own.name));
-        ownParams.set(name, value);
-      }
-      out.push_back({light, &own, std::move(ownParams)});
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(fmt::format("{}: light {}: {}", options.view.scene, light.label(), e.what()));
-    }
-  }
-  return out;
-}
-
 int run(const RenderOptions& options) {
   const ImageOutputPlan plan = planImageOutput(options.output);  // a bad -o is a usage error before any work
   const TechniqueInfo& technique = findTechnique(options.technique);
@@ -62,7 +36,9 @@ int run(const RenderOptions& options) {
   const Scene scene = loadViewScene(options.view);
   const Camera camera = resolveCamera(options.view, scene);
   const std::vector<Light> lights = resolveLights(options.view, scene);
-  const std::vector<FrameLight> frame = frameLights(options, lights, technique, params);
+  // Each light's technique: the command line's, or a scene file light's own (a usage error when it is bad).
+  const std::vector<FrameLight> frame =
+      resolveFrameLights(lights, technique, params, options.params, options.view.scene);
   for (const FrameLight& l : frame) refuseUnsupportedLight(l.light, *l.technique);  // before a device is opened
   if (camera.orthographic() && lispsmEnabled(params))
     fmt::print(stderr,

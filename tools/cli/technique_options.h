@@ -16,7 +16,7 @@
 
 namespace penumbra::cli {
 
-using ParamValues = std::map<std::string, std::string>;  // name (no dashes) -> text as given
+using penumbra::ParamValues;  // name (no dashes) -> text as given
 
 // Declares each parameter once, even when several techniques share it.
 inline void addTechniqueOptions(CLI::App* sub, ParamValues& values) {
@@ -33,18 +33,7 @@ inline void addTechniqueOptions(CLI::App* sub, ParamValues& values) {
     }
 }
 
-// The technique's defaults with `values` applied. strict: a value the technique has no parameter for throws
-// std::invalid_argument; else it is skipped. Bad values always throw (Params::set).
-inline Params techniqueParams(const TechniqueInfo& info, const ParamValues& values, bool strict = true) {
-  Params params(info.params);
-  for (const auto& [name, value] : values) {
-    if (!info.hasParam(name)) {
-      if (strict) throw std::invalid_argument(fmt::format("--{} does not apply to technique '{}'", name, info.name));
-      continue;
-    }
-    params.set(name, value);
-  }
-  return params;
-}
+// The core's (host/techniques/technique.h), under the names the commands use.
+using penumbra::techniqueParams;
 
 }  // namespace penumbra::cli

@@ -1,0 +1,102 @@
+// pn_scene_create: a scene of the caller's own triangle arrays through the C API and the C++ classes. A card above a
+// ground under a directional light at 45 degrees: sm shadows exactly the ground the card hides from it (analytic),
+// the card's transform moves the shadow, the scene's own lights are the default ones, and bad arrays are refused
+// with the mesh and the element named.
+#include <penumbra/penumbra.h>
+#include <penumbra/penumbra.hpp>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "tests/api/caller_cl.h"
+
+namespace penumbra::test {
+namespace {
+
+constexpr int kSize = 64;
+// A 10 x 10 ground (y = 0) and a 2 x 2 card (y = 1), both facing +Y, counter-clockwise from above.
+const std::vector<float> kGround = {-5, 0, -5, -5, 0, 5, 5, 0, 5, 5, 0, -5};
+const std::vector<float> kCard = {-1, 1, -1, -1, 1, 1, 1, 1, 1, 1, 1, -1};
+const std::vector<uint32_t> kQuad = {0, 1, 2, 0, 2, 3};
+
+pn_mesh mesh(const std::vector<float>& positions, const float* transform = nullptr) {
+  pn_mesh m;
+  pn_mesh_init(&m);
+  m.positions = positions.data(), m.vertex_count = positions.size() / 3;
+  m.indices = kQuad.data(), m.triangle_count = kQuad.size() / 3;
+  m.transform = transform;
+  return m;
+}
+
+// sm visibility of the ground seen from above.
+struct TopView {
+  std::vector<float> visibility, px, py, pz;
+  float at(float x, float z) const {  // the visibility of the ground pixel whose position is nearest (x, 0, z)
+    size_t best = px.size();
+    float nearest = INFINITY;
+    for (size_t i = 0; i < px.size(); ++i)
+      if (std::abs(py[i]) < 1e-3f && std::hypot(px[i] - x, pz[i] - z) < nearest)
+        best = i, nearest = std::hypot(px[i] - x, pz[i] - z);
+    EXPECT_LT(nearest, 0.2f) << "no ground pixel near (" << x << ", " << z << ")";
+    return best < px.size() ? visibility[best] : NAN;
+  }
+};
+
+TopView render(const Scene& scene) {
+  Context context;
+  Renderer renderer(context, scene);
+  Camera camera = Camera::parse("0,20,0.001:0,0,0:30");
+  camera.width = camera.height = kSize;
+  Params params("sm");
+  params.set("map-size", 512);
+  const Frame frame = renderer.render(camera, params);
+  auto take = [&](const char* name) {
+    const float* data = frame.channel(name);
+    return std::vector<float>(data, data + kSize * kSize);
+  };
+  return {take("visibility.Y"), take("P.X"), take("P.Y"), take("P.Z")};
+}
+
+TEST(ApiScene, CallersTrianglesCastExactShadows) {
+  const std::vector<Light> sun = {Light::parse("dir:1,-1,0")};  // the card's shadow: x in [0, 2], z in [-1, 1]
+  const Scene scene = Scene::fromMeshes({mesh(kGround), mesh(kCard)}, sun);
+  EXPECT_EQ(scene.triangleCount(), 4u);
+  ASSERT_EQ(scene.lights().size(), 1u);  // the scene's own light, named as a scene file's
+  EXPECT_EQ(scene.lights()[0].name, "light0");
+  const TopView plain = render(scene);
+  EXPECT_EQ(plain.at(1.5f, 0), 0.0f);  // in the shadow, beside the card
+  EXPECT_EQ(plain.at(1.5f, 3), 1.0f);
+  EXPECT_EQ(plain.at(-3, 0), 1.0f);
+  EXPECT_EQ(plain.at(4.5f, 0), 1.0f);
+
+  const float shift[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 3, 0, 0, 1};  // column-major: x + 3
+  const TopView moved = render(Scene::fromMeshes({mesh(kGround), mesh(kCard, shift)}, sun));
+  EXPECT_EQ(moved.at(1.5f, 0), 1.0f);
+  EXPECT_EQ(moved.at(4.5f, 0), 0.0f);  // the shadow moved with the card: x in [3, 5]
+}
+
+TEST(ApiScene, BadArraysAreRefusedByName) {
+  pn_scene* scene = nullptr;
+  const std::vector<uint32_t> outOfRange = {0, 1, 9};
+  pn_mesh bad = mesh(kCard);
+  bad.indices = outOfRange.data(), bad.triangle_count = 1, bad.name = "card";
+  EXPECT_EQ(pn_scene_create(&bad, 1, nullptr, 0, &scene), PN_ERROR_SCENE);
+  EXPECT_STREQ(pn_last_error_message(), "mesh 0 \"card\": triangle 0 index 2 is 9, out of range (vertex count 4)");
+  const std::vector<float> nan = {0, 0, 0, NAN, 0, 0, 0, 0, 1};
+  pn_mesh notFinite = mesh(nan);
+  notFinite.triangle_count = 1;
+  EXPECT_EQ(pn_scene_create(&notFinite, 1, nullptr, 0, &scene), PN_ERROR_SCENE);
+  EXPECT_NE(std::string(pn_last_error_message()).find("mesh 0: position 1 is not finite"), std::string::npos);
+  pn_mesh missing = mesh(kCard);
+  missing.positions = nullptr;
+  EXPECT_EQ(pn_scene_create(&missing, 1, nullptr, 0, &scene), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(pn_scene_create(nullptr, 2, nullptr, 0, &scene), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(scene, nullptr);
+  PN_ASSERT_OK(pn_scene_create(nullptr, 0, nullptr, 0, &scene));  // empty: a frame sees nothing
+  EXPECT_EQ(pn_scene_triangle_count(scene), 0u);
+  pn_scene_release(scene);
+}
+
+}  // namespace
+}  // namespace penumbra::test
