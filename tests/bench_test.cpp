@@ -130,13 +130,13 @@ TEST(BenchReport, CsvHasTheColumnsAndQuotesFields) {
   const std::vector<std::string> lines = splitLines(out.str());
   ASSERT_EQ(lines.size(), 3u);
   EXPECT_EQ(lines[0],
-            "scene,technique,setting,pass,calls,ms,bytes,floor_ms,mae,rmse,p95,max,off,leak,false_shadow,mean_signed,"
-            "pixels,width,height,runs,copy_gbps,device,parameters,light");
+            "scene,technique,setting,pass,calls,ms,bytes,floor_ms,mae,rmse,p95,max,off,leak,false_shadow,umbra_light,"
+            "mean_signed,pixels,width,height,runs,copy_gbps,device,parameters,light");
   EXPECT_EQ(lines[1],
-            "builtin:box,pcf,map-size=512,shade/pcf_visibility,1,2.5,3600,0.25,,,,,,,,,,64,32,3,2,"
+            "builtin:box,pcf,map-size=512,shade/pcf_visibility,1,2.5,3600,0.25,,,,,,,,,,,64,32,3,2,"
             "\"Device, v1\",\"bias=1, \"\"x\"\"\",Key");
   EXPECT_EQ(lines[2],
-            "builtin:box,pcf,map-size=512,total,1,2.5,,,0.125,0,0,0,0,0.5,0,0,10,64,32,3,2,"
+            "builtin:box,pcf,map-size=512,total,1,2.5,,,0.125,0,0,0,0,0.5,0,0,0,10,64,32,3,2,"
             "\"Device, v1\",\"bias=1, \"\"x\"\"\",Key");
 }
 

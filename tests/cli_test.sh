@@ -190,6 +190,8 @@ expect compare-no-limits 0 "^PASS" -- "$bin" compare "$scratch/box.exr" "$scratc
 expect compare-within 0 "PASS" -- "$bin" compare "$scratch/box.exr" "$scratch/ref.exr" --max-mae 0.5 --max-false-shadow 0.5
 expect compare-outside 1 "FAIL: mae" -- "$bin" compare "$scratch/box.exr" "$scratch/ref.exr" --max-mae 0
 expect compare-json 0 '"false_shadow"' -- "$bin" compare --json "$scratch/box.exr" "$scratch/ref.exr"
+expect compare-json-umbra 0 '"umbra_light"' -- "$bin" compare --json "$scratch/box.exr" "$scratch/ref.exr"
+expect compare-umbra-limit 0 'umbra_light' -- "$bin" compare "$scratch/box.exr" "$scratch/ref.exr" --max-umbra-light 1
 expect compare-json-fail 1 '"pass": false' -- "$bin" compare --json "$scratch/box.exr" "$scratch/ref.exr" --max-rmse 0
 expect compare-error-image 0 "PASS" -- "$bin" compare "$scratch/box.exr" "$scratch/ref.exr" --error-image "$scratch/err/err.exr"
 if [ ! -s "$scratch/err/err.exr" ] || [ ! -s "$scratch/err/err.png" ]; then
@@ -216,7 +218,7 @@ expect compare-mask-json 0 '"mask": "lit.Y"' -- "$bin" compare --json "$scratch/
 bench=("$bin" bench builtin:box --size 48x32 --map-size 64 --spp 4 --runs 2 --warmup 1)
 expect bench-box 0 "wrote .*bench.csv" -- "${bench[@]}" --techniques sm,pcf --sweep pcf-radius=1,2 \
   -o "$scratch/bench/bench.csv" --json "$scratch/bench/bench.json"
-columns="scene,technique,setting,pass,calls,ms,bytes,floor_ms,mae,rmse,p95,max,off,leak,false_shadow,mean_signed"
+columns="scene,technique,setting,pass,calls,ms,bytes,floor_ms,mae,rmse,p95,max,off,leak,false_shadow,umbra_light,mean_signed"
 if head -n 1 "$scratch/bench/bench.csv" 2>/dev/null | grep -q "^$columns," &&
   [ "$(grep -c ',total,' "$scratch/bench/bench.csv")" -eq 3 ] && [ -s "$scratch/bench/bench.reference.exr" ] &&
   grep -q '"copy_bandwidth_gbps"' "$scratch/bench/bench.json"; then

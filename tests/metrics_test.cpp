@@ -32,6 +32,26 @@ TEST(Metrics, HandComputedFivePixels) {
   EXPECT_DOUBLE_EQ(m.off, 3.0 / 5);  // 0.125, 1, 0.75 exceed 0.1
   EXPECT_DOUBLE_EQ(m.leak, 1.0 / 5);
   EXPECT_DOUBLE_EQ(m.falseShadow, 1.0 / 5);
+  EXPECT_EQ(m.umbraPixels, 2u);             // reference 0 twice
+  EXPECT_DOUBLE_EQ(m.umbraLight, 1.0 / 2);  // of those, ours 1 exceeds 0.1
+}
+
+// Light in the umbra counts moderate errors `leak` misses (ours 0.3 where the reference is 0), only over the umbra.
+TEST(Metrics, UmbraLightIsAShareOfTheUmbra) {
+  const std::vector<float> ref = {0.0f, 0.01f, 0.019f, 0.03f, 0.5f, 1.0f};
+  const std::vector<float> ours = {0.3f, 0.09f, 0.11f, 0.3f, 0.9f, 1.0f};
+  const ErrorMetrics m = computeErrorMetrics(ours, ref);
+  EXPECT_EQ(m.umbraPixels, 3u);             // below 0.02 only
+  EXPECT_DOUBLE_EQ(m.umbraLight, 2.0 / 3);  // 0.3 and 0.11 exceed 0.1, 0.09 does not
+  EXPECT_DOUBLE_EQ(m.leak, 0.0);            // no pixel brighter than 0.5 where the reference is below 0.05
+  MetricThresholds limits;
+  limits.umbraLight = 0.5;
+  const std::vector<std::string> failed = exceededThresholds(m, limits);
+  ASSERT_EQ(failed.size(), 1u);
+  EXPECT_EQ(failed[0].rfind("umbra-light 0.666667 > 0.5", 0), 0u) << failed[0];
+  const ErrorMetrics lit = computeErrorMetrics(std::vector<float>{1.0f}, std::vector<float>{1.0f});
+  EXPECT_EQ(lit.umbraPixels, 0u);
+  EXPECT_EQ(lit.umbraLight, 0.0);  // no umbra: nothing let in
 }
 
 TEST(Metrics, PercentileIsNearestRank) {

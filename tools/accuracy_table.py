@@ -35,16 +35,18 @@ def markdown(rows, note, command):
     out += [f"- device: {d}" for d in devices] + [f"- frame: {s}" for s in sizes]
     out += ["- ms: median device time of the whole frame (G-buffer, technique, preview; OpenCL profiling events);",
             "  MAE, RMSE: visibility error against the Embree reference over covered pixels that can receive light;",
-            "  leak: fraction with reference < 0.05 but ours > 0.5; false shadow: reference > 0.95 but ours < 0.5.", ""]
+            "  leak: fraction with reference < 0.05 but ours > 0.5; false shadow: reference > 0.95 but ours < 0.5;",
+            "  umbra light: of the pixels with reference < 0.02, the fraction where ours > 0.1.", ""]
     for scene in scenes:
-        out += [f"## {scene}", "", "| technique | setting | ms | MAE | RMSE | leak | false shadow |",
-                "| --- | --- | ---: | ---: | ---: | ---: | ---: |"]
+        out += [f"## {scene}", "", "| technique | setting | ms | MAE | RMSE | leak | false shadow | umbra light |",
+                "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |"]
         for technique, setting in keys:
             r = by.get((scene, technique, setting))
             if r is None:
                 continue
             out.append(f'| {technique} | {setting} | {float(r["ms"]):.1f} | {cell(r["mae"], 4)} | '
-                       f'{cell(r["rmse"], 4)} | {cell(r["leak"], 4)} | {cell(r["false_shadow"], 4)} |')
+                       f'{cell(r["rmse"], 4)} | {cell(r["leak"], 4)} | {cell(r["false_shadow"], 4)} | '
+                       f'{cell(r.get("umbra_light", ""), 4)} |')
         out.append("")
     return "\n".join(out)
 

@@ -34,6 +34,7 @@ Cells cells(const BenchMeta& meta, const BenchRow& r) {
           {"off", metric(&ErrorMetrics::off)},
           {"leak", metric(&ErrorMetrics::leak)},
           {"false_shadow", metric(&ErrorMetrics::falseShadow)},
+          {"umbra_light", metric(&ErrorMetrics::umbraLight)},
           {"mean_signed", metric(&ErrorMetrics::meanSigned)},
           {"pixels", pixels},
           {"width", meta.width},

@@ -40,7 +40,7 @@ ErrorMetrics computeErrorMetrics(std::span<const float> ours, std::span<const fl
   std::vector<double> absolute;
   absolute.reserve(ours.size());
   double sumAbs = 0, sumSq = 0, sum = 0;
-  size_t off = 0, leak = 0, falseShadow = 0;
+  size_t off = 0, leak = 0, falseShadow = 0, umbraLight = 0;
   for (size_t i = 0; i < ours.size(); ++i) {
     if (!covered(coverage, i)) continue;
     const double a = ours[i], r = reference[i];
@@ -55,6 +55,8 @@ ErrorMetrics computeErrorMetrics(std::span<const float> ours, std::span<const fl
     off += std::abs(e) > kOffThreshold;
     leak += r < kLeakReference && a > kLeakOurs;
     falseShadow += r > kShadowReference && a < kShadowOurs;
+    m.umbraPixels += r < kUmbraReference;
+    umbraLight += r < kUmbraReference && a > kUmbraOurs;
   }
   m.pixels = absolute.size();
   if (m.pixels == 0) return m;
@@ -65,6 +67,7 @@ ErrorMetrics computeErrorMetrics(std::span<const float> ours, std::span<const fl
   m.off = static_cast<double>(off) / n;
   m.leak = static_cast<double>(leak) / n;
   m.falseShadow = static_cast<double>(falseShadow) / n;
+  if (m.umbraPixels > 0) m.umbraLight = static_cast<double>(umbraLight) / static_cast<double>(m.umbraPixels);
   m.p95 = percentile(absolute, 0.95);
   return m;
 }
@@ -91,6 +94,7 @@ std::vector<std::string> exceededThresholds(const ErrorMetrics& metrics, const M
   check("off", metrics.off, limits.off);
   check("leak", metrics.leak, limits.leak);
   check("false-shadow", metrics.falseShadow, limits.falseShadow);
+  check("umbra-light", metrics.umbraLight, limits.umbraLight);
   check("bias", std::abs(metrics.meanSigned), limits.bias);
   return failed;
 }

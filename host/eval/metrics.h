@@ -19,6 +19,8 @@ inline constexpr double kLeakReference = 0.05;    // reference darker than this 
 inline constexpr double kLeakOurs = 0.5;          // ... but ours brighter than this: light leaking
 inline constexpr double kShadowReference = 0.95;  // reference brighter than this ...
 inline constexpr double kShadowOurs = 0.5;        // ... but ours darker than this: false shadow (acne, over-darkening)
+inline constexpr double kUmbraReference = 0.02;   // reference darker than this: the umbra ...
+inline constexpr double kUmbraOurs = 0.1;         // ... where ours is brighter than this: light in the umbra
 
 struct ErrorMetrics {
   size_t pixels = 0;     // covered pixels where both values are finite: what every statistic is over
@@ -31,6 +33,10 @@ struct ErrorMetrics {
   double off = 0;          // fraction with |e| > kOffThreshold
   double leak = 0;         // fraction with reference < kLeakReference and ours > kLeakOurs
   double falseShadow = 0;  // fraction with reference > kShadowReference and ours < kShadowOurs
+  // Of the umbra pixels only (reference < kUmbraReference; 0 when there are none), the fraction where ours >
+  // kUmbraOurs: light let into the umbra, which `leak` (ours > 0.5) misses when the error is moderate.
+  double umbraLight = 0;
+  size_t umbraPixels = 0;  // covered pixels with reference < kUmbraReference
   double meanSigned = 0;   // mean e (> 0: ours too bright on average)
 };
 
@@ -45,7 +51,7 @@ std::vector<float> signedError(std::span<const float> ours, std::span<const floa
 
 // Upper limits; a metric without one is not checked.
 struct MetricThresholds {
-  std::optional<double> mae, rmse, p95, maxAbs, off, leak, falseShadow, bias;  // bias: |meanSigned|
+  std::optional<double> mae, rmse, p95, maxAbs, off, leak, falseShadow, umbraLight, bias;  // bias: |meanSigned|
 };
 
 // One line per metric over its limit ("mae 0.031 > 0.02"); a non-finite pixel is always a failure. Empty: pass.

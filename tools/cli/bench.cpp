@@ -97,8 +97,8 @@ std::string referenceKey(const BenchOptions& o, const Camera& camera, const std:
   // A BLEND cutoff other than the default changes the scene: part of the key (absent otherwise, as before).
   const std::string blend =
       o.view.blendCutoff == LoadOptions{}.blendCutoff ? "" : fmt::format(" blend-cutoff={}", o.view.blendCutoff);
-  return fmt::format("scene={} camera={} size={}x{} light={} spp={}{}", sceneProvenance(o.view), cameraProvenance(camera),
-                     camera.width, camera.height, forms, area ? o.spp : 1, blend);
+  return fmt::format("scene={} camera={} size={}x{} light={} spp={}{}", sceneProvenance(o.view),
+                     cameraProvenance(camera), camera.width, camera.height, forms, area ? o.spp : 1, blend);
 }
 
 // The given reference, or the cached trace next to the output, or a fresh trace written there.
@@ -182,14 +182,16 @@ void writeOutputs(const BenchOptions& o, const BenchMeta& meta, const std::vecto
 void printSummary(const BenchMeta& meta, const std::vector<BenchRow>& rows) {
   fmt::print("{}: {}x{}, median of {} runs after {} warm-up; copy bandwidth {:.2f} GB/s\n", meta.device, meta.width,
              meta.height, meta.runs, meta.warmup, meta.copyBytesPerSecond * 1e-9);
-  fmt::print("  {:<8} {:<28} {:<10} {:>10} {:>10} {:>9} {:>9} {:>9}\n", "technique", "setting", "light", "ms",
-             "floor ms", "mae", "leak", "false sh.");
+  fmt::print("  {:<8} {:<28} {:<10} {:>10} {:>10} {:>9} {:>9} {:>9} {:>9}\n", "technique", "setting", "light", "ms",
+             "floor ms", "mae", "leak", "false sh.", "umbra");
   for (const BenchRow& r : rows) {
     if (r.pass != kTotalPass) continue;
-    const auto metric = [&](double v) { return r.metrics ? fmt::format("{:.5f}", v) : std::string("-"); };
-    fmt::print("  {:<8} {:<28} {:<10} {:>10.3f} {:>10} {:>9} {:>9} {:>9}\n", r.technique, r.setting, r.light, r.ms,
-               r.floorMs ? fmt::format("{:.3f}", *r.floorMs) : "-", metric(r.metrics ? r.metrics->mae : 0),
-               metric(r.metrics ? r.metrics->leak : 0), metric(r.metrics ? r.metrics->falseShadow : 0));
+    const auto metric = [&](double ErrorMetrics::*m) {
+      return r.metrics ? fmt::format("{:.5f}", (*r.metrics).*m) : std::string("-");
+    };
+    fmt::print("  {:<8} {:<28} {:<10} {:>10.3f} {:>10} {:>9} {:>9} {:>9} {:>9}\n", r.technique, r.setting, r.light,
+               r.ms, r.floorMs ? fmt::format("{:.3f}", *r.floorMs) : "-", metric(&ErrorMetrics::mae),
+               metric(&ErrorMetrics::leak), metric(&ErrorMetrics::falseShadow), metric(&ErrorMetrics::umbraLight));
   }
 }
 

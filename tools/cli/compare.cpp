@@ -105,6 +105,7 @@ std::vector<Row> rows(const ErrorMetrics& m, const MetricThresholds& l) {
           {"off", m.off, l.off},
           {"leak", m.leak, l.leak},
           {"false_shadow", m.falseShadow, l.falseShadow},
+          {"umbra_light", m.umbraLight, l.umbraLight},
           {"mean_signed", m.meanSigned, l.bias}};
 }
 
@@ -115,10 +116,11 @@ void printJson(const CompareOptions& o, const Image& ref, const ErrorMetrics& m,
     metrics[row.name] = row.value;
     if (row.limit) limits[row.name == std::string("mean_signed") ? "bias" : row.name] = *row.limit;
   }
-  nlohmann::json out = {{"ours", o.ours},       {"reference", o.reference},  {"channel", o.spec.channel},
-                        {"width", ref.width()}, {"height", ref.height()},    {"mask", o.masked ? o.spec.mask : ""},
-                        {"pixels", m.pixels},   {"non_finite", m.nonFinite}, {"metrics", metrics},
-                        {"thresholds", limits}, {"failed", failed},          {"pass", failed.empty()}};
+  nlohmann::json out = {{"ours", o.ours},        {"reference", o.reference},  {"channel", o.spec.channel},
+                        {"width", ref.width()},  {"height", ref.height()},    {"mask", o.masked ? o.spec.mask : ""},
+                        {"pixels", m.pixels},    {"non_finite", m.nonFinite}, {"umbra_pixels", m.umbraPixels},
+                        {"metrics", metrics},    {"thresholds", limits},      {"failed", failed},
+                        {"pass", failed.empty()}};
   if (noise) out["reference_stderr"] = {{"mean", noise->mean}, {"rms", noise->rms}};
   fmt::print("{}\n", out.dump(2));
 }
@@ -213,6 +215,8 @@ Command addCompareCommand(CLI::App& app) {
   addThreshold(sub, "off", o->limits.off, "Fraction of pixels off by more than 0.1");
   addThreshold(sub, "leak", o->limits.leak, "Fraction leaking light: reference < 0.05, ours > 0.5");
   addThreshold(sub, "false-shadow", o->limits.falseShadow, "Fraction falsely shadowed: reference > 0.95, ours < 0.5");
+  addThreshold(sub, "umbra-light", o->limits.umbraLight,
+               "Of the umbra pixels (reference < 0.02), the fraction where ours > 0.1");
   addThreshold(sub, "bias", o->limits.bias, "Absolute mean signed error");
   return {sub, [o] { return run(*o); }};
 }
