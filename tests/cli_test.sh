@@ -336,6 +336,17 @@ expect compare-light-and-channel 2 'excludes' -- \
 expect bench-per-light 0 '' -- "$bin" bench "$scratch/lit.json" --size 32x24 --map-size 64 --techniques sm --runs 1 --warmup 0 --no-reference -q \
   -o "$scratch/lit-bench.csv"
 expect bench-per-light-rows 0 '^sm,.*,total,.*,Sun$' -- bash -c "grep -E ',total,' '$scratch/lit-bench.csv' | sed 's/^[^,]*,//'"
+# The ray tracer as bench's peer: `reference` with its own spp, wall-clock passes, error against the ground truth.
+expect bench-reference-peer 0 'reference +spp=16' -- "$bin" bench builtin:box --size 48x32 --map-size 64 --spp 64 \
+  --techniques sm,reference --sweep spp=4,16 --runs 1 --warmup 0 -o "$scratch/peer/peer.csv"
+expect bench-reference-peer-rows 0 '^reference,spp=4,reference/trace,1,' -- cut -d, -f2- "$scratch/peer/peer.csv"
+expect bench-reference-peer-metrics 0 '^reference,spp=16,total,3,[0-9.e+-]+,,,[0-9]' -- cut -d, -f2- "$scratch/peer/peer.csv"
+expect bench-reference-peer-noise 0 'no fewer samples than the ground truth' -- "$bin" bench builtin:box --size 48x32 \
+  --spp 4 --techniques reference --sweep spp=4 --runs 1 --warmup 0 -o "$scratch/peer/noise.csv"
+expect bench-reference-bad-spp 2 'reference: spp 5: must be 4 k\^2' -- "$bin" bench builtin:box --size 48x32 \
+  --techniques reference --sweep spp=5 --runs 1 -o "$scratch/peer/bad.csv"
+expect bench-unknown-technique 2 "unknown technique 'nope'.*'reference'" -- "$bin" bench builtin:box --techniques nope \
+  -o "$scratch/peer/bad.csv"
 # Per-light techniques from a scene file: "technique" and "params" on a light entry, checked like -t and --PARAM.
 printf '{"procedural": [{"name": "box"}], "lights": [%s, %s]}' \
   '{"name": "Key", "type": "spot", "position": [0, 5, 0], "target": [0, 0, 0], "radius": 0.2, "technique": "pcss", "params": {"pcss-filter-taps": 4}}' \

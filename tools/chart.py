@@ -58,8 +58,12 @@ def panel(ax, rows, metric, title, colours):
     line = sorted(front, key=lambda i: points[i][0])
     ax.plot([points[i][0] for i in line], [points[i][1] for i in line], color="black", linewidth=1, linestyle="--",
             zorder=2, label="Pareto front")
+    peer = sorted((i for i, r in enumerate(rows) if r["technique"] == "reference"), key=lambda i: points[i][0])
+    if len(peer) > 1:  # the ray tracer's curve over its sample counts (bench --techniques ...,reference)
+        ax.plot([points[i][0] for i in peer], [points[i][1] for i in peer], color=colours["reference"], linewidth=1.5,
+                zorder=2, label="ray tracer (Embree, host wall clock)")
     ax.set_xscale("log")
-    ax.set_xlabel("frame time, device (ms, log)")
+    ax.set_xlabel("frame time (ms, log): device time; the ray tracer's host wall clock")
     ax.set_ylabel(title)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(loc="upper right", fontsize=7)

@@ -22,6 +22,7 @@
 #include "host/pipeline/renderer.h"
 #include "host/scene/light_names.h"
 #include "host/scene/load.h"
+#include "tools/cli/bench_reference.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/progress.h"
 #include "tools/cli/technique_options.h"
@@ -46,16 +47,25 @@ struct Job {
   Params params;
 };
 
+// "all" (every technique of the registry), names, or both ("all,reference": the registry and the ray tracer).
 std::vector<const TechniqueInfo*> techniqueList(const std::string& list) {
   std::vector<const TechniqueInfo*> out;
-  if (list == "all") {
-    for (const TechniqueInfo& info : techniques()) out.push_back(&info);
-    return out;
-  }
   for (size_t start = 0; start <= list.size();) {
     const size_t comma = std::min(list.find(',', start), list.size());
-    if (comma > start) out.push_back(&findTechnique(list.substr(start, comma - start)));
+    const std::string name = list.substr(start, comma - start);
     start = comma + 1;
+    if (name.empty()) continue;
+    if (name == "all") {
+      for (const TechniqueInfo& info : techniques()) out.push_back(&info);
+    } else if (name == referenceTechnique().name) {
+      out.push_back(&referenceTechnique());
+    } else {
+      try {
+        out.push_back(&findTechnique(name));
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(std::string(e.what()) + "; bench also runs the ray tracer as 'reference'");
+      }
+    }
   }
   if (out.empty()) throw std::invalid_argument("--techniques: empty list");
   return out;
@@ -83,6 +93,25 @@ std::vector<Job> planJobs(const BenchOptions& options) {
       fmt::print(stderr, "bench: --sweep {} skipped for {} (no such parameter)\n", name, technique->name);
   }
   return jobs;
+}
+
+// The tracer as a peer: an spp that is not 4k^2 under an area light is a usage error before any work; measured
+// against a ground truth of no more samples than its own, it measures noise against noise (a warning).
+void checkPeerSamples(const BenchOptions& o, const std::vector<Job>& jobs, const std::vector<Light>& lights) {
+  if (std::none_of(lights.begin(), lights.end(), [](const Light& l) { return l.isArea(); })) return;
+  for (const Job& job : jobs) {
+    if (!isReferenceTechnique(*job.technique)) continue;
+    try {
+      reference::SampleLayout::fromSpp(job.params.getInt("spp"));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(fmt::format("--techniques reference: {}", e.what()));
+    }
+    if (!o.noReference && o.reference.empty() && job.params.getInt("spp") >= o.spp)
+      fmt::print(stderr,
+                 "bench: reference {} has no fewer samples than the ground truth (--spp {}): its error is "
+                 "mostly the ground truth's own noise\n",
+                 job.setting.label, o.spp);
+  }
 }
 
 // What identifies a traced reference: a cached one is reused only when this matches its header.
@@ -202,6 +231,7 @@ int run(const BenchOptions& o) {
   const std::vector<Light> lights = resolveLights(o.view, scene);
   for (const Job& job : jobs)  // before any work
     for (const Light& light : lights) refuseUnsupportedLight(light, *job.technique);
+  checkPeerSamples(o, jobs, lights);
   if (!o.quiet)
     for (const Light& light : lights) fmt::print(stderr, "bench: {}\n", describeLightChoice(o.view, scene, {light}));
   Context ctx(o.device);
@@ -239,7 +269,8 @@ int run(const BenchOptions& o) {
       cell.job = &job, cell.light = &light;
       cell.label = fmt::format("{} {}{}", job.technique->name, job.setting.label,
                                lights.size() > 1 ? " light " + lightLayer(light) : "");
-      if (o.interleave && cells.size() > 1) cell.own = std::make_unique<Renderer>(ctx, scene);
+      if (o.interleave && cells.size() > 1 && !isReferenceTechnique(*job.technique))
+        cell.own = std::make_unique<Renderer>(ctx, scene);
     }
   Progress progress(cells.size() * static_cast<size_t>(o.warmup + o.runs), !o.quiet);
   std::vector<std::string> failed;
@@ -247,7 +278,9 @@ int run(const BenchOptions& o) {
     if (cell.failed) return;
     try {
       Renderer& renderer = cell.own ? *cell.own : shared;
-      cell.last = renderer.render(camera, *cell.light, *cell.job->technique, cell.job->params);
+      cell.last = isReferenceTechnique(*cell.job->technique)
+                      ? traceFrame(ctx, scene, camera, *cell.light, cell.job->params)
+                      : renderer.render(camera, *cell.light, *cell.job->technique, cell.job->params);
       if (i >= o.warmup) cell.runs.push_back(cell.last.passes);
     } catch (const std::exception& e) {  // one failing setting must not lose the others' measurements
       fmt::print(stderr, "bench: {} failed: {}\n", cell.label, e.what());
