@@ -7,6 +7,7 @@
 //   metric; lit planes stay lit and nothing is NaN.
 // Suite names contain "Lvsm" so that the pocl-loops ctest entry runs them under both work-group methods.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -25,8 +26,8 @@
 
 namespace penumbra {
 namespace {
-using test::renderWith;
 using test::ClTest;
+using test::renderWith;
 
 // 16-bit unorm layers against fp32 layers (same splits): the moments are rounded to 1/65535 (7.6e-6 half
 // step), which perturbs sigma^2 = M2 - M1^2 by ~2e-5 in warped units; where the true variance is of that
@@ -130,8 +131,8 @@ TEST_F(LvsmStackedPlanes, VsmBleedsAndASplitBetweenMidPlaneAndGroundRemovesIt) {
   EXPECT_EQ(lvsmBleeding, 0) << "split at " << split << ": worst " << lvsmWorst;
   EXPECT_LT(lvsmWorst, 1e-3f);
   // The split above the ground instead (between ground and the far end) leaves the bleeding in place.
-  const RenderResult behind = render("lvsm", {{"lvsm-placement", "manual"},
-                                              {"lvsm-splits", fmt::format("{}", 0.5f * (ground + 1.0f))}});
+  const RenderResult behind =
+      render("lvsm", {{"lvsm-placement", "manual"}, {"lvsm-splits", fmt::format("{}", 0.5f * (ground + 1.0f))}});
   EXPECT_GT(std::get<1>(bleeding(behind)), 50);
 }
 
@@ -207,6 +208,49 @@ TEST_F(LvsmStackedPlanes, DebugLayersAndNoNanInEveryConfiguration) {
       ASSERT_LT(layer[i], float(n));
     }
   }
+}
+
+// Sec. 5's schedule for sequences: one step a frame, the splits kept across frames by the Renderer's technique. From
+// the bad start of the test above, the one split moves every frame and reaches the every-frame relaxation's split
+// (within its tolerance) and removes the bleeding in a few frames.
+TEST_F(LvsmStackedPlanes, IncrementalScheduleConvergesOverFrames) {
+  const RenderResult full = render("lvsm", {{"lvsm-splits", "0.02"}});
+  const float target = splitsOf(full).at(0);
+  const TechniqueInfo& lvsm = findTechnique("lvsm");
+  const Params params =
+      techniqueParams(lvsm, {{"map-size", "512"}, {"lvsm-splits", "0.02"}, {"lvsm-lloyd-schedule", "incremental"}});
+  Renderer renderer(ctx(), scene_);
+  std::vector<float> trail;
+  RenderResult last;
+  for (int frame = 0; frame < 12; ++frame) {
+    last = renderer.render(camera_, scene_.lights.front(), lvsm, params);
+    trail.push_back(splitsOf(last).at(0));
+  }
+  EXPECT_GT(trail[0], 0.02f);  // the first frame takes one step from the start
+  EXPECT_LT(std::abs(trail[0] - target), std::abs(0.02f - target));
+  EXPECT_NEAR(trail.back(), target, 2e-3f) << fmt::format("{}", fmt::join(trail, " "));
+  EXPECT_EQ(std::get<1>(bleeding(last)), 0);
+  EXPECT_NE(last.image.attributes().at("penumbra:lvsm-placement").find("lloyd incremental frame=12"),
+            std::string::npos);
+}
+
+// Two of three interior splits move per frame, round-robin: the first frame leaves the third where it started.
+TEST_F(LvsmStackedPlanes, IncrementalScheduleMovesTwoSplitsAFrame) {
+  const TechniqueInfo& lvsm = findTechnique("lvsm");
+  const Params params = techniqueParams(lvsm, {{"map-size", "512"},
+                                               {"lvsm-splits", "0.3,0.5,0.7"},
+                                               {"lvsm-teleport", "off"},
+                                               {"lvsm-lloyd-schedule", "incremental"}});
+  Renderer renderer(ctx(), scene_);
+  const std::vector<float> first = splitsOf(renderer.render(camera_, scene_.lights.front(), lvsm, params));
+  ASSERT_EQ(first.size(), 3u);
+  EXPECT_NE(first[0], 0.3f);  // every cluster holds samples (the full relaxation ends at ~0.29, 0.46, 0.80)
+  EXPECT_NE(first[1], 0.5f);
+  EXPECT_EQ(first[2], 0.7f);
+  const std::vector<float> second = splitsOf(renderer.render(camera_, scene_.lights.front(), lvsm, params));
+  EXPECT_NE(second[2], 0.7f);  // the third's turn, with the first's
+  EXPECT_EQ(second[1], first[1]);
+  EXPECT_THROW(render("lvsm", {{"lvsm-lloyd-schedule", "incremental"}, {"lvsm-layers", "0"}}), std::invalid_argument);
 }
 
 TEST_F(LvsmStackedPlanes, RejectsBadSplitParameters) {

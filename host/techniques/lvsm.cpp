@@ -17,6 +17,7 @@ namespace {
 
 enum Placement { kUniform = 0, kManual = 1, kLloyd = 2 };
 enum Storage { kFloat32 = 0, kUnorm16 = 1 };
+enum Schedule { kEveryFrame = 0, kIncremental = 1 };
 
 class LayeredVsm final : public Technique {
  public:
@@ -31,6 +32,8 @@ class LayeredVsm final : public Technique {
       throw std::invalid_argument("--lvsm-placement manual needs --lvsm-splits");
     if (!text.empty() && (placement == kUniform || params.getInt("lvsm-layers") == 0))
       throw std::invalid_argument("--lvsm-splits applies to manual and lloyd placement with a fixed layer count");
+    if (params.getInt("lvsm-lloyd-schedule") == kIncremental && params.getInt("lvsm-layers") == 0)
+      throw std::invalid_argument("--lvsm-lloyd-schedule incremental needs a fixed layer count (--lvsm-layers 1..16)");
   }
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override;
@@ -41,10 +44,14 @@ class LayeredVsm final : public Technique {
 
  private:
   std::vector<float> planSplits(ShadowFrame& frame, LvsmLayout& layout);
+  // The header's record of the splits, the placement and the leak; returns `splits`.
+  std::vector<float> recordSplits(ShadowFrame& frame, const std::vector<float>& splits, const LvsmLayout& layout,
+                                  const std::string& how, const std::string& leaks) const;
   LvsmLayout layoutFor(const std::vector<float>& splits, bool uniform) const {
     return lvsmLayout(splits, uniform, static_cast<float>(params_.get("lvsm-overlap")),
                       static_cast<float>(params_.get("lvsm-transition")),
-                      static_cast<float>(params_.get("min-variance")), static_cast<float>(params_.get("lvsm-leak-gap")));
+                      static_cast<float>(params_.get("min-variance")),
+                      static_cast<float>(params_.get("lvsm-leak-gap")));
   }
   double leak(ShadowFrame& frame, const LvsmLayout& layout) const {
     const auto size = static_cast<uint32_t>(params_.getInt("map-size"));
@@ -52,8 +59,13 @@ class LayeredVsm final : public Technique {
   }
   void buildLayers(Context& ctx, const LvsmLayout& layout);
 
+  LloydResult incrementalStep(ShadowFrame& frame, const LvsmSamples& samples, std::vector<float> start,
+                              LloydConfig config);
+
   Params params_;
   std::vector<float> manual_;
+  std::vector<float> kept_;  // incremental schedule: the splits of the last frame, s_0..s_N
+  size_t round_ = 0;         // incremental schedule: frames so far (which splits move next)
   ShadowMap map_;
   Buffer<float> moments_, scratch_, mips_, layers_, layerMips_;
   Buffer<cl_ushort> layers16_, layerMips16_;
@@ -79,6 +91,14 @@ std::vector<float> LayeredVsm::planSplits(ShadowFrame& frame, LvsmLayout& layout
     config.maxIterations = params_.getInt("lvsm-lloyd-iterations");
     config.tolerance = static_cast<float>(params_.get("lvsm-lloyd-tolerance"));
     config.teleport = params_.getInt("lvsm-teleport") == 1;
+    if (params_.getInt("lvsm-lloyd-schedule") == kIncremental) {
+      const LloydResult r = incrementalStep(frame, samples, splits, config);
+      splits = r.splits;
+      how = fmt::format("lloyd incremental frame={} splits-per-frame={} teleports={} last-move={:.3g}", round_,
+                        params_.getInt("lvsm-lloyd-splits-per-frame"), r.teleports, r.lastMove);
+      layout = layoutFor(splits, false);
+      return recordSplits(frame, splits, layout, how, leaks);
+    }
     LloydResult r = lloydRelax(frame.ctx, samples, splits, config);
     if (layers == 0) {  // auto: N = 1, 2, ..., each started from N - 1's splits plus one in the heaviest layer
       const int maxLayers = params_.getInt("lvsm-max-layers");
@@ -100,6 +120,27 @@ std::vector<float> LayeredVsm::planSplits(ShadowFrame& frame, LvsmLayout& layout
                       r.converged ? "converged" : "stopped");
   }
   layout = layoutFor(splits, placement == kUniform);
+  return recordSplits(frame, splits, layout, how, leaks);
+}
+
+// Sec. 5's schedule for sequences: one Lloyd step a frame that moves only --lvsm-lloyd-splits-per-frame splits
+// (round-robin), started from the last frame's splits, which the technique keeps (the Renderer keeps the technique
+// while its parameters stay the same), so the splits converge over frames rather than within each.
+LloydResult LayeredVsm::incrementalStep(ShadowFrame& frame, const LvsmSamples& samples, std::vector<float> start,
+                                        LloydConfig config) {
+  if (kept_.size() == start.size()) start = kept_;
+  config.maxIterations = 1;
+  config.splitsPerIteration = params_.getInt("lvsm-lloyd-splits-per-frame");
+  config.firstSplit = round_ * static_cast<size_t>(config.splitsPerIteration);
+  LloydResult r = lloydRelax(frame.ctx, samples, start, config);
+  kept_ = r.splits;
+  ++round_;
+  return r;
+}
+
+std::vector<float> LayeredVsm::recordSplits(ShadowFrame& frame, const std::vector<float>& splits,
+                                            const LvsmLayout& layout, const std::string& how,
+                                            const std::string& leaks) const {
   const double finalLeak = leak(frame, layout);
   frame.attributes["penumbra:lvsm-splits"] = formatSplits(splits);
   frame.attributes["penumbra:lvsm-placement"] = how;
@@ -200,8 +241,18 @@ std::vector<ParamSpec> lvsmParams() {
   p.push_back({"lvsm-lloyd-iterations", 16, 1, 256, "Lloyd relaxation: most iterations"});
   p.push_back({"lvsm-lloyd-tolerance", 1e-3, 0, 1, "Lloyd relaxation: stop when no split moves farther"});
   p.push_back({"lvsm-teleport", 1, 0, 1, "Lloyd relaxation: teleport the splits of empty clusters", {"off", "on"}});
+  p.push_back({"lvsm-lloyd-schedule",
+               kEveryFrame,
+               0,
+               1,
+               "Lloyd relaxation: to convergence every frame, or one step a frame from the last frame's splits "
+               "(sec. 5, for sequences)",
+               {"frame", "incremental"}});
+  p.push_back({"lvsm-lloyd-splits-per-frame", 2, 1, MOMENTS_MAX_LAYERS - 1,
+               "Incremental Lloyd schedule: splits moved per frame, round-robin (the paper's two)"});
   p.push_back({"lvsm-max-layers", 8, 1, MOMENTS_MAX_LAYERS, "Auto layer count: most layers"});
-  p.push_back({"lvsm-auto-gain", 0.25, 0, 1, "Auto layer count: keep a layer only if it cuts the leak by this fraction"});
+  p.push_back(
+      {"lvsm-auto-gain", 0.25, 0, 1, "Auto layer count: keep a layer only if it cuts the leak by this fraction"});
   p.push_back({"lvsm-leak-gap", 0.05, 0.001, 1,
                "Leak metric: receiver distance behind the farthest occluder (normalised depth)"});
   return p;

@@ -76,7 +76,8 @@ std::vector<float> parseSplits(const std::string& text) {
     s.push_back(v);
   }
   if (s.size() > MOMENTS_MAX_LAYERS)
-    throw std::invalid_argument(fmt::format("--lvsm-splits: {} splits (at most {})", s.size() - 1, MOMENTS_MAX_LAYERS - 1));
+    throw std::invalid_argument(
+        fmt::format("--lvsm-splits: {} splits (at most {})", s.size() - 1, MOMENTS_MAX_LAYERS - 1));
   s.push_back(1.0f);
   return s;
 }
@@ -131,6 +132,16 @@ bool splitHeaviestLayer(Context& ctx, const LvsmSamples& samples, std::vector<fl
   return true;
 }
 
+namespace {
+
+// Whether interior split i of k moves this iteration (LloydConfig::splitsPerIteration, firstSplit).
+bool updated(size_t i, size_t k, const LloydConfig& config) {
+  if (config.splitsPerIteration <= 0 || static_cast<size_t>(config.splitsPerIteration) >= k) return true;
+  return (i + k - config.firstSplit % k) % k < static_cast<size_t>(config.splitsPerIteration);
+}
+
+}  // namespace
+
 LloydResult lloydRelax(Context& ctx, const LvsmSamples& samples, std::vector<float> start, const LloydConfig& config) {
   LloydResult r;
   r.splits = std::move(start);
@@ -158,7 +169,7 @@ LloydResult lloydRelax(Context& ctx, const LvsmSamples& samples, std::vector<flo
     }
     std::vector<float> next = r.splits;
     for (size_t i = 0; i < k; ++i)
-      if (stats[i].sumW > 0.0f) next[i + 1] = stats[i].sumWX / stats[i].sumW;
+      if (stats[i].sumW > 0.0f && updated(i, k, config)) next[i + 1] = stats[i].sumWX / stats[i].sumW;
     tidy(next);
     r.lastMove = 0.0f;
     for (size_t i = 1; i <= k; ++i) r.lastMove = std::max(r.lastMove, std::abs(next[i] - r.splits[i]));

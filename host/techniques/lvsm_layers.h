@@ -38,6 +38,11 @@ struct LloydConfig {
   int maxIterations = 16;   // stopping rule: at most this many updates ...
   float tolerance = 1e-3f;  // ... or stop once no split moves farther than this (normalised depth)
   bool teleport = true;     // sec. 5: an empty cluster's split moves into the heaviest layer
+  // Sec. 5's per-frame schedule: each iteration moves only `splitsPerIteration` interior splits (0: all), the
+  // first of them `firstSplit` (0-based among the interior ones, counted modulo their number), the others after
+  // it in order. Teleportation still applies to any empty cluster.
+  int splitsPerIteration = 0;
+  size_t firstSplit = 0;
 };
 struct LloydResult {
   std::vector<float> splits;  // s_0..s_N
