@@ -64,7 +64,7 @@ float autoFactor(const SplitFit& fit, float near, float far, float rho, std::str
 
 std::vector<ParamSpec> splitParams() {
   return {
-      {"pssm-splits", 4, 0, PSSM_MAX_SPLITS,
+      {"pssm-splits", 0, 0, PSSM_MAX_SPLITS,
        "Parallel splits: a count, or auto (Luksch's optimal tiling up to --pssm-max-splits)", splitCountChoices()},
       {"pssm-scheme", static_cast<double>(SplitScheme::Practical), 0, 2, "Split distances for a fixed count",
        {"uniform", "logarithmic", "practical"}},

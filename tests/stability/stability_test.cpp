@@ -233,8 +233,8 @@ TEST_F(Stability, HalfMomentStorage) {
                   m.mae, m.leak, bleeding[key]);
       EXPECT_LT(dark, 0.005) << key << ": acne on the lit ground";  // measured <= 0.0043, fp32 and fp16 alike
     }
-  // Does not fail: half rounding costs vsm, evsm2/4 and psvsm no accuracy here (measured fp16/fp32 MAE 0.79-1.0).
-  for (const char* name : {"vsm", "evsm2", "evsm4", "psvsm"})
+  // Does not fail: half rounding costs vsm, evsm2 and evsm4 no accuracy here (measured fp16/fp32 MAE 0.79-1.0).
+  for (const char* name : {"vsm", "evsm2", "evsm4"})
     EXPECT_LT(seen[std::string(name) + "/fp16"].mae, 1.1 * seen[std::string(name) + "/fp32"].mae) << name;
   EXPECT_LT(bleeding["evsm4/fp16"], 0.02f) << "evsm4's negative warp still stops the bleeding at c = 5.54";
   // Fails: ESM at c = 5.54 is a soft step that leaks (measured leak 0.0111 vs 0.0059, and 0.031 of light in the
@@ -242,6 +242,9 @@ TEST_F(Stability, HalfMomentStorage) {
   EXPECT_GT(seen["esm/fp16"].leak, 1.5 * seen["esm/fp32"].leak);
   EXPECT_GT(bleeding["esm/fp16"], 0.01f);
   EXPECT_GT(seen["msm/fp16"].mae, 1.2 * seen["msm/fp32"].mae);
+  // Fails since auto splits are the default: psvsm picks 2 splits here, the far one spanning 20-254 units in one
+  // 2048^2 map, whose depths half storage rounds coarsely (measured MAE 0.00264 vs 0.00191; with 4 splits 1.0x).
+  EXPECT_GT(seen["psvsm/fp16"].mae, 1.2 * seen["psvsm/fp32"].mae);
 }
 
 // A point light inside a closed box (all six cube faces; the walls 0.5 from the light, the ground up to 6.5 away): the
