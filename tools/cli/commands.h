@@ -18,11 +18,14 @@ Command addRenderCommand(CLI::App& app);
 Command addReferenceCommand(CLI::App& app);
 Command addCompareCommand(CLI::App& app);
 Command addBenchCommand(CLI::App& app);
+Command addPlanCommand(CLI::App& app);
+Command addRunCommand(CLI::App& app);
+Command addStatusCommand(CLI::App& app);
 
 // The registry: one line per command.
 inline std::vector<Command> registerCommands(CLI::App& app) {
   return {addDevicesCommand(app), addRenderCommand(app), addReferenceCommand(app), addCompareCommand(app),
-          addBenchCommand(app)};
+          addBenchCommand(app),   addPlanCommand(app),   addRunCommand(app),       addStatusCommand(app)};
 }
 
 }  // namespace penumbra::cli
