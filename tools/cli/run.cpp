@@ -14,6 +14,7 @@
 #include "host/cl/error.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/job_status.h"
+#include "tools/cli/output_writer.h"
 #include "tools/cli/scene_cache.h"
 #include "tools/cli/shard.h"
 #include "tools/cli/stop_signal.h"
@@ -33,6 +34,8 @@ struct RunOptions {
 
 // What one process does: the device opened at the first render, the scenes kept, the tallies.
 struct Batch {
+  Batch(const RunOptions& o, const Shard& shard, double limit)
+      : options(o), log(o.out, shard.label()), timeLimit(limit) {}
   const RunOptions& options;
   StatusLog log;
   SceneCache scenes;
@@ -40,7 +43,16 @@ struct Batch {
   std::string device;    // the context's device name, once opened
   double timeLimit = 0;  // seconds, 0: none
   size_t rendered = 0, skipped = 0, failed = 0;
-  double longestJob = 0;  // seconds: the estimate --time-limit plans with
+  double longestJob = 0;                // seconds: the estimate --time-limit plans with
+  OutputWriter writer;                  // the last rendered job's outputs, written while the next one renders
+  std::optional<StatusRecord> writing;  // that job's record, appended once its outputs are written
+  Clock::time_point writingSince;       // when that job started
+};
+
+// A rendered job's outputs, for the writer.
+struct Rendered {
+  ImageOutputPlan output;
+  Image image;
 };
 
 // "90", "90s", "15m", "2h", "1:30:00" (H:MM:SS) or "30:00" (M:SS): seconds.
@@ -102,8 +114,8 @@ void removeStaleTemporaries(const fs::path& target) {
     if (entry.path().filename().string().rfind(prefix, 0) == 0) fs::remove(entry.path(), error);
 }
 
-// Renders one job (or finds it done); a failure of the job alone comes back as the record's error.
-StatusRecord runJob(Batch& batch, const ManifestJob& job) {
+// Renders one job into `rendered` (or finds it done); a failure of the job alone comes back as the record's error.
+StatusRecord runJob(Batch& batch, const ManifestJob& job, std::optional<Rendered>& rendered) {
   StatusRecord record;
   record.id = job.id, record.where = job.where, record.output = job.output;
   record.state = "failed", record.exit = kExitPermanent;
@@ -115,10 +127,9 @@ StatusRecord runJob(Batch& batch, const ManifestJob& job) {
           "id {} in the manifest, {} for the job now: its scene's files or penumbra's version changed since it was "
           "planned (run penumbra plan again)",
           job.id, id));
-    record.id = id;
-    const ImageOutputPlan output = planImageOutput(job.options.output);
-    if (batch.options.skipExisting && outputJobId(*output.exr) == id)
-      return record.state = "skipped", record.exit = 0, record;
+    record.id = id, record.state = "done", record.exit = 0;
+    ImageOutputPlan output = planImageOutput(job.options.output);
+    if (batch.options.skipExisting && outputJobId(*output.exr) == id) return record.state = "skipped", record;
     SceneCache::Entry& scene = batch.scenes.get(job.options.view);
     const FramePlan plan = planFrame(job.options, chooseTechnique(job.options), scene.scene);
     if (!batch.ctx) {
@@ -129,20 +140,40 @@ StatusRecord runJob(Batch& batch, const ManifestJob& job) {
     result.image.attributes()[kJobIdAttribute] = id;
     removeStaleTemporaries(*output.exr);
     if (output.png) removeStaleTemporaries(*output.png);
-    writeImageOutput(output, result.image);
-    record.state = "done", record.exit = 0;
+    rendered = Rendered{std::move(output), std::move(result.image)};
   } catch (const NoDeviceError&) {
     throw;  // no job can run: the whole run stops (exit 69)
   } catch (const std::exception& e) {
-    record.error = job.where + ": " + e.what();
+    record.state = "failed", record.exit = kExitPermanent, record.error = job.where + ": " + e.what();
   }
   return record;
 }
 
+// The job's outcome counted, reported and recorded.
+void finishJob(Batch& batch, StatusRecord record, Clock::time_point since) {
+  record.seconds = std::chrono::duration<double>(Clock::now() - since).count();
+  record.device = batch.device;
+  if (record.state == "done") batch.longestJob = std::max(batch.longestJob, record.seconds);
+  (record.state == "done" ? batch.rendered : record.state == "skipped" ? batch.skipped : batch.failed)++;
+  if (!record.error.empty()) fmt::print(stderr, "penumbra: {}\n", record.error);
+  batch.log.append(std::move(record));
+}
+
+// The write in flight, waited for and recorded (a failed write fails its job).
+void settleWrite(Batch& batch) {
+  if (!batch.writing) return;
+  StatusRecord record = std::move(*batch.writing);
+  batch.writing.reset();
+  if (const std::string error = batch.writer.finish(); !error.empty())
+    record.state = "failed", record.exit = kExitPermanent, record.error = record.where + ": " + error;
+  finishJob(batch, std::move(record), batch.writingSince);
+}
+
 enum class Stop { None, Signal, TimeLimit, Failures };
 
-// Runs the jobs until done, a stop signal, the deadline or too many failures; counts the jobs left.
-Stop runJobs(Batch& batch, const std::vector<const ManifestJob*>& jobs, const StopSignals& stop, size_t& left) {
+// Runs the jobs until done, a stop signal, the deadline or too many failures; counts the jobs left. Job k renders
+// while job k-1's outputs are written.
+Stop renderJobs(Batch& batch, const std::vector<const ManifestJob*>& jobs, const StopSignals& stop, size_t& left) {
   const Clock::time_point start = Clock::now();
   for (size_t i = 0; i < jobs.size(); ++i) {
     left = jobs.size() - i;
@@ -150,29 +181,31 @@ Stop runJobs(Batch& batch, const std::vector<const ManifestJob*>& jobs, const St
     if (stop.requested()) return Stop::Signal;
     if (batch.timeLimit > 0 && elapsed + batch.longestJob > batch.timeLimit) return Stop::TimeLimit;
     if (batch.options.maxFailures > 0 && batch.failed >= batch.options.maxFailures) return Stop::Failures;
-    const Clock::time_point jobStart = Clock::now();
-    StatusRecord record = runJob(batch, *jobs[i]);
-    record.seconds = std::chrono::duration<double>(Clock::now() - jobStart).count();
-    record.device = batch.device;
-    if (record.state == "done") batch.longestJob = std::max(batch.longestJob, record.seconds);
-    (record.state == "done" ? batch.rendered : record.state == "skipped" ? batch.skipped : batch.failed)++;
-    if (!record.error.empty()) fmt::print(stderr, "penumbra: {}\n", record.error);
-    batch.log.append(std::move(record));
+    const Clock::time_point since = Clock::now();
+    std::optional<Rendered> rendered;
+    StatusRecord record = runJob(batch, *jobs[i], rendered);
+    if (!rendered) {
+      finishJob(batch, std::move(record), since);
+      continue;
+    }
+    settleWrite(batch);
+    batch.writer.start(std::move(rendered->output), std::move(rendered->image));
+    batch.writing = std::move(record), batch.writingSince = since;
   }
   left = 0;
   return Stop::None;
 }
 
+Stop runJobs(Batch& batch, const std::vector<const ManifestJob*>& jobs, const StopSignals& stop, size_t& left) {
+  const Stop result = renderJobs(batch, jobs, stop, left);
+  settleWrite(batch);
+  return result;
+}
+
 int run(const RunOptions& o) {
   const Shard shard = parseShard(o.shard, o.shardCount, [](const char* name) { return std::getenv(name); });
   const double timeLimit = o.timeLimit.empty() ? 0 : parseDuration(o.timeLimit);  // usage errors before any work
-  std::vector<ManifestJob> jobs;
-  try {
-    jobs = readManifest(o.manifest, o.out);
-  } catch (const std::runtime_error& e) {
-    fmt::print(stderr, "penumbra: {}\n", e.what());
-    return kExitNoManifest;
-  }
+  const std::vector<ManifestJob> jobs = readManifest(o.manifest, o.out);
   const std::vector<const ManifestJob*> mine = shardJobs(jobs, shard, o);
   if (o.dryRun) {
     for (const ManifestJob* job : mine)
@@ -180,7 +213,7 @@ int run(const RunOptions& o) {
     return 0;
   }
   const StopSignals signals;
-  Batch batch{o, StatusLog(o.out, shard.label()), SceneCache(), nullptr, {}, timeLimit};
+  Batch batch(o, shard, timeLimit);
   size_t left = 0;
   const Stop stop = runJobs(batch, mine, signals, left);
   const std::string why = stop == Stop::Signal      ? fmt::format(", {} left ({})", left, signals.name())
