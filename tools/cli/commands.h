@@ -4,9 +4,21 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace penumbra::cli {
+
+// An error that ends the command with an exit code of its own (main prints its one line, as for every error).
+class CommandError : public std::runtime_error {
+ public:
+  CommandError(int code, const std::string& what) : std::runtime_error(what), code_(code) {}
+  int code() const { return code_; }
+
+ private:
+  int code_;
+};
 
 struct Command {
   CLI::App* app;             // the subcommand

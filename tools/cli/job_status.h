@@ -17,9 +17,8 @@ namespace penumbra::cli {
 
 // sysexits(3): a job that failed for good (bad line, bad scene, a technique refusing its light) and one worth
 // running again (interrupted, or not started before --time-limit).
-inline constexpr int kExitPermanent = 65;   // EX_DATAERR
-inline constexpr int kExitRetryable = 75;   // EX_TEMPFAIL
-inline constexpr int kExitNoManifest = 66;  // EX_NOINPUT
+inline constexpr int kExitPermanent = 65;  // EX_DATAERR
+inline constexpr int kExitRetryable = 75;  // EX_TEMPFAIL
 
 inline constexpr const char* kJobIdAttribute = "penumbra:job-id";
 

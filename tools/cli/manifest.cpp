@@ -14,6 +14,7 @@
 #include "host/cl/context.h"
 #include "host/scene/load.h"
 #include "host/version.h"
+#include "tools/cli/commands.h"
 
 namespace penumbra::cli {
 namespace {
@@ -123,7 +124,8 @@ std::vector<ManifestJob> readManifest(const fs::path& path, const fs::path& outD
   errno = 0;
   std::ifstream in(path);
   if (!in)
-    throw std::runtime_error(fmt::format("{}: cannot read the manifest: {}", path.string(), std::strerror(errno)));
+    throw CommandError(kExitNoManifest,
+                       fmt::format("{}: cannot read the manifest: {}", path.string(), std::strerror(errno)));
   const JobPaths paths{path.parent_path(), outDir};
   std::vector<ManifestJob> jobs;
   std::map<std::string, size_t> outputs, ids;  // -> line
@@ -148,7 +150,7 @@ std::vector<ManifestJob> readManifest(const fs::path& path, const fs::path& outD
     if (!job.error.empty()) job.error = job.where + ": " + job.error;
     jobs.push_back(std::move(job));
   }
-  if (jobs.empty()) throw std::runtime_error(fmt::format("{}: the manifest holds no job", path.string()));
+  if (jobs.empty()) throw CommandError(kExitNoManifest, fmt::format("{}: the manifest holds no job", path.string()));
   return jobs;
 }
 

@@ -14,6 +14,8 @@
 
 namespace penumbra::cli {
 
+inline constexpr int kExitNoManifest = 66;  // sysexits EX_NOINPUT: the manifest cannot be read or holds no job
+
 struct ManifestJob {
   std::string where;      // "jobs.jsonl:3", the prefix of its messages
   size_t line = 0;        // 1-based line of the manifest
@@ -36,7 +38,7 @@ struct JobPaths {
 ManifestJob parseJob(const nlohmann::json& object, const JobPaths& paths);
 
 // Every non-blank line of `path`; a bad line (not JSON, not a job, a duplicate output or id) comes back with its
-// error set. Throws std::runtime_error naming the file when it cannot be read or holds no job.
+// error set. Throws CommandError (exit kExitNoManifest, 66) naming the file when it cannot be read or holds no job.
 std::vector<ManifestJob> readManifest(const std::filesystem::path& path, const std::filesystem::path& outDir);
 
 // A scene loaded with its content digest for the id: a built-in scene's spec, else a hash of every file the load

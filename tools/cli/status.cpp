@@ -66,13 +66,7 @@ void printText(const StatusOptions& o, const std::vector<JobState>& states, cons
 }
 
 int run(const StatusOptions& o) {
-  std::vector<ManifestJob> jobs;
-  try {
-    jobs = readManifest(o.manifest, o.out);
-  } catch (const std::runtime_error& e) {
-    fmt::print(stderr, "penumbra: {}\n", e.what());
-    return kExitNoManifest;
-  }
+  const std::vector<ManifestJob> jobs = readManifest(o.manifest, o.out);
   const std::map<std::string, StatusRecord> records = latestRecords(o.out);
   SceneCache scenes;
   std::vector<JobState> states;
