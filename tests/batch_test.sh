@@ -153,4 +153,23 @@ expect time-limit 75 "left \(--time-limit 0.01s\)" -- "$bin" run "$s/long.jsonl"
 expect time-limit-bad 2 "--time-limit soon: use 90s, 15m, 2h or H:MM:SS" -- "$bin" run "$s/long.jsonl" --out "$s/limit" \
   --time-limit soon
 
+# Temporal stability: bench over a camera path reports shimmer per technique; a still path has none; chart.py charts it.
+orbit='{"orbit": {"target": [0, 0, 0], "radius": 6, "height": 3, "fov": 50, "degrees": [0, 6]}}'
+expect shimmer-bench 0 "wrote $s/seq.csv" -- "$bin" bench builtin:box --techniques sm,pcf --camera-path "$orbit" \
+  --frames 3 --size 48x32 --map-size 64 --warmup 0 -o "$s/seq.csv"
+expect shimmer-columns 0 '^scene,technique,setting,parameters,light,width,height,frames,device,ms,mae,shimmer,' -- \
+  head -n 1 "$s/seq.csv"
+expect shimmer-rows 0 '^2$' -- bash -c "grep -c '^builtin:box,\(sm\|pcf\),default,' '$s/seq.csv'"
+still='{"orbit": {"target": [0, 0, 0], "radius": 6, "height": 3, "fov": 50, "degrees": [0, 0]}}'
+"$bin" bench builtin:box --techniques pcf --camera-path "$still" --frames 2 --size 48x32 --map-size 64 --warmup 0 -q \
+  -o "$s/still.csv"
+expect shimmer-still 0 ',0,0,0,[1-9][0-9]*$' -- tail -n 1 "$s/still.csv"
+expect shimmer-needs-frames 2 "--camera-path requires --frames" -- "$bin" bench builtin:box --camera-path "$orbit" -o "$s/x.csv"
+expect shimmer-bad-path 2 "camera: a path is" -- "$bin" bench builtin:box --camera-path '{"spin": 1}' --frames 2 -o "$s/x.csv"
+if /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then
+  expect shimmer-chart 0 "wrote .*box-shimmer.png" -- /usr/bin/python3 "$(dirname "$0")/../tools/chart.py" "$s/charts" "$s/seq.csv"
+else
+  echo "shimmer-chart skipped: no matplotlib"
+fi
+
 finish

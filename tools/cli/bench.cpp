@@ -22,6 +22,8 @@
 #include "host/pipeline/renderer.h"
 #include "host/scene/light_names.h"
 #include "host/scene/load.h"
+#include "tools/cli/bench_jobs.h"
+#include "tools/cli/bench_sequence.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/progress.h"
 #include "tools/cli/technique_options.h"
@@ -31,59 +33,7 @@
 namespace penumbra::cli {
 namespace {
 
-struct BenchOptions {
-  ViewOptions view;
-  std::string techniques = "all", device, output = "out/bench.csv", json, reference;
-  std::vector<std::string> sweeps;
-  int runs = 5, warmup = 1, spp = 256;
-  bool noReference = false, noMask = false, quiet = false, interleave = false;
-  ParamValues params;  // fixed technique parameters, applied to every technique that has them
-};
-
-struct Job {
-  const TechniqueInfo* technique;
-  Setting setting;
-  Params params;
-};
-
-std::vector<const TechniqueInfo*> techniqueList(const std::string& list) {
-  std::vector<const TechniqueInfo*> out;
-  if (list == "all") {
-    for (const TechniqueInfo& info : techniques()) out.push_back(&info);
-    return out;
-  }
-  for (size_t start = 0; start <= list.size();) {
-    const size_t comma = std::min(list.find(',', start), list.size());
-    if (comma > start) out.push_back(&findTechnique(list.substr(start, comma - start)));
-    start = comma + 1;
-  }
-  if (out.empty()) throw std::invalid_argument("--techniques: empty list");
-  return out;
-}
-
-// Every job, its Params validated before anything runs (a bad value is a usage error, exit 2).
-std::vector<Job> planJobs(const BenchOptions& options) {
-  const std::vector<const TechniqueInfo*> list = techniqueList(options.techniques);
-  std::vector<Sweep> sweeps;
-  for (const std::string& text : options.sweeps) sweeps.push_back(parseSweep(text));
-  checkSweeps(sweeps, list);
-  for (const auto& [name, value] : options.params)
-    if (std::none_of(list.begin(), list.end(), [&](const TechniqueInfo* t) { return t->hasParam(name); }))
-      throw std::invalid_argument(fmt::format("--{}: no technique in the list has that parameter", name));
-  std::vector<Job> jobs;
-  for (const TechniqueInfo* technique : list) {
-    std::vector<std::string> skipped;
-    for (Setting& setting : expandSweeps(*technique, sweeps, &skipped)) {
-      ParamValues values = options.params;
-      for (const auto& [name, value] : setting.values) values[name] = value;
-      Params params = techniqueParams(*technique, values, false);
-      jobs.push_back({technique, std::move(setting), std::move(params)});
-    }
-    for (const std::string& name : skipped)
-      fmt::print(stderr, "bench: --sweep {} skipped for {} (no such parameter)\n", name, technique->name);
-  }
-  return jobs;
-}
+using Job = BenchJob;
 
 // What identifies a traced reference: a cached one is reused only when this matches its header.
 std::string referenceKey(const BenchOptions& o, const Camera& camera, const std::vector<Light>& lights) {
@@ -97,8 +47,8 @@ std::string referenceKey(const BenchOptions& o, const Camera& camera, const std:
   // A BLEND cutoff other than the default changes the scene: part of the key (absent otherwise, as before).
   const std::string blend =
       o.view.blendCutoff == LoadOptions{}.blendCutoff ? "" : fmt::format(" blend-cutoff={}", o.view.blendCutoff);
-  return fmt::format("scene={} camera={} size={}x{} light={} spp={}{}", sceneProvenance(o.view), cameraProvenance(camera),
-                     camera.width, camera.height, forms, area ? o.spp : 1, blend);
+  return fmt::format("scene={} camera={} size={}x{} light={} spp={}{}", sceneProvenance(o.view),
+                     cameraProvenance(camera), camera.width, camera.height, forms, area ? o.spp : 1, blend);
 }
 
 // The given reference, or the cached trace next to the output, or a fresh trace written there.
@@ -155,16 +105,6 @@ void addRows(const BenchOptions& o, const Job& job, const Light& light, const Ru
   rows.push_back(std::move(total));
 }
 
-// The comparison of one light's frame: one light compares visibility.Y within lit.Y as ever; several compare each
-// light's layer, visibility.<layer>.Y within lit.<layer>.Y.
-CompareSpec lightSpec(const CompareSpec& spec, const Light& light, size_t lightCount) {
-  if (lightCount == 1) return spec;
-  CompareSpec out = spec;
-  out.channel = lightChannel("visibility", lightLayer(light));
-  if (!out.mask.empty()) out.mask = lightChannel("lit", lightLayer(light));
-  return out;
-}
-
 void writeOutputs(const BenchOptions& o, const BenchMeta& meta, const std::vector<BenchRow>& rows) {
   for (const std::string& file : {o.output, o.json}) {
     if (file.empty()) continue;
@@ -194,7 +134,8 @@ void printSummary(const BenchMeta& meta, const std::vector<BenchRow>& rows) {
 }
 
 int run(const BenchOptions& o) {
-  const std::vector<Job> jobs = planJobs(o);
+  const std::vector<Job> jobs = planBenchJobs(o);
+  if (o.frames > 0) return runSequenceBench(o, jobs);
   const Scene scene = loadViewScene(o.view);
   const Camera camera = resolveCamera(o.view, scene);
   const std::vector<Light> lights = resolveLights(o.view, scene);
@@ -307,6 +248,11 @@ Command addBenchCommand(CLI::App& app) {
   sub->add_flag("--interleave", o->interleave,
                 "Round-robin: each round renders every setting once (one Renderer each), so a drift in the machine's "
                 "speed reaches all settings alike; for comparing settings' times");
+  CLI::Option* path = sub->add_option("--camera-path", o->cameraPath,
+                                      "A sequence: {\"orbit\": {...}} or {\"keyframes\": [...]} (docs/batch.md), or "
+                                      "@FILE; with --frames, reports the temporal stability (shimmer) per setting");
+  sub->add_option("--frames", o->frames, "The camera path's frames")->check(CLI::Range(2, 100000))->needs(path);
+  path->needs("--frames")->excludes("--camera");
   sub->add_option("--reference", o->reference, "Reference EXR (penumbra reference) for the accuracy metrics");
   sub->add_option("--spp", o->spp, "Without --reference: trace one at this many samples per pixel, cached beside -o")
       ->capture_default_str();
