@@ -25,6 +25,16 @@ expect plan-orbit 0 '"camera":"5.19615242,3,-3:0,0,0:50","output":"pcf/frame01.e
 "$bin" plan "$s/sweep.json" -o "$s/again.jsonl" -q
 expect plan-deterministic 0 '' -- cmp "$s/jobs.jsonl" "$s/again.jsonl"
 expect plan-ids-unique 0 '^6$' -- bash -c "grep -o '\"id\":\"[0-9a-f]*\"' '$s/jobs.jsonl' | sort -u | wc -l"
+# Keyframes: eye, target and fov linear between keys, held after the last; a per-frame time from fps.
+cat >"$s/keys.json" <<'JSON'
+{"scene": "builtin:box", "frames": {"start": 0, "end": 4}, "time": {"fps": 4, "start": 1},
+ "camera": {"keyframes": [{"frame": 0, "eye": [0, 2, 8], "target": [0, 0, 0], "fov": 40},
+                          {"frame": 2, "eye": [4, 2, 8], "target": [0, 1, 0], "fov": 60}]},
+ "output": "k{frame}.exr"}
+JSON
+expect plan-keyframes 0 "wrote 5 jobs" -- "$bin" plan "$s/keys.json" -o "$s/keys.jsonl"
+expect plan-keyframe-mid 0 '"time":1.25,"camera":"2,2,8:0,0.5,0:50","output":"k1.exr"' -- sed -n 2p "$s/keys.jsonl"
+expect plan-keyframe-held 0 '"time":2.0,"camera":"4,2,8:0,1,0:60","output":"k4.exr"' -- sed -n 5p "$s/keys.jsonl"
 printf '{"scene": "builtin:box", "technique": ["sm", "nope"], "output": "{technique}.exr"}' >"$s/bad-sweep.json"
 expect plan-bad-technique 1 "bad-sweep.json: job 1 \(nope.exr\): unknown technique 'nope'" -- \
   "$bin" plan "$s/bad-sweep.json" -o "$s/x.jsonl"
