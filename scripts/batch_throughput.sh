@@ -40,7 +40,10 @@ stamp = lambda r: datetime.datetime.fromisoformat(r["time"].rstrip("Z"))
 span = (stamp(records[-1]) - stamp(records[0])).total_seconds()
 per_job = span / (len(records) - 1) * 1000
 bench = float(sys.argv[2])
-print(f"round {sys.argv[3]} (load {sys.argv[4]}): bench steady frame {bench:.1f} ms (device), "
-      f"run {per_job:.1f} ms per job (wall, EXR written): {100 * (per_job / bench - 1):+.1f} %")
+device = sorted(r["device_ms"] for r in records[1:])
+device = device[len(device) // 2]
+print(f"round {sys.argv[3]} (load {sys.argv[4]}): bench steady frame {bench:.1f} ms (device); run: "
+      f"{device:.1f} ms device per job (median) {100 * (device / bench - 1):+.1f} %, "
+      f"{per_job:.1f} ms wall per job with the EXR written {100 * (per_job / bench - 1):+.1f} %")
 PY
 done

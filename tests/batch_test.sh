@@ -157,7 +157,10 @@ expect sigterm-no-temp 0 '^0$' -- bash -c "find '$s/term' -name '*.tmp-*' | wc -
 expect sigterm-outputs-whole 0 '' -- bash -c "for f in '$s'/term/seq/*.exr; do grep -aq penumbra:job-id \"\$f\" || exit 1; \
   '$exr_equal' \"\$f\" \"\$f\" visibility.Y >/dev/null || exit 1; done"
 expect sigterm-status 75 "24 jobs: [0-9]+ done, 0 failed, [0-9]+ missing" -- "$bin" status "$s/long.jsonl" --out "$s/term"
+: >"$s/term/seq/23.exr.tmp-0123456789abcdef"  # what a SIGKILL while writing leaves; a stranger's file stays
+: >"$s/term/seq/notes.tmp-1"
 expect sigterm-rerun 0 "24 jobs: [0-9]+ rendered, [1-9][0-9]* skipped, 0 failed" -- "$bin" run "$s/long.jsonl" --out "$s/term"
+expect stale-temporary-removed 0 '^notes.tmp-1$' -- bash -c "cd '$s/term/seq' && ls | grep tmp"
 expect sigterm-complete 0 "24 jobs: 24 done" -- "$bin" status "$s/long.jsonl" --out "$s/term"
 expect time-limit 75 "left \(--time-limit 0.01s\)" -- "$bin" run "$s/long.jsonl" --out "$s/limit" --time-limit 0.01s
 expect time-limit-bad 2 "--time-limit soon: use 90s, 15m, 2h or H:MM:SS" -- "$bin" run "$s/long.jsonl" --out "$s/limit" \

@@ -32,7 +32,8 @@ std::string utcNow() {
 StatusRecord fromJson(const json& j) {
   StatusRecord r;
   r.id = j.at("id"), r.where = j.value("where", ""), r.output = j.value("output", ""), r.state = j.at("state");
-  r.exit = j.value("exit", 0), r.seconds = j.value("seconds", 0.0), r.device = j.value("device", "");
+  r.exit = j.value("exit", 0), r.seconds = j.value("seconds", 0.0), r.deviceMs = j.value("device_ms", 0.0),
+  r.device = j.value("device", "");
   r.host = j.value("host", ""), r.time = j.value("time", ""), r.error = j.value("error", "");
   return r;
 }
@@ -42,6 +43,7 @@ StatusRecord fromJson(const json& j) {
 json toJson(const StatusRecord& r) {
   json j = {{"id", r.id},           {"where", r.where},   {"output", r.output}, {"state", r.state}, {"exit", r.exit},
             {"seconds", r.seconds}, {"device", r.device}, {"host", r.host},     {"time", r.time}};
+  if (r.deviceMs > 0) j["device_ms"] = r.deviceMs;
   if (!r.error.empty()) j["error"] = r.error;
   return j;
 }

@@ -26,7 +26,8 @@ struct StatusRecord {
   std::string id, where, output;
   std::string state;  // "done", "skipped" (its output was there), "failed"
   int exit = 0;
-  double seconds = 0;
+  double seconds = 0;   // wall time: start to outputs written
+  double deviceMs = 0;  // a rendered job's device time (the sum of its passes' profiling events), as bench's
   std::string device, host, time, error;  // time: UTC, ISO 8601 with milliseconds
 };
 

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <memory>
 #include <optional>
+#include <set>
 
 #include "host/cl/error.h"
 #include "tools/cli/commands.h"
@@ -106,12 +107,23 @@ std::vector<const ManifestJob*> shardJobs(const std::vector<ManifestJob>& jobs, 
   return mine;
 }
 
-// Temporary files of an earlier run killed while writing this output (PendingFile: "<name>.tmp-<hex>").
-void removeStaleTemporaries(const fs::path& target) {
-  const std::string prefix = target.filename().string() + ".tmp-";
+// Temporary files ("<name>.tmp-<hex>", PendingFile) that a run killed while writing left beside the shard's outputs:
+// one scan per output folder, whatever the number of jobs; other shards' files are never touched.
+void removeStaleTemporaries(const std::vector<const ManifestJob*>& jobs) {
+  std::map<fs::path, std::set<std::string>> outputs;  // folder -> names of the shard's outputs there
+  for (const ManifestJob* job : jobs) {
+    if (!job->error.empty()) continue;
+    const ImageOutputPlan plan = planImageOutput(job->options.output);
+    for (const std::optional<fs::path>& path : {plan.exr, plan.png})
+      if (path) outputs[path->parent_path()].insert(path->filename().string());
+  }
   std::error_code error;
-  for (const fs::directory_entry& entry : fs::directory_iterator(target.parent_path(), error))
-    if (entry.path().filename().string().rfind(prefix, 0) == 0) fs::remove(entry.path(), error);
+  for (const auto& [folder, names] : outputs)
+    for (const fs::directory_entry& entry : fs::directory_iterator(folder.empty() ? "." : folder, error)) {
+      const std::string name = entry.path().filename().string();
+      const size_t tmp = name.rfind(".tmp-");
+      if (tmp != std::string::npos && names.count(name.substr(0, tmp)) != 0) fs::remove(entry.path(), error);
+    }
 }
 
 // Renders one job into `rendered` (or finds it done); a failure of the job alone comes back as the record's error.
@@ -138,8 +150,7 @@ StatusRecord runJob(Batch& batch, const ManifestJob& job, std::optional<Rendered
     }
     RenderResult result = renderFrame(batch.scenes.renderer(scene, *batch.ctx), job.options, scene.scene, plan);
     result.image.attributes()[kJobIdAttribute] = id;
-    removeStaleTemporaries(*output.exr);
-    if (output.png) removeStaleTemporaries(*output.png);
+    for (const PassTime& pass : result.passes) record.deviceMs += pass.ms;
     rendered = Rendered{std::move(output), std::move(result.image)};
   } catch (const NoDeviceError&) {
     throw;  // no job can run: the whole run stops (exit 69)
@@ -212,6 +223,7 @@ int run(const RunOptions& o) {
       fmt::print("{} {}\n", job->where, job->error.empty() ? job->output : job->error);
     return 0;
   }
+  removeStaleTemporaries(mine);
   const StopSignals signals;
   Batch batch(o, shard, timeLimit);
   size_t left = 0;
