@@ -16,6 +16,7 @@ PACKAGES=(
   python3-matplotlib  # tools/chart.py: the speed-vs-error charts (scripts/charts.sh)
   pybind11-dev python3-dev python3-numpy  # the Python module (python/, PENUMBRA_BUILD_PYTHON)
   doxygen  # the API reference of include/penumbra/ (target penumbra_api_docs, test api-docs)
+  slurm-wlm munge  # the slurm test: a real Slurm (slurmctld, slurmd) and munge started on this host
 )
 
 missing=()

@@ -5,24 +5,7 @@ set -u
 bin=$1
 scratch=$2
 rm -rf "$scratch" && mkdir -p "$scratch"
-passed=0
-failed=0
-
-# expect NAME CODE PATTERN -- COMMAND...: runs COMMAND, checks the exit code and that stderr+stdout match PATTERN.
-expect() {
-  local name=$1 code=$2 pattern=$3
-  shift 4
-  local out rc
-  out=$("$@" 2>&1)
-  rc=$?
-  if [ "$rc" -eq "$code" ] && grep -qE -- "$pattern" <<<"$out"; then
-    passed=$((passed + 1))
-  else
-    failed=$((failed + 1))
-    echo "FAIL $name: exit $rc (want $code), output (want /$pattern/):"
-    sed 's/^/    /' <<<"$out" | head -n 20
-  fi
-}
+source "$(dirname "$0")/expect.sh"
 
 empty_vendors=$(mktemp -d)
 expect no-device-devices 69 "no OpenCL" -- env OCL_ICD_VENDORS="$empty_vendors" "$bin" devices
@@ -397,5 +380,4 @@ expect point-light-gltf-camera-compare 0 'off' -- \
   "$bin" compare "$scratch/cam-bulb.exr" "$scratch/cam-bulb-ref.exr" --max-off 0.01
 expect point-light-bad-radius 2 "radius: -1 is negative" -- "$bin" render builtin:box --light point:0,4,0:-1 -o "$scratch/x.exr"
 
-echo "$passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+finish

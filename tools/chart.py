@@ -2,7 +2,10 @@
 """Speed-vs-error charts from `penumbra bench` CSV files: one chart per scene (PNG and SVG), frame time (ms, log
 scale) against MAE in the left panel and against the leaking fraction in the right one, one labelled point per
 technique x setting (the "total" rows), the Pareto front (no other point is both faster and more accurate) drawn
-as a line through its points, which are outlined in black.
+as a line through its points, which are outlined in black. A sequence CSV (`bench --camera-path ... --frames N`,
+with a "shimmer" column) gets a chart of its own, SCENE-shimmer.{png,svg}: frame time against the mean MAE over the
+frames and against the shimmer (mean |change of visibility| between consecutive frames where the reference is
+stable), per technique x setting.
 
 usage: tools/chart.py OUT_DIR results.csv [more.csv ...]
 Needs Python 3 and matplotlib (Debian: python3-matplotlib)."""
@@ -19,16 +22,23 @@ def slug(scene):
 
 
 def read_totals(paths):
-    """Total rows that carry metrics, grouped by scene: {scene: [row, ...]}."""
+    """Total rows that carry metrics and sequence rows, grouped by scene and kind: {(scene, kind): [row, ...]}, kind
+    "" for a single view's rows, "shimmer" for a sequence's."""
     scenes = {}
     for path in paths:
         with open(path, newline="") as f:
             for row in csv.DictReader(f):
+                if "shimmer" in row:  # a sequence: one row per technique x setting x light
+                    for key in ("ms", "mae", "shimmer", "shimmer_fraction"):
+                        row[key] = float(row[key])
+                    row["runs"] = row["frames"]
+                    scenes.setdefault((row["scene"], "shimmer"), []).append(row)
+                    continue
                 if row["pass"] != "total" or row["mae"] == "":
                     continue
                 for key in ("ms", "mae", "rmse", "leak", "false_shadow"):
                     row[key] = float(row[key])
-                scenes.setdefault(row["scene"], []).append(row)
+                scenes.setdefault((row["scene"], ""), []).append(row)
     return scenes
 
 
@@ -69,7 +79,7 @@ def panel(ax, rows, metric, title, colours):
     ax.legend(loc="upper right", fontsize=7)
 
 
-def chart(scene, rows, out_dir):
+def chart(scene, rows, out_dir, kind=""):
     import matplotlib
 
     matplotlib.use("Agg")
@@ -79,12 +89,19 @@ def chart(scene, rows, out_dir):
     cmap = plt.get_cmap("tab10" if len(techniques) <= 10 else "tab20")
     colours = {t: cmap(i % cmap.N) for i, t in enumerate(techniques)}
     fig, axes = plt.subplots(1, 2, figsize=(12, 5))
-    panel(axes[0], rows, "mae", "mean absolute error of visibility", colours)
-    panel(axes[1], rows, "leak", "leaking fraction (ref < 0.05, ours > 0.5)", colours)
     r0 = rows[0]
-    fig.suptitle(f'{scene}: {r0["width"]}x{r0["height"]}, median of {r0["runs"]} runs, {r0["device"]}', fontsize=9)
+    if kind == "shimmer":
+        panel(axes[0], rows, "mae", "mean absolute error of visibility, mean over the frames", colours)
+        panel(axes[1], rows, "shimmer", "shimmer: mean |change| between frames where the reference is stable",
+              colours)
+        title = f'{scene}: {r0["width"]}x{r0["height"]}, {r0["frames"]} frames of a camera path, {r0["device"]}'
+    else:
+        panel(axes[0], rows, "mae", "mean absolute error of visibility", colours)
+        panel(axes[1], rows, "leak", "leaking fraction (ref < 0.05, ours > 0.5)", colours)
+        title = f'{scene}: {r0["width"]}x{r0["height"]}, median of {r0["runs"]} runs, {r0["device"]}'
+    fig.suptitle(title, fontsize=9)
     fig.tight_layout()
-    base = os.path.join(out_dir, slug(scene))
+    base = os.path.join(out_dir, slug(scene) + ("-" + kind if kind else ""))
     for ext in ("png", "svg"):
         fig.savefig(f"{base}.{ext}", dpi=110)
     plt.close(fig)
@@ -106,8 +123,8 @@ def main(argv):
     if not scenes:
         print("chart.py: no total rows with metrics in the CSV (run bench with a reference)", file=sys.stderr)
         return 1
-    for scene, rows in scenes.items():
-        print(f"wrote {chart(scene, rows, out_dir)}.png and .svg")
+    for (scene, kind), rows in scenes.items():
+        print(f"wrote {chart(scene, rows, out_dir, kind)}.png and .svg")
     return 0
 
 

@@ -258,6 +258,9 @@ ExrInfo readExrInfo(const std::filesystem::path& path) {
     info.tiled = header.hasTileDescription();
     for (auto it = header.channels().begin(); it != header.channels().end(); ++it)
       info.channels.push_back({it.name(), toPixelType(it.channel().type)});
+    for (auto it = header.begin(); it != header.end(); ++it)
+      if (const auto* text = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
+        info.attributes[it.name()] = text->value();
     return info;
   } catch (const Iex::BaseExc& e) {
     fail(path, fmt::format("cannot read EXR header: {}", e.what()));

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -53,7 +54,8 @@ struct ExrInfo {
   ExrWindow displayWindow;
   std::string compression;  // "none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"
   bool tiled = false;
-  std::vector<ExrChannelInfo> channels;  // sorted by name, as EXR stores them
+  std::vector<ExrChannelInfo> channels;           // sorted by name, as EXR stores them
+  std::map<std::string, std::string> attributes;  // the string attributes (penumbra:version, penumbra:job-id, ...)
 };
 
 ExrInfo readExrInfo(const std::filesystem::path& path);

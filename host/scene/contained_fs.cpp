@@ -98,6 +98,7 @@ std::vector<unsigned char> FileReader::read(const fs::path& path) {
       in.peek() != std::char_traits<char>::eof())
     throw SceneError(fmt::format("cannot read {} (changed while reading?)", path.string()));
   remainingBytes_ -= size;
+  if (onRead_) onRead_(path, data);
   return data;
 }
 

@@ -35,7 +35,8 @@ class FileReader {
       : maxFileBytes_(options.maxFileBytes),
         remainingBytes_(options.maxTotalBytes),
         maxTextureBytes_(options.maxTextureBytes),
-        remainingTextureBytes_(options.maxTextureBytes) {}
+        remainingTextureBytes_(options.maxTextureBytes),
+        onRead_(options.onFileRead) {}
   // Throws SceneError (message without a file prefix) when the file is too big or cannot be read.
   std::vector<unsigned char> read(const std::filesystem::path& path);
 
@@ -49,6 +50,7 @@ class FileReader {
   uint64_t remainingBytes_;
   uint64_t maxTextureBytes_;
   uint64_t remainingTextureBytes_;
+  FileReadSink onRead_;
 };
 
 }  // namespace penumbra::detail

@@ -3,8 +3,10 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -17,6 +19,8 @@ class SceneError : public std::runtime_error {
 };
 
 using WarningSink = std::function<void(const std::string&)>;
+// Sees every file a load reads, in order, with its bytes (`penumbra plan` and `run` hash a scene's content).
+using FileReadSink = std::function<void(const std::filesystem::path&, std::span<const unsigned char>)>;
 
 struct LoadOptions {
   uint64_t maxFileBytes = uint64_t{1} << 30;   // per file read (.gltf, .glb, .bin, .json)
@@ -29,7 +33,8 @@ struct LoadOptions {
   uint64_t maxTextureBytes = uint64_t{256} << 20;
   // The cutoff of alphaMode BLEND materials, drawn as MASK (glTF has no cutoff for BLEND). In [0, 1].
   float blendCutoff = 0.5f;
-  WarningSink warn;  // empty: one line per warning on stderr
+  WarningSink warn;         // empty: one line per warning on stderr
+  FileReadSink onFileRead;  // empty: nobody watches
   // glTF animation: the time in seconds at which the animations are evaluated (none: the file's static pose), and
   // which ones ("": every animation; else an animation's index or name).
   std::optional<double> time;

@@ -22,7 +22,9 @@
 #include "host/pipeline/renderer.h"
 #include "host/scene/light_names.h"
 #include "host/scene/load.h"
+#include "tools/cli/bench_jobs.h"
 #include "tools/cli/bench_reference.h"
+#include "tools/cli/bench_sequence.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/progress.h"
 #include "tools/cli/technique_options.h"
@@ -32,68 +34,7 @@
 namespace penumbra::cli {
 namespace {
 
-struct BenchOptions {
-  ViewOptions view;
-  std::string techniques = "all", device, output = "out/bench.csv", json, reference;
-  std::vector<std::string> sweeps;
-  int runs = 5, warmup = 1, spp = 256;
-  bool noReference = false, noMask = false, quiet = false, interleave = false;
-  ParamValues params;  // fixed technique parameters, applied to every technique that has them
-};
-
-struct Job {
-  const TechniqueInfo* technique;
-  Setting setting;
-  Params params;
-};
-
-// "all" (every technique of the registry), names, or both ("all,reference": the registry and the ray tracer).
-std::vector<const TechniqueInfo*> techniqueList(const std::string& list) {
-  std::vector<const TechniqueInfo*> out;
-  for (size_t start = 0; start <= list.size();) {
-    const size_t comma = std::min(list.find(',', start), list.size());
-    const std::string name = list.substr(start, comma - start);
-    start = comma + 1;
-    if (name.empty()) continue;
-    if (name == "all") {
-      for (const TechniqueInfo& info : techniques()) out.push_back(&info);
-    } else if (name == referenceTechnique().name) {
-      out.push_back(&referenceTechnique());
-    } else {
-      try {
-        out.push_back(&findTechnique(name));
-      } catch (const std::invalid_argument& e) {
-        throw std::invalid_argument(std::string(e.what()) + "; bench also runs the ray tracer as 'reference'");
-      }
-    }
-  }
-  if (out.empty()) throw std::invalid_argument("--techniques: empty list");
-  return out;
-}
-
-// Every job, its Params validated before anything runs (a bad value is a usage error, exit 2).
-std::vector<Job> planJobs(const BenchOptions& options) {
-  const std::vector<const TechniqueInfo*> list = techniqueList(options.techniques);
-  std::vector<Sweep> sweeps;
-  for (const std::string& text : options.sweeps) sweeps.push_back(parseSweep(text));
-  checkSweeps(sweeps, list);
-  for (const auto& [name, value] : options.params)
-    if (std::none_of(list.begin(), list.end(), [&](const TechniqueInfo* t) { return t->hasParam(name); }))
-      throw std::invalid_argument(fmt::format("--{}: no technique in the list has that parameter", name));
-  std::vector<Job> jobs;
-  for (const TechniqueInfo* technique : list) {
-    std::vector<std::string> skipped;
-    for (Setting& setting : expandSweeps(*technique, sweeps, &skipped)) {
-      ParamValues values = options.params;
-      for (const auto& [name, value] : setting.values) values[name] = value;
-      Params params = techniqueParams(*technique, values, false);
-      jobs.push_back({technique, std::move(setting), std::move(params)});
-    }
-    for (const std::string& name : skipped)
-      fmt::print(stderr, "bench: --sweep {} skipped for {} (no such parameter)\n", name, technique->name);
-  }
-  return jobs;
-}
+using Job = BenchJob;
 
 // The tracer as a peer: an spp that is not 4k^2 under an area light is a usage error before any work; measured
 // against a ground truth of no more samples than its own, it measures noise against noise (a warning).
@@ -184,16 +125,6 @@ void addRows(const BenchOptions& o, const Job& job, const Light& light, const Ru
   rows.push_back(std::move(total));
 }
 
-// The comparison of one light's frame: one light compares visibility.Y within lit.Y as ever; several compare each
-// light's layer, visibility.<layer>.Y within lit.<layer>.Y.
-CompareSpec lightSpec(const CompareSpec& spec, const Light& light, size_t lightCount) {
-  if (lightCount == 1) return spec;
-  CompareSpec out = spec;
-  out.channel = lightChannel("visibility", lightLayer(light));
-  if (!out.mask.empty()) out.mask = lightChannel("lit", lightLayer(light));
-  return out;
-}
-
 void writeOutputs(const BenchOptions& o, const BenchMeta& meta, const std::vector<BenchRow>& rows) {
   for (const std::string& file : {o.output, o.json}) {
     if (file.empty()) continue;
@@ -225,7 +156,14 @@ void printSummary(const BenchMeta& meta, const std::vector<BenchRow>& rows) {
 }
 
 int run(const BenchOptions& o) {
-  const std::vector<Job> jobs = planJobs(o);
+  const std::vector<Job> jobs = planBenchJobs(o);
+  if (o.frames > 0) {
+    for (const Job& job : jobs)
+      if (isReferenceTechnique(*job.technique))
+        throw std::invalid_argument("--techniques reference does not apply with --frames (each frame's reference is "
+                                    "already traced)");
+    return runSequenceBench(o, jobs);
+  }
   const Scene scene = loadViewScene(o.view);
   const Camera camera = resolveCamera(o.view, scene);
   const std::vector<Light> lights = resolveLights(o.view, scene);
@@ -342,6 +280,11 @@ Command addBenchCommand(CLI::App& app) {
   sub->add_flag("--interleave", o->interleave,
                 "Round-robin: each round renders every setting once (one Renderer each), so a drift in the machine's "
                 "speed reaches all settings alike; for comparing settings' times");
+  CLI::Option* path = sub->add_option("--camera-path", o->cameraPath,
+                                      "A sequence: {\"orbit\": {...}} or {\"keyframes\": [...]} (docs/batch.md), or "
+                                      "@FILE; with --frames, reports the temporal stability (shimmer) per setting");
+  sub->add_option("--frames", o->frames, "The camera path's frames")->check(CLI::Range(2, 100000))->needs(path);
+  path->needs("--frames")->excludes("--camera");
   sub->add_option("--reference", o->reference, "Reference EXR (penumbra reference) for the accuracy metrics");
   sub->add_option("--spp", o->spp, "Without --reference: trace one at this many samples per pixel, cached beside -o")
       ->capture_default_str();

@@ -60,19 +60,18 @@ ImageOutputPlan planImageOutput(const ImageOutput& output) {
   return plan;
 }
 
+// The preview first, the EXR last: a batch run takes a finished EXR (its job id) for a finished job.
 std::string writeImageOutput(const ImageOutputPlan& plan, const Image& image) {
-  std::string wrote;
-  if (plan.exr) {
-    createParent(*plan.exr);
-    writeExr(*plan.exr, image);
-    wrote = plan.exr->string();
-  }
   if (plan.png) {
     createParent(*plan.png);
     writePngPreview(*plan.png, image);
-    wrote += (wrote.empty() ? "" : " and ") + plan.png->string();
   }
-  return "wrote " + wrote;
+  if (plan.exr) {
+    createParent(*plan.exr);
+    writeExr(*plan.exr, image);
+  }
+  if (plan.exr && plan.png) return fmt::format("wrote {} and {}", plan.exr->string(), plan.png->string());
+  return "wrote " + (plan.exr ? *plan.exr : *plan.png).string();
 }
 
 }  // namespace penumbra::cli

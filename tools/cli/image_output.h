@@ -35,7 +35,7 @@ inline void addImageOutputOptions(CLI::App* sub, ImageOutput& output) {
 // that is the EXR's own.
 ImageOutputPlan planImageOutput(const ImageOutput& output);
 
-// Writes what the plan says (creating folders) and returns the "wrote A and B" message.
+// Writes what the plan says (creating folders; the PNG before the EXR) and returns the "wrote A and B" message.
 std::string writeImageOutput(const ImageOutputPlan& plan, const Image& image);
 
 }  // namespace penumbra::cli

@@ -1,6 +1,6 @@
 // `penumbra`: the command-line tool. Subcommands live in their own files (devices.cpp, render.cpp, ...);
 // this file parses the command line and maps exceptions to exit codes: 0 ok, 1 failure, 2 usage error,
-// 69 no OpenCL device. Library code reports bad option values as std::invalid_argument.
+// 69 no OpenCL device, a CommandError's own code. Library code reports bad option values as std::invalid_argument.
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
@@ -49,6 +49,9 @@ int main(int argc, char** argv) {
     for (const penumbra::cli::Command& command : commands)
       if (command.app->parsed()) return command.run();
     return 2;
+  } catch (const penumbra::cli::CommandError& e) {
+    fmt::print(stderr, "penumbra: {}\n", e.what());
+    return e.code();
   } catch (const std::invalid_argument& e) {  // a bad option value: a usage error
     fmt::print(stderr, "penumbra: {}\n", e.what());
     return 2;

@@ -1,0 +1,41 @@
+// What `bench` measures: its options and its jobs (technique x parameter setting), shared by the single-view bench
+// (bench.cpp) and the sequence bench over a camera path (bench_sequence.cpp).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "host/eval/metrics.h"
+#include "host/eval/sweep.h"
+#include "host/scene/light.h"
+#include "host/techniques/technique.h"
+#include "tools/cli/technique_options.h"
+#include "tools/cli/view_options.h"
+
+namespace penumbra::cli {
+
+struct BenchOptions {
+  ViewOptions view;
+  std::string techniques = "all", device, output = "out/bench.csv", json, reference;
+  std::vector<std::string> sweeps;
+  int runs = 5, warmup = 1, spp = 256;
+  bool noReference = false, noMask = false, quiet = false, interleave = false;
+  ParamValues params;      // fixed technique parameters, applied to every technique that has them
+  std::string cameraPath;  // a sequence: the camera path (camera_path.h) as JSON, or @FILE
+  int frames = 0;          // its frame count (0: one view, no sequence)
+};
+
+struct BenchJob {
+  const TechniqueInfo* technique;
+  Setting setting;
+  Params params;
+};
+
+// Every job, its Params validated before anything runs (a bad value is a usage error, exit 2).
+std::vector<BenchJob> planBenchJobs(const BenchOptions& options);
+
+// The comparison of one light's frame: one light compares visibility.Y within lit.Y as ever; several compare each
+// light's layer, visibility.<layer>.Y within lit.<layer>.Y.
+CompareSpec lightSpec(const CompareSpec& spec, const Light& light, size_t lightCount);
+
+}  // namespace penumbra::cli

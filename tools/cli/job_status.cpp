@@ -1,0 +1,107 @@
+// Status records as JSON Lines; host names from gethostname(2), times from the system clock in UTC.
+#include "tools/cli/job_status.h"
+
+#include <fmt/chrono.h>
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <climits>
+#include <stdexcept>
+
+#include "host/io/exr.h"
+
+namespace penumbra::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string hostName() {
+  char name[HOST_NAME_MAX + 1] = {};
+  if (gethostname(name, sizeof name - 1) != 0) return "unknown";
+  return name;
+}
+
+std::string utcNow() {
+  const auto now = std::chrono::system_clock::now();
+  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(now.time_since_epoch()).count() % 1000;
+  return fmt::format("{:%Y-%m-%dT%H:%M:%S}.{:03}Z", fmt::gmtime(std::chrono::system_clock::to_time_t(now)), ms);
+}
+
+StatusRecord fromJson(const json& j) {
+  StatusRecord r;
+  r.id = j.at("id"), r.where = j.value("where", ""), r.output = j.value("output", ""), r.state = j.at("state");
+  r.exit = j.value("exit", 0), r.seconds = j.value("seconds", 0.0), r.deviceMs = j.value("device_ms", 0.0),
+  r.device = j.value("device", "");
+  r.host = j.value("host", ""), r.time = j.value("time", ""), r.error = j.value("error", "");
+  return r;
+}
+
+}  // namespace
+
+json toJson(const StatusRecord& r) {
+  json j = {{"id", r.id},           {"where", r.where},   {"output", r.output}, {"state", r.state}, {"exit", r.exit},
+            {"seconds", r.seconds}, {"device", r.device}, {"host", r.host},     {"time", r.time}};
+  if (r.deviceMs > 0) j["device_ms"] = r.deviceMs;
+  if (!r.error.empty()) j["error"] = r.error;
+  return j;
+}
+
+fs::path statusFolder(const fs::path& outDir) { return outDir / "penumbra-status"; }
+
+StatusLog::StatusLog(const fs::path& outDir, const std::string& shardLabel)
+    : path_(statusFolder(outDir) / fmt::format("shard-{}.jsonl", shardLabel)), host_(hostName()) {
+  std::error_code error;
+  fs::create_directories(path_.parent_path(), error);
+  out_.open(path_, std::ios::app);
+  if (!out_) throw std::runtime_error(fmt::format("{}: cannot append status records", path_.string()));
+}
+
+void StatusLog::append(StatusRecord record) {
+  record.host = host_, record.time = utcNow();
+  out_ << toJson(record).dump() << '\n' << std::flush;
+  if (!out_) throw std::runtime_error(fmt::format("{}: cannot append status records", path_.string()));
+}
+
+std::map<std::string, StatusRecord> latestRecords(const fs::path& outDir) {
+  std::map<std::string, StatusRecord> latest;
+  std::error_code error;
+  for (const fs::directory_entry& entry : fs::directory_iterator(statusFolder(outDir), error)) {
+    if (entry.path().extension() != ".jsonl") continue;
+    std::ifstream in(entry.path());
+    for (std::string line; std::getline(in, line);) {
+      try {
+        const StatusRecord record = fromJson(json::parse(line));
+        for (const std::string& key : {record.id, record.where}) {
+          if (key.empty()) continue;
+          auto [it, fresh] = latest.emplace(key, record);
+          if (!fresh && it->second.time <= record.time) it->second = record;
+        }
+      } catch (const json::exception&) {  // a line cut short by a kill: not a record
+      }
+    }
+  }
+  return latest;
+}
+
+const StatusRecord* findRecord(const std::map<std::string, StatusRecord>& records, const std::string& id,
+                               const std::string& where) {
+  auto it = records.find(id.empty() ? where : id);
+  if (it == records.end() && !id.empty()) it = records.find(where);
+  return it == records.end() ? nullptr : &it->second;
+}
+
+std::string outputJobId(const fs::path& exr) {
+  std::error_code error;
+  if (!fs::is_regular_file(exr, error)) return {};
+  try {
+    const ExrInfo info = readExrInfo(exr);
+    const auto it = info.attributes.find(kJobIdAttribute);
+    return it == info.attributes.end() ? std::string() : it->second;
+  } catch (const std::exception&) {
+    return {};
+  }
+}
+
+}  // namespace penumbra::cli

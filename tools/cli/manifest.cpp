@@ -1,0 +1,173 @@
+// A manifest line becomes `render`'s own argument list (scene first, then --KEY VALUE), parsed by a CLI::App that
+// declares exactly render's options (addRenderOptions); the job's key is what the parse gave, normalised: the
+// options given, the technique's canonical name and its whole parameter list (defaults included).
+#include "tools/cli/manifest.h"
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <stdexcept>
+
+#include "host/cl/context.h"
+#include "host/scene/load.h"
+#include "host/version.h"
+#include "tools/cli/commands.h"
+
+namespace penumbra::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr std::string_view kBuiltin = "builtin:";
+
+std::string scalarText(const std::string& key, const json& value) {
+  if (value.is_string()) return value.get<std::string>();
+  if (value.is_number()) return value.dump();
+  throw std::invalid_argument(fmt::format("\"{}\": {} is not a string or a number", key, value.dump()));
+}
+
+// `text` under --out: relative, never leaving it.
+fs::path underOut(const std::string& key, const std::string& text, const fs::path& outDir) {
+  const fs::path path = fs::path(text).lexically_normal();
+  if (text.empty() || path.is_absolute() || (!path.empty() && *path.begin() == ".."))
+    throw std::invalid_argument(fmt::format("\"{}\": '{}' is not a relative path inside --out", key, text));
+  return outDir / path;
+}
+
+std::string resolveScene(const std::string& scene, const fs::path& base) {
+  if (scene.rfind(kBuiltin, 0) == 0 || fs::path(scene).is_absolute()) return scene;
+  return (base / scene).lexically_normal().string();
+}
+
+// render's arguments for the job (scene first), and its output and id as written.
+std::vector<std::string> jobArguments(const json& object, const JobPaths& paths, const CLI::App& app,
+                                      ManifestJob& job) {
+  std::vector<std::string> args{""};
+  for (const auto& [key, value] : object.items()) {
+    if (key == "id") {
+      job.id = scalarText(key, value);
+    } else if (key == "scene") {
+      args[0] = resolveScene(scalarText(key, value), paths.sceneBase);
+    } else if (key == "output") {
+      job.output = scalarText(key, value);
+      args.insert(args.end(), {"--output", underOut(key, job.output, paths.outDir).string()});
+    } else if (key == "png") {
+      const std::string png = scalarText(key, value);
+      args.insert(args.end(), {"--png", png == "none" ? png : underOut(key, png, paths.outDir).string()});
+    } else if (key == "device" || key == "quiet") {
+      throw std::invalid_argument(fmt::format("\"{}\" is an option of penumbra run, not of a job", key));
+    } else if (key.size() < 2 || app.get_option_no_throw("--" + key) == nullptr) {
+      throw std::invalid_argument(fmt::format("\"{}\" is not an option of penumbra render", key));
+    } else {
+      args.insert(args.end(), {"--" + key, scalarText(key, value)});
+    }
+  }
+  if (args[0].empty()) throw std::invalid_argument("no \"scene\"");
+  if (job.output.empty()) throw std::invalid_argument("no \"output\"");
+  return args;
+}
+
+// The options given (but the paths and the technique's), the technique's name and every parameter's value.
+std::string normalisedKey(const CLI::App& app, const TechniqueChoice& choice) {
+  json key = json::object();
+  for (const CLI::Option* option : app.get_options()) {
+    const std::string name = option->get_name();
+    if (option->count() == 0 || option->get_group() == "Technique parameters" || name.rfind("--", 0) != 0) continue;
+    if (name == "--output" || name == "--png" || name == "--technique" || name == "--device") continue;
+    key[name.substr(2)] = option->results();
+  }
+  key["technique"] = choice.info->name;
+  key["parameters"] = choice.params.describe();
+  return key.dump();
+}
+
+std::string lowerExtension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+// "not JSON: syntax error ..." without nlohmann's "[json.exception.parse_error.101] " prefix.
+std::string jsonMessage(const json::exception& e) {
+  const std::string text = e.what();
+  const size_t end = text.find("] ");
+  return "not JSON: " + (end == std::string::npos ? text : text.substr(end + 2));
+}
+
+}  // namespace
+
+ManifestJob parseJob(const json& object, const JobPaths& paths) {
+  if (!object.is_object()) throw std::invalid_argument("not a JSON object");
+  ManifestJob job;
+  CLI::App app{"manifest job"};
+  addRenderOptions(&app, job.options);
+  std::vector<std::string> args = jobArguments(object, paths, app, job);
+  if (lowerExtension(job.output) != ".exr")
+    throw std::invalid_argument(
+        fmt::format("\"output\": '{}' is not an .exr file (its header holds the job's id)", job.output));
+  std::reverse(args.begin(), args.end());  // CLI11 takes a vector last argument first
+  try {
+    app.parse(args);
+  } catch (const CLI::ParseError& e) {
+    throw std::invalid_argument(e.what());
+  }
+  planImageOutput(job.options.output);
+  job.key = normalisedKey(app, chooseTechnique(job.options));
+  return job;
+}
+
+std::vector<ManifestJob> readManifest(const fs::path& path, const fs::path& outDir) {
+  errno = 0;
+  std::ifstream in(path);
+  if (!in)
+    throw CommandError(kExitNoManifest,
+                       fmt::format("{}: cannot read the manifest: {}", path.string(), std::strerror(errno)));
+  const JobPaths paths{path.parent_path(), outDir};
+  std::vector<ManifestJob> jobs;
+  std::map<std::string, size_t> outputs, ids;  // -> line
+  std::string text;
+  for (size_t line = 1; std::getline(in, text); ++line) {
+    if (text.find_first_not_of(" \t\r") == std::string::npos) continue;
+    ManifestJob job;
+    try {
+      job = parseJob(json::parse(text), paths);
+    } catch (const json::exception& e) {
+      job.error = jsonMessage(e);
+    } catch (const std::invalid_argument& e) {
+      job.error = e.what();
+    }
+    job.where = fmt::format("{}:{}", path.string(), line);
+    job.line = line, job.index = jobs.size();
+    const std::string output = fs::path(job.output).lexically_normal().string();
+    if (job.error.empty() && !outputs.emplace(output, line).second)
+      job.error = fmt::format("output {} is line {}'s too", output, outputs[output]);
+    if (job.error.empty() && !job.id.empty() && !ids.emplace(job.id, line).second)
+      job.error = fmt::format("id {} is line {}'s too", job.id, ids[job.id]);
+    if (!job.error.empty()) job.error = job.where + ": " + job.error;
+    jobs.push_back(std::move(job));
+  }
+  if (jobs.empty()) throw CommandError(kExitNoManifest, fmt::format("{}: the manifest holds no job", path.string()));
+  return jobs;
+}
+
+HashedScene loadHashedScene(const ViewOptions& view) {
+  uint64_t hash = fnv1a64("");
+  LoadOptions load = loadOptions(view);
+  load.onFileRead = [&hash](const fs::path&, std::span<const unsigned char> bytes) {
+    hash = fnv1a64(std::to_string(bytes.size()) + ":", hash);
+    hash = fnv1a64({reinterpret_cast<const char*>(bytes.data()), bytes.size()}, hash);
+  };
+  Scene scene = loadScene(view.scene, load);
+  const bool builtin = view.scene.rfind(kBuiltin, 0) == 0;
+  return {std::move(scene), builtin ? view.scene : fmt::format("files:{:016x}", hash)};
+}
+
+std::string jobId(const ManifestJob& job, const std::string& digest) {
+  return fmt::format("{:016x}", fnv1a64(job.key + "\n" + digest + "\n" + std::string(version())));
+}
+
+}  // namespace penumbra::cli

@@ -1,0 +1,272 @@
+// `penumbra run jobs.jsonl --out DIR [--shard auto|I/N] ...`: renders a manifest's jobs (or one shard's) in one
+// process on one OpenCL context (kernels built once), the scenes and their Renderers kept between jobs (buffers
+// reused). Outputs are written through temporary files and carry the job id; a job whose output already carries it
+// is skipped. Each outcome is a status record (job_status.h). Exit 0 all done, 65 a job failed for good, 75 stopped
+// early (SIGTERM/SIGINT, --time-limit): run again.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <memory>
+#include <optional>
+#include <set>
+
+#include "host/cl/error.h"
+#include "tools/cli/commands.h"
+#include "tools/cli/job_status.h"
+#include "tools/cli/output_writer.h"
+#include "tools/cli/scene_cache.h"
+#include "tools/cli/shard.h"
+#include "tools/cli/stop_signal.h"
+
+namespace penumbra::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct RunOptions {
+  std::string manifest, out, shard, device, timeLimit;
+  std::optional<size_t> shardCount;
+  bool skipExisting = true, onlyFailed = false, quiet = false, dryRun = false;
+  size_t maxFailures = 0;  // 0: no limit
+};
+
+// What one process does: the device opened at the first render, the scenes kept, the tallies.
+struct Batch {
+  Batch(const RunOptions& o, const Shard& shard, double limit)
+      : options(o), log(o.out, shard.label()), timeLimit(limit) {}
+  const RunOptions& options;
+  StatusLog log;
+  SceneCache scenes;
+  std::unique_ptr<Context> ctx;
+  std::string device;    // the context's device name, once opened
+  double timeLimit = 0;  // seconds, 0: none
+  size_t rendered = 0, skipped = 0, failed = 0;
+  double longestJob = 0;                // seconds: the estimate --time-limit plans with
+  OutputWriter writer;                  // the last rendered job's outputs, written while the next one renders
+  std::optional<StatusRecord> writing;  // that job's record, appended once its outputs are written
+  Clock::time_point writingSince;       // when that job started
+};
+
+// A rendered job's outputs, for the writer.
+struct Rendered {
+  ImageOutputPlan output;
+  Image image;
+};
+
+// "90", "90s", "15m", "2h", "1:30:00" (H:MM:SS) or "30:00" (M:SS): seconds.
+double parseDuration(const std::string& text) {
+  double total = 0;
+  size_t pos = 0;
+  const auto fail = [&] {
+    return std::invalid_argument(fmt::format("--time-limit {}: use 90s, 15m, 2h or H:MM:SS", text));
+  };
+  try {
+    if (text.find(':') != std::string::npos) {
+      for (size_t start = 0; start <= text.size();) {
+        const size_t colon = std::min(text.find(':', start), text.size());
+        total = total * 60 + std::stod(text.substr(start, colon - start), &pos);
+        if (pos != colon - start) throw fail();
+        start = colon + 1;
+      }
+      return total;
+    }
+    total = std::stod(text, &pos);
+  } catch (const std::logic_error&) {
+    throw fail();
+  }
+  const std::string unit = text.substr(pos);
+  const double scale = unit.empty() || unit == "s" ? 1 : unit == "m" ? 60 : unit == "h" ? 3600 : 0;
+  if (scale == 0 || total <= 0) throw fail();
+  return total * scale;
+}
+
+// The shard's jobs, those of one scene together (first appearance order) so each scene is loaded once.
+std::vector<const ManifestJob*> shardJobs(const std::vector<ManifestJob>& jobs, const Shard& shard,
+                                          const RunOptions& o) {
+  const std::map<std::string, StatusRecord> records = o.onlyFailed ? latestRecords(o.out) : decltype(records){};
+  std::vector<const ManifestJob*> mine;
+  std::map<std::string, size_t> sceneOrder;
+  for (const ManifestJob& job : jobs) {
+    if (!shard.owns(job.index)) continue;
+    if (o.onlyFailed && job.error.empty()) {  // a bad line fails every time: it counts as failed
+      const StatusRecord* record = findRecord(records, job.id, job.where);
+      if (record == nullptr || record->state != "failed") continue;
+    }
+    mine.push_back(&job);
+    sceneOrder.emplace(job.error.empty() ? sceneKey(job.options.view) : "", sceneOrder.size());
+  }
+  std::stable_sort(mine.begin(), mine.end(), [&](const ManifestJob* a, const ManifestJob* b) {
+    const auto order = [&](const ManifestJob* j) {
+      return sceneOrder[j->error.empty() ? sceneKey(j->options.view) : ""];
+    };
+    return order(a) < order(b);
+  });
+  return mine;
+}
+
+// Temporary files ("<name>.tmp-<hex>", PendingFile) that a run killed while writing left beside the shard's outputs:
+// one scan per output folder, whatever the number of jobs; other shards' files are never touched.
+void removeStaleTemporaries(const std::vector<const ManifestJob*>& jobs) {
+  std::map<fs::path, std::set<std::string>> outputs;  // folder -> names of the shard's outputs there
+  for (const ManifestJob* job : jobs) {
+    if (!job->error.empty()) continue;
+    const ImageOutputPlan plan = planImageOutput(job->options.output);
+    for (const std::optional<fs::path>& path : {plan.exr, plan.png})
+      if (path) outputs[path->parent_path()].insert(path->filename().string());
+  }
+  std::error_code error;
+  for (const auto& [folder, names] : outputs)
+    for (const fs::directory_entry& entry : fs::directory_iterator(folder.empty() ? "." : folder, error)) {
+      const std::string name = entry.path().filename().string();
+      const size_t tmp = name.rfind(".tmp-");
+      if (tmp != std::string::npos && names.count(name.substr(0, tmp)) != 0) fs::remove(entry.path(), error);
+    }
+}
+
+// Renders one job into `rendered` (or finds it done); a failure of the job alone comes back as the record's error.
+StatusRecord runJob(Batch& batch, const ManifestJob& job, std::optional<Rendered>& rendered) {
+  StatusRecord record;
+  record.id = job.id, record.where = job.where, record.output = job.output;
+  record.state = "failed", record.exit = kExitPermanent;
+  if (!job.error.empty()) return record.error = job.error, record;
+  try {
+    const std::string id = jobId(job, batch.scenes.digest(job.options.view));
+    if (!job.id.empty() && job.id != id)
+      throw std::runtime_error(fmt::format(
+          "id {} in the manifest, {} for the job now: its scene's files or penumbra's version changed since it was "
+          "planned (run penumbra plan again)",
+          job.id, id));
+    record.id = id, record.state = "done", record.exit = 0;
+    ImageOutputPlan output = planImageOutput(job.options.output);
+    if (batch.options.skipExisting && outputJobId(*output.exr) == id) return record.state = "skipped", record;
+    SceneCache::Entry& scene = batch.scenes.get(job.options.view);
+    const FramePlan plan = planFrame(job.options, chooseTechnique(job.options), scene.scene);
+    if (!batch.ctx) {
+      batch.ctx = std::make_unique<Context>(batch.options.device);
+      batch.device = batch.ctx->info().name;
+    }
+    RenderResult result = renderFrame(batch.scenes.renderer(scene, *batch.ctx), job.options, scene.scene, plan);
+    result.image.attributes()[kJobIdAttribute] = id;
+    for (const PassTime& pass : result.passes) record.deviceMs += pass.ms;
+    rendered = Rendered{std::move(output), std::move(result.image)};
+  } catch (const NoDeviceError&) {
+    throw;  // no job can run: the whole run stops (exit 69)
+  } catch (const std::exception& e) {
+    record.state = "failed", record.exit = kExitPermanent, record.error = job.where + ": " + e.what();
+  }
+  return record;
+}
+
+// The job's outcome counted, reported and recorded.
+void finishJob(Batch& batch, StatusRecord record, Clock::time_point since) {
+  record.seconds = std::chrono::duration<double>(Clock::now() - since).count();
+  record.device = batch.device;
+  if (record.state == "done") batch.longestJob = std::max(batch.longestJob, record.seconds);
+  (record.state == "done" ? batch.rendered : record.state == "skipped" ? batch.skipped : batch.failed)++;
+  if (!record.error.empty()) fmt::print(stderr, "penumbra: {}\n", record.error);
+  batch.log.append(std::move(record));
+}
+
+// The write in flight, waited for and recorded (a failed write fails its job).
+void settleWrite(Batch& batch) {
+  if (!batch.writing) return;
+  StatusRecord record = std::move(*batch.writing);
+  batch.writing.reset();
+  if (const std::string error = batch.writer.finish(); !error.empty())
+    record.state = "failed", record.exit = kExitPermanent, record.error = record.where + ": " + error;
+  finishJob(batch, std::move(record), batch.writingSince);
+}
+
+enum class Stop { None, Signal, TimeLimit, Failures };
+
+// Runs the jobs until done, a stop signal, the deadline or too many failures; counts the jobs left. Job k renders
+// while job k-1's outputs are written.
+Stop renderJobs(Batch& batch, const std::vector<const ManifestJob*>& jobs, const StopSignals& stop, size_t& left) {
+  const Clock::time_point start = Clock::now();
+  for (size_t i = 0; i < jobs.size(); ++i) {
+    left = jobs.size() - i;
+    const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+    if (stop.requested()) return Stop::Signal;
+    if (batch.timeLimit > 0 && elapsed + batch.longestJob > batch.timeLimit) return Stop::TimeLimit;
+    if (batch.options.maxFailures > 0 && batch.failed >= batch.options.maxFailures) return Stop::Failures;
+    const Clock::time_point since = Clock::now();
+    std::optional<Rendered> rendered;
+    StatusRecord record = runJob(batch, *jobs[i], rendered);
+    if (!rendered) {
+      finishJob(batch, std::move(record), since);
+      continue;
+    }
+    settleWrite(batch);
+    batch.writer.start(std::move(rendered->output), std::move(rendered->image));
+    batch.writing = std::move(record), batch.writingSince = since;
+  }
+  left = 0;
+  return Stop::None;
+}
+
+Stop runJobs(Batch& batch, const std::vector<const ManifestJob*>& jobs, const StopSignals& stop, size_t& left) {
+  const Stop result = renderJobs(batch, jobs, stop, left);
+  settleWrite(batch);
+  return result;
+}
+
+int run(const RunOptions& o) {
+  const Shard shard = parseShard(o.shard, o.shardCount, [](const char* name) { return std::getenv(name); });
+  const double timeLimit = o.timeLimit.empty() ? 0 : parseDuration(o.timeLimit);  // usage errors before any work
+  const std::vector<ManifestJob> jobs = readManifest(o.manifest, o.out);
+  const std::vector<const ManifestJob*> mine = shardJobs(jobs, shard, o);
+  if (o.dryRun) {
+    for (const ManifestJob* job : mine)
+      fmt::print("{} {}\n", job->where, job->error.empty() ? job->output : job->error);
+    return 0;
+  }
+  removeStaleTemporaries(mine);
+  const StopSignals signals;
+  Batch batch(o, shard, timeLimit);
+  size_t left = 0;
+  const Stop stop = runJobs(batch, mine, signals, left);
+  const std::string why = stop == Stop::Signal      ? fmt::format(", {} left ({})", left, signals.name())
+                          : stop == Stop::TimeLimit ? fmt::format(", {} left (--time-limit {})", left, o.timeLimit)
+                          : stop == Stop::Failures  ? fmt::format(", {} left (--max-failures {})", left, o.maxFailures)
+                                                    : "";
+  if (!o.quiet || stop != Stop::None || batch.failed)
+    fmt::print(stderr, "penumbra run: shard {}: {} jobs: {} rendered, {} skipped, {} failed{}\n", shard.label(),
+               mine.size(), batch.rendered, batch.skipped, batch.failed, why);
+  if (stop == Stop::Signal || stop == Stop::TimeLimit) return kExitRetryable;
+  return batch.failed ? kExitPermanent : 0;
+}
+
+}  // namespace
+
+Command addRunCommand(CLI::App& app) {
+  CLI::App* sub = app.add_subcommand("run", "Render a manifest's jobs (or one shard's) in one process, resumably");
+  auto o = std::make_shared<RunOptions>();
+  sub->add_option("manifest", o->manifest, "Manifest: JSON Lines, one job per line (penumbra plan writes one)")
+      ->required();
+  sub->add_option("--out", o->out,
+                  "Folder the jobs' outputs are relative to; status records go to its "
+                  "penumbra-status/")
+      ->required();
+  sub->add_option("--shard", o->shard,
+                  "I/N: the jobs k with k mod N = I; auto: I and N from SLURM_ARRAY_TASK_ID/_COUNT (_MIN, _STEP), "
+                  "JOB_COMPLETION_INDEX or AWS_BATCH_JOB_ARRAY_INDEX");
+  sub->add_option("--shard-count", o->shardCount, "N for --shard auto where the environment has no count");
+  sub->add_flag("--skip-existing,!--no-skip-existing", o->skipExisting,
+                "Skip a job whose output carries its id (default; --no-skip-existing renders everything)");
+  sub->add_option("--max-failures", o->maxFailures, "Stop after K failed jobs (0: never)")->capture_default_str();
+  sub->add_flag("--only-failed", o->onlyFailed, "Only the jobs whose last status record is a failure");
+  sub->add_option("--time-limit", o->timeLimit,
+                  "Start no job that might not finish within this wall time (90s, 15m, 2h, H:MM:SS); exit 75 with "
+                  "jobs left");
+  sub->add_option("--device", o->device, "OpenCL device: auto, cpu, gpu, a name substring, or P:D")
+      ->envname("PENUMBRA_DEVICE");
+  sub->add_flag("--dry-run", o->dryRun,
+                "Print the shard's jobs (manifest:line output), in the order it takes them, and render nothing");
+  sub->add_flag("-q,--quiet", o->quiet, "No summary line unless jobs failed or were left");
+  return {sub, [o] { return run(*o); }};
+}
+
+}  // namespace penumbra::cli

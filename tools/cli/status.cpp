@@ -1,0 +1,103 @@
+// `penumbra status jobs.jsonl --out DIR [--json]`: each job done (its output carries its id), failed (a bad line, or
+// its latest status record a failure) or missing; a summary, the failed and missing jobs, and the exit code: 0
+// everything done, 65 a job failed, 75 only missing ones (run again).
+#include <fmt/format.h>
+
+#include <iostream>
+#include <memory>
+
+#include "tools/cli/commands.h"
+#include "tools/cli/job_status.h"
+#include "tools/cli/scene_cache.h"
+
+namespace penumbra::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct StatusOptions {
+  std::string manifest, out;
+  bool json = false;
+};
+
+struct JobState {
+  const ManifestJob* job;
+  std::string id, state, error;  // state: done, failed, missing
+  const StatusRecord* record = nullptr;
+};
+
+// A line without an id gets the one `run` would compute (its scene loaded for the digest).
+std::string currentId(const ManifestJob& job, SceneCache& scenes) {
+  if (!job.id.empty()) return job.id;
+  return jobId(job, scenes.digest(job.options.view));
+}
+
+JobState stateOf(const ManifestJob& job, const std::map<std::string, StatusRecord>& records, SceneCache& scenes,
+                 const fs::path& out) {
+  JobState s{&job, job.id, "failed", job.error};
+  if (!job.error.empty()) return s;
+  try {
+    s.id = currentId(job, scenes);
+  } catch (const std::exception& e) {
+    return s.error = job.where + ": " + e.what(), s;
+  }
+  s.record = findRecord(records, s.id, job.where);
+  if (outputJobId(out / job.output) == s.id) return s.state = "done", s;
+  if (s.record && s.record->state == "failed") return s.error = s.record->error, s;
+  s.state = "missing";
+  return s;
+}
+
+json toJson(const JobState& s) {
+  json j = {{"line", s.job->line}, {"output", s.job->output}, {"id", s.id}, {"state", s.state}};
+  if (!s.error.empty()) j["error"] = s.error;
+  if (s.record) j["record"] = toJson(*s.record);
+  return j;
+}
+
+void printText(const StatusOptions& o, const std::vector<JobState>& states, const std::map<std::string, size_t>& n) {
+  fmt::print("{}: {} jobs: {} done, {} failed, {} missing\n", o.manifest, states.size(), n.at("done"), n.at("failed"),
+             n.at("missing"));
+  for (const JobState& s : states) {
+    if (s.state == "failed") fmt::print("  failed  {}\n", s.error);
+    if (s.state == "missing") fmt::print("  missing {} ({})\n", s.job->where, s.job->output);
+  }
+}
+
+int run(const StatusOptions& o) {
+  const std::vector<ManifestJob> jobs = readManifest(o.manifest, o.out);
+  const std::map<std::string, StatusRecord> records = latestRecords(o.out);
+  SceneCache scenes;
+  std::vector<JobState> states;
+  std::map<std::string, size_t> counts{{"done", 0}, {"failed", 0}, {"missing", 0}};
+  for (const ManifestJob& job : jobs) {
+    states.push_back(stateOf(job, records, scenes, o.out));
+    ++counts[states.back().state];
+  }
+  if (o.json) {
+    json report = {{"manifest", o.manifest},     {"out", o.out},
+                   {"jobs", states.size()},      {"done", counts["done"]},
+                   {"failed", counts["failed"]}, {"missing", counts["missing"]},
+                   {"states", json::array()}};
+    for (const JobState& s : states) report["states"].push_back(toJson(s));
+    std::cout << report.dump(2) << "\n";
+  } else {
+    printText(o, states, counts);
+  }
+  if (counts["failed"]) return kExitPermanent;
+  return counts["missing"] ? kExitRetryable : 0;
+}
+
+}  // namespace
+
+Command addStatusCommand(CLI::App& app) {
+  CLI::App* sub = app.add_subcommand("status", "Which jobs of a manifest are done, failed or missing");
+  auto o = std::make_shared<StatusOptions>();
+  sub->add_option("manifest", o->manifest, "Manifest (JSON Lines)")->required();
+  sub->add_option("--out", o->out, "The folder `penumbra run --out` wrote to")->required();
+  sub->add_flag("--json", o->json, "Every job's state as JSON on stdout");
+  return {sub, [o] { return run(*o); }};
+}
+
+}  // namespace penumbra::cli
