@@ -39,6 +39,7 @@ int run(const RenderOptions& options) {
   // Each light's technique: the command line's, or a scene file light's own (a usage error when it is bad).
   const std::vector<FrameLight> frame =
       resolveFrameLights(lights, technique, params, options.params, options.view.scene);
+  const std::optional<uint64_t> limit = memoryLimit(options.view);
   for (const FrameLight& l : frame) refuseUnsupportedLight(l.light, *l.technique);  // before a device is opened
   if (camera.orthographic() && lispsmEnabled(params))
     fmt::print(stderr,
@@ -47,7 +48,9 @@ int run(const RenderOptions& options) {
 
   Context ctx(options.device);
   Renderer renderer(ctx, scene);
+  renderer.setMemoryLimit(limit);
   RenderResult result = renderer.render(camera, frame);
+  for (const std::string& warning : result.warnings) fmt::print(stderr, "penumbra: warning: {}\n", warning);
   result.image.attributes()["penumbra:scene"] = sceneProvenance(options.view);
   recordMaterials(scene, result.image);
 
