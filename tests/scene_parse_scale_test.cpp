@@ -30,7 +30,8 @@ class ParseScale : public ::testing::Test {
   std::string chain(int depth, const std::string& name) {
     GltfBuilder b(kTriangle);
     Json& nodes = b.doc()["nodes"];
-    for (int i = 1; i <= depth; ++i) nodes.push_back({{"children", {i < depth ? i + 1 : 0}}, {"translation", {0, 0, 1e-6}}});
+    for (int i = 1; i <= depth; ++i)
+      nodes.push_back({{"children", {i < depth ? i + 1 : 0}}, {"translation", {0, 0, 1e-6}}});
     b.doc()["scenes"][0]["nodes"] = Json::array({1});
     return b.write(dir_, name);
   }
@@ -82,8 +83,11 @@ TEST_F(ParseScale, OverflowedIntegersAreNamed) {
 }
 
 TEST_F(ParseScale, HugeFinitePositionsNameTheAccessor) {
-  EXPECT_TRUE(throwsWith([&] { loadGltf(GltfBuilder({{0, 0, 0}, {3e38f, 0, 0}, {0, 1, 0}}).write(dir_, "huge")); },
-                         {"huge.gltf", "accessor 0: POSITION 1", "outside +-1e+18"}));
+  EXPECT_TRUE(throwsWith(
+      [&] {
+        loadGltf(GltfBuilder({{0, 0, 0}, {3e38f, 0, 0}, {0, 1, 0}}).write(dir_, "huge"));
+      },
+      {"huge.gltf", "accessor 0: POSITION 1", "outside +-1e+18"}));
   GltfBuilder scaled(kTriangle);
   scaled.doc()["nodes"][0]["scale"] = {1e30, 1, 1};
   EXPECT_TRUE(throwsWith([&] { loadGltf(scaled.write(dir_, "scaled")); },

@@ -47,10 +47,10 @@ std::optional<std::string> emptyFrameWarning(const Scene& scene, const Camera& c
   if (bounds.empty() || bounds.radius() == 0.0f)
     why = "the scene's geometry has no extent (every node scaled to 0?)";
   else if (scene.triangleCount() > 0)
-    why = fmt::format("the scene's {} triangles lie within ({}, {}, {}) .. ({}, {}, {}); none is in view or all have "
-                      "zero area",
-                      scene.triangleCount(), bounds.min.x, bounds.min.y, bounds.min.z, bounds.max.x, bounds.max.y,
-                      bounds.max.z);
+    why = fmt::format(
+        "the scene's {} triangles lie within ({}, {}, {}) .. ({}, {}, {}); none is in view or all have "
+        "zero area",
+        scene.triangleCount(), bounds.min.x, bounds.min.y, bounds.min.z, bounds.max.x, bounds.max.y, bounds.max.z);
   return fmt::format("the frame sees no surface: camera {} ({}x{}) shows only background; {}", camera.describe(),
                      camera.width, camera.height, why);
 }

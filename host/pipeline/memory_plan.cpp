@@ -37,11 +37,12 @@ double param(const PlannedLight& light, const char* name, double fallback) {
 // chain (a third more), for each split or layer and each cube face of a point light.
 MemoryStage techniqueMaps(const PlannedLight& light, size_t index) {
   MemoryStage stage{fmt::format("light {} ({}): maps", index, light.technique->name)};
-  const double side = param(light, "map-size", 0) + (light.type == LightType::Point ? 2 * param(light, "cube-guard", 0) : 0);
+  const double side =
+      param(light, "map-size", 0) + (light.type == LightType::Point ? 2 * param(light, "cube-guard", 0) : 0);
   const auto texels = static_cast<uint64_t>(side * side);
   const uint64_t faces = light.type == LightType::Point ? 6 : 1;
-  const auto layers = static_cast<uint64_t>(std::max({1.0, param(light, "pssm-splits", 1), param(light, "lvsm-layers", 1),
-                                                      param(light, "pssm-max-splits", 1)}));
+  const auto layers = static_cast<uint64_t>(std::max(
+      {1.0, param(light, "pssm-splits", 1), param(light, "lvsm-layers", 1), param(light, "pssm-max-splits", 1)}));
   uint64_t perTexel = kMapTexelBytes;
   if (light.params->has("moment-storage") || light.params->has("lvsm-storage") || light.params->has("sat-precision") ||
       light.params->has("vssm-sat")) {
@@ -68,9 +69,8 @@ uint64_t MemoryPlan::hostBytes() const {
 
 const MemoryStage& MemoryPlan::largest() const {
   if (stages.empty()) throw std::logic_error("MemoryPlan::largest: no stages");
-  return *std::max_element(stages.begin(), stages.end(), [](const MemoryStage& a, const MemoryStage& b) {
-    return a.deviceBytes < b.deviceBytes;
-  });
+  return *std::max_element(stages.begin(), stages.end(),
+                           [](const MemoryStage& a, const MemoryStage& b) { return a.deviceBytes < b.deviceBytes; });
 }
 
 std::string MemoryPlan::describe() const {
@@ -86,7 +86,8 @@ MemoryPlan planFrame(const Camera& camera, const std::vector<PlannedLight>& ligh
   MemoryPlan plan;
   plan.stages.push_back({"G-buffer", pixels * kGBufferBytesPerPixel, 0, pixels * 16});
   for (size_t i = 0; i < lights.size(); ++i) {
-    const uint64_t perPixel = kVisibilityBytesPerPixel + kTechniquePixelBytes + (lights[i].type == LightType::Point ? 4 : 0);
+    const uint64_t perPixel =
+        kVisibilityBytesPerPixel + kTechniquePixelBytes + (lights[i].type == LightType::Point ? 4 : 0);
     plan.stages.push_back({fmt::format("light {} ({}): per-pixel buffers", i, lights[i].technique->name),
                            pixels * perPixel, 0, pixels * 16});
     plan.stages.push_back(techniqueMaps(lights[i], i));
@@ -110,8 +111,8 @@ void checkMemoryPlan(const MemoryPlan& plan, const DeviceInfo& device, std::opti
                                   formatBytes(plan.hostBytes()), formatBytes(*limit)));
   for (const MemoryStage& s : plan.stages)
     if (s.largestBuffer > device.maxAllocBytes)
-      throw MemoryError(fmt::format("{} needs one buffer of {}, more than the device's largest allocation {}",
-                                    s.name, formatBytes(s.largestBuffer), formatBytes(device.maxAllocBytes)));
+      throw MemoryError(fmt::format("{} needs one buffer of {}, more than the device's largest allocation {}", s.name,
+                                    formatBytes(s.largestBuffer), formatBytes(device.maxAllocBytes)));
 }
 
 std::string formatBytes(uint64_t bytes) {
@@ -131,10 +132,12 @@ uint64_t parseMemorySize(std::string_view text, std::string_view what) {
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || end == text.data()) bad("expected a number of bytes with an optional unit");
   std::string unit(end, text.data() + text.size());
-  std::transform(unit.begin(), unit.end(), unit.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(unit.begin(), unit.end(), unit.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   static constexpr std::pair<const char*, double> kUnits[] = {
-      {"", 1.0}, {"b", 1.0}, {"k", 0x1p10}, {"kb", 0x1p10}, {"kib", 0x1p10}, {"m", 0x1p20}, {"mb", 0x1p20},
-      {"mib", 0x1p20}, {"g", 0x1p30}, {"gb", 0x1p30}, {"gib", 0x1p30}, {"t", 0x1p40}, {"tb", 0x1p40}, {"tib", 0x1p40}};
+      {"", 1.0},       {"b", 1.0},     {"k", 0x1p10},   {"kb", 0x1p10}, {"kib", 0x1p10},
+      {"m", 0x1p20},   {"mb", 0x1p20}, {"mib", 0x1p20}, {"g", 0x1p30},  {"gb", 0x1p30},
+      {"gib", 0x1p30}, {"t", 0x1p40},  {"tb", 0x1p40},  {"tib", 0x1p40}};
   const auto it = std::find_if(std::begin(kUnits), std::end(kUnits), [&](const auto& u) { return unit == u.first; });
   if (it == std::end(kUnits)) bad("unknown unit");
   const double bytes = value * it->second;

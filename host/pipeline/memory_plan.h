@@ -25,10 +25,10 @@ class MemoryError : public std::runtime_error {
 };
 
 struct MemoryStage {
-  std::string name;             // "G-buffer", "light 0 (evsm4): maps", "image download", ...
-  uint64_t deviceBytes = 0;     // held on the device while the frame runs
-  uint64_t hostBytes = 0;       // held in host memory while the frame is read back
-  uint64_t largestBuffer = 0;   // its largest single device buffer (against CL_DEVICE_MAX_MEM_ALLOC_SIZE)
+  std::string name;            // "G-buffer", "light 0 (evsm4): maps", "image download", ...
+  uint64_t deviceBytes = 0;    // held on the device while the frame runs
+  uint64_t hostBytes = 0;      // held in host memory while the frame is read back
+  uint64_t largestBuffer = 0;  // its largest single device buffer (against CL_DEVICE_MAX_MEM_ALLOC_SIZE)
 };
 
 struct MemoryPlan {
@@ -36,7 +36,8 @@ struct MemoryPlan {
   uint64_t deviceBytes() const;
   uint64_t hostBytes() const;
   const MemoryStage& largest() const;  // the stage with the most device bytes
-  std::string describe() const;        // "G-buffer 2.8 GiB, light 0 (sm): maps 32 MiB, ..., image download 1.2 GiB on the host"
+  std::string describe()
+      const;  // "G-buffer 2.8 GiB, light 0 (sm): maps 32 MiB, ..., image download 1.2 GiB on the host"
 };
 
 // One light of a frame as the plan sees it (the renderer's FrameLight without the light's geometry).

@@ -33,8 +33,8 @@ struct RenderResult {
   // background, instead: a technique's debug layers would hold its last face's alone); rows top-down; provenance in
   // the attributes.
   Image image;
-  std::vector<PassTime> passes;  // device time per named pass, in recording order
-  Buffer<cl_float4> preview;     // the shaded preview on the device (R, G, B, A per pixel), rows bottom-up
+  std::vector<PassTime> passes;       // device time per named pass, in recording order
+  Buffer<cl_float4> preview;          // the shaded preview on the device (R, G, B, A per pixel), rows bottom-up
   std::vector<std::string> warnings;  // e.g. a frame that sees no surface (frame_check.h); the caller prints them
 };
 

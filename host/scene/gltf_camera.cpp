@@ -13,7 +13,7 @@
 namespace penumbra::detail {
 namespace {
 
-constexpr int kDefaultHeight = 720;   // the image height a file's aspect ratio is applied to
+constexpr int kDefaultHeight = 720;  // the image height a file's aspect ratio is applied to
 
 void sizeFromAspect(Camera& camera, double aspect) {
   if (!(aspect > 0.0) || !std::isfinite(aspect)) return;

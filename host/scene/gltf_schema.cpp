@@ -53,8 +53,8 @@ struct Checker {
     // tinygltf keeps several of these (sparse counts, byte strides, component types) in an int: a larger value
     // would arrive negative ("count -2147483648"). Files are capped far below 2 GiB, so none can be that large.
     if (v->get<uint64_t>() > uint64_t{INT32_MAX})
-      fail(pointerTo(ptr, key), fmt::format("{} is larger than {} (the largest integer this loader reads)",
-                                            v->get<uint64_t>(), INT32_MAX));
+      fail(pointerTo(ptr, key),
+           fmt::format("{} is larger than {} (the largest integer this loader reads)", v->get<uint64_t>(), INT32_MAX));
     return v->get<uint64_t>();
   }
 

@@ -15,7 +15,6 @@
 namespace penumbra::detail {
 namespace {
 
-
 void readSize(ObjectReader& r, Camera& camera) {
   const Json* size = r.find("size");
   if (!size) return;

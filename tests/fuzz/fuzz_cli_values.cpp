@@ -28,12 +28,24 @@ void setParam(uint8_t index, const std::string& text) {
 void parse(uint8_t which, const std::string& text) {
   int w = 0, h = 0;
   switch (which % 6) {
-    case 0: parseCamera(text); break;
-    case 1: parseSize(text, w, h); break;
-    case 2: parseLight(text); break;
-    case 3: parseMemorySize(text, "--memory-limit"); break;
-    case 4: setParam(static_cast<uint8_t>(which / 6), text); break;
-    default: makeProceduralFromSpec(text); break;
+    case 0:
+      parseCamera(text);
+      break;
+    case 1:
+      parseSize(text, w, h);
+      break;
+    case 2:
+      parseLight(text);
+      break;
+    case 3:
+      parseMemorySize(text, "--memory-limit");
+      break;
+    case 4:
+      setParam(static_cast<uint8_t>(which / 6), text);
+      break;
+    default:
+      makeProceduralFromSpec(text);
+      break;
   }
 }
 

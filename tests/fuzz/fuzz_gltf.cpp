@@ -12,7 +12,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace penumbra;
   const bool glb = size >= 4 && std::memcmp(data, "glTF", 4) == 0;
   const std::string path = fuzz::inPlacePath() ? std::string(fuzz::inPlacePath())
-                                                : fuzz::writeScratch(glb ? "input.glb" : "input.gltf", data, size);
+                                               : fuzz::writeScratch(glb ? "input.glb" : "input.gltf", data, size);
   fuzz::expectOnly<SceneError>("fuzz_gltf", [&] { loadGltf(path, fuzz::fuzzLimits()); });
   return 0;
 }

@@ -30,8 +30,8 @@ inline const std::filesystem::path& scratch() {
 
 inline std::string writeScratch(const std::string& name, const uint8_t* data, size_t size) {
   const std::filesystem::path path = scratch() / name;
-  std::ofstream(path, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data),
-                                                                 static_cast<std::streamsize>(size));
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   return path.string();
 }
 
