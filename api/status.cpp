@@ -5,6 +5,7 @@
 
 #include "api/guard.h"
 #include "host/cl/error.h"
+#include "host/pipeline/memory_plan.h"
 #include "host/scene/load_options.h"
 #include "host/version.h"
 
@@ -38,6 +39,8 @@ pn_status failCurrentException() noexcept {
     return fail(PN_ERROR_NO_DEVICE, e.what());
   } catch (const SceneError& e) {
     return fail(PN_ERROR_SCENE, e.what());
+  } catch (const MemoryError& e) {  // the frame's memory plan refused it, or an allocation failed in a stage
+    return fail(PN_ERROR_OUT_OF_MEMORY, e.what());
   } catch (const std::logic_error& e) {  // invalid_argument, out_of_range, length_error, domain_error
     return fail(PN_ERROR_INVALID_ARGUMENT, e.what());
   } catch (const std::bad_alloc&) {

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <string>
 
@@ -76,6 +77,36 @@ TEST_F(FrameImage, CameraMatricesReadBackThroughOpenExrProjectOntoThePixel) {
   double sum = 0;
   for (float a : seen) sum += a;
   EXPECT_GT(checked, 100) << "A sum " << sum << " of " << seen.size() << " P.Y[0] " << py[0];
+}
+
+// The float4 buffers come down in bands of 65,536 pixels (frame_image.cpp): at 400x300 the frame spans two, and
+// every ground pixel's P.X must still grow along its row (a band read to the wrong place breaks the order) with its
+// normal straight up.
+TEST_F(FrameImage, ChannelsStayInPlaceAcrossDownloadBands) {
+  Camera camera = test::topDown();
+  camera.width = 400, camera.height = 300;
+  const TechniqueInfo& sm = findTechnique("sm");
+  const Scene scene = test::squareOverPlane();
+  Renderer renderer(ctx(), scene);
+  const Image image = renderer.render(camera, test::pointAbove(), sm, Params(sm.params)).image;
+  const auto& px = image.require("P.X").data;
+  const auto& py = image.require("P.Y").data;
+  const auto& ny = image.require("N.Y").data;
+  const auto& alpha = image.require("A").data;
+  size_t ground[2] = {0, 0};  // before and after the first band's end
+  for (int y = 0; y < camera.height; ++y) {
+    float last = -INFINITY;
+    for (int x = 0; x < camera.width; ++x) {
+      const size_t i = static_cast<size_t>(y) * camera.width + x;
+      if (alpha[i] != 1.0f || std::abs(py[i]) > 1e-3f) continue;  // the ground plane y = 0 alone
+      ++ground[i >= 65536];
+      EXPECT_GT(px[i], last) << x << "," << y;
+      EXPECT_NEAR(std::abs(ny[i]), 1.0f, 1e-4f) << x << "," << y;
+      last = px[i];
+    }
+  }
+  EXPECT_GT(ground[0], 1000u);  // both bands were checked
+  EXPECT_GT(ground[1], 1000u);
 }
 
 }  // namespace

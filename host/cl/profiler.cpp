@@ -22,7 +22,9 @@ std::vector<PassTime> Profiler::resolve() const {
       clCheck(status, "clGetEventProfilingInfo", name, "profiler");
       clCheck(event.getProfilingInfo(CL_PROFILING_COMMAND_END, &end), "clGetEventProfilingInfo", name, "profiler");
     }
-    auto it = std::find_if(passes.begin(), passes.end(), [&](const PassTime& p) { return p.name == name; });
+    // A plain reference for the lambda: clang before 16 cannot capture a structured binding.
+    const std::string& pass = name;
+    auto it = std::find_if(passes.begin(), passes.end(), [&](const PassTime& p) { return p.name == pass; });
     if (it == passes.end()) it = passes.insert(passes.end(), PassTime{name, 0.0, 0});
     it->ms += end >= start ? static_cast<double>(end - start) * 1e-6 : 0.0;
     ++it->count;

@@ -3,8 +3,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <initializer_list>
 #include <set>
 #include <string>
 #include <vector>
@@ -23,11 +25,28 @@ constexpr uint64_t kShadeBytesPerPixel = 2 * 16 + 4 + 16;
 // shade_add_direct's: read position, normal, visibility and the running sum, write the sum.
 constexpr uint64_t kShadeAddBytesPerPixel = 2 * 16 + 4 + 2 * 4;
 
-// Component `c` of every element of a float4 buffer as one channel.
-std::vector<float> component(const std::vector<cl_float4>& data, int c) {
-  std::vector<float> channel(data.size());
-  for (size_t i = 0; i < data.size(); ++i) channel[i] = data[i].s[c];
-  return channel;
+// Elements read back per step: the float4 buffers come down through a 1 MiB staging band instead of a whole copy,
+// so a frame's host memory is its channels alone (docs/robustness.md: bytes per pixel).
+constexpr size_t kDownloadBand = size_t{1} << 16;
+
+// Components 0 .. names.size() - 1 of every element of a float4 buffer as channels `names`, one band at a time.
+void addComponents(Context& ctx, const Buffer<cl_float4>& buffer, std::initializer_list<std::string> names,
+                   Image& image) {
+  const size_t count = buffer.size();
+  std::vector<std::vector<float>> channels(names.size(), std::vector<float>(count));
+  std::vector<cl_float4> band(std::min(count, kDownloadBand));
+  for (size_t first = 0; first < count; first += band.size()) {
+    const size_t n = std::min(band.size(), count - first);
+    cl::Event event;
+    clCheck(ctx.queue().enqueueReadBuffer(buffer.get(), CL_TRUE, first * sizeof(cl_float4), n * sizeof(cl_float4),
+                                          band.data(), nullptr, &event),
+            "Buffer::download", {}, "transfer");
+    if (ctx.profiler() != nullptr) ctx.profiler()->record("transfer/download", event, n * sizeof(cl_float4));
+    for (size_t c = 0; c < channels.size(); ++c)
+      for (size_t i = 0; i < n; ++i) channels[c][first + i] = band[i].s[c];
+  }
+  size_t c = 0;
+  for (const std::string& name : names) image.add(name, std::move(channels[c++]));
 }
 
 // glm's column-major storage of a matrix for column vectors is OpenEXR's row-major storage of the same map for row
@@ -159,14 +178,12 @@ Image frameImage(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisi
   const Light& light = *lights[0].light;
 
   Image image(gbuffer.width, gbuffer.height);
-  const std::vector<cl_float4> preview = rgba.download(ctx);
-  for (int c = 0; c < 4; ++c) image.add(std::string(1, "RGBA"[c]), component(preview, c));
+  addComponents(ctx, rgba, {"R", "G", "B", "A"}, image);
   image.add("visibility.Y", lights[0].visibility->download(ctx));
   for (const LightVisibility& lit : lights)
     image.add(lightChannel("visibility", lightLayer(*lit.light)), lit.visibility->download(ctx));
-  const std::vector<cl_float4> position = gbuffer.position.download(ctx), normal = gbuffer.normal.download(ctx);
-  for (int c = 0; c < 3; ++c) image.add(fmt::format("P.{}", "XYZ"[c]), component(position, c));
-  for (int c = 0; c < 3; ++c) image.add(fmt::format("N.{}", "XYZ"[c]), component(normal, c));
+  addComponents(ctx, gbuffer.position, {"P.X", "P.Y", "P.Z"}, image);
+  addComponents(ctx, gbuffer.normal, {"N.X", "N.Y", "N.Z"}, image);
   image.add("depth.Z", gbuffer.depth.download(ctx));
   if (previewOut != nullptr) *previewOut = std::move(rgba);
 

@@ -4,7 +4,11 @@
 
 #include <fmt/format.h>
 
+#include <new>
+
+#include "host/pipeline/frame_check.h"
 #include "host/pipeline/frame_image.h"
+#include "host/pipeline/memory_plan.h"
 #include "host/scene/light_names.h"
 #include "host/views/views.h"
 
@@ -12,6 +16,56 @@ namespace penumbra {
 namespace {
 
 const ReceiverBounds kNoReceivers{};  // a point light's frame: each cube face reduces its own
+
+// Runs one stage of the frame; running out of host or device memory there is reported with the stage and what the
+// plan gave it (a MemoryError), not as a bare std::bad_alloc or CL_MEM_OBJECT_ALLOCATION_FAILURE.
+template <class Fn>
+auto inStage(const MemoryPlan& plan, const std::string& stage, Fn&& fn) {
+  const auto needs = [&] { return fmt::format("the frame's plan: {}", plan.describe()); };
+  try {
+    return fn();
+  } catch (const std::bad_alloc&) {
+    throw MemoryError(fmt::format("out of host memory in stage {} ({})", stage, needs()));
+  } catch (const ClError& e) {
+    const cl_int c = e.code();
+    // Not CL_OUT_OF_RESOURCES: it also means a launch asked for more local memory or registers than it may.
+    if (c != CL_MEM_OBJECT_ALLOCATION_FAILURE && c != CL_OUT_OF_HOST_MEMORY && c != CL_INVALID_BUFFER_SIZE) throw;
+    throw MemoryError(fmt::format("out of device memory in stage {}: {} ({})", stage, e.what(), needs()));
+  }
+}
+
+// Everything refused before any work: lights a technique cannot shadow, coordinates out of range, a memory plan that
+// does not fit. Returns the plan.
+MemoryPlan checkedPlan(const Scene& scene, const Camera& camera, const std::vector<FrameLight>& lights,
+                       const DeviceInfo& device, std::optional<uint64_t> limit) {
+  if (lights.empty()) throw std::invalid_argument("Renderer::render: no lights");
+  std::vector<Light> frameLights;
+  std::vector<PlannedLight> planned;
+  for (const FrameLight& l : lights) {
+    refuseUnsupportedLight(l.light, *l.technique);
+    frameLights.push_back(l.light);
+    planned.push_back({l.light.type, l.technique, &l.params});
+  }
+  checkFrameRange(scene, camera, frameLights);
+  MemoryPlan plan = planFrame(camera, planned);
+  checkMemoryPlan(plan, device, limit);
+  return plan;
+}
+
+// The header's record of the techniques: the first light's, and every light's when there are several.
+void recordTechniques(const std::vector<FrameLight>& lights, std::map<std::string, std::string> firstAttributes,
+                      Image& image) {
+  auto& attributes = image.attributes();
+  attributes.insert(firstAttributes.begin(), firstAttributes.end());
+  attributes["penumbra:technique"] = lights[0].technique->name;
+  attributes["penumbra:parameters"] = lights[0].params.describe();
+  if (lights.size() < 2) return;
+  std::string all;
+  for (const FrameLight& l : lights)
+    all += fmt::format("{}{}={} ({})", all.empty() ? "" : "; ", lightLayer(l.light), l.technique->name,
+                       l.params.describe());
+  attributes["penumbra:light-techniques"] = all;
+}
 
 }  // namespace
 
@@ -56,12 +110,11 @@ RenderResult Renderer::render(const Camera& camera, const Light& light, const Te
 }
 
 RenderResult Renderer::render(const Camera& camera, const std::vector<FrameLight>& lights) {
-  if (lights.empty()) throw std::invalid_argument("Renderer::render: no lights");
-  for (const FrameLight& l : lights) refuseUnsupportedLight(l.light, *l.technique);  // before any work
+  const MemoryPlan plan = checkedPlan(scene_, camera, lights, ctx_.info(), memoryLimit_);  // before any work
   Profiler profiler;
   ProfilerScope scope(ctx_, profiler);
   const Bounds bounds = scene_.bounds();
-  raster_.drawGBuffer(cameraView(camera, bounds), gbuffer_);
+  inStage(plan, "G-buffer", [&] { raster_.drawGBuffer(cameraView(camera, bounds), gbuffer_); });
   const size_t count = static_cast<size_t>(camera.width) * static_cast<size_t>(camera.height);
   slots_.resize(lights.size());  // fewer lights than last frame free the slots no longer used
 
@@ -70,27 +123,24 @@ RenderResult Renderer::render(const Camera& camera, const std::vector<FrameLight
   for (size_t i = 0; i < lights.size(); ++i) {
     const Light& light = lights[i].light;
     Slot& slot = slots_[i];
-    if (slot.visibility.size() != count) slot.visibility.allocate(ctx_, count);
-    std::map<std::string, std::string> attributes = shadow(camera, lights[i], slot);
+    std::map<std::string, std::string> attributes =
+        inStage(plan, fmt::format("light {} ({})", i, lights[i].technique->name), [&] {
+          if (slot.visibility.size() != count) slot.visibility.allocate(ctx_, count);
+          return shadow(camera, lights[i], slot);
+        });
     if (i == 0) firstAttributes = std::move(attributes);
     layers.push_back({&light, &slot.visibility});
   }
 
   RenderResult result;
-  result.image = frameImage(ctx_, gbuffer_, layers, camera, bounds, &result.preview);
-  addDebugChannels(lights[0].light, slots_[0], result.image);  // the first light's only
-  result.image.flipRows();                                     // the rasterizer's row 0 is the bottom row
-  auto& attributes = result.image.attributes();
-  attributes.insert(firstAttributes.begin(), firstAttributes.end());
-  attributes["penumbra:technique"] = lights[0].technique->name;
-  attributes["penumbra:parameters"] = lights[0].params.describe();
-  if (lights.size() > 1) {
-    std::string all;
-    for (const FrameLight& l : lights)
-      all += fmt::format("{}{}={} ({})", all.empty() ? "" : "; ", lightLayer(l.light), l.technique->name,
-                         l.params.describe());
-    attributes["penumbra:light-techniques"] = all;
-  }
+  inStage(plan, "shade and image download", [&] {
+    result.image = frameImage(ctx_, gbuffer_, layers, camera, bounds, &result.preview);
+    addDebugChannels(lights[0].light, slots_[0], result.image);  // the first light's only
+  });
+  if (auto warning = emptyFrameWarning(scene_, camera, result.image.require("A").data))
+    result.warnings.push_back(*warning);
+  result.image.flipRows();  // the rasterizer's row 0 is the bottom row
+  recordTechniques(lights, std::move(firstAttributes), result.image);
   result.passes = profiler.resolve();
   return result;
 }

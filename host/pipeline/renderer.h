@@ -5,6 +5,7 @@
 
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,8 +33,9 @@ struct RenderResult {
   // background, instead: a technique's debug layers would hold its last face's alone); rows top-down; provenance in
   // the attributes.
   Image image;
-  std::vector<PassTime> passes;  // device time per named pass, in recording order
-  Buffer<cl_float4> preview;     // the shaded preview on the device (R, G, B, A per pixel), rows bottom-up
+  std::vector<PassTime> passes;       // device time per named pass, in recording order
+  Buffer<cl_float4> preview;          // the shaded preview on the device (R, G, B, A per pixel), rows bottom-up
+  std::vector<std::string> warnings;  // e.g. a frame that sees no surface (frame_check.h); the caller prints them
 };
 
 class Renderer {
@@ -52,6 +54,10 @@ class Renderer {
   // steady state. A point light is shadowed as six cube faces (host/pipeline/point_light.h). Every light is checked
   // against its technique (refuseUnsupportedLight) before any work.
   RenderResult render(const Camera& camera, const std::vector<FrameLight>& lights);
+
+  // A frame whose memory plan (host/pipeline/memory_plan.h) needs more than `bytes` of device or host memory is
+  // refused (MemoryError) before anything is allocated; none: the device's own limits alone.
+  void setMemoryLimit(std::optional<uint64_t> bytes) { memoryLimit_ = bytes; }
 
   // Light `index`'s visibility buffer of the last frame (rows bottom-up); the next render() overwrites it.
   const Buffer<float>& visibility(size_t index) const { return slots_.at(index).visibility; }
@@ -76,6 +82,7 @@ class Renderer {
   Rasterizer raster_;
   GBuffer gbuffer_;
   std::vector<Slot> slots_;  // one per light of the frame, in order
+  std::optional<uint64_t> memoryLimit_;
 };
 
 }  // namespace penumbra

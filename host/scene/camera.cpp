@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "host/scene/limits.h"
 #include "host/scene/spec_parse.h"
 
 namespace penumbra {
@@ -15,7 +16,6 @@ namespace {
 
 // sin of the smallest angle between forward and up that lookAt still handles well (~0.06 degrees).
 constexpr float kMinUpSine = 1e-3f;
-constexpr int kMaxImageSide = 16384;
 
 bool usableUp(const glm::vec3& forward, const glm::vec3& up) {
   const float len = glm::length(up);

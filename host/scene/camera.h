@@ -56,7 +56,7 @@ glm::vec3 chooseUp(const glm::vec3& forward, const glm::vec3& preferred = glm::v
 // "EX,EY,EZ:TX,TY,TZ[:FOVY_DEG]" (size is set separately by --size WxH). Throws std::invalid_argument with a
 // message naming the bad part: non-finite numbers, eye == target, fov outside (0, 180).
 Camera parseCamera(std::string_view spec);
-// "WxH", each 1..16384. Throws std::invalid_argument.
+// "WxH", each 1..kMaxImageSide (host/scene/limits.h). Throws std::invalid_argument.
 void parseSize(std::string_view spec, int& width, int& height);
 
 }  // namespace penumbra

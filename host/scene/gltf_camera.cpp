@@ -8,11 +8,12 @@
 
 #include <fmt/format.h>
 
+#include "host/scene/limits.h"
+
 namespace penumbra::detail {
 namespace {
 
-constexpr int kDefaultHeight = 720;   // the image height a file's aspect ratio is applied to
-constexpr int kMaxImageSide = 16384;  // as parseSize
+constexpr int kDefaultHeight = 720;  // the image height a file's aspect ratio is applied to
 
 void sizeFromAspect(Camera& camera, double aspect) {
   if (!(aspect > 0.0) || !std::isfinite(aspect)) return;

@@ -23,6 +23,7 @@
 #include "host/scene/gltf_nodes.h"
 #include "host/scene/gltf_schema.h"
 #include "host/scene/gltf_tinygltf.h"
+#include "host/scene/limits.h"
 
 namespace penumbra {
 namespace detail {
@@ -130,9 +131,10 @@ Scene buildScene(const GltfContext& ctx, const std::vector<NodeInstance>& instan
                                              "face normals",
                                              ctx.file, key.first, key.second, repaired));
       for (size_t i = vbase; i < scene.positions.size(); ++i)
-        if (!std::isfinite(scene.positions[i].x) || !std::isfinite(scene.positions[i].y) ||
-            !std::isfinite(scene.positions[i].z))
-          failGltf(ctx, fmt::format("node {}: world position overflows", inst.node));
+        if (const glm::vec3 q = scene.positions[i]; !inCoordinateRange(q.x, q.y, q.z))
+          failGltf(ctx, fmt::format("node {} (mesh {} primitive {}): world position ({}, {}, {}) is outside +-{:g} "
+                                    "(the renderer's coordinate range)",
+                                    inst.node, mesh, key.second, q.x, q.y, q.z, kMaxCoordinate));
     }
   }
   return scene;

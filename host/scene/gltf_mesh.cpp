@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "host/scene/geometry.h"
+#include "host/scene/limits.h"
 
 namespace penumbra::detail {
 namespace {
@@ -47,6 +48,10 @@ void checkPositions(const GltfContext& ctx, int accessor, const std::vector<glm:
     const glm::vec3 p = positions[i];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
       failGltf(ctx, fmt::format("accessor {}: POSITION {} is not finite ({}, {}, {})", accessor, i, p.x, p.y, p.z));
+    if (!inCoordinateRange(p.x, p.y, p.z))
+      failGltf(ctx, fmt::format("accessor {}: POSITION {} ({}, {}, {}) is outside +-{:g} (the renderer's coordinate "
+                                "range)",
+                                accessor, i, p.x, p.y, p.z, kMaxCoordinate));
   }
 }
 

@@ -11,6 +11,8 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "host/scene/limits.h"
+
 namespace penumbra::detail {
 namespace {
 
@@ -113,14 +115,14 @@ std::vector<int> sceneRoots(const GltfContext& ctx, const std::vector<int>& pare
     const int s = std::max(m.defaultScene, 0);
     if (static_cast<size_t>(s) >= m.scenes.size()) failGltf(ctx, fmt::format("scene {} does not exist", s));
     roots = m.scenes[static_cast<size_t>(s)].nodes;
+    std::vector<char> listed(m.nodes.size(), 0);
     for (int r : roots) {
       if (r < 0 || static_cast<size_t>(r) >= m.nodes.size())
         failGltf(ctx, fmt::format("scene {}: node {} does not exist", s, r));
       if (parent[static_cast<size_t>(r)] != -1)
         failGltf(ctx, fmt::format("scene {}: node {} is listed as a root but is a child of node {}", s, r,
                                   parent[static_cast<size_t>(r)]));
-      if (std::count(roots.begin(), roots.end(), r) > 1)
-        failGltf(ctx, fmt::format("scene {}: node {} is listed twice", s, r));
+      if (listed[static_cast<size_t>(r)]++) failGltf(ctx, fmt::format("scene {}: node {} is listed twice", s, r));
     }
     return roots;
   }
@@ -145,6 +147,10 @@ std::vector<NodeInstance> flattenNodes(const GltfContext& ctx, const std::vector
     for (int c = 0; c < 4; ++c)
       for (int r = 0; r < 4; ++r)
         if (!std::isfinite(world[c][r])) failGltf(ctx, fmt::format("node {}: world transform overflows", top.node));
+    if (!inCoordinateRange(world[3].x, world[3].y, world[3].z))
+      failGltf(ctx, fmt::format("node {}: world translation ({}, {}, {}) is outside +-{:g} (the renderer's coordinate "
+                                "range)",
+                                top.node, world[3].x, world[3].y, world[3].z, kMaxCoordinate));
     out.push_back({top.node, world});
     for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) stack.push_back({*c, world});
   }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <initializer_list>
 #include <numbers>
 #include <string_view>
@@ -49,6 +50,11 @@ struct Checker {
     const Json* v = get(o, key, ptr, required);
     if (!v) return 0;
     kind(o, key, ptr, v->is_number_unsigned(), "a non-negative integer");
+    // tinygltf keeps several of these (sparse counts, byte strides, component types) in an int: a larger value
+    // would arrive negative ("count -2147483648"). Files are capped far below 2 GiB, so none can be that large.
+    if (v->get<uint64_t>() > uint64_t{INT32_MAX})
+      fail(pointerTo(ptr, key),
+           fmt::format("{} is larger than {} (the largest integer this loader reads)", v->get<uint64_t>(), INT32_MAX));
     return v->get<uint64_t>();
   }
 

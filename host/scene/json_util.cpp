@@ -1,11 +1,15 @@
-// JSON parsing and strict reading for scene files and glTF checks (nlohmann::json). Depth is measured
-// without recursion, so a hostile file cannot overflow the stack here or in the consumers after us.
+// JSON parsing and strict reading for scene files and glTF checks (nlohmann::json). Limits are checked by a SAX pass
+// before the DOM is built (linear time, no recursion), so a hostile file can neither overflow the stack here or in
+// the consumers after us nor take quadratic time.
 #include "host/scene/json_util.h"
 
 #include <cmath>
+#include <set>
 #include <vector>
 
 #include <fmt/format.h>
+
+#include "host/scene/limits.h"
 
 namespace penumbra::detail {
 
@@ -26,32 +30,85 @@ void failAt(const std::string& file, const std::string& pointer, const std::stri
   throw SceneError(fmt::format("{}: {}: {}", file, pointer.empty() ? "(root)" : pointer, message));
 }
 
-Json parseJson(const std::string& file, std::string_view text, bool rejectDuplicates, uint64_t maxValues) {
-  std::vector<std::set<std::string>> keys;  // per open object
-  uint64_t values = 0;
-  const Json::parser_callback_t callback = [&](int depth, Json::parse_event_t event, Json& parsed) {
-    using E = Json::parse_event_t;
-    // Throwing stops the parse before memory or later recursion explode.
-    if ((event == E::value || event == E::object_start || event == E::array_start) && ++values > maxValues)
-      throw SceneError(fmt::format("{}: more than {} JSON values (LoadOptions::maxJsonValues)", file, maxValues));
-    if (depth > kMaxJsonDepth)
-      throw SceneError(fmt::format("{}: JSON nested deeper than {} levels", file, kMaxJsonDepth));
-    if (event == E::object_start) keys.emplace_back();
-    if (event == E::object_end && !keys.empty()) keys.pop_back();
-    if (event == E::key && rejectDuplicates && !keys.empty() && !keys.back().insert(parsed.get<std::string>()).second)
-      throw SceneError(fmt::format("{}: duplicate key \"{}\"", file, parsed.get<std::string>()));
+namespace {
+
+// A SAX pass that checks the limits before any DOM exists: depth, value count and duplicate keys, in time and
+// memory linear in the text (nlohmann's callback parser rescans the parent of every closed object: quadratic).
+class LimitChecker : public nlohmann::json_sax<Json> {
+ public:
+  LimitChecker(const std::string& file, bool rejectDuplicates, uint64_t maxValues)
+      : file_(file), rejectDuplicates_(rejectDuplicates), maxValues_(maxValues) {}
+
+  bool null() override { return value(); }
+  bool boolean(bool) override { return value(); }
+  bool number_integer(number_integer_t) override { return value(); }
+  bool number_unsigned(number_unsigned_t) override { return value(); }
+  bool number_float(number_float_t, const string_t&) override { return value(); }
+  bool string(string_t&) override { return value(); }
+  bool binary(binary_t&) override { return value(); }
+  bool start_object(std::size_t) override {
+    if (rejectDuplicates_) keys_.emplace_back();
+    return open();
+  }
+  bool key(string_t& key) override {
+    if (rejectDuplicates_ && !keys_.back().insert(key).second)
+      throw SceneError(fmt::format("{}: duplicate key \"{}\"", file_, key));
     return true;
-  };
-  Json doc;
-  try {
-    doc = Json::parse(text.begin(), text.end(), callback, true, false);
-  } catch (const Json::exception& e) {
-    std::string what = e.what();
+  }
+  bool end_object() override {
+    if (rejectDuplicates_) keys_.pop_back();
+    --depth_;
+    return true;
+  }
+  bool start_array(std::size_t) override { return open(); }
+  bool end_array() override {
+    --depth_;
+    return true;
+  }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception& e) override {
+    throw SceneError(fmt::format("{}: invalid JSON: {}", file_, withoutId(e.what())));
+  }
+
+  // "[json.exception.parse_error.101] parse error at ..." without the bracketed id.
+  static std::string withoutId(std::string what) {
     if (const size_t end = what.find("] "); what.rfind("[json.exception", 0) == 0 && end != std::string::npos)
       what = what.substr(end + 2);
-    throw SceneError(fmt::format("{}: invalid JSON: {}", file, what));
+    return what;
   }
-  return doc;
+
+ private:
+  // Every value counts, containers included; one inside more than kMaxJsonDepth open containers is refused.
+  bool value() {
+    if (++values_ > maxValues_)
+      throw SceneError(fmt::format("{}: more than {} JSON values (LoadOptions::maxJsonValues)", file_, maxValues_));
+    if (depth_ > kMaxJsonDepth)
+      throw SceneError(fmt::format("{}: JSON nested deeper than {} levels", file_, kMaxJsonDepth));
+    return true;
+  }
+  bool open() {
+    value();
+    ++depth_;
+    return true;
+  }
+
+  const std::string& file_;
+  const bool rejectDuplicates_;
+  const uint64_t maxValues_;
+  uint64_t values_ = 0;
+  int depth_ = 0;
+  std::vector<std::set<std::string, std::less<>>> keys_;  // per open object; only when rejecting duplicates
+};
+
+}  // namespace
+
+Json parseJson(const std::string& file, std::string_view text, bool rejectDuplicates, uint64_t maxValues) {
+  LimitChecker checker(file, rejectDuplicates, maxValues);
+  Json::sax_parse(text.begin(), text.end(), &checker);  // throws SceneError on any problem
+  try {
+    return Json::parse(text.begin(), text.end());  // no callback: linear; the text is known to be valid
+  } catch (const Json::exception& e) {
+    throw SceneError(fmt::format("{}: invalid JSON: {}", file, LimitChecker::withoutId(e.what())));
+  }
 }
 
 ObjectReader::ObjectReader(const Json& value, std::string file, std::string pointer)
@@ -100,15 +157,17 @@ std::string ObjectReader::string(std::string_view key) {
 }
 
 glm::vec3 ObjectReader::vec3(std::string_view key) {
-  const Json* v = find(key);
-  if (!v) fail(key, "missing (expected an array of 3 numbers)");
-  return glm::vec3(numberArray(*v, 3, file_, pointer(key)));
+  if (!has(key)) fail(key, "missing (expected an array of 3 numbers)");
+  return *optionalVec3(key);
 }
 
 std::optional<glm::vec3> ObjectReader::optionalVec3(std::string_view key) {
   const Json* v = find(key);
   if (!v) return std::nullopt;
-  return glm::vec3(numberArray(*v, 3, file_, pointer(key)));
+  const glm::dvec4 d = numberArray(*v, 3, file_, pointer(key));
+  if (!inCoordinateRange(d.x, d.y, d.z))
+    fail(key, fmt::format("{} is outside +-{:g} (the renderer's coordinate range)", brief(*v), kMaxCoordinate));
+  return glm::vec3(d);
 }
 
 void ObjectReader::finish() const {

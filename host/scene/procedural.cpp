@@ -214,8 +214,9 @@ Scene makeProcedural(std::string_view name, const ProceduralParams& params) {
   for (size_t i = 0; i < scenes.size(); ++i) {
     if (scenes[i].name != name) continue;
     for (const auto& [key, value] : params) {
-      const auto p =
-          std::find_if(scenes[i].params.begin(), scenes[i].params.end(), [&](const auto& q) { return q.name == key; });
+      const std::string& wanted = key;  // clang before 16 cannot capture a structured binding
+      const auto p = std::find_if(scenes[i].params.begin(), scenes[i].params.end(),
+                                  [&](const auto& q) { return q.name == wanted; });
       if (p == scenes[i].params.end()) throw SceneError(fmt::format("builtin:{}: unknown parameter \"{}\"", name, key));
       if (!(value >= p->min && value <= p->max) || (p->integer && value != std::floor(value)))
         throw SceneError(fmt::format("builtin:{}: {} = {} is outside {}..{}{}", name, key, value, p->min, p->max,

@@ -9,6 +9,7 @@
 
 #include "host/scene/gltf_loader.h"
 #include "host/scene/json_util.h"
+#include "host/scene/limits.h"
 #include "host/scene/light_names.h"
 #include "host/scene/procedural.h"
 #include "host/scene/procedural_mesh.h"
@@ -75,8 +76,11 @@ Scene readModel(const FileContext& ctx, const Json& value, const std::string& po
   transformGeometry(model, placement);
   transformCameras(model, placement);
   for (const glm::vec3& p : model.positions)
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      failAt(ctx.file, pointer, "placed geometry overflows (scale too large?)");
+    if (!inCoordinateRange(p.x, p.y, p.z))
+      failAt(ctx.file, pointer,
+             fmt::format("placed geometry reaches ({}, {}, {}), outside +-{:g} (the renderer's coordinate range; "
+                         "scale too large?)",
+                         p.x, p.y, p.z, kMaxCoordinate));
   placeLights(ctx, model, placement, pointer);
   return model;
 }
@@ -105,7 +109,9 @@ void readGround(const FileContext& ctx, ObjectReader& root, Scene& scene) {
   const auto margin = static_cast<float>(r.number("margin", 0, 1000, "[0, 1000]", 1.0));
   const Bounds bounds = scene.bounds();
   const Json* y = r.find("y");
-  if (y && (!y->is_number() || !std::isfinite(y->get<double>()))) r.fail("y", "expected a number, got " + brief(*y));
+  if (y && (!y->is_number() || !inCoordinateRange(y->get<double>())))
+    r.fail("y", fmt::format("expected a number in +-{:g} (the renderer's coordinate range), got {}", kMaxCoordinate,
+                            brief(*y)));
   r.finish();
   if (!enabled) return;
   if (bounds.empty()) failAt(ctx.file, root.pointer("ground"), "no models or built-in scenes to place a ground under");

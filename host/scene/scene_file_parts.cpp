@@ -10,11 +10,10 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "host/scene/light_names.h"
+#include "host/scene/limits.h"
 
 namespace penumbra::detail {
 namespace {
-
-constexpr int kMaxImageSide = 16384;
 
 void readSize(ObjectReader& r, Camera& camera) {
   const Json* size = r.find("size");

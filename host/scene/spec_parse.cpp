@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 
+#include "host/scene/limits.h"
+
 namespace penumbra::detail {
 
 std::vector<std::string_view> splitParts(std::string_view text, char sep) {
@@ -46,7 +48,12 @@ glm::vec3 parseVec3(std::string_view text, std::string_view what) {
     throw std::invalid_argument(fmt::format("{}: expected 3 comma-separated numbers, got \"{}\"", what, text));
   static constexpr const char* kAxis[3] = {"x", "y", "z"};
   glm::vec3 v;
-  for (int i = 0; i < 3; ++i) v[i] = parseFiniteFloat(parts[i], fmt::format("{} {}", what, kAxis[i]));
+  for (int i = 0; i < 3; ++i) {
+    v[i] = parseFiniteFloat(parts[i], fmt::format("{} {}", what, kAxis[i]));
+    if (!inCoordinateRange(v[i]))
+      throw std::invalid_argument(fmt::format("{} {}: {} is outside +-{:g} (the renderer's coordinate range)", what,
+                                              kAxis[i], parts[i], kMaxCoordinate));
+  }
   return v;
 }
 

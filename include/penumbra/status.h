@@ -32,7 +32,7 @@ typedef enum pn_status {
   PN_ERROR_BUILD = 4,            /**< A kernel did not compile; the message holds the device, options and log. */
   PN_ERROR_SCENE = 5,            /**< A scene is missing, malformed or unsupported; the message names the file. */
   PN_ERROR_RUNTIME = 6,          /**< Anything else the library reports (a file not written, a missing feature). */
-  PN_ERROR_OUT_OF_MEMORY = 7,    /**< Host memory ran out. */
+  PN_ERROR_OUT_OF_MEMORY = 7,    /**< Memory ran out, or a frame needs more than the device has (memory plan). */
   PN_ERROR_UNKNOWN = 8           /**< An unexpected failure; the message says what is known. */
 } pn_status;
 

@@ -49,7 +49,9 @@ int run(const ReferenceOptions& options) {
   const std::vector<Light> lights = resolveLights(options.view, scene);
   for (const Light& light : lights)
     if (light.isArea()) reference::SampleLayout::fromSpp(options.trace.spp);  // a bad --spp is a usage error
+  const std::optional<uint64_t> limit = memoryLimit(options.view);
   Context ctx(options.device);
+  checkMemoryPlan(planFrame(camera, {}), ctx.info(), limit);  // the G-buffer and the image; the tracer's BVH aside
   reference::ReferenceResult result = reference::renderReference(ctx, scene, camera, lights, options.trace);
   result.image.attributes()["penumbra:scene"] = sceneProvenance(options.view);
   recordMaterials(scene, result.image);

@@ -27,9 +27,10 @@ TechniqueChoice chooseTechnique(const RenderOptions& options) {
 }
 
 FramePlan planFrame(const RenderOptions& options, const TechniqueChoice& technique, const Scene& scene) {
-  FramePlan plan{resolveCamera(options.view, scene), resolveLights(options.view, scene), {}};
+  FramePlan plan{resolveCamera(options.view, scene), resolveLights(options.view, scene), {}, {}};
   // Each light's technique: the command line's, or a scene file light's own (a usage error when it is bad).
   plan.frame = resolveFrameLights(plan.lights, *technique.info, technique.params, options.params, options.view.scene);
+  plan.memoryLimit = memoryLimit(options.view);  // a bad --memory-limit is a usage error before any work
   for (const FrameLight& l : plan.frame) refuseUnsupportedLight(l.light, *l.technique);  // before a device is opened
   if (plan.camera.orthographic() && lispsmEnabled(technique.params))
     fmt::print(stderr,
@@ -39,7 +40,10 @@ FramePlan planFrame(const RenderOptions& options, const TechniqueChoice& techniq
 }
 
 RenderResult renderFrame(Renderer& renderer, const RenderOptions& options, const Scene& scene, const FramePlan& plan) {
+  renderer.setMemoryLimit(plan.memoryLimit);
   RenderResult result = renderer.render(plan.camera, plan.frame);
+  for (const std::string& warning : result.warnings) fmt::print(stderr, "penumbra: warning: {}\n", warning);
+  result.preview = {};  // the device preview is for the library's callers: its memory goes before the EXR is written
   result.image.attributes()["penumbra:scene"] = sceneProvenance(options.view);
   recordMaterials(scene, result.image);
   return result;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,10 +40,12 @@ struct FramePlan {
   Camera camera;
   std::vector<Light> lights;
   std::vector<FrameLight> frame;
+  std::optional<uint64_t> memoryLimit;  // --memory-limit (host/pipeline/memory_plan.h); none: the device's
 };
 FramePlan planFrame(const RenderOptions& options, const TechniqueChoice& technique, const Scene& scene);
 
-// Renders the plan and records the scene's provenance and materials in the image's header.
+// Renders the plan under its memory limit, prints the frame's warnings (a frame that sees nothing, ...) on stderr
+// and records the scene's provenance and materials in the image's header.
 RenderResult renderFrame(Renderer& renderer, const RenderOptions& options, const Scene& scene, const FramePlan& plan);
 
 }  // namespace penumbra::cli

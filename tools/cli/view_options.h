@@ -4,6 +4,8 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -11,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "host/io/image.h"
+#include "host/pipeline/memory_plan.h"
 #include "host/scene/framing.h"
 #include "host/scene/light_names.h"
 #include "host/scene/load.h"
@@ -25,7 +28,14 @@ struct ViewOptions {
   bool timeGiven = false;
   std::string animation;
   float blendCutoff = LoadOptions{}.blendCutoff;  // alphaMode BLEND's cutoff (drawn as MASK)
+  std::string memoryLimit;  // --memory-limit: a frame's plan above it is refused (host/pipeline/memory_plan.h)
 };
+
+// --memory-limit as bytes (none when not given); a bad value is a usage error.
+inline std::optional<uint64_t> memoryLimit(const ViewOptions& options) {
+  if (options.memoryLimit.empty()) return std::nullopt;
+  return parseMemorySize(options.memoryLimit, "--memory-limit");
+}
 
 inline void addViewOptions(CLI::App* sub, ViewOptions& options) {
   sub->add_option("scene", options.scene, "Scene: a .gltf/.glb model, a .json scene file, or builtin:NAME")->required();
@@ -53,6 +63,9 @@ inline void addViewOptions(CLI::App* sub, ViewOptions& options) {
                   "translucency)")
       ->check(CLI::Range(0.0f, 1.0f))
       ->capture_default_str();
+  sub->add_option("--memory-limit", options.memoryLimit,
+                  "Refuse a frame whose memory plan needs more device or host memory than this (4GiB, 512MiB, ...; "
+                  "default: the device's global memory)");
 }
 
 // The scene as the command line loads it, for EXR provenance and cache keys: the spec, then --time and --animation

@@ -1,0 +1,148 @@
+// The frame's memory plan: per-stage byte counts from the image size and the techniques' parameters, summed and
+// checked against the device's limits before the first allocation (docs/robustness.md, "Memory plan").
+#include "host/pipeline/memory_plan.h"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <numeric>
+#include <utility>
+
+#include <fmt/format.h>
+
+namespace penumbra {
+namespace {
+
+// G-buffer: depth 4 + position 16 + normal 16 + triangle id 4 + object id 4 (raster/rasterizer.h GBuffer), plus the
+// rasterizer's own depth and id targets of the camera pass (8).
+constexpr uint64_t kGBufferBytesPerPixel = 44 + 8;
+constexpr uint64_t kPreviewBytesPerPixel = 16;    // shade_preview's float4 RGBA
+constexpr uint64_t kVisibilityBytesPerPixel = 4;  // per light
+// A technique's per-pixel buffers (MomentDebug's moments and statistics, the split AOVs, jittered's state, PCSS's
+// blocker depths): at most 32 bytes per pixel in every technique of the registry.
+constexpr uint64_t kTechniquePixelBytes = 32;
+// Each shadow-map texel: the rasterizer's depth and triangle id targets.
+constexpr uint64_t kMapTexelBytes = 8;
+// Host: every channel of the image (R, G, B, A, P.*, N.*, depth.Z, visibility.Y: 13 floats) plus a layer per light,
+// the debug channels (at most 4 floats) and the 8-bit RGBA preview.
+constexpr uint64_t kImageFloatsPerPixel = 13 + 4;
+constexpr uint64_t kPreviewPngBytesPerPixel = 4;
+
+double param(const PlannedLight& light, const char* name, double fallback) {
+  return light.params->has(name) ? light.params->get(name) : fallback;
+}
+
+// A technique's maps: depth targets, moments (4 channels of fp32 or fp16 at most), the blur's scratch and the mip
+// chain (a third more), for each split or layer and each cube face of a point light.
+MemoryStage techniqueMaps(const PlannedLight& light, size_t index) {
+  MemoryStage stage{fmt::format("light {} ({}): maps", index, light.technique->name)};
+  const double side =
+      param(light, "map-size", 0) + (light.type == LightType::Point ? 2 * param(light, "cube-guard", 0) : 0);
+  const auto texels = static_cast<uint64_t>(side * side);
+  const uint64_t faces = light.type == LightType::Point ? 6 : 1;
+  const auto layers = static_cast<uint64_t>(std::max(
+      {1.0, param(light, "pssm-splits", 1), param(light, "lvsm-layers", 1), param(light, "pssm-max-splits", 1)}));
+  uint64_t perTexel = kMapTexelBytes;
+  if (light.params->has("moment-storage") || light.params->has("lvsm-storage") || light.params->has("sat-precision") ||
+      light.params->has("vssm-sat")) {
+    const uint64_t moments = param(light, "moment-storage", 0) == 1 ? 8 : 16;  // fp16 halves the four channels
+    const bool blurred = param(light, "blur-radius", 0) > 0, trilinear = param(light, "moment-filtering", 0) == 1;
+    perTexel += moments * (blurred ? 2 : 1) + (trilinear ? moments * 2 / 3 + 1 : 0);  // mips: 1/3 of both copies
+  }
+  stage.largestBuffer = texels * layers * std::max<uint64_t>(perTexel - kMapTexelBytes, 4);
+  stage.deviceBytes = texels * layers * perTexel * faces;
+  return stage;
+}
+
+}  // namespace
+
+uint64_t MemoryPlan::deviceBytes() const {
+  return std::accumulate(stages.begin(), stages.end(), uint64_t{0},
+                         [](uint64_t sum, const MemoryStage& s) { return sum + s.deviceBytes; });
+}
+
+uint64_t MemoryPlan::hostBytes() const {
+  return std::accumulate(stages.begin(), stages.end(), uint64_t{0},
+                         [](uint64_t sum, const MemoryStage& s) { return sum + s.hostBytes; });
+}
+
+const MemoryStage& MemoryPlan::largest() const {
+  if (stages.empty()) throw std::logic_error("MemoryPlan::largest: no stages");
+  return *std::max_element(stages.begin(), stages.end(),
+                           [](const MemoryStage& a, const MemoryStage& b) { return a.deviceBytes < b.deviceBytes; });
+}
+
+std::string MemoryPlan::describe() const {
+  std::string out;
+  for (const MemoryStage& s : stages)
+    out += fmt::format("{}{} {}", out.empty() ? "" : ", ", s.name,
+                       s.deviceBytes ? formatBytes(s.deviceBytes) : formatBytes(s.hostBytes) + " on the host");
+  return out;
+}
+
+MemoryPlan planFrame(const Camera& camera, const std::vector<PlannedLight>& lights) {
+  const uint64_t pixels = static_cast<uint64_t>(camera.width) * static_cast<uint64_t>(camera.height);
+  MemoryPlan plan;
+  plan.stages.push_back({"G-buffer", pixels * kGBufferBytesPerPixel, 0, pixels * 16});
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const uint64_t perPixel =
+        kVisibilityBytesPerPixel + kTechniquePixelBytes + (lights[i].type == LightType::Point ? 4 : 0);
+    plan.stages.push_back({fmt::format("light {} ({}): per-pixel buffers", i, lights[i].technique->name),
+                           pixels * perPixel, 0, pixels * 16});
+    plan.stages.push_back(techniqueMaps(lights[i], i));
+  }
+  plan.stages.push_back({"shade", pixels * (kPreviewBytesPerPixel + (lights.size() > 1 ? 4 : 0)), 0, pixels * 16});
+  const uint64_t floats = kImageFloatsPerPixel + lights.size();
+  plan.stages.push_back({"image download", 0, pixels * (floats * 4 + kPreviewPngBytesPerPixel), 0});
+  return plan;
+}
+
+void checkMemoryPlan(const MemoryPlan& plan, const DeviceInfo& device, std::optional<uint64_t> limit) {
+  const uint64_t global = limit ? std::min(*limit, device.globalMemBytes) : device.globalMemBytes;
+  const std::string source = limit && *limit < device.globalMemBytes ? "--memory-limit" : "the device's global memory";
+  const MemoryStage& big = plan.largest();
+  if (plan.deviceBytes() > global)
+    throw MemoryError(fmt::format("the frame needs {} of device memory, more than {} ({}); the most: {} {} ({})",
+                                  formatBytes(plan.deviceBytes()), formatBytes(global), source, big.name,
+                                  formatBytes(big.deviceBytes), plan.describe()));
+  if (limit && plan.hostBytes() > *limit)
+    throw MemoryError(fmt::format("the frame needs {} of host memory to read back, more than {} (--memory-limit)",
+                                  formatBytes(plan.hostBytes()), formatBytes(*limit)));
+  for (const MemoryStage& s : plan.stages)
+    if (s.largestBuffer > device.maxAllocBytes)
+      throw MemoryError(fmt::format("{} needs one buffer of {}, more than the device's largest allocation {}", s.name,
+                                    formatBytes(s.largestBuffer), formatBytes(device.maxAllocBytes)));
+}
+
+std::string formatBytes(uint64_t bytes) {
+  static constexpr const char* kUnits[] = {"KiB", "MiB", "GiB", "TiB"};
+  if (bytes < 1024) return fmt::format("{} bytes", bytes);
+  double value = static_cast<double>(bytes) / 1024.0;
+  int unit = 0;
+  while (value >= 1024.0 && unit < 3) value /= 1024.0, ++unit;
+  return fmt::format("{:.{}f} {}", value, value < 10.0 ? 1 : 0, kUnits[unit]);
+}
+
+uint64_t parseMemorySize(std::string_view text, std::string_view what) {
+  const auto bad = [&](const char* why) {
+    throw std::invalid_argument(fmt::format("{} \"{}\": {} (e.g. 4GiB, 512MiB, 1.5G)", what, text, why));
+  };
+  double value = 0.0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end == text.data()) bad("expected a number of bytes with an optional unit");
+  std::string unit(end, text.data() + text.size());
+  std::transform(unit.begin(), unit.end(), unit.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  static constexpr std::pair<const char*, double> kUnits[] = {
+      {"", 1.0},       {"b", 1.0},     {"k", 0x1p10},   {"kb", 0x1p10}, {"kib", 0x1p10},
+      {"m", 0x1p20},   {"mb", 0x1p20}, {"mib", 0x1p20}, {"g", 0x1p30},  {"gb", 0x1p30},
+      {"gib", 0x1p30}, {"t", 0x1p40},  {"tb", 0x1p40},  {"tib", 0x1p40}};
+  const auto it = std::find_if(std::begin(kUnits), std::end(kUnits), [&](const auto& u) { return unit == u.first; });
+  if (it == std::end(kUnits)) bad("unknown unit");
+  const double bytes = value * it->second;
+  if (!(bytes >= 1.0) || !(bytes < 0x1p63)) bad("must be at least 1 byte and below 8 EiB");
+  return static_cast<uint64_t>(bytes);
+}
+
+}  // namespace penumbra

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# End-to-end checks of the limits and messages of docs/robustness.md: one size limit everywhere, the frame memory
+# plan (--memory-limit), huge but finite coordinates and overflowed counts named by file and element, and the warning
+# of a frame that sees nothing. Inputs are the fuzz corpus's hostile seeds. Usage: cli_robustness_test.sh BIN SCRATCH
+set -u
+bin=$1
+scratch=$2
+rm -rf "$scratch" && mkdir -p "$scratch"
+source "$(dirname "$0")/expect.sh"
+corpus="$(dirname "$0")/fuzz/corpus"
+cp "$corpus/gltf/hostile-triangle.gltf" "$scratch/triangle.gltf"
+for f in ground-minus-1e38 eye-1e308 size-too-big; do cp "$corpus/scene_file/hostile-$f.json" "$scratch/$f.json"; done
+
+expect size-above-raster 2 'width 8193 is outside 1..8192' -- "$bin" render builtin:box --size 8193x16 -o "$scratch/x.exr"
+expect scene-file-size 1 'size-too-big.json: /camera/size: expected \[width, height\], integers in 1..8192' -- \
+  "$bin" render "$scratch/size-too-big.json" -o "$scratch/x.exr"
+expect memory-limit-refuses 1 'needs [0-9.]+ GiB of device memory, more than 1.0 GiB \(--memory-limit\); the most: G-buffer' -- \
+  "$bin" render builtin:box -t evsm4 --moment-filtering trilinear --size 4096x4096 --memory-limit 1GiB -o "$scratch/x.exr"
+expect memory-limit-fits 0 'wrote' -- "$bin" render builtin:box -t sm --size 64x48 --map-size 256 --memory-limit 1GiB \
+  -o "$scratch/fits.exr"
+expect memory-limit-bad 2 '--memory-limit "lots": expected a number' -- "$bin" render builtin:box --memory-limit lots \
+  -o "$scratch/x.exr"
+expect bench-memory-limit 2 '--memory-limit "0"' -- "$bin" bench builtin:box --techniques sm --memory-limit 0 \
+  -o "$scratch/x.csv"
+expect positions-3e38 1 'hostile-positions-3e38.gltf: accessor 0: POSITION 1 \(3e\+38, 0, 0\) is outside \+-1e\+18' -- \
+  "$bin" render "$corpus/gltf/hostile-positions-3e38.gltf" -o "$scratch/x.exr"
+expect translation-1e300 1 'hostile-translation-1e300.gltf: node 0: world translation \(1e\+300, 0, 0\) is outside' -- \
+  "$bin" render "$corpus/gltf/hostile-translation-1e300.gltf" -o "$scratch/x.exr"
+expect scale-1e30 1 'hostile-scale-1e30.gltf: node 0 \(mesh 0 primitive 0\): world position' -- \
+  "$bin" render "$corpus/gltf/hostile-scale-1e30.gltf" -o "$scratch/x.exr"
+expect sparse-overflow 1 '/accessors/0/sparse/count: 2147483648 is larger than 2147483647' -- \
+  "$bin" render "$corpus/gltf/hostile-sparse-overflow.gltf" -o "$scratch/x.exr"
+expect eye-1e308 1 'eye-1e308.json: /camera/eye: \[1e\+308,0,0\] is outside \+-1e\+18' -- \
+  "$bin" render "$scratch/eye-1e308.json" -o "$scratch/x.exr"
+expect ground-minus-1e38 1 'ground-minus-1e38.json: /ground/y: expected a number in \+-1e\+18' -- \
+  "$bin" render "$scratch/ground-minus-1e38.json" -o "$scratch/x.exr"
+expect camera-1e30 2 'eye x: 1e30 is outside \+-1e\+18' -- "$bin" render builtin:box --camera 1e30,0,0:0,0,0 -o "$scratch/x.exr"
+expect scale-zero-warns 0 'warning: the frame sees no surface.*no extent' -- \
+  "$bin" render "$corpus/gltf/hostile-scale-zero.gltf" --size 32x18 --map-size 64 -t sm -o "$scratch/zero.exr"
+
+finish

@@ -1,0 +1,118 @@
+// The frame memory plan (host/pipeline/memory_plan.h): sizes from the image and the techniques' parameters, the
+// refusal against a device's limits and --memory-limit, the size parser, and the frame checks (frame_check.h).
+#include <gtest/gtest.h>
+
+#include "host/pipeline/frame_check.h"
+#include "host/pipeline/memory_plan.h"
+#include "host/scene/procedural.h"
+#include "host/techniques/technique.h"
+
+namespace penumbra {
+namespace {
+
+constexpr uint64_t kGiB = uint64_t{1} << 30;
+
+DeviceInfo deviceWith(uint64_t global, uint64_t maxAlloc) {
+  DeviceInfo d;
+  d.globalMemBytes = global, d.maxAllocBytes = maxAlloc;
+  return d;
+}
+
+Camera cameraOf(int width, int height) {
+  Camera c;
+  c.width = width, c.height = height;
+  return c;
+}
+
+TEST(MemoryPlan, TrilinearEvsm4At4096IsRefusedOnOneGiB) {
+  const TechniqueInfo& evsm4 = findTechnique("evsm4");
+  Params params(evsm4.params);
+  params.set("moment-filtering", "trilinear");
+  const MemoryPlan plan = planFrame(cameraOf(4096, 4096), {{LightType::Spot, &evsm4, &params}});
+  EXPECT_GT(plan.deviceBytes(), kGiB);
+  try {
+    checkMemoryPlan(plan, deviceWith(kGiB, kGiB / 4), std::nullopt);
+    FAIL() << "not refused";
+  } catch (const MemoryError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("more than 1.0 GiB (the device's global memory)"), std::string::npos) << what;
+    EXPECT_NE(what.find("G-buffer"), std::string::npos) << what;
+  }
+  EXPECT_NO_THROW(checkMemoryPlan(plan, deviceWith(16 * kGiB, 4 * kGiB), std::nullopt));
+  EXPECT_THROW(checkMemoryPlan(plan, deviceWith(16 * kGiB, 4 * kGiB), kGiB), MemoryError);  // --memory-limit
+}
+
+TEST(MemoryPlan, GrowsWithPixelsLightsAndMaps) {
+  const TechniqueInfo& sm = findTechnique("sm");
+  Params small(sm.params), big(sm.params);
+  big.set("map-size", "8192");
+  const auto device = [](const Camera& c, const std::vector<PlannedLight>& l) { return planFrame(c, l).deviceBytes(); };
+  EXPECT_LT(device(cameraOf(64, 64), {{LightType::Spot, &sm, &small}}),
+            device(cameraOf(128, 64), {{LightType::Spot, &sm, &small}}));
+  EXPECT_LT(device(cameraOf(64, 64), {{LightType::Spot, &sm, &small}}),
+            device(cameraOf(64, 64), {{LightType::Spot, &sm, &big}}));
+  EXPECT_LT(device(cameraOf(64, 64), {{LightType::Spot, &sm, &small}}),
+            device(cameraOf(64, 64), {{LightType::Point, &sm, &small}}));  // six cube faces
+  EXPECT_EQ(planFrame(cameraOf(8192, 8192), {{LightType::Spot, &sm, &small}}).hostBytes() / (8192ull * 8192),
+            (13 + 4 + 1) * 4 + 4);  // the image's channels and the PNG preview
+}
+
+TEST(MemoryPlan, SingleBufferAboveTheDeviceMaximumIsNamed) {
+  const TechniqueInfo& sm = findTechnique("sm");
+  Params params(sm.params);
+  const MemoryPlan plan = planFrame(cameraOf(8192, 8192), {{LightType::Spot, &sm, &params}});
+  EXPECT_THROW(
+      {
+        try {
+          checkMemoryPlan(plan, deviceWith(64 * kGiB, 512u << 20), std::nullopt);
+        } catch (const MemoryError& e) {
+          EXPECT_NE(std::string(e.what()).find("more than the device's largest allocation 512 MiB"), std::string::npos)
+              << e.what();
+          throw;
+        }
+      },
+      MemoryError);
+}
+
+TEST(MemoryPlan, ParsesSizes) {
+  EXPECT_EQ(parseMemorySize("4GiB", "x"), 4 * kGiB);
+  EXPECT_EQ(parseMemorySize("512m", "x"), uint64_t{512} << 20);
+  EXPECT_EQ(parseMemorySize("1.5G", "x"), 3 * kGiB / 2);
+  EXPECT_EQ(parseMemorySize("65536", "x"), 65536u);
+  for (const char* bad : {"", "GiB", "-1G", "0", "1Q", "nan", "inf", "1e30G", "4 GiB"})
+    EXPECT_THROW(parseMemorySize(bad, "--memory-limit"), std::invalid_argument) << bad;
+  EXPECT_EQ(formatBytes(1536), "1.5 KiB");
+  EXPECT_EQ(formatBytes(17), "17 bytes");
+}
+
+TEST(FrameCheck, CoordinatesOutsideTheRangeNameTheirOwner) {
+  const Scene scene = makeProcedural("box", {});
+  Camera camera = cameraOf(16, 16);
+  camera.eye = glm::vec3(3e38f, 0, 0);
+  EXPECT_THROW(checkFrameRange(scene, camera, {}), std::invalid_argument);
+  camera.eye = glm::vec3(0, 0, 5);
+  EXPECT_NO_THROW(checkFrameRange(scene, camera, {}));
+  Light light;
+  light.type = LightType::Point, light.position = glm::vec3(0, -1e30f, 0);
+  try {
+    checkFrameRange(scene, camera, std::vector<Light>{light});
+    FAIL() << "not refused";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("position (0, -1e+30, 0) is outside +-1e+18"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(checkFrameRange(scene, cameraOf(8193, 16), {}), std::invalid_argument);
+}
+
+TEST(FrameCheck, AFrameThatSeesNothingWarns) {
+  Scene flat = makeProcedural("box", {});
+  for (glm::vec3& p : flat.positions) p = glm::vec3(0.0f);  // every node scaled to 0
+  const std::vector<float> background(16, 0.0f), covered = {0.0f, 1.0f};
+  const auto warning = emptyFrameWarning(flat, cameraOf(4, 4), background);
+  ASSERT_TRUE(warning.has_value());
+  EXPECT_NE(warning->find("sees no surface"), std::string::npos);
+  EXPECT_NE(warning->find("no extent"), std::string::npos);
+  EXPECT_FALSE(emptyFrameWarning(flat, cameraOf(2, 1), covered).has_value());
+}
+
+}  // namespace
+}  // namespace penumbra
