@@ -35,9 +35,9 @@ TEST(BlurLocalPlan, DerivesTilesFromLocalMemory) {
   EXPECT_EQ(planBlurLocal(false, 32 * 1024, rgba, 32).columnRows, 0);
   EXPECT_EQ(planBlurLocal(false, 48 * 1024, rgba, 32).columnRows, 32);  // 96 x 512 = 49,152 bytes: all of 48 KiB
   EXPECT_EQ(planBlurLocal(false, 32 * 1024, rgba, 17).columnRows, 16);  // 50 x 512 = 25,600 bytes of 32 KiB
-  EXPECT_EQ(planBlurLocal(false, 64 * 1024, rgba, 1).columnRows, 32);  // 34 x 512 = 17,408 bytes: 64 rows pass 32 KiB
-  EXPECT_EQ(planBlurLocal(false, 16 * 1024, rgba, 128).rowLines, 2);           // 2 x 320 x 16 = 10,240 bytes
-  EXPECT_EQ(planBlurLocal(true, 16 * 1024, rgba, 128).rowLines, 1);            // 768 x 16 = 12,288 bytes
+  EXPECT_EQ(planBlurLocal(false, 64 * 1024, rgba, 1).columnRows, 32);   // 34 x 512 = 17,408 bytes: 64 rows pass 32 KiB
+  EXPECT_EQ(planBlurLocal(false, 16 * 1024, rgba, 128).rowLines, 2);    // 2 x 320 x 16 = 10,240 bytes
+  EXPECT_EQ(planBlurLocal(true, 16 * 1024, rgba, 128).rowLines, 1);     // 768 x 16 = 12,288 bytes
   EXPECT_EQ(planBlurLocal(false, 48 * 1024, {64, 64, 2}, 100).columnRows, 0);  // LayoutsAgree's 51,456 bytes
   EXPECT_THROW(planBlurLocal(false, 4 * 1024, rgba, 128), std::invalid_argument);
   for (uint64_t local : {16 * 1024, 32 * 1024, 48 * 1024, 64 * 1024})
