@@ -12,7 +12,16 @@
 #define BLUR_T PN_VEC(float, BLUR_CHANNELS)
 #define BlurStored PN_STORED(BLUR_CHANNELS)  // the column pass's output texel (BLUR_T, or half)
 
-// One work-group: BLUR_ROWS rows of BLUR_ROW_TILE outputs; each row stages BLUR_ROW_TILE + 2r texels.
+// Lines staged per row-pass work-group: the kernels' defaults, or fewer where the host's local-memory plan
+// (host/stages/blur_local.h) finds the device too small for them.
+#ifndef BLUR_ROW_LINES
+#define BLUR_ROW_LINES BLUR_ROWS
+#endif
+#ifndef BLUR_RUNS_LINES
+#define BLUR_RUNS_LINES BLUR_RUNS_ROWS
+#endif
+
+// One work-group: BLUR_ROW_LINES rows of BLUR_ROW_TILE outputs; each row stages BLUR_ROW_TILE + 2r texels.
 // Rows past the image are clamped (not skipped) so that every work-item reaches the barrier.
 inline int blur_rows_row(uint height) { return min((int)get_global_id(1), (int)height - 1); }
 
@@ -27,7 +36,7 @@ inline void blur_rows_output(__local const BLUR_T* lines, __global BLUR_T* out, 
   out[(size_t)blur_rows_row(height) * width + x] = sum;
 }
 
-__kernel __attribute__((reqd_work_group_size(BLUR_ROW_TILE, BLUR_ROWS, 1))) void blur_rows(
+__kernel __attribute__((reqd_work_group_size(BLUR_ROW_TILE, BLUR_ROW_LINES, 1))) void blur_rows(
     __global const BLUR_T* in, __global BLUR_T* out, uint width, uint height, int radius, __constant float* weights,
     __local BLUR_T* lines) {
   const int x0 = get_group_id(0) * BLUR_ROW_TILE - radius, span = BLUR_ROW_TILE + 2 * radius;
@@ -43,7 +52,7 @@ __kernel __attribute__((reqd_work_group_size(BLUR_ROW_TILE, BLUR_ROWS, 1))) void
 // The moments stage fused into the row pass (-DBLUR_MOMENTS=MOMENTS_KIND_*): stages the moments of the depth
 // texels (moments_encode, as kernels/moments.cl writes them) instead of reading a moment image, so the moment
 // image is never written nor read back; the result equals moments then blur_rows bit for bit.
-__kernel __attribute__((reqd_work_group_size(BLUR_ROW_TILE, BLUR_ROWS, 1))) void blur_rows_moments(
+__kernel __attribute__((reqd_work_group_size(BLUR_ROW_TILE, BLUR_ROW_LINES, 1))) void blur_rows_moments(
     __global const float* depth, __global BLUR_T* out, uint width, uint height, int radius, __constant float* weights,
     __local BLUR_T* lines, MomentsParams p) {
   const int x0 = get_group_id(0) * BLUR_ROW_TILE - radius, span = BLUR_ROW_TILE + 2 * radius;
@@ -78,6 +87,19 @@ __kernel __attribute__((reqd_work_group_size(BLUR_COLUMN_TILE, BLUR_ROWS, 1))) v
     for (int k = 0; k <= 2 * radius; ++k) sum += weights[k] * block[(r + k) * BLUR_COLUMN_TILE + lx];
     PN_STORE(BLUR_CHANNELS, out, (size_t)(y0 + r) * width + x, sum);
   }
+}
+
+// blur_columns where even a tile of one output row does not fit the device's local memory (large radii, 4 channels,
+// devices of 32 KiB or less): an item per output texel reads its taps straight from global memory (neighbouring
+// items read neighbouring texels, so the reads still coalesce); the same sums in the same order as blur_columns.
+__kernel void blur_columns_global(__global const BLUR_T* in, __global BlurStored* out, uint width, uint height,
+                                  int radius, __constant float* weights) {
+  const int x = get_global_id(0), y = get_global_id(1);
+  if (x >= (int)width || y >= (int)height) return;
+  BLUR_T sum = 0.0f;
+  for (int k = 0; k <= 2 * radius; ++k)
+    sum += weights[k] * in[(size_t)clamp(y - radius + k, 0, (int)height - 1) * width + x];
+  PN_STORE(BLUR_CHANNELS, out, (size_t)y * width + x, sum);
 }
 
 // ---- Runs layout (CPUs) ----------------------------------------------------------------------------------------
@@ -169,7 +191,7 @@ inline void blur_runs_row_output(__local const float* line, __global float* out,
 // Work-item (segment, row): BLUR_RUNS_SEGMENT outputs of one row. Steps whose window lies inside the row read their
 // taps straight from global memory; the others stage the window clamped in the item's line first (staging every
 // step cost as much as the sums at small radii).
-__kernel __attribute__((reqd_work_group_size(1, BLUR_RUNS_ROWS, 1))) void blur_rows_runs(
+__kernel __attribute__((reqd_work_group_size(1, BLUR_RUNS_LINES, 1))) void blur_rows_runs(
     __global const float* in, __global float* out, uint width, uint height, int radius, __constant float* weights,
     __local float* lines) {
   const int x0 = blur_runs_x0(), y = get_global_id(1), w = width;
@@ -203,7 +225,7 @@ inline void blur_runs_stage_moments(float depth, MomentsParams p, int i, __local
 // blur_rows_runs reading depth: stages the moments of the segment's window of depth texels (moments_encode, as
 // blur_rows_moments; each texel encoded once, not once per tap), then the same sums from local memory. The encoding
 // stays scalar on PoCL 3.1 and costs about as much as the sums at radius 6.
-__kernel __attribute__((reqd_work_group_size(1, BLUR_RUNS_ROWS, 1))) void blur_rows_runs_moments(
+__kernel __attribute__((reqd_work_group_size(1, BLUR_RUNS_LINES, 1))) void blur_rows_runs_moments(
     __global const float* depth, __global float* out, uint width, uint height, int radius, __constant float* weights,
     __local float* lines, MomentsParams p) {
   const int x0 = blur_runs_x0(), y = get_global_id(1);

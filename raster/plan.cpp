@@ -112,8 +112,12 @@ void gridTerms(const RasterView& view, RasterViewParams& p, Plan& plan) {
 
 WorkGroups workGroupsFor(const DeviceInfo& device) {
   const size_t* row = kRowDefault;
-  if (device.vendor.find("NVIDIA") != std::string::npos) row = kRowNvidia;
-  if (device.platformName.find("Portable Computing Language") != std::string::npos) row = kRowPocl;
+  if (device.layouts == "nvidia") {
+    row = kRowNvidia;  // forced (PENUMBRA_LAYOUTS): NVIDIA's row on any device
+  } else if (device.layouts.empty()) {
+    if (device.vendor.find("NVIDIA") != std::string::npos) row = kRowNvidia;
+    if (device.platformName.find("Portable Computing Language") != std::string::npos) row = kRowPocl;
+  }
   WorkGroups groups{row[0], row[1], row[2], row[3], row[4], std::max<size_t>(row[5], 1)};
   const size_t limit = std::max<size_t>(device.maxWorkGroupSize, 1);
   groups.setup = std::min(groups.setup, limit), groups.bin = std::min(groups.bin, limit);

@@ -18,6 +18,8 @@ struct WorkGroups {
   size_t coarse = 0;  // 0: a work-group per bin, an item per tile; N > 0: N bins per work-group, an item per bin
   size_t binRun = 1;  // records per bin_count / bin_fill work-item
 };
+// The row of raster/constants.h for `device` (by vendor and platform, or as PENUMBRA_LAYOUTS forces: "gpu" the
+// default row, "nvidia" NVIDIA's), each size capped by the device's work-group limit.
 WorkGroups workGroupsFor(const DeviceInfo& device);
 
 struct Plan {

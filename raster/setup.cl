@@ -80,7 +80,7 @@ static int setupClipPlane(const real4* in, int n, real4* out, int plane, real gx
 #define SETUP_WINDOW(x, w, s) (((x) / (w) + (real)1) * (s))
 #define SETUP_VIEW_Z(p, z, w) ((p)->viewZFromClip[0] * (z) + (p)->viewZFromClip[1] * (w) + (p)->viewZFromClip[2])
 // The general form (p->generalProjection): -z_eye from all four clip coordinates, summed in this order.
-#define SETUP_VIEW_Z_GENERAL(p, x, y, z, w)                                                                  \
+#define SETUP_VIEW_Z_GENERAL(p, x, y, z, w)                                                   \
   ((((p)->viewZGeneral[0] * (x) + (p)->viewZGeneral[1] * (y)) + (p)->viewZGeneral[2] * (z)) + \
    (p)->viewZGeneral[3] * (w))
 // View depth of clip vertex v: the separable formula unchanged (bit for bit as before), else the general one.
@@ -123,10 +123,9 @@ static void setupSnapVector(const real4* v, real sx, real sy, int2* s) {
 static void setupVertexTermsVector(const real4* v, const RasterViewParams* p, float* invW, float* viewZOverW) {
   const double4 w = (double4)(v[0].w, v[1].w, v[2].w, 1);
   const double4 z = (double4)(v[0].z, v[1].z, v[2].z, 0);
-  const double4 viewZ = p->generalProjection
-                            ? SETUP_VIEW_Z_GENERAL(p, (double4)(v[0].x, v[1].x, v[2].x, 0),
-                                                   (double4)(v[0].y, v[1].y, v[2].y, 0), z, w)
-                            : SETUP_VIEW_Z(p, z, w);
+  const double4 viewZ = p->generalProjection ? SETUP_VIEW_Z_GENERAL(p, (double4)(v[0].x, v[1].x, v[2].x, 0),
+                                                                    (double4)(v[0].y, v[1].y, v[2].y, 0), z, w)
+                                             : SETUP_VIEW_Z(p, z, w);
   const double8 n = (double8)((double4)1, viewZ);
   const float8 t = convert_float8(setupUnitW(v) ? n : n / (double8)(w, w));
   invW[0] = t.s0, invW[1] = t.s1, invW[2] = t.s2;
@@ -137,13 +136,23 @@ static void setupVertexTermsVector(const real4* v, const RasterViewParams* p, fl
 #define RASTER_SETUP_VECTOR 0
 #endif
 
+// The record of a dropped triangle: every field written (0; the valid flag clear), so that no reader, and no checker
+// of uninitialised values such as Oclgrind's, ever sees indeterminate bytes stored for it.
+static RasterTriangle setupRejected(uint id) {
+  RasterTriangle r;
+  for (int k = 0; k < 3; ++k) r.x[k] = 0, r.y[k] = 0, r.invW[k] = 0.0f, r.viewZOverW[k] = 0.0f;
+  for (int k = 0; k < 4; ++k) r.bbox[k] = 0;
+  r.triangleId = id;
+  r.flags = 0;
+  return r;
+}
+
 // Builds the record of one clip-space triangle; returns false (record invalid) when it is dropped: w <= 0,
 // zero snapped area, back-facing with `cull` set, or no pixel centre of the scissor inside its bounds. `alpha`: the
 // RASTER_FLAG_ALPHA bits of an alpha-tested triangle (0 for others), added to the flags of a drawn record.
 static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, uint id, bool cull, uint alpha,
                       RasterTriangle* r) {
-  r->flags = 0;
-  r->triangleId = id;
+  *r = setupRejected(id);
   if (!(v0.w > 0 && v1.w > 0 && v2.w > 0)) return false;
   const real sx = (real)p->width * (RASTER_SUBPIXELS / 2), sy = (real)p->height * (RASTER_SUBPIXELS / 2);
   real4 v[3] = {v0, v1, v2};
@@ -211,9 +220,7 @@ static uint setupClipped(real4 c0, real4 c1, real4 c2, const RasterViewParams* p
   RasterTriangle r;
   uint drawn = 0;
   if (n < 3) {
-    r.flags = 0;
-    r.triangleId = t;
-    out[t] = r;
+    out[t] = setupRejected(t);
     return 0;
   }
   drawn += setupEmit(poly[0], poly[1], poly[2], p, t, cull, alpha, &r);
@@ -249,16 +256,15 @@ static bool setupCulls(const RasterViewParams* p, uint bits) {
   return p->cullBackFaces || (p->cullSingleSided && (bits & RASTER_TRI_SINGLE_SIDED) != 0);
 }
 static uint setupAlphaFlags(uint bits) {
-  return (bits & RASTER_TRI_ALPHA) != 0 ? RASTER_FLAG_ALPHA | (bits >> RASTER_TRI_ALPHA_SHIFT) << RASTER_FLAG_ALPHA_SHIFT
-                                        : 0u;
+  return (bits & RASTER_TRI_ALPHA) != 0
+             ? RASTER_FLAG_ALPHA | (bits >> RASTER_TRI_ALPHA_SHIFT) << RASTER_FLAG_ALPHA_SHIFT
+             : 0u;
 }
 
 static uint setupTriangle(__global const float* positions, __global const uint* triangles,
                           __global const uint* triangleBits, uint t, const RasterViewParams* p,
                           __global RasterTriangle* out, __global RasterCounters* counters) {
-  RasterTriangle r;
-  r.flags = 0;
-  r.triangleId = t;
+  RasterTriangle r = setupRejected(t);
   uint3 idx = vload3(t, triangles);
   if (idx.x >= p->vertexCount || idx.y >= p->vertexCount || idx.z >= p->vertexCount) {
     out[t] = r;

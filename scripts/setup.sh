@@ -13,6 +13,7 @@ PACKAGES=(
   libembree-dev  # Embree 3: the ray-traced reference of `penumbra reference` (tools/reference/ only)
   libopengl-dev libgl-dev libegl-dev libgl1-mesa-dri libegl-mesa0  # raster_bench's OpenGL peer: glvnd, llvmpipe
   assimp-testmodels  # malformed glTF files the test suite feeds the loader
+  oclgrind  # a second OpenCL implementation that checks every access: the oclgrind tests (tests/oclgrind_test.sh)
   python3-matplotlib  # tools/chart.py: the speed-vs-error charts (scripts/charts.sh)
   pybind11-dev python3-dev python3-numpy  # the Python module (python/, PENUMBRA_BUILD_PYTHON)
   doxygen  # the API reference of include/penumbra/ (target penumbra_api_docs, test api-docs)

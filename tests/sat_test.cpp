@@ -69,6 +69,8 @@ double magnitude(const std::vector<float>& image, const std::array<double, 4>& o
 template <class T>
 void check(Context& ctx, const Case& c) {
   const ImageShape shape{c.width, c.height, c.channels};
+  if (c.algorithm == SatAlgorithm::Tiled && !satTiledFits(ctx, satDesc(shape, satMode<T>())))
+    GTEST_SKIP() << "the tiled kernels do not fit this device's local memory (the local-mem tests' small devices)";
   const std::vector<float> image = makeImage(shape, c.input, c.width * 31 + c.height * 7 + c.channels);
   Buffer<float> in(ctx, std::span<const float>(image)), offset(ctx, 4);
   Buffer<T> table(ctx, shape.count());
@@ -267,6 +269,29 @@ TEST_F(SatKernels, ExplicitOffsetIsUsed) {
   const std::vector<float> actual = table.download(ctx());
   const Tolerance tol{tableTolerance(shape, FLT_EPSILON, magnitude(image, {0.5, 0.25, 0, 0}, 2)), 0.0};
   EXPECT_TRUE(test::allNear(std::span<const float>(actual), std::span<const double>(expected), tol));
+}
+
+}  // namespace
+}  // namespace penumbra
+
+namespace penumbra {
+namespace {
+
+// Devices of 16 and 32 KiB with the GPU layouts forced: Auto takes the tiled scan where its static tiles fit and the
+// line scans where they do not (4 channels: 17 to 20.5 KiB of 32-bit words, 41 KiB of 64-bit ones), and every mode
+// and channel count still matches the reference.
+TEST_F(SatKernels, AutoFitsSmallDevices) {
+  for (uint64_t local : {16 * 1024, 32 * 1024}) {
+    std::unique_ptr<Context> small = test::smallGpuContext(ctx(), local);
+    EXPECT_EQ(satTiledFits(*small, satDesc({45, 70, 4}, SAT_MODE_FIXED64)), false) << local;  // 34,816 bytes and more
+    EXPECT_EQ(satTiledFits(*small, satDesc({45, 70, 1}, SAT_MODE_FP32)), true) << local;      // 4,352 and 5,248
+    for (uint32_t channels : {1u, 2u, 4u}) {
+      SCOPED_TRACE(fmt::format("{} bytes, {} channels", local, channels));
+      check<float>(*small, {"", 45, 70, channels, SAT_MODE_FP32, SatAlgorithm::Auto});
+      check<uint32_t>(*small, {"", 45, 70, channels, SAT_MODE_FIXED32, SatAlgorithm::Auto});
+      check<uint64_t>(*small, {"", 45, 70, channels, SAT_MODE_FIXED64, SatAlgorithm::Auto});
+    }
+  }
 }
 
 }  // namespace

@@ -54,6 +54,11 @@ std::string buildLog(const cl::Program& program, const cl::Device& device) {
 
 Context::Context(const std::string& deviceSpec) : Context(selectDevice(deviceSpec)) {}
 
+void Context::retire(cl::Buffer memory) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  retired_.push_back(std::move(memory));
+}
+
 Context::~Context() {
   if (ownsQueue_ && queue_() != nullptr) clFinish(queue_());  // errors ignored: nothing left to report them to
 }

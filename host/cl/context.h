@@ -10,6 +10,7 @@
 #include <mutex>
 #include <string>
 #include <tuple>
+#include <vector>
 
 #include "host/cl/device.h"
 
@@ -52,6 +53,12 @@ class Context {
   bool ownsQueue() const { return ownsQueue_; }             // false: the caller's queue (the interop constructor)
   void finish();
 
+  // Simulators only (DeviceInfo::isSimulator): a reference to every buffer a Buffer creates, held until this
+  // context goes. Oclgrind 21.10 hands a released buffer's id to the next allocation and keeps the old buffer's
+  // shadow for its uninitialised-value check (of the old size), so a buffer reusing the id reads as uninitialised
+  // past the old end; memory never released is never reused. Frames on a simulator are small.
+  void retire(cl::Buffer memory);
+
   // Where launches report their events (nullptr: nowhere). Owned by the caller.
   void setProfiler(class Profiler* profiler) { profiler_ = profiler; }
   class Profiler* profiler() const {
@@ -71,6 +78,7 @@ class Context {
   size_t programsBuilt_ = 0;
   bool ownsQueue_ = true;
   class Profiler* profiler_ = nullptr;
+  std::vector<cl::Buffer> retired_;  // retire()
 };
 
 // 64-bit FNV-1a: the program cache key. Not cryptographic; collisions only rebuild or, with a disk cache,

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <stdexcept>
 
 #include "host/cl/error.h"
 
@@ -76,7 +77,7 @@ DeviceInfo describe(cl_platform_id platform, cl_device_id device) {
   info.maxWorkGroupSize = deviceValue<size_t>(device, CL_DEVICE_MAX_WORK_GROUP_SIZE);
   clGetDeviceInfo(device, CL_DEVICE_MAX_WORK_ITEM_SIZES, sizeof(info.maxWorkItemSizes), info.maxWorkItemSizes.data(),
                   nullptr);
-  info.localMemBytes = deviceValue<cl_ulong>(device, CL_DEVICE_LOCAL_MEM_SIZE);
+  info.localMemBytes = info.deviceLocalMemBytes = deviceValue<cl_ulong>(device, CL_DEVICE_LOCAL_MEM_SIZE);
   info.localMemDedicated = deviceValue<cl_device_local_mem_type>(device, CL_DEVICE_LOCAL_MEM_TYPE) == CL_LOCAL;
   info.globalMemBytes = deviceValue<cl_ulong>(device, CL_DEVICE_GLOBAL_MEM_SIZE);
   info.maxAllocBytes = deviceValue<cl_ulong>(device, CL_DEVICE_MAX_MEM_ALLOC_SIZE);
@@ -92,6 +93,7 @@ DeviceInfo describe(cl_platform_id platform, cl_device_id device) {
   info.subGroups =
       info.hasExtension("cl_khr_subgroups") || deviceValue<cl_uint>(device, CL_DEVICE_MAX_NUM_SUB_GROUPS) > 0;
   info.nonUniformWorkGroups = deviceValue<cl_bool>(device, CL_DEVICE_NON_UNIFORM_WORK_GROUP_SUPPORT) != 0;
+  applyDeviceOverrides(info);
   return info;
 }
 
@@ -151,6 +153,21 @@ std::vector<DeviceInfo> listDevices() {
     }
   }
   return devices;
+}
+
+void applyDeviceOverrides(DeviceInfo& info) {
+  if (const char* limit = std::getenv("PENUMBRA_LOCAL_MEM_LIMIT"); limit != nullptr && *limit != '\0') {
+    char* end = nullptr;
+    const unsigned long long bytes = std::strtoull(limit, &end, 10);
+    if (*end != '\0' || bytes == 0 || !std::isdigit(static_cast<unsigned char>(*limit)))
+      throw std::invalid_argument(fmt::format("PENUMBRA_LOCAL_MEM_LIMIT '{}': expected a byte count", limit));
+    info.localMemBytes = std::min<uint64_t>(info.deviceLocalMemBytes, bytes);
+  }
+  if (const char* layouts = std::getenv("PENUMBRA_LAYOUTS"); layouts != nullptr && *layouts != '\0') {
+    info.layouts = lower(layouts);
+    if (info.layouts != "gpu" && info.layouts != "nvidia")
+      throw std::invalid_argument(fmt::format("PENUMBRA_LAYOUTS '{}': expected gpu or nvidia", layouts));
+  }
 }
 
 bool DeviceInfo::isSimulator() const { return contains(platformName, "oclgrind") || contains(name, "oclgrind"); }
@@ -221,6 +238,8 @@ nlohmann::json toJson(const DeviceInfo& d) {
           {"max_work_group_size", d.maxWorkGroupSize},
           {"max_work_item_sizes", d.maxWorkItemSizes},
           {"local_mem_bytes", d.localMemBytes},
+          {"device_local_mem_bytes", d.deviceLocalMemBytes},
+          {"layouts", d.layouts.empty() ? "device" : d.layouts},
           {"local_mem_dedicated", d.localMemDedicated},
           {"global_mem_bytes", d.globalMemBytes},
           {"max_alloc_bytes", d.maxAllocBytes},
@@ -240,9 +259,12 @@ std::string describeDevices(const std::vector<DeviceInfo>& devices) {
                         d.platformName, d.platformVersion);
     text += fmt::format("      driver {}, {}, {} compute units @ {} MHz\n", d.driverVersion, d.openclCVersion,
                         d.computeUnits, d.maxClockMHz);
-    text += fmt::format("      global {:.1f} GiB (max alloc {:.1f} GiB), local {} KiB ({}), max work-group {}\n",
+    text += fmt::format("      global {:.1f} GiB (max alloc {:.1f} GiB), local {} KiB ({}{}), max work-group {}\n",
                         d.globalMemBytes / 1073741824.0, d.maxAllocBytes / 1073741824.0, d.localMemBytes / 1024,
-                        d.localMemDedicated ? "dedicated" : "emulated in global", d.maxWorkGroupSize);
+                        d.localMemDedicated ? "dedicated" : "emulated in global",
+                        d.localMemBytes < d.deviceLocalMemBytes ? ", capped by PENUMBRA_LOCAL_MEM_LIMIT" : "",
+                        d.maxWorkGroupSize);
+    if (!d.layouts.empty()) text += fmt::format("      layouts forced: {} (PENUMBRA_LAYOUTS)\n", d.layouts);
     text += fmt::format("      fp64 {}, fp16 {}, int64 atomics {}, sub-groups {}, non-uniform work-groups {}\n",
                         d.fp64 ? "yes" : "no", d.fp16 ? "yes" : "no", d.int64Atomics ? "yes" : "no",
                         d.subGroups ? "yes" : "no", d.nonUniformWorkGroups ? "yes" : "no");

@@ -26,8 +26,9 @@ struct DeviceInfo {
   unsigned maxClockMHz = 0;
   size_t maxWorkGroupSize = 0;
   std::array<size_t, 3> maxWorkItemSizes{};
-  uint64_t localMemBytes = 0;
-  bool localMemDedicated = false;  // CL_LOCAL vs emulated in global memory (CPU devices)
+  uint64_t localMemBytes = 0;  // what plans and launch checks use: the device's, or PENUMBRA_LOCAL_MEM_LIMIT's cap
+  uint64_t deviceLocalMemBytes = 0;  // CL_DEVICE_LOCAL_MEM_SIZE as the device reports it
+  bool localMemDedicated = false;    // CL_LOCAL vs emulated in global memory (CPU devices)
   uint64_t globalMemBytes = 0;
   uint64_t maxAllocBytes = 0;
   uint32_t baseAddressAlignBytes = 128;  // CL_DEVICE_MEM_BASE_ADDR_ALIGN (bits / 8): sub-buffer offsets
@@ -37,14 +38,24 @@ struct DeviceInfo {
   bool subGroups = false;     // cl_khr_subgroups or OpenCL 3.0 max sub-groups > 0
   bool nonUniformWorkGroups = false;
   std::vector<std::string> extensions;
+  // Which tuned layouts Auto choices take: "" the device's own (by type and vendor), "gpu" those of GPUs, "nvidia"
+  // those of NVIDIA's (PENUMBRA_LAYOUTS), so that PoCL and Oclgrind run the code paths of the target GPU.
+  std::string layouts;
 
   bool isGpu() const { return (type & CL_DEVICE_TYPE_GPU) != 0; }
   bool isCpu() const { return (type & CL_DEVICE_TYPE_CPU) != 0; }
   // A simulator rather than hardware: Oclgrind (which reports itself as a GPU) by its platform or device name.
   bool isSimulator() const;
+  // Whether Auto choices take the CPU layouts: a CPU device with no GPU layouts forced.
+  bool cpuLayouts() const { return layouts.empty() && isCpu(); }
   bool hasExtension(const std::string& name) const;
   std::string typeName() const;  // "GPU", "CPU", "ACCELERATOR", ...
 };
+
+// Test hooks, read whenever a device is described (so `penumbra devices` shows them): PENUMBRA_LOCAL_MEM_LIMIT=BYTES
+// caps localMemBytes (every plan then tiles as for a device of that much local memory, and a launch above it fails
+// as it would there) and PENUMBRA_LAYOUTS=gpu|nvidia sets `layouts`. Throws std::invalid_argument on a bad value.
+void applyDeviceOverrides(DeviceInfo& info);
 
 // Every device of every platform, platforms sorted by name. Empty when there is no ICD or no platform.
 std::vector<DeviceInfo> listDevices();

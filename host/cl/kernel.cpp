@@ -40,6 +40,14 @@ void Kernel::checkLimits(const Range& local) const {
                   entry_, stage_);
 }
 
+bool Kernel::fits(const Range& local, uint64_t dynamicLocalBytes) const {
+  const DeviceInfo& info = ctx_.info();
+  if (local.count() == 0 || local.count() > maxWorkGroupSize_) return false;
+  for (unsigned d = 0; d < local.dims; ++d)
+    if (local.size[d] > info.maxWorkItemSizes[d]) return false;
+  return staticLocalBytes_ + dynamicLocalBytes <= info.localMemBytes;
+}
+
 cl::Event Kernel::launch(const Range& global, const Range& local, const std::vector<cl::Event>* waitFor) {
   if (global.dims != local.dims)
     throw ClError(CL_INVALID_WORK_DIMENSION, "launch (global and local ranges differ in dimensions)", entry_, stage_);

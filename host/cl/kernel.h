@@ -61,6 +61,12 @@ class Kernel {
 
   // The largest work-group this kernel can use on this device (kernel and device limits).
   size_t maxWorkGroupSize() const { return maxWorkGroupSize_; }
+  // CL_KERNEL_LOCAL_MEM_SIZE: the __local arrays the kernel declares itself, in bytes.
+  uint64_t staticLocalBytes() const { return staticLocalBytes_; }
+  // Whether a launch of work-groups of `local` with `dynamicLocalBytes` of __local arguments passes the limit checks
+  // (work-group size, item sizes, local memory as DeviceInfo::localMemBytes reports it): what plans with a fallback
+  // ask before they choose.
+  bool fits(const Range& local, uint64_t dynamicLocalBytes = 0) const;
   const std::string& name() const { return entry_; }
   const std::string& stage() const { return stage_; }
   cl::Kernel& handle() { return kernel_; }

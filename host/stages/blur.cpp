@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "host/cl/kernel.h"
+#include "host/stages/blur_local.h"
 #include "host/stages/moments.h"
 #include "kernels/shared/blur.h"
 
@@ -40,63 +41,64 @@ std::vector<float> gaussianWeights(double sigma, int radius) {
   return out;
 }
 
-// Rows of a blur_columns tile: as many as fit a 32 KiB block (leaves room for two work-groups per SM).
-int columnTileRows(int radius, size_t texelBytes, uint64_t localLimit) {
-  const uint64_t budget = std::min<uint64_t>(32 * 1024, localLimit);
-  int rows = 64;
-  while (rows > BLUR_ROWS && uint64_t(rows + 2 * radius) * BLUR_COLUMN_TILE * texelBytes > budget) rows /= 2;
-  return rows;
-}
-
-// The direct plan's row pass in either layout (blur_rows* or blur_rows_runs*, same arguments): launch shape, and
-// the lines it stages in local memory (a work-group's rows for tiles, an item's segment for runs).
-void launchRows(Kernel& rows, const ImageShape& shape, bool runs, uint64_t bytes, std::vector<cl::Event>& events) {
+// The direct plan's row pass in either layout (blur_rows* or blur_rows_runs*, same arguments): launch shape from the
+// local-memory plan (one work-group row per staged line).
+void launchRows(Kernel& rows, const ImageShape& shape, const BlurLocalPlan& local, uint64_t bytes,
+                std::vector<cl::Event>& events) {
   rows.moves(bytes);
-  if (runs)
-    events.push_back(rows.launch(Range((shape.width + BLUR_RUNS_SEGMENT - 1) / BLUR_RUNS_SEGMENT, shape.height),
-                                 Range(1, BLUR_RUNS_ROWS)));
+  const size_t lines = size_t(local.rowLines);
+  if (local.runs)
+    events.push_back(
+        rows.launch(Range((shape.width + BLUR_RUNS_SEGMENT - 1) / BLUR_RUNS_SEGMENT, shape.height), Range(1, lines)));
   else
-    events.push_back(rows.launch(Range(shape.width, shape.height), Range(BLUR_ROW_TILE, BLUR_ROWS)));
+    events.push_back(rows.launch(Range(shape.width, shape.height), Range(BLUR_ROW_TILE, lines)));
 }
 
-LocalMem rowLines(const ImageShape& shape, int radius, bool runs) {
-  const size_t texels = runs ? size_t(BLUR_RUNS_ROWS) * (BLUR_RUNS_SEGMENT + 2 * radius)
-                             : size_t(BLUR_ROWS) * (BLUR_ROW_TILE + 2 * radius);
-  return LocalMem{texels * sizeof(float) * shape.channels};
+std::string withOptions(const std::string& options, const std::string& more) {
+  return more.empty() ? options : fmt::format("{} {}", options, more);
 }
 
 // The direct row pass over an fp32 image (blur_rows or blur_rows_runs): `plan`'s taps from `in` into `out`.
 void launchRowPass(Context& ctx, const std::string& options, const Buffer<float>& in, Buffer<float>& out,
-                   const ImageShape& shape, const BlurPlan& plan, const Buffer<float>& weights, bool runs,
-                   std::vector<cl::Event>& events) {
-  Kernel rows(ctx, "kernels/blur.cl", runs ? "blur_rows_runs" : "blur_rows", "blur", options);
-  rows.args(in, out, shape.width, shape.height, plan.radius, weights, rowLines(shape, plan.radius, runs));
-  launchRows(rows, shape, runs, 2 * shape.count() * sizeof(float), events);  // floor: read and write the image once
+                   const ImageShape& shape, const BlurPlan& plan, const Buffer<float>& weights,
+                   const BlurLocalPlan& local, std::vector<cl::Event>& events) {
+  Kernel rows(ctx, "kernels/blur.cl", local.runs ? "blur_rows_runs" : "blur_rows", "blur",
+              withOptions(options, local.rowOptions()));
+  rows.args(in, out, shape.width, shape.height, plan.radius, weights, LocalMem{local.rowBytes});
+  launchRows(rows, shape, local, 2 * shape.count() * sizeof(float), events);  // floor: read and write the image once
 }
 
-// The direct plan's column pass, storing `out` as T (float, or cl_half with STORE_HALF in `options`).
+// The direct plan's column pass, storing `out` as T (float, or cl_half with STORE_HALF in `options`): runs, tiles of
+// the plan's rows, or (no tile fits) taps from global memory.
 template <class T>
 void launchColumns(Context& ctx, const std::string& options, const Buffer<float>& in, Buffer<T>& out,
-                   const ImageShape& shape, const BlurPlan& plan, const Buffer<float>& weights, bool runs,
-                   std::vector<cl::Event>& events) {
+                   const ImageShape& shape, const BlurPlan& plan, const Buffer<float>& weights,
+                   const BlurLocalPlan& local, std::vector<cl::Event>& events) {
   const int r = plan.radius;
   const uint64_t bytes = shape.count() * (sizeof(float) + sizeof(T));
-  if (runs) {
+  if (local.runs) {
     Kernel columns(ctx, "kernels/blur.cl", "blur_columns_runs", "blur", options);
     columns.args(in, out, shape.width, shape.height, r, weights);
     const size_t blocks = (shape.count() / shape.height + BLUR_RUNS_COLUMN_BLOCK - 1) / BLUR_RUNS_COLUMN_BLOCK;
     const size_t strips = (shape.height + BLUR_RUNS_COLUMN_STRIP - 1) / BLUR_RUNS_COLUMN_STRIP;
     events.push_back(columns.moves(bytes).launch(Range(blocks, strips), Range(1, 1)));
-    return;
+  } else if (local.columnRows == 0) {
+    Kernel columns(ctx, "kernels/blur.cl", "blur_columns_global", "blur", options);
+    columns.args(in, out, shape.width, shape.height, r, weights);
+    events.push_back(columns.moves(bytes).launch(Range(shape.width, shape.height), Range(BLUR_COLUMN_TILE, BLUR_ROWS)));
+  } else {
+    Kernel columns(ctx, "kernels/blur.cl", "blur_columns", "blur", options);
+    columns.args(in, out, shape.width, shape.height, r, weights, local.columnRows, LocalMem{local.columnBytes});
+    const size_t groupsY = (shape.height + local.columnRows - 1) / local.columnRows;
+    events.push_back(
+        columns.moves(bytes).launch(Range(shape.width, groupsY * BLUR_ROWS), Range(BLUR_COLUMN_TILE, BLUR_ROWS)));
   }
-  const size_t texelBytes = sizeof(float) * shape.channels;
-  const int tileRows = columnTileRows(r, texelBytes, ctx.info().localMemBytes);
-  Kernel columns(ctx, "kernels/blur.cl", "blur_columns", "blur", options);
-  columns.args(in, out, shape.width, shape.height, r, weights, tileRows,
-               LocalMem{size_t(tileRows + 2 * r) * BLUR_COLUMN_TILE * texelBytes});
-  const size_t groupsY = (shape.height + tileRows - 1) / tileRows;
-  events.push_back(
-      columns.moves(bytes).launch(Range(shape.width, groupsY * BLUR_ROWS), Range(BLUR_COLUMN_TILE, BLUR_ROWS)));
+}
+
+// The local-memory plan of a direct pass pair on `ctx`'s device (the layout resolved from `requested`).
+BlurLocalPlan localPlan(Context& ctx, BlurLayout requested, const ImageShape& shape, int radius) {
+  const bool runs = resolveBlurLayout(requested, ctx.info(), shape, radius) == BlurLayout::Runs;
+  return planBlurLocal(runs, ctx.info().localMemBytes, shape, radius);
 }
 
 std::string blurOptions(const ImageShape& shape) { return fmt::format("-DBLUR_CHANNELS={}", shape.channels); }
@@ -113,8 +115,9 @@ void checkBlurBuffers(const ImageShape& shape, const Buffer<T>& out, const Buffe
 
 BlurLayout resolveBlurLayout(BlurLayout requested, const DeviceInfo& device, const ImageShape& shape, int radius) {
   if (requested != BlurLayout::Auto) return requested;
-  const bool fits = rowLines(shape, radius, true).bytes <= device.localMemBytes;
-  return device.isCpu() && fits ? BlurLayout::Runs : BlurLayout::Tiles;
+  const uint64_t lines = uint64_t(BLUR_RUNS_ROWS) * (BLUR_RUNS_SEGMENT + 2 * radius) * sizeof(float) * shape.channels;
+  const bool fits = lines <= device.localMemBytes;  // all the runs lines: otherwise tiles, which stage less
+  return device.cpuLayouts() && fits ? BlurLayout::Runs : BlurLayout::Tiles;
 }
 
 BlurPlan planBlur(const BlurConfig& config) {
@@ -163,10 +166,10 @@ std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>
   const uint64_t passBytes = 2 * shape.count() * sizeof(float);  // floor of every pass: read and write the image once
 
   if (plan.direct) {
-    const bool runs = resolveBlurLayout(config.layout, ctx.info(), shape, plan.radius) == BlurLayout::Runs;
+    const BlurLocalPlan local = localPlan(ctx, config.layout, shape, plan.radius);
     Buffer<float> weights = Buffer<float>::copyOf(ctx, plan.weights);
-    launchRowPass(ctx, options, in, scratch, shape, plan, weights, runs, events);
-    launchColumns(ctx, options, scratch, out, shape, plan, weights, runs, events);
+    launchRowPass(ctx, options, in, scratch, shape, plan, weights, local, events);
+    launchColumns(ctx, options, scratch, out, shape, plan, weights, local, events);
     return events;
   }
 
@@ -193,10 +196,11 @@ std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>
       box.radius = r;
       box.weights.assign(2 * r + 1, 1.0f / float(2 * r + 1));
       Buffer<float> weights = Buffer<float>::copyOf(ctx, box.weights);
+      const BlurLocalPlan local = planBlurLocal(true, ctx.info().localMemBytes, shape, r);
       if (pass < plan.boxRadii.size())
-        launchRowPass(ctx, options, *src, *dst, shape, box, weights, true, events);
+        launchRowPass(ctx, options, *src, *dst, shape, box, weights, local, events);
       else
-        launchColumns(ctx, options, *src, *dst, shape, box, weights, true, events);
+        launchColumns(ctx, options, *src, *dst, shape, box, weights, local, events);
     } else if (pass < plan.boxRadii.size()) {
       rows->args(*src, *dst, w, h, r, segment);
       events.push_back(rows->moves(passBytes).launch(Range((w + segment - 1) / segment, h), Range(1, 64)));
@@ -241,12 +245,13 @@ std::vector<cl::Event> blurMomentsInto(Context& ctx, const Buffer<float>& depth,
   const std::string options = fmt::format("{} -DBLUR_MOMENTS={}", blurOptions(shape), kind);
   Buffer<float> weights = Buffer<float>::copyOf(ctx, plan.weights);
   std::vector<cl::Event> events;
-  const bool runs = resolveBlurLayout(config.layout, ctx.info(), shape, plan.radius) == BlurLayout::Runs;
-  Kernel rows(ctx, "kernels/blur.cl", runs ? "blur_rows_runs_moments" : "blur_rows_moments", "blur", options);
-  rows.args(depth, scratch, width, height, plan.radius, weights, rowLines(shape, plan.radius, runs), params);
+  const BlurLocalPlan local = localPlan(ctx, config.layout, shape, plan.radius);
+  Kernel rows(ctx, "kernels/blur.cl", local.runs ? "blur_rows_runs_moments" : "blur_rows_moments", "blur",
+              withOptions(options, local.rowOptions()));
+  rows.args(depth, scratch, width, height, plan.radius, weights, LocalMem{local.rowBytes}, params);
   // Floor: read the depth map, write the row-blurred moments.
-  launchRows(rows, shape, runs, shape.texels() * sizeof(float) + shape.count() * sizeof(float), events);
-  launchColumns(ctx, fmt::format("{} {}", options, storageOptions(storage)), scratch, out, shape, plan, weights, runs,
+  launchRows(rows, shape, local, shape.texels() * sizeof(float) + shape.count() * sizeof(float), events);
+  launchColumns(ctx, fmt::format("{} {}", options, storageOptions(storage)), scratch, out, shape, plan, weights, local,
                 events);
   return events;
 }

@@ -44,8 +44,8 @@ struct BlurPlan {
 BlurPlan planBlur(const BlurConfig& config);
 
 // The direct plan's layout that `requested` runs on `device` for `shape` at `radius` (Tiles or Runs): Auto is Runs
-// on CPU devices whose local memory holds the runs row pass's lines (up to 48 KiB at radius 128, 4 channels), Tiles
-// otherwise.
+// on CPU devices (DeviceInfo::cpuLayouts) whose local memory holds the runs row pass's four lines (up to 48 KiB at
+// radius 128, 4 channels), Tiles otherwise. Either layout then stages as many lines as fit (blur_local.h).
 BlurLayout resolveBlurLayout(BlurLayout requested, const DeviceInfo& device, const ImageShape& shape, int radius);
 
 // Blurs `in` into `out` (which may be the same buffer) through `scratch`; all hold shape.count() floats.

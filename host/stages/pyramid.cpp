@@ -32,7 +32,7 @@ const PyramidTuning kGpuTuning{{16, 8, 4}, 48 * 1024, 32, 32, 1};
 // another, so strided work-items would revisit each cache line far apart in time: 16x16 groups ran 2x
 // slower); 256 KiB of tile stays in L2.
 const PyramidTuning kCpuTuning{{64, 32, 16, 8}, 256 * 1024, 1, 1, 4};
-const PyramidTuning& tuning(const DeviceInfo& info) { return info.isCpu() ? kCpuTuning : kGpuTuning; }
+const PyramidTuning& tuning(const DeviceInfo& info) { return info.cpuLayouts() ? kCpuTuning : kGpuTuning; }
 
 uint64_t texels(const PyramidLevel& l) { return uint64_t{l.width} * l.height; }
 

@@ -132,7 +132,15 @@ int satFractionBits(uint32_t mode, double maxBoxTexels, double maxAbsValue) {
 
 SatAlgorithm resolveSatAlgorithm(SatAlgorithm requested, const DeviceInfo& device) {
   if (requested != SatAlgorithm::Auto) return requested;
-  return device.isCpu() ? SatAlgorithm::Lines : SatAlgorithm::Tiled;
+  return device.cpuLayouts() ? SatAlgorithm::Lines : SatAlgorithm::Tiled;
+}
+
+bool satTiledFits(Context& ctx, const SatTableDesc& desc) {
+  const std::string options = satBuildOptions(desc);
+  const Range group(SAT_TILE, SAT_GROUP_Y);
+  return Kernel(ctx, "kernels/sat.cl", "sat_tile_sums", "sat", options).fits(group) &&
+         Kernel(ctx, "kernels/sat.cl", "sat_tile_scan", "sat", options).fits(group) &&
+         Kernel(ctx, "kernels/sat.cl", "sat_carry", "sat", options).fits(SAT_CARRY_GROUP);
 }
 
 std::string satBuildOptions(const SatTableDesc& desc) {
@@ -153,7 +161,10 @@ std::vector<cl::Event> computeSat(Context& ctx, const Buffer<float>& image, cons
   if (shape.texels() == 0) return events;
   const std::string options = satBuildOptions(desc);
   computeOffset(ctx, options, image, shape, mode, config, offset, events);
-  switch (resolveSatAlgorithm(config.algorithm, ctx.info())) {
+  SatAlgorithm algorithm = resolveSatAlgorithm(config.algorithm, ctx.info());
+  if (config.algorithm == SatAlgorithm::Auto && algorithm == SatAlgorithm::Tiled && !satTiledFits(ctx, desc))
+    algorithm = SatAlgorithm::Lines;
+  switch (algorithm) {
     case SatAlgorithm::Lines:
       lines(ctx, options, image, desc, offset, table, events);
       break;

@@ -62,8 +62,16 @@ SatTableDesc satDesc(const ImageShape& shape, uint32_t mode, int fractionBits = 
 // when not even integers fit. E.g. 32-bit, values in [0, 1], boxes up to 255^2 texels: 15 bits.
 int satFractionBits(uint32_t mode, double maxBoxTexels, double maxAbsValue);
 
-// The algorithm `requested` runs as on `device` (Auto resolved).
+// The algorithm `requested` runs as on `device` (Auto resolved by device class; computeSat further takes Lines
+// for an Auto whose tiled kernels do not fit the device's local memory or work-group limits).
 SatAlgorithm resolveSatAlgorithm(SatAlgorithm requested, const DeviceInfo& device);
+
+// Whether the tiled scan's kernels for `desc` fit the device as `ctx` reports it (work-group size, local memory).
+// Their __local tiles are static, SAT_TILE x (SAT_TILE + 1) texels plus a row of totals or segments (17 to 20.5 KiB
+// for 4-channel fp32 and 32-bit tables, 34 to 41 KiB for 4-channel 64-bit ones), so a device of 16 or 32 KiB cannot
+// tile every mode: Auto then scans lines (no local memory, the same table); an explicit Tiled fails its launch with
+// CL_OUT_OF_RESOURCES naming the kernel and the bytes.
+bool satTiledFits(Context& ctx, const SatTableDesc& desc);
 
 // The -D options a kernel including kernels/shared/sat.h needs to read this table.
 std::string satBuildOptions(const SatTableDesc& desc);

@@ -6,7 +6,7 @@
 #include "kernels/shared/common.h"
 
 #define BLUR_ROW_TILE 64              // outputs per work-group row in blur_rows (work-group x size)
-#define BLUR_ROWS 4                   // rows per work-group (work-group y size) in blur_rows and blur_columns
+#define BLUR_ROWS 4                   // work-group y size of blur_columns, and of blur_rows where local memory allows
 #define BLUR_COLUMN_TILE 32           // columns per work-group in blur_columns (work-group x size)
 #define BLUR_MAX_DIRECT_RADIUS 32     // Auto: larger footprints use running sums (cost independent of radius)
 #define BLUR_DIRECT_RADIUS_LIMIT 128  // direct taps beyond this are refused (local memory, 2r+1 weights)
@@ -17,7 +17,7 @@
 #define BLUR_RUN_FLOATS 16        // floats per run: one float16, an AVX-512 register
 #define BLUR_RUNS_SEGMENT 512     // texels of one row per blur_rows_runs item (a multiple of 16 * BLUR_RUNS_UNROLL)
 #define BLUR_RUNS_UNROLL 4        // runs summed side by side by a blur_rows_runs item
-#define BLUR_RUNS_ROWS 4          // rows per blur_rows_runs work-group (work-group y size), one line each
+#define BLUR_RUNS_ROWS 4          // rows per blur_rows_runs work-group (y size, one line each) where local memory allows
 #define BLUR_RUNS_COLUMN_ROWS 4   // output rows summed side by side by a blur_columns_runs item
 #define BLUR_RUNS_COLUMN_STRIP 128  // output rows per blur_columns_runs work-item (a multiple of the above)
 #define BLUR_RUNS_COLUMN_BLOCK 512  // floats of each row per blur_columns_runs work-item (a multiple of runs)

@@ -2,6 +2,8 @@
 // static initialiser), on the device named by PENUMBRA_DEVICE (ctest sets "cpu", i.e. PoCL).
 #pragma once
 
+#include <algorithm>
+#include <cstdint>
 #include <memory>
 
 #include <gtest/gtest.h>
@@ -22,6 +24,16 @@ class ClTest : public ::testing::Test {
 
 template <class Param>
 class ClTestWithParam : public ClTest, public ::testing::WithParamInterface<Param> {};
+
+// A context on `like`'s device that reports at most `localBytes` of local memory and forces the GPU layouts
+// (DeviceInfo's test hooks, what PENUMBRA_LOCAL_MEM_LIMIT and PENUMBRA_LAYOUTS=gpu set): every plan then tiles as on
+// a small GPU, and a launch above the cap fails as it would there.
+inline std::unique_ptr<Context> smallGpuContext(const Context& like, uint64_t localBytes) {
+  DeviceInfo info = like.info();
+  info.localMemBytes = std::min<uint64_t>(info.deviceLocalMemBytes, localBytes);
+  info.layouts = "gpu";
+  return std::make_unique<Context>(info);
+}
 
 // A value no kernel writes by accident: outputs are filled with it before a launch, so an unwritten
 // element shows up as a mismatch instead of a stale correct value.
