@@ -5,6 +5,8 @@
 
 #include <stdexcept>
 
+#include "host/scene/limits.h"
+
 namespace penumbra::api {
 namespace {
 
@@ -29,8 +31,9 @@ pn_camera toC(const Camera& camera) {
 }
 
 Camera fromC(const pn_camera& c) {
-  if (c.width < 1 || c.height < 1 || c.width > 16384 || c.height > 16384)
-    throw std::invalid_argument(fmt::format("camera: size {}x{} outside 1..16384", c.width, c.height));
+  if (c.width < 1 || c.height < 1 || c.width > kMaxImageSide || c.height > kMaxImageSide)
+    throw std::invalid_argument(
+        fmt::format("camera: size {}x{} outside 1..{} (the rasterizer's limit)", c.width, c.height, kMaxImageSide));
   Camera camera;
   camera.eye = fromC(c.eye);
   camera.target = fromC(c.target);

@@ -8,7 +8,7 @@
 namespace penumbra::api {
 
 pn_camera toC(const Camera& camera);
-Camera fromC(const pn_camera& camera);  // throws std::invalid_argument for a size outside 1..16384
+Camera fromC(const pn_camera& camera);  // throws std::invalid_argument for a size outside 1..kMaxImageSide
 pn_light toC(const Light& light);       // the name points into `light`
 Light fromC(const pn_light& light);     // throws std::invalid_argument for an unknown type
 

@@ -105,16 +105,12 @@ pn_status pn_scene_create(const pn_mesh* meshes, size_t mesh_count, const pn_lig
     if (mesh_count > 0) require(meshes, "pn_scene_create", "meshes");
     if (light_count > 0) require(lights, "pn_scene_create", "lights");
     std::vector<penumbra::MeshInput> inputs;
-    size_t triangles = 0;
-    for (size_t i = 0; i < mesh_count; ++i) {
-      inputs.push_back(meshInput(meshes[i], i));
-      triangles += meshes[i].triangle_count;
-    }
+    for (size_t i = 0; i < mesh_count; ++i) inputs.push_back(meshInput(meshes[i], i));
     std::vector<penumbra::Light> sceneLights;
     for (size_t i = 0; i < light_count; ++i) sceneLights.push_back(penumbra::api::fromC(lights[i]));
     auto created = std::make_unique<pn_scene>();
     created->scene = penumbra::meshScene(inputs, std::move(sceneLights));
-    created->spec = fmt::format("meshes ({} meshes, {} triangles)", mesh_count, triangles);
+    created->spec = fmt::format("meshes ({} meshes, {} triangles)", mesh_count, created->scene.triangleCount());
     *scene = created.release();
   });
 }

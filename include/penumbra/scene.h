@@ -23,8 +23,8 @@ typedef struct pn_camera {
   float ortho_half_height; /**< Orthographic: half the view's height, world units. */
   float clip_near;         /**< View-space near clip distance; 0: none beyond the fit to the scene. */
   float clip_far;          /**< View-space far clip distance; INFINITY: none. */
-  int width;               /**< Image width, pixels (1..16384). */
-  int height;              /**< Image height, pixels (1..16384). */
+  int width;               /**< Image width, pixels (1..8192, the rasterizer's limit). */
+  int height;              /**< Image height, pixels (1..8192). */
 } pn_camera;
 
 /** The type of a light. */

@@ -157,7 +157,7 @@ void printSummary(const BenchMeta& meta, const std::vector<BenchRow>& rows) {
 
 int run(const BenchOptions& o) {
   const std::vector<Job> jobs = planBenchJobs(o);
-  memoryLimit(o.view);  // a bad --memory-limit is a usage error before any work
+  const std::optional<uint64_t> limit = memoryLimit(o.view);  // a bad value is a usage error before any work
   if (o.frames > 0) {
     for (const Job& job : jobs)
       if (isReferenceTechnique(*job.technique))
@@ -201,7 +201,7 @@ int run(const BenchOptions& o) {
     bool failed = false;
   };
   Renderer shared(ctx, scene);
-  shared.setMemoryLimit(memoryLimit(o.view));
+  shared.setMemoryLimit(limit);
   std::vector<Cell> cells;
   for (const Job& job : jobs)
     for (const Light& light : lights) {  // each light alone, its own frames: per-light times and accuracy
@@ -211,7 +211,7 @@ int run(const BenchOptions& o) {
                                lights.size() > 1 ? " light " + lightLayer(light) : "");
       if (o.interleave && cells.size() > 1 && !isReferenceTechnique(*job.technique))
         cell.own = std::make_unique<Renderer>(ctx, scene);
-      if (cell.own) cell.own->setMemoryLimit(memoryLimit(o.view));
+      if (cell.own) cell.own->setMemoryLimit(limit);
     }
   Progress progress(cells.size() * static_cast<size_t>(o.warmup + o.runs), !o.quiet);
   std::vector<std::string> failed;

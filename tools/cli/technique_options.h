@@ -1,22 +1,18 @@
-// Every technique's parameters as --NAME options (`render`, `bench`), and how the values given turn into one
-// technique's Params: strictly (render: a parameter the technique lacks is an error) or leniently (bench: it applies
-// to the techniques that have it).
+// Every technique's parameters as --NAME options (`render`, `bench`), collected as ParamValues; the core's
+// techniqueParams (host/techniques/technique.h) turns them into one technique's Params, strictly (render) or
+// leniently (bench).
 #pragma once
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
 #include <CLI/CLI.hpp>
-#include <map>
 #include <set>
-#include <stdexcept>
 #include <string>
 
 #include "host/techniques/technique.h"
 
 namespace penumbra::cli {
-
-using penumbra::ParamValues;  // name (no dashes) -> text as given
 
 // Declares each parameter once, even when several techniques share it.
 inline void addTechniqueOptions(CLI::App* sub, ParamValues& values) {
@@ -32,8 +28,5 @@ inline void addTechniqueOptions(CLI::App* sub, ParamValues& values) {
           ->group("Technique parameters");
     }
 }
-
-// The core's (host/techniques/technique.h), under the names the commands use.
-using penumbra::techniqueParams;
 
 }  // namespace penumbra::cli
