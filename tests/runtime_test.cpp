@@ -199,6 +199,18 @@ TEST_F(Runtime, BuildErrorCarriesTheLog) {
   fs::remove_all(dir);
 }
 
+TEST(BuildRetry, TellsACacheRaceFromASourceError) {
+  // The log PoCL printed when two tasks of a Slurm array built one kernel at once (a CI run, 2026-12-01).
+  EXPECT_TRUE(isTransientBuildFailure(
+      "error: <invalid loc>: unable to rename temporary '/b/pocl-cache/tempfile_LpyNUf.preproc-0230d274.cl.tmp' to "
+      "output file '/b/pocl-cache/tempfile_LpyNUf.preproc.cl': 'No such file or directory'\n"
+      "Device pthread-skylake-avx512-AMD EPYC failed to build the program\n"));
+  EXPECT_TRUE(isTransientBuildFailure("Device pthread-haswell-AMD EPYC failed to build the program\n"));
+  EXPECT_FALSE(isTransientBuildFailure("<source>:1:49: error: use of undeclared identifier 'undeclared'\n"));
+  EXPECT_FALSE(isTransientBuildFailure("fatal error: 'missing.h' file not found\n"));
+  EXPECT_FALSE(isTransientBuildFailure(""));
+}
+
 TEST_F(Runtime, LaunchPadsTheGlobalSizeAndKernelsBoundCheck) {
   constexpr uint32_t kCount = 1000;  // not a multiple of the work-group
   Buffer<float> out(ctx(), 1024);

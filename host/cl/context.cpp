@@ -3,12 +3,16 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include "host/cl/embedded_sources.h"
@@ -103,6 +107,17 @@ void checkCallerObjects(cl_context context, cl_device_id device, cl_command_queu
 
 }  // namespace
 
+bool isTransientBuildFailure(std::string_view log) {
+  // What an implementation prints when its own temporary or cache files vanish or cannot be written, as opposed to a
+  // diagnostic about the source. Two forms were seen with PoCL 3.1 under concurrent builds: Clang's driver message
+  // about a temporary file, and a bare "failed to build the program" with no diagnostic at all. A problem in the
+  // source always comes with an "error:" line.
+  for (std::string_view marker : {"unable to rename temporary", "unable to open output file",
+                                  "unable to open temporary", "Could not create topdir for cache"})
+    if (log.find(marker) != std::string_view::npos) return true;
+  return !log.empty() && log.find("error") == std::string_view::npos;
+}
+
 Context::Context(cl_context context, cl_device_id device, cl_command_queue queue) {
   checkCallerObjects(context, device, queue);
   info_ = describeDevice(device);
@@ -131,6 +146,32 @@ const cl::Program& Context::program(const std::string& sourceName, const std::st
   return *programs_.emplace(key, std::move(program)).first->second;
 }
 
+cl::Program Context::compileWithRetry(const std::string& sourceName, const std::string& source,
+                                      const std::string& options) {
+  // PoCL keeps its own kernel cache (POCL_CACHE_DIR) and compiles through temporary files in it; two processes
+  // building the same source at once (tasks of one job array on one node) can remove each other's temporaries, and
+  // the build then fails with "unable to rename temporary ... No such file or directory" although the source is
+  // fine (pocl/pocl#430). Such a failure names the file system, not the source: it is retried, a few times with a
+  // short pause; a real compile error fails the same way every time and is reported with its log after one try.
+  constexpr int kAttempts = 4;
+  for (int attempt = 1;; ++attempt) {
+    cl_int err = CL_SUCCESS;
+    cl::Program program(context_, source, false, &err);
+    clCheck(err, "clCreateProgramWithSource", sourceName, "runtime");
+    err = program.build({device_}, options.c_str());
+    if (err == CL_BUILD_PROGRAM_FAILURE || err == CL_INVALID_BUILD_OPTIONS) {
+      std::string log = buildLog(program, device_);
+      if (attempt < kAttempts && isTransientBuildFailure(log)) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20 * attempt));
+        continue;
+      }
+      throw BuildError(sourceName, info_.name, options, std::move(log));
+    }
+    clCheck(err, "clBuildProgram", sourceName, "runtime");
+    return program;
+  }
+}
+
 cl::Program Context::buildProgram(const std::string& sourceName, const std::string& source, const std::string& options,
                                   uint64_t sourceHash) {
   cl_int err = CL_SUCCESS;
@@ -142,19 +183,15 @@ cl::Program Context::buildProgram(const std::string& sourceName, const std::stri
     if (err == CL_SUCCESS && program.build({device_}, options.c_str()) == CL_SUCCESS) return program;
     // A stale or foreign binary: fall through and rebuild from source.
   }
-  cl::Program program(context_, source, false, &err);
-  clCheck(err, "clCreateProgramWithSource", sourceName, "runtime");
-  err = program.build({device_}, options.c_str());
-  if (err == CL_BUILD_PROGRAM_FAILURE || err == CL_INVALID_BUILD_OPTIONS)
-    throw BuildError(sourceName, info_.name, options, buildLog(program, device_));
-  clCheck(err, "clBuildProgram", sourceName, "runtime");
+  cl::Program program = compileWithRetry(sourceName, source, options);
   ++programsBuilt_;
   if (!cached.empty()) {
     std::vector<std::vector<unsigned char>> binaries;
     if (program.getInfo(CL_PROGRAM_BINARIES, &binaries) == CL_SUCCESS && binaries.size() == 1 && !binaries[0].empty()) {
       std::error_code ec;
       fs::create_directories(cached.parent_path(), ec);
-      const fs::path temp = cached.string() + fmt::format(".{}.tmp", static_cast<const void*>(this));
+      // The process id keeps two processes (a Slurm array's tasks on one node) from sharing a temporary name.
+      const fs::path temp = cached.string() + fmt::format(".{}.{}.tmp", ::getpid(), static_cast<const void*>(this));
       std::ofstream(temp, std::ios::binary)
           .write(reinterpret_cast<const char*>(binaries[0].data()), static_cast<std::streamsize>(binaries[0].size()));
       fs::rename(temp, cached, ec);  // atomic publish; a failure only loses the cache entry

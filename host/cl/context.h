@@ -66,6 +66,7 @@ class Context {
   }
 
  private:
+  cl::Program compileWithRetry(const std::string& sourceName, const std::string& source, const std::string& options);
   cl::Program buildProgram(const std::string& sourceName, const std::string& source, const std::string& options,
                            uint64_t sourceHash);
 
@@ -80,6 +81,10 @@ class Context {
   class Profiler* profiler_ = nullptr;
   std::vector<cl::Buffer> retired_;  // retire()
 };
+
+// Whether a build log reports the implementation's own files failing (a kernel-cache race between processes) rather
+// than a problem in the source; such builds are retried.
+bool isTransientBuildFailure(std::string_view log);
 
 // 64-bit FNV-1a: the program cache key. Not cryptographic; collisions only rebuild or, with a disk cache,
 // are guarded by storing the full key beside the binary.
