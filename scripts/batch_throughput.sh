@@ -4,7 +4,8 @@
 # then run back to back so that the machine's load reaches both alike. run's time per job is its steady state: the
 # span between the first and the last job's status records over FRAMES - 1 (the first job pays the context and the
 # kernels' build). Environment: PENUMBRA (default build/tools/penumbra), SCENE, TECHNIQUE, SIZE, FRAMES, ROUNDS, PNG
-# (none, or beside: the preview written too), OUT (scratch folder).
+# (none, or beside: the preview written too), EXR_COMPRESSION (zip, the default, or none, rle, zips, piz), OUT
+# (scratch folder).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=${PENUMBRA:-build/tools/penumbra}
@@ -15,10 +16,12 @@ frames=${FRAMES:-12}
 rounds=${ROUNDS:-2}
 out=${OUT:-out/batch-throughput}
 png=${PNG:-none}
+compression=${EXR_COMPRESSION:-zip}
 rm -rf "$out" && mkdir -p "$out"
 png_member=$([ "$png" = none ] && echo '"png": "none", ' || echo '')
 cat >"$out/sweep.json" <<JSON
-{"scene": "$scene", "technique": "$technique", "size": "$size", $png_member"frames": $frames,
+{"scene": "$scene", "technique": "$technique", "size": "$size", $png_member"exr-compression": "$compression",
+ "frames": $frames,
  "camera": {"orbit": {"target": [0, 0.5, 0], "radius": 7, "height": 3, "fov": 45, "degrees": [0, 10]}},
  "output": "f{frame:03}.exr"}
 JSON
@@ -33,7 +36,8 @@ for round in $(seq 1 "$rounds"); do
     "import csv,sys; print(next(csv.reader(sys.stdin))[5])")
   rm -rf "$out/run-$round"
   "$bin" run "$out/jobs.jsonl" --out "$out/run-$round" -q
-  /usr/bin/python3 - "$out/run-$round/penumbra-status/shard-0-of-1.jsonl" "$bench_ms" "$round" "$load" <<'PY'
+  /usr/bin/python3 - "$out/run-$round/penumbra-status/shard-0-of-1.jsonl" "$bench_ms" "$round" "$load" \
+    "$compression" <<'PY'
 import datetime, json, sys
 records = [json.loads(line) for line in open(sys.argv[1])]
 stamp = lambda r: datetime.datetime.fromisoformat(r["time"].rstrip("Z"))
@@ -42,7 +46,7 @@ per_job = span / (len(records) - 1) * 1000
 bench = float(sys.argv[2])
 device = sorted(r["device_ms"] for r in records[1:])
 device = device[len(device) // 2]
-print(f"round {sys.argv[3]} (load {sys.argv[4]}): bench steady frame {bench:.1f} ms (device); run: "
+print(f"round {sys.argv[3]} (load {sys.argv[4]}, EXR {sys.argv[5]}): bench steady frame {bench:.1f} ms (device); run: "
       f"{device:.1f} ms device per job (median) {100 * (device / bench - 1):+.1f} %, "
       f"{per_job:.1f} ms wall per job with the EXR written {100 * (per_job / bench - 1):+.1f} %")
 PY

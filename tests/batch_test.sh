@@ -83,6 +83,16 @@ expect job-id-header 0 "penumbra:job-id" -- grep -ao "penumbra:job-id" "$s/out/s
 "$bin" render builtin:box -t pcf --size 32x24 --map-size 64 --camera 5.19615242,3,-3:0,0,0:50 --png none -q \
   -o "$s/single.exr"
 expect equal-to-render 0 "visibility.Y: 768 pixels bit-identical" -- "$exr_equal" "$s/single.exr" "$s/out/pcf/frame01.exr"
+# --exr-compression: lossless, so the same pixels whichever; the file says which; a job's id ignores it.
+"$bin" render builtin:box -t pcf --size 32x24 --map-size 64 --camera 5.19615242,3,-3:0,0,0:50 --png none -q \
+  --exr-compression none -o "$s/single-none.exr"
+expect compression-same-pixels 0 "visibility.Y: 768 pixels bit-identical" -- "$exr_equal" "$s/single.exr" "$s/single-none.exr"
+expect compression-none-larger 0 '^larger$' -- bash -c \
+  "[ \$(stat -c %s '$s/single-none.exr') -gt \$(stat -c %s '$s/single.exr') ] && echo larger"
+expect compression-bad 2 "--exr-compression: EXR compression 'dwaa': use none, rle, zips, zip or piz" -- \
+  "$bin" render builtin:box --size 32x24 --exr-compression dwaa -o "$s/x.exr"
+sed 's/"png":"none"/"png":"none","exr-compression":"none"/' "$s/jobs.jsonl" >"$s/none.jsonl"
+expect compression-keeps-id 0 "6 jobs: 0 rendered, 6 skipped" -- "$bin" run "$s/none.jsonl" --out "$s/out"
 expect rerun-skips 0 "6 jobs: 0 rendered, 6 skipped" -- "$bin" run "$s/jobs.jsonl" --out "$s/out"
 expect no-skip 0 "1 jobs: 1 rendered" -- "$bin" run "$s/jobs.jsonl" --out "$s/out" --shard 5/6 --no-skip-existing
 sed 's/"map-size":64/"map-size":128/' "$s/jobs.jsonl" | sed 's/"id":"[0-9a-f]*",//' >"$s/changed.jsonl"

@@ -1,5 +1,5 @@
 // Tests of host/io/exr.h: round trips of many channels at odd sizes (1x1, 3x7, 257x129), attributes,
-// ZIP compression and pixel types read back from the header, half precision, NaN/Inf, data windows
+// each lossless compression and pixel types read back from the header, half precision, NaN/Inf, data windows
 // not at the origin (a fixture written by the OpenEXR C++ API), and errors that name the path.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -110,6 +110,54 @@ INSTANTIATE_TEST_SUITE_P(ExrOddSizes, ExrRoundTrip, ::testing::Values(Size{1, 1}
                          [](const auto& param) { return fmt::format("{}x{}", param.param.width, param.param.height); });
 
 // Numbers as EXR doubles and matrices as m44f survive exactly; a name in two maps, or a reserved one, is refused.
+// Every lossless compression stores the same bits (float and half channels, NaN included) and says so in the header.
+class ExrCompressions : public ExrTest, public ::testing::WithParamInterface<ExrCompression> {};
+
+TEST_P(ExrCompressions, StoreTheSameBitsAndNameThemselves) {
+  Image written = patternImage(37, 19);
+  written.find("visibility.Y")->data[5] = std::numeric_limits<float>::quiet_NaN();
+  ExrOptions options;
+  options.compression = GetParam();
+  options.halfChannels = {"R", "G", "B"};
+  const fs::path path = dir_ / "compressed.exr";
+  writeExr(path, written, options);
+
+  const ExrInfo info = readExrInfo(path);
+  EXPECT_EQ(info.compression, exrCompressionName(GetParam()));
+  const Image read = readExr(path);
+  for (const ImageChannel& channel : written.channels()) {
+    const std::vector<float>& got = read.require(channel.name).data;
+    if (options.halfChannels.count(channel.name)) {
+      // Half channels: the rounding is the format's, not the compression's (ZIP's read-back as reference).
+      ExrOptions zip = options;
+      zip.compression = ExrCompression::Zip;
+      writeExr(dir_ / "zip.exr", written, zip);
+      EXPECT_TRUE((test::allNear<float, float>(got, readExr(dir_ / "zip.exr").require(channel.name).data, kExact)))
+          << channel.name;
+    } else {
+      EXPECT_TRUE((test::allNear<float, float>(got, channel.data, kExact))) << channel.name;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Lossless, ExrCompressions,
+                         ::testing::Values(ExrCompression::None, ExrCompression::Rle, ExrCompression::Zips,
+                                           ExrCompression::Zip, ExrCompression::Piz),
+                         [](const auto& param) { return std::string(exrCompressionName(param.param)); });
+
+TEST(ExrCompressionNames, RoundTripAndRefuseLossyOrUnknownNames) {
+  for (const char* name : {"none", "rle", "zips", "zip", "piz"})
+    EXPECT_STREQ(exrCompressionName(parseExrCompression(name)), name);
+  for (const char* name : {"dwaa", "b44", "pxr24", "ZIP", "", "zip "}) {
+    try {
+      parseExrCompression(name);
+      ADD_FAILURE() << "'" << name << "' was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("use none, rle, zips, zip or piz"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST_F(ExrTest, NumbersAndMatricesSurviveAsTypedAttributes) {
   Image image = patternImage(3, 2);
   image.numbers() = {{"penumbra:rays", 123456789012.0}, {"penumbra:stderr-mean", 0.1234567890123}};

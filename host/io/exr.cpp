@@ -51,6 +51,26 @@ constexpr std::array<unsigned char, 4> kExrMagic = {0x76, 0x2f, 0x31, 0x01};
   throw std::runtime_error(fmt::format("{}: {}", path.string(), what));
 }
 
+Imf::Compression toImf(ExrCompression compression) {
+  switch (compression) {
+    case ExrCompression::None:
+      return Imf::NO_COMPRESSION;
+    case ExrCompression::Rle:
+      return Imf::RLE_COMPRESSION;
+    case ExrCompression::Zips:
+      return Imf::ZIPS_COMPRESSION;
+    case ExrCompression::Piz:
+      return Imf::PIZ_COMPRESSION;
+    case ExrCompression::Zip:
+      break;
+  }
+  return Imf::ZIP_COMPRESSION;
+}
+
+constexpr std::array<ExrCompression, 5> kCompressions = {ExrCompression::None, ExrCompression::Rle,
+                                                          ExrCompression::Zips, ExrCompression::Zip,
+                                                          ExrCompression::Piz};
+
 Imf::Header makeHeader(const std::filesystem::path& path, const Image& image, const ExrOptions& options) {
   if (image.empty()) fail(path, fmt::format("cannot write an empty {}x{} image", image.width(), image.height()));
   if (image.channels().empty()) fail(path, "cannot write an image without channels");
@@ -58,7 +78,7 @@ Imf::Header makeHeader(const std::filesystem::path& path, const Image& image, co
     if (image.find(name) == nullptr) fail(path, fmt::format("half channel '{}' is not in the image", name));
 
   Imf::Header header(image.width(), image.height());
-  header.compression() = Imf::ZIP_COMPRESSION;
+  header.compression() = toImf(options.compression);
   for (const ImageChannel& channel : image.channels()) {
     const bool half = options.halfChannels.count(channel.name) != 0;
     header.channels().insert(channel.name, Imf::Channel(half ? Imf::HALF : Imf::FLOAT));
@@ -180,6 +200,15 @@ void readAttribute(const std::string& name, const Imf::Attribute& attribute, Ima
 }
 
 }  // namespace
+
+ExrCompression parseExrCompression(const std::string& name) {
+  for (ExrCompression compression : kCompressions)
+    if (name == exrCompressionName(compression)) return compression;
+  throw std::invalid_argument(
+      fmt::format("EXR compression '{}': use none, rle, zips, zip or piz (the lossless ones)", name));
+}
+
+const char* exrCompressionName(ExrCompression compression) { return compressionName(toImf(compression)); }
 
 const char* exrPixelTypeName(ExrPixelType type) {
   switch (type) {

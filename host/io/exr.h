@@ -1,5 +1,6 @@
-// OpenEXR output and input of Image: lossless ZIP, 32-bit float channels (half on request), string
-// attributes for provenance (technique, parameters, device), double and m44f attributes for numbers and matrices.
+// OpenEXR output and input of Image: lossless compression (ZIP unless asked otherwise), 32-bit float channels (half
+// on request), string attributes for provenance (technique, parameters, device), double and m44f attributes for
+// numbers and matrices.
 // Writes are all-or-nothing (temp file + rename). Every failure is a std::runtime_error that starts with the path and
 // says why.
 #pragma once
@@ -14,7 +15,17 @@
 
 namespace penumbra {
 
+// The lossless compressions a penumbra EXR may be written with (the lossy ones, pxr24/b44/dwa, would change the
+// visibility a batch job is checked by). ZIP is the default: the smallest files of the five on our channels; none
+// writes fastest (a CPU device shares its cores with the compression, docs/batch.md#throughput).
+enum class ExrCompression { None, Rle, Zips, Zip, Piz };
+
+// "none", "rle", "zips", "zip", "piz"; throws std::invalid_argument naming the choices for anything else.
+ExrCompression parseExrCompression(const std::string& name);
+const char* exrCompressionName(ExrCompression compression);
+
 struct ExrOptions {
+  ExrCompression compression = ExrCompression::Zip;
   // Channels stored as 16-bit half instead of 32-bit float (e.g. previews of "R", "G", "B").
   // Values beyond +-65504 become +-Inf and small ones lose precision; every name must be a channel
   // of the image (a typo is an error, not a silent float channel).

@@ -40,6 +40,11 @@ ImageOutputPlan planImageOutput(const ImageOutput& output) {
   const fs::path path = output.path;
   const std::string ext = lowerExtension(path);
   ImageOutputPlan plan;
+  try {
+    plan.exrOptions.compression = parseExrCompression(output.exrCompression);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("--exr-compression: ") + e.what());
+  }
   if (ext == ".png") {
     if (!output.png.empty())
       throw std::invalid_argument(fmt::format("--png {}: -o {} is the PNG preview already (use -o NAME.exr for both)",
@@ -68,7 +73,7 @@ std::string writeImageOutput(const ImageOutputPlan& plan, const Image& image) {
   }
   if (plan.exr) {
     createParent(*plan.exr);
-    writeExr(*plan.exr, image);
+    writeExr(*plan.exr, image, plan.exrOptions);
   }
   if (plan.exr && plan.png) return fmt::format("wrote {} and {}", plan.exr->string(), plan.png->string());
   return "wrote " + (plan.exr ? *plan.exr : *plan.png).string();

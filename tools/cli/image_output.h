@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "host/io/exr.h"
 #include "host/io/image.h"
 
 namespace penumbra::cli {
@@ -15,11 +16,13 @@ namespace penumbra::cli {
 struct ImageOutput {
   std::string path;  // -o: out.exr or out.png
   std::string png;   // --png: empty = the EXR path with .png, "none" = no preview
+  std::string exrCompression = "zip";  // --exr-compression
 };
 
 // What will be written: at least one of the two.
 struct ImageOutputPlan {
   std::optional<std::filesystem::path> exr, png;
+  ExrOptions exrOptions;
 };
 
 inline void addImageOutputOptions(CLI::App* sub, ImageOutput& output) {
@@ -29,10 +32,14 @@ inline void addImageOutputOptions(CLI::App* sub, ImageOutput& output) {
       ->capture_default_str();
   sub->add_option("--png", output.png,
                   "PNG preview of an .exr output: PATH, or none (default: the EXR path with .png)");
+  sub->add_option("--exr-compression", output.exrCompression,
+                  "The EXR's lossless compression: zip (smallest), zips, piz, rle or none (fastest to write; the "
+                  "pixels are the same whichever)")
+      ->capture_default_str();
 }
 
-// Throws std::invalid_argument for an extension other than .exr/.png, --png with a .png output, or a --png path
-// that is the EXR's own.
+// Throws std::invalid_argument for an extension other than .exr/.png, --png with a .png output, a --png path that is
+// the EXR's own, or an unknown --exr-compression.
 ImageOutputPlan planImageOutput(const ImageOutput& output);
 
 // Writes what the plan says (creating folders; the PNG before the EXR) and returns the "wrote A and B" message.

@@ -71,13 +71,17 @@ std::vector<std::string> jobArguments(const json& object, const JobPaths& paths,
   return args;
 }
 
-// The options given (but the paths and the technique's), the technique's name and every parameter's value.
+// The options given (but the paths, the EXR's compression and the technique's), the technique's name and every
+// parameter's value.
 std::string normalisedKey(const CLI::App& app, const TechniqueChoice& choice) {
   json key = json::object();
   for (const CLI::Option* option : app.get_options()) {
     const std::string name = option->get_name();
     if (option->count() == 0 || option->get_group() == "Technique parameters" || name.rfind("--", 0) != 0) continue;
-    if (name == "--output" || name == "--png" || name == "--technique" || name == "--device") continue;
+    // Where and how the output is written is not what it holds (the compressions are lossless).
+    if (name == "--output" || name == "--png" || name == "--exr-compression" || name == "--technique" ||
+        name == "--device")
+      continue;
     key[name.substr(2)] = option->results();
   }
   key["technique"] = choice.info->name;
