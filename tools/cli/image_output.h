@@ -14,8 +14,8 @@
 namespace penumbra::cli {
 
 struct ImageOutput {
-  std::string path;  // -o: out.exr or out.png
-  std::string png;   // --png: empty = the EXR path with .png, "none" = no preview
+  std::string path;                    // -o: out.exr or out.png
+  std::string png;                     // --png: empty = the EXR path with .png, "none" = no preview
   std::string exrCompression = "zip";  // --exr-compression
 };
 
