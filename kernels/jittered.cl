@@ -142,7 +142,9 @@ inline void jittered_count(uint flags, int2 texel, uint pixel, __local JitterGro
     // texel >= -1: the division rounds towards 0. A vector bound: oclgrind 21.10 gets max(int2, int) wrong.
     int2 lo = max((texel - JITTER_DRAW_MARGIN) / tileSize, (int2)(0));
     int2 hi = min((texel + JITTER_DRAW_MARGIN) / tileSize, (int2)(tilesX - 1, tilesY - 1));
-    box = (int4)(lo, hi);
+    // Lane by lane: clang builds (int4)(lo, hi) from shuffles with undef lanes, on which oclgrind 21.10's
+    // uninitialised-value check crashes (tests/data/oclgrind/shuffle_undef.c).
+    box = (int4)(lo.x, lo.y, hi.x, hi.y);
   }
   wg->flags[lid] = flags, wg->texel[lid] = texel, wg->tiles[lid] = box;
   barrier(CLK_LOCAL_MEM_FENCE);
