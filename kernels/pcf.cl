@@ -11,14 +11,8 @@
 // - ID buffer (Luksch sec. 9.1, kernels/shared/id_buffer.h): each tap's four-neighbour id test instead of (or, in
 //   combined mode, between objects beside) its depth comparison, so the filter averages id tests.
 #include "kernels/shared/id_buffer.h"
+#include "kernels/shared/rotation.h"
 #include "kernels/shared/shadow_common.h"
-
-// Rotation angle in [0, 2 pi) per pixel: interleaved gradient noise of the pixel coordinates.
-inline float pcf_frac(float v) { return v - floor(v); }  // OpenCL C's fract() needs an out-pointer
-
-inline float pcf_rotation(uint x, uint y) {
-  return 6.2831853f * pcf_frac(52.9829189f * pcf_frac(0.06711056f * (float)x + 0.00583715f * (float)y));
-}
 
 __kernel void pcf_visibility(__global const float4* position, __global const float4* normal, uint width, uint height,
                              __global const float* map, __constant const LightViewGpu* lv, float biasConstant,
@@ -52,11 +46,10 @@ __kernel void pcf_visibility(__global const float4* position, __global const flo
   float sum = 0.0f;
   int taps = 0;
   if (poissonTaps > 0) {
-    float angle = pcf_rotation(i % width, i / width);
+    float angle = rot_angle(i % width, i / width);
     float2 cs = (float2)(cos(angle), sin(angle));
     for (int k = 0; k < poissonTaps; ++k) {
-      float2 d = poisson[k];
-      float2 offset = reach * (float2)(cs.x * d.x - cs.y * d.y, cs.y * d.x + cs.x * d.y);
+      float2 offset = reach * rot_apply(cs, poisson[k]);
       sum += id_visibility(mapIds, objectIds, lv->width, lv->height, idUv + offset, ownTriangle, ownObject, idMode,
                            sc_tap(map, lv, r, rp, planeBias, offset));
     }

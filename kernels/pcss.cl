@@ -2,33 +2,43 @@
 // 1. blocker search over the region of the map the light disk subtends from the receiver, averaging the
 //    depths of texels closer than the receiver; 2. penumbra width from similar triangles; 3. PCF over that
 //    width. The brute-force baseline that VSSM must beat: cost grows with the search and filter tap counts.
+// Taps (`pattern`): 0, a taps x taps grid over the square of the region's half-width; 1, taps^2 points of a Poisson
+// disk (Mitchell's best candidate, host side) over the region's disk, the shape the light disk actually gives both
+// regions, rotated per pixel (kernels/shared/rotation.h) so the grid's banding becomes noise.
+#include "kernels/shared/rotation.h"
 #include "kernels/shared/shadow_common.h"
 
-// Average depth of blockers in a square of half-width `radius` texels sampled on a taps x taps grid;
-// returns 0 when no texel blocks.
+// Tap k of a search or filter region of half-width `radius` texels: grid (taps x taps) or rotated Poisson disk.
+inline float2 pcss_offset(int pattern, __global const float2* disk, float2 cs, int taps, int k, float radius) {
+  if (pattern == 1) return radius * rot_apply(cs, disk[k]);
+  if (taps <= 1) return (float2)(0.0f);
+  float step = 2.0f * radius / (float)(taps - 1);
+  return (float2)(-radius + (k % taps) * step, -radius + (k / taps) * step);
+}
+
+// Average depth of blockers in the search region of half-width `radius` texels; returns 0 when no tap blocks.
 inline float pcss_blocker_depth(__global const float* map, __constant const LightViewGpu* lv, Receiver r, float radius,
-                                int taps) {
+                                int pattern, __global const float2* disk, float2 cs, int taps) {
   float sum = 0.0f;
   int found = 0;
-  float step = taps > 1 ? 2.0f * radius / (float)(taps - 1) : 0.0f;
-  for (int j = 0; j < taps; ++j)
-    for (int k = 0; k < taps; ++k) {
-      float2 offset = taps > 1 ? (float2)(-radius + k * step, -radius + j * step) : (float2)(0.0f);
-      float2 uv = r.uv + offset;
-      float occluder = sc_fetch(map, lv->width, lv->height, (int)floor(uv.x), (int)floor(uv.y));
-      float depth = r.depth - r.bias - r.biasSlope * length(offset);
-      if (occluder < depth) {
-        sum += occluder;
-        ++found;
-      }
+  for (int k = 0; k < taps * taps; ++k) {
+    float2 offset = pcss_offset(pattern, disk, cs, taps, k, radius);
+    float2 uv = r.uv + offset;
+    float occluder = sc_fetch(map, lv->width, lv->height, (int)floor(uv.x), (int)floor(uv.y));
+    float depth = r.depth - r.bias - r.biasSlope * length(offset);
+    if (occluder < depth) {
+      sum += occluder;
+      ++found;
     }
+  }
   return found > 0 ? sum / (float)found : 0.0f;
 }
 
 __kernel void pcss_visibility(__global const float4* position, __global const float4* normal, uint width,
-                              uint height,
-                              __global const float* map, __constant const LightViewGpu* lv, float biasConstant,
-                              float biasSlope, float normalOffset, int receiverPlane, int searchTaps, int filterTaps, float maxRadius,
+                              uint height, __global const float* map, __constant const LightViewGpu* lv,
+                              float biasConstant, float biasSlope, float normalOffset, int receiverPlane,
+                              int searchTaps, int filterTaps, float maxRadius, int pattern,
+                              __global const float2* searchDisk, __global const float2* filterDisk,
                               __global float* blockerOut, __global float* visibility) {
   uint i = get_global_id(0);
   if (i >= width * height) return;
@@ -40,20 +50,18 @@ __kernel void pcss_visibility(__global const float4* position, __global const fl
   float3 n = normal[i].xyz;
   Receiver r = sc_receiver(lv, p.xyz, n, bias);
   if (!r.valid) return;
+  float angle = rot_angle(i % width, i / width);
+  float2 cs = (float2)(cos(angle), sin(angle));
   // The light disk seen from the receiver covers, at the near plane, the widest region that can hold blockers.
   float search = clamp(lv_penumbra_texels(lv, r.depth, lv->zNear), 0.5f, maxRadius);
-  float blocker = pcss_blocker_depth(map, lv, r, search, searchTaps);
+  float blocker = pcss_blocker_depth(map, lv, r, search, pattern, searchDisk, cs, searchTaps);
   blockerOut[i] = blocker;
   if (blocker <= 0.0f) return;  // no blocker: fully lit
   float radius = clamp(lv_penumbra_texels(lv, r.depth, blocker), 0.5f, maxRadius);
   ReceiverPlane rp = sc_receiver_plane_at(receiverPlane, position, lv, width, height, i, p.xyz, n, r.texel);
   const float planeBias = biasConstant * r.texel;
   float sum = 0.0f;
-  float step = filterTaps > 1 ? 2.0f * radius / (float)(filterTaps - 1) : 0.0f;
-  for (int j = 0; j < filterTaps; ++j)
-    for (int k = 0; k < filterTaps; ++k) {
-      float2 offset = filterTaps > 1 ? (float2)(-radius + k * step, -radius + j * step) : (float2)(0.0f);
-      sum += sc_tap(map, lv, r, rp, planeBias, offset);
-    }
+  for (int k = 0; k < filterTaps * filterTaps; ++k)
+    sum += sc_tap(map, lv, r, rp, planeBias, pcss_offset(pattern, filterDisk, cs, filterTaps, k, radius));
   visibility[i] = sum / (float)(filterTaps * filterTaps);
 }

@@ -34,5 +34,21 @@ TEST(Poisson, PointsLieInTheDiskWellSpreadAndDeterministic) {
   EXPECT_THROW(poissonDisk(0), std::invalid_argument);
 }
 
+// The grid's nearest-neighbour search changes nothing: the exhaustive search's patterns bit for bit, at counts pcf
+// and pcss use and odd ones between (up to 32^2: the exhaustive search of 64^2 alone takes seconds).
+TEST(Poisson, GridSearchGivesTheExhaustiveSearchsPatterns) {
+  for (int count : {1, 2, 3, 17, 64, 100, 257, 1024}) {
+    for (uint64_t seed : {1u, 2u, 99u}) {
+      const std::vector<cl_float2> grid = poissonDisk(count, seed);
+      const std::vector<cl_float2> exhaustive = poissonDisk(count, seed, 64, NeighbourSearch::Exhaustive);
+      ASSERT_EQ(grid.size(), exhaustive.size());
+      for (size_t i = 0; i < grid.size(); ++i) {
+        ASSERT_EQ(grid[i].s[0], exhaustive[i].s[0]) << count << " points, seed " << seed << ", point " << i;
+        ASSERT_EQ(grid[i].s[1], exhaustive[i].s[1]) << count << " points, seed " << seed << ", point " << i;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace penumbra

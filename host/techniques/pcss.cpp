@@ -1,5 +1,7 @@
 // `pcss`: percentage-closer soft shadows for spot disk lights and sun disks (kernels/pcss.cl): blocker
-// search, penumbra from similar triangles, PCF. Debug channel: the average blocker depth.
+// search, penumbra from similar triangles, PCF, on grids or rotated Poisson disks. Debug channel: the average blocker
+// depth.
+#include "host/techniques/poisson.h"
 #include "host/techniques/registry.h"
 #include "host/techniques/shadow_map.h"
 
@@ -13,17 +15,33 @@ class PercentageCloserSoft final : public Technique {
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     renderShadowMap(frame, params_, map_, static_cast<float>(params_.get("pcss-max-radius")));
     blocker_.allocate(frame.ctx, visibility.size());
+    const int searchTaps = params_.getInt("pcss-search-taps"), filterTaps = params_.getInt("pcss-filter-taps");
+    const int pattern = params_.getInt("pcss-pattern");
+    if (searchDisk_.empty()) {
+      // taps^2 points each (the grid's count); their own seeds, so the two patterns do not line up.
+      const int searchCount = pattern == kPoisson ? searchTaps * searchTaps : 1;
+      const int filterCount = pattern == kPoisson ? filterTaps * filterTaps : 1;
+      upload(frame.ctx, poissonDisk(searchCount, 2), searchDisk_);
+      upload(frame.ctx, poissonDisk(filterCount, 1), filterDisk_);
+    }
     launchVisibility(frame, map_, params_, "kernels/pcss.cl", "pcss_visibility", visibility,
-                     params_.getInt("receiver-plane"),
-                     params_.getInt("pcss-search-taps"), params_.getInt("pcss-filter-taps"),
-                     static_cast<float>(params_.get("pcss-max-radius")), blocker_);
+                     params_.getInt("receiver-plane"), searchTaps, filterTaps,
+                     static_cast<float>(params_.get("pcss-max-radius")), pattern, searchDisk_, filterDisk_, blocker_);
   }
 
   void addDebugChannels(Context& ctx, Image& image) override { image.add("blocker.Z", blocker_.download(ctx)); }
 
  private:
+  static constexpr int kPoisson = 1;  // pcss-pattern's index of "poisson"
+
+  static void upload(Context& ctx, const std::vector<cl_float2>& disk, Buffer<cl_float2>& buffer) {
+    buffer.allocate(ctx, disk.size(), CL_MEM_READ_ONLY);
+    buffer.upload(ctx, std::span<const cl_float2>(disk));
+  }
+
   Params params_;
   ShadowMap map_;
+  Buffer<cl_float2> searchDisk_, filterDisk_;
   Buffer<float> blocker_;
 };
 
@@ -32,9 +50,14 @@ class PercentageCloserSoft final : public Technique {
 TechniqueInfo pcssTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
   params.push_back(receiverPlaneParam());
-  params.push_back({"pcss-search-taps", 8, 1, 64, "Blocker-search grid: taps x taps samples"});
-  params.push_back({"pcss-filter-taps", 8, 1, 64, "PCF grid: taps x taps bilinear comparisons"});
+  params.push_back({"pcss-search-taps", 8, 1, 64, "Blocker search: taps x taps samples (grid) or taps^2 (disk)"});
+  params.push_back({"pcss-filter-taps", 8, 1, 64, "PCF: taps x taps (grid) or taps^2 (disk) bilinear comparisons"});
   params.push_back({"pcss-max-radius", 64, 1, 512, "Largest search/filter half-width in texels"});
+  // The disk by default: at the grid's tap count it halves the grid's error or more, docs/techniques/sm-pcf-pcss.md.
+  params.push_back({"pcss-pattern", 1, 0, 1,
+                    "Search and filter taps: taps^2 rotated Poisson-disk points over the light's disk, or a taps x "
+                    "taps grid over a square",
+                    {"grid", "poisson"}});
   return {"pcss", "Percentage-closer soft shadows (blocker search + PCF) for area lights", params,
           [](const Params& p) { return std::make_unique<PercentageCloserSoft>(p); }};
 }

@@ -12,7 +12,11 @@ namespace penumbra {
 // distribution ray tracing", SIGGRAPH 1991): each new point is, of `candidates` uniform candidates, the one
 // farthest from the points already placed. Candidates come from a fixed 32-bit generator (PCG32), so the
 // pattern depends only on (count, seed). Sorted by distance from the centre. Throws std::invalid_argument
-// for count < 1.
-std::vector<cl_float2> poissonDisk(int count, uint64_t seed = 1, int candidates = 64);
+// for count < 1. Nearest neighbours are searched in a grid of the points placed (Grid), which gives the exhaustive
+// search's (Exhaustive, the reference the tests compare with) patterns bit for bit, in O(count) instead of
+// O(count^2) time per point.
+enum class NeighbourSearch { Grid, Exhaustive };
+std::vector<cl_float2> poissonDisk(int count, uint64_t seed = 1, int candidates = 64,
+                                   NeighbourSearch search = NeighbourSearch::Grid);
 
 }  // namespace penumbra
