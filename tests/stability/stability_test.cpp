@@ -290,6 +290,49 @@ TEST_F(Stability, APointLightInsideAClosedBox) {
   for (const auto& [name, mean] : seen) EXPECT_LT(mean, 0.01) << name;
 }
 
+// Issue 20's targets on every built-in scene under its own area light (each has one), default parameters, against
+// 256 spp. Asserted where they hold: some technique reaches MAE <= kBestMaxMae on every scene, and pcss (the most
+// accurate soft technique) keeps light out of the umbra (umbra_light <= kMaxUmbraLight), except on poles, where it
+// misses the target narrowly (measured 0.056 here, 0.050 at 480x270: the average blocker depth of a thin pole over a
+// far ground), so kPolesUmbraLight guards today's value. Printed where they do not yet hold, measured in
+// docs/evaluation.md ("Targets on the built-in scenes"): vssm within 1.1x of pcss's MAE (1.8-2.1x on box, staircase and
+// stacked-planes), and no technique above 5 % umbra light (on poles every prefiltered technique washes them out).
+constexpr double kBestMaxMae = 0.004;
+constexpr double kMaxUmbraLight = 0.05;
+constexpr double kPolesUmbraLight = 0.07;
+
+TEST_F(Stability, TargetsOnEveryBuiltinSceneUnderItsAreaLight) {
+  for (const ProceduralInfo& builtin : proceduralScenes()) {
+    const Scene scene = makeProcedural(builtin.name);
+    ASSERT_FALSE(scene.lights.empty()) << builtin.name;
+    const Light& light = scene.lights.front();
+    ASSERT_TRUE(light.radius > 0.0f || light.angularRadiusDeg > 0.0f) << builtin.name << ": not an area light";
+    const Case c = makeCase(scene, sceneCamera(scene, 240, 135), light.describe(), 256);
+    std::map<std::string, ErrorMetrics> seen;
+    for (const std::string& name : allTechniques()) {
+      // The techniques' own map sizes (the suite's 512 elsewhere is for speed): the targets are the defaults'.
+      const TechniqueInfo& info = findTechnique(name);
+      Values own;
+      for (const ParamSpec& spec : info.params)
+        if (spec.name == "map-size") own["map-size"] = std::to_string(static_cast<int>(spec.defaultValue));
+      seen[name] = metrics(render(c, name, own), c);
+    }
+    std::string best;
+    double worstUmbra = 0;
+    for (const auto& [name, m] : seen) {
+      if (best.empty() || m.mae < seen[best].mae) best = name;
+      worstUmbra = std::max(worstUmbra, m.umbraLight);
+    }
+    const ErrorMetrics &pcss = seen["pcss"], &vssm = seen["vssm"];
+    std::printf("  targets %-15s best %-8s mae %.5f; pcss mae %.5f umbra light %.4f; vssm / pcss %.2f; worst umbra "
+                "light %.4f (of %zu umbra pixels)\n",
+                builtin.name.c_str(), best.c_str(), seen[best].mae, pcss.mae, pcss.umbraLight,
+                pcss.mae > 0 ? vssm.mae / pcss.mae : 1.0, worstUmbra, pcss.umbraPixels);
+    EXPECT_LE(seen[best].mae, kBestMaxMae) << builtin.name;
+    EXPECT_LE(pcss.umbraLight, builtin.name == "poles" ? kPolesUmbraLight : kMaxUmbraLight) << builtin.name;
+  }
+}
+
 // Degenerate inputs: every technique gets through them cleanly (render() checks NaN and range).
 TEST_F(Stability, DegenerateScenesNeverCrashOrEmitNan) {
   Camera camera;
