@@ -56,7 +56,9 @@ class Stability : public test::ClTest {
     return result;
   }
 
-  static ErrorMetrics metrics(const RenderResult& ours, const Case& c) { return compareImages(ours.image, c.reference); }
+  static ErrorMetrics metrics(const RenderResult& ours, const Case& c) {
+    return compareImages(ours.image, c.reference);
+  }
 
   // Brightest and mean visibility of ours where the reference is in full shadow (< 0.01) over a 5x5 pixel
   // neighbourhood (so edge aliasing does not count) and the point can receive light at all: light bleeding
@@ -324,10 +326,11 @@ TEST_F(Stability, TargetsOnEveryBuiltinSceneUnderItsAreaLight) {
       worstUmbra = std::max(worstUmbra, m.umbraLight);
     }
     const ErrorMetrics &pcss = seen["pcss"], &vssm = seen["vssm"];
-    std::printf("  targets %-15s best %-8s mae %.5f; pcss mae %.5f umbra light %.4f; vssm / pcss %.2f; worst umbra "
-                "light %.4f (of %zu umbra pixels)\n",
-                builtin.name.c_str(), best.c_str(), seen[best].mae, pcss.mae, pcss.umbraLight,
-                pcss.mae > 0 ? vssm.mae / pcss.mae : 1.0, worstUmbra, pcss.umbraPixels);
+    std::printf(
+        "  targets %-15s best %-8s mae %.5f; pcss mae %.5f umbra light %.4f; vssm / pcss %.2f; worst umbra "
+        "light %.4f (of %zu umbra pixels)\n",
+        builtin.name.c_str(), best.c_str(), seen[best].mae, pcss.mae, pcss.umbraLight,
+        pcss.mae > 0 ? vssm.mae / pcss.mae : 1.0, worstUmbra, pcss.umbraPixels);
     EXPECT_LE(seen[best].mae, kBestMaxMae) << builtin.name;
     EXPECT_LE(pcss.umbraLight, builtin.name == "poles" ? kPolesUmbraLight : kMaxUmbraLight) << builtin.name;
   }
