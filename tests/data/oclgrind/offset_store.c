@@ -15,20 +15,9 @@
 //   mode 7: clEnqueueFillBuffer of all 2N floats (2N stores of 4 bytes) -> report
 // Build and run: gcc offset_store.c -o offset_store -lOpenCL
 //   OCL_ICD_VENDORS=DIR_WITH_OCLGRIND_ICD OCLGRIND_UNINITIALIZED=1 ./offset_store MODE
-#define CL_TARGET_OPENCL_VERSION 120
-#include <CL/cl.h>
-#include <stdio.h>
-#include <stdlib.h>
+#include "repro.h"
 
 #define N 64
-#define CHECK(x)                                                       \
-  do {                                                                 \
-    cl_int e_ = (x);                                                   \
-    if (e_ != CL_SUCCESS) {                                            \
-      fprintf(stderr, "%s:%d: %s = %d\n", __FILE__, __LINE__, #x, e_); \
-      exit(1);                                                         \
-    }                                                                  \
-  } while (0)
 
 static const char* kSource =
     "__kernel void sum(__global const float* in, __global float* out, uint first, uint count) {\n"
@@ -42,18 +31,11 @@ static const char* kSource =
 
 int main(int argc, char** argv) {
   int mode = argc > 1 ? atoi(argv[1]) : 0;
-  cl_platform_id platform;
-  cl_device_id device;
+  Repro r = repro_open(kSource, "");
+  cl_context ctx = r.ctx;
+  cl_command_queue q = r.q;
+  cl_program prog = r.prog;
   cl_int err;
-  CHECK(clGetPlatformIDs(1, &platform, NULL));
-  CHECK(clGetDeviceIDs(platform, CL_DEVICE_TYPE_ALL, 1, &device, NULL));
-  cl_context ctx = clCreateContext(NULL, 1, &device, NULL, NULL, &err);
-  CHECK(err);
-  cl_command_queue q = clCreateCommandQueue(ctx, device, 0, &err);
-  CHECK(err);
-  cl_program prog = clCreateProgramWithSource(ctx, 1, &kSource, NULL, &err);
-  CHECK(err);
-  CHECK(clBuildProgram(prog, 1, &device, "", NULL, NULL));
   cl_kernel sum = clCreateKernel(prog, "sum", &err);
   CHECK(err);
   cl_kernel copy = clCreateKernel(prog, "copy_at", &err);

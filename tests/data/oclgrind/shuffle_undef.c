@@ -9,19 +9,7 @@
 //   mode 1: out = (int4)(lo.x, lo.y, hi.x, hi.y) -> runs, no report (kernels/jittered.cl's form)
 // Build and run: gcc shuffle_undef.c -o shuffle_undef -lOpenCL
 //   OCL_ICD_VENDORS=DIR_WITH_OCLGRIND_ICD OCLGRIND_UNINITIALIZED=1 ./shuffle_undef MODE
-#define CL_TARGET_OPENCL_VERSION 120
-#include <CL/cl.h>
-#include <stdio.h>
-#include <stdlib.h>
-
-#define CHECK(x)                                                       \
-  do {                                                                 \
-    cl_int e_ = (x);                                                   \
-    if (e_ != CL_SUCCESS) {                                            \
-      fprintf(stderr, "%s:%d: %s = %d\n", __FILE__, __LINE__, #x, e_); \
-      exit(1);                                                         \
-    }                                                                  \
-  } while (0)
+#include "repro.h"
 
 static const char* kSource =
     "__kernel void widen(__global const int2* in, __global int4* out) {\n"
@@ -41,18 +29,11 @@ int main(int argc, char** argv) {
     fprintf(stderr, "mode 0 or 1\n");
     return 2;
   }
-  cl_platform_id platform;
-  cl_device_id device;
+  Repro r = repro_open(kSource, "-cl-opt-disable");
+  cl_context ctx = r.ctx;
+  cl_command_queue q = r.q;
+  cl_program prog = r.prog;
   cl_int err;
-  CHECK(clGetPlatformIDs(1, &platform, NULL));
-  CHECK(clGetDeviceIDs(platform, CL_DEVICE_TYPE_ALL, 1, &device, NULL));
-  cl_context ctx = clCreateContext(NULL, 1, &device, NULL, NULL, &err);
-  CHECK(err);
-  cl_command_queue q = clCreateCommandQueue(ctx, device, 0, &err);
-  CHECK(err);
-  cl_program prog = clCreateProgramWithSource(ctx, 1, &kSource, NULL, &err);
-  CHECK(err);
-  CHECK(clBuildProgram(prog, 1, &device, "-cl-opt-disable", NULL, NULL));
   cl_kernel kernel = clCreateKernel(prog, mode == 0 ? "widen" : "widen_lanes", &err);
   CHECK(err);
 
