@@ -77,6 +77,8 @@ pn_status pn_frame_device_buffer(const pn_frame* frame, pn_frame_output output, 
       case PN_FRAME_DEPTH:
         *buffer = f.depth.get()();
         return;
+      case PN_FRAME_OUTPUT_MAX_ENUM:  // not an output
+        break;
     }
     throw std::invalid_argument(
         fmt::format("pn_frame_device_buffer: output {} is none of PN_FRAME_PREVIEW, "

@@ -73,6 +73,8 @@ pn_status pn_sat(pn_context* context, cl_mem image, const pn_image_shape* shape,
         return satOf<uint64_t>(call, image, imageShape, sat, table, offset);
       case PN_SAT_FLOAT64:
         return satOf<double>(call, image, imageShape, sat, table, offset);
+      case PN_SAT_PRECISION_MAX_ENUM:  // refused by checkEnum
+        break;
     }
   });
 }

@@ -76,6 +76,8 @@ const char* pn_status_name(pn_status status) {
       return "PN_ERROR_OUT_OF_MEMORY";
     case PN_ERROR_UNKNOWN:
       return "PN_ERROR_UNKNOWN";
+    case PN_STATUS_MAX_ENUM:  // not a status
+      break;
   }
   return "PN_UNKNOWN_STATUS";
 }

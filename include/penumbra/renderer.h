@@ -117,7 +117,9 @@ typedef enum pn_frame_output {
   PN_FRAME_PREVIEW = 0,  /**< cl_float4 per pixel: the shaded preview's R, G, B, A (the channels R, G, B, A). */
   PN_FRAME_POSITION = 1, /**< cl_float4: world position xyz; w = 1 where a surface is seen, 0 for background. */
   PN_FRAME_NORMAL = 2,   /**< cl_float4: unit world shading normal xyz; w = the geometric facing sign. */
-  PN_FRAME_DEPTH = 3     /**< float: linear camera depth (the channel depth.Z); +infinity for background. */
+  PN_FRAME_DEPTH = 3,    /**< float: linear camera depth (the channel depth.Z); +infinity for background. */
+  PN_FRAME_OUTPUT_MAX_ENUM = 0x7FFFFFFF /**< Not a value: makes the type as wide as int, so that any int a C caller
+                                           passes is one of its values (and refused). */
 } pn_frame_output;
 
 /** One of the frame's device outputs in the context's cl_context, owned by the frame like its visibility buffers

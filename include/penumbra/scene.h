@@ -31,7 +31,9 @@ typedef struct pn_camera {
 typedef enum pn_light_type {
   PN_LIGHT_SPOT = 0,        /**< A spot at `position` aiming at `target`; `radius` > 0: a disk area light. */
   PN_LIGHT_DIRECTIONAL = 1, /**< Light travelling along `direction`; `angular_radius_deg` > 0: a sun disk. */
-  PN_LIGHT_POINT = 2        /**< A point at `position` (`radius` > 0: a sphere); no technique renders one yet. */
+  PN_LIGHT_POINT = 2,       /**< A point at `position` (`radius` > 0: a sphere); no technique renders one yet. */
+  PN_LIGHT_TYPE_MAX_ENUM = 0x7FFFFFFF /**< Not a value: makes the type as wide as int, so that any int a C caller passes
+                                         is one of its values (and refused). */
 } pn_light_type;
 
 /** A light. Plain data: fill it with pn_light_init() or pn_light_parse(), or take one from a scene. */

@@ -31,13 +31,17 @@ typedef enum pn_moment_kind {
   PN_MOMENTS_EVSM2 = 1, /**< (e^cz, e^2cz), positive warp: 2 channels. */
   PN_MOMENTS_EVSM4 = 2, /**< Positive and negative warps: 4 channels. */
   PN_MOMENTS_LVSM = 3,  /**< One (z, z^2) plane per layer, each over its own depth interval: 2 channels a plane. */
-  PN_MOMENTS_MSM = 4    /**< Hamburger 4-moment, quantised (Peters & Klein 2015): 4 channels. */
+  PN_MOMENTS_MSM = 4,   /**< Hamburger 4-moment, quantised (Peters & Klein 2015): 4 channels. */
+  PN_MOMENT_KIND_MAX_ENUM = 0x7FFFFFFF /**< Not a value: makes the type as wide as int, so that any int a C caller
+                                          passes is one of its values (and refused). */
 } pn_moment_kind;
 
 /** How moments are stored: fp32 (float elements) or IEEE half (cl_half elements, rounded to nearest even). */
 typedef enum pn_moment_storage {
-  PN_STORAGE_FLOAT32 = 0, /**< float. */
-  PN_STORAGE_FLOAT16 = 1  /**< cl_half; EVSM exponents are clamped to 5.54. */
+  PN_STORAGE_FLOAT32 = 0,                 /**< float. */
+  PN_STORAGE_FLOAT16 = 1,                 /**< cl_half; EVSM exponents are clamped to 5.54. */
+  PN_MOMENT_STORAGE_MAX_ENUM = 0x7FFFFFFF /**< Not a value: makes the type as wide as int, so that any int a C caller
+                                             passes is one of its values (and refused). */
 } pn_moment_storage;
 
 /** One LVSM layer: the interval [p, q] of normalised depth it resolves. */
@@ -72,15 +76,19 @@ PN_API pn_status pn_moments(pn_context* context, cl_mem depth, uint32_t width, u
 
 /** The blur's filter. */
 typedef enum pn_blur_filter {
-  PN_BLUR_GAUSSIAN = 0, /**< Gaussian of standard deviation `sigma` (taps out to ceil(3 sigma)). */
-  PN_BLUR_BOX = 1       /**< Box of 2 `radius` + 1 taps. */
+  PN_BLUR_GAUSSIAN = 0,                /**< Gaussian of standard deviation `sigma` (taps out to ceil(3 sigma)). */
+  PN_BLUR_BOX = 1,                     /**< Box of 2 `radius` + 1 taps. */
+  PN_BLUR_FILTER_MAX_ENUM = 0x7FFFFFFF /**< Not a value: makes the type as wide as int, so that any int a C caller
+                                          passes is one of its values (and refused). */
 } pn_blur_filter;
 
 /** How the blur runs (the result is the same filter either way). */
 typedef enum pn_blur_method {
-  PN_BLUR_AUTO = 0,        /**< Direct taps for small footprints, running sums for large ones. */
-  PN_BLUR_DIRECT = 1,      /**< A weighted sum of every tap (radius at most 128). */
-  PN_BLUR_RUNNING_SUMS = 2 /**< Box running sums, cost independent of the radius (a Gaussian as three boxes). */
+  PN_BLUR_AUTO = 0,         /**< Direct taps for small footprints, running sums for large ones. */
+  PN_BLUR_DIRECT = 1,       /**< A weighted sum of every tap (radius at most 128). */
+  PN_BLUR_RUNNING_SUMS = 2, /**< Box running sums, cost independent of the radius (a Gaussian as three boxes). */
+  PN_BLUR_METHOD_MAX_ENUM = 0x7FFFFFFF /**< Not a value: makes the type as wide as int, so that any int a C caller
+                                          passes is one of its values (and refused). */
 } pn_blur_method;
 
 /** The blur's settings (pn_blur_config_init() gives the defaults). */
@@ -116,15 +124,19 @@ typedef enum pn_sat_precision {
   PN_SAT_FLOAT32 = 0, /**< float, offset to zero mean (the offset goes to the `offset` buffer). */
   PN_SAT_FIXED32 = 1, /**< uint32_t two's complement of round(x 2^fraction_bits), modular: box sums exact. */
   PN_SAT_FIXED64 = 2, /**< uint64_t likewise. */
-  PN_SAT_FLOAT64 = 3  /**< double (devices with fp64 only). */
+  PN_SAT_FLOAT64 = 3, /**< double (devices with fp64 only). */
+  PN_SAT_PRECISION_MAX_ENUM = 0x7FFFFFFF /**< Not a value: makes the type as wide as int, so that any int a C caller
+                                            passes is one of its values (and refused). */
 } pn_sat_precision;
 
 /** The scan that computes the table. */
 typedef enum pn_sat_algorithm {
-  PN_SAT_AUTO = 0,   /**< Tiled on GPUs, lines on CPUs. */
-  PN_SAT_TILED = 1,  /**< Three-pass tiled scan (Nehab et al. 2011). */
-  PN_SAT_LINES = 2,  /**< Row then column line scans. */
-  PN_SAT_HENSLEY = 3 /**< Recursive doubling (Hensley et al. 2005). */
+  PN_SAT_AUTO = 0,                       /**< Tiled on GPUs, lines on CPUs. */
+  PN_SAT_TILED = 1,                      /**< Three-pass tiled scan (Nehab et al. 2011). */
+  PN_SAT_LINES = 2,                      /**< Row then column line scans. */
+  PN_SAT_HENSLEY = 3,                    /**< Recursive doubling (Hensley et al. 2005). */
+  PN_SAT_ALGORITHM_MAX_ENUM = 0x7FFFFFFF /**< Not a value: makes the type as wide as int, so that any int a C caller
+                                            passes is one of its values (and refused). */
 } pn_sat_algorithm;
 
 /** The SAT's settings (pn_sat_config_init() gives the defaults). */

@@ -25,15 +25,16 @@ extern "C" {
 
 /** What a call returned. Every failure also sets the calling thread's message (pn_last_error_message()). */
 typedef enum pn_status {
-  PN_SUCCESS = 0,                /**< The call did what it says. */
-  PN_ERROR_INVALID_ARGUMENT = 1, /**< A bad value, size, name, handle or buffer; no kernel was enqueued. */
-  PN_ERROR_NO_DEVICE = 2,        /**< No OpenCL device, or none matching the device spec. */
-  PN_ERROR_OPENCL = 3,           /**< An OpenCL call failed; pn_last_cl_error() holds its code. */
-  PN_ERROR_BUILD = 4,            /**< A kernel did not compile; the message holds the device, options and log. */
-  PN_ERROR_SCENE = 5,            /**< A scene is missing, malformed or unsupported; the message names the file. */
-  PN_ERROR_RUNTIME = 6,          /**< Anything else the library reports (a file not written, a missing feature). */
-  PN_ERROR_OUT_OF_MEMORY = 7,    /**< Memory ran out, or a frame needs more than the device has (memory plan). */
-  PN_ERROR_UNKNOWN = 8           /**< An unexpected failure; the message says what is known. */
+  PN_SUCCESS = 0,                 /**< The call did what it says. */
+  PN_ERROR_INVALID_ARGUMENT = 1,  /**< A bad value, size, name, handle or buffer; no kernel was enqueued. */
+  PN_ERROR_NO_DEVICE = 2,         /**< No OpenCL device, or none matching the device spec. */
+  PN_ERROR_OPENCL = 3,            /**< An OpenCL call failed; pn_last_cl_error() holds its code. */
+  PN_ERROR_BUILD = 4,             /**< A kernel did not compile; the message holds the device, options and log. */
+  PN_ERROR_SCENE = 5,             /**< A scene is missing, malformed or unsupported; the message names the file. */
+  PN_ERROR_RUNTIME = 6,           /**< Anything else the library reports (a file not written, a missing feature). */
+  PN_ERROR_OUT_OF_MEMORY = 7,     /**< Memory ran out, or a frame needs more than the device has (memory plan). */
+  PN_ERROR_UNKNOWN = 8,           /**< An unexpected failure; the message says what is known. */
+  PN_STATUS_MAX_ENUM = 0x7FFFFFFF /**< Not a status: keeps the type as wide as int, like the other enums. */
 } pn_status;
 
 /** The name of a status ("PN_ERROR_OPENCL"); "PN_UNKNOWN_STATUS" for a value that is none of them. */
