@@ -21,8 +21,7 @@ class PercentageCloser final : public Technique {
     const int poissonTaps = params_.getInt("pcf-poisson-taps");
     if (poisson_.empty()) {
       const std::vector<cl_float2> disk = poissonDisk(std::max(poissonTaps, 1));
-      poisson_.allocate(frame.ctx, disk.size(), CL_MEM_READ_ONLY);
-      poisson_.upload(frame.ctx, std::span<const cl_float2>(disk));
+      poisson_ = Buffer<cl_float2>(frame.ctx, std::span<const cl_float2>(disk), CL_MEM_READ_ONLY);
     }
     filter_.allocate(frame.ctx, visibility.size());
     const GBuffer& g = frame.gbuffer;

@@ -21,8 +21,9 @@ class PercentageCloserSoft final : public Technique {
       // taps^2 points each (the grid's count); their own seeds, so the two patterns do not line up.
       const int searchCount = pattern == kPoisson ? searchTaps * searchTaps : 1;
       const int filterCount = pattern == kPoisson ? filterTaps * filterTaps : 1;
-      upload(frame.ctx, poissonDisk(searchCount, 2), searchDisk_);
-      upload(frame.ctx, poissonDisk(filterCount, 1), filterDisk_);
+      const std::vector<cl_float2> search = poissonDisk(searchCount, 2), filter = poissonDisk(filterCount, 1);
+      searchDisk_ = Buffer<cl_float2>(frame.ctx, std::span<const cl_float2>(search), CL_MEM_READ_ONLY);
+      filterDisk_ = Buffer<cl_float2>(frame.ctx, std::span<const cl_float2>(filter), CL_MEM_READ_ONLY);
     }
     launchVisibility(frame, map_, params_, "kernels/pcss.cl", "pcss_visibility", visibility,
                      params_.getInt("receiver-plane"), searchTaps, filterTaps,
@@ -33,11 +34,6 @@ class PercentageCloserSoft final : public Technique {
 
  private:
   static constexpr int kPoisson = 1;  // pcss-pattern's index of "poisson"
-
-  static void upload(Context& ctx, const std::vector<cl_float2>& disk, Buffer<cl_float2>& buffer) {
-    buffer.allocate(ctx, disk.size(), CL_MEM_READ_ONLY);
-    buffer.upload(ctx, std::span<const cl_float2>(disk));
-  }
 
   Params params_;
   ShadowMap map_;

@@ -315,8 +315,7 @@ TEST_F(Stability, TargetsOnEveryBuiltinSceneUnderItsAreaLight) {
       // The techniques' own map sizes (the suite's 512 elsewhere is for speed): the targets are the defaults'.
       const TechniqueInfo& info = findTechnique(name);
       Values own;
-      for (const ParamSpec& spec : info.params)
-        if (spec.name == "map-size") own["map-size"] = std::to_string(static_cast<int>(spec.defaultValue));
+      if (info.hasParam("map-size")) own["map-size"] = std::to_string(Params(info.params).getInt("map-size"));
       seen[name] = metrics(render(c, name, own), c);
     }
     std::string best;
