@@ -9,6 +9,7 @@ PACKAGES=(
   cmake g++ make pkg-config
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo
   libopenexr-dev libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libcli11-dev libfmt-dev
+  libpng-dev  # PNG previews, written row by row
   libgtest-dev libbenchmark-dev libboost-dev  # Boost.Compute: the scan baseline of stages_bench
   libembree-dev  # Embree 3: the ray-traced reference of `penumbra reference` (tools/reference/ only)
   libopengl-dev libgl-dev libegl-dev libgl1-mesa-dri libegl-mesa0  # raster_bench's OpenGL peer: glvnd, llvmpipe

@@ -8,12 +8,18 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "host/io/exr.h"
+#include "host/io/image_rows.h"
 #include "host/pipeline/renderer.h"
+#include "host/scene/light.h"
 #include "host/techniques/technique.h"
 #include "host/version.h"
 #include "tests/support/analytic_scenes.h"
@@ -107,6 +113,49 @@ TEST_F(FrameImage, ChannelsStayInPlaceAcrossDownloadBands) {
   }
   EXPECT_GT(ground[0], 1000u);  // both bands were checked
   EXPECT_GT(ground[1], 1000u);
+}
+
+// FrameDownload::Deferred: the same channels, header and warnings as the whole Image, bit for bit, read in bands that
+// are no multiple of the height; with two lights (one a point light: its cubeFace.Y debug channel stays a host
+// channel) and for a frame that sees nothing.
+TEST_F(FrameImage, DeferredChannelsEqualTheWholeImage) {
+  Camera camera = test::topDown();
+  camera.width = 97, camera.height = 61;
+  const Scene scene = test::squareOverPlane();
+  const TechniqueInfo& sm = findTechnique("sm");
+  Light point = parseLight("point:0.3,3,0.2");
+  point.name = "Bulb";
+  // The point light first: the first light's debug channels are the frame's.
+  const std::vector<FrameLight> lights = {{point, &sm, Params(sm.params)},
+                                          {test::pointAbove(), &sm, Params(sm.params)}};
+  Camera away = camera;
+  away.target = camera.eye + (camera.eye - camera.target);  // looks up, at nothing
+  for (const bool seesScene : {true, false}) {
+    const Camera& view = seesScene ? camera : away;
+    Renderer whole(ctx(), scene), deferred(ctx(), scene);
+    const RenderResult a = whole.render(view, lights);
+    const RenderResult b = deferred.render(view, lights, FrameDownload::Deferred);
+    EXPECT_EQ(a.warnings, b.warnings);
+    EXPECT_EQ(a.warnings.empty(), seesScene);
+    EXPECT_EQ(a.image.attributes(), b.image.attributes());
+    EXPECT_EQ(a.image.matrices(), b.image.matrices());
+    EXPECT_EQ(b.image.channelNames(), std::vector<std::string>{"cubeFace.Y"});
+    const ImageRows rows(b.image, b.deferred);
+    std::vector<std::string> names = rows.channelNames(), expected = a.image.channelNames();
+    std::sort(names.begin(), names.end());
+    std::sort(expected.begin(), expected.end());
+    ASSERT_EQ(names, expected);
+    for (const ImageChannel& channel : a.image.channels()) {
+      std::vector<float> values(a.image.pixelCount());
+      for (int first = 0; first < camera.height; first += 16) {
+        const int count = std::min(16, camera.height - first);
+        rows.read(channel.name, first, count,
+                  std::span<float>(values).subspan(static_cast<size_t>(first) * camera.width,
+                                                   static_cast<size_t>(count) * camera.width));
+      }
+      EXPECT_EQ(std::memcmp(values.data(), channel.data.data(), values.size() * sizeof(float)), 0) << channel.name;
+    }
+  }
 }
 
 }  // namespace

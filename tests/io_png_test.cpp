@@ -1,6 +1,9 @@
 // Tests of host/io/png.h: the sRGB transfer function against a double-precision
 // reference and known codes, viridis against matplotlib's table, and PNG files decoded back with
 // stb_image (size, channel count, top row first, exposure, alpha, NaN -> magenta, false colour).
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -10,13 +13,11 @@
 #include <string>
 #include <vector>
 
-#include <fmt/format.h>
-#include <gtest/gtest.h>
-
 #define STB_IMAGE_STATIC  // private copy: cannot clash with another stb linked into the tests
 #define STB_IMAGE_IMPLEMENTATION
 #include <stb/stb_image.h>
 
+#include "host/io/image_rows.h"
 #include "host/io/png.h"
 
 namespace penumbra {
@@ -208,6 +209,44 @@ TEST_F(PngPreview, GreyChannelAndErrorsNameThePath) {
   std::ofstream(dir_ / "not-a-dir") << "x";
   EXPECT_THROW(writePngPreview(bad, greyRow({0.5f})), std::runtime_error);
   EXPECT_FALSE(fs::exists(dir_ / "rgb.png"));
+}
+
+// The preview read band by band from deferred channels (three rows a band, 31 rows: a last band of one) decodes to
+// the same bytes as the whole image's, in colour and grey; a reader that fails mid-way leaves no file.
+TEST_F(PngPreview, BandsFromDeferredChannelsEqualTheWholeImage) {
+  Image image(29, 31);
+  for (const char* name : {"R", "G", "B", "A", "visibility.Y"}) {
+    std::vector<float> values(image.pixelCount());
+    for (size_t i = 0; i < values.size(); ++i) values[i] = std::fmod(0.37f * static_cast<float>(i) + *name, 1.1f);
+    values[5] = kNaN;
+    image.add(name, values);
+  }
+  const Image header(image.width(), image.height());
+  std::vector<DeferredChannel> deferred;
+  for (const std::string& name : image.channelNames())
+    deferred.push_back({name, [&image, name](int first, int count, std::span<float> out) {
+                          ImageRows(image).read(name, first, count, out);
+                        }});
+  PngOptions bands;
+  bands.bandBytes = 29 * 4 * 4 * 3;
+  for (const std::string grey : {"", "visibility.Y"}) {
+    bands.greyChannel = grey;
+    writePngPreview(dir_ / "whole.png", image, {.greyChannel = grey});
+    writePngPreview(dir_ / "bands.png", ImageRows(header, deferred), bands);
+    const Decoded whole = decode(dir_ / "whole.png"), banded = decode(dir_ / "bands.png");
+    EXPECT_EQ(whole.components, grey.empty() ? 4 : 3);
+    EXPECT_EQ(banded.width, 29);
+    EXPECT_EQ(banded.height, 31);
+    EXPECT_EQ(whole.pixels, banded.pixels) << grey;
+  }
+  deferred[1].read = [](int first, int, std::span<float>) {
+    if (first > 0) throw std::runtime_error("device lost");
+  };
+  bands.greyChannel.clear();
+  fs::remove(dir_ / "bands.png");
+  EXPECT_THROW(writePngPreview(dir_ / "bands.png", ImageRows(header, deferred), bands), std::runtime_error);
+  EXPECT_FALSE(fs::exists(dir_ / "bands.png"));
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);  // whole.png, no temporary
 }
 
 TEST_F(PngFalseColour, EndpointsNanAndClamping) {

@@ -4,17 +4,6 @@
 // rethrown as std::runtime_error with the path in front.
 #include "host/io/exr.h"
 
-#include <algorithm>
-#include <array>
-#include <cerrno>
-#include <climits>
-#include <cstring>
-#include <fstream>
-#include <new>
-#include <set>
-#include <stdexcept>
-#include <string_view>
-
 #include <IexBaseExc.h>
 #include <ImfChannelList.h>
 #include <ImfCompression.h>
@@ -31,6 +20,18 @@
 #include <ImfTestFile.h>
 #include <fmt/format.h>
 #include <half.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <climits>
+#include <cstring>
+#include <fstream>
+#include <new>
+#include <set>
+#include <span>
+#include <stdexcept>
+#include <string_view>
 
 #include "host/io/atomic_file.h"
 
@@ -67,21 +68,21 @@ Imf::Compression toImf(ExrCompression compression) {
   return Imf::ZIP_COMPRESSION;
 }
 
-constexpr std::array<ExrCompression, 5> kCompressions = {ExrCompression::None, ExrCompression::Rle,
-                                                          ExrCompression::Zips, ExrCompression::Zip,
-                                                          ExrCompression::Piz};
+constexpr std::array<ExrCompression, 5> kCompressions = {
+    ExrCompression::None, ExrCompression::Rle, ExrCompression::Zips, ExrCompression::Zip, ExrCompression::Piz};
 
-Imf::Header makeHeader(const std::filesystem::path& path, const Image& image, const ExrOptions& options) {
+Imf::Header makeHeader(const std::filesystem::path& path, const ImageRows& rows, const ExrOptions& options) {
+  const Image& image = rows.header();
   if (image.empty()) fail(path, fmt::format("cannot write an empty {}x{} image", image.width(), image.height()));
-  if (image.channels().empty()) fail(path, "cannot write an image without channels");
+  if (rows.channelNames().empty()) fail(path, "cannot write an image without channels");
   for (const std::string& name : options.halfChannels)
-    if (image.find(name) == nullptr) fail(path, fmt::format("half channel '{}' is not in the image", name));
+    if (!rows.has(name)) fail(path, fmt::format("half channel '{}' is not in the image", name));
 
   Imf::Header header(image.width(), image.height());
   header.compression() = toImf(options.compression);
-  for (const ImageChannel& channel : image.channels()) {
-    const bool half = options.halfChannels.count(channel.name) != 0;
-    header.channels().insert(channel.name, Imf::Channel(half ? Imf::HALF : Imf::FLOAT));
+  for (const std::string& name : rows.channelNames()) {
+    const bool half = options.halfChannels.count(name) != 0;
+    header.channels().insert(name, Imf::Channel(half ? Imf::HALF : Imf::FLOAT));
   }
   std::set<std::string> names;
   auto check = [&](const std::string& name) {
@@ -223,27 +224,44 @@ const char* exrPixelTypeName(ExrPixelType type) {
 }
 
 void writeExr(const std::filesystem::path& path, const Image& image, const ExrOptions& options) {
+  writeExr(path, ImageRows(image), options);
+}
+
+void writeExr(const std::filesystem::path& path, const ImageRows& image, const ExrOptions& options) {
   const Imf::Header header = makeHeader(path, image, options);
+  const std::vector<std::string>& names = image.channelNames();
+  const size_t width = static_cast<size_t>(image.width());
+  // Whole ZIP blocks (16 rows) of every channel: the band is all the pixel memory a write needs.
+  const int band = std::min(bandRows(image.width(), names.size(), options.bandBytes), image.height());
+  const size_t bandValues = width * static_cast<size_t>(band);
+  std::vector<std::vector<float>> floats(names.size(), std::vector<float>(bandValues));
   // OutputFile converts nothing: a HALF channel needs a HALF slice, so those are converted here.
-  std::vector<std::vector<half>> halfCopies;
-  halfCopies.reserve(options.halfChannels.size());
-  Imf::FrameBuffer frame;
-  for (const ImageChannel& channel : image.channels()) {
-    const void* pixels = channel.data.data();
-    const bool isHalf = options.halfChannels.count(channel.name) != 0;
-    if (isHalf) pixels = halfCopies.emplace_back(channel.data.begin(), channel.data.end()).data();
-    const size_t pixelSize = isHalf ? sizeof(half) : sizeof(float);
-    frame.insert(channel.name,
-                 Imf::Slice::Make(isHalf ? Imf::HALF : Imf::FLOAT, pixels, Imath::V2i(0, 0), image.width(),
-                                  image.height(), pixelSize, pixelSize * static_cast<size_t>(image.width())));
-  }
+  std::vector<std::vector<half>> halves(names.size());
   PendingFile file(path);
   try {
     // The stream is named after the target so OpenEXR's own messages do not mention the temp file.
     Imf::StdOFStream stream(file.stream(), path.c_str());
     Imf::OutputFile output(stream, header);
-    output.setFrameBuffer(frame);
-    output.writePixels(image.height());
+    for (int first = 0; first < image.height(); first += band) {
+      const int rows = std::min(band, image.height() - first);
+      const size_t n = width * static_cast<size_t>(rows);
+      Imf::FrameBuffer frame;
+      for (size_t c = 0; c < names.size(); ++c) {
+        image.read(names[c], first, rows, std::span<float>(floats[c].data(), n));
+        const bool isHalf = options.halfChannels.count(names[c]) != 0;
+        const void* pixels = floats[c].data();
+        if (isHalf) {
+          halves[c].assign(floats[c].begin(), floats[c].begin() + static_cast<std::ptrdiff_t>(n));
+          pixels = halves[c].data();
+        }
+        const size_t pixelSize = isHalf ? sizeof(half) : sizeof(float);
+        // The slice's first element is pixel (0, first): OpenEXR addresses rows by their number in the file.
+        frame.insert(names[c], Imf::Slice::Make(isHalf ? Imf::HALF : Imf::FLOAT, pixels, Imath::V2i(0, first),
+                                                image.width(), rows, pixelSize, pixelSize * width));
+      }
+      output.setFrameBuffer(frame);
+      output.writePixels(rows);
+    }
   } catch (const Iex::BaseExc& e) {  // the destructor of OutputFile has written the offset table
     fail(path, fmt::format("cannot write EXR: {}", e.what()));
   }

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "host/io/image.h"
+#include "host/io/image_rows.h"
 
 namespace penumbra {
 
@@ -30,6 +31,8 @@ struct ExrOptions {
   // Values beyond +-65504 become +-Inf and small ones lose precision; every name must be a channel
   // of the image (a typo is an error, not a silent float channel).
   std::set<std::string> halfChannels;
+  // The pixel memory of a write: whole 16-row blocks of every channel in about this many bytes (tests make it small).
+  size_t bandBytes = size_t{32} << 20;
 };
 
 // Writes every channel of `image` (which must be non-empty and have at least one channel) and
@@ -37,6 +40,9 @@ struct ExrOptions {
 // m44f attributes. Attribute names that EXR reserves for its own header fields (channels,
 // compression, dataWindow, ...), and a name given in two of the maps, are refused.
 void writeExr(const std::filesystem::path& path, const Image& image, const ExrOptions& options = {});
+// The same, the channels read in bands of whole 16-row blocks (options.bandBytes), so a frame whose channels stay on
+// the device (ImageRows' deferred channels) is never whole on the host.
+void writeExr(const std::filesystem::path& path, const ImageRows& image, const ExrOptions& options = {});
 
 // Reads every channel of a flat (non-deep) EXR, whatever its pixel type (half, float, uint), as
 // float, plus every string attribute, every double, float and int attribute (as numbers()) and

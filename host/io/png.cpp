@@ -1,21 +1,23 @@
-// PNG previews: exposure, un-premultiply, sRGB encode, 8-bit quantise; stb_image_write encodes in
-// memory (STB_IMAGE_WRITE_STATIC: no clash with another stb in the program, TinyGLTF's for one) and
-// writeFileAtomically puts the bytes on disk. Viridis is every 8th entry of matplotlib's 256-entry
-// _viridis_data plus the last, interpolated linearly: within two 8-bit codes of the full table.
+// PNG previews: exposure, un-premultiply, sRGB encode, 8-bit quantise; libpng encodes row by row into a PendingFile,
+// so a preview is never whole in memory (its channels are read in bands, from device buffers for a frame). Viridis is
+// every 8th entry of matplotlib's 256-entry _viridis_data plus the last, interpolated linearly: within two 8-bit codes
+// of the full table.
 #include "host/io/png.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <png.h>
 
 #include <algorithm>
 #include <cmath>
+#include <csetjmp>
 #include <cstdint>
+#include <cstdio>
+#include <fstream>
 #include <iterator>
 #include <stdexcept>
+#include <utility>
 #include <vector>
-
-#include <fmt/format.h>
-
-#define STB_IMAGE_WRITE_STATIC
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#include <stb_image_write.h>
 
 #include "host/io/atomic_file.h"
 
@@ -54,42 +56,99 @@ std::uint8_t quantise(float encoded) {
   return static_cast<std::uint8_t>(std::lround(std::clamp(encoded, 0.0f, 1.0f) * 255.0f));
 }
 
-void appendBytes(void* context, void* data, int size) {
-  auto* out = static_cast<std::vector<unsigned char>*>(context);
-  const auto* bytes = static_cast<const unsigned char*>(data);
-  out->insert(out->end(), bytes, bytes + size);
-}
-
-void encodeAndWrite(const std::filesystem::path& path, int width, int height, int components,
-                    const std::vector<std::uint8_t>& pixels) {
-  std::vector<unsigned char> png;
-  if (stbi_write_png_to_func(appendBytes, &png, width, height, components, pixels.data(), width * components) == 0)
-    throw std::runtime_error(fmt::format("{}: PNG encoding failed", path.string()));
-  writeFileAtomically(path, png);
-}
-
-// require() names the image; the caller also wants to know which output was being written.
-const ImageChannel& requireFor(const std::filesystem::path& path, const Image& image, const std::string& name) {
-  try {
-    return image.require(name);
-  } catch (const std::runtime_error& e) {
-    throw std::runtime_error(fmt::format("{}: cannot preview: {}", path.string(), e.what()));
+// libpng row by row into a PendingFile. libpng reports errors by longjmp: the error handler keeps the message and
+// jumps back into one of the small wrappers below (start, writeRow, end), whose frames hold no object with a
+// destructor, and the wrapper's caller throws.
+class PngRowWriter {
+ public:
+  PngRowWriter(const std::filesystem::path& path, int width, int height, int components)
+      : file_(path), width_(width), components_(components) {
+    png_.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, this, onError, onWarning);
+    if (png_.png != nullptr) png_.info = png_create_info_struct(png_.png);
+    if (png_.png == nullptr || png_.info == nullptr) fail("cannot create the PNG encoder (out of memory)");
+    png_set_write_fn(png_.png, this, onWrite, onFlush);
+    if (!start(png_.png, png_.info, width, height, components == 4 ? PNG_COLOR_TYPE_RGBA : PNG_COLOR_TYPE_RGB))
+      fail(message_);
   }
-}
+  PngRowWriter(const PngRowWriter&) = delete;
+  PngRowWriter& operator=(const PngRowWriter&) = delete;
 
-struct PreviewSources {
-  const ImageChannel* r;
-  const ImageChannel* g;
-  const ImageChannel* b;
-  const ImageChannel* a;  // nullptr: opaque
+  int rowBytes() const { return width_ * components_; }
+  // One row of width * components bytes, top row first.
+  void row(const std::uint8_t* pixels) {
+    if (!writeRow(png_.png, pixels)) fail(message_);
+  }
+  // After the last row: the file's end, then the rename over the target.
+  void finish() {
+    if (!end(png_.png, png_.info)) fail(message_);
+    file_.commit();
+  }
+
+ private:
+  [[noreturn]] void fail(const char* why) const {
+    throw std::runtime_error(fmt::format("{}: cannot write PNG: {}", file_.target().string(), why));
+  }
+  static PngRowWriter& self(png_structp png) { return *static_cast<PngRowWriter*>(png_get_error_ptr(png)); }
+  static void onError(png_structp png, png_const_charp message) {
+    std::snprintf(self(png).message_, sizeof(message_), "%s", message);
+    png_longjmp(png, 1);
+  }
+  static void onWarning(png_structp, png_const_charp) {}
+  static void onWrite(png_structp png, png_bytep data, size_t size) {
+    std::ofstream& stream = static_cast<PngRowWriter*>(png_get_io_ptr(png))->file_.stream();
+    if (!stream.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size)))
+      png_error(png, "write failed (disk full?)");
+  }
+  static void onFlush(png_structp) {}
+  static bool start(png_structp png, png_infop info, int width, int height, int colourType) {
+    if (setjmp(png_jmpbuf(png))) return false;
+    png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8, colourType,
+                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    return true;
+  }
+  static bool writeRow(png_structp png, const std::uint8_t* pixels) {
+    if (setjmp(png_jmpbuf(png))) return false;
+    png_write_row(png, pixels);
+    return true;
+  }
+  static bool end(png_structp png, png_infop info) {
+    if (setjmp(png_jmpbuf(png))) return false;
+    png_write_end(png, info);
+    return true;
+  }
+
+  struct Encoder {  // released however the constructor or a write ends
+    png_structp png = nullptr;
+    png_infop info = nullptr;
+    ~Encoder() { png_destroy_write_struct(&png, &info); }
+  };
+
+  PendingFile file_;
+  int width_, components_;
+  Encoder png_;
+  char message_[256] = "unknown libpng error";
 };
 
-PreviewSources previewSources(const std::filesystem::path& path, const Image& image, const PngOptions& options) {
+// The channels a preview reads: R, G, B and A when present, or the grey channel three times (opaque). An absent one
+// is named with the output being written.
+struct PreviewSources {
+  std::string r, g, b, a;  // a empty: opaque
+};
+
+PreviewSources previewSources(const std::filesystem::path& path, const ImageRows& image, const PngOptions& options) {
+  auto require = [&](const std::string& name) {
+    if (!image.has(name))
+      throw std::runtime_error(fmt::format("{}: cannot preview: {}: no channel '{}' (channels: {})", path.string(),
+                                           image.header().source().empty() ? "image" : image.header().source(), name,
+                                           fmt::join(image.channelNames(), ", ")));
+    return name;
+  };
   if (!options.greyChannel.empty()) {
-    const ImageChannel* grey = &requireFor(path, image, options.greyChannel);
-    return {grey, grey, grey, nullptr};
+    const std::string grey = require(options.greyChannel);
+    return {grey, grey, grey, {}};
   }
-  return {&requireFor(path, image, "R"), &requireFor(path, image, "G"), &requireFor(path, image, "B"), image.find("A")};
+  return {require("R"), require("G"), require("B"), image.has("A") ? "A" : ""};
 }
 
 // Writes 3 or 4 bytes at `out`. Colour is premultiplied (EXR convention); PNG wants straight alpha.
@@ -145,20 +204,49 @@ Rgb8 falseColour(float value, float lo, float hi) {
 }
 
 void writePngPreview(const std::filesystem::path& path, const Image& image, const PngOptions& options) {
+  writePngPreview(path, ImageRows(image), options);
+}
+
+void writePngPreview(const std::filesystem::path& path, const ImageRows& image, const PngOptions& options) {
   if (image.empty())
     throw std::invalid_argument(
         fmt::format("{}: cannot write an empty {}x{} image", path.string(), image.width(), image.height()));
   if (!std::isfinite(options.exposure))
     throw std::invalid_argument(fmt::format("{}: exposure {} is not finite", path.string(), options.exposure));
   const PreviewSources src = previewSources(path, image, options);
-  const bool hasAlpha = src.a != nullptr;
+  const bool hasAlpha = !src.a.empty();
   const int components = hasAlpha ? 4 : 3;
   const float scale = std::exp2(options.exposure);
-  std::vector<std::uint8_t> pixels(image.pixelCount() * components);
-  for (size_t i = 0; i < image.pixelCount(); ++i)
-    encodePixel(src.r->data[i], src.g->data[i], src.b->data[i], hasAlpha ? src.a->data[i] : 1.0f, hasAlpha, scale,
-                &pixels[i * components]);
-  encodeAndWrite(path, image.width(), image.height(), components, pixels);
+  const size_t width = static_cast<size_t>(image.width());
+  const int band = bandRows(image.width(), 4, options.bandBytes, 1);
+  std::vector<float> r, g, b, a;
+  std::vector<std::uint8_t> row(width * static_cast<size_t>(components));
+  PngRowWriter png(path, image.width(), image.height(), components);
+  for (int first = 0; first < image.height(); first += band) {
+    const int rows = std::min(band, image.height() - first);
+    const size_t n = width * static_cast<size_t>(rows);
+    auto fetch = [&](const std::string& channel, std::vector<float>& values) {
+      values.resize(n);
+      image.read(channel, first, rows, values);
+    };
+    fetch(src.r, r);
+    if (src.g == src.r) {  // a grey preview reads its channel once
+      g = r;
+      b = r;
+    } else {
+      fetch(src.g, g);
+      fetch(src.b, b);
+    }
+    if (hasAlpha) fetch(src.a, a);
+    for (int y = 0; y < rows; ++y) {
+      for (size_t x = 0; x < width; ++x) {
+        const size_t i = static_cast<size_t>(y) * width + x;
+        encodePixel(r[i], g[i], b[i], hasAlpha ? a[i] : 1.0f, hasAlpha, scale, &row[x * components]);
+      }
+      png.row(row.data());
+    }
+  }
+  png.finish();
 }
 
 void writePngFalseColour(const std::filesystem::path& path, int width, int height, std::span<const float> values,
@@ -168,12 +256,16 @@ void writePngFalseColour(const std::filesystem::path& path, int width, int heigh
         fmt::format("{}: {} values for a {}x{} false-colour image", path.string(), values.size(), width, height));
   if (std::isnan(lo) || std::isnan(hi) || lo > hi)
     throw std::invalid_argument(fmt::format("{}: invalid false-colour range [{}, {}]", path.string(), lo, hi));
-  std::vector<std::uint8_t> pixels(values.size() * 3);
-  for (size_t i = 0; i < values.size(); ++i) {
-    const Rgb8 colour = falseColour(values[i], lo, hi);
-    std::copy(colour.begin(), colour.end(), pixels.begin() + static_cast<std::ptrdiff_t>(i * 3));
+  std::vector<std::uint8_t> row(static_cast<size_t>(width) * 3);
+  PngRowWriter png(path, width, height, 3);
+  for (size_t y = 0; y < static_cast<size_t>(height); ++y) {
+    for (size_t x = 0; x < static_cast<size_t>(width); ++x) {
+      const Rgb8 colour = falseColour(values[y * static_cast<size_t>(width) + x], lo, hi);
+      std::copy(colour.begin(), colour.end(), row.begin() + static_cast<std::ptrdiff_t>(x * 3));
+    }
+    png.row(row.data());
   }
-  encodeAndWrite(path, width, height, 3, pixels);
+  png.finish();
 }
 
 }  // namespace penumbra

@@ -1,4 +1,4 @@
-// 8-bit PNG previews (stb_image_write) and the display encodings they use: linear RGB(A) through
+// 8-bit PNG previews (libpng, written row by row) and the display encodings they use: linear RGB(A) through
 // exposure and the sRGB transfer function (IEC 61966-2-1, piecewise, not a 2.2 gamma), and scalar
 // images (error maps) through viridis (van der Walt & Smith, matplotlib 2015). NaN -> magenta.
 // Writes are all-or-nothing; failures throw std::runtime_error naming the path.
@@ -11,6 +11,7 @@
 #include <string>
 
 #include "host/io/image.h"
+#include "host/io/image_rows.h"
 
 namespace penumbra {
 
@@ -45,12 +46,17 @@ struct PngOptions {
   float exposure = 0.0f;
   // When set, this channel (e.g. "visibility.Y") is shown as grey instead of R, G, B (and A).
   std::string greyChannel;
+  // The rows of R, G, B, A read at a time, in about this many bytes of floats (tests make it small).
+  size_t bandBytes = size_t{8} << 20;
 };
 
 // Writes channels R, G, B (required, else the error names the missing channel), plus A when the
 // image has one. RGB is taken as premultiplied by A, as in EXR, and un-premultiplied for PNG's
 // straight alpha. A pixel with a NaN in any used channel is opaque magenta; +-Inf clamp.
+// The rows are read in bands of a few MiB, so a frame whose channels stay on the device (ImageRows' deferred
+// channels) is never whole on the host.
 void writePngPreview(const std::filesystem::path& path, const Image& image, const PngOptions& options = {});
+void writePngPreview(const std::filesystem::path& path, const ImageRows& image, const PngOptions& options = {});
 
 // Writes a width x height scalar image (row 0 at the top) mapped from [lo, hi] onto viridis
 // (see falseColour()); NaN -> magenta. Throws std::invalid_argument when values.size()

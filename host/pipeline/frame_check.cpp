@@ -1,10 +1,10 @@
 // Frame input range checks and the empty-frame warning (host/pipeline/frame_check.h).
 #include "host/pipeline/frame_check.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 #include "host/scene/limits.h"
 #include "raster/constants.h"
@@ -41,7 +41,11 @@ void checkFrameRange(const Scene& scene, const Camera& camera, std::span<const L
 }
 
 std::optional<std::string> emptyFrameWarning(const Scene& scene, const Camera& camera, std::span<const float> alpha) {
-  if (std::any_of(alpha.begin(), alpha.end(), [](float a) { return a > 0.0f; })) return std::nullopt;
+  return emptyFrameWarning(scene, camera, std::any_of(alpha.begin(), alpha.end(), [](float a) { return a > 0.0f; }));
+}
+
+std::optional<std::string> emptyFrameWarning(const Scene& scene, const Camera& camera, bool seesSurface) {
+  if (seesSurface) return std::nullopt;
   const Bounds bounds = scene.bounds();
   std::string why;
   if (bounds.empty() || bounds.radius() == 0.0f)

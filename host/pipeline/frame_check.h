@@ -19,5 +19,7 @@ void checkFrameRange(const Scene& scene, const Camera& camera, std::span<const L
 // The warning for a frame none of whose `alpha` values (the image's A channel) is 1: the camera sees no surface.
 // Empty when some pixel is covered.
 std::optional<std::string> emptyFrameWarning(const Scene& scene, const Camera& camera, std::span<const float> alpha);
+// The same for a frame known to see a surface or not.
+std::optional<std::string> emptyFrameWarning(const Scene& scene, const Camera& camera, bool seesSurface);
 
 }  // namespace penumbra

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <initializer_list>
+#include <memory>
 #include <set>
 #include <string>
 #include <vector>
@@ -29,24 +30,117 @@ constexpr uint64_t kShadeAddBytesPerPixel = 2 * 16 + 4 + 2 * 4;
 // so a frame's host memory is its channels alone (docs/robustness.md: bytes per pixel).
 constexpr size_t kDownloadBand = size_t{1} << 16;
 
-// Components 0 .. names.size() - 1 of every element of a float4 buffer as channels `names`, one band at a time.
-void addComponents(Context& ctx, const Buffer<cl_float4>& buffer, std::initializer_list<std::string> names,
-                   Image& image) {
-  const size_t count = buffer.size();
-  std::vector<std::vector<float>> channels(names.size(), std::vector<float>(count));
-  std::vector<cl_float4> band(std::min(count, kDownloadBand));
-  for (size_t first = 0; first < count; first += band.size()) {
-    const size_t n = std::min(band.size(), count - first);
-    cl::Event event;
-    clCheck(ctx.queue().enqueueReadBuffer(buffer.get(), CL_TRUE, first * sizeof(cl_float4), n * sizeof(cl_float4),
-                                          band.data(), nullptr, &event),
-            "Buffer::download", {}, "transfer");
-    if (ctx.profiler() != nullptr) ctx.profiler()->record("transfer/download", event, n * sizeof(cl_float4));
-    for (size_t c = 0; c < channels.size(); ++c)
-      for (size_t i = 0; i < n; ++i) channels[c][first + i] = band[i].s[c];
+// One output channel and where it lives on the device: a float buffer, or one component of a float4 buffer.
+struct ChannelSource {
+  std::string name;
+  const Buffer<float>* scalar = nullptr;
+  const Buffer<cl_float4>* vector = nullptr;
+  int component = 0;
+};
+
+// The frame's channels in the order of the Image: R, G, B, A, visibility.Y, each light's visibility.<layer>.Y, P.*,
+// N.*, depth.Z.
+std::vector<ChannelSource> channelSources(const GBuffer& gbuffer, std::span<const LightVisibility> lights,
+                                          const Buffer<cl_float4>& rgba) {
+  std::vector<ChannelSource> sources;
+  auto components = [&](const Buffer<cl_float4>& buffer, std::initializer_list<const char*> names) {
+    int c = 0;
+    for (const char* name : names) sources.push_back({name, nullptr, &buffer, c++});
+  };
+  components(rgba, {"R", "G", "B", "A"});
+  sources.push_back({"visibility.Y", lights[0].visibility});
+  for (const LightVisibility& lit : lights)
+    sources.push_back({lightChannel("visibility", lightLayer(*lit.light)), lit.visibility});
+  components(gbuffer.position, {"P.X", "P.Y", "P.Z"});
+  components(gbuffer.normal, {"N.X", "N.Y", "N.Z"});
+  sources.push_back({"depth.Z", &gbuffer.depth});
+  return sources;
+}
+
+void recordDownload(Context& ctx, const cl::Event& event, uint64_t bytes) {
+  if (ctx.profiler() != nullptr) ctx.profiler()->record("transfer/download", event, bytes);
+}
+
+// Elements [first, first + n) of `buffer` into `out`.
+template <typename T>
+void readRange(Context& ctx, const Buffer<T>& buffer, size_t first, size_t n, T* out) {
+  cl::Event event;
+  clCheck(ctx.queue().enqueueReadBuffer(buffer.get(), CL_TRUE, first * sizeof(T), n * sizeof(T), out, nullptr, &event),
+          "Buffer::download", {}, "transfer");
+  recordDownload(ctx, event, n * sizeof(T));
+}
+
+// Every source into `image` (rows bottom-up, as on the device). The components of a float4 buffer come down together,
+// one band at a time.
+void downloadChannels(Context& ctx, std::span<const ChannelSource> sources, Image& image) {
+  for (size_t s = 0; s < sources.size();) {
+    if (sources[s].scalar != nullptr) {
+      image.add(sources[s].name, sources[s].scalar->download(ctx));
+      ++s;
+      continue;
+    }
+    size_t end = s;
+    while (end < sources.size() && sources[end].vector == sources[s].vector) ++end;
+    const Buffer<cl_float4>& buffer = *sources[s].vector;
+    const size_t count = buffer.size();
+    std::vector<std::vector<float>> channels(end - s, std::vector<float>(count));
+    std::vector<cl_float4> band(std::min(count, kDownloadBand));
+    for (size_t first = 0; first < count; first += band.size()) {
+      const size_t n = std::min(band.size(), count - first);
+      readRange(ctx, buffer, first, n, band.data());
+      for (size_t c = 0; c < channels.size(); ++c)
+        for (size_t i = 0; i < n; ++i) channels[c][first + i] = band[i].s[sources[s + c].component];
+    }
+    for (size_t c = 0; c < channels.size(); ++c) image.add(sources[s + c].name, std::move(channels[c]));
+    s = end;
   }
-  size_t c = 0;
-  for (const std::string& name : names) image.add(name, std::move(channels[c++]));
+}
+
+// Rows [first, first + count) of the picture (top-down) from a bottom-up device buffer: device rows
+// [height - first - count, height - first), reversed.
+template <typename T>
+void readRows(Context& ctx, const Buffer<T>& buffer, int width, int height, int first, int count, T* out) {
+  const size_t w = static_cast<size_t>(width);
+  readRange(ctx, buffer, static_cast<size_t>(height - first - count) * w, w * static_cast<size_t>(count), out);
+  for (int y = 0; y < count / 2; ++y)
+    std::swap_ranges(out + static_cast<size_t>(y) * w, out + static_cast<size_t>(y + 1) * w,
+                     out + static_cast<size_t>(count - 1 - y) * w);
+}
+
+// The last band of one float4 buffer, shared by the readers of its components: a writer reads every channel of a
+// band before the next band, so each band of the buffer comes down once.
+struct VectorBand {
+  explicit VectorBand(const Buffer<cl_float4>& source) : buffer(source) {}
+  Buffer<cl_float4> buffer;
+  int first = -1, count = 0;
+  std::vector<cl_float4> rows;
+};
+
+std::vector<DeferredChannel> deferredChannels(Context& ctx, std::span<const ChannelSource> sources, int width,
+                                              int height) {
+  std::vector<DeferredChannel> channels;
+  std::vector<std::shared_ptr<VectorBand>> bands;
+  for (const ChannelSource& source : sources) {
+    if (source.scalar != nullptr) {
+      channels.push_back(
+          {source.name, [&ctx, buffer = *source.scalar, width, height](int first, int count, std::span<float> out) {
+             readRows(ctx, buffer, width, height, first, count, out.data());
+           }});
+      continue;
+    }
+    if (bands.empty() || bands.back()->buffer.get() != source.vector->get())
+      bands.push_back(std::make_shared<VectorBand>(*source.vector));
+    channels.push_back({source.name, [&ctx, band = bands.back(), c = source.component, width, height](
+                                         int first, int count, std::span<float> out) {
+                          if (band->first != first || band->count != count) {
+                            band->rows.resize(static_cast<size_t>(width) * static_cast<size_t>(count));
+                            readRows(ctx, band->buffer, width, height, first, count, band->rows.data());
+                            band->first = first, band->count = count;
+                          }
+                          for (size_t i = 0; i < out.size(); ++i) out[i] = band->rows[i].s[c];
+                        }});
+  }
+  return channels;
 }
 
 // glm's column-major storage of a matrix for column vectors is OpenEXR's row-major storage of the same map for row
@@ -162,8 +256,8 @@ Image frameImage(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& visi
   return frameImage(ctx, gbuffer, std::span<const LightVisibility>(&one, 1), camera, bounds);
 }
 
-Image frameImage(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisibility> lights, const Camera& camera,
-                 const Bounds& bounds, Buffer<cl_float4>* previewOut) {
+Buffer<cl_float4> shadeFrame(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisibility> lights,
+                             const Camera& camera, const Bounds& bounds) {
   const uint32_t count = static_cast<uint32_t>(gbuffer.width) * static_cast<uint32_t>(gbuffer.height);
   if (lights.empty()) throw std::invalid_argument("frameImage: no lights");
   std::set<std::string> layers;
@@ -174,19 +268,13 @@ Image frameImage(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisi
     if (!layers.insert(lightLayer(*lit.light)).second)
       throw std::invalid_argument(fmt::format("frameImage: two lights named \"{}\"", lightLayer(*lit.light)));
   }
-  Buffer<cl_float4> rgba = shadePreview(ctx, gbuffer, lights, camera, bounds, count);
+  return shadePreview(ctx, gbuffer, lights, camera, bounds, count);
+}
+
+Image frameHeader(Context& ctx, std::span<const LightVisibility> lights, const Camera& camera, const Bounds& bounds,
+                  int width, int height) {
+  Image image(width, height);
   const Light& light = *lights[0].light;
-
-  Image image(gbuffer.width, gbuffer.height);
-  addComponents(ctx, rgba, {"R", "G", "B", "A"}, image);
-  image.add("visibility.Y", lights[0].visibility->download(ctx));
-  for (const LightVisibility& lit : lights)
-    image.add(lightChannel("visibility", lightLayer(*lit.light)), lit.visibility->download(ctx));
-  addComponents(ctx, gbuffer.position, {"P.X", "P.Y", "P.Z"}, image);
-  addComponents(ctx, gbuffer.normal, {"N.X", "N.Y", "N.Z"}, image);
-  image.add("depth.Z", gbuffer.depth.download(ctx));
-  if (previewOut != nullptr) *previewOut = std::move(rgba);
-
   auto& attributes = image.attributes();
   attributes["penumbra:device"] =
       fmt::format("{} ({}, {})", ctx.info().name, ctx.info().platformName, ctx.info().driverVersion);
@@ -207,6 +295,33 @@ Image frameImage(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisi
   image.matrices()["worldToCamera"] = toExr(view.view);
   image.matrices()["worldToNDC"] = toExr(view.projection * view.view);
   return image;
+}
+
+Image frameImage(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisibility> lights, const Camera& camera,
+                 const Bounds& bounds, Buffer<cl_float4>* previewOut) {
+  Buffer<cl_float4> rgba = shadeFrame(ctx, gbuffer, lights, camera, bounds);
+  Image image = frameHeader(ctx, lights, camera, bounds, gbuffer.width, gbuffer.height);
+  downloadChannels(ctx, channelSources(gbuffer, lights, rgba), image);
+  if (previewOut != nullptr) *previewOut = std::move(rgba);
+  return image;
+}
+
+std::vector<DeferredChannel> frameChannels(Context& ctx, const GBuffer& gbuffer,
+                                           std::span<const LightVisibility> lights, const Buffer<cl_float4>& preview) {
+  return deferredChannels(ctx, channelSources(gbuffer, lights, preview), gbuffer.width, gbuffer.height);
+}
+
+bool seesSurface(Context& ctx, const GBuffer& gbuffer) {
+  const size_t count = gbuffer.depth.size();
+  std::vector<float> band(std::min(count, kDownloadBand * 4));
+  for (size_t first = 0; first < count; first += band.size()) {
+    const size_t n = std::min(band.size(), count - first);
+    readRange(ctx, gbuffer.depth, first, n, band.data());
+    if (std::any_of(band.begin(), band.begin() + static_cast<std::ptrdiff_t>(n),
+                    [](float depth) { return depth != INFINITY; }))
+      return true;
+  }
+  return false;
 }
 
 }  // namespace penumbra

@@ -10,6 +10,7 @@
 #include "host/cl/buffer.h"
 #include "host/cl/context.h"
 #include "host/io/image.h"
+#include "host/io/image_rows.h"
 #include "host/scene/scene.h"
 #include "raster/rasterizer.h"
 
@@ -35,6 +36,24 @@ struct LightVisibility {
 // receives the device RGBA the R,G,B,A channels are read from (rows bottom-up).
 Image frameImage(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisibility> lights, const Camera& camera,
                  const Bounds& bounds, Buffer<cl_float4>* preview = nullptr);
+
+// The steps of frameImage for a frame whose channels stay on the device (written in bands: ImageRows):
+// shadeFrame checks the lights as frameImage does and returns the shaded preview (R, G, B, A per pixel, rows
+// bottom-up); frameHeader is the Image's size and header without channels; frameChannels reads each of frameImage's
+// channels on demand, rows top-down (already flipped), one band of a float4 buffer downloaded once for all of its
+// components. The readers hold the device buffers (OpenCL reference counts), so they outlive the renderer's own
+// handles; their contents are the frame's until something writes them again (the renderer's next frame). The readers
+// use `ctx`, which must outlive them.
+Buffer<cl_float4> shadeFrame(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisibility> lights,
+                             const Camera& camera, const Bounds& bounds);
+Image frameHeader(Context& ctx, std::span<const LightVisibility> lights, const Camera& camera, const Bounds& bounds,
+                  int width, int height);
+std::vector<DeferredChannel> frameChannels(Context& ctx, const GBuffer& gbuffer,
+                                           std::span<const LightVisibility> lights, const Buffer<cl_float4>& preview);
+
+// Whether any pixel of the G-buffer sees a surface (a finite depth), read in bands: the A channel's test without
+// the channel.
+bool seesSurface(Context& ctx, const GBuffer& gbuffer);
 
 // "EX,EY,EZ:TX,TY,TZ:FOVY": the camera as the header's penumbra:camera records it (Camera::describe() for
 // orthographic cameras and those with an up vector or clip planes of their own). A glTF camera's label()

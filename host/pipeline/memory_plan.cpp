@@ -2,14 +2,14 @@
 // checked against the device's limits before the first allocation (docs/robustness.md, "Memory plan").
 #include "host/pipeline/memory_plan.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
 #include <numeric>
 #include <utility>
-
-#include <fmt/format.h>
 
 namespace penumbra {
 namespace {
@@ -81,7 +81,7 @@ std::string MemoryPlan::describe() const {
   return out;
 }
 
-MemoryPlan planFrame(const Camera& camera, const std::vector<PlannedLight>& lights) {
+MemoryPlan planFrame(const Camera& camera, const std::vector<PlannedLight>& lights, FrameDownload download) {
   const uint64_t pixels = static_cast<uint64_t>(camera.width) * static_cast<uint64_t>(camera.height);
   MemoryPlan plan;
   plan.stages.push_back({"G-buffer", pixels * kGBufferBytesPerPixel, 0, pixels * 16});
@@ -94,7 +94,9 @@ MemoryPlan planFrame(const Camera& camera, const std::vector<PlannedLight>& ligh
   }
   plan.stages.push_back({"shade", pixels * (kPreviewBytesPerPixel + (lights.size() > 1 ? 4 : 0)), 0, pixels * 16});
   const uint64_t floats = kImageFloatsPerPixel + lights.size();
-  plan.stages.push_back({"image download", 0, pixels * (floats * 4 + kPreviewPngBytesPerPixel), 0});
+  const uint64_t whole = pixels * (floats * 4 + kPreviewPngBytesPerPixel);
+  plan.stages.push_back(
+      {"image download", 0, download == FrameDownload::Image ? whole : std::min(whole, kDeferredHostBytes), 0});
   return plan;
 }
 

@@ -40,6 +40,12 @@ struct MemoryPlan {
       const;  // "G-buffer 2.8 GiB, light 0 (sm): maps 32 MiB, ..., image download 1.2 GiB on the host"
 };
 
+// How a frame's channels reach the caller (Renderer::render).
+enum class FrameDownload {
+  Image,     // downloaded whole into RenderResult::image
+  Deferred,  // left on the device and read in bands by the writer (RenderResult::deferred): for a frame written once
+};
+
 // One light of a frame as the plan sees it (the renderer's FrameLight without the light's geometry).
 struct PlannedLight {
   LightType type;
@@ -50,7 +56,13 @@ struct PlannedLight {
 // The plan of one frame of `camera`'s size with `lights`. Estimates, on the high side: the G-buffer, visibility and
 // preview buffers are exact; a technique's maps are sized from its map-size, moment storage, blur, mip chain and
 // layer parameters, and its per-pixel buffers (debug channels, filter scratch) at 32 bytes per pixel.
-MemoryPlan planFrame(const Camera& camera, const std::vector<PlannedLight>& lights);
+// A deferred download holds its writer's bands on the host (kDeferredHostBytes), not the image.
+MemoryPlan planFrame(const Camera& camera, const std::vector<PlannedLight>& lights,
+                     FrameDownload download = FrameDownload::Image);
+
+// What a deferred frame's writers hold at most: the EXR's band (32 MiB), the PNG's (8 MiB) and the float4 buffers'
+// band caches (under 32 MiB).
+inline constexpr uint64_t kDeferredHostBytes = uint64_t{72} << 20;
 
 // Throws MemoryError naming the stage and the sizes when the plan needs more device memory than
 // min(globalMemBytes, limit), a single buffer larger than maxAllocBytes, or more host memory than `limit`.

@@ -1,5 +1,6 @@
 // One frame: G-buffer, technique (kept across frames while unchanged), preview shading and download into an Image
-// (host/pipeline/frame_image.h), with the per-pass device times of everything recorded in between.
+// or left on the device for a banded write (host/pipeline/frame_image.h), with the per-pass device times of everything
+// recorded in between.
 #include "host/pipeline/renderer.h"
 
 #include <fmt/format.h>
@@ -37,7 +38,7 @@ auto inStage(const MemoryPlan& plan, const std::string& stage, Fn&& fn) {
 // Everything refused before any work: lights a technique cannot shadow, coordinates out of range, a memory plan that
 // does not fit. Returns the plan.
 MemoryPlan checkedPlan(const Scene& scene, const Camera& camera, const std::vector<FrameLight>& lights,
-                       const DeviceInfo& device, std::optional<uint64_t> limit) {
+                       const DeviceInfo& device, std::optional<uint64_t> limit, FrameDownload download) {
   if (lights.empty()) throw std::invalid_argument("Renderer::render: no lights");
   std::vector<Light> frameLights;
   std::vector<PlannedLight> planned;
@@ -47,7 +48,7 @@ MemoryPlan checkedPlan(const Scene& scene, const Camera& camera, const std::vect
     planned.push_back({l.light.type, l.technique, &l.params});
   }
   checkFrameRange(scene, camera, frameLights);
-  MemoryPlan plan = planFrame(camera, planned);
+  MemoryPlan plan = planFrame(camera, planned, download);
   checkMemoryPlan(plan, device, limit);
   return plan;
 }
@@ -109,8 +110,8 @@ RenderResult Renderer::render(const Camera& camera, const Light& light, const Te
   return render(camera, {FrameLight{light, &technique, params}});
 }
 
-RenderResult Renderer::render(const Camera& camera, const std::vector<FrameLight>& lights) {
-  const MemoryPlan plan = checkedPlan(scene_, camera, lights, ctx_.info(), memoryLimit_);  // before any work
+RenderResult Renderer::render(const Camera& camera, const std::vector<FrameLight>& lights, FrameDownload download) {
+  const MemoryPlan plan = checkedPlan(scene_, camera, lights, ctx_.info(), memoryLimit_, download);  // before any work
   Profiler profiler;
   ProfilerScope scope(ctx_, profiler);
   const Bounds bounds = scene_.bounds();
@@ -134,12 +135,22 @@ RenderResult Renderer::render(const Camera& camera, const std::vector<FrameLight
 
   RenderResult result;
   inStage(plan, "shade and image download", [&] {
-    result.image = frameImage(ctx_, gbuffer_, layers, camera, bounds, &result.preview);
+    if (download == FrameDownload::Image) {
+      result.image = frameImage(ctx_, gbuffer_, layers, camera, bounds, &result.preview);
+    } else {
+      gbuffer_.triangleId = {};  // shading and the outputs need neither
+      gbuffer_.objectId = {};
+      result.preview = shadeFrame(ctx_, gbuffer_, layers, camera, bounds);
+      result.image = frameHeader(ctx_, layers, camera, bounds, gbuffer_.width, gbuffer_.height);
+      result.deferred = frameChannels(ctx_, gbuffer_, layers, result.preview);
+    }
     addDebugChannels(lights[0].light, slots_[0], result.image);  // the first light's only
   });
-  if (auto warning = emptyFrameWarning(scene_, camera, result.image.require("A").data))
-    result.warnings.push_back(*warning);
-  result.image.flipRows();  // the rasterizer's row 0 is the bottom row
+  const std::optional<std::string> warning = download == FrameDownload::Image
+                                                 ? emptyFrameWarning(scene_, camera, result.image.require("A").data)
+                                                 : emptyFrameWarning(scene_, camera, seesSurface(ctx_, gbuffer_));
+  if (warning) result.warnings.push_back(*warning);
+  result.image.flipRows();  // the rasterizer's row 0 is the bottom row (frameChannels' readers flip their own)
   recordTechniques(lights, std::move(firstAttributes), result.image);
   result.passes = profiler.resolve();
   return result;

@@ -12,6 +12,8 @@
 #include "host/cl/context.h"
 #include "host/cl/profiler.h"
 #include "host/io/image.h"
+#include "host/io/image_rows.h"
+#include "host/pipeline/memory_plan.h"
 #include "host/pipeline/point_light.h"
 #include "host/scene/scene.h"
 #include "host/techniques/technique.h"
@@ -32,7 +34,11 @@ struct RenderResult {
   // technique's debug channels (a point light: cubeFace.Y, each pixel's cube face 0..5 = +X -X +Y -Y +Z -Z, -1 for
   // background, instead: a technique's debug layers would hold its last face's alone); rows top-down; provenance in
   // the attributes.
+  // FrameDownload::Deferred: the header and the debug channels alone; the rest is in `deferred`.
   Image image;
+  // FrameDownload::Deferred: every other channel, read on demand from the device (rows top-down); write the frame
+  // through ImageRows(image, deferred). They read the renderer's buffers, so only until its next render().
+  std::vector<DeferredChannel> deferred;
   std::vector<PassTime> passes;       // device time per named pass, in recording order
   Buffer<cl_float4> preview;          // the shaded preview on the device (R, G, B, A per pixel), rows bottom-up
   std::vector<std::string> warnings;  // e.g. a frame that sees no surface (frame_check.h); the caller prints them
@@ -53,7 +59,11 @@ class Renderer {
   // instance and visibility buffer per position in `lights`, so repeated frames of the same lights stay in the
   // steady state. A point light is shadowed as six cube faces (host/pipeline/point_light.h). Every light is checked
   // against its technique (refuseUnsupportedLight) before any work.
-  RenderResult render(const Camera& camera, const std::vector<FrameLight>& lights);
+  // FrameDownload::Deferred is for a frame written once (penumbra render): no channel is downloaded whole, the
+  // G-buffer's triangle and object ids are released once the lights are done (the next frame allocates them again),
+  // and the memory plan counts the writers' bands instead of the image (docs/robustness.md).
+  RenderResult render(const Camera& camera, const std::vector<FrameLight>& lights,
+                      FrameDownload download = FrameDownload::Image);
 
   // A frame whose memory plan (host/pipeline/memory_plan.h) needs more than `bytes` of device or host memory is
   // refused (MemoryError) before anything is allocated; none: the device's own limits alone.

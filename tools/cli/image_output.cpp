@@ -67,6 +67,10 @@ ImageOutputPlan planImageOutput(const ImageOutput& output) {
 
 // The preview first, the EXR last: a batch run takes a finished EXR (its job id) for a finished job.
 std::string writeImageOutput(const ImageOutputPlan& plan, const Image& image) {
+  return writeImageOutput(plan, ImageRows(image));
+}
+
+std::string writeImageOutput(const ImageOutputPlan& plan, const ImageRows& image) {
   if (plan.png) {
     createParent(*plan.png);
     writePngPreview(*plan.png, image);

@@ -10,6 +10,7 @@
 
 #include "host/io/exr.h"
 #include "host/io/image.h"
+#include "host/io/image_rows.h"
 
 namespace penumbra::cli {
 
@@ -44,5 +45,7 @@ ImageOutputPlan planImageOutput(const ImageOutput& output);
 
 // Writes what the plan says (creating folders; the PNG before the EXR) and returns the "wrote A and B" message.
 std::string writeImageOutput(const ImageOutputPlan& plan, const Image& image);
+// The same, read band by band (a frame whose channels stay on the device).
+std::string writeImageOutput(const ImageOutputPlan& plan, const ImageRows& image);
 
 }  // namespace penumbra::cli

@@ -36,8 +36,9 @@ int run(const RenderOptions& options) {
   const FramePlan plan = planFrame(options, choice, scene);
   Context ctx(options.device);
   Renderer renderer(ctx, scene);
-  const RenderResult result = renderFrame(renderer, options, scene, plan);
-  const std::string wrote = writeImageOutput(output, result.image);
+  // Written once: the channels stay on the device and go to the files band by band (docs/robustness.md).
+  const RenderResult result = renderFrame(renderer, options, scene, plan, FrameDownload::Deferred);
+  const std::string wrote = writeImageOutput(output, ImageRows(result.image, result.deferred));
   if (!options.quiet) {
     printSummary(options, ctx, scene, choice, plan, result);
     fmt::print("{}\n", wrote);

@@ -39,11 +39,12 @@ FramePlan planFrame(const RenderOptions& options, const TechniqueChoice& techniq
   return plan;
 }
 
-RenderResult renderFrame(Renderer& renderer, const RenderOptions& options, const Scene& scene, const FramePlan& plan) {
+RenderResult renderFrame(Renderer& renderer, const RenderOptions& options, const Scene& scene, const FramePlan& plan,
+                         FrameDownload download) {
   renderer.setMemoryLimit(plan.memoryLimit);
-  RenderResult result = renderer.render(plan.camera, plan.frame);
+  RenderResult result = renderer.render(plan.camera, plan.frame, download);
   for (const std::string& warning : result.warnings) fmt::print(stderr, "penumbra: warning: {}\n", warning);
-  result.preview = {};  // the device preview is for the library's callers: its memory goes before the EXR is written
+  result.preview = {};  // for the library's callers (a deferred frame's readers keep their own reference)
   result.image.attributes()["penumbra:scene"] = sceneProvenance(options.view);
   recordMaterials(scene, result.image);
   return result;
