@@ -1,9 +1,14 @@
 // Bounds reductions for fitting the light's frustum (host/views/light_fit.cpp): the light-space box of the
-// receivers the camera sees (G-buffer positions) and the depth range of a rasterized map. Two passes without
-// atomics: every work-group reduces a fixed chunk in local memory and writes one partial; the host reduces
-// the few partials. Min and max only, so the result does not depend on the order.
+// receivers the camera sees (G-buffer positions), the depth range of a rasterized map, and the histogram of the map
+// sizes the camera's pixels need. Two passes without global atomics: every work-group reduces a fixed chunk in local
+// memory and writes one partial; the host reduces the few partials. Min, max and counts only, so the result does not
+// depend on the order.
+
+#include "kernels/shared/shadow_common.h"
 
 #define FIT_GROUP 256
+#define FIT_SIZE_BINS 128         // log2 of the needed map size in [0, 16), FIT_SIZE_BINS_PER_OCTAVE bins an octave
+#define FIT_SIZE_BINS_PER_OCTAVE 8
 
 // Min (lo) and max (hi) over the work-group; valid in every work-item afterwards.
 inline void fit_group_minmax(float4* lo, float4* hi, __local float4* los, __local float4* his) {
@@ -69,4 +74,40 @@ __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_depth_p
   }
   fit_group_minmax(&lo, &hi, los, his);
   if (get_local_id(0) == 0) partial[get_group_id(0)] = (float2)(lo.x, hi.x);
+}
+
+// Histogram of the map size each covered pixel needs (Luksch sec. 7, eq. 5, as pssm's resolutionError): the
+// pixel's screen steps to on-plane neighbours, projected into the first of `viewCount` views whose map holds the
+// pixel, measured in that map's texels (sc_footprint); the shorter step s says one texel per pixel takes a map
+// width / s texels wide. Bin floor(log2(width / s) * FIT_SIZE_BINS_PER_OCTAVE), clamped to the histogram; pixels with
+// no on-plane neighbour, behind the light or outside every map are not counted. Per group:
+// partial[g * FIT_SIZE_BINS + b] = count of bin b.
+__kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_size_partial(
+    __global const float4* position, __global const float4* normal, uint width, uint height, uint chunk,
+    __constant const LightViewGpu* views, uint viewCount, __global uint* partial) {
+  __local uint bins[FIT_SIZE_BINS];
+  const uint lid = get_local_id(0);
+  for (uint b = lid; b < FIT_SIZE_BINS; b += FIT_GROUP) bins[b] = 0u;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  const uint count = width * height;
+  const uint begin = get_group_id(0) * chunk, end = min(begin + chunk, count);
+  for (uint i = begin + lid; i < end; i += FIT_GROUP) {
+    float4 p = position[i];
+    if (p.w == 0.0f) continue;
+    int view = -1;
+    for (uint v = 0; v < viewCount && view < 0; ++v) {
+      float3 t = lv_project(views + v, p.xyz);
+      if (t.z > 0.0f && t.x >= 0.0f && t.y >= 0.0f && t.x <= views[v].width && t.y <= views[v].height) view = (int)v;
+    }
+    if (view < 0) continue;
+    Footprint f = sc_footprint(position, views + view, width, height, i, p.xyz, normal[i].xyz);
+    float lx = length(f.dx.xy), ly = length(f.dy.xy);
+    float step = lx > 0.0f && ly > 0.0f ? min(lx, ly) : max(lx, ly);
+    float need = (float)views[view].width / step;
+    if (!(step > 0.0f) || !isfinite(need)) continue;
+    int bin = (int)floor(log2(need) * FIT_SIZE_BINS_PER_OCTAVE);
+    atomic_inc(&bins[clamp(bin, 0, FIT_SIZE_BINS - 1)]);
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (uint b = lid; b < FIT_SIZE_BINS; b += FIT_GROUP) partial[get_group_id(0) * FIT_SIZE_BINS + b] = bins[b];
 }

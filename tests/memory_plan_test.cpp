@@ -1,9 +1,10 @@
 // The frame memory plan (host/pipeline/memory_plan.h): sizes from the image and the techniques' parameters, the
 // refusal against a device's limits and --memory-limit, the size parser, and the frame checks (frame_check.h).
+#include "host/pipeline/memory_plan.h"
+
 #include <gtest/gtest.h>
 
 #include "host/pipeline/frame_check.h"
-#include "host/pipeline/memory_plan.h"
 #include "host/scene/procedural.h"
 #include "host/techniques/technique.h"
 
@@ -55,6 +56,15 @@ TEST(MemoryPlan, GrowsWithPixelsLightsAndMaps) {
             device(cameraOf(64, 64), {{LightType::Point, &sm, &small}}));  // six cube faces
   EXPECT_EQ(planFrame(cameraOf(8192, 8192), {{LightType::Spot, &sm, &small}}).hostBytes() / (8192ull * 8192),
             (13 + 4 + 1) * 4 + 4);  // the image's channels and the PNG preview
+  // A deferred frame (penumbra render) holds its writers' bands on the host, not the image.
+  EXPECT_EQ(planFrame(cameraOf(8192, 8192), {{LightType::Spot, &sm, &small}}, FrameDownload::Deferred).hostBytes(),
+            kDeferredHostBytes);
+  // --map-size auto is planned at the largest size it may choose.
+  Params automatic(sm.params), largest(sm.params);
+  automatic.set("map-size", "auto");
+  largest.set("map-size", std::to_string(largest.getInt("map-size-max")));
+  EXPECT_EQ(device(cameraOf(64, 64), {{LightType::Spot, &sm, &automatic}}),
+            device(cameraOf(64, 64), {{LightType::Spot, &sm, &largest}}));
 }
 
 TEST(MemoryPlan, SingleBufferAboveTheDeviceMaximumIsNamed) {

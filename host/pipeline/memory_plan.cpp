@@ -37,8 +37,9 @@ double param(const PlannedLight& light, const char* name, double fallback) {
 // chain (a third more), for each split or layer and each cube face of a point light.
 MemoryStage techniqueMaps(const PlannedLight& light, size_t index) {
   MemoryStage stage{fmt::format("light {} ({}): maps", index, light.technique->name)};
-  const double side =
-      param(light, "map-size", 0) + (light.type == LightType::Point ? 2 * param(light, "cube-guard", 0) : 0);
+  // --map-size auto (0): planned at the largest size it may choose.
+  const double size = param(light, "map-size", 0) == 0 ? param(light, "map-size-max", 0) : param(light, "map-size", 0);
+  const double side = size + (light.type == LightType::Point ? 2 * param(light, "cube-guard", 0) : 0);
   const auto texels = static_cast<uint64_t>(side * side);
   const uint64_t faces = light.type == LightType::Point ? 6 : 1;
   const auto layers = static_cast<uint64_t>(std::max(

@@ -9,6 +9,7 @@
 
 #include "host/pipeline/frame_check.h"
 #include "host/pipeline/frame_image.h"
+#include "host/pipeline/map_size.h"
 #include "host/pipeline/memory_plan.h"
 #include "host/scene/light_names.h"
 #include "host/views/views.h"
@@ -92,16 +93,18 @@ Technique& Renderer::techniqueFor(Slot& slot, const TechniqueInfo& technique, co
 }
 
 std::map<std::string, std::string> Renderer::shadow(const Camera& camera, const FrameLight& light, Slot& slot) {
-  Technique& shadows = techniqueFor(slot, *light.technique, light.params);
-  if (light.light.type == LightType::Point) {
-    ShadowFrame frame{ctx_, raster_, scene_, light.light, camera, gbuffer_, kNoReceivers};
-    slot.cube.render(frame, shadows, light.params, slot.visibility);
-    return std::move(frame.attributes);
-  }
-  const ReceiverBounds receivers = reduceReceivers(ctx_, gbuffer_, lightEyeMatrix(light.light, scene_.bounds()),
-                                                   light.light.type == LightType::Spot);
+  const bool point = light.light.type == LightType::Point;
+  const ReceiverBounds receivers = point ? kNoReceivers
+                                         : reduceReceivers(ctx_, gbuffer_, lightEyeMatrix(light.light, scene_.bounds()),
+                                                           light.light.type == LightType::Spot);
   ShadowFrame frame{ctx_, raster_, scene_, light.light, camera, gbuffer_, receivers};
-  shadows.render(frame, slot.visibility);
+  // --map-size auto: the technique instance is the one of this frame's size (host/pipeline/map_size.h).
+  const Params params = autoMapSize(light.params) ? sizeMapForFrame(frame, light.params) : light.params;
+  Technique& shadows = techniqueFor(slot, *light.technique, params);
+  if (point)
+    slot.cube.render(frame, shadows, params, slot.visibility);
+  else
+    shadows.render(frame, slot.visibility);
   return std::move(frame.attributes);
 }
 

@@ -39,6 +39,10 @@ void Params::set(const std::string& name, const std::string& text) {
     values_[name] = static_cast<double>(choice - spec->choices.begin());
     return;
   }
+  if (!spec->autoName.empty() && text == spec->autoName) {
+    values_[name] = 0.0;
+    return;
+  }
   size_t used = 0;
   double value = 0;
   try {
@@ -74,8 +78,11 @@ std::string Params::describe() const {
       text += fmt::format("{}={}", spec.name, texts_.at(spec.name));
       continue;
     }
-    text += spec.choices.empty() ? fmt::format("{}={}", spec.name, value)
-                                 : fmt::format("{}={}", spec.name, spec.choices.at(static_cast<size_t>(value)));
+    if (!spec.autoName.empty() && value == 0.0)
+      text += fmt::format("{}={}", spec.name, spec.autoName);
+    else
+      text += spec.choices.empty() ? fmt::format("{}={}", spec.name, value)
+                                   : fmt::format("{}={}", spec.name, spec.choices.at(static_cast<size_t>(value)));
   }
   return text;
 }

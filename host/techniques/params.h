@@ -16,6 +16,7 @@ struct ParamSpec {
   std::vector<std::string> choices = {};  // non-empty: a named choice ("uniform", "adaptive")
   bool text = false;                      // a free-form text value (a list such as "0.2,0.5"), see textParam
   std::string textDefault = {};
+  std::string autoName = {};  // numeric parameters: this word sets 0, outside [min, max], for a value chosen per frame
 };
 
 // A text parameter: stored verbatim, validated by the technique that reads it (Params::getText).
@@ -34,7 +35,7 @@ class Params {
   bool has(const std::string& name) const { return values_.count(name) != 0 || texts_.count(name) != 0; }
   int getInt(const std::string& name) const { return static_cast<int>(get(name)); }
   const std::string& getText(const std::string& name) const;  // a text parameter's value
-  std::string describe() const;  // "bias=0.002 pcf-radius=2", for provenance
+  std::string describe() const;                               // "bias=0.002 pcf-radius=2", for provenance
 
  private:
   std::vector<ParamSpec> specs_;

@@ -58,6 +58,7 @@ class ParallelSplit final : public Technique {
 
 TechniqueInfo pssmTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
+  fixMapSize(params, "each split's map; --pssm-splits auto adapts the split count to it");
   params.push_back({"pssm-filter", kPcf, 0, 1, "Per-split lookup: PCF over --pcf-radius, or one hard comparison",
                     {"pcf", "hard"}});
   params.push_back({"pcf-radius", 2, 0, 16, "PCF kernel radius r in texels: (2r+1)^2 bilinear taps"});

@@ -10,8 +10,16 @@
 namespace penumbra {
 
 std::vector<ParamSpec> shadowMapParams() {
+  ParamSpec mapSize{"map-size", 2048, 16, 8192,
+                    "Shadow-map width and height in texels, or auto: the size the camera's pixels need "
+                    "(--map-size-quantile of them get a texel per pixel), a power of two within "
+                    "--map-size-min..--map-size-max"};
+  mapSize.autoName = "auto";
   return {
-      {"map-size", 2048, 16, 8192, "Shadow-map width and height in texels"},
+      mapSize,
+      {"map-size-quantile", 0.9, 0.01, 1, "--map-size auto: the share of the camera's pixels that get a texel each"},
+      {"map-size-min", 256, 16, 8192, "--map-size auto: the smallest size"},
+      {"map-size-max", 4096, 16, 8192, "--map-size auto: the largest size"},
       {"fit", 1, 0, 1, "Light frustum fitted to the whole scene, or to the receivers the camera sees", {"scene", "receivers"}},
       {"bias", 1.0, 0, 100, "Constant depth bias, in texel footprints at the receiver"},
       {"slope-bias", 1.0, 0, 100, "Slope-scaled depth bias, in texel footprints times tan(angle to the light)"},
@@ -20,6 +28,15 @@ std::vector<ParamSpec> shadowMapParams() {
        "Point lights: each cube face's map reaches this many texels beyond its 90-degree square on every side, so "
        "filters near a face edge read drawn texels (at most map-size / 4)"},
   };
+}
+
+void fixMapSize(std::vector<ParamSpec>& params, const std::string& why) {
+  std::erase_if(params, [](const ParamSpec& spec) { return spec.name.starts_with("map-size-"); });
+  for (ParamSpec& spec : params)
+    if (spec.name == "map-size") {
+      spec.autoName.clear();
+      spec.help = fmt::format("Shadow-map width and height in texels (no auto: {})", why);
+    }
 }
 
 ParamSpec receiverPlaneParam() {

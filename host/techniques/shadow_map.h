@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "host/cl/kernel.h"
-#include "host/views/views.h"
 #include "host/techniques/params.h"
 #include "host/techniques/technique.h"
+#include "host/views/views.h"
 
 namespace penumbra {
 
@@ -23,13 +23,18 @@ struct ShadowMap {
   Buffer<LightViewGpu> gpu;  // view.gpu on the device (one element) for __constant arguments
 };
 
-// map-size, fit, bias, slope-bias, normal-offset, cube-guard (point lights: host/pipeline/point_light.h).
+// map-size (auto: chosen per frame by the renderer from the camera's pixels, host/views/light_fit.h neededMapSize),
+// map-size-quantile, -min, -max, fit, bias, slope-bias, normal-offset, cube-guard (point lights:
+// host/pipeline/point_light.h).
 std::vector<ParamSpec> shadowMapParams();
+// For techniques whose map-size is not one uniform map's (per split, or warped): no auto and its settings; `why`
+// goes into the help.
+void fixMapSize(std::vector<ParamSpec>& params, const std::string& why);
 
 // Fits the light's view (per the "fit" parameter: the whole scene, or the visible receivers with a margin
 // around them of `reachTexels`, the farthest any of the technique's taps reaches from a receiver's texel,
-// plus the normal offset and one texel for bilinear taps), rasterizes it, and tightens view.gpu.zNear to the nearest caster actually drawn, so depth ranges
-// (moment normalisation, blocker search) start where the occluders do.
+// plus the normal offset and one texel for bilinear taps), rasterizes it, and tightens view.gpu.zNear to the nearest
+// caster actually drawn, so depth ranges (moment normalisation, blocker search) start where the occluders do.
 void renderShadowMap(ShadowFrame& frame, const Params& params, ShadowMap& map, float reachTexels);
 
 // "receiver-plane": receiver-plane depth bias on (1) or off (0), for the techniques whose kernels take it.
@@ -56,8 +61,8 @@ void launchVisibility(ShadowFrame& frame, const ShadowMap& map, const Params& pa
   const uint32_t width = static_cast<uint32_t>(g.width), height = static_cast<uint32_t>(g.height);
   Kernel kernel(frame.ctx, source, entry, "shade");
   kernel
-      .args(g.position, g.normal, width, height, map.targets.depth, map.gpu, bias.constant, bias.slope, bias.normalOffset,
-            extra..., visibility)
+      .args(g.position, g.normal, width, height, map.targets.depth, map.gpu, bias.constant, bias.slope,
+            bias.normalOffset, extra..., visibility)
       .moves(uint64_t{width} * height * kVisibilityBytesPerPixel)
       .launch(static_cast<size_t>(width) * height, kPixelGroup);
 }

@@ -2,9 +2,9 @@
 #include "host/views/light_fit.h"
 
 #include <algorithm>
-#include <stdexcept>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
+#include <stdexcept>
 #include <vector>
 
 #include "host/cl/kernel.h"
@@ -15,6 +15,8 @@ namespace {
 
 constexpr size_t kFitGroup = 256;    // FIT_GROUP in kernels/fit.cl
 constexpr size_t kMaxGroups = 1024;  // partials the host finishes
+constexpr size_t kSizeBins = 128;    // FIT_SIZE_BINS
+constexpr double kSizeBinsPerOctave = 8.0;
 
 // Chunk per group so that at most kMaxGroups groups cover `count` items, each chunk a multiple of the group.
 uint32_t chunkFor(size_t count) {
@@ -46,8 +48,8 @@ ReceiverBounds reduceReceivers(Context& ctx, const GBuffer& gbuffer, const glm::
   Buffer<cl_float4> partial(ctx, 2 * groups);
   Kernel kernel(ctx, "kernels/fit.cl", "fit_receivers_partial", "fit");
   kernel
-      .args(gbuffer.position, static_cast<uint32_t>(count), chunk, row(lightEye, 0), row(lightEye, 1),
-            row(lightEye, 2), static_cast<int>(perspective), partial)
+      .args(gbuffer.position, static_cast<uint32_t>(count), chunk, row(lightEye, 0), row(lightEye, 1), row(lightEye, 2),
+            static_cast<int>(perspective), partial)
       .moves(count * sizeof(cl_float4))  // floor: read every position once
       .launch(groups * kFitGroup, kFitGroup);
   const std::vector<cl_float4> parts = partial.download(ctx);
@@ -63,6 +65,42 @@ ReceiverBounds reduceReceivers(Context& ctx, const GBuffer& gbuffer, const glm::
   bounds.depthMin = lo.z;
   bounds.depthMax = hi.z;
   return bounds;
+}
+
+MapSizeNeed neededMapSize(Context& ctx, const GBuffer& gbuffer, std::span<const LightViewGpu> views, double quantile,
+                          int minSize, int maxSize) {
+  if (views.empty()) throw std::invalid_argument("neededMapSize: no views");
+  if (!(quantile > 0.0 && quantile <= 1.0) || minSize < 1 || maxSize < minSize)
+    throw std::invalid_argument("neededMapSize: quantile outside (0, 1] or an empty size range");
+  MapSizeNeed need;
+  need.size = minSize;
+  const size_t count = static_cast<size_t>(gbuffer.width) * static_cast<size_t>(gbuffer.height);
+  if (count == 0) return need;
+  const uint32_t chunk = chunkFor(count);
+  const size_t groups = (count + chunk - 1) / chunk;
+  Buffer<uint32_t> partial(ctx, groups * kSizeBins);
+  const Buffer<LightViewGpu> viewBuffer(ctx, views, CL_MEM_READ_ONLY);
+  Kernel kernel(ctx, "kernels/fit.cl", "fit_size_partial", "fit");
+  kernel
+      .args(gbuffer.position, gbuffer.normal, static_cast<uint32_t>(gbuffer.width),
+            static_cast<uint32_t>(gbuffer.height), chunk, viewBuffer, static_cast<uint32_t>(views.size()), partial)
+      .moves(count * 2 * sizeof(cl_float4))  // floor: read every position and normal once
+      .launch(groups * kFitGroup, kFitGroup);
+  std::vector<uint64_t> bins(kSizeBins, 0);
+  const std::vector<uint32_t> parts = partial.download(ctx);
+  for (size_t i = 0; i < parts.size(); ++i) bins[i % kSizeBins] += parts[i];
+  for (uint64_t b : bins) need.pixels += b;
+  if (need.pixels == 0) return need;
+  // The first bin at which the running count reaches the quantile; its upper edge is the size.
+  const double target = quantile * static_cast<double>(need.pixels);
+  uint64_t running = 0;
+  size_t bin = 0;
+  while (bin + 1 < kSizeBins && static_cast<double>(running += bins[bin]) < target) ++bin;
+  need.needed = std::exp2(static_cast<double>(bin + 1) / kSizeBinsPerOctave);
+  int size = 1;
+  while (size < maxSize && size < need.needed) size *= 2;
+  need.size = std::clamp(size, minSize, maxSize);
+  return need;
 }
 
 DepthRange reduceDepthRange(Context& ctx, const Buffer<float>& depth, size_t count) {

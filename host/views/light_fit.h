@@ -1,14 +1,17 @@
 // What the light's frustum is fitted to: the light-space box of the receivers the camera sees (a min/max
-// reduction of the G-buffer on the device) and, once the map is drawn, the depth range of its casters
-// (kernels/fit.cl). host/views/views.h turns these into the light's view.
+// reduction of the G-buffer on the device), the map size the camera's pixels need and, once the map is drawn, the
+// depth range of its casters (kernels/fit.cl). host/views/views.h turns these into the light's view.
 #pragma once
 
+#include <cstdint>
 #include <glm/glm.hpp>
+#include <span>
 
 #include "host/cl/buffer.h"
 #include "host/cl/context.h"
 #include "host/scene/light.h"
 #include "host/scene/scene.h"
+#include "kernels/shared/light_view.h"
 #include "raster/rasterizer.h"
 
 namespace penumbra {
@@ -27,6 +30,20 @@ glm::mat4 lightEyeMatrix(const Light& light, const Bounds& scene);
 
 // Box of the covered G-buffer pixels seen from `lightEye`. Launch "fit/fit_receivers_partial".
 ReceiverBounds reduceReceivers(Context& ctx, const GBuffer& gbuffer, const glm::mat4& lightEye, bool perspective);
+
+// The map size the camera's pixels need (`--map-size auto`): per covered pixel, the size at which its shorter screen
+// step to an on-plane neighbour spans one texel of the first of `views` whose map holds it (Luksch sec. 7, eq. 5, the
+// measure of pssm's resolutionError; a directional or spot light's one view, or a point light's six cube faces, each
+// fitted at any size); `size` is the `quantile` of those over the pixels, rounded up to a power of two within
+// [minSize, maxSize]. Launch "fit/fit_size_partial" (a histogram of 8 bins an octave, so `needed` is within 9 % above
+// the exact quantile).
+struct MapSizeNeed {
+  int size = 0;         // the chosen size; minSize when no pixel was counted
+  double needed = 0.0;  // the quantile before rounding and clamping (0: no pixel counted)
+  uint64_t pixels = 0;  // pixels counted
+};
+MapSizeNeed neededMapSize(Context& ctx, const GBuffer& gbuffer, std::span<const LightViewGpu> views, double quantile,
+                          int minSize, int maxSize);
 
 // Finite min and max of `count` depths (+INFINITY background ignored); {+inf, -inf} when none is finite.
 // Launch "fit/fit_depth_partial".
