@@ -21,13 +21,74 @@ inline float vssm_occluder(float2 e, float t, float minVariance) {
   return e.x - cheb_variance(e, minVariance) / (t - e.x);
 }
 
-// Alg. 1 L11-L15: the average blocker depth (normalised) over the search kernel [lo, hi], or -1 when nothing
-// blocks. A "non-planarity" kernel is subdivided (sec. 5.2): d1 from the normal group (eq. 5, then eq. 4),
+// Beyond the paper: a disk light's kernels as disks. Yang et al.'s kernels are squares (one SAT box each), but a
+// disk light reaches a receiver through a disk, and the square's corners are most of VSSM's error against PCSS's
+// Poisson disk (docs/techniques/vssm.md). The disk of half-width w is K horizontal strips of equal height, each one
+// SAT box whose half-width gives it the disk's area over its rows (so the strips cover pi w^2, as the disk does);
+// K = min(diskStrips, ceil(2 w)): at most one strip per texel row, one area-matched box for a kernel under a texel.
+// diskStrips = 0 keeps the paper's square. Moments are the strips' area-weighted means; a "non-planarity" kernel
+// subdivides every strip into the same accumulator (Algorithm 2's sums are sums over areas).
+inline uint vssm_strip_count(const VssmMaps* m, float w) {
+  return m->p.diskStrips == 0u ? 0u : clamp((uint)ceil(2.0f * w), 1u, m->p.diskStrips);
+}
+
+// The integral of the half chord sqrt(w^2 - y^2) from 0 to y (y within [-w, w]).
+inline float vssm_half_chord_integral(float w, float y) {
+  y = clamp(y, -w, w);
+  return 0.5f * (y * sqrt(fmax(w * w - y * y, 0.0f)) + w * w * asin(clamp(y / w, -1.0f, 1.0f)));
+}
+
+// Kernel [c - w, c + w]: the square itself (strips 0) or strip k of `strips`.
+inline void vssm_kernel_box(float2 c, float w, uint k, uint strips, float2* lo, float2* hi) {
+  if (strips == 0u) {
+    *lo = c - w, *hi = c + w;
+    return;
+  }
+  const float h = 2.0f * w / (float)strips, ya = -w + h * (float)k, yb = ya + h;
+  const float halfWidth = (vssm_half_chord_integral(w, yb) - vssm_half_chord_integral(w, ya)) / h;
+  *lo = (float2)(c.x - halfWidth, c.y + ya), *hi = (float2)(c.x + halfWidth, c.y + yb);
+}
+
+inline float2 vssm_kernel_moments(const VssmMaps* m, float2 c, float w) {
+  const uint strips = vssm_strip_count(m, w);
+  float2 sum = (float2)(0.0f), lo, hi;
+  float area = 0.0f;
+  for (uint k = 0; k < max(strips, 1u); ++k) {
+    vssm_kernel_box(c, w, k, strips, &lo, &hi);
+    const float a = (hi.x - lo.x) * (hi.y - lo.y);
+    sum += vssm_box_moments(m, lo, hi) * a, area += a;
+  }
+  return sum / area;
+}
+
+// The strips share the square's subdivision budget: uniform, each strip is d wide and ceil(d / K) high; adaptive,
+// each strip's tree is floor(log2(K) / 2) levels shallower (K strips of 4^-l the leaves each), at least one level.
+inline void vssm_kernel_subdivide(const VssmMaps* m, const VssmReceiver* r, float2 c, float w, int search,
+                                  VssmAccum* acc) {
+  const uint scheme = search ? m->p.searchScheme : m->p.shadeScheme;
+  const uint d = search ? m->p.searchDivisions : m->p.shadeDivisions;
+  const uint strips = vssm_strip_count(m, w), k = max(strips, 1u);
+  uint height = 0u, shallower = 0u;
+  for (uint n = 1u; n < m->p.nodeCount; n = 4u * n + 1u) ++height;  // nodeCount = (4^(H+1) - 1) / 3
+  for (uint q = 4u; q <= k; q *= 4u) ++shallower;                   // floor(log4 K)
+  const uint maxLevel = height > shallower ? max(height - shallower, 1u) : 1u;
+  float2 lo, hi;
+  for (uint s = 0; s < k; ++s) {
+    vssm_kernel_box(c, w, s, strips, &lo, &hi);
+    if (scheme == VSSM_SCHEME_UNIFORM)
+      vssm_uniform(m, r, lo, hi, d, (d + k - 1u) / k, search, acc);
+    else
+      vssm_adaptive(m, r, lo, hi, maxLevel, search, acc);
+  }
+}
+
+// Alg. 1 L11-L15: the average blocker depth (normalised) over the search kernel of half-width w at c, or -1 when
+// nothing blocks. A "non-planarity" kernel is subdivided (sec. 5.2): d1 from the normal group (eq. 5, then eq. 4),
 // d2 from the PCF leaves, combined weighted by their blocker areas.
-inline float vssm_blocker_depth(const VssmMaps* m, const VssmReceiver* r, float2 lo, float2 hi, float zmin,
+inline float vssm_blocker_depth(const VssmMaps* m, const VssmReceiver* r, float2 c, float w, float zmin,
                                 int* subdivided, int* visited) {
   const float minVariance = m->p.minVariance;
-  const float2 e = vssm_box_moments(m, lo, hi);
+  const float2 e = vssm_kernel_moments(m, c, w);
   // L15 on a planar kernel (z_Avg < t), guarded: as P -> 1 (the limit z_Avg -> t of the non-planarity case) eq. 4
   // amplifies the bound's error by 1 / (1 - P), so above planarMaxLit the kernel is subdivided as well.
   const int planar = e.x < r->t, none = m->p.searchScheme == VSSM_SCHEME_NONE;
@@ -36,10 +97,7 @@ inline float vssm_blocker_depth(const VssmMaps* m, const VssmReceiver* r, float2
   if (none) return -1.0f;  // z_Avg >= t read as "no blocker", as VSM does
   *subdivided = 1;
   VssmAccum acc = vssm_accum_zero();
-  if (m->p.searchScheme == VSSM_SCHEME_UNIFORM)
-    vssm_uniform(m, r, lo, hi, m->p.searchDivisions, 1, &acc);
-  else
-    vssm_adaptive(m, r, lo, hi, 1, &acc);
+  vssm_kernel_subdivide(m, r, c, w, 1, &acc);
   *visited += acc.visited;
   float blocked = acc.pcfBlocked, depthSum = acc.pcfDepth;
   if (acc.vsmArea > 0.0f) {
@@ -54,18 +112,15 @@ inline float vssm_blocker_depth(const VssmMaps* m, const VssmReceiver* r, float2
   return blocked > 0.0f ? depthSum / blocked : -1.0f;
 }
 
-// Alg. 1 L17-L20 and Alg. 2 L28-L31: visibility over the penumbra kernel [lo, hi]: the Chebyshev bound L of
-// the normal group weighted by VSMArea, 1 by LitArea and the PCF result L1 by PCFArea.
-inline float vssm_shade(const VssmMaps* m, const VssmReceiver* r, float2 lo, float2 hi, int* subdivided, int* visited) {
-  const float2 e = vssm_box_moments(m, lo, hi);
+// Alg. 1 L17-L20 and Alg. 2 L28-L31: visibility over the penumbra kernel of half-width w at c: the Chebyshev bound
+// L of the normal group weighted by VSMArea, 1 by LitArea and the PCF result L1 by PCFArea.
+inline float vssm_shade(const VssmMaps* m, const VssmReceiver* r, float2 c, float w, int* subdivided, int* visited) {
+  const float2 e = vssm_kernel_moments(m, c, w);
   if (e.x < r->t) return cheb_upper_bound(e, r->t, m->p.minVariance);
   if (m->p.shadeScheme == VSSM_SCHEME_NONE) return 1.0f;
   *subdivided = 1;
   VssmAccum acc = vssm_accum_zero();
-  if (m->p.shadeScheme == VSSM_SCHEME_UNIFORM)
-    vssm_uniform(m, r, lo, hi, m->p.shadeDivisions, 0, &acc);
-  else
-    vssm_adaptive(m, r, lo, hi, 0, &acc);
+  vssm_kernel_subdivide(m, r, c, w, 0, &acc);
   *visited += acc.visited;
   float lit = acc.litArea + (acc.pcfArea - acc.pcfBlocked);
   if (acc.vsmArea > 0.0f)
@@ -105,7 +160,8 @@ inline VssmResult vssm_pixel(const VssmMaps* m, VssmReceiver r) {
     return out;
   }
   int subdivided = 0;
-  const float zocc = vssm_blocker_depth(m, &r, r.uv - wi, r.uv + wi, range.x, &subdivided, &out.visited);
+  // The HSM tests above read the square around the kernel: conservative for a disk inside it.
+  const float zocc = vssm_blocker_depth(m, &r, r.uv, wi, range.x, &subdivided, &out.visited);
   if (zocc < 0.0f) {
     out.path = VSSM_PATH_NO_BLOCKER;
     return out;
@@ -118,7 +174,7 @@ inline VssmResult vssm_pixel(const VssmMaps* m, VssmReceiver r) {
     out.path = VSSM_PATH_CONTACT;
     return out;
   }
-  out.visibility = vssm_shade(m, &r, r.uv - wp, r.uv + wp, &subdivided, &out.visited);
+  out.visibility = vssm_shade(m, &r, r.uv, wp, &subdivided, &out.visited);
   out.path = subdivided ? VSSM_PATH_SUBDIVIDED : VSSM_PATH_PLANAR;
   return out;
 }

@@ -39,6 +39,7 @@ struct Case {
   bool spot = true;
   float holes = 0.05f;  // share of NaN / empty texels
   double visTol = kVisTol;
+  int diskStrips = 0;  // beyond the paper: disk kernels of at most this many strips
 };
 
 std::string caseName(const ::testing::TestParamInfo<Case>& p) { return p.param.name; }
@@ -99,6 +100,7 @@ ref::VssmSettings settingsFor(const Case& c) {
   s.searchScheme = c.searchScheme, s.shadeScheme = c.shadeScheme;
   s.m = 5, s.n = 6, s.levels = 3, s.leafTaps = 2;
   s.planarMaxLit = 0.9;
+  s.diskStrips = c.diskStrips;
   s.litVariance = 2.5e-5, s.contactDepth = 0.02 * (c.zFar - c.zNear), s.maxRadius = 24, s.minVariance = 1e-6;
   return s;
 }
@@ -133,6 +135,7 @@ KernelOut runKernel(Context& ctx, const Case& c, const std::vector<float>& map, 
   p.searchDivisions = uint32_t(s.m), p.shadeDivisions = uint32_t(s.n), p.leafTaps = uint32_t(s.leafTaps);
   p.nodeCount = maps.nodeCount(), p.pyramidLevels = maps.levelCount();
   p.planarMaxLit = float(s.planarMaxLit);
+  p.diskStrips = uint32_t(s.diskStrips);
   std::vector<cl_float4> rx(receivers.size());
   std::vector<float> slopes(receivers.size());
   for (size_t i = 0; i < receivers.size(); ++i) {
@@ -198,18 +201,23 @@ constexpr int kU = VSSM_SCHEME_UNIFORM, kA = VSSM_SCHEME_ADAPTIVE, kN = VSSM_SCH
 
 INSTANTIATE_TEST_SUITE_P(
     Vssm, VssmKernel,
-    ::testing::Values(Case{"mixed_61x37", 61, 37, 2.0f, 12.0f, kU, kA},
-                      Case{"uniform_64x64", 64, 64, 2.0f, 12.0f, kU, kU},
-                      Case{"adaptive_64x64", 64, 64, 2.0f, 12.0f, kA, kA},
-                      Case{"none_45x45", 45, 45, 2.0f, 12.0f, kN, kN}, Case{"mixed_1x1", 1, 1, 2.0f, 12.0f, kU, kA},
-                      Case{"mixed_200x3", 200, 3, 2.0f, 12.0f, kU, kA},
-                      Case{"mixed_huge_range", 53, 47, 0.01f, 1e6f, kU, kA},
-                      Case{"mixed_no_holes", 64, 48, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed64, true, 0.0f},
-                      Case{"mixed_mostly_holes", 40, 40, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed64, true, 0.6f},
-                      Case{"mixed_directional", 50, 50, 5.0f, 25.0f, kU, kA, VssmSatMode::Fixed64, false},
-                      Case{"mixed_fixed32", 48, 48, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed32, true, 0.05f, 2e-2},
-                      Case{"mixed_fp32", 48, 48, 2.0f, 12.0f, kU, kA, VssmSatMode::Float32, true, 0.05f, 2e-2},
-                      Case{"mixed_fp64", 48, 48, 2.0f, 12.0f, kU, kA, VssmSatMode::Float64}),
+    ::testing::Values(
+        Case{"mixed_61x37", 61, 37, 2.0f, 12.0f, kU, kA}, Case{"uniform_64x64", 64, 64, 2.0f, 12.0f, kU, kU},
+        Case{"adaptive_64x64", 64, 64, 2.0f, 12.0f, kA, kA}, Case{"none_45x45", 45, 45, 2.0f, 12.0f, kN, kN},
+        Case{"mixed_1x1", 1, 1, 2.0f, 12.0f, kU, kA}, Case{"mixed_200x3", 200, 3, 2.0f, 12.0f, kU, kA},
+        Case{"mixed_huge_range", 53, 47, 0.01f, 1e6f, kU, kA},
+        Case{"mixed_no_holes", 64, 48, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed64, true, 0.0f},
+        Case{"mixed_mostly_holes", 40, 40, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed64, true, 0.6f},
+        Case{"mixed_directional", 50, 50, 5.0f, 25.0f, kU, kA, VssmSatMode::Fixed64, false},
+        Case{"mixed_fixed32", 48, 48, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed32, true, 0.05f, 2e-2},
+        Case{"mixed_fp32", 48, 48, 2.0f, 12.0f, kU, kA, VssmSatMode::Float32, true, 0.05f, 2e-2},
+        Case{"mixed_fp64", 48, 48, 2.0f, 12.0f, kU, kA, VssmSatMode::Float64},
+        Case{"disk8_mixed_61x37", 61, 37, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 8},
+        Case{"disk4_uniform_64x64", 64, 64, 2.0f, 12.0f, kU, kU, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 4},
+        Case{"disk16_adaptive_64x64", 64, 64, 2.0f, 12.0f, kA, kA, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 16},
+        Case{"disk8_none_45x45", 45, 45, 2.0f, 12.0f, kN, kN, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 8},
+        Case{"disk8_mixed_1x1", 1, 1, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 8},
+        Case{"disk8_directional", 50, 50, 5.0f, 25.0f, kU, kA, VssmSatMode::Fixed64, false, 0.05f, kVisTol, 8}),
     caseName);
 
 TEST(VssmQuadTree, ChildAndNextLinksWalkTheTreeDepthFirst) {

@@ -91,6 +91,7 @@ VssmParams vssmParams(const Params& params, const VssmMaps& maps, float sceneRad
   p.nodeCount = maps.nodeCount();
   p.pyramidLevels = maps.levelCount();
   p.planarMaxLit = static_cast<float>(params.get("vssm-p-guard"));
+  p.diskStrips = static_cast<uint32_t>(params.getInt("vssm-disk-strips"));
   return p;
 }
 
@@ -114,6 +115,9 @@ std::vector<ParamSpec> vssmParamSpecs() {
       {"vssm-p-guard", 0.9, 0, 1,
        "Eq. 4 divides by 1 - P: a search kernel whose Chebyshev P exceeds this is subdivided; 1 = only z_avg >= t"},
       {"vssm-min-variance", 1e-6, 0, 1, "Chebyshev minimum variance, in normalised light depth squared"},
+      {"vssm-disk-strips", 8, 0, 32,
+       "Beyond the paper: search and penumbra kernels as disks of at most this many area-matched SAT strips (one per "
+       "texel row at most); 0 = the paper's squares"},
       {"vssm-sat", 0, 0, 3, "SAT storage of the moments", {"fixed64", "fixed32", "fp32", "fp64"}},
   };
 }

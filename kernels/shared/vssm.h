@@ -48,7 +48,8 @@ typedef struct VssmParams {
   uint nodeCount;        // quad-tree nodes, (4^(H+1) - 1) / 3
   uint pyramidLevels;    // levels of the min-max HSM, base included
   float planarMaxLit;    // guard of eq. 4: above this Chebyshev P the search kernel is subdivided (1: never)
-  uint pad1, pad2;
+  uint diskStrips;       // beyond the paper: 0 the square kernels of Yang et al., else at most this many disk strips
+  uint pad2;
 } VssmParams;
 
 #if PENUMBRA_HOST

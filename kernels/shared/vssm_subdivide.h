@@ -100,26 +100,29 @@ inline int vssm_visit(const VssmMaps* m, const VssmReceiver* r, float2 lo, float
   return 0;
 }
 
-// Sec. 5.2: divisions x divisions equal sub-kernels, each a leaf.
-inline void vssm_uniform(const VssmMaps* m, const VssmReceiver* r, float2 lo, float2 hi, uint divisions, int search,
+// Sec. 5.2: nx x ny equal sub-kernels, each a leaf (the paper's m x m or n x n on a square kernel).
+inline void vssm_uniform(const VssmMaps* m, const VssmReceiver* r, float2 lo, float2 hi, uint nx, uint ny, int search,
                          VssmAccum* acc) {
-  const float2 step = (hi - lo) / (float)divisions;
-  for (uint j = 0; j < divisions; ++j)
-    for (uint i = 0; i < divisions; ++i) {
+  const float2 step = (hi - lo) / (float2)((float)nx, (float)ny);
+  for (uint j = 0; j < ny; ++j)
+    for (uint i = 0; i < nx; ++i) {
       const float2 a = lo + step * (float2)((float)i, (float)j);
       vssm_visit(m, r, a, a + step, 1, search, acc);
     }
 }
 
 // Sec. 5.3 / Alg. 2 L3-L27: linear traversal of the full quad-tree of height H over [lo, hi] by its Child and
-// Next links (Bunnell 2005), no stack: a node that needs refining goes to Child, every other to Next.
-inline void vssm_adaptive(const VssmMaps* m, const VssmReceiver* r, float2 lo, float2 hi, int search, VssmAccum* acc) {
+// Next links (Bunnell 2005), no stack: a node that needs refining goes to Child, every other to Next. Nodes at
+// `maxLevel` are leaves (a disk strip's shallower tree; H for the paper's square).
+inline void vssm_adaptive(const VssmMaps* m, const VssmReceiver* r, float2 lo, float2 hi, uint maxLevel, int search,
+                          VssmAccum* acc) {
   uint node = 0;
   while (node < m->p.nodeCount) {
     const VssmNode n = m->nodes[node];
     const float2 size = (hi - lo) / (float)(1u << n.level);
     const float2 a = lo + size * (float2)((float)(n.cell & 0xffffu), (float)(n.cell >> 16));
-    const int descend = vssm_visit(m, r, a, a + size, n.child == VSSM_NO_NODE, search, acc);
+    const int leaf = n.child == VSSM_NO_NODE || n.level >= maxLevel;
+    const int descend = vssm_visit(m, r, a, a + size, leaf, search, acc) && !leaf;
     node = descend ? n.child : n.next;
   }
 }

@@ -173,27 +173,70 @@ bool VssmReference::visit(const Rx& r, double lx, double ly, double hx, double h
   return false;
 }
 
-// Recursive quad-tree walk: children in the order (0,0), (1,0), (0,1), (1,1) of their 2x2 block.
-void VssmReference::adaptive(const Rx& r, double lx, double ly, double size, int level, bool search, Sums& s) const {
-  const double sy = size;  // square in texels: the kernel is a square box
-  if (!visit(r, lx, ly, lx + size, ly + sy, level == settings_.levels, search, s)) return;
+// Recursive quad-tree walk: children in the order (0,0), (1,0), (0,1), (1,1) of their 2x2 block; nodes at maxLevel
+// are leaves.
+void VssmReference::adaptive(const Rx& r, double lx, double ly, double sx, double sy, int level, int maxLevel,
+                             bool search, Sums& s) const {
+  const bool leaf = level == maxLevel;
+  if (!visit(r, lx, ly, lx + sx, ly + sy, leaf, search, s) || leaf) return;
   for (int k = 0; k < 4; ++k)
-    adaptive(r, lx + (k & 1) * size / 2, ly + (k >> 1) * size / 2, size / 2, level + 1, search, s);
+    adaptive(r, lx + (k & 1) * sx / 2, ly + (k >> 1) * sy / 2, sx / 2, sy / 2, level + 1, maxLevel, search, s);
 }
 
-void VssmReference::subdivide(const Rx& r, double lo[2], double hi[2], bool search, Sums& s) const {
+// The disk of half-width w as K equal-height strips, each the rectangle with the disk's area over its rows:
+// half-width = (integral of sqrt(w^2 - y^2) over the rows) / (row height); K = min(diskStrips, ceil(2w)).
+std::vector<std::pair<std::array<double, 2>, std::array<double, 2>>> VssmReference::kernelBoxes(const Rx& r,
+                                                                                                double w) const {
+  if (settings_.diskStrips == 0) return {{{r.u - w, r.v - w}, {r.u + w, r.v + w}}};
+  const int k = std::clamp(int(std::ceil(2 * w)), 1, settings_.diskStrips);
+  auto integral = [w](double y) {
+    y = std::clamp(y, -w, w);
+    return 0.5 * (y * std::sqrt(std::max(w * w - y * y, 0.0)) + w * w * std::asin(std::clamp(y / w, -1.0, 1.0)));
+  };
+  std::vector<std::pair<std::array<double, 2>, std::array<double, 2>>> boxes;
+  const double h = 2 * w / k;
+  for (int i = 0; i < k; ++i) {
+    const double ya = -w + h * i, yb = ya + h;
+    const double half = (integral(yb) - integral(ya)) / h;
+    boxes.push_back({{r.u - half, r.v + ya}, {r.u + half, r.v + yb}});
+  }
+  return boxes;
+}
+
+std::pair<double, double> VssmReference::kernelMoments(const Rx& r, double w) const {
+  double e1 = 0, e2 = 0, total = 0;
+  for (const auto& [lo, hi] : kernelBoxes(r, w)) {
+    const double area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
+    const auto [m1, m2] = boxMoments(lo[0], lo[1], hi[0], hi[1]);
+    e1 += m1 * area, e2 += m2 * area, total += area;
+  }
+  return {e1 / total, e2 / total};
+}
+
+// Each strip subdivided as the square would be, its share of the budget: uniform d x ceil(d / K); adaptive a tree
+// floor(log4 K) levels shallower (at least one level).
+void VssmReference::subdivide(const Rx& r, double w, bool search, Sums& s) const {
+  const auto boxes = kernelBoxes(r, w);
+  const int strips = int(boxes.size());
   const int scheme = search ? settings_.searchScheme : settings_.shadeScheme;
-  if (scheme == 2) return adaptive(r, lo[0], lo[1], hi[0] - lo[0], 0, search, s);
-  const int n = search ? settings_.m : settings_.n;
-  const double step = (hi[0] - lo[0]) / n;
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i)
-      visit(r, lo[0] + i * step, lo[1] + j * step, lo[0] + (i + 1) * step, lo[1] + (j + 1) * step, true, search, s);
+  int shallower = 0;
+  for (int q = 4; q <= strips; q *= 4) ++shallower;
+  const int maxLevel = std::max(settings_.levels - shallower, 1);
+  const int nx = search ? settings_.m : settings_.n, ny = (nx + strips - 1) / strips;
+  for (const auto& [lo, hi] : boxes) {
+    if (scheme == 2) {
+      adaptive(r, lo[0], lo[1], hi[0] - lo[0], hi[1] - lo[1], 0, maxLevel, search, s);
+      continue;
+    }
+    const double sx = (hi[0] - lo[0]) / nx, sy = (hi[1] - lo[1]) / ny;
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+        visit(r, lo[0] + i * sx, lo[1] + j * sy, lo[0] + (i + 1) * sx, lo[1] + (j + 1) * sy, true, search, s);
+  }
 }
 
-double VssmReference::blocker(const Rx& r, double lo[2], double hi[2], double zmin, bool& subdivided,
-                              int& visited) const {
-  const auto [e1, e2] = boxMoments(lo[0], lo[1], hi[0], hi[1]);
+double VssmReference::blocker(const Rx& r, double w, double zmin, bool& subdivided, int& visited) const {
+  const auto [e1, e2] = kernelMoments(r, w);
   const double minVar = settings_.minVariance;
   if (e1 < r.t) {
     const double var = std::max(e2 - e1 * e1, minVar);
@@ -203,7 +246,7 @@ double VssmReference::blocker(const Rx& r, double lo[2], double hi[2], double zm
   if (settings_.searchScheme == 0) return -1;
   subdivided = true;
   Sums s;
-  subdivide(r, lo, hi, true, s);
+  subdivide(r, w, true, s);
   visited += s.visited;
   double blocked = s.pcfBlocked, depthSum = s.pcfDepth;
   if (s.vsmArea > 0) {
@@ -217,14 +260,14 @@ double VssmReference::blocker(const Rx& r, double lo[2], double hi[2], double zm
   return blocked > 0 ? depthSum / blocked : -1;
 }
 
-double VssmReference::shade(const Rx& r, double lo[2], double hi[2], bool& subdivided, int& visited) const {
-  const auto [e1, e2] = boxMoments(lo[0], lo[1], hi[0], hi[1]);
+double VssmReference::shade(const Rx& r, double w, bool& subdivided, int& visited) const {
+  const auto [e1, e2] = kernelMoments(r, w);
   const double minVar = settings_.minVariance;
   if (e1 < r.t) return chebyshev(e1, std::max(e2 - e1 * e1, minVar), r.t);
   if (settings_.shadeScheme == 0) return 1;
   subdivided = true;
   Sums s;
-  subdivide(r, lo, hi, false, s);
+  subdivide(r, w, false, s);
   visited += s.visited;
   double lit = s.litArea + s.pcfArea - s.pcfBlocked;
   if (s.vsmArea > 0) {
@@ -257,7 +300,7 @@ VssmResult VssmReference::pixel(const VssmReceiverIn& in) const {
   if (zmin >= r.t) return out;                                              // every tap lit
   if (zmax < r.t - r.tSlope * wi * std::sqrt(2.0)) return {0, 0, 0, 0, 1};  // every tap blocked
   bool subdivided = false;
-  const double zocc = blocker(r, lo, hi, zmin, subdivided, out.visited);
+  const double zocc = blocker(r, wi, zmin, subdivided, out.visited);
   if (zocc < 0) return {1, 0, 0, out.visited, 5};
   out.blocker = light_.zNear + zocc / invRange;
   out.penumbra = std::clamp(penumbraTexels(in.depth, out.blocker), 0.5, settings_.maxRadius);
@@ -268,7 +311,7 @@ VssmResult VssmReference::pixel(const VssmReceiverIn& in) const {
     out.path = 4;
     return out;
   }
-  out.visibility = shade(r, plo, phi, subdivided, out.visited);
+  out.visibility = shade(r, wp, subdivided, out.visited);
   out.path = subdivided ? 3 : 2;
   return out;
 }

@@ -4,6 +4,7 @@
 // walks the same tree by Child/Next links), PCF leaves and the 3x3 jittered contact PCF.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -26,6 +27,7 @@ struct VssmSettings {
   double maxRadius = 128.0;   // texels
   double minVariance = 1e-6;  // normalised depth^2
   double planarMaxLit = 1.0;  // eq. 4 on the whole search kernel only while P <= this
+  int diskStrips = 0;         // beyond the paper: 0 square kernels, else disks of at most this many strips
 };
 
 struct VssmReceiverIn {
@@ -57,10 +59,14 @@ class VssmReference {
   double tapDepth(const Rx& r, double u, double v) const;
   double penumbraTexels(double receiver, double occluder) const;
   bool visit(const Rx& r, double lx, double ly, double hx, double hy, bool leaf, bool search, Sums& s) const;
-  void adaptive(const Rx& r, double lx, double ly, double size, int level, bool search, Sums& s) const;
-  void subdivide(const Rx& r, double lo[2], double hi[2], bool search, Sums& s) const;
-  double blocker(const Rx& r, double lo[2], double hi[2], double zmin, bool& subdivided, int& visited) const;
-  double shade(const Rx& r, double lo[2], double hi[2], bool& subdivided, int& visited) const;
+  void adaptive(const Rx& r, double lx, double ly, double sx, double sy, int level, int maxLevel, bool search,
+                Sums& s) const;
+  // The kernel of half-width w around the receiver: the square, or the disk's strips (lo, hi per strip).
+  std::vector<std::pair<std::array<double, 2>, std::array<double, 2>>> kernelBoxes(const Rx& r, double w) const;
+  std::pair<double, double> kernelMoments(const Rx& r, double w) const;
+  void subdivide(const Rx& r, double w, bool search, Sums& s) const;
+  double blocker(const Rx& r, double w, double zmin, bool& subdivided, int& visited) const;
+  double shade(const Rx& r, double w, bool& subdivided, int& visited) const;
   double contact(const Rx& r, double lo[2], double hi[2]) const;
 
   std::vector<float> depth_;

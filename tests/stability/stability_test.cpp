@@ -296,12 +296,16 @@ TEST_F(Stability, APointLightInsideAClosedBox) {
 // 256 spp. Asserted where they hold: some technique reaches MAE <= kBestMaxMae on every scene, and pcss (the most
 // accurate soft technique) keeps light out of the umbra (umbra_light <= kMaxUmbraLight), except on poles, where it
 // misses the target narrowly (measured 0.056 here, 0.050 at 480x270: the average blocker depth of a thin pole over a
-// far ground), so kPolesUmbraLight guards today's value. Printed where they do not yet hold, measured in
-// docs/evaluation.md ("Targets on the built-in scenes"): vssm within 1.1x of pcss's MAE (1.8-2.1x on box, staircase and
-// stacked-planes), and no technique above 5 % umbra light (on poles every prefiltered technique washes them out).
+// far ground), so kPolesUmbraLight guards today's value. vssm within kVssmOverPcss of pcss's MAE: met with its disk
+// kernels (--vssm-disk-strips 8; the paper's squares were 1.8-2.1x) on staircase, poles and cards (0.95, 0.95, 1.01
+// here), missed narrowly on box and stacked-planes (1.21 and 1.23 here, 1.11 and 1.19 at 480x270), which
+// kVssmOverPcssMissed guards. Printed, not asserted, because it does not hold: no technique above 5 % umbra light (on
+// poles every prefiltered technique washes them out). docs/evaluation.md ("Targets on the built-in scenes").
 constexpr double kBestMaxMae = 0.004;
 constexpr double kMaxUmbraLight = 0.05;
 constexpr double kPolesUmbraLight = 0.07;
+constexpr double kVssmOverPcss = 1.1;
+constexpr double kVssmOverPcssMissed = 1.3;
 
 TEST_F(Stability, TargetsOnEveryBuiltinSceneUnderItsAreaLight) {
   for (const ProceduralInfo& builtin : proceduralScenes()) {
@@ -332,6 +336,8 @@ TEST_F(Stability, TargetsOnEveryBuiltinSceneUnderItsAreaLight) {
         pcss.mae > 0 ? vssm.mae / pcss.mae : 1.0, worstUmbra, pcss.umbraPixels);
     EXPECT_LE(seen[best].mae, kBestMaxMae) << builtin.name;
     EXPECT_LE(pcss.umbraLight, builtin.name == "poles" ? kPolesUmbraLight : kMaxUmbraLight) << builtin.name;
+    const bool missed = builtin.name == "box" || builtin.name == "stacked-planes";
+    if (pcss.mae > 1e-5) EXPECT_LE(vssm.mae, (missed ? kVssmOverPcssMissed : kVssmOverPcss) * pcss.mae) << builtin.name;
   }
 }
 
