@@ -5,8 +5,16 @@
 // Taps (`pattern`): 0, a taps x taps grid over the square of the region's half-width; 1, taps^2 points of a Poisson
 // disk (Mitchell's best candidate, host side) over the region's disk, the shape the light disk actually gives both
 // regions, rotated per pixel (kernels/shared/rotation.h) so the grid's banding becomes noise.
+// Adaptive search (`adaptive`, beyond the sketch): a min-max pyramid of the map bounds the region first. Where no
+// texel of the region's square lies in front of the receiver, nothing can block and the pixel is lit without a tap;
+// otherwise the nearest caster in the region, z_min, replaces the near plane in the region's similar triangles (a
+// blocker at depth z >= z_min occludes the light from the receiver only inside the light's cone cut at z, which
+// narrows as z grows), twice, each time over the narrowed square: the taps stay on where blockers can be.
+#include "kernels/shared/pyramid.h"
 #include "kernels/shared/rotation.h"
 #include "kernels/shared/shadow_common.h"
+
+#define PCSS_ADAPTIVE_STEPS 2  // narrowings of the search region by the pyramid's nearest caster
 
 // Tap k of a search or filter region of half-width `radius` texels: grid (taps x taps) or rotated Poisson disk.
 inline float2 pcss_offset(int pattern, __global const float2* disk, float2 cs, int taps, int k, float radius) {
@@ -34,12 +42,13 @@ inline float pcss_blocker_depth(__global const float* map, __constant const Ligh
   return found > 0 ? sum / (float)found : 0.0f;
 }
 
-__kernel void pcss_visibility(__global const float4* position, __global const float4* normal, uint width,
-                              uint height, __global const float* map, __constant const LightViewGpu* lv,
-                              float biasConstant, float biasSlope, float normalOffset, int receiverPlane,
-                              int searchTaps, int filterTaps, float maxRadius, int pattern,
-                              __global const float2* searchDisk, __global const float2* filterDisk,
-                              __global float* blockerOut, __global float* visibility) {
+__kernel void pcss_visibility(__global const float4* position, __global const float4* normal, uint width, uint height,
+                              __global const float* map, __constant const LightViewGpu* lv, float biasConstant,
+                              float biasSlope, float normalOffset, int receiverPlane, int searchTaps, int filterTaps,
+                              float maxRadius, int pattern, __global const float2* searchDisk,
+                              __global const float2* filterDisk, int adaptive, __global const float2* pyramid,
+                              __constant const PyramidLevel* levels, uint levelCount, __global float* blockerOut,
+                              __global float* visibility) {
   uint i = get_global_id(0);
   if (i >= width * height) return;
   float4 p = position[i];
@@ -54,6 +63,16 @@ __kernel void pcss_visibility(__global const float4* position, __global const fl
   float2 cs = (float2)(cos(angle), sin(angle));
   // The light disk seen from the receiver covers, at the near plane, the widest region that can hold blockers.
   float search = clamp(lv_penumbra_texels(lv, r.depth, lv->zNear), 0.5f, maxRadius);
+  for (int step = 0; adaptive && step < PCSS_ADAPTIVE_STEPS; ++step) {
+    // The square around the region's disk; texels beyond the map hold no caster.
+    const float nearest =
+        pyramid_range(pyramid, levels, levelCount, lv->width, lv->height, r.uv - search, r.uv + search, INFINITY).x;
+    if (!(nearest < r.depth - r.bias)) {  // no tap can block (each compares against depth - bias or less)
+      blockerOut[i] = -1.0f;
+      return;
+    }
+    search = fmin(search, clamp(lv_penumbra_texels(lv, r.depth, fmax(nearest, lv->zNear)), 0.5f, maxRadius));
+  }
   float blocker = pcss_blocker_depth(map, lv, r, search, pattern, searchDisk, cs, searchTaps);
   blockerOut[i] = blocker;
   if (blocker <= 0.0f) return;  // no blocker: fully lit

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "host/scene/procedural.h"
 #include "tests/support/analytic_scenes.h"
@@ -60,8 +61,8 @@ TEST_F(PcfTechniques, AdaptiveKernelFollowsThePixelFootprint) {
     const RenderResult fixed = render(plane, grazing, light, "pcf", values);
     const auto &r = fixed.image.require("filter.Z").data, &covered = fixed.image.require("A").data;
     for (size_t i = 0; i < r.size(); ++i)
-      ASSERT_EQ(r[i], covered[i] > 0.0f ? 1.0f : 0.0f) << "fixed kernel: half-width 1 on every covered pixel (" << i
-                                                       << ")";
+      ASSERT_EQ(r[i], covered[i] > 0.0f ? 1.0f : 0.0f)
+          << "fixed kernel: half-width 1 on every covered pixel (" << i << ")";
   }
   values["pcf-adaptive"] = "on";
   values["pcf-max-radius"] = "12";
@@ -89,6 +90,50 @@ void expectEdge(const RenderResult& result, float band, const std::string& what)
   const test::HardEdgeCount count = test::checkHardEdge(result.image, band, 1e-6f);
   EXPECT_GT(count.shadowed + count.lit, 5000) << what;
   EXPECT_EQ(count.wrong, 0) << what;
+}
+
+// --pcss-search adaptive: where the pyramid says nothing in the search region lies in front of the receiver
+// (blocker.Z = -1) the full search finds no blocker either (exactly lit); the early-out takes most lit pixels; and the
+// narrowed region's taps come closer to brute-force PCSS (64 x 64 taps) than the full region's at the same count.
+TEST_F(PcfTechniques, PcssAdaptiveSearchSkipsOnlyWhatCannotBlockAndSamplesCloser) {
+  const Scene scene = test::squareOverPlane();
+  Camera camera = test::topDown();
+  camera.width = 160, camera.height = 120;
+  const TechniqueInfo& pcss = findTechnique("pcss");
+  for (const char* spec : {"spot:0,4,0:0,0,0:120:0.4", "dir:0.3,-1,0.2:3"}) {
+    const Light light = parseLight(spec);
+    auto render = [&](const char* search, const char* taps) {
+      Params params(pcss.params);
+      params.set("map-size", "512");
+      params.set("pcss-search", search);
+      params.set("pcss-search-taps", taps);
+      params.set("pcss-filter-taps", taps);
+      Renderer renderer(ctx(), scene);
+      return renderer.render(camera, light, pcss, params).image;
+    };
+    const Image full = render("full", "8"), adaptive = render("adaptive", "8"), brute = render("full", "64");
+    const auto& a = adaptive.require("A").data;
+    const auto &skipped = adaptive.require("blocker.Z").data, &fullBlocker = full.require("blocker.Z").data;
+    const auto &vf = full.require("visibility.Y").data, &va = adaptive.require("visibility.Y").data;
+    const auto& vb = brute.require("visibility.Y").data;
+    size_t early = 0, lit = 0;
+    double errorFull = 0, errorAdaptive = 0;
+    for (size_t i = 0; i < a.size(); ++i) {
+      if (a[i] == 0.0f) continue;
+      lit += vf[i] == 1.0f;
+      if (skipped[i] == -1.0f) {
+        ++early;
+        EXPECT_EQ(va[i], 1.0f) << spec << " pixel " << i;
+        EXPECT_EQ(vf[i], 1.0f) << spec << " pixel " << i;
+        EXPECT_EQ(fullBlocker[i], 0.0f) << spec << " pixel " << i;
+      }
+      errorFull += std::abs(vf[i] - vb[i]), errorAdaptive += std::abs(va[i] - vb[i]);
+    }
+    EXPECT_GT(early, lit / 2) << spec << ": the pyramid skips most lit pixels";
+    EXPECT_LE(errorAdaptive, errorFull * 1.02) << spec;  // measured below or equal (docs/techniques/sm-pcf-pcss.md)
+    std::printf("  %s: %zu of %zu lit pixels skipped; mean |pcss - brute force| full %.5f adaptive %.5f\n", spec, early,
+                lit, errorFull / a.size(), errorAdaptive / a.size());
+  }
 }
 
 TEST_F(PcfTechniques, PoissonTapsAndTheReceiverFitKeepTheHardEdge) {

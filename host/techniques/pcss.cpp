@@ -1,6 +1,7 @@
 // `pcss`: percentage-closer soft shadows for spot disk lights and sun disks (kernels/pcss.cl): blocker
 // search, penumbra from similar triangles, PCF, on grids or rotated Poisson disks. Debug channel: the average blocker
 // depth.
+#include "host/stages/pyramid.h"
 #include "host/techniques/poisson.h"
 #include "host/techniques/registry.h"
 #include "host/techniques/shadow_map.h"
@@ -25,18 +26,35 @@ class PercentageCloserSoft final : public Technique {
       searchDisk_ = Buffer<cl_float2>(frame.ctx, std::span<const cl_float2>(search), CL_MEM_READ_ONLY);
       filterDisk_ = Buffer<cl_float2>(frame.ctx, std::span<const cl_float2>(filter), CL_MEM_READ_ONLY);
     }
+    const bool adaptive = params_.getInt("pcss-search") == kAdaptive;
+    if (adaptive) {  // the map's min-max pyramid: the nearest caster over any region
+      const uint32_t size = static_cast<uint32_t>(map_.view.gpu.width);
+      const PyramidLayout layout = pyramidLayout(size, size, 0);
+      if (pyramid_.size() != layout.texels) {
+        pyramid_.allocate(frame.ctx, layout.texels);
+        levels_ = Buffer<PyramidLevel>(frame.ctx, std::span<const PyramidLevel>(layout.levels), CL_MEM_READ_ONLY);
+      }
+      computeMinMaxPyramid(frame.ctx, map_.targets.depth, size, size, pyramid_);
+    } else if (pyramid_.empty()) {  // unused arguments still need buffers
+      pyramid_.allocate(frame.ctx, 1);
+      levels_.allocate(frame.ctx, 1, CL_MEM_READ_ONLY);
+    }
     launchVisibility(frame, map_, params_, "kernels/pcss.cl", "pcss_visibility", visibility,
                      params_.getInt("receiver-plane"), searchTaps, filterTaps,
-                     static_cast<float>(params_.get("pcss-max-radius")), pattern, searchDisk_, filterDisk_, blocker_);
+                     static_cast<float>(params_.get("pcss-max-radius")), pattern, searchDisk_, filterDisk_,
+                     static_cast<int>(adaptive), pyramid_, levels_, static_cast<uint32_t>(levels_.size()), blocker_);
   }
 
   void addDebugChannels(Context& ctx, Image& image) override { image.add("blocker.Z", blocker_.download(ctx)); }
 
  private:
-  static constexpr int kPoisson = 1;  // pcss-pattern's index of "poisson"
+  static constexpr int kPoisson = 1;   // pcss-pattern's index of "poisson"
+  static constexpr int kAdaptive = 1;  // pcss-search's index of "adaptive"
 
   Params params_;
   ShadowMap map_;
+  Buffer<cl_float2> pyramid_;  // --pcss-search adaptive: the map's min-max pyramid
+  Buffer<PyramidLevel> levels_;
   Buffer<cl_float2> searchDisk_, filterDisk_;
   Buffer<float> blocker_;
 };
@@ -50,10 +68,20 @@ TechniqueInfo pcssTechnique() {
   params.push_back({"pcss-filter-taps", 8, 1, 64, "PCF: taps x taps (grid) or taps^2 (disk) bilinear comparisons"});
   params.push_back({"pcss-max-radius", 64, 1, 512, "Largest search/filter half-width in texels"});
   // The disk by default: at the grid's tap count it halves the grid's error or more, docs/techniques/sm-pcf-pcss.md.
-  params.push_back({"pcss-pattern", 1, 0, 1,
+  params.push_back({"pcss-pattern",
+                    1,
+                    0,
+                    1,
                     "Search and filter taps: taps^2 rotated Poisson-disk points over the light's disk, or a taps x "
                     "taps grid over a square",
                     {"grid", "poisson"}});
+  params.push_back({"pcss-search",
+                    1,
+                    0,
+                    1,
+                    "Blocker search region: the light's cone cut at the near plane (full), or narrowed by the nearest "
+                    "caster in it from a min-max pyramid, lit without taps where nothing can block (adaptive)",
+                    {"full", "adaptive"}});
   return {"pcss", "Percentage-closer soft shadows (blocker search + PCF) for area lights", params,
           [](const Params& p) { return std::make_unique<PercentageCloserSoft>(p); }};
 }

@@ -67,5 +67,39 @@ inline PyramidTaps pyramid_footprint(uint x, uint y, PyramidLevel s, PyramidLeve
   return t;
 }
 
+// Texels of level `level` (texels across) covering base interval [a, b] (of `base` texels) along one axis: level
+// texel x covers at least the base interval [x W0/Wl, (x+1) W0/Wl] (pyramid_taps footprints are conservative),
+// widened by 1e-3 level texels against rounding.
+inline int2 pyramid_cover_span(float a, float b, uint base, uint level) {
+  const float s = (float)level / (float)base;
+  return (int2)(max((int)floor(a * s - 1e-3f), 0), min((int)floor(b * s + 1e-3f), (int)level - 1));
+}
+
+// (min, max) over every base texel the box [lo, hi] (texels) touches, from a min-max pyramid of `levelCount` levels
+// over a width x height base: the finest level where the box covers at most 2 x 2 texels. A box reaching outside
+// the base also gets `outside` (the value of texels beyond the map); an empty box inside it, (+inf, -inf).
+inline float2 pyramid_range(__global const float2* pyramid, __constant const PyramidLevel* levels, uint levelCount,
+                            uint width, uint height, float2 lo, float2 hi, float outside) {
+  const float2 size = (float2)((float)width, (float)height);
+  float2 range = (float2)(INFINITY, -INFINITY);
+  if (any(lo < (float2)(0.0f)) || any(hi > size)) range = (float2)(outside);
+  const float2 a = clamp(lo, (float2)(0.0f), size), b = clamp(hi, a, size);
+  if (!(b.x > a.x && b.y > a.y)) return range;
+  uint l = 0;
+  int2 sx, sy;
+  for (;; ++l) {
+    sx = pyramid_cover_span(a.x, b.x, width, levels[l].width);
+    sy = pyramid_cover_span(a.y, b.y, height, levels[l].height);
+    if ((sx.y - sx.x <= 1 && sy.y - sy.x <= 1) || l + 1 >= levelCount) break;
+  }
+  const PyramidLevel level = levels[l];
+  for (int y = sy.x; y <= sy.y; ++y)
+    for (int x = sx.x; x <= sx.y; ++x) {
+      const float2 v = pyramid[level.offset + (size_t)y * level.width + x];
+      range = (float2)(fmin(range.x, v.x), fmax(range.y, v.y));
+    }
+  return range;
+}
 #endif
+
 #endif

@@ -44,36 +44,10 @@ inline float2 vssm_box_moments(const VssmMaps* m, float2 lo, float2 hi) {
   return (sum + (float2)(area - inside)) / area;
 }
 
-// Texels of HSM level `l` covering base interval [a, b] along one axis: level texel x covers at least the base
-// interval [x W0/Wl, (x+1) W0/Wl] (pyramid_taps footprints are conservative), widened by 1e-3 level texels
-// against rounding.
-inline int2 vssm_hsm_span(float a, float b, uint base, uint level) {
-  const float s = (float)level / (float)base;
-  return (int2)(max((int)floor(a * s - 1e-3f), 0), min((int)floor(b * s + 1e-3f), (int)level - 1));
-}
-
-// (min, max) of normalised depth over every texel [lo, hi] touches: the finest HSM level where the box covers at
-// most 2 x 2 texels. Parts outside the map count as depth 1.
+// (min, max) of normalised depth over every texel [lo, hi] touches (pyramid_range); parts outside the map count as
+// depth 1.
 inline float2 vssm_hsm_range(const VssmMaps* m, float2 lo, float2 hi) {
-  const float2 size = (float2)((float)m->desc.width, (float)m->desc.height);
-  float2 range = (float2)(INFINITY, -INFINITY);
-  if (any(lo < (float2)(0.0f)) || any(hi > size)) range = (float2)(1.0f);
-  const float2 a = clamp(lo, (float2)(0.0f), size), b = clamp(hi, a, size);
-  if (!(b.x > a.x && b.y > a.y)) return range;
-  uint l = 0;
-  int2 sx, sy;
-  for (;; ++l) {
-    sx = vssm_hsm_span(a.x, b.x, m->desc.width, m->levels[l].width);
-    sy = vssm_hsm_span(a.y, b.y, m->desc.height, m->levels[l].height);
-    if ((sx.y - sx.x <= 1 && sy.y - sy.x <= 1) || l + 1 >= m->p.pyramidLevels) break;
-  }
-  const PyramidLevel level = m->levels[l];
-  for (int y = sy.x; y <= sy.y; ++y)
-    for (int x = sx.x; x <= sx.y; ++x) {
-      const float2 v = m->hsm[level.offset + (size_t)y * level.width + x];
-      range = (float2)(fmin(range.x, v.x), fmax(range.y, v.y));
-    }
-  return range;
+  return pyramid_range(m->hsm, m->levels, m->p.pyramidLevels, m->desc.width, m->desc.height, lo, hi, 1.0f);
 }
 
 // World depth a tap at texel position `pos` compares with: the PCF bias grows with the tap offset (pcf.cl).
