@@ -25,9 +25,9 @@ static inline float rasterClipRow(const RasterViewParams* p, int row, float3 v) 
 
 // Loads triangle `index` of the alpha table and moves its vertices into the view's clip space.
 static inline RasterAlphaFragment rasterAlphaFragment(const RasterViewParams* p,
-                                                      __global const RasterAlphaTriangle* triangles,
+                                                      __global const AlphaTriangle* triangles,
                                                       __global const AlphaMaterial* materials, uint index) {
-  __global const RasterAlphaTriangle* t = &triangles[index];
+  __global const AlphaTriangle* t = &triangles[index];
   RasterAlphaFragment f;
   const float3 v0 = vload3(0, t->position), v1 = vload3(1, t->position), v2 = vload3(2, t->position);
   f.x = (float3)(rasterClipRow(p, 0, v0), rasterClipRow(p, 0, v1), rasterClipRow(p, 0, v2));

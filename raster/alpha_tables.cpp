@@ -38,8 +38,8 @@ void validate(const Scene& scene) {
                        t.offset, scene.alphaTexels.size()));
 }
 
-RasterAlphaTriangle alphaTriangle(const Scene& scene, size_t t) {
-  RasterAlphaTriangle a{};
+AlphaTriangle alphaTriangle(const Scene& scene, size_t t) {
+  AlphaTriangle a{};
   for (int k = 0; k < 3; ++k) {
     const uint32_t v = scene.triangles[t][k];
     for (int c = 0; c < 3; ++c) a.position[3 * k + c] = scene.positions[v][c];
@@ -67,6 +67,7 @@ MaterialTables materialTables(const Scene& scene) {
   out.summary.allSingleSided = single > 0 && single == scene.triangles.size();
   if (!out.summary.needsTriangleBits()) return out;
   out.triangleBits.resize(scene.triangles.size());
+  if (out.summary.alphaTested) out.alphaIndex.assign(scene.triangles.size(), ALPHA_NO_TRIANGLE);
   for (size_t t = 0; t < scene.triangles.size(); ++t) {
     const Material& m = scene.materials[scene.materialIds[t]];
     uint32_t bits = m.doubleSided ? 0u : RASTER_TRI_SINGLE_SIDED;
@@ -74,7 +75,8 @@ MaterialTables materialTables(const Scene& scene) {
       if (out.alphaTriangles.size() >= RASTER_MAX_ALPHA_TRIANGLES)
         throw std::invalid_argument(fmt::format("raster scene: more than {} alpha-tested triangles",
                                                 RASTER_MAX_ALPHA_TRIANGLES));
-      bits |= RASTER_TRI_ALPHA | static_cast<uint32_t>(out.alphaTriangles.size()) << RASTER_TRI_ALPHA_SHIFT;
+      out.alphaIndex[t] = static_cast<uint32_t>(out.alphaTriangles.size());
+      bits |= RASTER_TRI_ALPHA | out.alphaIndex[t] << RASTER_TRI_ALPHA_SHIFT;
       out.alphaTriangles.push_back(alphaTriangle(scene, t));
     }
     out.triangleBits[t] = bits;

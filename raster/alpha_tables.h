@@ -1,5 +1,5 @@
 // The host side of the rasterizer's alpha tests and sidedness: from a Scene's materials, the per-triangle material
-// bits setup reads (RASTER_TRI_*), the records of the alpha-tested triangles the fine stage reads (RasterAlphaTriangle)
+// bits setup reads (RASTER_TRI_*), the records of the alpha-tested triangles the fine stage reads (AlphaTriangle)
 // and one AlphaMaterial per material (kernels/shared/alpha.h), checked against the scene.
 #pragma once
 
@@ -15,9 +15,11 @@ namespace penumbra::raster {
 
 struct MaterialTables {
   SceneMaterials summary;
-  std::vector<uint32_t> triangleBits;               // one per triangle when summary.needsTriangleBits(), else empty
-  std::vector<RasterAlphaTriangle> alphaTriangles;  // the triangles whose material may discard, in scene order
-  std::vector<AlphaMaterial> materials;             // one per Scene::materials entry
+  std::vector<uint32_t> triangleBits;         // one per triangle when summary.needsTriangleBits(), else empty
+  std::vector<AlphaTriangle> alphaTriangles;  // the triangles whose material may discard, in scene order
+  std::vector<AlphaMaterial> materials;       // one per Scene::materials entry
+  // One per triangle when summary.alphaTested, else empty: its alphaTriangles entry, ALPHA_NO_TRIANGLE if opaque.
+  std::vector<uint32_t> alphaIndex;
 };
 
 // Throws std::invalid_argument ("raster scene: ...") for material ids, texture coordinates or alpha textures that

@@ -36,7 +36,7 @@ static uint binRecordCount(const RasterViewParams* p, __global const RasterCount
         if (!hit_) {                                                                              \
           int px_ = bx_ << RASTER_BIN_PIXEL_LOG2, py_ = by_ << RASTER_BIN_PIXEL_LOG2;             \
           int span_ = (1 << RASTER_BIN_PIXEL_LOG2) - 1;                                           \
-          RASTER_RECT_OVERLAPS(t, px_, py_, px_ + span_, py_ + span_, hit_);                      \
+          RASTER_RECT_OVERLAPS(t, (p).conservative, px_, py_, px_ + span_, py_ + span_, hit_);     \
         }                                                                                         \
         if (hit_) BODY(by_*(p).binsX + bx_);                                                      \
       }                                                                                           \

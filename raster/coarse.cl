@@ -60,7 +60,8 @@ static CoarseBin coarseBin(const RasterViewParams* p, __global const uint* binCo
         if ((p).tileMasked != 0 && (mask)[ty_ * (p).tilesX + tx_] == 0) continue;                        \
         const int px_ = tx_ << RASTER_TILE_LOG2, py_ = ty_ << RASTER_TILE_LOG2;                          \
         bool hit_;                                                                                       \
-        RASTER_RECT_OVERLAPS(t, px_, py_, px_ + RASTER_TILE_SIZE - 1, py_ + RASTER_TILE_SIZE - 1, hit_); \
+        RASTER_RECT_OVERLAPS(t, (p).conservative, px_, py_, px_ + RASTER_TILE_SIZE - 1, py_ + RASTER_TILE_SIZE - 1, \
+                             hit_);                                                                      \
         if (hit_) BODY(((ty_ - (b).tileY0) << RASTER_BIN_LOG2) + (tx_ - (b).tileX0));                    \
       }                                                                                                  \
   } while (0)
@@ -109,7 +110,8 @@ __kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coar
 }
 
 // Writes tileOffset[tile] = binTileBase[bin] + the entries of the bin's tiles before it, and the tile's entries
-// (indices of set-up records) at tileEntries[tileOffset ...], below tileCapacity.
+// (indices of set-up records; conservative draws: their triangle ids) at tileEntries[tileOffset ...], below
+// tileCapacity.
 __kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coarse_fill(
     __global const RasterTriangle* tris, __global const uint* binEntries, __global const uint* binCount,
     __global const uint* binOffset, __global const uint* tileMask, __global const uint* tileCount,
@@ -133,8 +135,9 @@ __kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coar
 #define COARSE_FILL_ONE(localTile)                                                  \
   do {                                                                              \
     const uint slot_ = atomic_inc(&cursor[localTile]), at_ = base[localTile];       \
-    if (at_ < capacity && slot_ < capacity - at_) tileEntries[at_ + slot_] = index; \
+    if (at_ < capacity && slot_ < capacity - at_) tileEntries[at_ + slot_] = entry; \
   } while (0)
+    const uint entry = p.conservative ? t.triangleId : index;
     COARSE_FOR_EACH_TILE(t, b, p, tileMask, COARSE_FILL_ONE);
 #undef COARSE_FILL_ONE
   }
@@ -202,13 +205,14 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_COARSE, 1, 1))) void coar
 #define COARSE_FILL_ONE(localTile)                                                  \
   do {                                                                              \
     const uint slot_ = cursor[localTile]++, at_ = base[localTile];                  \
-    if (at_ < capacity && slot_ < capacity - at_) tileEntries[at_ + slot_] = index; \
+    if (at_ < capacity && slot_ < capacity - at_) tileEntries[at_ + slot_] = entry; \
   } while (0)
   for (uint j = 0; j < b.count; ++j) {
     const uint ahead = j + RASTER_COARSE_PREFETCH;
     if (ahead < b.count && binTiles[b.begin + ahead] == COARSE_SEVERAL_TILES)
       RASTER_PREFETCH_RECORD(&tris[binEntries[b.begin + ahead]]);
     const uint index = binEntries[b.begin + j], code = binTiles[b.begin + j];
+    const uint entry = p.conservative ? tris[index].triangleId : index;
     if (code < RASTER_BIN_TILE_COUNT) {
       COARSE_FILL_ONE(code);
     } else if (code == COARSE_SEVERAL_TILES) {

@@ -10,6 +10,11 @@
 #define RASTER_SUBPIXEL_LOG2 8                        // subpixel bits per pixel
 #define RASTER_SUBPIXELS (1 << RASTER_SUBPIXEL_LOG2)  // subpixels per pixel (256)
 #define RASTER_SAMPLE_OFFSET (RASTER_SUBPIXELS / 2)   // pixel centre inside its pixel, subpixels
+// Conservative draws (tile lists for exact tests, Rasterizer::drawTileLists) dilate every pixel rectangle by this many
+// subpixels on each side: snapping moves a vertex by at most half a subpixel, so the exact projected triangle lies
+// within 0.5 subpixel of the snapped one, and the rest absorbs the rounding of a point projected in float elsewhere
+// (below 0.5 subpixel at 8192 pixels).
+#define RASTER_CONSERVATIVE_DILATION 32
 // Guard band: triangles are clipped in homogeneous clip space to |x_c| <= G w_c (same for y) with the power of
 // two G = 2^RASTER_GUARD_LOG2 / 2^ceil(log2(size)), i.e. 2^19 .. 2^20 pixels beyond each side of the viewport
 // (a power of two, so G w_c is exact and the clip tests cannot depend on fused multiply-adds).
@@ -66,10 +71,10 @@
 #define RASTER_FLAG_VALID 1u            // RasterTriangle.flags: the record is drawn
 #define RASTER_FLAG_OWNS_EDGE0 2u       // edge k owns its samples (top-left): bit 1 << (k+1)
 #define RASTER_FLAG_ALPHA 16u           // alpha-tested: the fine stage samples its material's alpha before the depth test
-#define RASTER_FLAG_ALPHA_SHIFT 5       // flags >> 5: its RasterAlphaTriangle (so at most 2^27 alpha-tested triangles)
+#define RASTER_FLAG_ALPHA_SHIFT 5       // flags >> 5: its AlphaTriangle (so at most 2^27 alpha-tested triangles)
 // Per-triangle material bits (SceneBuffers::triangleBits, read by setup when RasterViewParams::triangleBits is set).
 #define RASTER_TRI_SINGLE_SIDED 1u  // culled when back-facing in views that cull single-sided triangles
-#define RASTER_TRI_ALPHA 2u         // alpha-tested; bits >> RASTER_TRI_ALPHA_SHIFT: its RasterAlphaTriangle
+#define RASTER_TRI_ALPHA 2u         // alpha-tested; bits >> RASTER_TRI_ALPHA_SHIFT: its AlphaTriangle
 #define RASTER_TRI_ALPHA_SHIFT 2
 #define RASTER_MAX_ALPHA_TRIANGLES (1u << (32 - RASTER_FLAG_ALPHA_SHIFT))  // alpha-tested triangles per scene
 

@@ -39,17 +39,31 @@ static inline bool rasterEdgeReaches(int a, int b, int vx, int vy, uint flags, i
   return rasterEdgeAccepts(rasterEdgeAt(a, b, vx, vy, x, y), flags, k);
 }
 
+// Conservative draws: whether some point of the area of pixels [x0, x1] x [y0, y1], dilated by
+// RASTER_CONSERVATIVE_DILATION subpixels, passes edge k inclusively (the edge's maximum over the dilated rectangle is
+// at one of its corners).
+static inline bool rasterEdgeTouches(int a, int b, int vx, int vy, int x0, int y0, int x1, int y1) {
+  int x = a > 0 ? ((x1 + 1) << RASTER_SUBPIXEL_LOG2) + RASTER_CONSERVATIVE_DILATION
+                : (x0 << RASTER_SUBPIXEL_LOG2) - RASTER_CONSERVATIVE_DILATION;
+  int y = b > 0 ? ((y1 + 1) << RASTER_SUBPIXEL_LOG2) + RASTER_CONSERVATIVE_DILATION
+                : (y0 << RASTER_SUBPIXEL_LOG2) - RASTER_CONSERVATIVE_DILATION;
+  return rasterEdgeAt(a, b, vx, vy, x, y) >= 0;
+}
+
 // The rectangle test for a triangle record in any address space: the rectangle is first cut to the triangle's
-// candidate box; every edge must reach the rest. Not exact (the three half-planes may each reach a different
-// sample), only conservative, which is all binning needs.
-#define RASTER_RECT_OVERLAPS(t, rx0, ry0, rx1, ry1, result)                                                     \
+// candidate box; every edge must reach the rest: some pixel centre of it, or (conservative draws, `conservative`
+// nonzero) some point of its dilated area. Not exact (the three half-planes may each reach a different point), only
+// conservative, which is all binning needs.
+#define RASTER_RECT_OVERLAPS(t, conservative, rx0, ry0, rx1, ry1, result)                                       \
   do {                                                                                                          \
     int ox0_ = max((int)(t).bbox[0], (rx0)), oy0_ = max((int)(t).bbox[1], (ry0));                               \
     int ox1_ = min((int)(t).bbox[2], (rx1)), oy1_ = min((int)(t).bbox[3], (ry1));                               \
     (result) = ox0_ <= ox1_ && oy0_ <= oy1_;                                                                    \
     for (int k_ = 0; k_ < 3 && (result); ++k_)                                                                  \
-      (result) = rasterEdgeReaches(RASTER_EDGE_A(t, k_), RASTER_EDGE_B(t, k_), (t).x[k_], (t).y[k_], (t).flags, \
-                                   k_, ox0_, oy0_, ox1_, oy1_);                                                 \
+      (result) = (conservative) ? rasterEdgeTouches(RASTER_EDGE_A(t, k_), RASTER_EDGE_B(t, k_), (t).x[k_],      \
+                                                    (t).y[k_], ox0_, oy0_, ox1_, oy1_)                          \
+                                : rasterEdgeReaches(RASTER_EDGE_A(t, k_), RASTER_EDGE_B(t, k_), (t).x[k_],      \
+                                                    (t).y[k_], (t).flags, k_, ox0_, oy0_, ox1_, oy1_);          \
   } while (0)
 
 #endif

@@ -66,7 +66,7 @@ static inline int2 fineTile(const RasterViewParams* p, int index, __global const
 
 // Alpha-tested triangles' data (raster/alpha.h), passed on to the sample tests.
 typedef struct {
-  __global const RasterAlphaTriangle* triangles;
+  __global const AlphaTriangle* triangles;
   __global const AlphaMaterial* materials;
   __global const uchar* texels;
 } FineAlpha;
@@ -96,7 +96,7 @@ static void fineTest(__local const RasterTriangle* t, int x, int y, int sx, int 
 
 __kernel __attribute__((reqd_work_group_size(RASTER_FINE_WG, 1, 1))) void fine_raster(
     __global const RasterTriangle* tris, __global const uint* tileEntries, __global const uint* tileCount,
-    __global const uint* tileOffset, __global const uint* tileMask, __global const RasterAlphaTriangle* alphaTriangles,
+    __global const uint* tileOffset, __global const uint* tileMask, __global const AlphaTriangle* alphaTriangles,
     __global const AlphaMaterial* alphaMaterials, __global const uchar* alphaTexels, __global float* depth,
     __global uint* triangleId, const RasterViewParams p) {
   __local RasterTriangle staged[RASTER_FINE_WG];
@@ -185,7 +185,7 @@ static inline __attribute__((always_inline)) void fineTestRows(__global const Ra
 
 __kernel __attribute__((reqd_work_group_size(RASTER_WG_FINE, 1, 1))) void fine_raster(
     __global const RasterTriangle* tris, __global const uint* tileEntries, __global const uint* tileCount,
-    __global const uint* tileOffset, __global const uint* tileMask, __global const RasterAlphaTriangle* alphaTriangles,
+    __global const uint* tileOffset, __global const uint* tileMask, __global const AlphaTriangle* alphaTriangles,
     __global const AlphaMaterial* alphaMaterials, __global const uchar* alphaTexels, __global float* depth,
     __global uint* triangleId, const RasterViewParams p) {
   const int index = get_global_id(0);

@@ -69,6 +69,8 @@ struct Rasterizer::Impl {
   RasterCapacities capacities;
   bool capacitiesChosen = false;  // false: size from the next draw (initial or automatic)
   RasterStats stats;
+  Buffer<float> noDepth;  // the depth and id targets of conservative draws, which write neither
+  Buffer<uint32_t> noIds;
 };
 
 void Rasterizer::Impl::upload(const Scene& s) {
@@ -95,15 +97,17 @@ void Rasterizer::Impl::uploadMaterials(const Scene& s) {
   raster::MaterialTables tables = raster::materialTables(s);
   scene.materials = tables.summary;
   if (tables.triangleBits.empty()) tables.triangleBits.assign(1, 0u);
-  if (tables.alphaTriangles.empty()) tables.alphaTriangles.assign(1, RasterAlphaTriangle{});
+  if (tables.alphaIndex.empty()) tables.alphaIndex.assign(1, ALPHA_NO_TRIANGLE);
+  if (tables.alphaTriangles.empty()) tables.alphaTriangles.assign(1, AlphaTriangle{});
   if (tables.materials.empty()) tables.materials.assign(1, AlphaMaterial{});
   static constexpr uint8_t kNoTexel = 0;
   const std::span<const uint8_t> texels = tables.summary.alphaTested && !s.alphaTexels.empty()
                                               ? std::span<const uint8_t>(s.alphaTexels)
                                               : std::span<const uint8_t>(&kNoTexel, 1);
   scene.triangleBits = Buffer<uint32_t>(ctx, std::span<const uint32_t>(tables.triangleBits), CL_MEM_READ_ONLY);
+  scene.alphaIndex = Buffer<uint32_t>(ctx, std::span<const uint32_t>(tables.alphaIndex), CL_MEM_READ_ONLY);
   scene.alphaTriangles =
-      Buffer<RasterAlphaTriangle>(ctx, std::span<const RasterAlphaTriangle>(tables.alphaTriangles), CL_MEM_READ_ONLY);
+      Buffer<AlphaTriangle>(ctx, std::span<const AlphaTriangle>(tables.alphaTriangles), CL_MEM_READ_ONLY);
   scene.alphaMaterials = Buffer<AlphaMaterial>(ctx, std::span<const AlphaMaterial>(tables.materials), CL_MEM_READ_ONLY);
   scene.alphaTexels = Buffer<uint8_t>(ctx, texels, CL_MEM_READ_ONLY);
 }
@@ -200,6 +204,21 @@ void Rasterizer::draw(const RasterView& view, RasterTargets& targets) {
   ensureTarget(impl_->ctx, targets.triangleId, plan.pixels, kNoTriangle);
   impl_->run(plan, targets.depth, targets.triangleId);
 }
+
+RasterTileLists Rasterizer::drawTileLists(const RasterView& view) {
+  if (view.scissor) throw std::invalid_argument("raster view: tile lists cover the whole viewport (no scissor)");
+  raster::Plan plan =
+      raster::makePlan(view, impl_->scene.triangleCount, impl_->scene.vertexCount, impl_->scene.materials);
+  plan.params.conservative = 1;
+  Context& ctx = impl_->ctx;
+  if (impl_->noDepth.empty()) impl_->noDepth.allocate(ctx, 1), impl_->noIds.allocate(ctx, 1);
+  impl_->run(plan, impl_->noDepth, impl_->noIds);
+  const raster::Queues& q = impl_->queues;
+  return {&q.tileCount, &q.tileOffset, &q.tileEntries, plan.params.tilesX, plan.params.tilesY,
+          impl_->stats.tileEntries};
+}
+
+const raster::SceneBuffers& Rasterizer::deviceScene() const { return impl_->scene; }
 
 void Rasterizer::drawGBuffer(const RasterView& view, GBuffer& g) {
   const raster::Plan plan =

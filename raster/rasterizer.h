@@ -17,6 +17,10 @@
 
 namespace penumbra {
 
+namespace raster {
+struct SceneBuffers;
+}
+
 inline constexpr int kRasterTileSize = RASTER_TILE_SIZE;  // pixels per side of a tile: RasterView::tileMask's unit
 
 inline constexpr uint32_t kNoTriangle = 0xffffffffu;  // triangle id of background pixels
@@ -70,6 +74,19 @@ struct GBuffer {
   Buffer<uint32_t> objectId;    // Scene::objectIds of the visible triangle, kNoTriangle for background
 };
 
+// What a conservative draw leaves (Rasterizer::drawTileLists): for every tile of the viewport, the triangles (indices
+// into Scene::triangles) whose exact projection may touch any point of the tile's area, so an exact test of a point
+// against the triangles of the tile it falls in misses no triangle that covers it. Tile t's entries are
+// entries[offset[t] .. offset[t] + count[t]); a triangle clipped into a fan can appear more than once. Tiles are
+// row-major from the bottom row. The buffers are the rasterizer's own: valid until its next draw.
+struct RasterTileLists {
+  const Buffer<uint32_t>* count = nullptr;
+  const Buffer<uint32_t>* offset = nullptr;
+  const Buffer<uint32_t>* entries = nullptr;
+  int tilesX = 0, tilesY = 0;
+  uint64_t entryCount = 0;  // sum of count over the drawn tiles
+};
+
 struct RasterStats {
   uint64_t trianglesIn = 0, trianglesSetUp = 0;  // after clipping, culling and dropping degenerates
   uint64_t binEntries = 0, tileEntries = 0;
@@ -108,7 +125,17 @@ class Rasterizer {
   void draw(const RasterView& view, RasterTargets& targets);
   void drawGBuffer(const RasterView& view, GBuffer& gbuffer);
 
+  // A conservative draw of `view` (kViewZ or kNdc; the view's tile mask, when given, restricts which tiles get lists;
+  // the scissor is not supported): setup, binning and coarse rasterization with every pixel rectangle dilated to its
+  // whole area (RASTER_CONSERVATIVE_DILATION), and no fine stage. Triangles whose snapped projection has no area
+  // (slivers, triangles seen edge-on) are kept. Grows its queues like draw().
+  RasterTileLists drawTileLists(const RasterView& view);
+
   const RasterStats& stats() const;
+
+  // The uploaded scene on the device (raster/stages.h): world positions, triangles and the alpha tables (alphaIndex,
+  // alphaTriangles, alphaMaterials, alphaTexels), for kernels that test against the triangles the rasterizer draws.
+  const raster::SceneBuffers& deviceScene() const;
 
   // Scene::objectIds of the uploaded scene on the device, one per triangle (0 where the scene gave none): what a
   // map's triangle ids resolve to for an object ID buffer.

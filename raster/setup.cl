@@ -148,7 +148,7 @@ static RasterTriangle setupRejected(uint id) {
 }
 
 // Builds the record of one clip-space triangle; returns false (record invalid) when it is dropped: w <= 0,
-// zero snapped area, back-facing with `cull` set, or no pixel centre of the scissor inside its bounds. `alpha`: the
+// zero snapped area (not in conservative draws), back-facing with `cull` set, or no pixel centre of the scissor inside its bounds. `alpha`: the
 // RASTER_FLAG_ALPHA bits of an alpha-tested triangle (0 for others), added to the flags of a drawn record.
 static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, uint id, bool cull, uint alpha,
                       RasterTriangle* r) {
@@ -163,7 +163,9 @@ static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, u
   int2 s[3] = {setupSnap(v0, sx, sy), setupSnap(v1, sx, sy), setupSnap(v2, sx, sy)};
 #endif
   long area = (long)(s[1].x - s[0].x) * (s[2].y - s[0].y) - (long)(s[2].x - s[0].x) * (s[1].y - s[0].y);
-  if (area == 0 || (cull && area < 0)) return false;
+  // Conservative draws keep zero-area records (slivers thinner than a subpixel after snapping): their edge tests still
+  // pass wherever the dilated rectangle meets the snapped segment, and the exact test downstream decides.
+  if ((area == 0 && !p->conservative) || (cull && area < 0)) return false;
   if (area < 0) {  // make it counter-clockwise: edge functions positive inside
     int2 ts = s[1];
     s[1] = s[2];
@@ -173,12 +175,16 @@ static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, u
     v[2] = tv;
   }
   // Pixels whose centre can be inside: ceil((min - 128) / 256) .. floor((max - 128) / 256), cut to the scissor.
+  // Conservative draws: pixels whose area, dilated by RASTER_CONSERVATIVE_DILATION, can meet the triangle's box:
+  // floor((min - D) / 256) .. floor((max + D) / 256), as -floor(-x) = ceil(x) keeps every shift non-negative.
   int minX = min(s[0].x, min(s[1].x, s[2].x)), maxX = max(s[0].x, max(s[1].x, s[2].x));
   int minY = min(s[0].y, min(s[1].y, s[2].y)), maxY = max(s[0].y, max(s[1].y, s[2].y));
-  int x0 = max(-((RASTER_SAMPLE_OFFSET - minX) >> RASTER_SUBPIXEL_LOG2), p->rectX0);
-  int y0 = max(-((RASTER_SAMPLE_OFFSET - minY) >> RASTER_SUBPIXEL_LOG2), p->rectY0);
-  int x1 = min((maxX - RASTER_SAMPLE_OFFSET) >> RASTER_SUBPIXEL_LOG2, p->rectX1 - 1);
-  int y1 = min((maxY - RASTER_SAMPLE_OFFSET) >> RASTER_SUBPIXEL_LOG2, p->rectY1 - 1);
+  const int lo = p->conservative ? RASTER_SUBPIXELS - 1 + RASTER_CONSERVATIVE_DILATION : RASTER_SAMPLE_OFFSET;
+  const int hi = p->conservative ? -RASTER_CONSERVATIVE_DILATION : RASTER_SAMPLE_OFFSET;
+  int x0 = max(-((lo - minX) >> RASTER_SUBPIXEL_LOG2), p->rectX0);
+  int y0 = max(-((lo - minY) >> RASTER_SUBPIXEL_LOG2), p->rectY0);
+  int x1 = min((maxX - hi) >> RASTER_SUBPIXEL_LOG2, p->rectX1 - 1);
+  int y1 = min((maxY - hi) >> RASTER_SUBPIXEL_LOG2, p->rectY1 - 1);
   if (x0 > x1 || y0 > y1) return false;
   r->bbox[0] = (ushort)x0, r->bbox[1] = (ushort)y0, r->bbox[2] = (ushort)x1, r->bbox[3] = (ushort)y1;
   uint flags = RASTER_FLAG_VALID;

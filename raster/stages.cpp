@@ -63,6 +63,7 @@ void Stages::record(const Plan& plan, const SceneBuffers& scene, Queues& q, Buff
   if (plan.tileMask == nullptr && q.noTileMask.size() == 0) q.noTileMask.allocate(ctx_, 1);
   const Buffer<uint32_t>& mask = plan.tileMask != nullptr ? *plan.tileMask : q.noTileMask;
   coarse(plan, q, p, mask);
+  if (p.conservative) return;  // tile lists only (Rasterizer::drawTileLists)
   fine_.args(q.records, q.tileEntries, q.tileCount, q.tileOffset, mask, scene.alphaTriangles, scene.alphaMaterials,
              scene.alphaTexels, depth, triangleIds, p)
       .moves(uint64_t{plan.scissorPixels} * (sizeof(float) + sizeof(uint32_t)))

@@ -22,7 +22,8 @@ struct SceneBuffers {
   Buffer<float> positions, normals;
   Buffer<uint32_t> triangles, objectIds;
   Buffer<uint32_t> triangleBits;
-  Buffer<RasterAlphaTriangle> alphaTriangles;
+  Buffer<uint32_t> alphaIndex;  // per triangle: its alphaTriangles entry or ALPHA_NO_TRIANGLE (when alpha-tested)
+  Buffer<AlphaTriangle> alphaTriangles;
   Buffer<AlphaMaterial> alphaMaterials;
   Buffer<uint8_t> alphaTexels;
   uint32_t vertexCount = 0, triangleCount = 0;
@@ -45,7 +46,8 @@ class Stages {
  public:
   explicit Stages(Context& ctx);
 
-  // Clears the counters, then: setup, bin (count, scan, fill), coarse (count, scan, fill), fine into depth/ids.
+  // Clears the counters, then: setup, bin (count, scan, fill), coarse (count, scan, fill), fine into depth/ids (not
+  // for conservative plans, which leave depth and ids untouched and end with the tile queue).
   void record(const Plan& plan, const SceneBuffers& scene, Queues& queues, Buffer<float>& depth,
               Buffer<uint32_t>& triangleIds);
   // Position, normal and object id from the triangle ids `record` wrote into gbuffer.

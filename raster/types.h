@@ -1,5 +1,5 @@
-// Records shared by the rasterizer's host code and kernels (valid OpenCL C 1.2 and C++20): the set-up triangle, an
-// alpha-tested triangle's texture data, the queue counters and the per-draw parameters. Only 4- and 8-byte scalars,
+// Records shared by the rasterizer's host code and kernels (valid OpenCL C 1.2 and C++20): the set-up triangle, the
+// queue counters and the per-draw parameters (an alpha-tested triangle's texture data is kernels/shared/alpha.h's). Only 4- and 8-byte scalars,
 // ordered largest first, so both compilers lay them out identically; the host static_asserts sizes and offsets.
 #ifndef PENUMBRA_RASTER_TYPES_H
 #define PENUMBRA_RASTER_TYPES_H
@@ -33,14 +33,6 @@ typedef struct {
   uint flags;             // RASTER_FLAG_VALID | RASTER_FLAG_OWNS_EDGE0 << k | RASTER_FLAG_ALPHA | alpha index << 5
   raster_ushort bbox[4];  // candidate pixels: x0, y0, x1, y1 inclusive, inside the scissor
 } RasterTriangle;
-
-// What the fine stage needs of an alpha-tested triangle, 64 bytes (one cache line): its world-space vertices (the pixel
-// centre's barycentrics come from their clip coordinates, raster/alpha.h), their texture coordinates and its material.
-typedef struct {
-  float position[9];  // vertices 0, 1, 2 of Scene::triangles, x y z each
-  float uv[6];        // their texture coordinates (Scene::uvs), u v each
-  uint material;      // index into the AlphaMaterial table (kernels/shared/alpha.h)
-} RasterAlphaTriangle;
 
 #if !PENUMBRA_HOST
 // Queues hold record indices in an order unrelated to the record buffer's, so on a CPU nearly every record read
@@ -92,6 +84,7 @@ typedef struct {
   int tileMasked;                      // 1: only tiles whose tile-mask entry is nonzero are drawn (RasterView)
   int triangleBits;                    // 1: setup reads the per-triangle material bits (RASTER_TRI_*)
   int cullSingleSided;                 // 1: drop clockwise triangles whose bits say RASTER_TRI_SINGLE_SIDED
+  int conservative;                    // 1: tile lists only (Rasterizer::drawTileLists): dilated boxes and tests, no fine
 } RasterViewParams;
 
 #if PENUMBRA_HOST
@@ -103,8 +96,8 @@ static_assert(sizeof(RasterCounters) == 32 && offsetof(RasterCounters, extraTria
 static_assert(offsetof(RasterViewParams, p00) == 112 && offsetof(RasterViewParams, viewZGeneral) == 168);
 static_assert(offsetof(RasterViewParams, width) == 192 && offsetof(RasterViewParams, generalProjection) == 284);
 static_assert(offsetof(RasterViewParams, tileMasked) == 288 && offsetof(RasterViewParams, cullSingleSided) == 296);
-static_assert(sizeof(RasterViewParams) == 300, "RasterViewParams layout must match OpenCL C");
-static_assert(sizeof(RasterAlphaTriangle) == 64 && offsetof(RasterAlphaTriangle, uv) == 36);
+static_assert(offsetof(RasterViewParams, conservative) == 300);
+static_assert(sizeof(RasterViewParams) == 304, "RasterViewParams layout must match OpenCL C");
 #endif
 
 #endif

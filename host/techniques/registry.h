@@ -19,5 +19,6 @@ TechniqueInfo lvsmTechnique();   // lvsm.cpp
 TechniqueInfo pssmTechnique();   // pssm.cpp
 TechniqueInfo psvsmTechnique();  // psvsm.cpp
 TechniqueInfo jitteredTechnique();  // jittered.cpp
+TechniqueInfo izbTechnique();       // izb.cpp
 
 }  // namespace penumbra

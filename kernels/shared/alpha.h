@@ -27,6 +27,18 @@ typedef struct {
   int pad[2];
 } AlphaMaterial;
 
+#define ALPHA_NO_TRIANGLE 0xffffffffu  // a per-triangle alpha index (raster::SceneBuffers::alphaIndex) of opaque ones
+
+// An alpha-tested triangle's texture data, 64 bytes (one cache line): its world-space vertices, their texture
+// coordinates and its material; a hit at barycentric weights (u, v) of vertices 1 and 2 has texture coordinate
+// (1 - u - v) uv0 + u uv1 + v uv2. The rasterizer's fine stage (raster/alpha.h) and the irregular z-buffer's exact
+// test (kernels/izb.cl) read them.
+typedef struct {
+  float position[9];  // vertices 0, 1, 2 of Scene::triangles, x y z each
+  float uv[6];        // their texture coordinates (Scene::uvs), u v each
+  uint material;      // index into the AlphaMaterial table
+} AlphaTriangle;
+
 #if PENUMBRA_HOST
 #include <cmath>
 #include <cstddef>
@@ -37,6 +49,7 @@ typedef uint8_t alpha_uchar;
 #define ALPHA_FINITE(x) std::isfinite(x)
 static_assert(sizeof(AlphaMaterial) == 64 && offsetof(AlphaMaterial, cutoff) == 24);
 static_assert(offsetof(AlphaMaterial, texelOffset) == 32 && offsetof(AlphaMaterial, filter) == 52);
+static_assert(sizeof(AlphaTriangle) == 64 && offsetof(AlphaTriangle, uv) == 36);
 #else
 typedef uchar alpha_uchar;
 #define ALPHA_GLOBAL __global

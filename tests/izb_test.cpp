@@ -1,0 +1,321 @@
+// The irregular z-buffer (`izb`, kernels/izb.cl): the rasterizer's conservative tile lists against an exact
+// point-in-triangle test, and izb's visibility against the Embree reference's hard shadows on every builtin scene
+// (spot, sun and point lights, alpha-masked casters), with the disagreements bounded to points next to a shadow
+// boundary; sub-pixel samples, chunked passes, and determinism.
+#include "kernels/shared/izb.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <glm/gtc/matrix_transform.hpp>
+#include <random>
+
+#include "host/scene/camera.h"
+#include "host/scene/procedural.h"
+#include "host/techniques/registry.h"
+#include "host/views/views.h"
+#include "raster/rasterizer.h"
+#include "tests/support/analytic_scenes.h"
+#include "tests/support/cl_test.h"
+#include "tests/support/render.h"
+#include "tools/reference/tracer.h"
+
+namespace penumbra {
+namespace {
+
+using test::renderWith;
+
+TEST(IzbConstants, RayOffsetIsTheReferenceTracers) { EXPECT_EQ(IZB_RAY_OFFSET, reference::ShadowTracer::kRayOffset); }
+
+class Izb : public test::ClTest {};
+
+// ---- Conservative tile lists --------------------------------------------------------------------------------
+
+// Window position (pixels) of world point p through clip matrix M, in double; false in front of the near plane.
+bool windowOf(const glm::dmat4& M, const glm::vec3& p, int w, int h, glm::dvec2& out) {
+  const glm::dvec4 c = M * glm::dvec4(glm::dvec3(p), 1.0);
+  if (!(c.w > 0.0 && c.z >= -c.w)) return false;
+  out = {(c.x / c.w + 1.0) * 0.5 * w, (c.y / c.w + 1.0) * 0.5 * h};
+  return true;
+}
+
+// Whether window point q lies inside (or on) the triangle a, b, c.
+bool insideTriangle(glm::dvec2 q, glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
+  auto edge = [](glm::dvec2 u, glm::dvec2 v, glm::dvec2 x) {
+    return (v.x - u.x) * (x.y - u.y) - (v.y - u.y) * (x.x - u.x);
+  };
+  const double e0 = edge(a, b, q), e1 = edge(b, c, q), e2 = edge(c, a, q);
+  return (e0 >= 0 && e1 >= 0 && e2 >= 0) || (e0 <= 0 && e1 <= 0 && e2 <= 0);
+}
+
+// Random triangles (large, small, sub-pixel, slivers, some crossing the near plane) over a 203x137 viewport (tiles cut
+// by its edges), perspective and orthographic: every point inside a triangle's exact projection (random points, the
+// vertices, points on its edges) finds the triangle in the list of the tile it falls in, and lists stay near the
+// triangles' dilated bounding boxes in size.
+TEST_F(Izb, ConservativeTileListsHoldEveryTriangleOverAPoint) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  Scene scene;
+  for (int t = 0; t < 400; ++t) {
+    const glm::vec3 centre(2.0f * unit(rng), 2.0f * unit(rng), -4.0f + 2.5f * unit(rng));
+    const float size = t % 4 == 0 ? 2.0f : t % 4 == 1 ? 0.3f : t % 4 == 2 ? 0.004f : 0.05f;
+    const glm::vec3 stretch = t % 7 == 0 ? glm::vec3(3.0f, 0.01f, 1.0f) : glm::vec3(1.0f);
+    const auto base = static_cast<uint32_t>(scene.positions.size());
+    for (int k = 0; k < 3; ++k)
+      scene.positions.push_back(centre + size * stretch * glm::vec3(unit(rng), unit(rng), unit(rng)));
+    if (t % 50 == 0) scene.positions.back().z = 3.0f;  // behind the eye: clipped at the near plane (not checked)
+    scene.triangles.push_back({base, base + 1, base + 2});
+  }
+  Rasterizer raster(ctx());
+  raster.setScene(scene);
+  for (bool perspective : {true, false}) {
+    RasterView view;
+    view.width = 203, view.height = 137;
+    view.view = glm::mat4(1.0f);
+    view.projection = perspective ? glm::perspective(glm::radians(60.0f), 203.0f / 137.0f, 0.5f, 20.0f)
+                                  : glm::ortho(-3.0f, 3.0f, -2.0f, 2.0f, 0.5f, 20.0f);
+    const RasterTileLists lists = raster.drawTileLists(view);
+    ASSERT_EQ(lists.tilesX, 26);
+    ASSERT_EQ(lists.tilesY, 18);
+    const std::vector<uint32_t> count = lists.count->download(ctx()), offset = lists.offset->download(ctx());
+    const std::vector<uint32_t> entries = lists.entries->download(ctx());
+    auto listed = [&](int tile, uint32_t triangle) {
+      for (uint32_t e = offset[tile]; e < offset[tile] + count[tile]; ++e)
+        if (entries[e] == triangle) return true;
+      return false;
+    };
+    const glm::dmat4 M(rasterClipMatrix(view));
+    size_t checked = 0, missing = 0;
+    for (uint32_t t = 0; t < scene.triangles.size(); ++t) {
+      glm::dvec2 w[3];
+      bool front = true;
+      for (int k = 0; k < 3; ++k) front = windowOf(M, scene.positions[scene.triangles[t][k]], 203, 137, w[k]) && front;
+      if (!front) continue;  // clipped: the exact projection is not the window triangle of its vertices
+      std::vector<glm::dvec2> points = {
+          w[0], w[1], w[2], (w[0] + w[1]) * 0.5, (w[1] + w[2]) * 0.5, (w[2] + w[0]) * 0.5};
+      std::uniform_real_distribution<double> bary(0.0, 1.0);
+      for (int s = 0; s < 40; ++s) {
+        double a = bary(rng), b = bary(rng);
+        if (a + b > 1.0) a = 1.0 - a, b = 1.0 - b;
+        points.push_back(w[0] + a * (w[1] - w[0]) + b * (w[2] - w[0]));
+      }
+      for (const glm::dvec2& q : points) {
+        if (!(q.x >= 0 && q.y >= 0 && q.x < 203 && q.y < 137) || !insideTriangle(q, w[0], w[1], w[2])) continue;
+        const int tile = static_cast<int>(q.y / 8) * lists.tilesX + static_cast<int>(q.x / 8);
+        ++checked;
+        if (!listed(tile, t) && ++missing <= 5)
+          std::printf("miss: triangle %u (class %u) at (%.3f, %.3f), window %.3f,%.3f %.3f,%.3f %.3f,%.3f\n", t, t % 4,
+                      q.x, q.y, w[0].x, w[0].y, w[1].x, w[1].y, w[2].x, w[2].y);
+      }
+    }
+    EXPECT_GT(checked, 2000u);
+    EXPECT_EQ(missing, 0u) << (perspective ? "perspective" : "orthographic");
+    // No tile lists a triangle that its window bounding box, widened by a pixel, does not reach: lists are not padded
+    // beyond the dilation. Triangles clipped at the near plane are left out.
+    size_t stray = 0;
+    for (int tile = 0; tile < lists.tilesX * lists.tilesY; ++tile)
+      for (uint32_t e = offset[tile]; e < offset[tile] + count[tile]; ++e) {
+        glm::dvec2 w[3];
+        bool front = true;
+        for (int k = 0; k < 3; ++k)
+          front = windowOf(M, scene.positions[scene.triangles[entries[e]][k]], 203, 137, w[k]) && front;
+        if (!front) continue;
+        const double x0 = std::min({w[0].x, w[1].x, w[2].x}) - 1, x1 = std::max({w[0].x, w[1].x, w[2].x}) + 1;
+        const double y0 = std::min({w[0].y, w[1].y, w[2].y}) - 1, y1 = std::max({w[0].y, w[1].y, w[2].y}) + 1;
+        const int tx = tile % lists.tilesX, ty = tile / lists.tilesX;
+        stray += tx * 8 > x1 || tx * 8 + 8 < x0 || ty * 8 > y1 || ty * 8 + 8 < y0;
+      }
+    EXPECT_EQ(stray, 0u);
+  }
+}
+
+// ---- izb against the reference's hard shadows -------------------------------------------------------------
+
+// `light` with no extent: a point, a direction.
+Light hard(Light light) {
+  light.radius = 0.0f;
+  light.angularRadiusDeg = 0.0f;
+  return light;
+}
+
+struct Agreement {
+  size_t covered = 0, wrong = 0, nearBoundary = 0;
+};
+
+// izb's visibility against the reference's at every covered pixel. A pixel that disagrees is excused when the
+// reference itself changes its answer within `tolerance` of the point: traced again from 8 points on a circle of that
+// radius in the surface's plane, one of them disagrees with the centre (the point lies within `tolerance` of a shadow
+// boundary). `wrong` counts the others.
+Agreement agreement(Context& ctx, const Scene& scene, const Camera& camera, const Light& light,
+                    const std::vector<float>& visibility, float tolerance) {
+  Rasterizer raster(ctx);
+  raster.setScene(scene);
+  GBuffer g;
+  raster.drawGBuffer(cameraView(camera, scene.bounds()), g);
+  const std::vector<cl_float4> position = g.position.download(ctx);
+  const std::vector<uint32_t> triangle = g.triangleId.download(ctx);
+  std::vector<reference::ShadowPoint> points;
+  std::vector<size_t> pixelOf;
+  for (size_t i = 0; i < position.size(); ++i) {
+    if (position[i].s[3] == 0.0f) continue;
+    const glm::uvec3 t = scene.triangles[triangle[i]];
+    const glm::vec3 a = scene.positions[t[0]], b = scene.positions[t[1]], c = scene.positions[t[2]];
+    points.push_back(
+        {{position[i].s[0], position[i].s[1], position[i].s[2]}, glm::normalize(glm::cross(b - a, c - a))});
+    pixelOf.push_back(i);
+  }
+  const reference::ShadowTracer tracer(scene);
+  const reference::TraceResult truth = tracer.trace(points, light, {});
+  Agreement out;
+  out.covered = points.size();
+  const int w = camera.width, h = camera.height;
+  for (size_t k = 0; k < points.size(); ++k) {
+    const size_t i = pixelOf[k];
+    const size_t row = static_cast<size_t>(h - 1) - i / static_cast<size_t>(w), column = i % static_cast<size_t>(w);
+    const float ours = visibility[row * static_cast<size_t>(w) + column];  // the image's rows are top-down
+    if (ours == truth.visibility[k]) continue;
+    const glm::vec3 n = points[k].normal, u = glm::normalize(glm::cross(n, chooseUp(n))), v = glm::cross(n, u);
+    std::vector<reference::ShadowPoint> around;
+    for (int s = 0; s < 8; ++s) {
+      const float angle = static_cast<float>(s) * 0.7853982f;
+      around.push_back({points[k].position + tolerance * (std::cos(angle) * u + std::sin(angle) * v), n});
+    }
+    const reference::TraceResult near = tracer.trace(around, light, {});
+    const bool boundary =
+        std::any_of(near.visibility.begin(), near.visibility.end(), [&](float x) { return x != truth.visibility[k]; });
+    (boundary ? out.nearBoundary : out.wrong) += 1;
+  }
+  return out;
+}
+
+// Boundary tolerance: 2e-4 of the scene's radius (twice the rays' origin offset): closer than that to a shadow edge,
+// float rounding in either tracer may flip a ray. At most 0.5 % of the covered pixels lie that close.
+constexpr float kBoundaryTolerance = 2e-4f;
+constexpr double kMaxBoundaryShare = 0.005;
+
+void expectExact(Context& ctx, const std::string& label, const Scene& scene, const Camera& camera, const Light& light,
+                 const test::Values& values = {}) {
+  const RenderResult r = renderWith(ctx, scene, camera, light, "izb", values);
+  ASSERT_TRUE(test::saneImage(r.image, label));
+  const Agreement a = agreement(ctx, scene, camera, light, r.image.require("visibility.Y").data,
+                                kBoundaryTolerance * scene.bounds().radius());
+  std::printf("%s: %zu covered, %zu near a boundary, %zu wrong (%s)\n", label.c_str(), a.covered, a.nearBoundary,
+              a.wrong, r.image.attributes().at("penumbra:izb").c_str());
+  EXPECT_GT(a.covered, 1000u) << label;
+  EXPECT_EQ(a.wrong, 0u) << label;
+  EXPECT_LE(static_cast<double>(a.nearBoundary), kMaxBoundaryShare * static_cast<double>(a.covered)) << label;
+}
+
+TEST_F(Izb, EqualsTheReferencesHardShadowsOnEveryBuiltinScene) {
+  for (const ProceduralInfo& info : proceduralScenes()) {
+    const Scene scene = makeProcedural(info.name);
+    Camera camera = scene.cameras.empty() ? test::topDown() : scene.cameras.front();
+    camera.width = 160, camera.height = 96;
+    for (size_t l = 0; l < scene.lights.size(); ++l)
+      expectExact(ctx(), info.name + " light " + std::to_string(l), scene, camera, hard(scene.lights[l]));
+  }
+}
+
+// A point light (six cube faces, each a square spot grid) and the scene-fitted grid, on scenes with alpha-masked and
+// stacked casters.
+TEST_F(Izb, EqualsTheReferenceForPointLightsAndSceneFits) {
+  for (const char* name : {"cards", "stacked-planes", "staircase"}) {
+    const Scene scene = makeProcedural(name);
+    Camera camera = scene.cameras.empty() ? test::topDown() : scene.cameras.front();
+    camera.width = 128, camera.height = 80;
+    Light point = hard(scene.lights.front());
+    if (point.type != LightType::Directional) {
+      point.type = LightType::Point;
+      expectExact(ctx(), std::string(name) + " point", scene, camera, point);
+    }
+    expectExact(ctx(), std::string(name) + " fit scene", scene, camera, hard(scene.lights.front()),
+                {{"fit", "scene"}, {"map-size", "512"}});
+  }
+}
+
+// Chunked passes (a chunk far smaller than the frame: several draws) give the image of one pass, bit for bit; the
+// grid's size changes the lists, not the answer.
+TEST_F(Izb, ChunksAndGridSizesDoNotChangeTheResult) {
+  const Scene scene = makeProcedural("cards");
+  Camera camera = scene.cameras.front();
+  camera.width = 96, camera.height = 64;
+  const Light light = hard(scene.lights.front());
+  const RenderResult one = renderWith(ctx(), scene, camera, light, "izb");
+  const auto& expected = one.image.require("visibility.Y").data;
+  for (const test::Values& values : {test::Values{{"izb-chunk", "1000"}}, test::Values{{"map-size", "128"}},
+                                     test::Values{{"map-size", "4096"}}, test::Values{{"map-size", "203"}}}) {
+    const RenderResult other = renderWith(ctx(), scene, camera, light, "izb", values);
+    EXPECT_EQ(other.image.require("visibility.Y").data, expected) << values.begin()->first;
+  }
+  const RenderResult chunked = renderWith(ctx(), scene, camera, light, "izb", {{"izb-chunk", "1000"}});
+  EXPECT_NE(chunked.image.attributes().at("penumbra:izb").find(" in 7 chunks"), std::string::npos)
+      << chunked.image.attributes().at("penumbra:izb");
+}
+
+// Sub-pixel samples: values are multiples of 1/S; a pixel whose 3x3 neighbourhood is uniformly lit or shadowed at one
+// sample keeps that value at S samples (its footprint lies inside the region), up to thin features; fractional values
+// only along the one-sample image's boundaries.
+TEST_F(Izb, SubPixelSamplesAntialiasOnlyAtShadowBoundaries) {
+  const Scene scene = makeProcedural("box");
+  Camera camera = scene.cameras.front();
+  camera.width = 160, camera.height = 96;
+  const Light light = hard(scene.lights.front());
+  const RenderResult single = renderWith(ctx(), scene, camera, light, "izb");
+  const auto& one = single.image.require("visibility.Y").data;
+  const int w = camera.width, h = camera.height;
+  for (int samples : {4, 8, 32}) {
+    const RenderResult r = renderWith(ctx(), scene, camera, light, "izb", {{"izb-samples", std::to_string(samples)}});
+    ASSERT_TRUE(test::saneImage(r.image, "samples"));
+    const auto& many = r.image.require("visibility.Y").data;
+    size_t interior = 0, changed = 0, fractional = 0, fractionalOffEdge = 0;
+    for (int y = 1; y + 1 < h; ++y)
+      for (int x = 1; x + 1 < w; ++x) {
+        const size_t i = static_cast<size_t>(y) * w + x;
+        const float v = many[i] * static_cast<float>(samples);
+        EXPECT_NEAR(v, std::round(v), 1e-3f);
+        bool uniform = true;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) uniform = uniform && one[i + dy * w + dx] == one[i];
+        const bool frac = many[i] > 0.0f && many[i] < 1.0f;
+        fractional += frac;
+        if (uniform) {
+          ++interior;
+          changed += many[i] != one[i];
+          fractionalOffEdge += frac;
+        }
+      }
+    std::printf("%d samples: %zu fractional pixels, %zu of %zu interior pixels changed\n", samples, fractional, changed,
+                interior);
+    EXPECT_GT(fractional, 50u) << samples;  // the box's and the plate's shadow edges are antialiased
+    EXPECT_LE(changed, interior / 200) << samples;
+    EXPECT_LE(fractionalOffEdge, fractional / 10) << samples;
+  }
+}
+
+TEST_F(Izb, RefusesUnsupportedSampleCountsAndIsDeterministic) {
+  const Scene scene = makeProcedural("poles");
+  Camera camera = scene.cameras.front();
+  camera.width = 64, camera.height = 48;
+  EXPECT_THROW(renderWith(ctx(), scene, camera, scene.lights.front(), "izb", {{"izb-samples", "3"}}),
+               std::invalid_argument);
+  const Light light = hard(scene.lights.front());
+  const RenderResult a = renderWith(ctx(), scene, camera, light, "izb", {{"izb-samples", "8"}});
+  const RenderResult b = renderWith(ctx(), scene, camera, light, "izb", {{"izb-samples", "8"}});
+  EXPECT_EQ(a.image.require("visibility.Y").data, b.image.require("visibility.Y").data);
+}
+
+// An empty scene and a frame with no covered pixel: everything lit, nothing outside, no NaN.
+TEST_F(Izb, EmptyScenesAreLit) {
+  Scene scene = test::squareOverPlane();
+  Camera camera = test::topDown();
+  camera.width = 32, camera.height = 24;
+  camera.target = camera.eye + glm::vec3(0, 1, 0);  // looking up at the sky
+  const RenderResult r = renderWith(ctx(), scene, camera, test::pointAbove(), "izb");
+  ASSERT_TRUE(test::saneImage(r.image, "sky"));
+  for (float v : r.image.require("visibility.Y").data) EXPECT_EQ(v, 1.0f);
+}
+
+}  // namespace
+}  // namespace penumbra
