@@ -44,6 +44,11 @@ expect jitter-rotation-with-warp 2 "need --warp none" -- "$bin" render builtin:b
   --jitter-rotation 5 --size 32x18 --light dir:0.3,-1,-0.6 -o "$scratch/x.exr"
 expect jittered-render 0 "" -- "$bin" render builtin:box -t jittered --id-buffer combined --jitter-reduction 0.6 --warp none \
   --size 32x18 --map-size 64 -q -o "$scratch/jittered.exr"
+expect izb-samples-choice 2 "--izb-samples: '3' is not one of 1, 4, 8, 32" -- "$bin" render builtin:box -t izb --izb-samples 3 -o "$scratch/x.exr"
+expect izb-render 0 "izb/izb_test" -- "$bin" render builtin:cards -t izb --izb-samples 4 --izb-chunk 1000 --size 48x32 \
+  --map-size 256 -o "$scratch/izb.exr"
+expect izb-header 0 'receivers grid 256x256 texels \(32x32 cells\), 4 samples per pixel in 7 chunks' -- \
+  bash -c "LC_ALL=C grep -ao 'receivers grid [^,]*, [^,]*' '$scratch/izb.exr' | head -n 1"
 expect savsm-width-above-max 2 "savsm-width 80 is larger than --savsm-max-width 64" -- "$bin" render builtin:box -t savsm --savsm-width 80 -o "$scratch/x.exr"
 expect bad-choice 2 "'half' is not one of float, fixed32, fixed64, double" -- "$bin" render builtin:box -t savsm --sat-precision half -o "$scratch/x.exr"
 expect render-msm 0 "wrote" -- "$bin" render builtin:box --size 64x48 -t msm --map-size 256 -o "$scratch/msm.exr"
@@ -350,7 +355,7 @@ expect gltf-light-bad-node-index 1 'bad-index.gltf: /nodes/1/extensions/KHR_ligh
   "$bin" render "$scratch/bad-index.gltf" -o "$scratch/x.exr"
 # Point lights (six cube faces): every technique renders one (registry.cpp; none refuses), and so do reference,
 # compare and bench; the header records the faces drawn, the EXR has the face layer, --cube-guard is a parameter.
-for t in sm pcf pcss vsm evsm2 evsm4 esm msm savsm vssm lvsm pssm psvsm jittered; do  # every technique (registry.cpp)
+for t in sm pcf pcss vsm evsm2 evsm4 esm msm savsm vssm lvsm pssm psvsm jittered izb; do  # every technique (registry.cpp)
   expect "point-light-$t" 0 'light "Bulb" \(the scene.s 1 of 2\): point:0,5,0' -- \
     "$bin" render "$scratch/bulb.json" --size 32x24 --map-size 64 -t "$t" -o "$scratch/bulb-$t.exr"
 done

@@ -298,8 +298,9 @@ TEST_F(Izb, RefusesUnsupportedSampleCountsAndIsDeterministic) {
   const Scene scene = makeProcedural("poles");
   Camera camera = scene.cameras.front();
   camera.width = 64, camera.height = 48;
-  EXPECT_THROW(renderWith(ctx(), scene, camera, scene.lights.front(), "izb", {{"izb-samples", "3"}}),
-               std::invalid_argument);
+  Params params(findTechnique("izb").params);
+  EXPECT_THROW(params.set("izb-samples", "3"), std::invalid_argument);
+  EXPECT_THROW(params.set("izb-samples", "64"), std::invalid_argument);
   const Light light = hard(scene.lights.front());
   const RenderResult a = renderWith(ctx(), scene, camera, light, "izb", {{"izb-samples", "8"}});
   const RenderResult b = renderWith(ctx(), scene, camera, light, "izb", {{"izb-samples", "8"}});

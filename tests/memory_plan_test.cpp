@@ -67,6 +67,29 @@ TEST(MemoryPlan, GrowsWithPixelsLightsAndMaps) {
             device(cameraOf(64, 64), {{LightType::Spot, &sm, &largest}}));
 }
 
+// izb at 4K with 32 samples a pixel: its passes of at most --izb-chunk samples bound the sample buffers (8 bytes a
+// sample: 128 MiB at the default 2^24), far below the 265 M samples' 2 GiB; its grid is 12 bytes a cell, not a map.
+TEST(MemoryPlan, IzbSamplesAreBoundedByItsChunk) {
+  const TechniqueInfo& izb = findTechnique("izb");
+  Params one(izb.params), many(izb.params), small(izb.params);
+  many.set("izb-samples", "32");
+  small.set("izb-samples", "32");
+  small.set("izb-chunk", "65536");
+  const Camera uhd = cameraOf(3840, 2160);
+  const auto stage = [&](const Params& p) {
+    const MemoryPlan plan = planFrame(uhd, {{LightType::Spot, &izb, &p}});
+    for (const MemoryStage& s : plan.stages)
+      if (s.name.find("grid and samples") != std::string::npos) return s.deviceBytes;
+    ADD_FAILURE() << "no izb stage in " << plan.describe();
+    return uint64_t{0};
+  };
+  const uint64_t cells = 256 * 256 * 12;
+  EXPECT_EQ(stage(one), cells + 3840ull * 2160 * 8);  // one sample a pixel: below the chunk
+  EXPECT_EQ(stage(many), cells + (uint64_t{1} << 24) * 8);
+  EXPECT_EQ(stage(small), cells + 65536ull * 8);
+  EXPECT_LT(planFrame(uhd, {{LightType::Spot, &izb, &many}}).deviceBytes(), kGiB);
+}
+
 TEST(MemoryPlan, SingleBufferAboveTheDeviceMaximumIsNamed) {
   const TechniqueInfo& sm = findTechnique("sm");
   Params params(sm.params);

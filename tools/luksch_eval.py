@@ -53,6 +53,7 @@ CONFIGS = {
     "jittered-reduced": ("jittered", ["--warp", "none", "--jitter-reduction", "0.55"]),
     "jittered-adapted": ("jittered", ["--confidence", "adapted"]),
     "sm-id": ("sm", ["--id-buffer", "combined"]),
+    "izb": ("izb", []),  # exact: the irregular z-buffer
 }
 
 

@@ -33,6 +33,20 @@ double param(const PlannedLight& light, const char* name, double fallback) {
   return light.params->has(name) ? light.params->get(name) : fallback;
 }
 
+// izb (host/techniques/izb.cpp) draws no map: its light grid holds 12 bytes per 8x8-texel cell (count, start,
+// cursor) and each pass 8 bytes per sample (cell, sorted index) of at most --izb-chunk samples. The cube faces of a
+// point light reuse them.
+MemoryStage izbGrid(const PlannedLight& light, size_t index, uint64_t pixels) {
+  MemoryStage stage{fmt::format("light {} ({}): grid and samples", index, light.technique->name)};
+  const auto cellsPerSide = static_cast<uint64_t>((param(light, "map-size", 8) + 7) / 8);
+  constexpr uint64_t kSamplesPerChoice[] = {1, 4, 8, 32};
+  const uint64_t samples = pixels * kSamplesPerChoice[std::clamp(light.params->getInt("izb-samples"), 0, 3)];
+  const uint64_t chunk = std::min(samples, static_cast<uint64_t>(param(light, "izb-chunk", 1 << 24)));
+  stage.largestBuffer = std::max(chunk * 4, cellsPerSide * cellsPerSide * 4);
+  stage.deviceBytes = cellsPerSide * cellsPerSide * 12 + chunk * 8;
+  return stage;
+}
+
 // A technique's maps: depth targets, moments (4 channels of fp32 or fp16 at most), the blur's scratch and the mip
 // chain (a third more), for each split or layer and each cube face of a point light.
 MemoryStage techniqueMaps(const PlannedLight& light, size_t index) {
@@ -91,7 +105,8 @@ MemoryPlan planFrame(const Camera& camera, const std::vector<PlannedLight>& ligh
         kVisibilityBytesPerPixel + kTechniquePixelBytes + (lights[i].type == LightType::Point ? 4 : 0);
     plan.stages.push_back({fmt::format("light {} ({}): per-pixel buffers", i, lights[i].technique->name),
                            pixels * perPixel, 0, pixels * 16});
-    plan.stages.push_back(techniqueMaps(lights[i], i));
+    plan.stages.push_back(lights[i].params->has("izb-samples") ? izbGrid(lights[i], i, pixels)
+                                                               : techniqueMaps(lights[i], i));
   }
   plan.stages.push_back({"shade", pixels * (kPreviewBytesPerPixel + (lights.size() > 1 ? 4 : 0)), 0, pixels * 16});
   const uint64_t floats = kImageFloatsPerPixel + lights.size();

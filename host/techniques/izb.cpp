@@ -23,6 +23,8 @@ namespace {
 
 static_assert(IZB_CELL_TEXELS == kRasterTileSize, "izb's cells are the rasterizer's tiles");
 
+constexpr int kSampleCounts[] = {1, 4, 8, IZB_MAX_SAMPLES};  // --izb-samples' choices, in order
+
 // The spot light grid's near plane, relative to its far plane: far closer to the light than the fitted map's (far *
 // 1e-4 where the light lies inside the scene's bounds), so casters next to the light are not clipped away. Only the
 // grid's x and y are used, which the near plane does not change.
@@ -37,11 +39,8 @@ void moveNearPlane(glm::mat4& P, float zNear) {
 
 class IrregularZBuffer final : public Technique {
  public:
-  explicit IrregularZBuffer(const Params& params) : params_(params) {
-    samples_ = params.getInt("izb-samples");
-    if (izb_pattern_offset(samples_) < 0)
-      throw std::invalid_argument(fmt::format("--izb-samples {}: must be 1, 4, 8 or 32", samples_));
-  }
+  explicit IrregularZBuffer(const Params& params)
+      : params_(params), samples_(kSampleCounts[static_cast<size_t>(params.getInt("izb-samples"))]) {}
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     Context& ctx = frame.ctx;
@@ -141,7 +140,7 @@ class IrregularZBuffer final : public Technique {
   }
 
   Params params_;
-  int samples_ = 1;
+  int samples_;
   Buffer<LightViewGpu> gpu_;
   Buffer<uint32_t> cellOf_, sorted_, cellCount_, cellStart_, cursor_, blockSums_, occluded_, outside_;
 };
@@ -159,9 +158,10 @@ TechniqueInfo izbTechnique() {
        1,
        "Light grid fitted to the whole scene, or to the receivers the camera sees",
        {"scene", "receivers"}},
-      {"izb-samples", 1, 1, IZB_MAX_SAMPLES,
+      {"izb-samples", 0, 0, 3,
        "Samples per pixel: 1 (the pixel's G-buffer point), or 4, 8 or 32 points of the pixel's footprint on its "
-       "surface's plane, for antialiased hard shadows (visibility = the share that reaches the light)"},
+       "surface's plane, for antialiased hard shadows (visibility = the share that reaches the light)",
+       {"1", "4", "8", "32"}},
       {"izb-chunk", IZB_CHUNK_SAMPLES, 64, 1u << 28,
        "Samples binned and tested per pass (8 bytes each on the device); more samples are processed in passes of "
        "whole pixels, each drawing the casters over the cells its samples fill"},
