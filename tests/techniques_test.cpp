@@ -26,7 +26,7 @@ struct EdgeExpectation {
 };
 EdgeExpectation edgeExpectation(const std::string& technique) {
   // ~6 texels of 0.014 on the ground at map size 1024: covers the PCF/PCSS filter widths and the bias.
-  if (technique == "sm" || technique == "pcf" || technique == "pcss") return {0.08f, 1e-6f};
+  if (technique == "sm" || technique == "pcf" || technique == "pcss" || technique == "fvsm") return {0.08f, 1e-6f};
   // izb is exact: only a pixel centre within rounding of the edge itself may land on either side.
   if (technique == "izb") return {1e-3f, 0.0f};
   // Moment techniques blur their moments (Gaussian taps reach 5 texels, plus the bilinear texel): 9 texels;
@@ -75,7 +75,7 @@ TEST_P(Techniques, NoNanAndVisibilityInRangeOnEveryBuiltinScene) {
 
 INSTANTIATE_TEST_SUITE_P(All, Techniques,
                          ::testing::Values("sm", "pcf", "pcss", "vsm", "evsm2", "evsm4", "esm", "msm", "savsm",
-                                           "lvsm", "jittered", "izb"));
+                                           "lvsm", "jittered", "izb", "fvsm"));
 
 }  // namespace
 }  // namespace penumbra

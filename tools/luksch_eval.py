@@ -54,6 +54,7 @@ CONFIGS = {
     "jittered-adapted": ("jittered", ["--confidence", "adapted"]),
     "sm-id": ("sm", ["--id-buffer", "combined"]),
     "izb": ("izb", []),  # exact: the irregular z-buffer
+    "fvsm": ("fvsm", []),  # fitted virtual shadow maps (its --map-size is the tile's)
 }
 
 

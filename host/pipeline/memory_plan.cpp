@@ -67,6 +67,12 @@ MemoryStage techniqueMaps(const PlannedLight& light, size_t index) {
   }
   stage.largestBuffer = texels * layers * std::max<uint64_t>(perTexel - kMapTexelBytes, 4);
   stage.deviceBytes = texels * layers * perTexel * faces;
+  if (light.params->has("fvsm-budget")) {  // fvsm: its atlas, at most the budget (faces reuse it)
+    const double virtualSide = param(light, "fvsm-max-size", 0);
+    const auto atlas = static_cast<uint64_t>(std::min(param(light, "fvsm-budget", 0), virtualSide * virtualSide));
+    stage.largestBuffer = atlas * 4;
+    stage.deviceBytes = atlas * kMapTexelBytes;
+  }
   return stage;
 }
 

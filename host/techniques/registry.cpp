@@ -12,7 +12,7 @@ const std::vector<TechniqueInfo>& techniques() {
   static const std::vector<TechniqueInfo> kTechniques = {
       smTechnique(),    pcfTechnique(),  pcssTechnique(),  vsmTechnique(),      evsm2Technique(),
       evsm4Technique(), esmTechnique(),  msmTechnique(),   savsmTechnique(),    vssmTechnique(),
-      lvsmTechnique(),  pssmTechnique(), psvsmTechnique(), jitteredTechnique(), izbTechnique(),
+      lvsmTechnique(),  pssmTechnique(), psvsmTechnique(), jitteredTechnique(), fvsmTechnique(), izbTechnique(),
   };
   return kTechniques;
 }

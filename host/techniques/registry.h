@@ -20,5 +20,6 @@ TechniqueInfo pssmTechnique();   // pssm.cpp
 TechniqueInfo psvsmTechnique();  // psvsm.cpp
 TechniqueInfo jitteredTechnique();  // jittered.cpp
 TechniqueInfo izbTechnique();       // izb.cpp
+TechniqueInfo fvsmTechnique();      // fvsm.cpp
 
 }  // namespace penumbra

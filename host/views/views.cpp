@@ -133,4 +133,21 @@ LightView fitLightView(const Light& light, const Bounds& sceneBounds, int size, 
   return lv;
 }
 
+LightView cropLightView(const LightView& base, glm::vec2 ndcLo, glm::vec2 ndcHi, int size) {
+  LightView lv = base;
+  const glm::vec2 scale = 2.0f / (ndcHi - ndcLo), offset = -(ndcHi + ndcLo) / (ndcHi - ndcLo);
+  glm::mat4 crop(1.0f);
+  crop[0][0] = scale.x, crop[1][1] = scale.y, crop[3][0] = offset.x, crop[3][1] = offset.y;
+  lv.raster.projection = crop * base.raster.projection;
+  lv.raster.width = lv.raster.height = size;
+  lv.raster.scissor.reset();
+  lv.raster.tileMask = nullptr;
+  const float part = 0.5f * (ndcHi.x - ndcLo.x);  // square parts of square windows
+  lv.gpu.frustumWidth = base.gpu.frustumWidth * part;
+  lv.gpu.texelScale = lv.gpu.frustumWidth / static_cast<float>(size);
+  lv.gpu.width = lv.gpu.height = size;
+  setLightViewRows(lv.gpu.projection, lv.raster.projection);
+  return lv;
+}
+
 }  // namespace penumbra
