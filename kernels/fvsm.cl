@@ -17,16 +17,23 @@ inline int fvsm_cell(__constant const LightViewGpu* base, float3 t, uint cells) 
   return (int)(cy * cells + cx);
 }
 
+// Pixel i's world position and its cell in the finest grid; -1 for background, pixels past the G-buffer and pixels
+// outside the base map.
+inline int fvsm_pixel(__global const float4* position, uint i, uint count, __constant const LightViewGpu* base,
+                      uint cells, float4* p) {
+  if (i >= count) return -1;
+  *p = position[i];
+  return p->w == 0.0f ? -1 : fvsm_cell(base, lv_project(base, p->xyz), cells);
+}
+
 // histogram[cell * (maxLevel + 1) + level] counts the covered pixels of the cell that need that level (0 for those
 // without an on-plane neighbour, whose need is unknown). Zero on entry.
 __kernel void fvsm_request(__global const float4* position, __global const float4* normal, uint width, uint height,
                            __constant const LightViewGpu* base, uint cells, int maxLevel, float quality,
                            __global uint* histogram) {
   const uint i = get_global_id(0);
-  if (i >= width * height) return;
-  const float4 p = position[i];
-  if (p.w == 0.0f) return;
-  const int cell = fvsm_cell(base, lv_project(base, p.xyz), cells);
+  float4 p;
+  const int cell = fvsm_pixel(position, i, width * height, base, cells, &p);
   if (cell < 0) return;
   const Footprint f = sc_footprint(position, base, width, height, i, p.xyz, normal[i].xyz);
   const float lx = length(f.dx.xy), ly = length(f.dy.xy);
@@ -46,10 +53,8 @@ __kernel void fvsm_visibility(__global const float4* position, __global const fl
                               __global const uint* page, uint cells, __global const int* leafLevels,
                               __global float* visibility, __global float* level) {
   const uint i = get_global_id(0);
-  if (i >= width * height) return;
-  const float4 p = position[i];
-  if (p.w == 0.0f) return;
-  const int cell = fvsm_cell(base, lv_project(base, p.xyz), cells);
+  float4 p;
+  const int cell = fvsm_pixel(position, i, width * height, base, cells, &p);
   if (cell < 0) return;
   const uint leaf = page[cell];
   if (leaf == FVSM_NO_LEAF || leaf < begin || leaf - begin >= count) return;

@@ -49,6 +49,11 @@ expect izb-render 0 "izb/izb_test" -- "$bin" render builtin:cards -t izb --izb-s
   --map-size 256 -o "$scratch/izb.exr"
 expect izb-header 0 'receivers grid 256x256 texels \(32x32 cells\), 4 samples per pixel in 7 chunks' -- \
   bash -c "LC_ALL=C grep -ao 'receivers grid [^,]*, [^,]*' '$scratch/izb.exr' | head -n 1"
+expect fvsm-budget-range 2 "fvsm-budget" -- "$bin" render builtin:box -t fvsm --fvsm-budget 10 -o "$scratch/x.exr"
+expect fvsm-render 0 "fvsm/fvsm_request" -- "$bin" render builtin:poles -t fvsm --map-size 64 --fvsm-max-size 1024 \
+  --fvsm-budget 16384 --size 48x32 -o "$scratch/fvsm.exr"
+expect fvsm-header 0 'tiles of 64x64 \(levels [0-9]\.\.[0-9] of 4, virtual 1024x1024\)' -- \
+  bash -c "LC_ALL=C grep -ao 'tiles of [^)]*)' '$scratch/fvsm.exr' | head -n 1"
 expect savsm-width-above-max 2 "savsm-width 80 is larger than --savsm-max-width 64" -- "$bin" render builtin:box -t savsm --savsm-width 80 -o "$scratch/x.exr"
 expect bad-choice 2 "'half' is not one of float, fixed32, fixed64, double" -- "$bin" render builtin:box -t savsm --sat-precision half -o "$scratch/x.exr"
 expect render-msm 0 "wrote" -- "$bin" render builtin:box --size 64x48 -t msm --map-size 256 -o "$scratch/msm.exr"
@@ -355,7 +360,7 @@ expect gltf-light-bad-node-index 1 'bad-index.gltf: /nodes/1/extensions/KHR_ligh
   "$bin" render "$scratch/bad-index.gltf" -o "$scratch/x.exr"
 # Point lights (six cube faces): every technique renders one (registry.cpp; none refuses), and so do reference,
 # compare and bench; the header records the faces drawn, the EXR has the face layer, --cube-guard is a parameter.
-for t in sm pcf pcss vsm evsm2 evsm4 esm msm savsm vssm lvsm pssm psvsm jittered izb; do  # every technique (registry.cpp)
+for t in sm pcf pcss vsm evsm2 evsm4 esm msm savsm vssm lvsm pssm psvsm jittered fvsm izb; do  # every technique (registry.cpp)
   expect "point-light-$t" 0 'light "Bulb" \(the scene.s 1 of 2\): point:0,5,0' -- \
     "$bin" render "$scratch/bulb.json" --size 32x24 --map-size 64 -t "$t" -o "$scratch/bulb-$t.exr"
 done

@@ -235,13 +235,24 @@ TEST_F(Izb, EqualsTheReferenceForPointLightsAndSceneFits) {
   }
 }
 
+// A builtin scene seen by its own camera at width x height, under its first light made hard.
+struct HardFrame {
+  Scene scene;
+  Camera camera;
+  Light light;
+};
+HardFrame hardFrame(const char* name, int width, int height) {
+  HardFrame f{makeProcedural(name), {}, {}};
+  f.camera = f.scene.cameras.front();
+  f.camera.width = width, f.camera.height = height;
+  f.light = hard(f.scene.lights.front());
+  return f;
+}
+
 // Chunked passes (a chunk far smaller than the frame: several draws) give the image of one pass, bit for bit; the
 // grid's size changes the lists, not the answer.
 TEST_F(Izb, ChunksAndGridSizesDoNotChangeTheResult) {
-  const Scene scene = makeProcedural("cards");
-  Camera camera = scene.cameras.front();
-  camera.width = 96, camera.height = 64;
-  const Light light = hard(scene.lights.front());
+  const auto [scene, camera, light] = hardFrame("cards", 96, 64);
   const RenderResult one = renderWith(ctx(), scene, camera, light, "izb");
   const auto& expected = one.image.require("visibility.Y").data;
   for (const test::Values& values : {test::Values{{"izb-chunk", "1000"}}, test::Values{{"map-size", "128"}},
@@ -258,10 +269,7 @@ TEST_F(Izb, ChunksAndGridSizesDoNotChangeTheResult) {
 // sample keeps that value at S samples (its footprint lies inside the region), up to thin features; fractional values
 // only along the one-sample image's boundaries.
 TEST_F(Izb, SubPixelSamplesAntialiasOnlyAtShadowBoundaries) {
-  const Scene scene = makeProcedural("box");
-  Camera camera = scene.cameras.front();
-  camera.width = 160, camera.height = 96;
-  const Light light = hard(scene.lights.front());
+  const auto [scene, camera, light] = hardFrame("box", 160, 96);
   const RenderResult single = renderWith(ctx(), scene, camera, light, "izb");
   const auto& one = single.image.require("visibility.Y").data;
   const int w = camera.width, h = camera.height;
@@ -295,13 +303,10 @@ TEST_F(Izb, SubPixelSamplesAntialiasOnlyAtShadowBoundaries) {
 }
 
 TEST_F(Izb, RefusesUnsupportedSampleCountsAndIsDeterministic) {
-  const Scene scene = makeProcedural("poles");
-  Camera camera = scene.cameras.front();
-  camera.width = 64, camera.height = 48;
+  const auto [scene, camera, light] = hardFrame("poles", 64, 48);
   Params params(findTechnique("izb").params);
   EXPECT_THROW(params.set("izb-samples", "3"), std::invalid_argument);
   EXPECT_THROW(params.set("izb-samples", "64"), std::invalid_argument);
-  const Light light = hard(scene.lights.front());
   const RenderResult a = renderWith(ctx(), scene, camera, light, "izb", {{"izb-samples", "8"}});
   const RenderResult b = renderWith(ctx(), scene, camera, light, "izb", {{"izb-samples", "8"}});
   EXPECT_EQ(a.image.require("visibility.Y").data, b.image.require("visibility.Y").data);

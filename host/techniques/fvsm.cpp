@@ -263,13 +263,10 @@ class FittedVirtualShadowMap final : public Technique {
 TechniqueInfo fvsmTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
   fixMapSize(params, "the tile size; the virtual map's size follows the receivers");
-  for (ParamSpec& spec : params)
-    if (spec.name == "map-size") {
-      spec.defaultValue = 1024, spec.min = 64, spec.max = 8192;
-      spec.help =
-          "Tile width and height in texels (the quadtree root's map); the virtual map is up to "
-          "--fvsm-max-size texels a side";
-    }
+  ParamSpec& tile = paramNamed(params, "map-size");
+  tile.defaultValue = 1024, tile.min = 64, tile.max = 8192;
+  tile.help = "Tile width and height in texels (the quadtree root's map); the virtual map is up to --fvsm-max-size "
+              "texels a side";
   params.push_back(receiverPlaneParam());
   params.push_back({"fvsm-max-size", 32768, 64, 1 << 20,
                     "Virtual map width and height in texels at the quadtree's deepest level (map-size * 2^levels, "

@@ -348,8 +348,7 @@ TechniqueInfo jitteredTechnique() {
   // number of passes can undo, while the receiver-plane comparison at the texel centre already keeps planar
   // receivers free of acne (Luksch sec. 9: with confident samples only, bias is "no real problem"); grazing
   // receivers under a step's edge still need a little of it. Measured in the README.
-  for (ParamSpec& spec : params)
-    if (spec.name == "normal-offset") spec.defaultValue = 0.25;
+  paramNamed(params, "normal-offset").defaultValue = 0.25;
   params.push_back(receiverPlaneParam());
   params.push_back(idBufferParam());
   // LiSPSM by default: jittering removes projection aliasing, the warp perspective aliasing (Luksch sec. 5-6 combine

@@ -17,6 +17,12 @@ ParamSpec textParam(std::string name, std::string help, std::string defaultText)
   return spec;
 }
 
+ParamSpec& paramNamed(std::vector<ParamSpec>& specs, const std::string& name) {
+  for (ParamSpec& spec : specs)
+    if (spec.name == name) return spec;
+  throw std::out_of_range("no parameter --" + name);
+}
+
 Params::Params(const std::vector<ParamSpec>& specs) : specs_(specs) {
   for (const ParamSpec& spec : specs_) {
     values_[spec.name] = spec.defaultValue;

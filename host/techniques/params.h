@@ -22,6 +22,10 @@ struct ParamSpec {
 // A text parameter: stored verbatim, validated by the technique that reads it (Params::getText).
 ParamSpec textParam(std::string name, std::string help, std::string defaultText = {});
 
+// The spec named `name` in `specs`, to change a shared parameter's default or help for one technique; throws
+// std::out_of_range when there is none.
+ParamSpec& paramNamed(std::vector<ParamSpec>& specs, const std::string& name);
+
 // Values by name, validated against their specs.
 class Params {
  public:

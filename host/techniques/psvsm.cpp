@@ -118,8 +118,7 @@ class ParallelSplitVariance final : public Technique {
 TechniqueInfo psvsmTechnique() {
   std::vector<ParamSpec> params = momentMapParams(chebyshevParams());
   fixMapSize(params, "each split's map; --pssm-splits auto adapts the split count to it");
-  for (ParamSpec& spec : params)
-    if (spec.name == "moment-filtering") spec.defaultValue = 1;  // step 2e: mipmapped (trilinear) lookups
+  paramNamed(params, "moment-filtering").defaultValue = 1;  // step 2e: mipmapped (trilinear) lookups
   for (const ParamSpec& spec : splitParams()) params.push_back(spec);
   return {"psvsm", "Parallel-split variance shadow maps: VSM per split, blur scaled by zoom, mipmaps", params,
           [](const Params& p) { return std::make_unique<ParallelSplitVariance>(p); }};
