@@ -18,6 +18,11 @@ expect memory-limit-refuses 1 'needs [0-9.]+ GiB of device memory, more than 1.0
   "$bin" render builtin:box -t evsm4 --moment-filtering trilinear --size 4096x4096 --memory-limit 1GiB -o "$scratch/x.exr"
 expect memory-limit-fits 0 'wrote' -- "$bin" render builtin:box -t sm --size 64x48 --map-size 256 --memory-limit 1GiB \
   -o "$scratch/fits.exr"
+# izb's bounded memory at the issue's scale: a million triangles (builtin:poles, 84 000 poles) at 3840x2160, 8
+# samples a pixel in 4 passes of 2^24 samples, inside a 1.5 GiB plan (docs/techniques/izb.md: 32 samples peak at
+# 991 MB on PoCL).
+expect izb-1m-triangles-4k 0 'izb/izb_test +[0-9.]+ +4$' -- "$bin" render 'builtin:poles:rows=300,columns=280' -t izb \
+  --izb-samples 8 --size 3840x2160 --memory-limit 1536MiB -o "$scratch/izb-4k.png"
 expect memory-limit-bad 2 '--memory-limit "lots": expected a number' -- "$bin" render builtin:box --memory-limit lots \
   -o "$scratch/x.exr"
 expect bench-memory-limit 2 '--memory-limit "0"' -- "$bin" bench builtin:box --techniques sm --memory-limit 0 \

@@ -90,19 +90,20 @@ TEST(MemoryPlan, IzbSamplesAreBoundedByItsChunk) {
   EXPECT_LT(planFrame(uhd, {{LightType::Spot, &izb, &many}}).deviceBytes(), kGiB);
 }
 
-// fvsm's atlas is planned at its texel budget (8 bytes a texel: depth and ids), or at the whole virtual map when that
-// is smaller.
+// fvsm's atlas is planned at its texel budget (8 bytes a texel: depth and ids), or at the whole virtual map or a tile
+// per pixel when either is smaller.
 TEST(MemoryPlan, FvsmAtlasIsPlannedAtItsBudget) {
   const TechniqueInfo& fvsm = findTechnique("fvsm");
   Params params(fvsm.params), small(fvsm.params);
   small.set("fvsm-max-size", "1024");
-  const auto maps = [&](const Params& p) {
-    for (const MemoryStage& s : planFrame(cameraOf(64, 64), {{LightType::Spot, &fvsm, &p}}).stages)
+  const auto maps = [&](const Params& p, int side) {
+    for (const MemoryStage& s : planFrame(cameraOf(side, side), {{LightType::Spot, &fvsm, &p}}).stages)
       if (s.name.find("maps") != std::string::npos) return s.deviceBytes;
     return uint64_t{0};
   };
-  EXPECT_EQ(maps(params), static_cast<uint64_t>(params.get("fvsm-budget")) * 8);
-  EXPECT_EQ(maps(small), uint64_t{1024} * 1024 * 8);
+  EXPECT_EQ(maps(params, 64), static_cast<uint64_t>(params.get("fvsm-budget")) * 8);
+  EXPECT_EQ(maps(small, 64), uint64_t{1024} * 1024 * 8);
+  EXPECT_EQ(maps(params, 2), uint64_t{4} * 1024 * 1024 * 8);  // four pixels: four tiles at most
 }
 
 TEST(MemoryPlan, SingleBufferAboveTheDeviceMaximumIsNamed) {

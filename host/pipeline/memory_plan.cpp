@@ -49,7 +49,7 @@ MemoryStage izbGrid(const PlannedLight& light, size_t index, uint64_t pixels) {
 
 // A technique's maps: depth targets, moments (4 channels of fp32 or fp16 at most), the blur's scratch and the mip
 // chain (a third more), for each split or layer and each cube face of a point light.
-MemoryStage techniqueMaps(const PlannedLight& light, size_t index) {
+MemoryStage techniqueMaps(const PlannedLight& light, size_t index, uint64_t pixels) {
   MemoryStage stage{fmt::format("light {} ({}): maps", index, light.technique->name)};
   // --map-size auto (0): planned at the largest size it may choose.
   const double size = param(light, "map-size", 0) == 0 ? param(light, "map-size-max", 0) : param(light, "map-size", 0);
@@ -67,9 +67,12 @@ MemoryStage techniqueMaps(const PlannedLight& light, size_t index) {
   }
   stage.largestBuffer = texels * layers * std::max<uint64_t>(perTexel - kMapTexelBytes, 4);
   stage.deviceBytes = texels * layers * perTexel * faces;
-  if (light.params->has("fvsm-budget")) {  // fvsm: its atlas, at most the budget (faces reuse it)
+  if (light.params->has("fvsm-budget")) {
+    // fvsm: its atlas (faces reuse it) holds at most the budget, the whole virtual map, or a tile per pixel (every
+    // tile drawn holds a pixel).
     const double virtualSide = param(light, "fvsm-max-size", 0);
-    const auto atlas = static_cast<uint64_t>(std::min(param(light, "fvsm-budget", 0), virtualSide * virtualSide));
+    const auto atlas = static_cast<uint64_t>(std::min({param(light, "fvsm-budget", 0), virtualSide * virtualSide,
+                                                       static_cast<double>(pixels) * size * size}));
     stage.largestBuffer = atlas * 4;
     stage.deviceBytes = atlas * kMapTexelBytes;
   }
@@ -112,7 +115,7 @@ MemoryPlan planFrame(const Camera& camera, const std::vector<PlannedLight>& ligh
     plan.stages.push_back({fmt::format("light {} ({}): per-pixel buffers", i, lights[i].technique->name),
                            pixels * perPixel, 0, pixels * 16});
     plan.stages.push_back(lights[i].params->has("izb-samples") ? izbGrid(lights[i], i, pixels)
-                                                               : techniqueMaps(lights[i], i));
+                                                               : techniqueMaps(lights[i], i, pixels));
   }
   plan.stages.push_back({"shade", pixels * (kPreviewBytesPerPixel + (lights.size() > 1 ? 4 : 0)), 0, pixels * 16});
   const uint64_t floats = kImageFloatsPerPixel + lights.size();
