@@ -63,7 +63,6 @@ case "$suite" in
     for t in evsm4 savsm psvsm lvsm; do render "cpu-$t" PENUMBRA_LAYOUTS= -- -t "$t"; done
     # izb's conservative draw in the CPU coarse layout, its sub-pixel samples and its passes (chunks) over the cells.
     render "cpu-izb-samples-chunks" PENUMBRA_LAYOUTS= -- -t izb --izb-samples 8 --izb-chunk 4096
-    render "gpu-izb-point" -- -t izb --light point:0,4,0 --izb-chunk 4096
     for kib in 32 16; do
       local_env=OCLGRIND_LOCAL_MEM_SIZE=$((kib * 1024))
       render "local${kib}k-evsm4-r17" "$local_env" -- -t evsm4 --blur-radius 17
