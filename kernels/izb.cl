@@ -148,7 +148,8 @@ __kernel void izb_bin(__global const float4* position, __global const float4* no
     atomic_inc(outside);
     return;
   }
-  const uint cell = ((uint)t.y / IZB_CELL_TEXELS) * f.cellsX + (uint)t.x / IZB_CELL_TEXELS;
+  const uint cellsX = ((uint)lv->width + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS;  // the light view's tiles
+  const uint cell = ((uint)t.y / IZB_CELL_TEXELS) * cellsX + (uint)t.x / IZB_CELL_TEXELS;
   cellOf[i] = cell;
   atomic_inc(&cellCount[cell]);
 }

@@ -11,6 +11,8 @@
 #include <numeric>
 #include <utility>
 
+#include "kernels/shared/izb.h"
+
 namespace penumbra {
 namespace {
 
@@ -39,8 +41,8 @@ double param(const PlannedLight& light, const char* name, double fallback) {
 MemoryStage izbGrid(const PlannedLight& light, size_t index, uint64_t pixels) {
   MemoryStage stage{fmt::format("light {} ({}): grid and samples", index, light.technique->name)};
   const auto cellsPerSide = static_cast<uint64_t>((param(light, "map-size", 8) + 7) / 8);
-  constexpr uint64_t kSamplesPerChoice[] = {1, 4, 8, 32};
-  const uint64_t samples = pixels * kSamplesPerChoice[std::clamp(light.params->getInt("izb-samples"), 0, 3)];
+  const uint64_t samples =
+      pixels * static_cast<uint64_t>(izb_samples_of_choice(light.params->getInt("izb-samples")));
   const uint64_t chunk = std::min(samples, static_cast<uint64_t>(param(light, "izb-chunk", 1 << 24)));
   stage.largestBuffer = std::max(chunk * 4, cellsPerSide * cellsPerSide * 4);
   stage.deviceBytes = cellsPerSide * cellsPerSide * 12 + chunk * 8;

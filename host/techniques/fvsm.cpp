@@ -81,27 +81,30 @@ class TilePyramid {
     std::vector<Leaf> leaves;
     std::priority_queue<Candidate> open;
     starved = 0;
-    auto add = [&](const Leaf& node) {
-      const Demand d = demand(node);
-      if (d.deepest < 0) return false;
+    auto add = [&](const Leaf& node, const Demand& d) {  // d.deepest >= 0: the node holds pixels
       if (d.deepest > node.level && node.level < levels_)
         open.push({node, d.undersampled});
       else
         leaves.push_back(node);
-      return true;
     };
-    add(Leaf{});
+    if (const Demand root = demand(Leaf{}); root.deepest >= 0) add(Leaf{}, root);
     while (!open.empty()) {
       const Candidate best = open.top();
       open.pop();
-      int children = 0;
-      for (int k = 0; k < 4; ++k) children += demand(child(best.leaf, k)).deepest >= 0;
-      if (leaves.size() + open.size() + static_cast<uint64_t>(children) > budgetTiles) {
+      Leaf children[4];
+      Demand demands[4];
+      uint64_t holding = 0;  // children with pixels: the tiles the split draws instead of this one
+      for (int k = 0; k < 4; ++k) {
+        children[k] = child(best.leaf, k), demands[k] = demand(children[k]);
+        holding += demands[k].deepest >= 0;
+      }
+      if (leaves.size() + open.size() + holding > budgetTiles) {
         leaves.push_back(best.leaf);  // over the budget: drawn coarser than its pixels need
         starved += best.undersampled;
         continue;
       }
-      for (int k = 0; k < 4; ++k) add(child(best.leaf, k));
+      for (int k = 0; k < 4; ++k)
+        if (demands[k].deepest >= 0) add(children[k], demands[k]);
     }
     return leaves;
   }
@@ -214,12 +217,12 @@ class FittedVirtualShadowMap final : public Technique {
 
       // 4. The lookups, a batch of tile views at a time.
       Kernel lookup(ctx, "kernels/fvsm.cl", "fvsm_visibility", "shade");
+      batches_.resize(std::max(batches_.size(), (leaves.size() + kViewsPerBatch - 1) / kViewsPerBatch));
       for (size_t begin = 0; begin < leaves.size(); begin += kViewsPerBatch) {
         const size_t count = std::min(kViewsPerBatch, leaves.size() - begin);
         std::vector<LightViewGpu> batch;
         for (size_t k = begin; k < begin + count; ++k) batch.push_back(views[k].gpu);
-        Buffer<LightViewGpu>& gpu =
-            batches_.size() > begin / kViewsPerBatch ? batches_[begin / kViewsPerBatch] : batches_.emplace_back();
+        Buffer<LightViewGpu>& gpu = batches_[begin / kViewsPerBatch];
         gpu.allocate(ctx, batch.size(), CL_MEM_READ_ONLY);
         gpu.upload(ctx, std::span<const LightViewGpu>(batch));
         lookup
@@ -230,13 +233,13 @@ class FittedVirtualShadowMap final : public Technique {
             .launch(pixels, kPixelGroup);
       }
     }
-    rendered_ = leaves.size() * tileTexels;
+    const uint64_t rendered = leaves.size() * tileTexels;
     const uint64_t uniform = static_cast<uint64_t>(tile) << deepest;
     frame.attributes["penumbra:fvsm"] = fmt::format(
         "{} tiles of {}x{} (levels {}..{} of {}, virtual {}x{}), {} texels drawn, {:.3g}% of the uniform {}x{} map of "
         "the same finest texel{}",
         leaves.size(), tile, tile, leaves.empty() ? 0 : shallowest, deepest, levels, tile << levels, tile << levels,
-        rendered_, 100.0 * static_cast<double>(rendered_) / static_cast<double>(uniform * uniform), uniform, uniform,
+        rendered, 100.0 * static_cast<double>(rendered) / static_cast<double>(uniform * uniform), uniform, uniform,
         starved > 0
             ? fmt::format("; the budget of {} texels left {} of {} pixels ({:.3g}%) coarser than they need", budget,
                           starved, covered, 100.0 * static_cast<double>(starved) / static_cast<double>(covered))
@@ -255,7 +258,6 @@ class FittedVirtualShadowMap final : public Technique {
   Buffer<int32_t> leafLevels_;
   Buffer<float> atlasDepth_, level_;
   Buffer<uint32_t> atlasIds_;
-  uint64_t rendered_ = 0;
 };
 
 }  // namespace
@@ -265,8 +267,9 @@ TechniqueInfo fvsmTechnique() {
   fixMapSize(params, "the tile size; the virtual map's size follows the receivers");
   ParamSpec& tile = paramNamed(params, "map-size");
   tile.defaultValue = 1024, tile.min = 64, tile.max = 8192;
-  tile.help = "Tile width and height in texels (the quadtree root's map); the virtual map is up to --fvsm-max-size "
-              "texels a side";
+  tile.help =
+      "Tile width and height in texels (the quadtree root's map); the virtual map is up to --fvsm-max-size "
+      "texels a side";
   params.push_back(receiverPlaneParam());
   params.push_back({"fvsm-max-size", 32768, 64, 1 << 20,
                     "Virtual map width and height in texels at the quadtree's deepest level (map-size * 2^levels, "

@@ -9,7 +9,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <glm/gtc/type_ptr.hpp>
 #include <stdexcept>
 
 #include "host/cl/kernel.h"
@@ -22,8 +21,6 @@ namespace penumbra {
 namespace {
 
 static_assert(IZB_CELL_TEXELS == kRasterTileSize, "izb's cells are the rasterizer's tiles");
-
-constexpr int kSampleCounts[] = {1, 4, 8, IZB_MAX_SAMPLES};  // --izb-samples' choices, in order
 
 // The spot light grid's near plane, relative to its far plane: far closer to the light than the fitted map's (far *
 // 1e-4 where the light lies inside the scene's bounds), so casters next to the light are not clipped away. Only the
@@ -40,7 +37,7 @@ void moveNearPlane(glm::mat4& P, float zNear) {
 class IrregularZBuffer final : public Technique {
  public:
   explicit IrregularZBuffer(const Params& params)
-      : params_(params), samples_(kSampleCounts[static_cast<size_t>(params.getInt("izb-samples"))]) {}
+      : params_(params), samples_(izb_samples_of_choice(params.getInt("izb-samples"))) {}
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     Context& ctx = frame.ctx;
@@ -71,7 +68,6 @@ class IrregularZBuffer final : public Technique {
     f.sceneRadius = frame.scene.triangles.empty() ? 0.0f : frame.scene.bounds().radius();
     f.width = static_cast<uint32_t>(g.width), f.height = static_cast<uint32_t>(g.height);
     f.samples = samples_, f.pattern = izb_pattern_offset(samples_);
-    f.cellsX = cellsX, f.cellsY = cellsY;
 
     const raster::SceneBuffers& scene = frame.raster.deviceScene();
     const uint32_t alphaTested = scene.materials.alphaTested ? 1u : 0u;
@@ -158,7 +154,10 @@ TechniqueInfo izbTechnique() {
        1,
        "Light grid fitted to the whole scene, or to the receivers the camera sees",
        {"scene", "receivers"}},
-      {"izb-samples", 0, 0, 3,
+      {"izb-samples",
+       0,
+       0,
+       3,
        "Samples per pixel: 1 (the pixel's G-buffer point), or 4, 8 or 32 points of the pixel's footprint on its "
        "surface's plane, for antialiased hard shadows (visibility = the share that reaches the light)",
        {"1", "4", "8", "32"}},

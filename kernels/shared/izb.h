@@ -26,13 +26,12 @@ typedef struct {
   uint width, height;       // G-buffer pixels
   int samples;              // per pixel: 1, 4, 8 or 32
   int pattern;              // first pattern entry (izb_pattern_offset)
-  uint cellsX, cellsY;      // light grid cells (the light view's tiles)
   uint pixelBegin;          // first pixel of this chunk
   uint sampleCount;         // samples of this chunk: pixels * samples
 } IzbFrame;
 
 #if PENUMBRA_HOST
-static_assert(sizeof(IzbFrame) == 100, "IzbFrame layout must match OpenCL C");
+static_assert(sizeof(IzbFrame) == 92, "IzbFrame layout must match OpenCL C");
 #endif
 
 // Sub-pixel sample offsets from the pixel centre, in pixels, x then y, for 1, 4, 8 and 32 samples per pixel (the
@@ -56,6 +55,11 @@ static_assert(sizeof(IzbFrame) == 100, "IzbFrame layout must match OpenCL C");
    0.351851852f, -0.40625f, -0.203703704f, 0.09375f, 0.12962963f, -0.15625f, 0.462962963f, 0.34375f, -0.487654321f,  \
    -0.28125f, -0.154320988f, 0.21875f, 0.179012346f, -0.03125f, -0.37654321f, 0.46875f, -0.0432098765f, -0.484375f,  \
    0.290123457f}
+
+// Samples per pixel of --izb-samples' choice `choice` (0..3: 1, 4, 8, 32).
+static inline int izb_samples_of_choice(int choice) {
+  return choice <= 0 ? 1 : choice == 1 ? 4 : choice == 2 ? 8 : IZB_MAX_SAMPLES;
+}
 
 // First entry (pair) of the pattern of `samples` per pixel (1, 4, 8 or 32), -1 for other counts.
 static inline int izb_pattern_offset(int samples) {
