@@ -297,10 +297,12 @@ TEST_F(Stability, APointLightInsideAClosedBox) {
 // accurate soft technique) keeps light out of the umbra (umbra_light <= kMaxUmbraLight), except on poles, where it
 // misses the target narrowly (measured 0.056 here, 0.050 at 480x270: the average blocker depth of a thin pole over a
 // far ground), so kPolesUmbraLight guards today's value. vssm within kVssmOverPcss of pcss's MAE: met with its disk
-// kernels (--vssm-disk-strips 8; the paper's squares were 1.8-2.1x) on staircase, poles and cards (0.95, 0.95, 1.01
-// here), missed narrowly on box and stacked-planes (1.21 and 1.23 here, 1.11 and 1.19 at 480x270), which
-// kVssmOverPcssMissed guards. Printed, not asserted, because it does not hold: no technique above 5 % umbra light (on
-// poles every prefiltered technique washes them out). docs/evaluation.md ("Targets on the built-in scenes").
+// kernels (--vssm-disk-strips 8; the paper's squares were 1.8-2.1x) on staircase, poles and cards (0.95, 1.06, 1.01
+// here), missed narrowly on box and stacked-planes (1.29 and 1.23 here, 1.11 and 1.19 at 480x270), which
+// kVssmOverPcssMissed guards: the normal offset of one texel is vssm's largest error there (0.68-1.00 with 0.25, but
+// grazing receivers then shadow themselves; docs/techniques/README.md, "The normal offset"). Printed, not asserted,
+// because it does not hold: no technique above 5 % umbra light (on poles every prefiltered technique washes them
+// out; psvsm is the worst on all but staircase). docs/evaluation.md ("Targets on the built-in scenes").
 constexpr double kBestMaxMae = 0.004;
 constexpr double kMaxUmbraLight = 0.05;
 constexpr double kPolesUmbraLight = 0.07;
@@ -322,22 +324,23 @@ TEST_F(Stability, TargetsOnEveryBuiltinSceneUnderItsAreaLight) {
       if (info.hasParam("map-size")) own["map-size"] = std::to_string(Params(info.params).getInt("map-size"));
       seen[name] = metrics(render(c, name, own), c);
     }
-    std::string best;
-    double worstUmbra = 0;
+    std::string best, worst;
     for (const auto& [name, m] : seen) {
       if (best.empty() || m.mae < seen[best].mae) best = name;
-      worstUmbra = std::max(worstUmbra, m.umbraLight);
+      if (worst.empty() || m.umbraLight > seen[worst].umbraLight) worst = name;
     }
     const ErrorMetrics &pcss = seen["pcss"], &vssm = seen["vssm"];
     std::printf(
         "  targets %-15s best %-8s mae %.5f; pcss mae %.5f umbra light %.4f; vssm / pcss %.2f; worst umbra "
-        "light %.4f (of %zu umbra pixels)\n",
+        "light %-8s %.4f (of %zu umbra pixels)\n",
         builtin.name.c_str(), best.c_str(), seen[best].mae, pcss.mae, pcss.umbraLight,
-        pcss.mae > 0 ? vssm.mae / pcss.mae : 1.0, worstUmbra, pcss.umbraPixels);
+        pcss.mae > 0 ? vssm.mae / pcss.mae : 1.0, worst.c_str(), seen[worst].umbraLight, pcss.umbraPixels);
     EXPECT_LE(seen[best].mae, kBestMaxMae) << builtin.name;
     EXPECT_LE(pcss.umbraLight, builtin.name == "poles" ? kPolesUmbraLight : kMaxUmbraLight) << builtin.name;
     const bool missed = builtin.name == "box" || builtin.name == "stacked-planes";
-    if (pcss.mae > 1e-5) EXPECT_LE(vssm.mae, (missed ? kVssmOverPcssMissed : kVssmOverPcss) * pcss.mae) << builtin.name;
+    if (pcss.mae > 1e-5) {
+      EXPECT_LE(vssm.mae, (missed ? kVssmOverPcssMissed : kVssmOverPcss) * pcss.mae) << builtin.name;
+    }
   }
 }
 
