@@ -6,6 +6,7 @@
 // xi), per cell of the finest level's grid as a histogram, from which the host rejects outliers and builds the
 // quadtree. fvsm_visibility looks every pixel up through the page table (the finest grid's cells -> the drawn tile
 // covering them) and runs sm's hard test in that tile, its bias in that tile's texel footprint.
+#define SHADOW_NORMAL_OFFSET_SCALED 0  // the whole normal offset at every angle (kernels/shared/shadow_common.h)
 #include "kernels/shared/fvsm.h"
 #include "kernels/shared/shadow_common.h"
 

@@ -10,6 +10,7 @@
 // pixels' lookups (the next pass's scissor). Each pass also appends the pixels a later pass can still change to a
 // work list, and the next pass runs over that list only: once most pixels are final (optimal, adapted at confidence
 // 1), a pass costs what its few unconfident pixels cost, not the frame's.
+#define SHADOW_NORMAL_OFFSET_SCALED 0  // the whole normal offset at every angle (kernels/shared/shadow_common.h)
 #include "kernels/shared/id_buffer.h"
 #include "kernels/shared/jittered.h"
 #include "kernels/shared/shadow_common.h"

@@ -1,6 +1,7 @@
 // Hard shadow mapping (Williams 1978) with constant, slope-scaled and normal-offset bias, or receiver-plane
 // depth bias (Isidoro, GDC 2006): one nearest-texel depth comparison per pixel of the camera's G-buffer; with an
 // ID buffer (Luksch sec. 9.1, kernels/shared/id_buffer.h) the map's triangle ids decide instead, or beside it.
+#define SHADOW_NORMAL_OFFSET_SCALED 0  // the whole normal offset at every angle (kernels/shared/shadow_common.h)
 #include "kernels/shared/id_buffer.h"
 #include "kernels/shared/shadow_common.h"
 
@@ -29,4 +30,14 @@ __kernel void sm_visibility(__global const float4* position, __global const floa
                         sc_hard_lit(map, lv, r, rp, biasConstant * r.texel));
   }
   visibility[i] = lit;
+}
+
+// Test hook: sc_depth_slope (kernels/shared/shadow_common.h) at given world points and normals, as sc_receiver calls
+// it, so tests can check it against the light's exact ray-plane depths.
+__kernel void shadow_depth_slope_test(__global const float4* points, __global const float4* normals, uint count,
+                                      __constant const LightViewGpu* lv, __global float* slope) {
+  uint i = get_global_id(0);
+  if (i >= count) return;
+  float3 p = points[i].xyz, n = normals[i].xyz;
+  slope[i] = sc_depth_slope(lv, p, n, lv_texel_world_at(lv, p, max(lv_project(lv, p).z, lv->zNear)));
 }

@@ -264,6 +264,7 @@ class FittedVirtualShadowMap final : public Technique {
 
 TechniqueInfo fvsmTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
+  unscaledNormalOffset(params);
   fixMapSize(params, "the tile size; the virtual map's size follows the receivers");
   ParamSpec& tile = paramNamed(params, "map-size");
   tile.defaultValue = 1024, tile.min = 64, tile.max = 8192;

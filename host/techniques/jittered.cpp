@@ -342,6 +342,7 @@ class Jittered final : public Technique {
 
 TechniqueInfo jitteredTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
+  unscaledNormalOffset(params);
   fixMapSize(params, "the jittered passes' map, whose confidence accumulation needs a fixed texel grid");
   // A quarter of sm's normal offset by default: the offset moves a receiver's lookup sideways wherever the light is
   // not along the normal (tan(angle) texels: a spot light's shadow edges shrink by that much), a misplacement no

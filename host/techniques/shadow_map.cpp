@@ -23,11 +23,16 @@ std::vector<ParamSpec> shadowMapParams() {
       {"fit", 1, 0, 1, "Light frustum fitted to the whole scene, or to the receivers the camera sees", {"scene", "receivers"}},
       {"bias", 1.0, 0, 100, "Constant depth bias, in texel footprints at the receiver"},
       {"slope-bias", 1.0, 0, 100, "Slope-scaled depth bias, in texel footprints times tan(angle to the light)"},
-      {"normal-offset", 1.0, 0, 100, "Receiver offset along its normal, in texel footprints"},
+      {"normal-offset", 1.0, 0, 100,
+       "Receiver offset along its normal, in texel footprints, times sin(angle to the light)"},
       {"cube-guard", 32, 0, 2048,
        "Point lights: each cube face's map reaches this many texels beyond its 90-degree square on every side, so "
        "filters near a face edge read drawn texels (at most map-size / 4)"},
   };
+}
+
+void unscaledNormalOffset(std::vector<ParamSpec>& params) {
+  paramNamed(params, "normal-offset").help = "Receiver offset along its normal, in texel footprints, at every angle";
 }
 
 void fixMapSize(std::vector<ParamSpec>& params, const std::string& why) {

@@ -27,6 +27,9 @@ struct ShadowMap {
 // map-size-quantile, -min, -max, fit, bias, slope-bias, normal-offset, cube-guard (point lights:
 // host/pipeline/point_light.h).
 std::vector<ParamSpec> shadowMapParams();
+// For the techniques whose kernels move the receiver by the whole normal offset at every angle (sm, fvsm, jittered:
+// SHADOW_NORMAL_OFFSET_SCALED 0 in kernels/shared/shadow_common.h): normal-offset's help says so.
+void unscaledNormalOffset(std::vector<ParamSpec>& params);
 // For techniques whose map-size is not one uniform map's (per split, or warped): no auto and its settings; `why`
 // goes into the help.
 void fixMapSize(std::vector<ParamSpec>& params, const std::string& why);

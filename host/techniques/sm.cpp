@@ -27,6 +27,7 @@ class HardShadowMap final : public Technique {
 
 TechniqueInfo smTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
+  unscaledNormalOffset(params);
   params.push_back(receiverPlaneParam());
   params.push_back(idBufferParam());
   for (ParamSpec& spec : warpParams()) params.push_back(spec);

@@ -12,10 +12,21 @@
 typedef struct ShadowBias {
   float base;          // added to every comparison
   float slope;         // times tan(angle between normal and light direction), clamped
-  float normalOffset;  // receiver moved along its geometric normal before projection
+  float normalOffset;  // receiver moved along its geometric normal before projection (SHADOW_NORMAL_OFFSET_SCALED)
 } ShadowBias;
 
 #define SHADOW_MAX_SLOPE 10.0f  // tan of ~84 degrees: beyond this the surface is nearly edge-on
+
+// The normal offset scaled by sin(theta), theta the angle between the normal and the light (1, the default), or the
+// whole offset at every angle (0: sm, fvsm and jittered, whose one nearest-texel comparison per pass has no filter
+// and whose tests and tables were measured that way). Moving the receiver d along its normal puts it d / cos(theta)
+// in front of its own plane along the light ray, the margin grazing receivers need, but also d sin(theta) sideways
+// in the map and closer to its blockers: every shadow edge shifts, and pcss's and vssm's penumbrae come out narrower.
+// Scaled, the margin is d tan(theta), the slope-scaled bias's growth, and a receiver facing the light is not moved.
+// Measured in docs/techniques/README.md ("The normal offset").
+#ifndef SHADOW_NORMAL_OFFSET_SCALED
+#define SHADOW_NORMAL_OFFSET_SCALED 1
+#endif  // tan of ~84 degrees: beyond this the surface is nearly edge-on
 
 // A receiver projected into the map: texel coordinates, its light depth and the bias per texel of
 // filter offset (grows with the filter footprint so tilted planar receivers do not self-shadow).
@@ -28,6 +39,29 @@ typedef struct Receiver {
   int valid;       // 0 when the point is behind the light or not a surface
 } Receiver;
 
+// The receiver plane's light-depth change per texel of map offset, in texel footprints (world depth per texel /
+// texel width), at most SHADOW_MAX_SLOPE: the slope the slope-scaled bias and the bias cone of filter taps scale by.
+// Measured by projecting two tangent steps of one footprint, so it is exact to first order for every projection. For
+// a uniform directional map, and on a spot map's axis, it is tan(theta), theta the angle between the normal and the
+// light; off a spot map's axis the linear light depth (eye z, not the distance along the ray) of a plane changes
+// faster than tan(theta) says: a ground point 30 degrees off the axis of a spot 2 above it, the ray 30 degrees from
+// the normal, has 0.86 against tan(theta) = 0.59, and a cone of tan(theta) lets the far taps of a large kernel (pcss's
+// search, vssm's sub-kernels) shadow their own receiver.
+inline float sc_depth_slope(__constant const LightViewGpu* lv, float3 position, float3 normal, float texel) {
+  float3 t1 = normalize(cross(normal, fabs(normal.x) < 0.9f ? (float3)(1.0f, 0.0f, 0.0f) : (float3)(0.0f, 1.0f, 0.0f)));
+  float3 t2 = cross(normal, t1);
+  // Central differences: a perspective map's depth is not linear along the plane, and one-sided steps of a
+  // footprint were off by about texel / depth (1 % under a wide spot).
+  t1 *= 0.5f * texel, t2 *= 0.5f * texel;
+  float3 a = lv_project(lv, position + t1) - lv_project(lv, position - t1);
+  float3 b = lv_project(lv, position + t2) - lv_project(lv, position - t2);
+  // J = [a.xy b.xy] takes tangent steps to texel offsets, (a.z, b.z) their depth steps: g = J^-T (a.z, b.z).
+  float det = a.x * b.y - b.x * a.y;
+  float2 g = (float2)(b.y * a.z - a.y * b.z, a.x * b.z - b.x * a.z) / det;
+  float slope = length(g) / texel;
+  return isfinite(slope) ? min(slope, SHADOW_MAX_SLOPE) : SHADOW_MAX_SLOPE;
+}
+
 inline Receiver sc_receiver(__constant const LightViewGpu* lv, float3 position, float3 normal, ShadowBias bias) {
   Receiver r;
   float3 toLight = lv_to_light(lv, position);
@@ -38,9 +72,10 @@ inline Receiver sc_receiver(__constant const LightViewGpu* lv, float3 position, 
   }
   float3 first = lv_project(lv, position);
   float texel = lv_texel_world_at(lv, position, max(first.z, lv->zNear));
-  float3 moved = position + normal * (bias.normalOffset * texel);
+  float offset = SHADOW_NORMAL_OFFSET_SCALED ? sqrt(max(1.0f - cosTheta * cosTheta, 0.0f)) : 1.0f;
+  float3 moved = position + normal * (bias.normalOffset * offset * texel);
   float3 p = lv_project(lv, moved);
-  float tanTheta = min(sqrt(max(1.0f - cosTheta * cosTheta, 0.0f)) / max(cosTheta, 1e-4f), SHADOW_MAX_SLOPE);
+  float tanTheta = sc_depth_slope(lv, position, normal, texel);
   r.uv = p.xy;
   r.depth = p.z;
   r.bias = texel * (bias.base + bias.slope * tanTheta);

@@ -295,21 +295,21 @@ TEST_F(Stability, APointLightInsideAClosedBox) {
 }
 
 // Issue 20's targets on every built-in scene under its own area light (each has one), default parameters, against
-// 256 spp. Asserted where they hold: some technique reaches MAE <= kBestMaxMae on every scene, and pcss (the most
-// accurate soft technique) keeps light out of the umbra (umbra_light <= kMaxUmbraLight), except on poles, where it
-// misses the target narrowly (measured 0.056 here, 0.050 at 480x270: the average blocker depth of a thin pole over a
-// far ground), so kPolesUmbraLight guards today's value. vssm within kVssmOverPcss of pcss's MAE: met with its disk
-// kernels (--vssm-disk-strips 8; the paper's squares were 1.8-2.1x) on staircase, poles and cards (0.95, 1.06, 1.01
-// here), missed narrowly on box and stacked-planes (1.29 and 1.23 here, 1.11 and 1.19 at 480x270), which
-// kVssmOverPcssMissed guards: the normal offset of one texel is vssm's largest error there (0.68-1.00 with 0.25, but
-// grazing receivers then shadow themselves; docs/techniques/README.md, "The normal offset"). Printed, not asserted,
-// because it does not hold: no technique above 5 % umbra light (on poles every prefiltered technique washes them
-// out: pcf is the worst there and on cards, savsm elsewhere). docs/evaluation.md ("Targets on the built-in scenes").
+// 256 spp. Asserted where they hold: some technique reaches MAE <= kBestMaxMae on every scene; vssm stays within
+// kVssmOverPcss of pcss's MAE (measured 0.65-1.05 here, box 1.098, which kVssmOverPcssBox guards with room for another
+// device's rounding; 0.64-1.08 at 480x270, box 1.00), since its disk kernels (--vssm-disk-strips 8; the paper's
+// squares were 1.8-2.1x), the receivers' exact depth slope and the sin-scaled normal offset (1.16-1.29 on box and
+// stacked-planes before: docs/techniques/README.md, "The normal offset"); and pcss (the most accurate soft technique
+// here with vssm) keeps light out of the umbra (umbra_light <= kMaxUmbraLight), except on poles, where it misses the
+// target narrowly (measured 0.056 here, 0.048 at 480x270: the average blocker depth of a thin pole over a far
+// ground), so kPolesUmbraLight guards today's value. Printed, not asserted, because it does not hold: no technique
+// above 5 % umbra light (on poles every prefiltered technique washes them out: pcf is the worst there and on cards,
+// savsm elsewhere). docs/evaluation.md ("Targets on the built-in scenes").
 constexpr double kBestMaxMae = 0.004;
 constexpr double kMaxUmbraLight = 0.05;
 constexpr double kPolesUmbraLight = 0.07;
 constexpr double kVssmOverPcss = 1.1;
-constexpr double kVssmOverPcssMissed = 1.3;
+constexpr double kVssmOverPcssBox = 1.15;
 
 TEST_F(Stability, TargetsOnEveryBuiltinSceneUnderItsAreaLight) {
   for (const ProceduralInfo& builtin : proceduralScenes()) {
@@ -333,15 +333,14 @@ TEST_F(Stability, TargetsOnEveryBuiltinSceneUnderItsAreaLight) {
     }
     const ErrorMetrics &pcss = seen["pcss"], &vssm = seen["vssm"];
     std::printf(
-        "  targets %-15s best %-8s mae %.5f; pcss mae %.5f umbra light %.4f; vssm / pcss %.2f; worst umbra "
+        "  targets %-15s best %-8s mae %.5f; pcss mae %.5f umbra light %.4f; vssm / pcss %.3f; worst umbra "
         "light %-8s %.4f (of %zu umbra pixels)\n",
         builtin.name.c_str(), best.c_str(), seen[best].mae, pcss.mae, pcss.umbraLight,
         pcss.mae > 0 ? vssm.mae / pcss.mae : 1.0, worst.c_str(), seen[worst].umbraLight, pcss.umbraPixels);
     EXPECT_LE(seen[best].mae, kBestMaxMae) << builtin.name;
     EXPECT_LE(pcss.umbraLight, builtin.name == "poles" ? kPolesUmbraLight : kMaxUmbraLight) << builtin.name;
-    const bool missed = builtin.name == "box" || builtin.name == "stacked-planes";
     if (pcss.mae > 1e-5) {
-      EXPECT_LE(vssm.mae, (missed ? kVssmOverPcssMissed : kVssmOverPcss) * pcss.mae) << builtin.name;
+      EXPECT_LE(vssm.mae, (builtin.name == "box" ? kVssmOverPcssBox : kVssmOverPcss) * pcss.mae) << builtin.name;
     }
   }
 }
