@@ -22,7 +22,8 @@ std::vector<ParamSpec> shadowMapParams() {
       {"map-size-max", 4096, 16, 8192, "--map-size auto: the largest size"},
       {"fit", 1, 0, 1, "Light frustum fitted to the whole scene, or to the receivers the camera sees", {"scene", "receivers"}},
       {"bias", 1.0, 0, 100, "Constant depth bias, in texel footprints at the receiver"},
-      {"slope-bias", 1.0, 0, 100, "Slope-scaled depth bias, in texel footprints times tan(angle to the light)"},
+      {"slope-bias", 1.0, 0, 100, "Slope-scaled depth bias, in texel footprints times the receiver's depth slope in the map (a sun's: tan(angle "
+       "to the light))"},
       {"normal-offset", 1.0, 0, 100,
        "Receiver offset along its normal, in texel footprints, times sin(angle to the light)"},
       {"cube-guard", 32, 0, 2048,

@@ -11,7 +11,7 @@
 // the warped texel's longer side at the receiver for LiSPSM maps, lv_texel_world_at).
 typedef struct ShadowBias {
   float base;          // added to every comparison
-  float slope;         // times tan(angle between normal and light direction), clamped
+  float slope;         // times the receiver's depth slope in the map (sc_depth_slope), clamped
   float normalOffset;  // receiver moved along its geometric normal before projection (SHADOW_NORMAL_OFFSET_SCALED)
 } ShadowBias;
 
@@ -23,10 +23,10 @@ typedef struct ShadowBias {
 // in front of its own plane along the light ray, the margin grazing receivers need, but also d sin(theta) sideways
 // in the map and closer to its blockers: every shadow edge shifts, and pcss's and vssm's penumbrae come out narrower.
 // Scaled, the margin is d tan(theta), the slope-scaled bias's growth, and a receiver facing the light is not moved.
-// Measured in docs/techniques/README.md ("The normal offset").
+// Measured in docs/techniques/README.md ("The normal offset and the depth slope").
 #ifndef SHADOW_NORMAL_OFFSET_SCALED
 #define SHADOW_NORMAL_OFFSET_SCALED 1
-#endif  // tan of ~84 degrees: beyond this the surface is nearly edge-on
+#endif
 
 // A receiver projected into the map: texel coordinates, its light depth and the bias per texel of
 // filter offset (grows with the filter footprint so tilted planar receivers do not self-shadow).
