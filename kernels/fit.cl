@@ -1,14 +1,16 @@
-// Bounds reductions for fitting the light's frustum (host/views/light_fit.cpp): the light-space box of the
-// receivers the camera sees (G-buffer positions), the depth range of a rasterized map, and the histogram of the map
-// sizes the camera's pixels need. Two passes without global atomics: every work-group reduces a fixed chunk in local
-// memory and writes one partial; the host reduces the few partials. Min, max and counts only, so the result does not
-// depend on the order.
+// Bounds reductions for fitting the light's frustum and the filters to the scene (host/views/light_fit.cpp): the
+// light-space box of the receivers the camera sees (G-buffer positions), the depth range of a rasterized map, the
+// histogram of the map sizes the camera's pixels need, and the histogram of the penumbra widths its shadows have. Two
+// passes without global atomics: every work-group reduces a fixed chunk in local memory and writes one partial; the
+// host reduces the few partials. Min, max and counts only, so the result does not depend on the order.
 
 #include "kernels/shared/shadow_common.h"
 
 #define FIT_GROUP 256
-#define FIT_SIZE_BINS 128         // log2 of the needed map size in [0, 16), FIT_SIZE_BINS_PER_OCTAVE bins an octave
+#define FIT_SIZE_BINS 128      // log2 of the needed map size in [0, 16), FIT_SIZE_BINS_PER_OCTAVE bins an octave
 #define FIT_SIZE_BINS_PER_OCTAVE 8
+#define FIT_PENUMBRA_BINS 128  // log2 of a penumbra half-width in texels in [-8, 8), FIT_SIZE_BINS_PER_OCTAVE an octave
+#define FIT_PENUMBRA_LOG2_MIN (-8)
 
 // Min (lo) and max (hi) over the work-group; valid in every work-item afterwards.
 inline void fit_group_minmax(float4* lo, float4* hi, __local float4* los, __local float4* his) {
@@ -25,6 +27,18 @@ inline void fit_group_minmax(float4* lo, float4* hi, __local float4* los, __loca
   barrier(CLK_LOCAL_MEM_FENCE);
   *lo = los[0];
   *hi = his[0];
+}
+
+// A work-group's local histogram of `n` bins zeroed, with the barrier before its counts.
+inline void fit_bins_clear(__local uint* bins, uint n) {
+  for (uint b = get_local_id(0); b < n; b += FIT_GROUP) bins[b] = 0u;
+  barrier(CLK_LOCAL_MEM_FENCE);
+}
+
+// Once the group has counted: its histogram into partial[group * n + b].
+inline void fit_bins_store(__local const uint* bins, uint n, __global uint* partial) {
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (uint b = get_local_id(0); b < n; b += FIT_GROUP) partial[get_group_id(0) * n + b] = bins[b];
 }
 
 // Light-eye box of the covered G-buffer pixels (position.w != 0). With `perspective`, x and y are the
@@ -87,8 +101,7 @@ __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_size_pa
     __constant const LightViewGpu* views, uint viewCount, __global uint* partial) {
   __local uint bins[FIT_SIZE_BINS];
   const uint lid = get_local_id(0);
-  for (uint b = lid; b < FIT_SIZE_BINS; b += FIT_GROUP) bins[b] = 0u;
-  barrier(CLK_LOCAL_MEM_FENCE);
+  fit_bins_clear(bins, FIT_SIZE_BINS);
   const uint count = width * height;
   const uint begin = get_group_id(0) * chunk, end = min(begin + chunk, count);
   for (uint i = begin + lid; i < end; i += FIT_GROUP) {
@@ -108,6 +121,40 @@ __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_size_pa
     int bin = (int)floor(log2(need) * FIT_SIZE_BINS_PER_OCTAVE);
     atomic_inc(&bins[clamp(bin, 0, FIT_SIZE_BINS - 1)]);
   }
-  barrier(CLK_LOCAL_MEM_FENCE);
-  for (uint b = lid; b < FIT_SIZE_BINS; b += FIT_GROUP) partial[get_group_id(0) * FIT_SIZE_BINS + b] = bins[b];
+  fit_bins_store(bins, FIT_SIZE_BINS, partial);
+}
+
+// Histogram of the penumbra half-widths at the camera's pixels, in texels at the receiver (what the fixed-kernel
+// filters choose their width from: `--blur-radius auto`). Every covered pixel facing the light is set up as sm's
+// receiver (sc_receiver, the same biases); where the nearest texel's occluder lies in front of it (the pixel is in
+// the hard shadow of the light's centre), that occluder and the receiver give the half-width by similar triangles
+// (lv_penumbra_texels: Fernando 2005, PCSS's eq. 1 with the one blocker the map holds there). Bin
+// floor((log2(h) - FIT_PENUMBRA_LOG2_MIN) * FIT_SIZE_BINS_PER_OCTAVE), clamped to the histogram (h = 0, an occluder
+// touching its receiver, in bin 0); background, back-facing pixels (shadowed by their own surface), pixels outside the
+// map or behind the light, and lit pixels are not counted. Per group: partial[g * FIT_PENUMBRA_BINS + b] = count of b.
+__kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_penumbra_partial(
+    __global const float4* position, __global const float4* normal, uint width, uint height, uint chunk,
+    __global const float* map, __constant const LightViewGpu* lv, float biasConstant, float biasSlope,
+    float normalOffset, __global uint* partial) {
+  __local uint bins[FIT_PENUMBRA_BINS];
+  const uint lid = get_local_id(0);
+  fit_bins_clear(bins, FIT_PENUMBRA_BINS);
+  const uint count = width * height;
+  const uint begin = get_group_id(0) * chunk, end = min(begin + chunk, count);
+  const ShadowBias bias = {biasConstant, biasSlope, normalOffset};
+  for (uint i = begin + lid; i < end; i += FIT_GROUP) {
+    float4 p = position[i];
+    float3 n = normal[i].xyz;
+    if (p.w == 0.0f || !(dot(n, lv_to_light(lv, p.xyz)) > 0.0f)) continue;
+    Receiver r = sc_receiver(lv, p.xyz, n, bias);
+    float2 texel = floor(r.uv);
+    if (!r.valid || !(texel.x >= 0.0f && texel.y >= 0.0f && texel.x < (float)lv->width && texel.y < (float)lv->height))
+      continue;
+    float occluder = sc_fetch(map, lv->width, lv->height, (int)texel.x, (int)texel.y);
+    if (!(occluder < r.depth - r.bias)) continue;  // lit, or no caster drawn there (+INFINITY)
+    float h = lv_penumbra_texels(lv, r.depth, fmax(occluder, lv->zNear));
+    int bin = h > 0.0f ? (int)floor((log2(h) - (float)FIT_PENUMBRA_LOG2_MIN) * FIT_SIZE_BINS_PER_OCTAVE) : 0;
+    atomic_inc(&bins[clamp(bin, 0, FIT_PENUMBRA_BINS - 1)]);
+  }
+  fit_bins_store(bins, FIT_PENUMBRA_BINS, partial);
 }

@@ -1,8 +1,11 @@
-// --map-size auto (host/pipeline/map_size.h, host/views/light_fit.h neededMapSize, kernels/fit.cl
-// fit_size_partial): the device histogram's quantiles against a plain C++ reference of the same measure on a
-// G-buffer with a spacing that varies across it, background, NaN and out-of-map pixels among them; the analytic
-// need of a uniform grid; the renderer choosing larger maps for larger frames, for spot and point lights; the
-// parameter's text form, and the techniques that refuse it.
+// The sizes chosen per frame from the camera's pixels. --map-size auto (host/pipeline/map_size.h,
+// host/views/light_fit.h neededMapSize, kernels/fit.cl fit_size_partial): the device histogram's quantiles against a
+// plain C++ reference of the same measure on a G-buffer with a spacing that varies across it, background, NaN and
+// out-of-map pixels among them; the analytic need of a uniform grid; the renderer choosing larger maps for larger
+// frames, for spot and point lights; the parameter's text form, and the techniques that refuse it. --blur-radius auto
+// (host/techniques/moment_map.h, measurePenumbraWidth, fit_penumbra_partial): the penumbra histogram's quantiles
+// against a C++ reference on the same G-buffers over hand-made maps (lit, empty and NaN texels, back-facing and
+// out-of-map pixels), under a sun and a spot; the renderer's radius growing with the light's size; its text form.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -14,6 +17,7 @@
 #include <vector>
 
 #include "host/pipeline/renderer.h"
+#include "host/techniques/moment_map.h"
 #include "host/techniques/technique.h"
 #include "host/views/light_fit.h"
 #include "host/views/views.h"
@@ -153,12 +157,13 @@ TEST_F(MapSize, UniformGridNeedsItsOwnSpacingAndNoPixelsNeedNothing) {
   EXPECT_THROW(neededMapSize(ctx(), g, {}, 0.9, 64, 128), std::invalid_argument);
 }
 
-// The size a render chose, from its header.
-int chosenSize(const RenderResult& r) {
-  const std::string& text = r.image.attributes().at("penumbra:map-size");
+// The value an auto parameter took in a render, from its header's "auto N (...)" under `key`.
+int chosenAuto(const RenderResult& r, const std::string& key) {
+  const std::string& text = r.image.attributes().at(key);
   EXPECT_EQ(text.rfind("auto ", 0), 0u) << text;
   return std::stoi(text.substr(5));
 }
+int chosenSize(const RenderResult& r) { return chosenAuto(r, "penumbra:map-size"); }
 
 TEST_F(MapSize, TheRendererSizesMapsToTheFrameForSpotAndPointLights) {
   const Scene scene = test::squareOverPlane();
@@ -198,6 +203,147 @@ TEST_F(MapSize, AutoIsATextValueThatSplitAndJitteredTechniquesRefuse) {
     EXPECT_THROW(fixed.set("map-size", "auto"), std::invalid_argument) << name;
     EXPECT_FALSE(info.hasParam("map-size-quantile")) << name;
   }
+}
+
+// Penumbra half-width a pixel's receiver and the map's texel give (lv_penumbra_texels), or -1 where not counted.
+double referenceHalfWidth(const LightView& lv, const std::vector<float>& map, const cl_float4& p, const cl_float4& n) {
+  if (p.s[3] == 0.0f || !std::isfinite(p.s[0])) return -1;
+  const glm::vec3 world(p.s[0], p.s[1], p.s[2]);
+  const glm::vec3 toLight =
+      lv.gpu.kind == LIGHT_KIND_SPOT
+          ? glm::normalize(glm::vec3(lv.gpu.position.s[0], lv.gpu.position.s[1], lv.gpu.position.s[2]) - world)
+          : -glm::vec3(lv.gpu.axis.s[0], lv.gpu.axis.s[1], lv.gpu.axis.s[2]);
+  if (!(glm::dot(glm::vec3(n.s[0], n.s[1], n.s[2]), toLight) > 0.0f)) return -1;
+  const glm::vec3 t = project(lv, p);
+  const int x = static_cast<int>(std::floor(t.x)), y = static_cast<int>(std::floor(t.y));
+  if (!(t.z > 0.0f) || x < 0 || y < 0 || x >= static_cast<int>(lv.gpu.width) || y >= static_cast<int>(lv.gpu.height))
+    return -1;
+  const double occluder = map[static_cast<size_t>(y) * lv.gpu.width + x], receiver = t.z;
+  if (!(occluder < receiver)) return -1;
+  const double world_width = lv.gpu.kind == LIGHT_KIND_SPOT
+                                 ? lv.gpu.lightSize * (receiver - occluder) / std::max<double>(occluder, lv.gpu.zNear)
+                                 : lv.gpu.lightSize * (receiver - occluder);
+  const double texel = lv.gpu.kind == LIGHT_KIND_SPOT ? lv.gpu.texelScale * receiver : lv.gpu.texelScale;
+  return world_width / texel;
+}
+
+// The quantile of the counted pixels' half-widths, sorted (the device bins them: within a bin of it).
+double referenceQuantile(std::vector<double> widths, double quantile) {
+  std::sort(widths.begin(), widths.end());
+  const auto k = static_cast<size_t>(std::ceil(quantile * static_cast<double>(widths.size())));
+  return widths[std::max<size_t>(k, 1) - 1];
+}
+
+class PenumbraWidthTest : public test::ClTest {};
+
+TEST_F(PenumbraWidthTest, QuantilesMatchTheHostReferenceUnderASunAndASpot) {
+  Grid grid = groundGrid(131, 37);                                // not a multiple of the work-group
+  grid.normal[4 * grid.width + 9] = {{0.0f, -1.0f, 0.0f, 1.0f}};  // back-facing: not counted
+  const GBuffer g = upload(ctx(), grid);
+  const Bounds bounds{{0, 0, 0}, {30, 0.5f, 18.5f}};
+  for (const char* spec : {"dir:0.3,-1,0.2", "spot:15,12,9:15,0,9:120"}) {
+    LightView lv = fitLightView(parseLight(spec), bounds, 256);
+    lv.gpu.lightSize = lv.gpu.kind == LIGHT_KIND_SPOT ? 1.0f : 0.02f;  // a spot of radius 1, a sun of tan 0.02
+    const Buffer<LightViewGpu> view(ctx(), std::span<const LightViewGpu>(&lv.gpu, 1), CL_MEM_READ_ONLY);
+    // Occluders in front of the ground at a distance that varies over the map; every 5th texel empty, every 7th NaN,
+    // a band of texels behind the receivers (lit).
+    const size_t texels = size_t{lv.gpu.width} * lv.gpu.height;
+    std::vector<float> map(texels);
+    for (size_t i = 0; i < texels; ++i) {
+      const float x = static_cast<float>(i % lv.gpu.width) / lv.gpu.width;
+      const float y = static_cast<float>(i / lv.gpu.width) / lv.gpu.height;
+      map[i] = i % 5 == 0   ? INFINITY
+               : i % 7 == 0 ? std::numeric_limits<float>::quiet_NaN()
+                            : lv.gpu.zNear + (lv.gpu.zFar - lv.gpu.zNear) * (0.1f + 0.8f * x * y);
+    }
+    const Buffer<float> depth(ctx(), std::span<const float>(map));
+    std::vector<double> widths;
+    for (size_t i = 0; i < grid.position.size(); ++i) {
+      const double h = referenceHalfWidth(lv, map, grid.position[i], grid.normal[i]);
+      if (h >= 0) widths.push_back(h);
+    }
+    ASSERT_GT(widths.size(), 1000u) << spec;
+    ASSERT_LT(widths.size(), grid.position.size() * 9 / 10) << spec << ": some lit, empty, NaN and skipped";
+    const double bin = std::exp2(1.0 / kBinsPerOctave);
+    double last = 0;
+    for (double q : {0.05, 0.25, 0.5, 0.9}) {
+      const PenumbraWidth w = measurePenumbraWidth(ctx(), g, depth, view, {0, 0, 0}, q);
+      EXPECT_EQ(w.pixels, widths.size()) << spec;
+      const double want = referenceQuantile(widths, q);
+      EXPECT_GE(w.halfWidth, want / bin) << spec << " q " << q;  // the bin's centre, so within a bin either way
+      EXPECT_LE(w.halfWidth, want * bin) << spec << " q " << q;
+      EXPECT_GE(w.halfWidth, last) << spec << " q " << q;
+      last = w.halfWidth;
+    }
+    EXPECT_GT(last, 2 * referenceQuantile(widths, 0.05)) << spec << ": the distances vary, so do the widths";
+  }
+}
+
+TEST_F(PenumbraWidthTest, LitEmptyAndOneByOneFramesMeasureNothing) {
+  Grid grid = groundGrid(64, 16);
+  const GBuffer g = upload(ctx(), grid);
+  const LightView lv = fitLightView(parseLight("dir:0,-1,0.001"), {{0, 0, 0}, {30, 0.5f, 8}}, 64);
+  const Buffer<LightViewGpu> view(ctx(), std::span<const LightViewGpu>(&lv.gpu, 1), CL_MEM_READ_ONLY);
+  const Buffer<float> empty(ctx(), std::vector<float>(64 * 64, INFINITY));
+  const PenumbraWidth none = measurePenumbraWidth(ctx(), g, empty, view, {1, 1, 1}, 0.5);
+  EXPECT_EQ(none.pixels, 0u);
+  EXPECT_EQ(none.halfWidth, 0.0);
+  // An occluder touching its receivers: counted, at width 0.
+  const Buffer<float> contact(ctx(), std::vector<float>(64 * 64, -1e-3f));
+  const PenumbraWidth touching = measurePenumbraWidth(ctx(), g, contact, view, {0, 0, 0}, 0.5);
+  EXPECT_GT(touching.pixels, 0u);
+  EXPECT_EQ(touching.halfWidth, 0.0);
+  Grid one{1, 1, {grid.position[0]}, {grid.normal[0]}};
+  EXPECT_EQ(measurePenumbraWidth(ctx(), upload(ctx(), one), empty, view, {1, 1, 1}, 0.5).pixels, 0u);
+  GBuffer nothing;
+  EXPECT_EQ(measurePenumbraWidth(ctx(), nothing, empty, view, {1, 1, 1}, 0.5).pixels, 0u);
+  EXPECT_THROW(measurePenumbraWidth(ctx(), g, empty, view, {1, 1, 1}, 0.0), std::invalid_argument);
+  EXPECT_THROW(measurePenumbraWidth(ctx(), g, empty, view, {1, 1, 1}, 1.5), std::invalid_argument);
+}
+
+int chosenRadius(const RenderResult& r) { return chosenAuto(r, "penumbra:blur-radius"); }
+
+TEST_F(PenumbraWidthTest, TheBlurRadiusGrowsWithTheLightsSizeUpToItsMaximum) {
+  const Scene scene = test::squareOverPlane();
+  Camera camera = test::topDown();
+  for (const char* name : {"vsm", "evsm4", "msm", "lvsm"}) {
+    const TechniqueInfo& info = findTechnique(name);
+    Params params(info.params);
+    EXPECT_TRUE(autoBlurRadius(params)) << name << ": the default";
+    std::vector<int> radii;
+    for (const char* spec : {"spot:0,4,0:0,0,0:90:0.0001", "spot:0,4,0:0,0,0:90:0.005", "spot:0,4,0:0,0,0:90:0.02"}) {
+      Renderer renderer(ctx(), scene);
+      radii.push_back(chosenRadius(renderer.render(camera, parseLight(spec), info, params)));
+    }
+    EXPECT_EQ(radii[0], 0) << name << ": a point-like light needs no blur";
+    EXPECT_LT(radii[2], params.getInt("blur-radius-max")) << name << ": the test's lights stay below the maximum";
+    EXPECT_GT(radii[1], 0) << name;
+    EXPECT_GT(radii[2], radii[1]) << name << ": a larger light, wider penumbrae";
+    EXPECT_LE(radii[2], params.getInt("blur-radius-max")) << name;
+    params.set("blur-radius-max", "1");
+    Renderer renderer(ctx(), scene);
+    EXPECT_EQ(chosenRadius(renderer.render(camera, parseLight("spot:0,4,0:0,0,0:90:0.4"), info, params)), 1) << name;
+  }
+}
+
+TEST_F(PenumbraWidthTest, AutoIsTheBlurRadiusDefaultThatPsvsmRefuses) {
+  const TechniqueInfo& vsm = findTechnique("vsm");
+  Params params(vsm.params);
+  EXPECT_NE(params.describe().find("blur-radius=auto "), std::string::npos);
+  params.set("blur-radius", "0");
+  EXPECT_FALSE(autoBlurRadius(params));
+  EXPECT_EQ(params.getInt("blur-radius"), 0);  // 0 stays off, not auto
+  params.set("blur-radius", "auto");
+  EXPECT_TRUE(autoBlurRadius(params));
+  EXPECT_THROW(params.set("blur-radius", "-1"), std::invalid_argument);  // auto's value is not a radius
+  EXPECT_THROW(momentBlurConfig(params), std::logic_error);              // resolved per frame first
+  EXPECT_EQ(Params(findTechnique("esm").params).getInt("blur-radius-max"), 2);
+  EXPECT_EQ(Params(findTechnique("evsm2").params).getInt("blur-radius-max"), 2);
+  const TechniqueInfo& psvsm = findTechnique("psvsm");
+  Params fixed(psvsm.params);
+  EXPECT_EQ(fixed.getInt("blur-radius"), 2);
+  EXPECT_THROW(fixed.set("blur-radius", "auto"), std::invalid_argument);
+  EXPECT_FALSE(psvsm.hasParam("blur-radius-quantile"));
 }
 
 }  // namespace

@@ -298,7 +298,7 @@ INSTANTIATE_TEST_SUITE_P(
         ConfigCase{"vsm_trilinear", "vsm", {{"moment-filtering", "trilinear"}}},
         ConfigCase{"msm_trilinear_box",
                    "msm",
-                   {{"moment-filtering", "trilinear"}, {"blur-filter", "box"}},
+                   {{"moment-filtering", "trilinear"}, {"blur-filter", "box"}, {"blur-radius", "2"}},
                    kMsmTrilinearLitTolerance},
         ConfigCase{"evsm4_unblurred", "evsm4", {{"blur-radius", "0"}, {"bleeding-reduction", "0.3"}}},
         ConfigCase{"esm_trilinear", "esm", {{"moment-filtering", "trilinear"}}},

@@ -64,7 +64,7 @@ MemoryStage techniqueMaps(const PlannedLight& light, size_t index, uint64_t pixe
   if (light.params->has("moment-storage") || light.params->has("lvsm-storage") || light.params->has("sat-precision") ||
       light.params->has("vssm-sat")) {
     const uint64_t moments = param(light, "moment-storage", 0) == 1 ? 8 : 16;  // fp16 halves the four channels
-    const bool blurred = param(light, "blur-radius", 0) > 0, trilinear = param(light, "moment-filtering", 0) == 1;
+    const bool blurred = param(light, "blur-radius", 0) != 0, trilinear = param(light, "moment-filtering", 0) == 1;
     perTexel += moments * (blurred ? 2 : 1) + (trilinear ? moments * 2 / 3 + 1 : 0);  // mips: 1/3 of both copies
   }
   stage.largestBuffer = texels * layers * std::max<uint64_t>(perTexel - kMapTexelBytes, 4);

@@ -9,8 +9,9 @@ TechniqueInfo esmTechnique() {
   const double max = evsmMaxExponent(MomentStorage::Float32);
   std::vector<ParamSpec> extra = {
       {"esm-exponent", 40, 0, max, "ESM exponent c of e^(c x), x = 2d - 1 in [-1, 1] (the paper's 2c on [0, 1])"}};
-  return {"esm", "Exponential shadow maps: filtered e^(c d) against e^(c t)", momentMapParams(extra),
-          [](const Params& p) {
+  std::vector<ParamSpec> params = momentMapParams(extra);
+  positiveWarpBlurMax(params);
+  return {"esm", "Exponential shadow maps: filtered e^(c d) against e^(c t)", params, [](const Params& p) {
             MomentTechniqueSpec spec{MomentKind::Evsm2, "kernels/esm.cl", "esm_visibility", false, 1};
             spec.configure = [](const Params& q, MomentsConfig& config, MomentShade& s) {
               config.evsmPositive = evsmClampExponent(static_cast<float>(q.get("esm-exponent")), config.storage);

@@ -17,10 +17,12 @@ std::vector<ParamSpec> evsmParams(bool negative) {
 
 TechniqueInfo evsmTechnique(bool four) {
   const MomentKind kind = four ? MomentKind::Evsm4 : MomentKind::Evsm2;
+  std::vector<ParamSpec> params = momentMapParams(evsmParams(four));
+  if (!four) positiveWarpBlurMax(params);
   return {four ? "evsm4" : "evsm2",
           four ? "Exponential VSM with positive and negative warps (minimum of the two bounds)"
                : "Exponential VSM with the positive warp",
-          momentMapParams(evsmParams(four)), [kind, four](const Params& p) {
+          params, [kind, four](const Params& p) {
             MomentTechniqueSpec spec{kind, "kernels/evsm.cl", "evsm_visibility"};
             spec.configure = [four](const Params& q, MomentsConfig& config, MomentShade& s) {
               setChebyshevShade(q, s);

@@ -21,7 +21,7 @@ enum Schedule { kEveryFrame = 0, kIncremental = 1 };
 
 class LayeredVsm final : public Technique {
  public:
-  explicit LayeredVsm(const Params& params) : params_(params) {
+  explicit LayeredVsm(const Params& params) : requested_(params), params_(params) {
     if (params.get("lvsm-transition") > params.get("lvsm-overlap"))
       throw std::invalid_argument(fmt::format("--lvsm-transition {} is larger than --lvsm-overlap {}",
                                               params.get("lvsm-transition"), params.get("lvsm-overlap")));
@@ -62,7 +62,8 @@ class LayeredVsm final : public Technique {
   LloydResult incrementalStep(ShadowFrame& frame, const LvsmSamples& samples, std::vector<float> start,
                               LloydConfig config);
 
-  Params params_;
+  Params requested_;  // as given (blur-radius may be auto)
+  Params params_;     // this frame's: blur-radius resolved
   std::vector<float> manual_;
   std::vector<float> kept_;  // incremental schedule: the splits of the last frame, s_0..s_N
   size_t round_ = 0;         // incremental schedule: frames so far (which splits move next)
@@ -199,7 +200,9 @@ void LayeredVsm::buildLayers(Context& ctx, const LvsmLayout& layout) {
 
 void LayeredVsm::render(ShadowFrame& frame, Buffer<float>& visibility) {
   Context& ctx = frame.ctx;
+  params_ = requested_;
   renderShadowMap(frame, params_, map_, momentBlurReach(params_));
+  params_ = resolveBlurRadius(frame, map_, params_);
   LvsmLayout layout;
   planSplits(frame, layout);
   buildLayers(ctx, layout);

@@ -18,8 +18,23 @@
 
 namespace penumbra {
 
-// blur-radius, blur-filter, moment-filtering and filter-bias: the techniques that blur and mip their moments.
+// blur-radius (auto by default), blur-radius-quantile, blur-radius-max, blur-filter, moment-filtering and
+// filter-bias: the techniques that blur and mip their moments.
 std::vector<ParamSpec> momentFilterParams();
+// For techniques that blur more than one map per light (psvsm's splits): blur-radius at `radius`, no auto and its
+// settings; `why` goes into the help.
+void fixBlurRadius(std::vector<ParamSpec>& params, double radius, const std::string& why);
+// blur-radius auto: the radius matched to the scene's penumbrae. The map is fitted with the reach of blur-radius-max
+// (momentBlurReach), then measured once drawn: the half-width h the blur-radius-quantile of the camera's pixels in its
+// hard shadow reach (host/views/light_fit.h measurePenumbraWidth), r = floor(h) up to blur-radius-max, since a box of
+// 2r + 1 taps (or the Gaussian of its variance) turns a hard edge into a ramp as wide as a penumbra of half-width h.
+bool autoBlurRadius(const Params& params);
+// esm's and evsm2's blur-radius-max (2, the fixed default before auto): a positive warp without the negative one lets
+// the deeper receivers inside a wider kernel light the pixel (ESM's non-planar receiver failure, at contact lines).
+void positiveWarpBlurMax(std::vector<ParamSpec>& params);
+// `params` with blur-radius set for this frame from `map` (unchanged unless auto), recorded in the header's
+// "penumbra:blur-radius".
+Params resolveBlurRadius(ShadowFrame& frame, const ShadowMap& map, const Params& params);
 // filter-bias: receiver-plane bias over the filter footprint (every moment technique).
 ParamSpec filterBiasParam();
 // shadowMapParams(), momentFilterParams(), then `extra`: a blurred-moments technique's parameter list.
@@ -34,7 +49,8 @@ std::vector<ParamSpec> chebyshevParams();
 void setChebyshevShade(const Params& params, MomentShade& shade);  // reads chebyshevParams()
 
 // The blur that momentFilterParams() ask for (a box of 2r+1 taps, or a Gaussian of the same variance
-// r(r+1)/3), the texels it reads from a texel (the light fit's margin), and whether lookups are trilinear.
+// r(r+1)/3; blur-radius resolved for the frame), the texels it reads from a texel (the light fit's margin; under auto,
+// blur-radius-max's), and whether lookups are trilinear.
 BlurConfig momentBlurConfig(const Params& params);
 float momentBlurReach(const Params& params);
 bool momentTrilinear(const Params& params);
@@ -66,7 +82,8 @@ struct MomentTechniqueSpec {
 // shadow map -> moments -> blur -> mips -> visibility kernel, one instance per render.
 class MomentTechnique final : public Technique {
  public:
-  MomentTechnique(MomentTechniqueSpec spec, const Params& params) : spec_(std::move(spec)), params_(params) {}
+  MomentTechnique(MomentTechniqueSpec spec, const Params& params)
+      : spec_(std::move(spec)), requested_(params), params_(params) {}
   void render(ShadowFrame& frame, Buffer<float>& visibility) override;
   void addDebugChannels(Context& ctx, Image& image) override;
 
@@ -79,7 +96,8 @@ class MomentTechnique final : public Technique {
                          Buffer<T>& mips);
 
   MomentTechniqueSpec spec_;
-  Params params_;
+  Params requested_;  // as given (blur-radius may be auto)
+  Params params_;     // this frame's: blur-radius resolved
   ShadowMap map_;
   Buffer<float> moments_, scratch_, mips_;  // fp32 storage (empty with fp16)
   Buffer<cl_half> moments16_, mips16_;      // fp16 storage (empty with fp32)

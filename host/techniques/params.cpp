@@ -46,7 +46,7 @@ void Params::set(const std::string& name, const std::string& text) {
     return;
   }
   if (!spec->autoName.empty() && text == spec->autoName) {
-    values_[name] = 0.0;
+    values_[name] = spec->autoValue;
     return;
   }
   size_t used = 0;
@@ -84,7 +84,7 @@ std::string Params::describe() const {
       text += fmt::format("{}={}", spec.name, texts_.at(spec.name));
       continue;
     }
-    if (!spec.autoName.empty() && value == 0.0)
+    if (spec.isAuto(value))
       text += fmt::format("{}={}", spec.name, spec.autoName);
     else
       text += spec.choices.empty() ? fmt::format("{}={}", spec.name, value)

@@ -16,7 +16,11 @@ struct ParamSpec {
   std::vector<std::string> choices = {};  // non-empty: a named choice ("uniform", "adaptive")
   bool text = false;                      // a free-form text value (a list such as "0.2,0.5"), see textParam
   std::string textDefault = {};
-  std::string autoName = {};  // numeric parameters: this word sets 0, outside [min, max], for a value chosen per frame
+  // Numeric parameters: this word sets autoValue, outside [min, max], for a value chosen per frame (map-size's 0,
+  // blur-radius's -1); a default of autoValue is the word's.
+  std::string autoName = {};
+  double autoValue = 0.0;
+  bool isAuto(double value) const { return !autoName.empty() && value == autoValue; }
 };
 
 // A text parameter: stored verbatim, validated by the technique that reads it (Params::getText).

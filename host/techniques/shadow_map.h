@@ -48,9 +48,7 @@ ParamSpec receiverPlaneParam();
 ParamSpec idBufferParam();
 
 // The three bias parameters as kernel arguments, in sc_receiver's order.
-struct BiasArgs {
-  float constant, slope, normalOffset;
-};
+using BiasArgs = ReceiverBias;
 BiasArgs biasArgs(const Params& params);
 
 // Launches a per-pixel visibility kernel of the shadow-map family. Every such kernel takes

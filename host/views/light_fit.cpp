@@ -13,10 +13,12 @@
 namespace penumbra {
 namespace {
 
-constexpr size_t kFitGroup = 256;    // FIT_GROUP in kernels/fit.cl
-constexpr size_t kMaxGroups = 1024;  // partials the host finishes
-constexpr size_t kSizeBins = 128;    // FIT_SIZE_BINS
-constexpr double kSizeBinsPerOctave = 8.0;
+constexpr size_t kFitGroup = 256;           // FIT_GROUP in kernels/fit.cl
+constexpr size_t kMaxGroups = 1024;         // partials the host finishes
+constexpr size_t kSizeBins = 128;           // FIT_SIZE_BINS
+constexpr double kSizeBinsPerOctave = 8.0;  // FIT_SIZE_BINS_PER_OCTAVE, also the penumbra histogram's
+constexpr size_t kPenumbraBins = 128;       // FIT_PENUMBRA_BINS
+constexpr double kPenumbraLog2Min = -8.0;   // FIT_PENUMBRA_LOG2_MIN
 
 // Chunk per group so that at most kMaxGroups groups cover `count` items, each chunk a multiple of the group.
 uint32_t chunkFor(size_t count) {
@@ -25,6 +27,27 @@ uint32_t chunkFor(size_t count) {
 }
 
 cl_float4 row(const glm::mat4& m, int r) { return {{m[0][r], m[1][r], m[2][r], m[3][r]}}; }
+
+// A histogram of `bins` bins summed over the work-groups' partials, and its count.
+struct Histogram {
+  std::vector<uint64_t> bins;
+  uint64_t total = 0;
+};
+Histogram sumPartials(const std::vector<uint32_t>& parts, size_t bins) {
+  Histogram h{std::vector<uint64_t>(bins, 0)};
+  for (size_t i = 0; i < parts.size(); ++i) h.bins[i % bins] += parts[i];
+  for (uint64_t b : h.bins) h.total += b;
+  return h;
+}
+
+// The first bin at which the running count reaches `quantile` of the total (the last bin at most).
+size_t quantileBin(const Histogram& h, double quantile) {
+  const double target = quantile * static_cast<double>(h.total);
+  uint64_t running = 0;
+  size_t bin = 0;
+  while (bin + 1 < h.bins.size() && static_cast<double>(running += h.bins[bin]) < target) ++bin;
+  return bin;
+}
 
 }  // namespace
 
@@ -86,21 +109,41 @@ MapSizeNeed neededMapSize(Context& ctx, const GBuffer& gbuffer, std::span<const 
             static_cast<uint32_t>(gbuffer.height), chunk, viewBuffer, static_cast<uint32_t>(views.size()), partial)
       .moves(count * 2 * sizeof(cl_float4))  // floor: read every position and normal once
       .launch(groups * kFitGroup, kFitGroup);
-  std::vector<uint64_t> bins(kSizeBins, 0);
-  const std::vector<uint32_t> parts = partial.download(ctx);
-  for (size_t i = 0; i < parts.size(); ++i) bins[i % kSizeBins] += parts[i];
-  for (uint64_t b : bins) need.pixels += b;
+  const Histogram bins = sumPartials(partial.download(ctx), kSizeBins);
+  need.pixels = bins.total;
   if (need.pixels == 0) return need;
-  // The first bin at which the running count reaches the quantile; its upper edge is the size.
-  const double target = quantile * static_cast<double>(need.pixels);
-  uint64_t running = 0;
-  size_t bin = 0;
-  while (bin + 1 < kSizeBins && static_cast<double>(running += bins[bin]) < target) ++bin;
-  need.needed = std::exp2(static_cast<double>(bin + 1) / kSizeBinsPerOctave);
+  // The bin at which the running count reaches the quantile; its upper edge is the size.
+  need.needed = std::exp2(static_cast<double>(quantileBin(bins, quantile) + 1) / kSizeBinsPerOctave);
   int size = 1;
   while (size < maxSize && size < need.needed) size *= 2;
   need.size = std::clamp(size, minSize, maxSize);
   return need;
+}
+
+PenumbraWidth measurePenumbraWidth(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& map,
+                                   const Buffer<LightViewGpu>& view, const ReceiverBias& bias, double quantile) {
+  if (!(quantile > 0.0 && quantile <= 1.0))
+    throw std::invalid_argument("measurePenumbraWidth: quantile outside (0, 1]");
+  PenumbraWidth width;
+  const size_t count = static_cast<size_t>(gbuffer.width) * static_cast<size_t>(gbuffer.height);
+  if (count == 0) return width;
+  const uint32_t chunk = chunkFor(count);
+  const size_t groups = (count + chunk - 1) / chunk;
+  Buffer<uint32_t> partial(ctx, groups * kPenumbraBins);
+  Kernel kernel(ctx, "kernels/fit.cl", "fit_penumbra_partial", "fit");
+  kernel
+      .args(gbuffer.position, gbuffer.normal, static_cast<uint32_t>(gbuffer.width),
+            static_cast<uint32_t>(gbuffer.height), chunk, map, view, bias.constant, bias.slope, bias.normalOffset,
+            partial)
+      .moves(count * (2 * sizeof(cl_float4) + sizeof(float)))  // floor: every position and normal, a texel each
+      .launch(groups * kFitGroup, kFitGroup);
+  const Histogram bins = sumPartials(partial.download(ctx), kPenumbraBins);
+  width.pixels = bins.total;
+  if (width.pixels == 0) return width;
+  const size_t bin = quantileBin(bins, quantile);  // bin 0 also holds the zero widths: reported as 0
+  width.halfWidth =
+      bin == 0 ? 0.0 : std::exp2((static_cast<double>(bin) + 0.5) / kSizeBinsPerOctave + kPenumbraLog2Min);
+  return width;
 }
 
 DepthRange reduceDepthRange(Context& ctx, const Buffer<float>& depth, size_t count) {

@@ -1,6 +1,7 @@
 // What the light's frustum is fitted to: the light-space box of the receivers the camera sees (a min/max
 // reduction of the G-buffer on the device), the map size the camera's pixels need and, once the map is drawn, the
-// depth range of its casters (kernels/fit.cl). host/views/views.h turns these into the light's view.
+// depth range of its casters and the penumbra widths its shadows have (kernels/fit.cl). host/views/views.h turns these
+// into the light's view.
 #pragma once
 
 #include <cstdint>
@@ -44,6 +45,22 @@ struct MapSizeNeed {
 };
 MapSizeNeed neededMapSize(Context& ctx, const GBuffer& gbuffer, std::span<const LightViewGpu> views, double quantile,
                           int minSize, int maxSize);
+
+// The penumbra half-width a `quantile` of the camera's shadowed pixels reach, in texels at the receiver: what a
+// fixed-kernel filter's auto width matches (host/techniques/moment_map.h). Per covered pixel facing the light, in the
+// hard shadow of the nearest texel of `map` (sm's receiver with `bias`), lv_penumbra_texels of its receiver and that
+// occluder (Fernando 2005: the light's size times the occluder-receiver distance over the occluder's, a sun's times
+// the distance); a histogram of 8 bins an octave over [2^-8, 2^8) texels, so `halfWidth` is within 5 % of the exact
+// quantile inside that range. Launch "fit/fit_penumbra_partial".
+struct ReceiverBias {
+  float constant, slope, normalOffset;  // sc_receiver's ShadowBias, in texel footprints
+};
+struct PenumbraWidth {
+  double halfWidth = 0.0;  // texels; 0 when no pixel was counted or the quantile lies at an occluder's contact
+  uint64_t pixels = 0;     // shadowed pixels counted
+};
+PenumbraWidth measurePenumbraWidth(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& map,
+                                   const Buffer<LightViewGpu>& view, const ReceiverBias& bias, double quantile);
 
 // Finite min and max of `count` depths (+INFINITY background ignored); {+inf, -inf} when none is finite.
 // Launch "fit/fit_depth_partial".

@@ -17,7 +17,7 @@ extern "C" {
 typedef struct pn_param_info {
   const char* name;         /**< "pcf-radius" (the CLI's option without dashes). */
   const char* help;         /**< One line. */
-  double default_value;     /**< Numbers; a choice's index into `choices`. */
+  double default_value;     /**< Numbers; a choice's index into `choices`; outside [min, max]: "auto" (-1). */
   double min;               /**< Smallest valid number (inclusive). */
   double max;               /**< Largest valid number (inclusive). */
   const char* choices;      /**< Named choices, comma-separated ("uniform,adaptive"); "" for numbers and text. */

@@ -209,8 +209,13 @@ TEST_F(Stability, ThinCastersKeepTheirShadows) {
   EXPECT_LT(seen["sm"].leak, 0.005);
   EXPECT_LT(seen["vssm"].leak, 0.015);
   // Fails: a 5-texel moment blur (and PCF's 5x5 kernel) washes a 1.3-texel pole's shadow out (measured 0.027).
-  EXPECT_GT(seen["vsm"].leak, 0.01);
+  const ErrorMetrics blurred = metrics(render(c, "vsm", {{"blur-radius", "2"}}), c);
+  std::printf("  poles vsm r=2   mae %.5f leak %.5f false %.5f\n", blurred.mae, blurred.leak, blurred.falseShadow);
+  EXPECT_GT(blurred.leak, 0.01);
   EXPECT_GT(seen["pcf"].leak, 0.01);
+  // Helps: blur-radius auto matches the blur to the sun's narrow penumbrae here (r = 0): under a third of the leak
+  // (measured 0.0080 against 0.027).
+  EXPECT_LT(seen["vsm"].leak, 0.5 * blurred.leak);
 }
 
 // SAT precision: a large map over a long depth range; fp32 tables lose the low bits.
@@ -245,7 +250,9 @@ TEST_F(Stability, HalfMomentStorage) {
   for (const char* name : {"vsm", "evsm2", "evsm4", "esm", "msm", "psvsm"})
     for (const char* storage : {"fp32", "fp16"}) {
       const std::string key = std::string(name) + "/" + storage;
-      const RenderResult r = render(c, name, {{"map-size", "2048"}, {"fit", "scene"}, {"moment-storage", storage}});
+      // blur-radius 2 for every technique: the storage compared at one filter (auto would pick each its own).
+      const RenderResult r =
+          render(c, name, {{"map-size", "2048"}, {"fit", "scene"}, {"moment-storage", storage}, {"blur-radius", "2"}});
       const ErrorMetrics m = seen[key] = metrics(r, c);
       const double dark = darkened(r, c, 0.99f);
       bleeding[key] = umbra(render(s, name, {{"moment-storage", storage}}), s).max;

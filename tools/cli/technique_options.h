@@ -20,8 +20,9 @@ inline void addTechniqueOptions(CLI::App* sub, ParamValues& values) {
   for (const TechniqueInfo& info : techniques())
     for (const ParamSpec& spec : info.params) {
       if (!declared.insert(spec.name).second) continue;
-      std::string help = spec.help + (spec.text              ? fmt::format(" [default '{}']", spec.textDefault)
-                                      : spec.choices.empty() ? fmt::format(" [default {}]", spec.defaultValue)
+      std::string help = spec.help + (spec.text ? fmt::format(" [default '{}']", spec.textDefault)
+                                      : spec.isAuto(spec.defaultValue) ? fmt::format(" [default {}]", spec.autoName)
+                                      : spec.choices.empty()           ? fmt::format(" [default {}]", spec.defaultValue)
                                                              : fmt::format(" ({})", fmt::join(spec.choices, "|")));
       sub->add_option_function<std::string>(
              "--" + spec.name, [&values, name = spec.name](const std::string& v) { values[name] = v; }, help)
