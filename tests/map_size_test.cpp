@@ -3,9 +3,10 @@
 // plain C++ reference of the same measure on a G-buffer with a spacing that varies across it, background, NaN and
 // out-of-map pixels among them; the analytic need of a uniform grid; the renderer choosing larger maps for larger
 // frames, for spot and point lights; the parameter's text form, and the techniques that refuse it. --blur-radius auto
-// (host/techniques/moment_map.h, measurePenumbraWidth, fit_penumbra_partial): the penumbra histogram's quantiles
-// against a C++ reference on the same G-buffers over hand-made maps (lit, empty and NaN texels, back-facing and
-// out-of-map pixels), under a sun and a spot; the renderer's radius growing with the light's size; its text form.
+// and --pcf-radius auto (host/techniques/shadow_map.h autoRadiusParams, measurePenumbraWidth, fit_penumbra_partial):
+// the penumbra histogram's quantiles against a C++ reference on the same G-buffers over hand-made maps (lit, empty and
+// NaN texels, back-facing and out-of-map pixels), under a sun and a spot; the radius growing with the light's size for
+// every technique that takes it; the text form, and the techniques that keep a fixed radius.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -14,6 +15,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "host/pipeline/renderer.h"
@@ -301,40 +303,44 @@ TEST_F(PenumbraWidthTest, LitEmptyAndOneByOneFramesMeasureNothing) {
   EXPECT_THROW(measurePenumbraWidth(ctx(), g, empty, view, {1, 1, 1}, 1.5), std::invalid_argument);
 }
 
-int chosenRadius(const RenderResult& r) { return chosenAuto(r, "penumbra:blur-radius"); }
-
-TEST_F(PenumbraWidthTest, TheBlurRadiusGrowsWithTheLightsSizeUpToItsMaximum) {
+TEST_F(PenumbraWidthTest, TheRadiusGrowsWithTheLightsSizeUpToItsMaximum) {
   const Scene scene = test::squareOverPlane();
   Camera camera = test::topDown();
-  for (const char* name : {"vsm", "evsm4", "msm", "lvsm"}) {
+  const std::pair<const char*, std::string> cases[] = {{"vsm", "blur-radius"},
+                                                       {"evsm4", "blur-radius"},
+                                                       {"msm", "blur-radius"},
+                                                       {"lvsm", "blur-radius"},
+                                                       {"pcf", "pcf-radius"}};
+  for (const auto& [name, radius] : cases) {
     const TechniqueInfo& info = findTechnique(name);
     Params params(info.params);
-    EXPECT_TRUE(autoBlurRadius(params)) << name << ": the default";
-    std::vector<int> radii;
-    for (const char* spec : {"spot:0,4,0:0,0,0:90:0.0001", "spot:0,4,0:0,0,0:90:0.005", "spot:0,4,0:0,0,0:90:0.02"}) {
+    params.set(radius + "-max", "16");
+    EXPECT_TRUE(autoRadius(params, radius)) << name << ": the default";
+    const auto chosen = [&](const char* light, const Params& p) {
       Renderer renderer(ctx(), scene);
-      radii.push_back(chosenRadius(renderer.render(camera, parseLight(spec), info, params)));
-    }
-    EXPECT_EQ(radii[0], 0) << name << ": a point-like light needs no blur";
-    EXPECT_LT(radii[2], params.getInt("blur-radius-max")) << name << ": the test's lights stay below the maximum";
+      return chosenAuto(renderer.render(camera, parseLight(light), info, p), "penumbra:" + radius);
+    };
+    std::vector<int> radii;
+    for (const char* spec : {"spot:0,4,0:0,0,0:90:0.0001", "spot:0,4,0:0,0,0:90:0.005", "spot:0,4,0:0,0,0:90:0.02"})
+      radii.push_back(chosen(spec, params));
+    EXPECT_EQ(radii[0], 0) << name << ": a point-like light needs no filter";
     EXPECT_GT(radii[1], 0) << name;
     EXPECT_GT(radii[2], radii[1]) << name << ": a larger light, wider penumbrae";
-    EXPECT_LE(radii[2], params.getInt("blur-radius-max")) << name;
-    params.set("blur-radius-max", "1");
-    Renderer renderer(ctx(), scene);
-    EXPECT_EQ(chosenRadius(renderer.render(camera, parseLight("spot:0,4,0:0,0,0:90:0.4"), info, params)), 1) << name;
+    EXPECT_LT(radii[2], 16) << name << ": the test's lights stay below the maximum";
+    params.set(radius + "-max", "1");
+    EXPECT_EQ(chosen("spot:0,4,0:0,0,0:90:0.4", params), 1) << name;
   }
 }
 
-TEST_F(PenumbraWidthTest, AutoIsTheBlurRadiusDefaultThatPsvsmRefuses) {
+TEST_F(PenumbraWidthTest, AutoIsTheRadiusDefaultThatPsvsmAndPssmRefuse) {
   const TechniqueInfo& vsm = findTechnique("vsm");
   Params params(vsm.params);
   EXPECT_NE(params.describe().find("blur-radius=auto "), std::string::npos);
   params.set("blur-radius", "0");
-  EXPECT_FALSE(autoBlurRadius(params));
+  EXPECT_FALSE(autoRadius(params, "blur-radius"));
   EXPECT_EQ(params.getInt("blur-radius"), 0);  // 0 stays off, not auto
   params.set("blur-radius", "auto");
-  EXPECT_TRUE(autoBlurRadius(params));
+  EXPECT_TRUE(autoRadius(params, "blur-radius"));
   EXPECT_THROW(params.set("blur-radius", "-1"), std::invalid_argument);  // auto's value is not a radius
   EXPECT_THROW(momentBlurConfig(params), std::logic_error);              // resolved per frame first
   EXPECT_EQ(Params(findTechnique("esm").params).getInt("blur-radius-max"), 2);
@@ -343,6 +349,13 @@ TEST_F(PenumbraWidthTest, AutoIsTheBlurRadiusDefaultThatPsvsmRefuses) {
   Params fixed(psvsm.params);
   EXPECT_EQ(fixed.getInt("blur-radius"), 2);
   EXPECT_THROW(fixed.set("blur-radius", "auto"), std::invalid_argument);
+  Params pcf(findTechnique("pcf").params);
+  EXPECT_TRUE(autoRadius(pcf, "pcf-radius"));
+  EXPECT_EQ(pcf.getInt("pcf-radius-max"), 4);
+  EXPECT_EQ(pcf.getInt("pcf-adaptive"), 0);  // the penumbra's width, not the pixel's footprint
+  Params pssm(findTechnique("pssm").params);
+  EXPECT_EQ(pssm.getInt("pcf-radius"), 2);
+  EXPECT_THROW(pssm.set("pcf-radius", "auto"), std::invalid_argument);
   EXPECT_FALSE(psvsm.hasParam("blur-radius-quantile"));
 }
 

@@ -202,7 +202,7 @@ void LayeredVsm::render(ShadowFrame& frame, Buffer<float>& visibility) {
   Context& ctx = frame.ctx;
   params_ = requested_;
   renderShadowMap(frame, params_, map_, momentBlurReach(params_));
-  params_ = resolveBlurRadius(frame, map_, params_);
+  params_ = resolveAutoRadius(frame, map_, params_, "blur-radius");
   LvsmLayout layout;
   planSplits(frame, layout);
   buildLayers(ctx, layout);

@@ -22,23 +22,12 @@ enum StorageChoice { kFp32 = 0, kFp16 = 1 };
 
 }  // namespace
 
-// blur-radius auto: the word and its value (outside [0, 64]).
-constexpr double kAutoRadius = -1.0;
-
 std::vector<ParamSpec> momentFilterParams() {
-  ParamSpec radius{"blur-radius", kAutoRadius, 0, 64,
-                   "Moment blur half-width r in texels: a box of 2r+1 taps or a Gaussian of the same variance; 0 = "
-                   "off; auto: the penumbra half-width h that --blur-radius-quantile of the shadowed pixels reach, "
-                   "r = floor(h) (a box of about 2h taps, the penumbra's width) up to --blur-radius-max"};
-  radius.autoName = "auto";
-  radius.autoValue = kAutoRadius;
-  return {
-      radius,
-      {"blur-radius-quantile", 0.05, 0.01, 1,
-       "--blur-radius auto: the share of the camera's shadowed pixels whose penumbra the blur matches or exceeds"},
-      {"blur-radius-max", 16, 0, 64,
-       "--blur-radius auto: the largest radius (esm, evsm2: 2, their positive warp alone lets the deeper receivers "
-       "a wider kernel covers light the pixel)"},
+  std::vector<ParamSpec> params = autoRadiusParams(
+      "blur-radius",
+      "Moment blur half-width r in texels: a box of 2r+1 taps or a Gaussian of the same variance; 0 = off", 64, 16,
+      " (esm, evsm2: 2, their positive warp alone lets the deeper receivers a wider kernel covers light the pixel)");
+  const std::vector<ParamSpec> rest = {
       {"blur-filter", kGaussian, 0, 1, "Moment blur filter", {"gaussian", "box"}},
       {"moment-filtering",
        kBilinear,
@@ -48,6 +37,8 @@ std::vector<ParamSpec> momentFilterParams() {
        {"bilinear", "trilinear"}},
       filterBiasParam(),
   };
+  params.insert(params.end(), rest.begin(), rest.end());
+  return params;
 }
 
 ParamSpec filterBiasParam() {
@@ -136,7 +127,7 @@ void MomentTechnique::render(ShadowFrame& frame, Buffer<float>& visibility) {
   params_ = requested_;
   const int size = params_.getInt("map-size");
   renderShadowMap(frame, params_, map_, blurReach());
-  params_ = resolveBlurRadius(frame, map_, params_);
+  params_ = resolveAutoRadius(frame, map_, params_, "blur-radius");
   channels_ = momentChannels(spec_.kind);
   MomentsConfig config;
   config.kind = spec_.kind;
@@ -166,19 +157,6 @@ void MomentTechnique::render(ShadowFrame& frame, Buffer<float>& visibility) {
   kernel.moves(pixels * kVisibilityBytesPerPixel).launch(pixels, kPixelGroup);
 }
 
-bool autoBlurRadius(const Params& params) { return params.get("blur-radius") == kAutoRadius; }
-
-void fixBlurRadius(std::vector<ParamSpec>& params, double radius, const std::string& why) {
-  std::erase_if(params, [](const ParamSpec& spec) { return spec.name.starts_with("blur-radius-"); });
-  ParamSpec& spec = paramNamed(params, "blur-radius");
-  spec.autoName.clear();
-  spec.defaultValue = radius;
-  spec.help = fmt::format(
-      "Moment blur half-width r in texels: a box of 2r+1 taps or a Gaussian of the same variance; "
-      "0 = off (no auto: {})",
-      why);
-}
-
 void positiveWarpBlurMax(std::vector<ParamSpec>& params) {
   // Measured (docs/techniques/moments.md, "The blur radius from the scene's penumbrae"): the box on its floor at
   // 128x96 with a 512^2 map, whose penumbrae auto gives r = 3, has evsm2 leak 0.0034 at the contact line and put
@@ -187,23 +165,9 @@ void positiveWarpBlurMax(std::vector<ParamSpec>& params) {
   paramNamed(params, "blur-radius-max").defaultValue = 2;
 }
 
-Params resolveBlurRadius(ShadowFrame& frame, const ShadowMap& map, const Params& params) {
-  if (!autoBlurRadius(params)) return params;
-  const double quantile = params.get("blur-radius-quantile");
-  const PenumbraWidth width =
-      measurePenumbraWidth(frame.ctx, frame.gbuffer, map.targets.depth, map.gpu, biasArgs(params), quantile);
-  const int radius = std::min(static_cast<int>(std::floor(width.halfWidth)), params.getInt("blur-radius-max"));
-  Params resolved = params;
-  resolved.set("blur-radius", std::to_string(radius));
-  frame.attributes["penumbra:blur-radius"] =
-      width.pixels == 0 ? fmt::format("auto {} (no shadowed pixel measured)", radius)
-                        : fmt::format("auto {} (quantile {} of {} shadowed pixels: penumbra half-width {:.3g} texels)",
-                                      radius, quantile, width.pixels, width.halfWidth);
-  return resolved;
-}
-
 BlurConfig momentBlurConfig(const Params& params) {
-  if (autoBlurRadius(params)) throw std::logic_error("momentBlurConfig: blur-radius auto not resolved for the frame");
+  if (autoRadius(params, "blur-radius"))
+    throw std::logic_error("momentBlurConfig: blur-radius auto not resolved for the frame");
   BlurConfig config;
   const int radius = params.getInt("blur-radius");
   config.filter = params.getInt("blur-filter") == kBox ? BlurFilter::Box : BlurFilter::Gaussian;
@@ -213,9 +177,9 @@ BlurConfig momentBlurConfig(const Params& params) {
 }
 
 float momentBlurReach(const Params& params) {
-  if (autoBlurRadius(params)) {  // the map is fitted before its penumbrae are measured: the reach of the largest
+  if (autoRadius(params, "blur-radius")) {  // fitted before its penumbrae are measured: the largest radius's reach
     Params largest = params;
-    largest.set("blur-radius", std::to_string(params.getInt("blur-radius-max")));
+    largest.set("blur-radius", std::to_string(radiusLimit(params, "blur-radius")));
     return momentBlurReach(largest);
   }
   if (params.getInt("blur-radius") == 0) return 0.0f;

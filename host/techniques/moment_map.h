@@ -18,23 +18,13 @@
 
 namespace penumbra {
 
-// blur-radius (auto by default), blur-radius-quantile, blur-radius-max, blur-filter, moment-filtering and
-// filter-bias: the techniques that blur and mip their moments.
+// blur-radius (auto by default: host/techniques/shadow_map.h autoRadiusParams; resolveAutoRadius per frame),
+// blur-radius-quantile, blur-radius-max, blur-filter, moment-filtering and filter-bias: the techniques that blur and
+// mip their moments.
 std::vector<ParamSpec> momentFilterParams();
-// For techniques that blur more than one map per light (psvsm's splits): blur-radius at `radius`, no auto and its
-// settings; `why` goes into the help.
-void fixBlurRadius(std::vector<ParamSpec>& params, double radius, const std::string& why);
-// blur-radius auto: the radius matched to the scene's penumbrae. The map is fitted with the reach of blur-radius-max
-// (momentBlurReach), then measured once drawn: the half-width h the blur-radius-quantile of the camera's pixels in its
-// hard shadow reach (host/views/light_fit.h measurePenumbraWidth), r = floor(h) up to blur-radius-max, since a box of
-// 2r + 1 taps (or the Gaussian of its variance) turns a hard edge into a ramp as wide as a penumbra of half-width h.
-bool autoBlurRadius(const Params& params);
 // esm's and evsm2's blur-radius-max (2, the fixed default before auto): a positive warp without the negative one lets
 // the deeper receivers inside a wider kernel light the pixel (ESM's non-planar receiver failure, at contact lines).
 void positiveWarpBlurMax(std::vector<ParamSpec>& params);
-// `params` with blur-radius set for this frame from `map` (unchanged unless auto), recorded in the header's
-// "penumbra:blur-radius".
-Params resolveBlurRadius(ShadowFrame& frame, const ShadowMap& map, const Params& params);
 // filter-bias: receiver-plane bias over the filter footprint (every moment technique).
 ParamSpec filterBiasParam();
 // shadowMapParams(), momentFilterParams(), then `extra`: a blurred-moments technique's parameter list.

@@ -14,10 +14,12 @@ class PercentageCloser final : public Technique {
   explicit PercentageCloser(const Params& params) : params_(params) {}
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
-    const int radius = params_.getInt("pcf-radius");
     const bool adaptive = params_.getInt("pcf-adaptive") == 1;
-    const float maxRadius = std::max(static_cast<float>(params_.get("pcf-max-radius")), static_cast<float>(radius));
-    renderShadowMap(frame, params_, map_, adaptive ? maxRadius : static_cast<float>(radius));
+    const auto limit = static_cast<float>(radiusLimit(params_, "pcf-radius"));
+    const float maxRadius = std::max(static_cast<float>(params_.get("pcf-max-radius")), limit);
+    renderShadowMap(frame, params_, map_, adaptive ? maxRadius : limit);
+    const Params params = resolveAutoRadius(frame, map_, params_, "pcf-radius");
+    const int radius = params.getInt("pcf-radius");
     const int poissonTaps = params_.getInt("pcf-poisson-taps");
     if (poisson_.empty()) {
       const std::vector<cl_float2> disk = poissonDisk(std::max(poissonTaps, 1));
@@ -25,10 +27,9 @@ class PercentageCloser final : public Technique {
     }
     filter_.allocate(frame.ctx, visibility.size());
     const GBuffer& g = frame.gbuffer;
-    launchVisibility(frame, map_, params_, "kernels/pcf.cl", "pcf_visibility", visibility,
-                     params_.getInt("id-buffer"), map_.targets.triangleId, frame.raster.objectIds(), g.triangleId,
-                     g.objectId, radius,
-                     params_.getInt("receiver-plane"), static_cast<int>(adaptive), maxRadius, poissonTaps, poisson_,
+    launchVisibility(frame, map_, params, "kernels/pcf.cl", "pcf_visibility", visibility, params.getInt("id-buffer"),
+                     map_.targets.triangleId, frame.raster.objectIds(), g.triangleId, g.objectId, radius,
+                     params.getInt("receiver-plane"), static_cast<int>(adaptive), maxRadius, poissonTaps, poisson_,
                      filter_);
   }
 
@@ -48,14 +49,22 @@ TechniqueInfo pcfTechnique() {
   params.push_back(receiverPlaneParam());
   params.push_back(idBufferParam());
   for (ParamSpec& spec : warpParams()) params.push_back(spec);
-  params.push_back({"pcf-radius", 2, 0, 16, "Kernel half-width r in texels; the grid has (2r+1)^2 bilinear taps"});
-  params.push_back({"pcf-adaptive", 1, 0, 1,
+  // Auto by default, at most 4 (81 taps), without the adaptive widening: docs/techniques/sm-pcf-pcss.md ("The kernel
+  // from the scene's penumbrae").
+  for (const ParamSpec& spec : autoRadiusParams(
+           "pcf-radius", "Kernel half-width r in texels; the grid has (2r+1)^2 bilinear taps (pssm: 2)", 16, 4))
+    params.push_back(spec);
+  params.push_back({"pcf-adaptive",
+                    0,
+                    0,
+                    1,
                     "Widen the kernel to half the pixel's footprint in the map (minified shadows), same tap count",
                     {"off", "on"}});
   params.push_back({"pcf-max-radius", 16, 0, 256, "Largest adaptive half-width in texels"});
-  params.push_back({"pcf-poisson-taps", 0, 0, 64, "Rotated Poisson-disk taps over the kernel instead of the grid (0: grid)"});
-  return {"pcf", "Percentage-closer filtering: grid or rotated Poisson taps, adaptive size, receiver-plane bias", params,
-          [](const Params& p) { return std::make_unique<PercentageCloser>(p); }};
+  params.push_back(
+      {"pcf-poisson-taps", 0, 0, 64, "Rotated Poisson-disk taps over the kernel instead of the grid (0: grid)"});
+  return {"pcf", "Percentage-closer filtering: grid or rotated Poisson taps, adaptive size, receiver-plane bias",
+          params, [](const Params& p) { return std::make_unique<PercentageCloser>(p); }};
 }
 
 }  // namespace penumbra

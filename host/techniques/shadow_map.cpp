@@ -3,6 +3,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
+#include <string>
+
 #include "host/views/light_fit.h"
 #include "kernels/shared/id_buffer.h"
 #include "host/techniques/warp.h"
@@ -43,6 +47,55 @@ void fixMapSize(std::vector<ParamSpec>& params, const std::string& why) {
       spec.autoName.clear();
       spec.help = fmt::format("Shadow-map width and height in texels (no auto: {})", why);
     }
+}
+
+namespace {
+constexpr double kAutoRadius = -1.0;  // a radius parameter's auto value (outside [0, max])
+}  // namespace
+
+std::vector<ParamSpec> autoRadiusParams(const std::string& name, const std::string& help, double max, double maxDefault,
+                                        const std::string& maxNote) {
+  ParamSpec radius{name, kAutoRadius, 0, max,
+                   fmt::format("{}; auto: matched to the penumbra half-width h that --{}-quantile of the shadowed "
+                               "pixels reach, r = floor(h) up to --{}-max",
+                               help, name, name)};
+  radius.autoName = "auto";
+  radius.autoValue = kAutoRadius;
+  return {radius,
+          {name + "-quantile", 0.05, 0.01, 1,
+           fmt::format("--{} auto: the share of the camera's shadowed pixels whose penumbra the kernel matches or "
+                       "exceeds",
+                       name)},
+          {name + "-max", maxDefault, 0, max, fmt::format("--{} auto: the largest radius{}", name, maxNote)}};
+}
+
+bool autoRadius(const Params& params, const std::string& name) { return params.get(name) == kAutoRadius; }
+
+int radiusLimit(const Params& params, const std::string& name) {
+  return params.getInt(autoRadius(params, name) ? name + "-max" : name);
+}
+
+void fixRadius(std::vector<ParamSpec>& params, const std::string& name, double radius, const std::string& why) {
+  std::erase_if(params, [&](const ParamSpec& spec) { return spec.name.starts_with(name + "-"); });
+  ParamSpec& spec = paramNamed(params, name);
+  spec.autoName.clear();
+  spec.defaultValue = radius;
+  spec.help = fmt::format("{} (no auto: {})", spec.help.substr(0, spec.help.find("; auto:")), why);
+}
+
+Params resolveAutoRadius(ShadowFrame& frame, const ShadowMap& map, const Params& params, const std::string& name) {
+  if (!autoRadius(params, name)) return params;
+  const double quantile = params.get(name + "-quantile");
+  const PenumbraWidth width =
+      measurePenumbraWidth(frame.ctx, frame.gbuffer, map.targets.depth, map.gpu, biasArgs(params), quantile);
+  const int radius = std::min(static_cast<int>(std::floor(width.halfWidth)), params.getInt(name + "-max"));
+  Params resolved = params;
+  resolved.set(name, std::to_string(radius));
+  frame.attributes["penumbra:" + name] =
+      width.pixels == 0 ? fmt::format("auto {} (no shadowed pixel measured)", radius)
+                        : fmt::format("auto {} (quantile {} of {} shadowed pixels: penumbra half-width {:.3g} texels)",
+                                      radius, quantile, width.pixels, width.halfWidth);
+  return resolved;
 }
 
 ParamSpec receiverPlaneParam() {

@@ -40,6 +40,24 @@ void fixMapSize(std::vector<ParamSpec>& params, const std::string& why);
 // caster actually drawn, so depth ranges (moment normalisation, blocker search) start where the occluders do.
 void renderShadowMap(ShadowFrame& frame, const Params& params, ShadowMap& map, float reachTexels);
 
+// A fixed kernel's half-width chosen per frame from the scene's penumbrae (pcf-radius, blur-radius): NAME (default
+// auto, else 0..max texels; `help` says what r is), NAME-quantile (0.05) and NAME-max (`maxDefault`; `maxNote` is
+// appended to its help). Under auto the map is fitted with NAME-max's reach (radiusLimit: it is drawn before it is
+// measured), then resolveAutoRadius measures the half-width h the quantile of the camera's pixels in the hard shadow
+// of its nearest texels reach (host/views/light_fit.h measurePenumbraWidth) and sets r = floor(h) up to NAME-max: a
+// box of 2r + 1 taps turns a hard edge into a ramp about as wide as that penumbra. Measured in
+// docs/techniques/moments.md and docs/techniques/sm-pcf-pcss.md.
+std::vector<ParamSpec> autoRadiusParams(const std::string& name, const std::string& help, double max, double maxDefault,
+                                        const std::string& maxNote = {});
+bool autoRadius(const Params& params, const std::string& name);
+int radiusLimit(const Params& params, const std::string& name);  // NAME, or NAME-max under auto
+// For techniques that keep a fixed NAME (psvsm's blur: split 0's, scaled per split): `radius`, no auto and its
+// settings; `why` goes into the help.
+void fixRadius(std::vector<ParamSpec>& params, const std::string& name, double radius, const std::string& why);
+// `params` with NAME set for this frame from `map` (unchanged unless auto), recorded in the header's "penumbra:NAME"
+// (a point light's: its last cube face's).
+Params resolveAutoRadius(ShadowFrame& frame, const ShadowMap& map, const Params& params, const std::string& name);
+
 // "receiver-plane": receiver-plane depth bias on (1) or off (0), for the techniques whose kernels take it.
 ParamSpec receiverPlaneParam();
 

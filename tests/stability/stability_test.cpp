@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 
 #include "host/eval/metrics.h"
 #include "host/pipeline/renderer.h"
@@ -208,14 +209,17 @@ TEST_F(Stability, ThinCastersKeepTheirShadows) {
   // Does not fail: unfiltered and blocker-adaptive lookups keep 1-2 texel poles.
   EXPECT_LT(seen["sm"].leak, 0.005);
   EXPECT_LT(seen["vssm"].leak, 0.015);
-  // Fails: a 5-texel moment blur (and PCF's 5x5 kernel) washes a 1.3-texel pole's shadow out (measured 0.027).
+  // Fails: a 5-texel moment blur and PCF's 5x5 kernel wash a 1.3-texel pole's shadow out (measured 0.027, 0.026).
   const ErrorMetrics blurred = metrics(render(c, "vsm", {{"blur-radius", "2"}}), c);
-  std::printf("  poles vsm r=2   mae %.5f leak %.5f false %.5f\n", blurred.mae, blurred.leak, blurred.falseShadow);
+  const ErrorMetrics wide = metrics(render(c, "pcf", {{"pcf-radius", "2"}, {"pcf-adaptive", "on"}}), c);
+  std::printf("  poles vsm r=2   mae %.5f leak %.5f; pcf r=2 adaptive mae %.5f leak %.5f\n", blurred.mae, blurred.leak,
+              wide.mae, wide.leak);
   EXPECT_GT(blurred.leak, 0.01);
-  EXPECT_GT(seen["pcf"].leak, 0.01);
-  // Helps: blur-radius auto matches the blur to the sun's narrow penumbrae here (r = 0): under a third of the leak
-  // (measured 0.0080 against 0.027).
+  EXPECT_GT(wide.leak, 0.01);
+  // Helps: the auto radius (--blur-radius, --pcf-radius) matches the filter to the sun's narrow penumbrae here
+  // (r = 0): under half the leak (measured vsm 0.0080 against 0.027, pcf 0.0022 against 0.026).
   EXPECT_LT(seen["vsm"].leak, 0.5 * blurred.leak);
+  EXPECT_LT(seen["pcf"].leak, 0.5 * wide.leak);
 }
 
 // SAT precision: a large map over a long depth range; fp32 tables lose the low bits.
@@ -309,12 +313,17 @@ TEST_F(Stability, APointLightInsideAClosedBox) {
 // stacked-planes before: docs/techniques/README.md, "The normal offset"); and pcss (the most accurate soft technique
 // here with vssm) keeps light out of the umbra (umbra_light <= kMaxUmbraLight), except on poles, where it misses the
 // target narrowly (measured 0.056 here, 0.048 at 480x270: the average blocker depth of a thin pole over a far
-// ground), so kPolesUmbraLight guards today's value. Printed, not asserted, because it does not hold: no technique
-// above 5 % umbra light (on poles every prefiltered technique washes them out: pcf is the worst there and on cards,
-// savsm elsewhere). docs/evaluation.md ("Targets on the built-in scenes").
+// ground), so kPolesUmbraLight guards today's value. Every other technique keeps to the same bounds since the auto
+// radii (--blur-radius, --pcf-radius: pcf had 0.74 on poles and 0.31 on cards, the moment techniques 0.5-0.7 on
+// poles) but for kPolesUmbraFailures, printed, not asserted, because they do not hold. docs/evaluation.md ("Targets
+// on the built-in scenes").
 constexpr double kBestMaxMae = 0.004;
 constexpr double kMaxUmbraLight = 0.05;
 constexpr double kPolesUmbraLight = 0.07;
+// Measured umbra light on poles here: esm 0.22 (its exponential is too soft a step for the poles' small depth
+// differences), savsm 0.19 (its width assumes a 1-unit occluder distance and is at least 3 texels), psvsm 0.51 and
+// pssm 0.36 (their fixed kernels of 2 texels of split 0; 0.027 and below 0.05 at 480x270).
+const std::set<std::string> kPolesUmbraFailures = {"esm", "savsm", "psvsm", "pssm"};
 constexpr double kVssmOverPcss = 1.1;
 constexpr double kVssmOverPcssBox = 1.15;
 
@@ -346,6 +355,11 @@ TEST_F(Stability, TargetsOnEveryBuiltinSceneUnderItsAreaLight) {
         pcss.mae > 0 ? vssm.mae / pcss.mae : 1.0, worst.c_str(), seen[worst].umbraLight, pcss.umbraPixels);
     EXPECT_LE(seen[best].mae, kBestMaxMae) << builtin.name;
     EXPECT_LE(pcss.umbraLight, builtin.name == "poles" ? kPolesUmbraLight : kMaxUmbraLight) << builtin.name;
+    for (const auto& [name, m] : seen) {  // every technique, the target's measured failures named
+      if (builtin.name == "poles" && kPolesUmbraFailures.count(name) != 0) continue;
+      EXPECT_LE(m.umbraLight, builtin.name == "poles" ? kPolesUmbraLight : kMaxUmbraLight)
+          << builtin.name << " " << name << ": light let into the umbra";
+    }
     if (pcss.mae > 1e-5) {
       EXPECT_LE(vssm.mae, (builtin.name == "box" ? kVssmOverPcssBox : kVssmOverPcss) * pcss.mae) << builtin.name;
     }
