@@ -6,7 +6,7 @@
 // and --pcf-radius auto (host/techniques/shadow_map.h autoRadiusParams, measurePenumbraWidth, fit_penumbra_partial):
 // the penumbra histogram's quantiles against a C++ reference on the same G-buffers over hand-made maps (lit, empty and
 // NaN texels, back-facing and out-of-map pixels), under a sun and a spot; the radius growing with the light's size for
-// every technique that takes it; the text form, and the techniques that keep a fixed radius.
+// every technique that takes it (split techniques: measured on split 0); the text form.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -306,11 +306,9 @@ TEST_F(PenumbraWidthTest, LitEmptyAndOneByOneFramesMeasureNothing) {
 TEST_F(PenumbraWidthTest, TheRadiusGrowsWithTheLightsSizeUpToItsMaximum) {
   const Scene scene = test::squareOverPlane();
   Camera camera = test::topDown();
-  const std::pair<const char*, std::string> cases[] = {{"vsm", "blur-radius"},
-                                                       {"evsm4", "blur-radius"},
-                                                       {"msm", "blur-radius"},
-                                                       {"lvsm", "blur-radius"},
-                                                       {"pcf", "pcf-radius"}};
+  const std::pair<const char*, std::string> cases[] = {
+      {"vsm", "blur-radius"},   {"evsm4", "blur-radius"}, {"msm", "blur-radius"}, {"lvsm", "blur-radius"},
+      {"psvsm", "blur-radius"}, {"pcf", "pcf-radius"},    {"pssm", "pcf-radius"}};
   for (const auto& [name, radius] : cases) {
     const TechniqueInfo& info = findTechnique(name);
     Params params(info.params);
@@ -332,31 +330,28 @@ TEST_F(PenumbraWidthTest, TheRadiusGrowsWithTheLightsSizeUpToItsMaximum) {
   }
 }
 
-TEST_F(PenumbraWidthTest, AutoIsTheRadiusDefaultThatPsvsmAndPssmRefuse) {
-  const TechniqueInfo& vsm = findTechnique("vsm");
-  Params params(vsm.params);
-  EXPECT_NE(params.describe().find("blur-radius=auto "), std::string::npos);
+TEST_F(PenumbraWidthTest, AutoIsTheRadiusDefaultOfEveryFixedKernel) {
+  for (const char* name : {"vsm", "evsm2", "evsm4", "esm", "msm", "lvsm", "psvsm"}) {
+    Params params(findTechnique(name).params);
+    EXPECT_NE(params.describe().find("blur-radius=auto "), std::string::npos) << name;
+  }
+  Params params(findTechnique("vsm").params);
   params.set("blur-radius", "0");
   EXPECT_FALSE(autoRadius(params, "blur-radius"));
   EXPECT_EQ(params.getInt("blur-radius"), 0);  // 0 stays off, not auto
   params.set("blur-radius", "auto");
   EXPECT_TRUE(autoRadius(params, "blur-radius"));
+  EXPECT_EQ(radiusLimit(params, "blur-radius"), 16);                     // the map's margin before it is measured
   EXPECT_THROW(params.set("blur-radius", "-1"), std::invalid_argument);  // auto's value is not a radius
   EXPECT_THROW(momentBlurConfig(params), std::logic_error);              // resolved per frame first
   EXPECT_EQ(Params(findTechnique("esm").params).getInt("blur-radius-max"), 2);
   EXPECT_EQ(Params(findTechnique("evsm2").params).getInt("blur-radius-max"), 2);
-  const TechniqueInfo& psvsm = findTechnique("psvsm");
-  Params fixed(psvsm.params);
-  EXPECT_EQ(fixed.getInt("blur-radius"), 2);
-  EXPECT_THROW(fixed.set("blur-radius", "auto"), std::invalid_argument);
-  Params pcf(findTechnique("pcf").params);
-  EXPECT_TRUE(autoRadius(pcf, "pcf-radius"));
-  EXPECT_EQ(pcf.getInt("pcf-radius-max"), 4);
-  EXPECT_EQ(pcf.getInt("pcf-adaptive"), 0);  // the penumbra's width, not the pixel's footprint
-  Params pssm(findTechnique("pssm").params);
-  EXPECT_EQ(pssm.getInt("pcf-radius"), 2);
-  EXPECT_THROW(pssm.set("pcf-radius", "auto"), std::invalid_argument);
-  EXPECT_FALSE(psvsm.hasParam("blur-radius-quantile"));
+  for (const char* name : {"pcf", "pssm"}) {
+    Params pcf(findTechnique(name).params);
+    EXPECT_TRUE(autoRadius(pcf, "pcf-radius")) << name;
+    EXPECT_EQ(pcf.getInt("pcf-radius-max"), 4) << name;
+  }
+  EXPECT_EQ(Params(findTechnique("pcf").params).getInt("pcf-adaptive"), 0);  // the penumbra's width, not the footprint
 }
 
 }  // namespace

@@ -49,11 +49,8 @@ TechniqueInfo pcfTechnique() {
   params.push_back(receiverPlaneParam());
   params.push_back(idBufferParam());
   for (ParamSpec& spec : warpParams()) params.push_back(spec);
-  // Auto by default, at most 4 (81 taps), without the adaptive widening: docs/techniques/sm-pcf-pcss.md ("The kernel
-  // from the scene's penumbrae").
-  for (const ParamSpec& spec : autoRadiusParams(
-           "pcf-radius", "Kernel half-width r in texels; the grid has (2r+1)^2 bilinear taps (pssm: 2)", 16, 4))
-    params.push_back(spec);
+  // The radius from the scene's penumbrae, without the adaptive widening: docs/techniques/sm-pcf-pcss.md.
+  for (const ParamSpec& spec : pcfRadiusParams()) params.push_back(spec);
   params.push_back({"pcf-adaptive",
                     0,
                     0,

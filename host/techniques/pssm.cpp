@@ -2,6 +2,7 @@
 // sec. 7), hard or PCF per split: one map per split drawn into an atlas, then kernels/pssm.cl.
 #include "host/cl/kernel.h"
 #include "host/techniques/registry.h"
+#include "host/techniques/shadow_map.h"
 #include "host/techniques/split_maps.h"
 #include "kernels/shared/id_buffer.h"
 
@@ -12,23 +13,27 @@ enum FilterChoice { kPcf = 0, kHard = 1 };
 
 class ParallelSplit final : public Technique {
  public:
-  explicit ParallelSplit(const Params& params) : params_(params) {}
+  explicit ParallelSplit(const Params& params) : requested_(params), params_(params) {}
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     Context& ctx = frame.ctx;
+    params_ = requested_;
     const bool hard = params_.getInt("pssm-filter") == kHard;
-    const int radius = hard ? 0 : params_.getInt("pcf-radius");
-    SplitPlan plan = planSplits(frame, params_, static_cast<float>(radius));
+    SplitPlan plan = planSplits(frame, params_, hard ? 0.0f : static_cast<float>(radiusLimit(params_, "pcf-radius")));
     const size_t texels = static_cast<size_t>(params_.getInt("map-size")) * params_.getInt("map-size");
     const int idMode = params_.getInt("id-buffer");
     atlas_.allocate(ctx, plan.views.size() * texels);
     idAtlas_.allocate(ctx, idMode == ID_BUFFER_OFF ? 1 : plan.views.size() * texels);
     drawSplits(frame, plan, targets_, [&](size_t s, const Buffer<float>& depth) {
+      if (s == 0 && !hard) {  // pcf-radius auto: measured on split 0's map (its radius is texels of split 0)
+        const Buffer<LightViewGpu> first(ctx, std::span<const LightViewGpu>(&plan.views[0].gpu, 1), CL_MEM_READ_ONLY);
+        params_ = resolveAutoRadius(frame, depth, first, params_, "pcf-radius");
+      }
       copyInto(ctx, depth, atlas_, s * texels, texels);
       if (idMode != ID_BUFFER_OFF) copyInto(ctx, targets_.triangleId, idAtlas_, s * texels, texels);
     });
     gpu_.upload(ctx, frame, plan, params_);
-    gpu_.shade.radius = radius;
+    gpu_.shade.radius = hard ? 0 : params_.getInt("pcf-radius");
     recordSplits(frame, plan);
 
     const GBuffer& g = frame.gbuffer;
@@ -46,7 +51,8 @@ class ParallelSplit final : public Technique {
   void addDebugChannels(Context& ctx, Image& image) override { aovs_.addChannels(ctx, image); }
 
  private:
-  Params params_;
+  Params requested_;  // as given (pcf-radius may be auto)
+  Params params_;     // this frame's: pcf-radius resolved on split 0
   RasterTargets targets_;
   Buffer<float> atlas_;
   Buffer<uint32_t> idAtlas_;  // the splits' triangle ids with an ID buffer, else one unused element
@@ -59,9 +65,9 @@ class ParallelSplit final : public Technique {
 TechniqueInfo pssmTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
   fixMapSize(params, "each split's map; --pssm-splits auto adapts the split count to it");
-  params.push_back({"pssm-filter", kPcf, 0, 1, "Per-split lookup: PCF over --pcf-radius, or one hard comparison",
-                    {"pcf", "hard"}});
-  params.push_back({"pcf-radius", 2, 0, 16, "PCF kernel radius r in texels: (2r+1)^2 bilinear taps"});
+  params.push_back(
+      {"pssm-filter", kPcf, 0, 1, "Per-split lookup: PCF over --pcf-radius, or one hard comparison", {"pcf", "hard"}});
+  for (const ParamSpec& spec : pcfRadiusParams()) params.push_back(spec);
   params.push_back(idBufferParam());
   for (const ParamSpec& spec : splitParams()) params.push_back(spec);
   for (const ParamSpec& spec : warpParams()) params.push_back(spec);

@@ -12,13 +12,13 @@ namespace {
 
 class ParallelSplitVariance final : public Technique {
  public:
-  explicit ParallelSplitVariance(const Params& params) : params_(params) {}
+  explicit ParallelSplitVariance(const Params& params) : requested_(params), params_(params) {}
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     Context& ctx = frame.ctx;
+    params_ = requested_;
     const uint32_t size = static_cast<uint32_t>(params_.getInt("map-size"));
     const ImageShape shape{size, size, 2};
-    const BlurConfig blurBase = momentBlurConfig(params_);
     SplitPlan plan = planSplits(frame, params_, momentBlurReach(params_));
     const bool trilinear = momentTrilinear(params_);
     const PyramidLayout layout = pyramidLayout(size, size, 1);
@@ -33,7 +33,8 @@ class ParallelSplitVariance final : public Technique {
     }
     mipLevels_.allocate(ctx, trilinear ? layout.levels.size() : 0, CL_MEM_READ_ONLY);
     if (trilinear) mipLevels_.upload(ctx, std::span<const PyramidLevel>(layout.levels));
-    const float sigma = params_.getInt("blur-radius") > 0 ? blurBase.sigma : 0.0f;  // split 0's, scaled per split
+    // Split 0's (blur-radius resolved on its map), scaled per split.
+    const float sigma = params_.getInt("blur-radius") > 0 ? momentBlurConfig(params_).sigma : 0.0f;
     gpu_.upload(ctx, frame, plan, params_, sigma);
     gpu_.shade.mipTexels = static_cast<uint32_t>(mipTexels);
     recordSplits(frame, plan);
@@ -73,23 +74,28 @@ class ParallelSplitVariance final : public Technique {
     }
   };
 
-  // Steps 2c-2e per split: moments over its own depth range, the blur scaled by its zoom, the mip chain.
+  // Steps 2c-2e per split: moments over its own depth range, the blur scaled by its zoom, the mip chain; blur-radius
+  // auto measured on split 0's map, once it is drawn (its radius is texels of split 0).
   template <class T>
   void drawMoments(ShadowFrame& frame, SplitPlan& plan, const ImageShape& shape, size_t mipTexels,
                    MomentStorage storage, Maps<T>& maps) {
     Context& ctx = frame.ctx;
-    const BlurConfig blurBase = momentBlurConfig(params_);
     maps.base.allocate(ctx, plan.views.size() * shape.count());
     maps.mipAtlas.allocate(ctx, plan.views.size() * mipTexels * 2);
     maps.moments.allocate(ctx, shape.count());
     if (mipTexels > 0) maps.mips.allocate(ctx, mipTexels * 2);
     drawSplits(frame, plan, targets_, [&](size_t s, const Buffer<float>& depth) {
       const LightViewGpu& v = plan.views[s].gpu;
+      if (s == 0) {
+        const Buffer<LightViewGpu> first(ctx, std::span<const LightViewGpu>(&v, 1), CL_MEM_READ_ONLY);
+        params_ = resolveAutoRadius(frame, depth, first, params_, "blur-radius");
+      }
       MomentsConfig config;
       config.depthNear = v.zNear, config.depthFar = v.zFar;
       config.storage = storage;
       if (params_.getInt("blur-radius") > 0) {
-        BlurConfig scaled = blurBase;  // step 2d: the kernel shrinks with the split's zoom (texels of split 0)
+        BlurConfig scaled =
+            momentBlurConfig(params_);  // step 2d: the kernel shrinks with the split's zoom (texels of split 0)
         scaled.scale = plan.views[0].gpu.texelScale / v.texelScale;
         scratch_.allocate(ctx, blurMomentsScratch(ctx, shape, scaled, storage));
         blurMoments(ctx, depth, config, maps.moments, scratch_, shape.width, shape.height, scaled);
@@ -103,7 +109,8 @@ class ParallelSplitVariance final : public Technique {
     });
   }
 
-  Params params_;
+  Params requested_;  // as given (blur-radius may be auto)
+  Params params_;     // this frame's: blur-radius resolved on split 0
   RasterTargets targets_;
   Buffer<float> scratch_;
   Maps<float> maps_;
@@ -118,7 +125,6 @@ class ParallelSplitVariance final : public Technique {
 TechniqueInfo psvsmTechnique() {
   std::vector<ParamSpec> params = momentMapParams(chebyshevParams());
   fixMapSize(params, "each split's map; --pssm-splits auto adapts the split count to it");
-  fixRadius(params, "blur-radius", 2, "split 0's radius, which the other splits scale by their zoom");
   // Bilinear lookups by default; step 2e's mipmapped (trilinear) lookups are --moment-filtering trilinear. The mip
   // level follows the pixel's longer footprint axis, which against visibility at the pixel's centre washes out thin
   // casters and holes (builtin:poles MAE 0.0120 vs 0.0059, builtin:cards 0.0197 vs 0.0022 at 480x270) while gaining

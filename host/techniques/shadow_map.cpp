@@ -69,25 +69,23 @@ std::vector<ParamSpec> autoRadiusParams(const std::string& name, const std::stri
           {name + "-max", maxDefault, 0, max, fmt::format("--{} auto: the largest radius{}", name, maxNote)}};
 }
 
+std::vector<ParamSpec> pcfRadiusParams() {
+  // Auto by default, at most 4 (81 taps): docs/techniques/sm-pcf-pcss.md ("The kernel from the scene's penumbrae").
+  return autoRadiusParams("pcf-radius", "PCF kernel half-width r in texels; the grid has (2r+1)^2 bilinear taps", 16,
+                          4);
+}
+
 bool autoRadius(const Params& params, const std::string& name) { return params.get(name) == kAutoRadius; }
 
 int radiusLimit(const Params& params, const std::string& name) {
   return params.getInt(autoRadius(params, name) ? name + "-max" : name);
 }
 
-void fixRadius(std::vector<ParamSpec>& params, const std::string& name, double radius, const std::string& why) {
-  std::erase_if(params, [&](const ParamSpec& spec) { return spec.name.starts_with(name + "-"); });
-  ParamSpec& spec = paramNamed(params, name);
-  spec.autoName.clear();
-  spec.defaultValue = radius;
-  spec.help = fmt::format("{} (no auto: {})", spec.help.substr(0, spec.help.find("; auto:")), why);
-}
-
-Params resolveAutoRadius(ShadowFrame& frame, const ShadowMap& map, const Params& params, const std::string& name) {
+Params resolveAutoRadius(ShadowFrame& frame, const Buffer<float>& depth, const Buffer<LightViewGpu>& view,
+                         const Params& params, const std::string& name) {
   if (!autoRadius(params, name)) return params;
   const double quantile = params.get(name + "-quantile");
-  const PenumbraWidth width =
-      measurePenumbraWidth(frame.ctx, frame.gbuffer, map.targets.depth, map.gpu, biasArgs(params), quantile);
+  const PenumbraWidth width = measurePenumbraWidth(frame.ctx, frame.gbuffer, depth, view, biasArgs(params), quantile);
   const int radius = std::min(static_cast<int>(std::floor(width.halfWidth)), params.getInt(name + "-max"));
   Params resolved = params;
   resolved.set(name, std::to_string(radius));

@@ -49,14 +49,19 @@ void renderShadowMap(ShadowFrame& frame, const Params& params, ShadowMap& map, f
 // docs/techniques/moments.md and docs/techniques/sm-pcf-pcss.md.
 std::vector<ParamSpec> autoRadiusParams(const std::string& name, const std::string& help, double max, double maxDefault,
                                         const std::string& maxNote = {});
+// pcf-radius as autoRadiusParams (auto, at most 4 by default) for pcf and pssm.
+std::vector<ParamSpec> pcfRadiusParams();
 bool autoRadius(const Params& params, const std::string& name);
 int radiusLimit(const Params& params, const std::string& name);  // NAME, or NAME-max under auto
-// For techniques that keep a fixed NAME (psvsm's blur: split 0's, scaled per split): `radius`, no auto and its
-// settings; `why` goes into the help.
-void fixRadius(std::vector<ParamSpec>& params, const std::string& name, double radius, const std::string& why);
 // `params` with NAME set for this frame from `map` (unchanged unless auto), recorded in the header's "penumbra:NAME"
 // (a point light's: its last cube face's).
-Params resolveAutoRadius(ShadowFrame& frame, const ShadowMap& map, const Params& params, const std::string& name);
+// Split techniques measure on split 0's map (`depth`, `view`): their radii are texels of split 0.
+Params resolveAutoRadius(ShadowFrame& frame, const Buffer<float>& depth, const Buffer<LightViewGpu>& view,
+                         const Params& params, const std::string& name);
+inline Params resolveAutoRadius(ShadowFrame& frame, const ShadowMap& map, const Params& params,
+                                const std::string& name) {
+  return resolveAutoRadius(frame, map.targets.depth, map.gpu, params, name);
+}
 
 // "receiver-plane": receiver-plane depth bias on (1) or off (0), for the techniques whose kernels take it.
 ParamSpec receiverPlaneParam();
