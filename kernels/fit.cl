@@ -124,18 +124,22 @@ __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_size_pa
   fit_bins_store(bins, FIT_SIZE_BINS, partial);
 }
 
-// Histogram of the penumbra half-widths at the camera's pixels, in texels at the receiver (what the fixed-kernel
-// filters choose their width from: `--blur-radius auto`). Every covered pixel facing the light is set up as sm's
-// receiver (sc_receiver, the same biases); where the nearest texel's occluder lies in front of it (the pixel is in
-// the hard shadow of the light's centre), that occluder and the receiver give the half-width by similar triangles
-// (lv_penumbra_texels: Fernando 2005, PCSS's eq. 1 with the one blocker the map holds there). Bin
-// floor((log2(h) - FIT_PENUMBRA_LOG2_MIN) * FIT_SIZE_BINS_PER_OCTAVE), clamped to the histogram (h = 0, an occluder
+// Histogram of the penumbrae at the camera's pixels: what the fixed-kernel filters choose their width from
+// (`--blur-radius auto`, `--pcf-radius auto`) and savsm its occluder distance. Every covered pixel facing the light is
+// set up as sm's receiver (sc_receiver, the same biases); where the nearest texel's occluder lies in front of it (the
+// pixel is in the hard shadow of the light's centre), that occluder and the receiver give, with `measure`
+// FIT_PENUMBRA_HALF_WIDTH, the penumbra's half-width in texels at the receiver by similar triangles
+// (lv_penumbra_texels: Fernando 2005, PCSS's eq. 1 with the one blocker the map holds there), or with
+// FIT_PENUMBRA_DISTANCE the occluder's distance in front of the receiver (light depth) over `unit`. Bin
+// floor((log2(value) - FIT_PENUMBRA_LOG2_MIN) * FIT_SIZE_BINS_PER_OCTAVE), clamped to the histogram (0, an occluder
 // touching its receiver, in bin 0); background, back-facing pixels (shadowed by their own surface), pixels outside the
 // map or behind the light, and lit pixels are not counted. Per group: partial[g * FIT_PENUMBRA_BINS + b] = count of b.
+#define FIT_PENUMBRA_HALF_WIDTH 0
+#define FIT_PENUMBRA_DISTANCE 1
 __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_penumbra_partial(
     __global const float4* position, __global const float4* normal, uint width, uint height, uint chunk,
     __global const float* map, __constant const LightViewGpu* lv, float biasConstant, float biasSlope,
-    float normalOffset, __global uint* partial) {
+    float normalOffset, int measure, float unit, __global uint* partial) {
   __local uint bins[FIT_PENUMBRA_BINS];
   const uint lid = get_local_id(0);
   fit_bins_clear(bins, FIT_PENUMBRA_BINS);
@@ -152,7 +156,8 @@ __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_penumbr
       continue;
     float occluder = sc_fetch(map, lv->width, lv->height, (int)texel.x, (int)texel.y);
     if (!(occluder < r.depth - r.bias)) continue;  // lit, or no caster drawn there (+INFINITY)
-    float h = lv_penumbra_texels(lv, r.depth, fmax(occluder, lv->zNear));
+    float h = measure == FIT_PENUMBRA_DISTANCE ? (r.depth - occluder) / unit
+                                               : lv_penumbra_texels(lv, r.depth, fmax(occluder, lv->zNear));
     int bin = h > 0.0f ? (int)floor((log2(h) - (float)FIT_PENUMBRA_LOG2_MIN) * FIT_SIZE_BINS_PER_OCTAVE) : 0;
     atomic_inc(&bins[clamp(bin, 0, FIT_PENUMBRA_BINS - 1)]);
   }

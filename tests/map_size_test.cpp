@@ -3,10 +3,11 @@
 // plain C++ reference of the same measure on a G-buffer with a spacing that varies across it, background, NaN and
 // out-of-map pixels among them; the analytic need of a uniform grid; the renderer choosing larger maps for larger
 // frames, for spot and point lights; the parameter's text form, and the techniques that refuse it. --blur-radius auto
-// and --pcf-radius auto (host/techniques/shadow_map.h autoRadiusParams, measurePenumbraWidth, fit_penumbra_partial):
-// the penumbra histogram's quantiles against a C++ reference on the same G-buffers over hand-made maps (lit, empty and
-// NaN texels, back-facing and out-of-map pixels), under a sun and a spot; the radius growing with the light's size for
-// every technique that takes it (split techniques: measured on split 0); the text form.
+// and --pcf-radius auto (host/techniques/shadow_map.h autoRadiusParams, measurePenumbraWidth, fit_penumbra_partial),
+// savsm's --savsm-occluder-distance auto (measureOccluderDistance): the penumbra histogram's quantiles of widths and
+// distances against a C++ reference on the same G-buffers over hand-made maps (lit, empty and NaN texels, back-facing
+// and out-of-map pixels), under a sun and a spot; the radius growing with the light's size for every technique that
+// takes it (split techniques: measured on split 0); the text form.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -19,6 +20,7 @@
 #include <vector>
 
 #include "host/pipeline/renderer.h"
+#include "host/scene/procedural.h"
 #include "host/techniques/moment_map.h"
 #include "host/techniques/technique.h"
 #include "host/views/light_fit.h"
@@ -207,8 +209,10 @@ TEST_F(MapSize, AutoIsATextValueThatSplitAndJitteredTechniquesRefuse) {
   }
 }
 
-// Penumbra half-width a pixel's receiver and the map's texel give (lv_penumbra_texels), or -1 where not counted.
-double referenceHalfWidth(const LightView& lv, const std::vector<float>& map, const cl_float4& p, const cl_float4& n) {
+// Penumbra half-width a pixel's receiver and the map's texel give (lv_penumbra_texels), or with `distance` the
+// occluder's distance in front of the receiver; -1 where not counted.
+double referenceHalfWidth(const LightView& lv, const std::vector<float>& map, const cl_float4& p, const cl_float4& n,
+                          bool distance = false) {
   if (p.s[3] == 0.0f || !std::isfinite(p.s[0])) return -1;
   const glm::vec3 world(p.s[0], p.s[1], p.s[2]);
   const glm::vec3 toLight =
@@ -222,6 +226,7 @@ double referenceHalfWidth(const LightView& lv, const std::vector<float>& map, co
     return -1;
   const double occluder = map[static_cast<size_t>(y) * lv.gpu.width + x], receiver = t.z;
   if (!(occluder < receiver)) return -1;
+  if (distance) return receiver - occluder;
   const double world_width = lv.gpu.kind == LIGHT_KIND_SPOT
                                  ? lv.gpu.lightSize * (receiver - occluder) / std::max<double>(occluder, lv.gpu.zNear)
                                  : lv.gpu.lightSize * (receiver - occluder);
@@ -278,6 +283,19 @@ TEST_F(PenumbraWidthTest, QuantilesMatchTheHostReferenceUnderASunAndASpot) {
       last = w.halfWidth;
     }
     EXPECT_GT(last, 2 * referenceQuantile(widths, 0.05)) << spec << ": the distances vary, so do the widths";
+    // The occluders' distances (savsm's auto distance), in units of 0.37 world units.
+    std::vector<double> distances;
+    for (size_t i = 0; i < grid.position.size(); ++i) {
+      const double d = referenceHalfWidth(lv, map, grid.position[i], grid.normal[i], true);
+      if (d >= 0) distances.push_back(d);
+    }
+    for (double q : {0.1, 0.5}) {
+      const OccluderDistance d = measureOccluderDistance(ctx(), g, depth, view, {0, 0, 0}, q, 0.37f);
+      EXPECT_EQ(d.pixels, distances.size()) << spec;
+      EXPECT_GE(d.distance, referenceQuantile(distances, q) / bin) << spec << " q " << q;
+      EXPECT_LE(d.distance, referenceQuantile(distances, q) * bin) << spec << " q " << q;
+    }
+    EXPECT_THROW(measureOccluderDistance(ctx(), g, depth, view, {0, 0, 0}, 0.5, 0.0f), std::invalid_argument);
   }
 }
 
@@ -328,6 +346,31 @@ TEST_F(PenumbraWidthTest, TheRadiusGrowsWithTheLightsSizeUpToItsMaximum) {
     params.set(radius + "-max", "1");
     EXPECT_EQ(chosen("spot:0,4,0:0,0,0:90:0.4", params), 1) << name;
   }
+}
+
+TEST_F(PenumbraWidthTest, SavsmsAutoDistanceScalesWithTheScene) {
+  // The box scene at 1 and at 10 times its size (camera, light and ground scale with it): the same frame, so the
+  // measured distance scales by 10 (within a bin each) and the image stays the same.
+  const TechniqueInfo& savsm = findTechnique("savsm");
+  const Params params(savsm.params);
+  std::vector<double> distances;
+  std::vector<std::vector<float>> images;
+  for (double size : {1.0, 10.0}) {
+    const Scene scene = makeProcedural("box", {{"size", size}, {"ground", 10 * size}});
+    Camera camera = scene.cameras.front();
+    camera.width = 96, camera.height = 64;
+    Renderer renderer(ctx(), scene);
+    const RenderResult r = renderer.render(camera, scene.lights.front(), savsm, params);
+    const std::string& text = r.image.attributes().at("penumbra:savsm-occluder-distance");
+    ASSERT_EQ(text.rfind("auto ", 0), 0u) << text;
+    distances.push_back(std::stod(text.substr(5)));
+    images.push_back(r.image.require("visibility.Y").data);
+  }
+  ASSERT_GT(distances[0], 0.0);
+  EXPECT_NEAR(distances[1] / distances[0], 10.0, 10.0 * (std::exp2(2.0 / kBinsPerOctave) - 1)) << "two bins at most";
+  double worst = 0;
+  for (size_t i = 0; i < images[0].size(); ++i) worst = std::max(worst, double(std::fabs(images[0][i] - images[1][i])));
+  EXPECT_LT(worst, 0.05) << "a scene's units do not change its shadows";
 }
 
 TEST_F(PenumbraWidthTest, AutoIsTheRadiusDefaultOfEveryFixedKernel) {

@@ -4,7 +4,9 @@
 // (kernels/savsm.cl).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <stdexcept>
+#include <string>
 
 #include "host/cl/kernel.h"
 #include "host/stages/sat.h"
@@ -15,6 +17,7 @@ namespace penumbra {
 namespace {
 
 enum Precision { kFloat = 0, kFixed32 = 1, kFixed64 = 2, kDouble = 3 };
+constexpr double kAutoDistance = -1.0;  // savsm-occluder-distance auto (outside [0, 1e6])
 
 class SummedAreaVsm final : public Technique {
  public:
@@ -57,7 +60,7 @@ class SummedAreaVsm final : public Technique {
     s.widthMode = static_cast<uint32_t>(params_.getInt("savsm-width-from"));
     s.filterWidth = static_cast<float>(params_.get("savsm-width"));
     s.maxWidth = static_cast<float>(params_.get("savsm-max-width"));
-    s.occluderDistance = static_cast<float>(params_.get("savsm-occluder-distance"));
+    s.occluderDistance = occluderDistance(frame);
 
     SatConfig satConfig;
     constexpr uint32_t mode = satMode<T>();
@@ -77,6 +80,21 @@ class SummedAreaVsm final : public Technique {
     kernel.args(g.position, g.normal, map_.gpu, table, desc, offset, s, visibility, debug_.moments, debug_.stats)
         .moves(pixels * kVisibilityBytesPerPixel)
         .launch(pixels, kPixelGroup);
+  }
+
+  // savsm-occluder-distance, or under auto its quantile over the camera's pixels in the map's hard shadow (in units
+  // of the scene's size / 16, so the histogram's range suits any scale), recorded in the header.
+  float occluderDistance(ShadowFrame& frame) const {
+    const double given = params_.get("savsm-occluder-distance");
+    if (given != kAutoDistance) return static_cast<float>(given);
+    const double quantile = params_.get("savsm-occluder-distance-quantile");
+    const float unit = std::max(frame.scene.bounds().orUnit().radius(), 1e-6f) / 16.0f;
+    const OccluderDistance d = measureOccluderDistance(frame.ctx, frame.gbuffer, map_.targets.depth, map_.gpu,
+                                                       biasArgs(params_), quantile, unit);
+    frame.attributes["penumbra:savsm-occluder-distance"] =
+        d.pixels == 0 ? std::string("auto 0 (no shadowed pixel measured)")
+                      : fmt::format("auto {:.4g} (quantile {} of {} shadowed pixels)", d.distance, quantile, d.pixels);
+    return static_cast<float>(d.distance);
   }
 
   Params params_;
@@ -100,11 +118,19 @@ TechniqueInfo savsmTechnique() {
        2,
        "SAVSM filter width: fixed, the light's penumbra at savsm-occluder-distance, or the pixel footprint",
        {"fixed", "light", "footprint"}});
+  // Auto distance and a smallest width of 1 (3 before): measured in docs/techniques/moments.md (savsm).
   params.push_back(
-      {"savsm-width", 3, 1, 4096, "SAVSM filter width in texels (fixed), and the smallest width otherwise"});
+      {"savsm-width", 1, 1, 4096, "SAVSM filter width in texels (fixed), and the smallest width otherwise"});
   params.push_back({"savsm-max-width", 64, 1, 4096, "Largest SAVSM filter width in texels"});
-  params.push_back({"savsm-occluder-distance", 1.0, 0, 1e6,
-                    "Typical occluder-to-receiver distance along the light axis (world units) for the light width"});
+  ParamSpec distance{"savsm-occluder-distance", kAutoDistance, 0, 1e6,
+                     "Typical occluder-to-receiver distance along the light axis (world units) for the light width; "
+                     "auto: the distance --savsm-occluder-distance-quantile of the shadowed pixels' occluders reach"};
+  distance.autoName = "auto";
+  distance.autoValue = kAutoDistance;
+  params.push_back(distance);
+  params.push_back({"savsm-occluder-distance-quantile", 0.1, 0.01, 1,
+                    "--savsm-occluder-distance auto: the share of the camera's shadowed pixels whose occluder is at "
+                    "most that far in front of them"});
   params.push_back({"sat-precision",
                     kFixed32,
                     0,

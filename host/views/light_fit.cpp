@@ -120,10 +120,16 @@ MapSizeNeed neededMapSize(Context& ctx, const GBuffer& gbuffer, std::span<const 
   return need;
 }
 
-PenumbraWidth measurePenumbraWidth(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& map,
-                                   const Buffer<LightViewGpu>& view, const ReceiverBias& bias, double quantile) {
-  if (!(quantile > 0.0 && quantile <= 1.0))
-    throw std::invalid_argument("measurePenumbraWidth: quantile outside (0, 1]");
+namespace {
+
+enum PenumbraMeasure { kHalfWidth = 0, kDistance = 1 };  // FIT_PENUMBRA_HALF_WIDTH, FIT_PENUMBRA_DISTANCE
+
+// The `quantile` of fit_penumbra_partial's histogram of `measure` (distances over `unit`): the bin's geometric centre
+// (bin 0, which also holds the zeros, as 0), and the pixels counted.
+PenumbraWidth penumbraQuantile(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& map,
+                               const Buffer<LightViewGpu>& view, const ReceiverBias& bias, double quantile,
+                               PenumbraMeasure measure, float unit) {
+  if (!(quantile > 0.0 && quantile <= 1.0)) throw std::invalid_argument("penumbra histogram: quantile outside (0, 1]");
   PenumbraWidth width;
   const size_t count = static_cast<size_t>(gbuffer.width) * static_cast<size_t>(gbuffer.height);
   if (count == 0) return width;
@@ -134,16 +140,31 @@ PenumbraWidth measurePenumbraWidth(Context& ctx, const GBuffer& gbuffer, const B
   kernel
       .args(gbuffer.position, gbuffer.normal, static_cast<uint32_t>(gbuffer.width),
             static_cast<uint32_t>(gbuffer.height), chunk, map, view, bias.constant, bias.slope, bias.normalOffset,
-            partial)
+            static_cast<int>(measure), unit, partial)
       .moves(count * (2 * sizeof(cl_float4) + sizeof(float)))  // floor: every position and normal, a texel each
       .launch(groups * kFitGroup, kFitGroup);
   const Histogram bins = sumPartials(partial.download(ctx), kPenumbraBins);
   width.pixels = bins.total;
   if (width.pixels == 0) return width;
-  const size_t bin = quantileBin(bins, quantile);  // bin 0 also holds the zero widths: reported as 0
+  const size_t bin = quantileBin(bins, quantile);
   width.halfWidth =
       bin == 0 ? 0.0 : std::exp2((static_cast<double>(bin) + 0.5) / kSizeBinsPerOctave + kPenumbraLog2Min);
   return width;
+}
+
+}  // namespace
+
+PenumbraWidth measurePenumbraWidth(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& map,
+                                   const Buffer<LightViewGpu>& view, const ReceiverBias& bias, double quantile) {
+  return penumbraQuantile(ctx, gbuffer, map, view, bias, quantile, kHalfWidth, 1.0f);
+}
+
+OccluderDistance measureOccluderDistance(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& map,
+                                         const Buffer<LightViewGpu>& view, const ReceiverBias& bias, double quantile,
+                                         float unit) {
+  if (!(unit > 0.0f) || !std::isfinite(unit)) throw std::invalid_argument("measureOccluderDistance: unit must be > 0");
+  const PenumbraWidth in = penumbraQuantile(ctx, gbuffer, map, view, bias, quantile, kDistance, unit);
+  return {in.halfWidth * unit, in.pixels};
 }
 
 DepthRange reduceDepthRange(Context& ctx, const Buffer<float>& depth, size_t count) {

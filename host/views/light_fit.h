@@ -62,6 +62,18 @@ struct PenumbraWidth {
 PenumbraWidth measurePenumbraWidth(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& map,
                                    const Buffer<LightViewGpu>& view, const ReceiverBias& bias, double quantile);
 
+// The same pixels' occluder distance (the receiver's light depth minus the occluder's) that `quantile` of them reach,
+// in world units: savsm's --savsm-occluder-distance auto. Binned as the widths over [2^-8, 2^8) `unit`s (within 5 %
+// inside that range; the host passes the scene's size / 16). Throws std::invalid_argument for a quantile outside
+// (0, 1] or a unit <= 0.
+struct OccluderDistance {
+  double distance = 0.0;  // world units; 0 when no pixel was counted or at an occluder's contact
+  uint64_t pixels = 0;
+};
+OccluderDistance measureOccluderDistance(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& map,
+                                         const Buffer<LightViewGpu>& view, const ReceiverBias& bias, double quantile,
+                                         float unit);
+
 // Finite min and max of `count` depths (+INFINITY background ignored); {+inf, -inf} when none is finite.
 // Launch "fit/fit_depth_partial".
 struct DepthRange {
