@@ -54,7 +54,7 @@ std::vector<ParamSpec> pcfRadiusParams();
 bool autoRadius(const Params& params, const std::string& name);
 int radiusLimit(const Params& params, const std::string& name);  // NAME, or NAME-max under auto
 // `params` with NAME set for this frame from `map` (unchanged unless auto), recorded in the header's "penumbra:NAME"
-// (a point light's: its last cube face's).
+// (a point light's cube faces each measure their own: host/pipeline/point_light.cpp merges them per face).
 // Split techniques measure on split 0's map (`depth`, `view`): their radii are texels of split 0.
 Params resolveAutoRadius(ShadowFrame& frame, const Buffer<float>& depth, const Buffer<LightViewGpu>& view,
                          const Params& params, const std::string& name);
