@@ -22,7 +22,7 @@ constexpr int kProbeSize = 1024;
 
 }  // namespace
 
-bool autoMapSize(const Params& params) { return params.has("map-size") && params.get("map-size") == 0.0; }
+bool autoMapSize(const Params& params) { return params.isAuto("map-size"); }
 
 Params sizeMapForFrame(ShadowFrame& frame, const Params& params) {
   std::vector<LightViewGpu> views;

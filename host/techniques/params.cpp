@@ -63,6 +63,11 @@ void Params::set(const std::string& name, const std::string& text) {
   values_[name] = value;
 }
 
+bool Params::isAuto(const std::string& name) const {
+  auto spec = std::find_if(specs_.begin(), specs_.end(), [&](const ParamSpec& s) { return s.name == name; });
+  return spec != specs_.end() && !spec->text && spec->isAuto(values_.at(name));
+}
+
 double Params::get(const std::string& name) const {
   auto it = values_.find(name);
   if (it == values_.end()) throw std::out_of_range(fmt::format("parameter '{}' is not declared", name));

@@ -42,6 +42,8 @@ class Params {
   double get(const std::string& name) const;  // throws std::out_of_range for an undeclared name
   bool has(const std::string& name) const { return values_.count(name) != 0 || texts_.count(name) != 0; }
   int getInt(const std::string& name) const { return static_cast<int>(get(name)); }
+  // Whether `name` holds its spec's auto value (ParamSpec::isAuto); false for an undeclared name.
+  bool isAuto(const std::string& name) const;
   const std::string& getText(const std::string& name) const;  // a text parameter's value
   std::string describe() const;                               // "bias=0.002 pcf-radius=2", for provenance
 

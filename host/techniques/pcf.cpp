@@ -20,7 +20,7 @@ class PercentageCloser final : public Technique {
     renderShadowMap(frame, params_, map_, adaptive ? maxRadius : limit);
     const Params params = resolveAutoRadius(frame, map_, params_, "pcf-radius");
     const int radius = params.getInt("pcf-radius");
-    const int poissonTaps = params_.getInt("pcf-poisson-taps");
+    const int poissonTaps = params.getInt("pcf-poisson-taps");
     if (poisson_.empty()) {
       const std::vector<cl_float2> disk = poissonDisk(std::max(poissonTaps, 1));
       poisson_ = Buffer<cl_float2>(frame.ctx, std::span<const cl_float2>(disk), CL_MEM_READ_ONLY);

@@ -25,10 +25,7 @@ class ParallelSplit final : public Technique {
     atlas_.allocate(ctx, plan.views.size() * texels);
     idAtlas_.allocate(ctx, idMode == ID_BUFFER_OFF ? 1 : plan.views.size() * texels);
     drawSplits(frame, plan, targets_, [&](size_t s, const Buffer<float>& depth) {
-      if (s == 0 && !hard) {  // pcf-radius auto: measured on split 0's map (its radius is texels of split 0)
-        const Buffer<LightViewGpu> first(ctx, std::span<const LightViewGpu>(&plan.views[0].gpu, 1), CL_MEM_READ_ONLY);
-        params_ = resolveAutoRadius(frame, depth, first, params_, "pcf-radius");
-      }
+      if (s == 0 && !hard) params_ = resolveAutoRadiusOnSplit0(frame, plan, depth, params_, "pcf-radius");
       copyInto(ctx, depth, atlas_, s * texels, texels);
       if (idMode != ID_BUFFER_OFF) copyInto(ctx, targets_.triangleId, idAtlas_, s * texels, texels);
     });

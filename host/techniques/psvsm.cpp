@@ -86,16 +86,13 @@ class ParallelSplitVariance final : public Technique {
     if (mipTexels > 0) maps.mips.allocate(ctx, mipTexels * 2);
     drawSplits(frame, plan, targets_, [&](size_t s, const Buffer<float>& depth) {
       const LightViewGpu& v = plan.views[s].gpu;
-      if (s == 0) {
-        const Buffer<LightViewGpu> first(ctx, std::span<const LightViewGpu>(&v, 1), CL_MEM_READ_ONLY);
-        params_ = resolveAutoRadius(frame, depth, first, params_, "blur-radius");
-      }
+      if (s == 0) params_ = resolveAutoRadiusOnSplit0(frame, plan, depth, params_, "blur-radius");
       MomentsConfig config;
       config.depthNear = v.zNear, config.depthFar = v.zFar;
       config.storage = storage;
       if (params_.getInt("blur-radius") > 0) {
-        BlurConfig scaled =
-            momentBlurConfig(params_);  // step 2d: the kernel shrinks with the split's zoom (texels of split 0)
+        // Step 2d: the kernel shrinks with the split's zoom (texels of split 0).
+        BlurConfig scaled = momentBlurConfig(params_);
         scaled.scale = plan.views[0].gpu.texelScale / v.texelScale;
         scratch_.allocate(ctx, blurMomentsScratch(ctx, shape, scaled, storage));
         blurMoments(ctx, depth, config, maps.moments, scratch_, shape.width, shape.height, scaled);

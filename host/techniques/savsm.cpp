@@ -85,8 +85,7 @@ class SummedAreaVsm final : public Technique {
   // savsm-occluder-distance, or under auto its quantile over the camera's pixels in the map's hard shadow (in units
   // of the scene's size / 16, so the histogram's range suits any scale), recorded in the header.
   float occluderDistance(ShadowFrame& frame) const {
-    const double given = params_.get("savsm-occluder-distance");
-    if (given != kAutoDistance) return static_cast<float>(given);
+    if (!params_.isAuto("savsm-occluder-distance")) return static_cast<float>(params_.get("savsm-occluder-distance"));
     const double quantile = params_.get("savsm-occluder-distance-quantile");
     const float unit = std::max(frame.scene.bounds().orUnit().radius(), 1e-6f) / 16.0f;
     const OccluderDistance d = measureOccluderDistance(frame.ctx, frame.gbuffer, map_.targets.depth, map_.gpu,

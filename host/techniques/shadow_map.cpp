@@ -75,7 +75,7 @@ std::vector<ParamSpec> pcfRadiusParams() {
                           4);
 }
 
-bool autoRadius(const Params& params, const std::string& name) { return params.get(name) == kAutoRadius; }
+bool autoRadius(const Params& params, const std::string& name) { return params.isAuto(name); }
 
 int radiusLimit(const Params& params, const std::string& name) {
   return params.getInt(autoRadius(params, name) ? name + "-max" : name);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <stdexcept>
 
 #include "host/cl/kernel.h"
@@ -202,6 +203,13 @@ void SplitAovs::allocate(Context& ctx, size_t pixels) {
 void SplitAovs::addChannels(Context& ctx, Image& image) const {
   image.add("split.Y", split.download(ctx));
   image.add("resolutionError.Y", resolutionError.download(ctx));
+}
+
+Params resolveAutoRadiusOnSplit0(ShadowFrame& frame, const SplitPlan& plan, const Buffer<float>& depth,
+                                 const Params& params, const std::string& name) {
+  if (!autoRadius(params, name)) return params;
+  const Buffer<LightViewGpu> first(frame.ctx, std::span<const LightViewGpu>(&plan.views[0].gpu, 1), CL_MEM_READ_ONLY);
+  return resolveAutoRadius(frame, depth, first, params, name);
 }
 
 void recordSplits(ShadowFrame& frame, const SplitPlan& plan) {

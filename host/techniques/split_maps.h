@@ -71,6 +71,11 @@ struct SplitAovs {
   void addChannels(Context& ctx, Image& image) const;
 };
 
+// resolveAutoRadius (host/techniques/shadow_map.h) on split 0's map, `depth` once drawn: a split technique's radius
+// is texels of split 0, which the farther splits scale by their zoom.
+Params resolveAutoRadiusOnSplit0(ShadowFrame& frame, const SplitPlan& plan, const Buffer<float>& depth,
+                                 const Params& params, const std::string& name);
+
 // "penumbra:pssm-distances", "penumbra:pssm-scheme", "penumbra:light-fit" (one entry per split).
 void recordSplits(ShadowFrame& frame, const SplitPlan& plan);
 
