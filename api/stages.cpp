@@ -113,7 +113,8 @@ pn_status pn_blur_moments(pn_context* context, cl_mem depth, uint32_t width, uin
     const penumbra::ImageShape shape{width, height, penumbra::momentChannels(m.kind)};
     penumbra::checkShape(shape, call.function());
     const auto in = call.buffer<float>(depth, "depth");
-    auto temp = call.scratch<float>(scratch, penumbra::blurMomentsScratch(call.ctx(), shape, b, m.storage), "scratch");
+    auto temp =
+        call.scratch<float>(scratch, penumbra::blurMomentsScratch(call.ctx(), shape, b, m.storage, m.kind), "scratch");
     if (m.storage == penumbra::MomentStorage::Float16) {
       auto target = call.buffer<cl_half>(out, "out");
       call.run([&] { penumbra::blurMoments(call.ctx(), in, m, target, temp, width, height, b); });
@@ -133,7 +134,7 @@ pn_status pn_blur_moments_scratch(pn_context* context, uint32_t width, uint32_t 
     const penumbra::ImageShape shape{width, height, penumbra::momentChannels(m.kind)};
     penumbra::checkShape(shape, "pn_blur_moments_scratch");
     *require(floats, "pn_blur_moments_scratch", "floats") =
-        penumbra::blurMomentsScratch(*c.context, shape, b, m.storage);
+        penumbra::blurMomentsScratch(*c.context, shape, b, m.storage, m.kind);
   });
 }
 

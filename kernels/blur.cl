@@ -4,6 +4,7 @@
 // of them; Wells 1986). Built per channel count: -DBLUR_CHANNELS=1|2|4 selects float, float2 or float4 texels;
 // with -DSTORE_HALF the direct column pass (the last one) stores half texels (kernels/shared/storage.h).
 #include "kernels/shared/blur.h"
+#include "kernels/shared/moments.h"  // the fused moments encodings and ESM's log-space taps
 #include "kernels/shared/storage.h"
 
 #ifndef BLUR_CHANNELS
@@ -48,7 +49,6 @@ __kernel __attribute__((reqd_work_group_size(BLUR_ROW_TILE, BLUR_ROW_LINES, 1)))
 }
 
 #ifdef BLUR_MOMENTS
-#include "kernels/shared/moments.h"
 // The moments stage fused into the row pass (-DBLUR_MOMENTS=MOMENTS_KIND_*): stages the moments of the depth
 // texels (moments_encode, as kernels/moments.cl writes them) instead of reading a moment image, so the moment
 // image is never written nor read back; the result equals moments then blur_rows bit for bit.
@@ -62,6 +62,8 @@ __kernel __attribute__((reqd_work_group_size(BLUR_ROW_TILE, BLUR_ROW_LINES, 1)))
     const float4 m = moments_encode(src[clamp(x0 + i, 0, (int)width - 1)], p, BLUR_MOMENTS);
 #if BLUR_CHANNELS == 4
     line[i] = m;
+#elif BLUR_CHANNELS == 1
+    line[i] = m.x;
 #else
     line[i] = m.xy;
 #endif
@@ -217,6 +219,8 @@ inline void blur_runs_stage_moments(float depth, MomentsParams p, int i, __local
   const float4 m = moments_encode(depth, p, BLUR_MOMENTS);
 #if BLUR_CHANNELS == 4
   vstore4(m, i, line);
+#elif BLUR_CHANNELS == 1
+  line[i] = m.x;
 #else
   vstore2(m.xy, i, line);
 #endif
@@ -337,3 +341,62 @@ __kernel void blur_box_columns(__global const BLUR_T* in, __global BLUR_T* out, 
   if (x >= (int)width || begin >= (int)height) return;
   blur_box_line(in + x, out + x, height, width, radius, begin, min(segment, (int)height - begin));
 }
+
+#if BLUR_CHANNELS == 1 && defined(BLUR_LOG_RADIUS)
+// Log-space blur of ESM's depths (kernels/shared/moments.h, moments_log_mix): per output texel, the D with
+// e^(c D) = sum w_k e^(c d_k) over the clamped taps, computed around the largest tap so that every exponential is at
+// most 1. An item sums a run of BLUR_RUN_FLOATS consecutive outputs of a row as one float16 (the runs layout's
+// reasoning: CPU compilers vectorise explicit vectors, exp and log included, not loops across items), with the radius
+// fixed at build time (-DBLUR_LOG_RADIUS: the few radii ESM's kernels take), so the taps unroll.
+#define BLUR_LOG_TAPS (2 * BLUR_LOG_RADIUS + 1)
+
+inline float16 blur_log_taps(const float16* v, __constant float* weights, float c) {
+  float16 m = v[0], linear = 0.0f, sum = 0.0f;
+#pragma unroll
+  for (int k = 1; k < BLUR_LOG_TAPS; ++k) m = fmax(m, v[k]);  // every direct tap has weight > 0
+#pragma unroll
+  for (int k = 0; k < BLUR_LOG_TAPS; ++k) {
+    linear += weights[k] * v[k];
+    sum += weights[k] * exp(c * (v[k] - m));
+  }
+  return c > MOMENTS_LOG_MIN_EXPONENT ? m + log(sum) / c : linear;
+}
+
+// The 16 floats of `line` (n long) from `first`, each index clamped to the line.
+inline float16 blur_log_load_clamped(__global const float* line, int n, int first) {
+  float lanes[BLUR_RUN_FLOATS];
+  for (int i = 0; i < BLUR_RUN_FLOATS; ++i) lanes[i] = line[clamp(first + i, 0, n - 1)];
+  return vload16(0, lanes);
+}
+
+// Item (run, row): outputs x0 .. x0 + 15 of row y (the last run of a row may be partial).
+__kernel void blur_log_rows(__global const float* in, __global float* out, uint width, uint height,
+                            __constant float* weights, float exponent) {
+  const int x0 = get_global_id(0) * BLUR_RUN_FLOATS, y = get_global_id(1), w = width;
+  if (x0 >= w || y >= (int)height) return;
+  __global const float* line = in + (size_t)y * width;
+  const bool inside = x0 - BLUR_LOG_RADIUS >= 0 && x0 + BLUR_RUN_FLOATS - 1 + BLUR_LOG_RADIUS < w;
+  float16 v[BLUR_LOG_TAPS];
+#pragma unroll
+  for (int k = 0; k < BLUR_LOG_TAPS; ++k)
+    v[k] =
+        inside ? vload16(0, line + x0 - BLUR_LOG_RADIUS + k) : blur_log_load_clamped(line, w, x0 - BLUR_LOG_RADIUS + k);
+  blur_runs_store(blur_log_taps(v, weights, exponent), out + (size_t)y * width + x0, min(BLUR_RUN_FLOATS, w - x0));
+}
+
+// Item (run, row) of the column pass: taps from whole rows y - r .. y + r (clamped), stored in the image's storage
+// (fp32, or half with STORE_HALF).
+__kernel void blur_log_columns(__global const float* in, __global PN_SCALAR* out, uint width, uint height,
+                               __constant float* weights, float exponent) {
+  const int x0 = get_global_id(0) * BLUR_RUN_FLOATS, y = get_global_id(1), w = width;
+  if (x0 >= w || y >= (int)height) return;
+  const int n = min(BLUR_RUN_FLOATS, w - x0);
+  float16 v[BLUR_LOG_TAPS];
+#pragma unroll
+  for (int k = 0; k < BLUR_LOG_TAPS; ++k) {
+    __global const float* row = in + (size_t)clamp(y - BLUR_LOG_RADIUS + k, 0, (int)height - 1) * width + x0;
+    v[k] = n == BLUR_RUN_FLOATS ? vload16(0, row) : blur_runs_load_part(row, n);
+  }
+  blur_runs_store_stored(blur_log_taps(v, weights, exponent), out + (size_t)y * width + x0, n);
+}
+#endif

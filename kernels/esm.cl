@@ -1,11 +1,13 @@
 // Exponential shadow maps (Annen, Mertens, Seidel, Flerackers, Kautz, "Exponential Shadow Maps", GI 2008,
-// sec. 3): for occluders in front of the receiver, s(d, t) = e^(c (d - t)) is a smooth stand-in
-// for the step H(d - t), and filtering e^(c d) filters the test: visibility = clamp(E[e^(c x)] e^(-c t), 0, 1).
-// The moments are the EVSM positive warp of x = 2d - 1 (kernels/shared/moments.h), so c here is half the
-// exponent of the paper's [0, 1] depth. Fails where the receiver lies behind its own neighbourhood
-// (non-planar receivers, contact): the assumption d <= t breaks and the result over-darkens or leaks.
+// sec. 3): for occluders in front of the receiver, s(d, t) = e^(c (d - t)) is a smooth stand-in for the step
+// H(d - t), and filtering e^(c d) filters the test: visibility = clamp(E[e^(c d)] e^(-c t), 0, 1), d and t the
+// normalised depths in [0, 1] and c the paper's exponent. With D the filtered depth, e^(c D) = E[e^(c d)], visibility
+// = e^(min(c (D - t), 0)). Up to c = 80 the map holds e^(c (d - 1)) (a normal fp32 for every d) filtered linearly, and
+// D = 1 + ln(E) / c; beyond it the map holds d filtered in log space (Salvi 2008; kernels/shared/moments.h
+// moments_log_mix), so any c works. A receiver whose occluder lies within ln(10) / c of it keeps more than 0.1 of the
+// light (contact umbrae), and one that lies behind its own neighbourhood (non-planar receivers, contact lines) breaks
+// d <= t and leaks: the larger c, the less of the first and the sharper the second.
 #include "kernels/shared/moment_map.h"
-#include "kernels/shared/moments.h"
 
 __kernel void esm_visibility(__global const float4* position, __global const float4* normal,
                              __constant const LightViewGpu* lv, __global const MomentScalar* base,
@@ -14,13 +16,16 @@ __kernel void esm_visibility(__global const float4* position, __global const flo
   uint i = get_global_id(0);
   if (i >= s.width * s.height) return;
   MomentReceiver r = mm_receiver(position, normal, lv, s, i);
-  float lit = 1.0f, width = 0.0f;
-  float4 m = (float4)(0.0f);
+  float lit = 1.0f, width = 0.0f, filtered = 0.0f;
   if (r.valid) {
-    m = mm_lookup(base, mips, mipLevels, lv, s, &r, &width);
-    float x = 2.0f * r.t - 1.0f;
-    // In the log domain: E[e^(c x)] up to e^42 times e^(-c t) up to e^42 would overflow fp32.
-    lit = m.x > 0.0f ? exp(min(log(m.x) - s.expPositive * x, 0.0f)) : 0.0f;
+    const float c = s.expPositive;
+    if (s.esmLogSpace) {
+      filtered = mm_lookup_log(base, mips, mipLevels, lv, s, &r, &width, c);
+    } else {
+      const float e = mm_lookup(base, mips, mipLevels, lv, s, &r, &width).x;  // E[e^(c (d - 1))], at least e^-80
+      filtered = e > 0.0f ? 1.0f + log(e) / c : -INFINITY;
+    }
+    lit = exp(min(c * (filtered - r.t), 0.0f));
   }
-  mm_store(i, lit, m, 0.0f, width, visibility, debugMoments, debugStats);
+  mm_store(i, lit, (float4)(filtered, 0.0f, 0.0f, 0.0f), 0.0f, width, visibility, debugMoments, debugStats);
 }

@@ -1,4 +1,4 @@
-// Moment generation from a rasterized light depth map: one kernel per encoding (VSM, EVSM2, EVSM4, LVSM,
+// Moment generation from a rasterized light depth map: one kernel per encoding (VSM, ESM, EVSM2, EVSM4, LVSM,
 // MSM), one work-item per texel. Warps and the invalid-depth convention live in shared/moments.h;
 // outputs are interleaved float2/float4 texels (half with -DSTORE_HALF, kernels/shared/storage.h, except
 // LVSM), LVSM as one float2 plane per layer.
@@ -17,6 +17,12 @@
 __kernel void moments_vsm(__global const float* depth, __global Stored2* out, MomentsParams p) {
   MOMENTS_TEXEL(p);
   PN_STORE(2, out, texel, moments_encode(depth[texel], p, MOMENTS_KIND_VSM).xy);
+}
+
+// ESM, one channel: e^(c (d - 1)), or in log space the normalised depth d (moments_encode).
+__kernel void moments_esm(__global const float* depth, __global PN_STORED(1) * out, MomentsParams p) {
+  MOMENTS_TEXEL(p);
+  PN_STORE(1, out, texel, moments_encode(depth[texel], p, MOMENTS_KIND_ESM).x);
 }
 
 // EVSM2: the positive warp only, (e^(c+ x), e^(2 c+ x)).

@@ -5,6 +5,7 @@
 // footprints need (design: host/stages/pyramid.h); the per-level kernels are the reference schedule.
 // Options: PYRAMID_CHANNELS (1, 2, 4 moments) and STORE_HALF (moments stored as half, averaged in fp32:
 // kernels/shared/storage.h), or PYRAMID_MINMAX with PYRAMID_FROM_DEPTH for the first pass.
+#include "kernels/shared/moments.h"  // ESM's log-space taps
 #include "kernels/shared/pyramid.h"
 #include "kernels/shared/storage.h"
 
@@ -190,4 +191,33 @@ __kernel void pyramid_downsample_batch(__global const PyramidStored* src, __glob
                                        __local PyramidTexel* even, __local PyramidTexel* odd) {
   pyramid_batch(src, dst, b, even, odd);
 }
+
+#if PYRAMID_CHANNELS == 1
+// ESM's log-space mips (kernels/shared/moments.h, moments_log_mix): the D with e^(c D) = the area average of
+// e^(c d) over the same footprint as pyramid_downsample, around its largest tap of weight > 0 (per level; ESM's
+// trilinear lookups are an option, not the default).
+__kernel void pyramid_downsample_log(__global const PyramidStored* src, PyramidLevel s, __global PyramidStored* dst,
+                                     PyramidLevel d, float c) {
+  const uint x = get_global_id(0), y = get_global_id(1);
+  if (x >= d.width || y >= d.height) return;
+  const PyramidTaps t = pyramid_footprint(x, y, s, d);
+  src += (size_t)s.offset * PYRAMID_STRIDE;
+  float m = -INFINITY;
+  for (int j = 0; j < t.ny; ++j)
+    for (int i = 0; i < t.nx; ++i)
+      if (t.wx[i] > 0.0f && t.wy[j] > 0.0f) m = fmax(m, PYRAMID_LOAD(src, (size_t)(t.y0 + j) * s.width + t.x0 + i));
+  float sum = 0.0f, linear = 0.0f;
+  for (int j = 0; j < t.ny; ++j) {
+    float row = 0.0f, rowLinear = 0.0f;
+    for (int i = 0; i < t.nx; ++i) {
+      const float v = PYRAMID_LOAD(src, (size_t)(t.y0 + j) * s.width + t.x0 + i);
+      row += t.wx[i] * exp(c * (v - m));
+      rowLinear += t.wx[i] * v;
+    }
+    sum += t.wy[j] * row;
+    linear += t.wy[j] * rowLinear;
+  }
+  PYRAMID_STORE(dst, d.offset + (size_t)y * d.width + x, c > MOMENTS_LOG_MIN_EXPONENT ? m + log(sum) / c : linear);
+}
+#endif
 #endif

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -214,6 +215,86 @@ TEST_F(BlurKernels, FusedMomentsEqualMomentsThenBlur) {
   EXPECT_THROW(blurMoments(ctx(), depth, layered, out, scratch, 2, 2, gaussian(1.0f)), std::invalid_argument);
 }
 
+// ESM's log-space blur, in double around each output's largest tap, as the kernels define it: the D with
+// e^(c D) = sum over rows of w_j (sum over columns of w_i e^(c d_ij)), clamp-to-edge, and the linear blur for c = 0.
+std::vector<double> logBlurReference(const std::vector<double>& d, uint32_t width, uint32_t height,
+                                     const std::vector<double>& taps, double c) {
+  const int r = static_cast<int>(taps.size() / 2);
+  const auto pass = [&](const std::vector<double>& in, bool rows) {
+    std::vector<double> out(in.size());
+    for (int y = 0; y < int(height); ++y)
+      for (int x = 0; x < int(width); ++x) {
+        const auto at = [&](int k) {
+          return rows ? in[size_t(y) * width + std::clamp(x - r + k, 0, int(width) - 1)]
+                      : in[size_t(std::clamp(y - r + k, 0, int(height) - 1)) * width + x];
+        };
+        double m = -INFINITY, sum = 0.0, linear = 0.0;
+        for (int k = 0; k <= 2 * r; ++k) m = std::max(m, at(k));
+        for (int k = 0; k <= 2 * r; ++k) sum += taps[k] * std::exp(c * (at(k) - m)), linear += taps[k] * at(k);
+        out[size_t(y) * width + x] = c == 0.0 ? linear : m + std::log(sum) / c;
+      }
+    return out;
+  };
+  return pass(pass(d, true), false);
+}
+
+// fp32 rounds each pass's D to ~6e-8 and c (d - m) to ~6e-8 relative (a D error of 6e-8 whatever c). Measured worst
+// over the cases below: see the test's record. Absolute, in normalised depth: a visibility error of at most c times it.
+constexpr Tolerance kLogBlurTol{2e-6, 0.0};
+
+// MomentKind::Esm's filtered depth D (e^(c D) the blurred e^(c d)) equals the double reference at the linear limit
+// c = 0, in log space (kernels/shared/moments.h moments_log_mix: c = 0.5, 81, fp32's largest 1000, where e^(c d) itself
+// would overflow even double) and as the linear blur of e^(c (d - 1)) (c = 20, 80: the fused direct and running-sum
+// plans), on depth with background (+inf), NaN and out-of-range texels, 1x1 and thin maps; the log-space kernels refuse
+// running-sum plans.
+TEST_F(BlurKernels, EsmBlursInLogSpace) {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<float> depthDist(1.5f, 9.5f);
+  for (const auto& [width, height] : {std::pair<uint32_t, uint32_t>{67, 41}, {1, 1}, {130, 3}}) {
+    std::vector<float> depth(size_t(width) * height);
+    for (size_t i = 0; i < depth.size(); ++i)
+      depth[i] = i % 11 == 3 ? INFINITY : i % 17 == 5 ? std::nanf("") : depthDist(rng);
+    const Buffer<float> depthBuffer(ctx(), std::span<const float>(depth));
+    for (float c : {0.0f, 0.5f, 20.0f, 80.0f, 81.0f, 1000.0f})
+      for (const BlurConfig& config : {gaussian(2.0f), box(2), gaussian(5.0f), gaussian(15.0f)}) {
+        if (esmLogSpace(c) && !planBlur(config).direct) continue;  // refused, below
+        MomentsConfig moments;
+        moments.kind = MomentKind::Esm;
+        moments.depthNear = 2.0f, moments.depthFar = 9.0f;
+        moments.esmExponent = c;
+        const ImageShape shape{width, height, 1};
+        Buffer<float> out(ctx(), shape.count()),
+            scratch(ctx(), blurMomentsScratch(ctx(), shape, config, MomentStorage::Float32, MomentKind::Esm));
+        out.fill(ctx(), kPoison);
+        scratch.fill(ctx(), kPoison);
+        blurMoments(ctx(), depthBuffer, moments, out, scratch, width, height, config);
+        std::vector<double> d(depth.size());
+        for (size_t i = 0; i < depth.size(); ++i)
+          d[i] = std::isfinite(depth[i]) ? std::clamp((depth[i] - 2.0) / 7.0, 0.0, 1.0) : 1.0;
+        std::vector<double> reference;
+        if (planBlur(config).direct) {
+          reference = logBlurReference(
+              d, width, height,
+              config.filter == BlurFilter::Gaussian ? ref::gaussianTaps(config.sigma) : ref::boxTaps(config.radius), c);
+        } else {  // running sums (c in [1, 80]): the plan's boxes one after another, on e^(c (d - 1)) in double
+          std::vector<double> warped;
+          for (double v : d) warped.push_back(std::exp(c * (v - 1.0)));
+          for (double v : expected(warped, shape, config)) reference.push_back(1.0 + std::log(v) / c);
+        }
+        std::vector<float> got = out.download(ctx());
+        if (!esmLogSpace(c))  // the map holds e^(c (d - 1)): its depth D
+          for (float& v : got) v = 1.0f + std::log(v) / c;
+        EXPECT_TRUE(test::allNear(std::span<const float>(got), std::span<const double>(reference), kLogBlurTol, width))
+            << width << "x" << height << " c " << c << " radius " << planBlur(config).radius;
+      }
+  }
+  MomentsConfig esm;
+  esm.kind = MomentKind::Esm;
+  esm.esmExponent = 200.0f;
+  Buffer<float> depth(ctx(), 4), out(ctx(), 4), scratch(ctx(), 4);
+  EXPECT_THROW(blurMoments(ctx(), depth, esm, out, scratch, 2, 2, gaussian(15.0f)), std::invalid_argument);
+}
+
 // Tiles and runs on the same input: odd, prime and thin sizes (rows shorter than a run, widths that are not a
 // multiple of it, radii beyond the image), 1, 2 and 4 channels, radius 0 to 100.
 TEST_F(BlurKernels, LayoutsAgree) {
@@ -289,7 +370,7 @@ TEST_F(BlurKernels, HalfMomentsLayoutsAgree) {
         BlurConfig config = gaussian(2.0f);
         config.layout = layout;
         Buffer<cl_half> out(ctx(), shape.count());
-        Buffer<float> scratch(ctx(), blurMomentsScratch(ctx(), shape, config, MomentStorage::Float16));
+        Buffer<float> scratch(ctx(), blurMomentsScratch(ctx(), shape, config, MomentStorage::Float16, moments.kind));
         blurMoments(ctx(), depthBuffer, moments, out, scratch, width, height, config);
         results[layout == BlurLayout::Runs] = out.download(ctx());
       }

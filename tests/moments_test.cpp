@@ -99,14 +99,15 @@ TEST_P(MomentsTest, MatchesReference) {
 
 std::vector<Case> cases() {
   std::vector<Case> out;
-  for (MomentKind kind : {MomentKind::Vsm, MomentKind::Evsm2, MomentKind::Evsm4, MomentKind::Lvsm, MomentKind::Msm})
+  for (MomentKind kind :
+       {MomentKind::Vsm, MomentKind::Evsm2, MomentKind::Evsm4, MomentKind::Lvsm, MomentKind::Msm, MomentKind::Esm})
     for (auto [w, h, constant] : {std::tuple{1u, 1u, false}, {97u, 61u, false}, {64u, 32u, false}, {13u, 7u, true}})
       out.push_back({kind, w, h, constant});
   return out;
 }
 
 std::string caseName(const ::testing::TestParamInfo<Case>& info) {
-  static const char* const kNames[] = {"Vsm", "Evsm2", "Evsm4", "Lvsm", "Msm"};
+  static const char* const kNames[] = {"Vsm", "Evsm2", "Evsm4", "Lvsm", "Msm", "Esm"};
   return fmt::format("{}_{}x{}{}", kNames[int(info.param.kind)], info.param.width, info.param.height,
                      info.param.constant ? "_constant" : "");
 }

@@ -61,6 +61,9 @@ case "$suite" in
     # issue's failures there (blur radius 17 of EVSM4 and MSM, box radius 31 and 32).
     for t in sm evsm4 savsm vssm; do render "nvidia-$t" PENUMBRA_LAYOUTS=nvidia -- -t "$t"; done
     for t in evsm4 savsm psvsm lvsm; do render "cpu-$t" PENUMBRA_LAYOUTS= -- -t "$t"; done
+    # esm's log-space filters (exponents outside [1, 80]): its blur, mips and lookups, in fp32 and half.
+    render "esm-log-space" -- -t esm --esm-exponent 400 --blur-radius 2 --moment-filtering trilinear
+    render "esm-log-space-half" -- -t esm --esm-exponent 0.5 --blur-radius 2 --moment-storage fp16
     # izb's conservative draw in the CPU coarse layout, its sub-pixel samples and its passes (chunks) over the cells.
     render "cpu-izb-samples-chunks" PENUMBRA_LAYOUTS= -- -t izb --izb-samples 8 --izb-chunk 4096
     for kib in 32 16; do

@@ -8,13 +8,14 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "host/cl/buffer.h"
 #include "tests/reference/pyramid_ref.h"
 #include "tests/support/cl_test.h"
-#include "tests/support/random_images.h"
 #include "tests/support/compare.h"
+#include "tests/support/random_images.h"
 
 namespace penumbra {
 namespace {
@@ -59,6 +60,42 @@ TEST_P(PyramidMips, MatchesReferenceAndKeepsTheMean) {
     for (float v : got) mean += v;
     EXPECT_NEAR(mean / double(got.size()), baseMean, kMeanTol) << "level " << l + 1;
   }
+}
+
+// ESM's log-space mips: each level's D has e^(c D) the area average of e^(c D) over the level above, from the double
+// reference of the linear mips applied to e^(c (d - 1)) (no overflow, and no underflow in double up to c = 700), at
+// the linear limit c = 0, the paper's 80 and 600. fp32 rounds each level's D to ~6e-8 and its taps' c (d - m) to
+// ~6e-8 relative; errors add over the levels. Absolute, in normalised depth.
+constexpr Tolerance kLogMipTol{2e-6, 0.0};
+
+class PyramidLogMips : public test::ClTest {};
+
+TEST_F(PyramidLogMips, AverageTheExponentials) {
+  for (const auto& [width, height] :
+       {std::pair<uint32_t, uint32_t>{1, 1}, {97, 61}, {64, 64}, {300, 1}, {1, 300}, {1021, 3}}) {
+    const ImageShape shape{width, height, 1};
+    const std::vector<float> base = test::randomUnitImage(shape.count(), width * 5 + height);
+    const PyramidLayout layout = pyramidLayout(width, height, 1);
+    for (float exponent : {0.0f, 80.0f, 600.0f}) {
+      Buffer<float> in(ctx(), std::span<const float>(base)), mips(ctx(), std::max<size_t>(1, layout.texels));
+      mips.fill(ctx(), kPoison);
+      computeLogMomentMips(ctx(), in, shape, mips, exponent);
+      const std::vector<float> actual = mips.download(ctx());
+      std::vector<double> warped;
+      for (float d : base) warped.push_back(exponent == 0.0f ? d : std::exp(exponent * (d - 1.0)));
+      const auto levels = ref::momentMips(warped, shape);
+      ASSERT_EQ(levels.size(), layout.levels.size());
+      for (size_t l = 0; l < levels.size(); ++l) {
+        std::vector<double> expected;
+        for (double v : levels[l]) expected.push_back(exponent == 0.0f ? v : 1.0 + std::log(v) / exponent);
+        const std::span<const float> got(actual.data() + layout.levels[l].offset, expected.size());
+        EXPECT_TRUE(test::allNear(got, std::span<const double>(expected), kLogMipTol, layout.levels[l].width))
+            << width << "x" << height << " level " << l + 1 << " c " << exponent;
+      }
+    }
+  }
+  Buffer<float> two(ctx(), 2), mips(ctx(), 1);
+  EXPECT_THROW(computeLogMomentMips(ctx(), two, ImageShape{1, 1, 2}, mips, 80.0f), std::invalid_argument);
 }
 
 INSTANTIATE_TEST_SUITE_P(Pyramid, PyramidMips,

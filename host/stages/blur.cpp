@@ -215,6 +215,49 @@ std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>
 
 namespace {
 
+// ESM's moments blurred in log space (kernels/blur.cl blur_log_*): the depths encoded in fp32 into `encoded`, a row
+// pass into `rows`, a column pass into `out` in its storage (`out` may be `encoded`).
+template <class T>
+std::vector<cl::Event> blurLogPasses(Context& ctx, const Buffer<float>& depth, const MomentsConfig& moments,
+                                     Buffer<float>& encoded, Buffer<float>& rows, Buffer<T>& out,
+                                     const ImageShape& shape, const BlurPlan& plan) {
+  std::vector<cl::Event> events{computeMoments(ctx, depth, shape.width, shape.height, moments, encoded)};
+  const std::string options = fmt::format("{} -DBLUR_LOG_RADIUS={}", blurOptions(shape), plan.radius);
+  Buffer<float> weights = Buffer<float>::copyOf(ctx, plan.weights);
+  const float exponent = esmClampExponent(moments.esmExponent, moments.storage);
+  const Range global((shape.width + BLUR_RUN_FLOATS - 1) / BLUR_RUN_FLOATS, shape.height), local(1, 8);
+  Kernel rowPass(ctx, "kernels/blur.cl", "blur_log_rows", "blur", options);
+  events.push_back(rowPass.args(encoded, rows, shape.width, shape.height, weights, exponent)
+                       .moves(shape.count() * 2 * sizeof(float))  // floor: read and write the image once
+                       .launch(global, local));
+  Kernel columnPass(ctx, "kernels/blur.cl", "blur_log_columns", "blur",
+                    withOptions(options, storageOptions(storageOf<T>())));
+  events.push_back(columnPass.args(rows, out, shape.width, shape.height, weights, exponent)
+                       .moves(shape.count() * (sizeof(float) + sizeof(T)))
+                       .launch(global, local));
+  return events;
+}
+
+// ESM's blur in log space (esmLogSpace) through `out` itself (fp32) or, for half output, through two fp32 images in
+// the scratch. Direct plans only: running sums would need e^(c d), which overflows at the exponents log space is for.
+template <class T>
+std::vector<cl::Event> blurLogEsmInto(Context& ctx, const Buffer<float>& depth, const MomentsConfig& moments,
+                                      Buffer<T>& out, Buffer<float>& scratch, const ImageShape& shape,
+                                      const BlurPlan& plan) {
+  if (!plan.direct)
+    throw std::invalid_argument(
+        fmt::format("blur: ESM's log-space blur (exponents outside [{}, {}]) takes direct "
+                    "taps, not running sums (radius at most {} under BlurMethod::Auto)",
+                    MOMENTS_ESM_LINEAR_MIN_EXPONENT, MOMENTS_ESM_LINEAR_EXPONENT, BLUR_MAX_DIRECT_RADIUS));
+  if constexpr (storageOf<T>() == MomentStorage::Float16) {
+    Buffer<float> pass = scratch.region(ctx, 0, shape.count());
+    Buffer<float> image = scratch.region(ctx, Buffer<float>::alignedCount(ctx, shape.count()), shape.count());
+    return blurLogPasses(ctx, depth, moments, image, pass, out, shape, plan);
+  } else {
+    return blurLogPasses(ctx, depth, moments, out, scratch, out, shape, plan);
+  }
+}
+
 // blurMoments into `out` of element type T (the storage: float or cl_half).
 template <class T>
 std::vector<cl::Event> blurMomentsInto(Context& ctx, const Buffer<float>& depth, const MomentsConfig& moments,
@@ -223,11 +266,13 @@ std::vector<cl::Event> blurMomentsInto(Context& ctx, const Buffer<float>& depth,
   constexpr MomentStorage storage = storageOf<T>();
   const ImageShape shape{width, height, momentChannels(moments.kind)};
   const MomentsParams params = momentsParams(moments, width, height);
-  const int kind = momentsKindId(moments.kind);
-  checkBlurBuffers(shape, out, scratch, blurMomentsScratch(ctx, shape, config, storage));
+  checkBlurBuffers(shape, out, scratch, blurMomentsScratch(ctx, shape, config, storage, moments.kind));
   checkBufferSize(depth.size(), size_t(width) * height, "blur", "depth");
   const BlurPlan plan = planBlur(config);
   if (shape.texels() == 0) return {};
+  if (moments.kind == MomentKind::Esm && params.esmLogSpace)
+    return blurLogEsmInto(ctx, depth, moments, out, scratch, shape, plan);
+  const int kind = momentsKindId(moments.kind);
   if (!plan.direct) {  // running sums read each texel twice: encode once, then blur in place
     if constexpr (storage == MomentStorage::Float32) {
       std::vector<cl::Event> events{computeMoments(ctx, depth, width, height, moments, out)};
@@ -258,8 +303,9 @@ std::vector<cl::Event> blurMomentsInto(Context& ctx, const Buffer<float>& depth,
 
 }  // namespace
 
-size_t blurMomentsScratch(Context& ctx, const ImageShape& shape, const BlurConfig& config, MomentStorage storage) {
-  if (storage == MomentStorage::Float16 && !planBlur(config).direct)
+size_t blurMomentsScratch(Context& ctx, const ImageShape& shape, const BlurConfig& config, MomentStorage storage,
+                          MomentKind kind) {
+  if (storage == MomentStorage::Float16 && (kind == MomentKind::Esm || !planBlur(config).direct))
     return Buffer<float>::alignedCount(ctx, shape.count()) + shape.count();
   return shape.count();
 }

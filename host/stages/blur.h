@@ -60,7 +60,10 @@ std::vector<cl::Event> blur(Context& ctx, const Buffer<float>& in, Buffer<float>
 // (width*height*momentChannels floats) without writing the unblurred moments: the same values, bit for bit,
 // as computeMoments then blur. Direct plans encode while staging the row pass ("blur/blur_rows_moments", or
 // "blur/blur_rows_runs_moments");
-// running sums read each texel twice, so they run computeMoments into `out` first, then blur it in place.
+// running sums read each texel twice, so they run computeMoments into `out` first, then blur it in place. ESM
+// (MomentKind::Esm) with an exponent in log space (esmLogSpace) blurs its depths in log space instead
+// ("blur/blur_log_rows" + "blur/blur_log_columns"; kernels/shared/moments.h moments_log_mix) after computeMoments
+// into `out`, on direct plans only.
 std::vector<cl::Event> blurMoments(Context& ctx, const Buffer<float>& depth, const MomentsConfig& moments,
                                    Buffer<float>& out, Buffer<float>& scratch, uint32_t width, uint32_t height,
                                    const BlurConfig& config);
@@ -70,8 +73,9 @@ std::vector<cl::Event> blurMoments(Context& ctx, const Buffer<float>& depth, con
 std::vector<cl::Event> blurMoments(Context& ctx, const Buffer<float>& depth, const MomentsConfig& moments,
                                    Buffer<cl_half>& out, Buffer<float>& scratch, uint32_t width, uint32_t height,
                                    const BlurConfig& config);
-// Floats of scratch blurMoments needs: the image (shape.count()), and for half output through running sums the
-// fp32 moments too (at an aligned offset after it).
-size_t blurMomentsScratch(Context& ctx, const ImageShape& shape, const BlurConfig& config, MomentStorage storage);
+// Floats of scratch blurMoments needs: the image (shape.count()), and for half output through running sums or ESM
+// (its log-space passes) the fp32 moments too (at an aligned offset after it).
+size_t blurMomentsScratch(Context& ctx, const ImageShape& shape, const BlurConfig& config, MomentStorage storage,
+                          MomentKind kind);
 
 }  // namespace penumbra

@@ -18,6 +18,8 @@ const char* entryPoint(MomentKind kind) {
   switch (kind) {
     case MomentKind::Vsm:
       return "moments_vsm";
+    case MomentKind::Esm:
+      return "moments_esm";
     case MomentKind::Evsm2:
       return "moments_evsm2";
     case MomentKind::Evsm4:
@@ -63,7 +65,23 @@ float evsmClampExponent(float exponent, MomentStorage storage) {
   return std::clamp(exponent, 0.0f, evsmMaxExponent(storage));
 }
 
-uint32_t momentChannels(MomentKind kind) { return kind == MomentKind::Evsm4 || kind == MomentKind::Msm ? 4 : 2; }
+float esmMaxExponent(MomentStorage storage) {
+  return storage == MomentStorage::Float16 ? MOMENTS_ESM_MAX_EXPONENT_FP16 : MOMENTS_ESM_MAX_EXPONENT_FP32;
+}
+
+float esmClampExponent(float exponent, MomentStorage storage) {
+  if (std::isnan(exponent)) return 0.0f;
+  return std::clamp(exponent, 0.0f, esmMaxExponent(storage));
+}
+
+bool esmLogSpace(float exponent) {
+  return !(exponent >= MOMENTS_ESM_LINEAR_MIN_EXPONENT && exponent <= MOMENTS_ESM_LINEAR_EXPONENT);
+}
+
+uint32_t momentChannels(MomentKind kind) {
+  if (kind == MomentKind::Esm) return 1;
+  return kind == MomentKind::Evsm4 || kind == MomentKind::Msm ? 4 : 2;
+}
 
 uint32_t momentPlanes(const MomentsConfig& config) {
   return config.kind == MomentKind::Lvsm ? static_cast<uint32_t>(config.layers.size()) : 1;
@@ -79,6 +97,10 @@ MomentsParams momentsParams(const MomentsConfig& config, uint32_t width, uint32_
   params.depthNear = config.depthNear;
   params.depthInvRange = 1.0f / (config.depthFar - config.depthNear);
   params.expPositive = evsmClampExponent(config.evsmPositive, config.storage);
+  if (config.kind == MomentKind::Esm) {
+    params.expPositive = esmClampExponent(config.esmExponent, config.storage);
+    params.esmLogSpace = esmLogSpace(params.expPositive) ? 1u : 0u;
+  }
   params.expNegative = evsmClampExponent(config.evsmNegative, config.storage);
   if (!std::isfinite(params.depthInvRange)) throw std::invalid_argument("moments: depth range too small for fp32");
   return params;
@@ -88,6 +110,8 @@ int momentsKindId(MomentKind kind) {
   switch (kind) {
     case MomentKind::Vsm:
       return MOMENTS_KIND_VSM;
+    case MomentKind::Esm:
+      return MOMENTS_KIND_ESM;
     case MomentKind::Evsm2:
       return MOMENTS_KIND_EVSM2;
     case MomentKind::Evsm4:

@@ -15,7 +15,9 @@
 
 namespace penumbra {
 
-enum class MomentKind { Vsm, Evsm2, Evsm4, Lvsm, Msm };
+// Esm: one channel, the normalised depth filtered in log space (kernels/shared/moments.h moments_log_mix), so that its
+// exponent is not bounded by fp32's range.
+enum class MomentKind { Vsm, Evsm2, Evsm4, Lvsm, Msm, Esm };
 
 // How filtered moments are stored: fp32, or IEEE half (binary16, through OpenCL C 1.2's vload_half /
 // vstore_half_rte, no cl_khr_fp16 needed), which halves the bytes every later pass and lookup reads. Half bounds
@@ -40,6 +42,7 @@ struct MomentsConfig {
   MomentKind kind = MomentKind::Vsm;
   float depthNear = 0.0f, depthFar = 1.0f;          // light depth mapped to [0, 1]; far > near, both finite
   float evsmPositive = 40.0f, evsmNegative = 5.0f;  // requested EVSM exponents, clamped to the storage
+  float esmExponent = 80.0f;                        // ESM's c of e^(c d), d in [0, 1]: its log-space filters
   MomentStorage storage = MomentStorage::Float32;
   std::vector<LvsmLayer> layers;  // LVSM only: 1..MOMENTS_MAX_LAYERS layers
 };
@@ -48,7 +51,14 @@ struct MomentsConfig {
 float evsmMaxExponent(MomentStorage storage);
 float evsmClampExponent(float exponent, MomentStorage storage);  // into [0, evsmMaxExponent]
 
-uint32_t momentChannels(MomentKind kind);            // floats per texel of one plane: 2 or 4
+// 1000 for fp32, 8 for half (MOMENTS_ESM_MAX_EXPONENT_*: e^(c (d - 1)) stays a normal half).
+float esmMaxExponent(MomentStorage storage);
+float esmClampExponent(float exponent, MomentStorage storage);  // into [0, esmMaxExponent]
+// Whether ESM's map holds its depths filtered in log space (exponents outside [MOMENTS_ESM_LINEAR_MIN_EXPONENT,
+// MOMENTS_ESM_LINEAR_EXPONENT]) rather than e^(c (d - 1)) filtered linearly.
+bool esmLogSpace(float exponent);
+
+uint32_t momentChannels(MomentKind kind);            // floats per texel of one plane: 1 (ESM), 2 or 4
 uint32_t momentPlanes(const MomentsConfig& config);  // LVSM: layer count; otherwise 1
 
 // Throws std::invalid_argument unless `config` bounds its EVSM exponents for half (storage Float16), as every

@@ -206,7 +206,38 @@ std::vector<cl::Event> momentMips(Context& ctx, const Buffer<T>& base, const Ima
                       config);
 }
 
+// ESM's log-space mips stored as T, level by level.
+template <class T>
+std::vector<cl::Event> logMomentMips(Context& ctx, const Buffer<T>& base, const ImageShape& shape, Buffer<T>& mips,
+                                     float exponent) {
+  checkShape(shape, "pyramid");
+  if (shape.channels != 1) throw std::invalid_argument("pyramid: log-space mips have one channel");
+  const PyramidLayout layout = pyramidLayout(shape.width, shape.height, 1);
+  checkBufferSize(base.size(), shape.count(), "pyramid", "base level");
+  checkBufferSize(mips.size(), layout.texels, "pyramid", "mip chain");
+  std::vector<PyramidLevel> chain{{0, shape.width, shape.height, 0}};  // level 0 in `base`, the rest in `mips`
+  chain.insert(chain.end(), layout.levels.begin(), layout.levels.end());
+  Kernel down(ctx, "kernels/pyramid.cl", "pyramid_downsample_log", "pyramid",
+              fmt::format("-DPYRAMID_CHANNELS=1 {}", storageOptions(storageOf<T>())));
+  std::vector<cl::Event> events;
+  for (size_t i = 1; i < chain.size(); ++i)  // floor: read the level above and write this one
+    events.push_back(down.args(i == 1 ? base : mips, chain[i - 1], mips, chain[i], exponent)
+                         .moves((texels(chain[i - 1]) + texels(chain[i])) * sizeof(T))
+                         .launch(Range(chain[i].width, chain[i].height), kLevelGroup));
+  return events;
+}
+
 }  // namespace
+
+std::vector<cl::Event> computeLogMomentMips(Context& ctx, const Buffer<float>& base, const ImageShape& shape,
+                                            Buffer<float>& mips, float exponent) {
+  return logMomentMips(ctx, base, shape, mips, exponent);
+}
+
+std::vector<cl::Event> computeLogMomentMips(Context& ctx, const Buffer<cl_half>& base, const ImageShape& shape,
+                                            Buffer<cl_half>& mips, float exponent) {
+  return logMomentMips(ctx, base, shape, mips, exponent);
+}
 
 std::vector<cl::Event> computeMomentMips(Context& ctx, const Buffer<float>& base, const ImageShape& shape,
                                          Buffer<float>& mips, const PyramidConfig& config) {

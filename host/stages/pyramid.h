@@ -77,6 +77,13 @@ std::vector<cl::Event> computeMomentMips(Context& ctx, const Buffer<float>& base
 // as above and stored rounded to nearest even (the kernels built with STORE_HALF); local memory stays fp32.
 std::vector<cl::Event> computeMomentMips(Context& ctx, const Buffer<cl_half>& base, const ImageShape& shape,
                                          Buffer<cl_half>& mips, const PyramidConfig& config = {});
+// ESM's mips in log space (one channel; kernels/shared/moments.h moments_log_mix): each level's D has e^(c D) the
+// area average of the level above's e^(c D), over computeMomentMips' footprints, per level
+// ("pyramid/pyramid_downsample_log"). fp32 or half, as above.
+std::vector<cl::Event> computeLogMomentMips(Context& ctx, const Buffer<float>& base, const ImageShape& shape,
+                                            Buffer<float>& mips, float exponent);
+std::vector<cl::Event> computeLogMomentMips(Context& ctx, const Buffer<cl_half>& base, const ImageShape& shape,
+                                            Buffer<cl_half>& mips, float exponent);
 
 // Levels 0.. of the min-max pyramid of `depth` (width*height light depths) into `out`
 // (pyramidLayout(w, h, 0).texels float2 (min, max)). Background and NaN texels are the empty interval

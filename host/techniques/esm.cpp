@@ -1,21 +1,78 @@
-// `esm`: exponential shadow maps (Annen et al. 2008) on the shared moment pipeline; the filtered e^(c x) is
-// the first channel of the moments stage's EVSM2 encoding, so no stage of its own (kernels/esm.cl).
+// `esm`: exponential shadow maps (Annen et al. 2008) on the shared moment pipeline, one channel (MomentKind::Esm):
+// e^(c (d - 1)) filtered linearly up to c = 80, the depth filtered in log space beyond (kernels/esm.cl), so the
+// exponent is not held to fp32's range and can follow the scene: under auto, large enough that the occluders nearest
+// their receivers still darken them (host/views/light_fit.h measureOccluderDistance).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
 #include "host/techniques/moment_map.h"
 #include "host/techniques/registry.h"
+#include "host/views/light_fit.h"
 
 namespace penumbra {
+namespace {
+
+constexpr double kAutoExponent = -1.0;  // esm-exponent auto (outside [0, max])
+// The visibility auto's exponent leaves a receiver at the quantile's occluder distance: e^(-c distance) = 0.02, what
+// the umbra metric counts as umbra in the reference (docs/evaluation.md). Measured on poles
+// (docs/techniques/moments.md): 0.1 there left 7 % of the umbra above 0.1.
+constexpr double kUmbraLight = 0.02;
+
+// esm-exponent, or under auto ln(1 / 0.02) over the esm-exponent-quantile of the camera's hard-shadowed pixels'
+// occluder distances in normalised depth, within esm-exponent-min..max; recorded in the header.
+Params resolveExponent(ShadowFrame& frame, const ShadowMap& map, const Params& params) {
+  if (!params.isAuto("esm-exponent")) return params;
+  const double quantile = params.get("esm-exponent-quantile");
+  const float range = map.view.gpu.zFar - map.view.gpu.zNear;
+  // The histogram's unit: 1/16 of the map's depth range, so its octaves suit any scene scale.
+  const OccluderDistance d = measureOccluderDistance(frame.ctx, frame.gbuffer, map.targets.depth, map.gpu,
+                                                     biasArgs(params), quantile, std::max(range, 1e-6f) / 16.0f);
+  const double lo = params.get("esm-exponent-min"), hi = std::max(lo, params.get("esm-exponent-max"));
+  const double normalised = d.distance / range;
+  const double exponent = d.pixels == 0 || !(normalised > 0.0)
+                              ? (d.pixels == 0 ? lo : hi)
+                              : std::clamp(std::log(1.0 / kUmbraLight) / normalised, lo, hi);
+  Params resolved = params;
+  resolved.set("esm-exponent", fmt::format("{:.6g}", exponent));
+  frame.attributes["penumbra:esm-exponent"] =
+      d.pixels == 0 ? fmt::format("auto {:.4g} (no shadowed pixel measured)", exponent)
+                    : fmt::format("auto {:.4g} (quantile {} of {} shadowed pixels: occluder {:.4g} of the depth range)",
+                                  exponent, quantile, d.pixels, normalised);
+  return resolved;
+}
+
+}  // namespace
 
 TechniqueInfo esmTechnique() {
-  const double max = evsmMaxExponent(MomentStorage::Float32);
+  ParamSpec exponent{"esm-exponent", kAutoExponent, 0, esmMaxExponent(MomentStorage::Float32),
+                     fmt::format("ESM exponent c of e^(c d), d the normalised depth in [0, 1] (log space above {:g}; "
+                                 "at most {:g} with half moment storage); auto: ln 50 over the occluder distance (in "
+                                 "normalised depth) --esm-exponent-quantile of the shadowed pixels reach",
+                                 MOMENTS_ESM_LINEAR_EXPONENT, esmMaxExponent(MomentStorage::Float16))};
+  exponent.autoName = "auto";
+  exponent.autoValue = kAutoExponent;
   std::vector<ParamSpec> extra = {
-      {"esm-exponent", 40, 0, max, "ESM exponent c of e^(c x), x = 2d - 1 in [-1, 1] (the paper's 2c on [0, 1])"}};
+      exponent,
+      {"esm-exponent-quantile", 0.02, 0.001, 1,
+       "--esm-exponent auto: the share of the camera's shadowed pixels whose occluder is nearer than the distance "
+       "the exponent darkens to 0.02"},
+      {"esm-exponent-min", 80, 0, esmMaxExponent(MomentStorage::Float32),
+       "--esm-exponent auto: the smallest exponent (the paper's 80)"},
+      {"esm-exponent-max", esmMaxExponent(MomentStorage::Float32), 0, esmMaxExponent(MomentStorage::Float32),
+       "--esm-exponent auto: the largest exponent"}};
   std::vector<ParamSpec> params = momentMapParams(extra);
   positiveWarpBlurMax(params);
-  return {"esm", "Exponential shadow maps: filtered e^(c d) against e^(c t)", params, [](const Params& p) {
-            MomentTechniqueSpec spec{MomentKind::Evsm2, "kernels/esm.cl", "esm_visibility", false, 1};
+  return {"esm", "Exponential shadow maps: filtered e^(c d) against e^(c t), in log space beyond c = 80", params,
+          [](const Params& p) {
+            MomentTechniqueSpec spec{MomentKind::Esm, "kernels/esm.cl", "esm_visibility", false, 1};
+            spec.resolve = resolveExponent;
             spec.configure = [](const Params& q, MomentsConfig& config, MomentShade& s) {
-              config.evsmPositive = evsmClampExponent(static_cast<float>(q.get("esm-exponent")), config.storage);
-              s.expPositive = config.evsmPositive;
+              config.esmExponent = esmClampExponent(static_cast<float>(q.get("esm-exponent")), config.storage);
+              s.expPositive = config.esmExponent;
+              s.esmLogSpace = esmLogSpace(config.esmExponent) ? 1u : 0u;
             };
             return std::make_unique<MomentTechnique>(spec, p);
           }};

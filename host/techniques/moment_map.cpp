@@ -128,6 +128,7 @@ void MomentTechnique::render(ShadowFrame& frame, Buffer<float>& visibility) {
   const int size = params_.getInt("map-size");
   renderShadowMap(frame, params_, map_, blurReach());
   params_ = resolveAutoRadius(frame, map_, params_, "blur-radius");
+  if (spec_.resolve) params_ = spec_.resolve(frame, map_, params_);
   channels_ = momentChannels(spec_.kind);
   MomentsConfig config;
   config.kind = spec_.kind;
@@ -211,7 +212,7 @@ void MomentTechnique::filterMomentsInto(Context& ctx, const MomentsConfig& confi
                                         Buffer<T>& moments, Buffer<T>& mips) {
   moments.allocate(ctx, shape.count());
   if (params_.getInt("blur-radius") > 0) {
-    scratch_.allocate(ctx, blurMomentsScratch(ctx, shape, blurConfig(), config.storage));
+    scratch_.allocate(ctx, blurMomentsScratch(ctx, shape, blurConfig(), config.storage, config.kind));
     blurMoments(ctx, map_.targets.depth, config, moments, scratch_, shape.width, shape.height, blurConfig());
   } else {
     computeMoments(ctx, map_.targets.depth, shape.width, shape.height, config, moments);
@@ -223,7 +224,11 @@ void MomentTechnique::filterMomentsInto(Context& ctx, const MomentsConfig& confi
   }
   const PyramidLayout layout = pyramidLayout(shape.width, shape.height, 1);
   mips.allocate(ctx, layout.texels * shape.channels);
-  computeMomentMips(ctx, moments, shape, mips);
+  const float esmExponent = esmClampExponent(config.esmExponent, config.storage);
+  if (config.kind == MomentKind::Esm && esmLogSpace(esmExponent))
+    computeLogMomentMips(ctx, moments, shape, mips, esmExponent);
+  else
+    computeMomentMips(ctx, moments, shape, mips);
   mipLevels_.allocate(ctx, layout.levels.size(), CL_MEM_READ_ONLY);
   mipLevels_.upload(ctx, std::span<const PyramidLevel>(layout.levels));
 }

@@ -67,6 +67,8 @@ struct MomentTechniqueSpec {
   uint32_t debugMoments = 0;  // moment layers to write: 0 = every channel
   // Technique-specific MomentsConfig / MomentShade fields from the parameters (exponents, moment bias).
   std::function<void(const Params&, MomentsConfig&, MomentShade&)> configure = {};
+  // The frame's parameters once its map is drawn (a parameter measured from the scene, like esm's auto exponent).
+  std::function<Params(ShadowFrame&, const ShadowMap&, const Params&)> resolve = {};
 };
 
 // shadow map -> moments -> blur -> mips -> visibility kernel, one instance per render.

@@ -94,7 +94,7 @@ class ParallelSplitVariance final : public Technique {
         // Step 2d: the kernel shrinks with the split's zoom (texels of split 0).
         BlurConfig scaled = momentBlurConfig(params_);
         scaled.scale = plan.views[0].gpu.texelScale / v.texelScale;
-        scratch_.allocate(ctx, blurMomentsScratch(ctx, shape, scaled, storage));
+        scratch_.allocate(ctx, blurMomentsScratch(ctx, shape, scaled, storage, config.kind));
         blurMoments(ctx, depth, config, maps.moments, scratch_, shape.width, shape.height, scaled);
       } else {
         computeMoments(ctx, depth, shape.width, shape.height, config, maps.moments);

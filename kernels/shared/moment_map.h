@@ -6,6 +6,7 @@
 #define PENUMBRA_KERNELS_SHARED_MOMENT_MAP_H
 
 #include "kernels/shared/common.h"
+#include "kernels/shared/moments.h"
 #include "kernels/shared/pyramid.h"
 #include "kernels/shared/storage.h"
 
@@ -32,10 +33,11 @@ typedef struct MomentShade {
   float occluderDistance;  // savsm, light mode: typical occluder-receiver distance (world units)
   float blurSigma;         // standard deviation of the moment blur in texels (0: none)
   float filterBias;        // receiver-plane bias in standard deviations of the filter footprint
+  uint esmLogSpace;        // esm: the map holds depths filtered in log space (1) or e^(c (d - 1)) (0)
 } MomentShade;
 
 #if PENUMBRA_HOST
-static_assert(sizeof(MomentShade) == 80, "MomentShade layout is shared with OpenCL C");
+static_assert(sizeof(MomentShade) == 84, "MomentShade layout is shared with OpenCL C");
 static_assert(offsetof(MomentShade, depthNear) == 16 && offsetof(MomentShade, widthMode) == 56);
 #else
 #include "kernels/shared/shadow_common.h"
@@ -81,6 +83,7 @@ inline float4 mm_fetch(__global const MomentScalar* data, uint channels, Pyramid
   x = clamp(x, 0, (int)l.width - 1);
   y = clamp(y, 0, (int)l.height - 1);
   size_t texel = (size_t)l.offset + (size_t)y * l.width + (size_t)x;
+  if (channels == 1) return (float4)(PN_VLOAD(1, texel, data), 0.0f, 0.0f, 0.0f);
   return channels == 4 ? PN_VLOAD(4, texel, data) : (float4)(PN_VLOAD(2, texel, data), 0.0f, 0.0f);
 }
 
@@ -93,6 +96,17 @@ inline float4 mm_bilinear(__global const MomentScalar* data, uint channels, Pyra
   float4 bottom = mix(mm_fetch(data, channels, l, x, y), mm_fetch(data, channels, l, x + 1, y), f.x);
   float4 top = mix(mm_fetch(data, channels, l, x, y + 1), mm_fetch(data, channels, l, x + 1, y + 1), f.x);
   return mix(bottom, top, f.y);
+}
+
+// mm_bilinear of ESM's log-space depths (one channel, kernels/shared/moments.h moments_log_mix with exponent c).
+inline float mm_bilinear_log(__global const MomentScalar* data, PyramidLevel l, float2 uv, float c) {
+  float2 t = uv - 0.5f;
+  float2 base = floor(t);
+  float2 f = t - base;
+  int x = (int)base.x, y = (int)base.y;
+  float bottom = moments_log_mix(mm_fetch(data, 1, l, x, y).x, mm_fetch(data, 1, l, x + 1, y).x, f.x, c);
+  float top = moments_log_mix(mm_fetch(data, 1, l, x, y + 1).x, mm_fetch(data, 1, l, x + 1, y + 1).x, f.x, c);
+  return moments_log_mix(bottom, top, f.y, c);
 }
 
 // Level `k` of the chain: the base buffer for 0, `mips` (levels 1..) otherwise.
@@ -110,6 +124,11 @@ inline float mm_lod(MomentShade s, float footprint) {
   return s.levels > 1 && footprint > 1.0f ? min(log2(footprint), (float)(s.levels - 1)) : 0.0f;
 }
 
+// uv in the texels of level l.
+inline float2 mm_level_uv(__constant const LightViewGpu* lv, PyramidLevel l, float2 uv) {
+  return uv * (float2)((float)l.width / (float)lv->width, (float)l.height / (float)lv->height);
+}
+
 inline float4 mm_sample(__global const MomentScalar* base, __global const MomentScalar* mips,
                         __constant const PyramidLevel* mipLevels, __constant const LightViewGpu* lv, MomentShade s,
                         float2 uv, float footprint) {
@@ -117,12 +136,24 @@ inline float4 mm_sample(__global const MomentScalar* base, __global const Moment
   int k = min((int)lod, (int)s.levels - 1);
   float f = lod - (float)k;
   PyramidLevel l0 = mm_level(lv, mipLevels, k);
-  float2 scale0 = (float2)((float)l0.width / (float)lv->width, (float)l0.height / (float)lv->height);
-  float4 m = mm_bilinear(k == 0 ? base : mips, s.channels, l0, uv * scale0);
+  float4 m = mm_bilinear(k == 0 ? base : mips, s.channels, l0, mm_level_uv(lv, l0, uv));
   if (f <= 0.0f || k + 1 >= (int)s.levels) return m;
   PyramidLevel l1 = mm_level(lv, mipLevels, k + 1);
-  float2 scale1 = (float2)((float)l1.width / (float)lv->width, (float)l1.height / (float)lv->height);
-  return mix(m, mm_bilinear(mips, s.channels, l1, uv * scale1), f);
+  return mix(m, mm_bilinear(mips, s.channels, l1, mm_level_uv(lv, l1, uv)), f);
+}
+
+// mm_sample of ESM's log-space depths: the levels' bilinear lookups and their blend in log space.
+inline float mm_sample_log(__global const MomentScalar* base, __global const MomentScalar* mips,
+                           __constant const PyramidLevel* mipLevels, __constant const LightViewGpu* lv, MomentShade s,
+                           float2 uv, float footprint, float c) {
+  float lod = mm_lod(s, footprint);
+  int k = min((int)lod, (int)s.levels - 1);
+  float f = lod - (float)k;
+  PyramidLevel l0 = mm_level(lv, mipLevels, k);
+  float d = mm_bilinear_log(k == 0 ? base : mips, l0, mm_level_uv(lv, l0, uv), c);
+  if (f <= 0.0f || k + 1 >= (int)s.levels) return d;
+  PyramidLevel l1 = mm_level(lv, mipLevels, k + 1);
+  return moments_log_mix(d, mm_bilinear_log(mips, l1, mm_level_uv(lv, l1, uv), c), f, c);
 }
 
 // The receiver-plane bias of a filtered lookup: over a filter footprint whose offsets have standard
@@ -135,11 +166,9 @@ inline float mm_filtered_t(MomentReceiver r, MomentShade s, float sigma) {
   return r.t - s.filterBias * r.tSlope * sigma;
 }
 
-// Lookup for receiver `r` with the technique's sampling. Reports the filter width used (texels) and moves
-// r->t in front of the receiver's own spread over the blur and mip footprint.
-inline float4 mm_lookup(__global const MomentScalar* base, __global const MomentScalar* mips,
-                        __constant const PyramidLevel* mipLevels, __constant const LightViewGpu* lv, MomentShade s,
-                        MomentReceiver* r, float* width) {
+// The filter width (texels) of receiver `r`'s lookup, and r->t moved in front of the receiver's own spread over the
+// blur and mip footprint.
+inline void mm_lookup_footprint(MomentShade s, MomentReceiver* r, float* width) {
   float lod = mm_lod(s, r->footprint);
   float size = exp2(floor(lod)), f = lod - floor(lod);
   *width = size * (1.0f + f);
@@ -147,7 +176,22 @@ inline float4 mm_lookup(__global const MomentScalar* base, __global const Moment
   // bilinear tent (2^2k / 6), blended with level k+1 (twice the size) by the fraction f.
   float sigma = sqrt(s.blurSigma * s.blurSigma + 0.25f * size * size * (1.0f + 3.0f * f));
   r->t = mm_filtered_t(*r, s, sigma);
+}
+
+// Lookup for receiver `r` with the technique's sampling (mm_lookup_footprint, then mm_sample).
+inline float4 mm_lookup(__global const MomentScalar* base, __global const MomentScalar* mips,
+                        __constant const PyramidLevel* mipLevels, __constant const LightViewGpu* lv, MomentShade s,
+                        MomentReceiver* r, float* width) {
+  mm_lookup_footprint(s, r, width);
   return mm_sample(base, mips, mipLevels, lv, s, r->uv, r->footprint);
+}
+
+// mm_lookup of ESM's log-space depths (exponent c): the filtered D of e^(c D).
+inline float mm_lookup_log(__global const MomentScalar* base, __global const MomentScalar* mips,
+                           __constant const PyramidLevel* mipLevels, __constant const LightViewGpu* lv, MomentShade s,
+                           MomentReceiver* r, float* width, float c) {
+  mm_lookup_footprint(s, r, width);
+  return mm_sample_log(base, mips, mipLevels, lv, s, r->uv, r->footprint, c);
 }
 
 // Per-pixel outputs: visibility and the debug layers (filtered moments; variance and filter width).

@@ -19,6 +19,7 @@
 #define PN_VSTORE_HALF_1 vstore_half_rte
 #define PN_VSTORE_HALF_2 vstore_half2_rte
 #define PN_VSTORE_HALF_4 vstore_half4_rte
+#define PN_VLOAD_FLOAT_1(i, p) ((p)[i])
 #define PN_VLOAD_FLOAT_2 vload2
 #define PN_VLOAD_FLOAT_4 vload4
 

@@ -49,8 +49,11 @@ void msmDecode(const double q[4], double out[4]) {
 
 std::vector<double> moments(const std::vector<float>& depth, const MomentsConfig& config) {
   const size_t n = depth.size();
-  // Its own layout arithmetic, not the stage's: four moments for EVSM4 and MSM, two otherwise; one plane per LVSM layer.
-  const size_t channels = config.kind == MomentKind::Evsm4 || config.kind == MomentKind::Msm ? 4 : 2;
+  // Its own layout arithmetic, not the stage's: four moments for EVSM4 and MSM, one for ESM, two otherwise; one plane
+  // per LVSM layer.
+  const size_t channels = config.kind == MomentKind::Evsm4 || config.kind == MomentKind::Msm ? 4
+                          : config.kind == MomentKind::Esm                                   ? 1
+                                                                                             : 2;
   const size_t planes = config.kind == MomentKind::Lvsm ? config.layers.size() : 1;
   std::vector<double> out(n * channels * planes);
   const double cp = clampExponent(config.evsmPositive, config.storage);
@@ -62,6 +65,12 @@ std::vector<double> moments(const std::vector<float>& depth, const MomentsConfig
       case MomentKind::Vsm:
         o[0] = d, o[1] = d * d;
         break;
+      case MomentKind::Esm: {  // e^(c (d - 1)), or in log space the depth itself
+        const double c =
+            std::clamp(double(config.esmExponent), 0.0, config.storage == MomentStorage::Float16 ? 8.0 : 1000.0);
+        o[0] = c >= 1.0 && c <= 80.0 ? std::exp(c * (d - 1.0)) : d;
+        break;
+      }
       case MomentKind::Evsm2:
       case MomentKind::Evsm4: {
         const double pos = std::exp(cp * (2 * d - 1)), neg = -std::exp(-cn * (2 * d - 1));
