@@ -125,6 +125,28 @@ TEST_F(MultiLight, EachLightMayHaveItsOwnTechnique) {
   EXPECT_NE(techniques.find("Sun=sm ("), std::string::npos) << techniques;
 }
 
+// Each light's per-frame choices reach the header: the first light's under their own names, the others' under their
+// layer's (two moment lights, each picking its blur radius and esm its exponent).
+TEST_F(MultiLight, EveryLightRecordsItsAutoChoices) {
+  const Scene scene = test::squareOverPlane();
+  std::vector<Light> lights = spotAndSun();
+  lights[0].radius = 0.2f;
+  lights[1].angularRadiusDeg = 2.0f;
+  std::vector<FrameLight> frame = withTechnique(lights, "vsm");
+  const TechniqueInfo& esm = findTechnique("esm");
+  frame[1].technique = &esm;
+  frame[1].params = Params(esm.params);
+  Renderer renderer(ctx(), scene);
+  const Image both = renderer.render(test::topDown(), frame).image;
+  const auto& a = both.attributes();
+  ASSERT_EQ(a.count("penumbra:blur-radius"), 1u);
+  ASSERT_EQ(a.count("penumbra:Sun:blur-radius"), 1u);
+  ASSERT_EQ(a.count("penumbra:Sun:esm-exponent"), 1u);
+  EXPECT_EQ(a.count("penumbra:esm-exponent"), 0u) << "the first light is vsm's";
+  EXPECT_EQ(a.at("penumbra:Sun:blur-radius").rfind("auto ", 0), 0u) << a.at("penumbra:Sun:blur-radius");
+  EXPECT_EQ(a.at("penumbra:Sun:esm-exponent").rfind("auto ", 0), 0u) << a.at("penumbra:Sun:esm-exponent");
+}
+
 TEST_F(MultiLight, SameNamedLightsGetDistinctLayers) {
   std::vector<Light> lights = spotAndSun();
   lights[0].name = lights[1].name = "Lamp";

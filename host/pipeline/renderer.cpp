@@ -54,11 +54,20 @@ MemoryPlan checkedPlan(const Scene& scene, const Camera& camera, const std::vect
   return plan;
 }
 
-// The header's record of the techniques: the first light's, and every light's when there are several.
-void recordTechniques(const std::vector<FrameLight>& lights, std::map<std::string, std::string> firstAttributes,
-                      Image& image) {
+// The header's record of the techniques: the first light's, and every light's when there are several. Each light's
+// per-frame choices (`penumbra:blur-radius`, ...): the first light's under their own names, every further light's as
+// `penumbra:LAYER:NAME` (`penumbra:Sun:blur-radius`).
+void recordTechniques(const std::vector<FrameLight>& lights,
+                      const std::vector<std::map<std::string, std::string>>& lightAttributes, Image& image) {
   auto& attributes = image.attributes();
-  attributes.insert(firstAttributes.begin(), firstAttributes.end());
+  for (size_t i = 0; i < lightAttributes.size(); ++i)
+    for (const auto& [key, value] : lightAttributes[i]) {
+      constexpr std::string_view kPrefix = "penumbra:";
+      if (i == 0)
+        attributes[key] = value;
+      else if (key.starts_with(kPrefix))
+        attributes[fmt::format("{}{}:{}", kPrefix, lightLayer(lights[i].light), key.substr(kPrefix.size()))] = value;
+    }
   attributes["penumbra:technique"] = lights[0].technique->name;
   attributes["penumbra:parameters"] = lights[0].params.describe();
   if (lights.size() < 2) return;
@@ -123,7 +132,7 @@ RenderResult Renderer::render(const Camera& camera, const std::vector<FrameLight
   slots_.resize(lights.size());  // fewer lights than last frame free the slots no longer used
 
   std::vector<LightVisibility> layers;
-  std::map<std::string, std::string> firstAttributes;
+  std::vector<std::map<std::string, std::string>> lightAttributes;
   for (size_t i = 0; i < lights.size(); ++i) {
     const Light& light = lights[i].light;
     Slot& slot = slots_[i];
@@ -132,7 +141,7 @@ RenderResult Renderer::render(const Camera& camera, const std::vector<FrameLight
           if (slot.visibility.size() != count) slot.visibility.allocate(ctx_, count);
           return shadow(camera, lights[i], slot);
         });
-    if (i == 0) firstAttributes = std::move(attributes);
+    lightAttributes.push_back(std::move(attributes));
     layers.push_back({&light, &slot.visibility});
   }
 
@@ -154,7 +163,7 @@ RenderResult Renderer::render(const Camera& camera, const std::vector<FrameLight
                                                  : emptyFrameWarning(scene_, camera, seesSurface(ctx_, gbuffer_));
   if (warning) result.warnings.push_back(*warning);
   result.image.flipRows();  // the rasterizer's row 0 is the bottom row (frameChannels' readers flip their own)
-  recordTechniques(lights, std::move(firstAttributes), result.image);
+  recordTechniques(lights, lightAttributes, result.image);
   result.passes = profiler.resolve();
   return result;
 }
