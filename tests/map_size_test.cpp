@@ -174,6 +174,7 @@ TEST_F(MapSize, TheRendererSizesMapsToTheFrameForSpotAndPointLights) {
   const TechniqueInfo& sm = findTechnique("sm");
   Params params(sm.params);
   params.set("map-size", "auto");
+  params.set("map-size-min", "256");  // below the default floor (2048), so the frames' own needs show
   params.set("map-size-max", "8192");
   for (const char* spec : {"spot:0,4,0:0,0,0:120", "point:0.3,3,0.2"}) {
     Camera camera = test::topDown();
@@ -191,6 +192,22 @@ TEST_F(MapSize, TheRendererSizesMapsToTheFrameForSpotAndPointLights) {
     }
     EXPECT_GE(sizes[1], 2 * sizes[0]) << spec << ": four times the pixels across need larger maps";
     EXPECT_GE(sizes[0], 256) << spec;
+  }
+}
+
+// The default: auto, never below the fixed 2048 it replaced (the pixels' need bounds what a scene needs from below
+// only), for every technique with one uniform map; the split and jittered techniques keep 2048.
+TEST(MapSizeDefaults, AutoWithTheFixedSizeAsItsFloor) {
+  for (const char* name : {"sm", "pcf", "pcss", "vsm", "evsm2", "evsm4", "esm", "msm", "savsm", "vssm", "lvsm"}) {
+    const Params params(findTechnique(name).params);
+    EXPECT_TRUE(params.isAuto("map-size")) << name;
+    EXPECT_EQ(params.getInt("map-size-min"), 2048) << name;
+    EXPECT_EQ(params.getInt("map-size-max"), 4096) << name;
+  }
+  for (const char* name : {"pssm", "psvsm", "jittered"}) {
+    const Params params(findTechnique(name).params);
+    EXPECT_FALSE(params.isAuto("map-size")) << name;
+    EXPECT_EQ(params.getInt("map-size"), 2048) << name;
   }
 }
 

@@ -13,16 +13,23 @@
 
 namespace penumbra {
 
+namespace {
+// The fixed size before auto became the default, and auto's smallest: the camera's pixels bound what a scene needs
+// from below only (casters can hold finer detail than their receivers' pixels: docs/techniques/README.md).
+constexpr int kMapSizeFixed = 2048;
+}  // namespace
+
 std::vector<ParamSpec> shadowMapParams() {
-  ParamSpec mapSize{"map-size", 2048, 16, 8192,
+  ParamSpec mapSize{"map-size", 0, 16, 8192,
                     "Shadow-map width and height in texels, or auto: the size the camera's pixels need "
                     "(--map-size-quantile of them get a texel per pixel), a power of two within "
                     "--map-size-min..--map-size-max"};
-  mapSize.autoName = "auto";
+  mapSize.autoName = "auto";  // autoValue 0: the default
   return {
       mapSize,
       {"map-size-quantile", 0.9, 0.01, 1, "--map-size auto: the share of the camera's pixels that get a texel each"},
-      {"map-size-min", 256, 16, 8192, "--map-size auto: the smallest size"},
+      {"map-size-min", kMapSizeFixed, 16, 8192,
+       "--map-size auto: the smallest size (the pixels' need is a lower bound: casters may hold finer detail)"},
       {"map-size-max", 4096, 16, 8192, "--map-size auto: the largest size"},
       {"fit", 1, 0, 1, "Light frustum fitted to the whole scene, or to the receivers the camera sees", {"scene", "receivers"}},
       {"bias", 1.0, 0, 100, "Constant depth bias, in texel footprints at the receiver"},
@@ -45,6 +52,7 @@ void fixMapSize(std::vector<ParamSpec>& params, const std::string& why) {
   for (ParamSpec& spec : params)
     if (spec.name == "map-size") {
       spec.autoName.clear();
+      spec.defaultValue = kMapSizeFixed;
       spec.help = fmt::format("Shadow-map width and height in texels (no auto: {})", why);
     }
 }
