@@ -12,17 +12,18 @@ namespace {
 
 penumbra::MomentsConfig momentsConfig(const pn_moments_config* c, const char* function) {
   require(c, function, "config");
-  checkEnum(c->kind, 5, function, "moment kind");
+  checkEnum(c->kind, 6, function, "moment kind");
   checkEnum(c->storage, 2, function, "moment storage");
   penumbra::MomentsConfig config;
-  const penumbra::MomentKind kinds[] = {penumbra::MomentKind::Vsm, penumbra::MomentKind::Evsm2,
+  const penumbra::MomentKind kinds[] = {penumbra::MomentKind::Vsm,   penumbra::MomentKind::Evsm2,
                                         penumbra::MomentKind::Evsm4, penumbra::MomentKind::Lvsm,
-                                        penumbra::MomentKind::Msm};
+                                        penumbra::MomentKind::Msm,   penumbra::MomentKind::Esm};
   config.kind = kinds[c->kind];
   config.depthNear = c->depth_near;
   config.depthFar = c->depth_far;
   config.evsmPositive = c->evsm_positive;
   config.evsmNegative = c->evsm_negative;
+  config.esmExponent = c->esm_exponent;
   config.storage =
       c->storage == PN_STORAGE_FLOAT16 ? penumbra::MomentStorage::Float16 : penumbra::MomentStorage::Float32;
   if (c->layer_count > 0) require(c->layers, function, "config->layers");
@@ -58,11 +59,12 @@ extern "C" {
 void pn_moments_config_init(pn_moments_config* config) {
   if (config == nullptr) return;
   const penumbra::MomentsConfig d;
-  *config = pn_moments_config{PN_MOMENTS_VSM, d.depthNear,        d.depthFar, d.evsmPositive,
-                              d.evsmNegative, PN_STORAGE_FLOAT32, nullptr,    0};
+  *config = pn_moments_config{PN_MOMENTS_VSM,     d.depthNear, d.depthFar, d.evsmPositive, d.evsmNegative,
+                              PN_STORAGE_FLOAT32, nullptr,     0,          d.esmExponent};
 }
 
 uint32_t pn_moment_channels(pn_moment_kind kind) {
+  if (kind == PN_MOMENTS_ESM) return 1u;
   return kind == PN_MOMENTS_EVSM4 || kind == PN_MOMENTS_MSM ? 4u : 2u;
 }
 

@@ -46,21 +46,21 @@ py::array runMoments(const Context& ctx, const Array<float>& depth, const Moment
 }
 
 MomentsConfig momentsConfig(const std::string& kind, float depthNear, float depthFar, float evsmPositive,
-                            float evsmNegative, const std::string& storage,
+                            float evsmNegative, float esmExponent, const std::string& storage,
                             const std::vector<std::pair<float, float>>& layers) {
-  static const std::map<std::string, MomentKind> kKinds = {{"vsm", MomentKind::Vsm},
-                                                           {"evsm2", MomentKind::Evsm2},
-                                                           {"evsm4", MomentKind::Evsm4},
-                                                           {"lvsm", MomentKind::Lvsm},
-                                                           {"msm", MomentKind::Msm}};
+  static const std::map<std::string, MomentKind> kKinds = {{"vsm", MomentKind::Vsm},     {"evsm2", MomentKind::Evsm2},
+                                                           {"evsm4", MomentKind::Evsm4}, {"lvsm", MomentKind::Lvsm},
+                                                           {"msm", MomentKind::Msm},     {"esm", MomentKind::Esm}};
   auto it = kKinds.find(kind);
-  if (it == kKinds.end()) throw py::value_error("moments: kind '" + kind + "' is not vsm, evsm2, evsm4, lvsm or msm");
+  if (it == kKinds.end())
+    throw py::value_error("moments: kind '" + kind + "' is not vsm, evsm2, evsm4, lvsm, msm or esm");
   if (storage != "float32" && storage != "float16")
     throw py::value_error("moments: storage '" + storage + "' is not float32 or float16");
   MomentsConfig config;
   config.kind = it->second;
   config.depthNear = depthNear, config.depthFar = depthFar;
   config.evsmPositive = evsmPositive, config.evsmNegative = evsmNegative;
+  config.esmExponent = esmExponent;
   config.storage = storage == "float16" ? MomentStorage::Float16 : MomentStorage::Float32;
   for (const auto& [p, q] : layers) config.layers.push_back({p, q});
   return config;
@@ -107,26 +107,29 @@ void bindStages(py::module_& m) {
       "moments",
       [](const Context& ctx, const Array<float>& depth, const std::string& kind, float depthNear, float depthFar,
          float evsmPositive, float evsmNegative, const std::string& storage,
-         const std::vector<std::pair<float, float>>& layers) {
+         const std::vector<std::pair<float, float>>& layers, float esmExponent) {
         const MomentsConfig config =
-            momentsConfig(kind, depthNear, depthFar, evsmPositive, evsmNegative, storage, layers);
+            momentsConfig(kind, depthNear, depthFar, evsmPositive, evsmNegative, esmExponent, storage, layers);
         return runMoments(ctx, depth, config, false, {});
       },
       "context"_a, "depth"_a, "kind"_a = "vsm", "depth_near"_a = 0.0f, "depth_far"_a = 1.0f, "evsm_positive"_a = 40.0f,
       "evsm_negative"_a = 5.0f, "storage"_a = "float32", "layers"_a = std::vector<std::pair<float, float>>{},
+      "esm_exponent"_a = 80.0f,
       "Moments of a (height, width) depth map: (height, width, channels), LVSM (layers, height, width, 2); float16 "
-      "storage returns the half bits as numpy float16.");
+      "storage returns the half bits as numpy float16. esm: e^(c (z - 1)) for esm_exponent c in [1, 80], else z.");
   m.def(
       "blur_moments",
       [](const Context& ctx, const Array<float>& depth, const std::string& kind, float depthNear, float depthFar,
-         const std::string& storage, const std::string& filter, float sigma, int radius, const std::string& method) {
-        const MomentsConfig config = momentsConfig(kind, depthNear, depthFar, 40.0f, 5.0f, storage, {});
+         const std::string& storage, const std::string& filter, float sigma, int radius, const std::string& method,
+         float esmExponent) {
+        const MomentsConfig config = momentsConfig(kind, depthNear, depthFar, 40.0f, 5.0f, esmExponent, storage, {});
         const BlurConfig blur = blurConfig(filter, sigma, radius, method);
         return runMoments(ctx, depth, config, true, blur);
       },
       "context"_a, "depth"_a, "kind"_a = "vsm", "depth_near"_a = 0.0f, "depth_far"_a = 1.0f, "storage"_a = "float32",
-      "filter"_a = "gaussian", "sigma"_a = 1.0f, "radius"_a = 1, "method"_a = "auto",
-      "The moments of a depth map blurred in one stage (equal to moments then blur).");
+      "filter"_a = "gaussian", "sigma"_a = 1.0f, "radius"_a = 1, "method"_a = "auto", "esm_exponent"_a = 80.0f,
+      "The moments of a depth map blurred in one stage (equal to moments then blur; esm outside exponents [1, 80]: "
+      "blurred in log space).");
   m.def("blur", &blurImage, "context"_a, "image"_a, "filter"_a = "gaussian", "sigma"_a = 1.0f, "radius"_a = 1,
         "method"_a = "auto", "Separable Gaussian or box blur with clamp-to-edge; the same shape back.");
 }

@@ -26,6 +26,8 @@ using test::Tolerance;
 constexpr Tolerance kVsmTol{1e-6, 1e-6};
 // exp(c x) with c = 42 amplifies the ~2e-7 error of x by c: 1e-5 relative, 2e-5 for the square.
 constexpr Tolerance kEvsmTol{1e-30, 3e-5};
+// ESM's e^(80 (d - 1)) (the default exponent): d's fp32 rounding (~3 ulp) times 80, relative.
+constexpr Tolerance kEsmTol{1e-6, 1e-5};
 // The MSM transform sums terms up to ~80 with cancellation: absolute error ~ 80 * 4 * 6e-8.
 constexpr Tolerance kMsmTol{5e-5, 0.0};
 // The published 10-digit matrices are inverse to about 1e-7 (conditioning ~1e3 for b3, b4).
@@ -72,6 +74,7 @@ MomentsConfig config(MomentKind kind) {
 
 Tolerance tolerance(MomentKind kind) {
   if (kind == MomentKind::Evsm2 || kind == MomentKind::Evsm4) return kEvsmTol;
+  if (kind == MomentKind::Esm) return kEsmTol;
   return kind == MomentKind::Msm ? kMsmTol : kVsmTol;
 }
 

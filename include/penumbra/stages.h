@@ -32,6 +32,8 @@ typedef enum pn_moment_kind {
   PN_MOMENTS_EVSM4 = 2, /**< Positive and negative warps: 4 channels. */
   PN_MOMENTS_LVSM = 3,  /**< One (z, z^2) plane per layer, each over its own depth interval: 2 channels a plane. */
   PN_MOMENTS_MSM = 4,   /**< Hamburger 4-moment, quantised (Peters & Klein 2015): 4 channels. */
+  PN_MOMENTS_ESM = 5,   /**< ESM, 1 channel: e^(c (z - 1)) for esm_exponent c in [1, 80], else z itself, which
+                             pn_blur_moments then blurs in log space (the D of e^(c D) = the blurred e^(c z)). */
   PN_MOMENT_KIND_MAX_ENUM = 0x7FFFFFFF /**< Not a value: makes the type as wide as int, so that any int a C caller
                                           passes is one of its values (and refused). */
 } pn_moment_kind;
@@ -39,7 +41,7 @@ typedef enum pn_moment_kind {
 /** How moments are stored: fp32 (float elements) or IEEE half (cl_half elements, rounded to nearest even). */
 typedef enum pn_moment_storage {
   PN_STORAGE_FLOAT32 = 0,                 /**< float. */
-  PN_STORAGE_FLOAT16 = 1,                 /**< cl_half; EVSM exponents are clamped to 5.54. */
+  PN_STORAGE_FLOAT16 = 1,                 /**< cl_half; EVSM exponents are clamped to 5.54, ESM's to 8. */
   PN_MOMENT_STORAGE_MAX_ENUM = 0x7FFFFFFF /**< Not a value: makes the type as wide as int, so that any int a C caller
                                              passes is one of its values (and refused). */
 } pn_moment_storage;
@@ -60,11 +62,12 @@ typedef struct pn_moments_config {
   pn_moment_storage storage;   /**< Element type of the output. */
   const pn_lvsm_layer* layers; /**< LVSM only: its layers. */
   size_t layer_count;          /**< LVSM only: 1..16 layers. */
+  float esm_exponent;          /**< ESM's c of e^(c z), z in [0, 1]: 0..1000, at most 8 with half storage. */
 } pn_moments_config;
 
-/** VSM, depth [0, 1], EVSM exponents 40 and 5, fp32, no layers. */
+/** VSM, depth [0, 1], EVSM exponents 40 and 5, ESM's 80, fp32, no layers. */
 PN_API void pn_moments_config_init(pn_moments_config* config);
-/** Floats (or halves) per texel of one plane of `kind`: 2 or 4. */
+/** Floats (or halves) per texel of one plane of `kind`: 1 (ESM), 2 or 4. */
 PN_API uint32_t pn_moment_channels(pn_moment_kind kind);
 
 /** Moments of `depth` (width * height floats of light depth; NaN and infinities count as the far value) into `out`
@@ -110,7 +113,8 @@ PN_API pn_status pn_blur(pn_context* context, cl_mem in, cl_mem out, cl_mem scra
 
 /** The moments of `depth` blurred, without the unblurred moments ever being written: bit for bit pn_moments then
  *  pn_blur over width x height x pn_moment_channels(kind). Any kind but LVSM; `out` holds elements of the storage
- *  type. `scratch` (NULL: a temporary) holds pn_blur_moments_scratch() floats. */
+ *  type; ESM with an exponent outside [1, 80] takes direct blurs only (radius at most 32 under PN_BLUR_AUTO). `scratch`
+ *  (NULL: a temporary) holds pn_blur_moments_scratch() floats. */
 PN_API pn_status pn_blur_moments(pn_context* context, cl_mem depth, uint32_t width, uint32_t height,
                                  const pn_moments_config* moments, const pn_blur_config* blur, cl_mem out,
                                  cl_mem scratch, cl_uint num_events_in_wait_list, const cl_event* event_wait_list,

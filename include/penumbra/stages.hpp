@@ -33,7 +33,8 @@ enum class MomentKind {
   Evsm2 = PN_MOMENTS_EVSM2,
   Evsm4 = PN_MOMENTS_EVSM4,
   Lvsm = PN_MOMENTS_LVSM,
-  Msm = PN_MOMENTS_MSM
+  Msm = PN_MOMENTS_MSM,
+  Esm = PN_MOMENTS_ESM
 };
 /// Moment element types (pn_moment_storage).
 enum class MomentStorage { Float32 = PN_STORAGE_FLOAT32, Float16 = PN_STORAGE_FLOAT16 };
@@ -53,6 +54,7 @@ struct MomentsConfig {
   float evsmNegative = 5.0f;                       ///< EVSM negative exponent (clamped likewise).
   MomentStorage storage = MomentStorage::Float32;  ///< Output element type.
   std::vector<LvsmLayer> layers;                   ///< LVSM only.
+  float esmExponent = 80.0f;                       ///< ESM's c of e^(c z) (log-space filters outside [1, 80]).
   /// As the C API takes it; its layers point into this config.
   pn_moments_config toC() const {
     static_assert(sizeof(LvsmLayer) == sizeof(pn_lvsm_layer), "LvsmLayer mirrors pn_lvsm_layer");
@@ -63,7 +65,8 @@ struct MomentsConfig {
             evsmNegative,
             static_cast<pn_moment_storage>(storage),
             reinterpret_cast<const pn_lvsm_layer*>(layers.data()),
-            layers.size()};
+            layers.size(),
+            esmExponent};
   }
 };
 

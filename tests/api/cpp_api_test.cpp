@@ -48,6 +48,7 @@ TEST(ApiCpp, DefaultsAreTheCApis) {
   EXPECT_EQ(mc.depth_far, m.depth_far);
   EXPECT_EQ(mc.evsm_positive, m.evsm_positive);
   EXPECT_EQ(mc.evsm_negative, m.evsm_negative);
+  EXPECT_EQ(mc.esm_exponent, m.esm_exponent);
   pn_blur_config b;
   pn_blur_config_init(&b);
   const pn_blur_config bc = BlurConfig().toC();

@@ -165,6 +165,19 @@ class Module(unittest.TestCase):
         half = penumbra.moments(self.context, depth, kind="vsm", depth_near=2, depth_far=10, storage="float16")
         self.assertEqual(half.dtype, np.float16)
         np.testing.assert_allclose(half.astype(np.float64), np.stack([z, z * z], -1), rtol=1.0 / 2048, atol=1e-6)
+        esm = penumbra.moments(self.context, depth, kind="esm", depth_near=2, depth_far=10, esm_exponent=20)
+        np.testing.assert_allclose(esm, np.exp(20 * (z - 1))[..., None], rtol=1e-5, atol=1e-12)
+        log_space = penumbra.moments(self.context, depth, kind="esm", depth_near=2, depth_far=10, esm_exponent=400)
+        np.testing.assert_allclose(log_space, z[..., None], atol=1e-6)
+        blurred = penumbra.blur_moments(self.context, depth, kind="esm", depth_near=2, depth_far=10,
+                                        esm_exponent=400, filter="box", radius=1)
+        self.assertEqual(blurred.shape, (23, 37, 1))
+        # Log space: D = m + ln(mean of e^(c (z - m))) / c over each 3x3 box (clamp-to-edge), m its largest tap.
+        padded = np.pad(z, 1, mode="edge")
+        taps = np.stack([padded[i:i + 23, j:j + 37] for i in range(3) for j in range(3)])
+        m = taps.max(0)
+        expected = m + np.log(np.exp(400 * (taps - m)).mean(0)) / 400
+        np.testing.assert_allclose(blurred[..., 0], expected, atol=2e-6)
 
         levels = penumbra.minmax_pyramid(self.context, depth)
         self.assertEqual([level.shape for level in levels], [(23, 37, 2), (11, 18, 2), (5, 9, 2), (2, 4, 2),

@@ -21,6 +21,8 @@ namespace {
 
 // fp32 normalisation is within ~3 ulp of the double value; squares double it (moments_test.cpp).
 constexpr Tolerance kVsmTol{1e-6, 1e-6};
+// ESM's e^(80 (d - 1)) carries d's fp32 rounding (~3 ulp) times 80 as relative error (measured 3.8e-6).
+constexpr Tolerance kEsmTol{1e-6, 1e-5};
 // The MSM transform sums terms up to ~80 with cancellation: absolute error ~ 80 * 4 * 6e-8.
 constexpr Tolerance kMsmTol{5e-5, 0.0};
 // Half storage: rounding to 11 significant bits, plus fp32's own error.
@@ -82,10 +84,12 @@ pn_moments_config momentsOf(pn_moment_kind kind) {
 // The internal config the reference reads, for the same settings.
 MomentsConfig refConfig(const pn_moments_config& c) {
   MomentsConfig config;
-  const MomentKind kinds[] = {MomentKind::Vsm, MomentKind::Evsm2, MomentKind::Evsm4, MomentKind::Lvsm, MomentKind::Msm};
+  const MomentKind kinds[] = {MomentKind::Vsm,  MomentKind::Evsm2, MomentKind::Evsm4,
+                              MomentKind::Lvsm, MomentKind::Msm,   MomentKind::Esm};
   config.kind = kinds[c.kind];
   config.depthNear = c.depth_near, config.depthFar = c.depth_far;
   config.evsmPositive = c.evsm_positive, config.evsmNegative = c.evsm_negative;
+  config.esmExponent = c.esm_exponent;
   config.storage = c.storage == PN_STORAGE_FLOAT16 ? MomentStorage::Float16 : MomentStorage::Float32;
   for (size_t i = 0; i < c.layer_count; ++i) config.layers.push_back({c.layers[i].p, c.layers[i].q});
   return config;
@@ -100,8 +104,11 @@ TEST_F(ApiStages, MomentsOnTheCallersBuffers) {
   };
   std::vector<Case> cases = {{momentsOf(PN_MOMENTS_VSM), kVsmTol},
                              {momentsOf(PN_MOMENTS_MSM), kMsmTol},
-                             {momentsOf(PN_MOMENTS_LVSM), kVsmTol}};
+                             {momentsOf(PN_MOMENTS_LVSM), kVsmTol},
+                             {momentsOf(PN_MOMENTS_ESM), kEsmTol},
+                             {momentsOf(PN_MOMENTS_ESM), kVsmTol}};
   cases[2].config.layers = layers, cases[2].config.layer_count = 2;
+  cases[4].config.esm_exponent = 400.0f;  // log space: the depths themselves
   for (const Case& c : cases) {
     const size_t count = depth.size() * pn_moment_channels(c.config.kind) * std::max<size_t>(1, c.config.layer_count);
     cl_mem in = cl().buffer(depth), out = cl().buffer<float>(count, nullptr, kPoison);
