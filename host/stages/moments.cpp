@@ -60,9 +60,12 @@ float evsmMaxExponent(MomentStorage storage) {
   return storage == MomentStorage::Float16 ? MOMENTS_EVSM_MAX_EXPONENT_FP16 : MOMENTS_EVSM_MAX_EXPONENT_FP32;
 }
 
+namespace {
+float clampExponent(float exponent, float max) { return std::isnan(exponent) ? 0.0f : std::clamp(exponent, 0.0f, max); }
+}  // namespace
+
 float evsmClampExponent(float exponent, MomentStorage storage) {
-  if (std::isnan(exponent)) return 0.0f;
-  return std::clamp(exponent, 0.0f, evsmMaxExponent(storage));
+  return clampExponent(exponent, evsmMaxExponent(storage));
 }
 
 float esmMaxExponent(MomentStorage storage) {
@@ -70,8 +73,7 @@ float esmMaxExponent(MomentStorage storage) {
 }
 
 float esmClampExponent(float exponent, MomentStorage storage) {
-  if (std::isnan(exponent)) return 0.0f;
-  return std::clamp(exponent, 0.0f, esmMaxExponent(storage));
+  return clampExponent(exponent, esmMaxExponent(storage));
 }
 
 bool esmLogSpace(float exponent) {

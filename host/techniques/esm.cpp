@@ -32,9 +32,9 @@ Params resolveExponent(ShadowFrame& frame, const ShadowMap& map, const Params& p
                                                      biasArgs(params), quantile, std::max(range, 1e-6f) / 16.0f);
   const double lo = params.get("esm-exponent-min"), hi = std::max(lo, params.get("esm-exponent-max"));
   const double normalised = d.distance / range;
-  const double exponent = d.pixels == 0 || !(normalised > 0.0)
-                              ? (d.pixels == 0 ? lo : hi)
-                              : std::clamp(std::log(1.0 / kUmbraLight) / normalised, lo, hi);
+  double exponent = lo;  // no shadowed pixel: nothing to darken
+  if (d.pixels > 0)      // occluders at distance 0 (contact) need the sharpest step
+    exponent = normalised > 0.0 ? std::clamp(std::log(1.0 / kUmbraLight) / normalised, lo, hi) : hi;
   Params resolved = params;
   resolved.set("esm-exponent", fmt::format("{:.6g}", exponent));
   frame.attributes["penumbra:esm-exponent"] =

@@ -224,9 +224,10 @@ void MomentTechnique::filterMomentsInto(Context& ctx, const MomentsConfig& confi
   }
   const PyramidLayout layout = pyramidLayout(shape.width, shape.height, 1);
   mips.allocate(ctx, layout.texels * shape.channels);
-  const float esmExponent = esmClampExponent(config.esmExponent, config.storage);
-  if (config.kind == MomentKind::Esm && esmLogSpace(esmExponent))
-    computeLogMomentMips(ctx, moments, shape, mips, esmExponent);
+  // ESM's form (and clamped exponent) as the moments stage took them.
+  const MomentsParams stage = momentsParams(config, shape.width, shape.height);
+  if (config.kind == MomentKind::Esm && stage.esmLogSpace)
+    computeLogMomentMips(ctx, moments, shape, mips, stage.expPositive);
   else
     computeMomentMips(ctx, moments, shape, mips);
   mipLevels_.allocate(ctx, layout.levels.size(), CL_MEM_READ_ONLY);
