@@ -43,4 +43,29 @@ expect camera-1e30 2 'eye x: 1e30 is outside \+-1e\+18' -- "$bin" render builtin
 expect scale-zero-warns 0 'warning: the frame sees no surface.*no extent' -- \
   "$bin" render "$corpus/gltf/hostile-scale-zero.gltf" --size 32x18 --map-size 64 -t sm -o "$scratch/zero.exr"
 
+# Outputs that are not regular files are never replaced (docs/robustness.md, Outputs): a FIFO is written in place and
+# stays a FIFO, a symlink is written through and stays a link, a directory is refused, a full device is an error.
+# (/dev/null itself is left alone here: tests/io_atomic_file_test.cpp checks it is written in place before writing.)
+mkfifo "$scratch/preview.fifo"
+cat "$scratch/preview.fifo" >"$scratch/from-fifo.png" &
+reader=$!
+expect png-into-fifo 0 'wrote .*preview.fifo' -- "$bin" render builtin:box -t sm --size 64x48 --map-size 256 \
+  -o "$scratch/fifo.exr" --png "$scratch/preview.fifo"
+wait "$reader"
+expect fifo-stays-fifo 0 'fifo' -- bash -c "[ -p '$scratch/preview.fifo' ] && echo fifo"
+expect fifo-carried-png 0 'PNG' -- bash -c "head -c 4 '$scratch/from-fifo.png' | od -c"
+mkdir -p "$scratch/real"
+ln -sf real/linked.exr "$scratch/link.exr"
+expect exr-through-symlink 0 'wrote' -- "$bin" render builtin:box -t sm --size 64x48 --map-size 256 \
+  -o "$scratch/link.exr" --png none
+expect symlink-kept 0 'kept' -- bash -c "[ -L '$scratch/link.exr' ] && [ -f '$scratch/real/linked.exr' ] && echo kept"
+expect output-directory 1 'real: is a directory' -- "$bin" render builtin:box -t sm --size 64x48 --map-size 256 \
+  -o "$scratch/out.exr" --png "$scratch/real"
+expect output-directory-keeps-nothing 0 'none' -- bash -c "[ ! -e '$scratch/out.exr' ] && echo none"
+if [ -c /dev/full ]; then
+  expect bench-csv-full-disk 1 '/dev/full: write failed: No space left on device' -- \
+    "$bin" bench builtin:box --techniques sm --size 32x24 --map-size 64 --runs 1 --warmup 0 --no-reference -o /dev/full
+  expect full-device-still-device 0 'device' -- bash -c "[ -c /dev/full ] && echo device"
+fi
+
 finish

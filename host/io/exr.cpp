@@ -30,6 +30,7 @@
 #include <new>
 #include <set>
 #include <span>
+#include <memory>
 #include <stdexcept>
 #include <string_view>
 
@@ -237,10 +238,10 @@ void writeExr(const std::filesystem::path& path, const ImageRows& image, const E
   std::vector<std::vector<float>> floats(names.size(), std::vector<float>(bandValues));
   // OutputFile converts nothing: a HALF channel needs a HALF slice, so those are converted here.
   std::vector<std::vector<half>> halves(names.size());
-  PendingFile file(path);
+  auto file = std::make_unique<PendingFile>(path);
   try {
     // The stream is named after the target so OpenEXR's own messages do not mention the temp file.
-    Imf::StdOFStream stream(file.stream(), path.c_str());
+    Imf::StdOFStream stream(file->stream(), path.c_str());
     Imf::OutputFile output(stream, header);
     for (int first = 0; first < image.height(); first += band) {
       const int rows = std::min(band, image.height() - first);
@@ -265,7 +266,7 @@ void writeExr(const std::filesystem::path& path, const ImageRows& image, const E
   } catch (const Iex::BaseExc& e) {  // the destructor of OutputFile has written the offset table
     fail(path, fmt::format("cannot write EXR: {}", e.what()));
   }
-  file.commit();
+  commitOrDefer(std::move(file), options.commitGroup);
 }
 
 Image readExr(const std::filesystem::path& path) {

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "host/io/atomic_file.h"
 #include "host/io/image.h"
 #include "host/io/image_rows.h"
 
@@ -33,6 +34,9 @@ struct ExrOptions {
   std::set<std::string> halfChannels;
   // The pixel memory of a write: whole 16-row blocks of every channel in about this many bytes (tests make it small).
   size_t bandBytes = size_t{32} << 20;
+  // When set, the written and synced file is renamed into place by the group's commit() (with the files written
+  // beside it, an EXR and its PNG preview) instead of at once.
+  CommitGroup* commitGroup = nullptr;
 };
 
 // Writes every channel of `image` (which must be non-empty and have at least one channel) and

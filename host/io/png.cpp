@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <memory>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -62,7 +63,7 @@ std::uint8_t quantise(float encoded) {
 class PngRowWriter {
  public:
   PngRowWriter(const std::filesystem::path& path, int width, int height, int components)
-      : file_(path), width_(width), components_(components) {
+      : target_(path), file_(std::make_unique<PendingFile>(path)), width_(width), components_(components) {
     png_.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, this, onError, onWarning);
     if (png_.png != nullptr) png_.info = png_create_info_struct(png_.png);
     if (png_.png == nullptr || png_.info == nullptr) fail("cannot create the PNG encoder (out of memory)");
@@ -78,15 +79,15 @@ class PngRowWriter {
   void row(const std::uint8_t* pixels) {
     if (!writeRow(png_.png, pixels)) fail(message_);
   }
-  // After the last row: the file's end, then the rename over the target.
-  void finish() {
+  // After the last row: the file's end, then the rename over the target (now, or by `group`'s commit).
+  void finish(CommitGroup* group = nullptr) {
     if (!end(png_.png, png_.info)) fail(message_);
-    file_.commit();
+    commitOrDefer(std::move(file_), group);
   }
 
  private:
   [[noreturn]] void fail(const char* why) const {
-    throw std::runtime_error(fmt::format("{}: cannot write PNG: {}", file_.target().string(), why));
+    throw std::runtime_error(fmt::format("{}: cannot write PNG: {}", target_.string(), why));
   }
   static PngRowWriter& self(png_structp png) { return *static_cast<PngRowWriter*>(png_get_error_ptr(png)); }
   static void onError(png_structp png, png_const_charp message) {
@@ -95,7 +96,7 @@ class PngRowWriter {
   }
   static void onWarning(png_structp, png_const_charp) {}
   static void onWrite(png_structp png, png_bytep data, size_t size) {
-    std::ofstream& stream = static_cast<PngRowWriter*>(png_get_io_ptr(png))->file_.stream();
+    std::ofstream& stream = static_cast<PngRowWriter*>(png_get_io_ptr(png))->file_->stream();
     if (!stream.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size)))
       png_error(png, "write failed (disk full?)");
   }
@@ -124,7 +125,8 @@ class PngRowWriter {
     ~Encoder() { png_destroy_write_struct(&png, &info); }
   };
 
-  PendingFile file_;
+  std::filesystem::path target_;
+  std::unique_ptr<PendingFile> file_;
   int width_, components_;
   Encoder png_;
   char message_[256] = "unknown libpng error";
@@ -246,7 +248,7 @@ void writePngPreview(const std::filesystem::path& path, const ImageRows& image, 
       png.row(row.data());
     }
   }
-  png.finish();
+  png.finish(options.commitGroup);
 }
 
 void writePngFalseColour(const std::filesystem::path& path, int width, int height, std::span<const float> values,

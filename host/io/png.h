@@ -10,6 +10,7 @@
 #include <span>
 #include <string>
 
+#include "host/io/atomic_file.h"
 #include "host/io/image.h"
 #include "host/io/image_rows.h"
 
@@ -48,6 +49,8 @@ struct PngOptions {
   std::string greyChannel;
   // The rows of R, G, B, A read at a time, in about this many bytes of floats (tests make it small).
   size_t bandBytes = size_t{8} << 20;
+  // When set, the written and synced file is renamed into place by the group's commit() (ExrOptions::commitGroup).
+  CommitGroup* commitGroup = nullptr;
 };
 
 // Writes channels R, G, B (required, else the error names the missing channel), plus A when the

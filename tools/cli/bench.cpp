@@ -9,14 +9,17 @@
 #include <fmt/ranges.h>
 
 #include <filesystem>
-#include <fstream>
 #include <memory>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
 
 #include "host/eval/bandwidth.h"
 #include "host/cl/context.h"
 #include "host/eval/bench_report.h"
 #include "host/eval/bench_stats.h"
 #include "host/eval/sweep.h"
+#include "host/io/atomic_file.h"
 #include "host/io/exr.h"
 #include "host/pipeline/frame_image.h"
 #include "host/pipeline/renderer.h"
@@ -130,12 +133,12 @@ void writeOutputs(const BenchOptions& o, const BenchMeta& meta, const std::vecto
     if (file.empty()) continue;
     const std::filesystem::path path = file;
     if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
-    std::ofstream out(path);
+    std::ostringstream text;
     if (file == o.output)
-      writeBenchCsv(out, meta, rows);
+      writeBenchCsv(text, meta, rows);
     else
-      out << benchJson(meta, rows).dump(2) << "\n";
-    if (!out) throw std::runtime_error(fmt::format("{}: cannot write", file));
+      text << benchJson(meta, rows).dump(2) << "\n";
+    writeFileAtomically(path, text.str());  // throws naming the file (a full disk, a refused path)
   }
 }
 

@@ -13,6 +13,7 @@
 #include "host/eval/bench_stats.h"
 #include "host/eval/metrics.h"
 #include "host/eval/shimmer.h"
+#include "host/io/atomic_file.h"
 #include "host/pipeline/renderer.h"
 #include "host/scene/light_names.h"
 #include "tools/cli/camera_path.h"
@@ -89,9 +90,7 @@ void writeRows(const BenchOptions& o, const std::string& device, const Camera& c
                        r.shimmer.maxAbs, r.shimmer.pixels);
   const std::filesystem::path path = o.output;
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
-  std::ofstream out(path);
-  out << csv.str();
-  if (!out) throw std::runtime_error(fmt::format("{}: cannot write", o.output));
+  writeFileAtomically(path, csv.str());
 }
 
 }  // namespace

@@ -71,14 +71,21 @@ std::string writeImageOutput(const ImageOutputPlan& plan, const Image& image) {
 }
 
 std::string writeImageOutput(const ImageOutputPlan& plan, const ImageRows& image) {
+  // Both files written and synced first, then renamed in that order: a failure of either leaves both old files.
+  CommitGroup group;
   if (plan.png) {
     createParent(*plan.png);
-    writePngPreview(*plan.png, image);
+    PngOptions options;
+    options.commitGroup = &group;
+    writePngPreview(*plan.png, image, options);
   }
   if (plan.exr) {
     createParent(*plan.exr);
-    writeExr(*plan.exr, image, plan.exrOptions);
+    ExrOptions options = plan.exrOptions;
+    options.commitGroup = &group;
+    writeExr(*plan.exr, image, options);
   }
+  group.commit();
   if (plan.exr && plan.png) return fmt::format("wrote {} and {}", plan.exr->string(), plan.png->string());
   return "wrote " + (plan.exr ? *plan.exr : *plan.png).string();
 }

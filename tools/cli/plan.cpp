@@ -7,6 +7,8 @@
 #include <memory>
 #include <sstream>
 
+#include <CLI/CLI.hpp>
+
 #include "host/io/atomic_file.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/scene_cache.h"
@@ -92,7 +94,7 @@ int run(const PlanOptions& o) {
   }
   const std::string text = manifestText(jobs, o, manifestDir);
   if (!manifestDir.empty()) fs::create_directories(manifestDir);
-  writeFileAtomically(o.output, {reinterpret_cast<const unsigned char*>(text.data()), text.size()});
+  writeFileAtomically(o.output, text);
   if (!o.quiet) fmt::print("wrote {} jobs to {}\n", jobs.size(), o.output);
   return 0;
 }
