@@ -32,7 +32,7 @@ struct Plan {
   bool empty() const { return scissorPixels == 0; }
 };
 
-// What a draw needs to know of the uploaded scene's materials (Rasterizer::setScene).
+// What a draw needs to know of the uploaded scene's materials (Rasterizer::setGeometry).
 struct SceneMaterials {
   bool alphaTested = false;     // some triangle is alpha-tested
   bool anySingleSided = false;  // some triangle's material is single-sided

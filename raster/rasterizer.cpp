@@ -28,12 +28,12 @@ void ensureTarget(Context& ctx, Buffer<T>& buffer, size_t count, const T& backgr
   buffer.fill(ctx, background);  // pixels outside a scissor are defined from the start
 }
 
-std::span<const float> floats(const std::vector<glm::vec3>& v) {
+std::span<const float> floats(std::span<const glm::vec3> v) {
   static_assert(sizeof(glm::vec3) == 3 * sizeof(float));
   return {reinterpret_cast<const float*>(v.data()), v.size() * 3};
 }
 
-void validateScene(const Scene& scene) {
+void validateGeometry(const RasterGeometry& scene) {
   if (scene.triangles.size() >= RASTER_NO_TRIANGLE || scene.positions.size() > RASTER_NO_TRIANGLE)
     throw std::invalid_argument(fmt::format("raster scene: {} triangles over {} vertices exceed 32-bit ids",
                                             scene.triangles.size(), scene.positions.size()));
@@ -53,10 +53,10 @@ void validateScene(const Scene& scene) {
 }  // namespace
 
 struct Rasterizer::Impl {
-  explicit Impl(Context& context) : ctx(context), stages(context) { upload(Scene{}); }
+  explicit Impl(Context& context) : ctx(context), stages(context) { upload(RasterGeometry{}); }
 
-  void upload(const Scene& scene);
-  void uploadMaterials(const Scene& scene);
+  void upload(const RasterGeometry& geometry);
+  void uploadMaterials(const RasterGeometry& geometry);
   void run(const raster::Plan& plan, Buffer<float>& depth, Buffer<uint32_t>& triangleIds);
   void sizeQueues(const raster::Plan& plan);
   bool grow(const char* queue, const char* kernel, uint32_t& capacity, uint64_t requested, size_t recordBytes,
@@ -73,8 +73,8 @@ struct Rasterizer::Impl {
   Buffer<uint32_t> noIds;
 };
 
-void Rasterizer::Impl::upload(const Scene& s) {
-  validateScene(s);
+void Rasterizer::Impl::upload(const RasterGeometry& s) {
+  validateGeometry(s);
   scene.vertexCount = static_cast<uint32_t>(s.positions.size());
   scene.triangleCount = static_cast<uint32_t>(s.triangles.size());
   scene.positions = Buffer<float>(ctx, floats(s.positions), CL_MEM_READ_ONLY);
@@ -85,7 +85,7 @@ void Rasterizer::Impl::upload(const Scene& s) {
   scene.triangles = Buffer<uint32_t>(
       ctx, std::span<const uint32_t>(reinterpret_cast<const uint32_t*>(s.triangles.data()), s.triangles.size() * 3),
       CL_MEM_READ_ONLY);
-  std::vector<uint32_t> objectIds = s.objectIds;
+  std::vector<uint32_t> objectIds(s.objectIds.begin(), s.objectIds.end());
   objectIds.resize(s.triangles.size(), 0);
   scene.objectIds = Buffer<uint32_t>(ctx, std::span<const uint32_t>(objectIds), CL_MEM_READ_ONLY);
   uploadMaterials(s);
@@ -93,7 +93,7 @@ void Rasterizer::Impl::upload(const Scene& s) {
 }
 
 // The alpha and sidedness tables (raster/alpha_tables.h); one placeholder entry each where a scene needs none.
-void Rasterizer::Impl::uploadMaterials(const Scene& s) {
+void Rasterizer::Impl::uploadMaterials(const RasterGeometry& s) {
   raster::MaterialTables tables = raster::materialTables(s);
   scene.materials = tables.summary;
   if (tables.triangleBits.empty()) tables.triangleBits.assign(1, 0u);
@@ -102,7 +102,7 @@ void Rasterizer::Impl::uploadMaterials(const Scene& s) {
   if (tables.materials.empty()) tables.materials.assign(1, AlphaMaterial{});
   static constexpr uint8_t kNoTexel = 0;
   const std::span<const uint8_t> texels = tables.summary.alphaTested && !s.alphaTexels.empty()
-                                              ? std::span<const uint8_t>(s.alphaTexels)
+                                              ? s.alphaTexels
                                               : std::span<const uint8_t>(&kNoTexel, 1);
   scene.triangleBits = Buffer<uint32_t>(ctx, std::span<const uint32_t>(tables.triangleBits), CL_MEM_READ_ONLY);
   scene.alphaIndex = Buffer<uint32_t>(ctx, std::span<const uint32_t>(tables.alphaIndex), CL_MEM_READ_ONLY);
@@ -186,7 +186,7 @@ void Rasterizer::Impl::run(const raster::Plan& plan, Buffer<float>& depth, Buffe
 Rasterizer::Rasterizer(Context& ctx) : impl_(std::make_unique<Impl>(ctx)) {}
 Rasterizer::~Rasterizer() = default;
 
-void Rasterizer::setScene(const Scene& scene) { impl_->upload(scene); }
+void Rasterizer::setGeometry(const RasterGeometry& geometry) { impl_->upload(geometry); }
 
 void Rasterizer::setCapacities(const RasterCapacities& capacities) {
   impl_->capacities = capacities;

@@ -12,8 +12,8 @@
 
 #include "host/cl/buffer.h"
 #include "host/cl/context.h"
-#include "host/scene/scene.h"
 #include "raster/constants.h"
+#include "raster/geometry.h"
 
 namespace penumbra {
 
@@ -61,7 +61,7 @@ struct RasterView {
 // Depth-only targets (shadow maps): width * height each, row-major, row 0 at the bottom (y up in NDC).
 struct RasterTargets {
   Buffer<float> depth;          // per DepthMode; +INFINITY where nothing was drawn
-  Buffer<uint32_t> triangleId;  // index into Scene::triangles, kNoTriangle where nothing was drawn
+  Buffer<uint32_t> triangleId;  // index into RasterGeometry::triangles, kNoTriangle where nothing was drawn
 };
 
 // The camera's G-buffer, reconstructed exactly from the visible triangle per pixel.
@@ -71,11 +71,11 @@ struct GBuffer {
   Buffer<cl_float4> position;   // world position (xyz), w = 1 where covered, 0 for background
   Buffer<cl_float4> normal;     // world shading normal (unit xyz, interpolated), w = geometric facing sign
   Buffer<uint32_t> triangleId;  // kNoTriangle for background
-  Buffer<uint32_t> objectId;    // Scene::objectIds of the visible triangle, kNoTriangle for background
+  Buffer<uint32_t> objectId;    // RasterGeometry::objectIds of the visible triangle, kNoTriangle for background
 };
 
 // What a conservative draw leaves (Rasterizer::drawTileLists): for every tile of the viewport, the triangles (indices
-// into Scene::triangles) whose exact projection may touch any point of the tile's area, so an exact test of a point
+// into RasterGeometry::triangles) whose exact projection may touch any point of the tile's area, so an exact test of a point
 // against the triangles of the tile it falls in misses no triangle that covers it. Tile t's entries are
 // entries[offset[t] .. offset[t] + count[t]); a triangle clipped into a fan can appear more than once. Tiles are
 // row-major from the bottom row. The buffers are the rasterizer's own: valid until its next draw.
@@ -115,10 +115,11 @@ class Rasterizer {
   Rasterizer(const Rasterizer&) = delete;
   Rasterizer& operator=(const Rasterizer&) = delete;
 
-  // Uploads the scene's world-space triangles once, with its alpha-tested triangles' texture coordinates, materials
-  // and alpha textures (the atlas: Scene::alphaTexels) and the per-triangle material bits when they are needed;
-  // later draws reuse them. Throws std::invalid_argument for inconsistent material data.
-  void setScene(const Scene& scene);
+  // Uploads the world-space triangles once, with the alpha-tested triangles' texture coordinates, materials and alpha
+  // textures (the atlas: RasterGeometry::alphaTexels) and the per-triangle material bits when they are needed; later
+  // draws reuse them. Throws std::invalid_argument for inconsistent geometry or material data. (A Scene:
+  // host/views/raster_scene.h's uploadScene.)
+  void setGeometry(const RasterGeometry& geometry);
 
   // Rasterizes into targets (allocated/resized as needed to view.width * view.height and cleared inside
   // the scissor). Launches are reported to the context's profiler under the stage name "raster".
@@ -137,7 +138,7 @@ class Rasterizer {
   // alphaTriangles, alphaMaterials, alphaTexels), for kernels that test against the triangles the rasterizer draws.
   const raster::SceneBuffers& deviceScene() const;
 
-  // Scene::objectIds of the uploaded scene on the device, one per triangle (0 where the scene gave none): what a
+  // RasterGeometry::objectIds of the uploaded scene on the device, one per triangle (0 where the scene gave none): what a
   // map's triangle ids resolve to for an object ID buffer.
   const Buffer<uint32_t>& objectIds() const;
 

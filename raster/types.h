@@ -29,7 +29,7 @@ typedef struct {
   int x[3], y[3];         // snapped vertices, subpixels (|x|, |y| <= RASTER_COORD_LIMIT)
   float invW[3];          // 1 / w_clip of the vertex opposite edge k
   float viewZOverW[3];    // -z_eye / w_clip of the vertex opposite edge k (eye units)
-  uint triangleId;        // index into Scene::triangles
+  uint triangleId;        // index into RasterGeometry::triangles
   uint flags;             // RASTER_FLAG_VALID | RASTER_FLAG_OWNS_EDGE0 << k | RASTER_FLAG_ALPHA | alpha index << 5
   raster_ushort bbox[4];  // candidate pixels: x0, y0, x1, y1 inclusive, inside the scissor
 } RasterTriangle;
@@ -75,7 +75,7 @@ typedef struct {
   int tileX0, tileY0, tilesAcross;     // launched tiles: those overlapping the scissor, row by row
   int depthMode;                       // RASTER_DEPTH_*
   int cullBackFaces;                   // 1: drop triangles clockwise in window space
-  uint triangleCount;                  // input triangles (Scene::triangles)
+  uint triangleCount;                  // input triangles (RasterGeometry::triangles)
   uint vertexCount;                    // input vertices
   uint extraCapacity;                  // set-up records beyond triangleCount
   uint binCapacity;                    // bin queue entries

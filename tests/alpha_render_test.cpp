@@ -18,9 +18,10 @@
 #include "tests/support/cl_test.h"
 #include "tests/support/render.h"
 #include "tools/reference/reference.h"
+#include "host/views/raster_scene.h"
 
 namespace penumbra {
-namespace {
+namespace alpha_render_test {
 
 // The card, holed (its MASK material) or opaque (the same material as OPAQUE: the baseline).
 Scene cardScene(bool holes) {
@@ -92,7 +93,7 @@ TEST_F(AlphaRender, GBufferSeesTheGroundThroughTheHoles) {
   Camera camera = cardCamera(scene);
   camera.eye = {0.4f, 4.5f, 1.6f}, camera.target = {0.0f, 0.0f, 0.0f};  // close above: the card fills the view
   Rasterizer raster(ctx());
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   GBuffer g;
   raster.drawGBuffer(cameraView(camera, scene.bounds()), g);
   const std::vector<uint32_t> ids = g.triangleId.download(ctx());
@@ -142,5 +143,5 @@ TEST_F(AlphaRender, GBufferSeesTheGroundThroughTheHoles) {
   EXPECT_GT(throughHoles, 1000);
 }
 
-}  // namespace
+}  // namespace alpha_render_test
 }  // namespace penumbra

@@ -17,9 +17,10 @@
 #include "tests/support/render.h"
 #include "tools/reference/reference.h"
 #include "tests/support/temp_dir.h"
+#include "host/views/raster_scene.h"
 
 namespace penumbra {
-namespace {
+namespace camera_render_test {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
@@ -58,7 +59,7 @@ TEST_F(CameraRender, GBufferMatchesPrimaryRaysForGltfCameras) {
   for (Camera camera : scene.cameras) {
     camera.width = 96, camera.height = 72;
     Rasterizer raster(ctx());
-    raster.setScene(scene);
+    uploadScene(raster, scene);
     GBuffer gbuffer;
     raster.drawGBuffer(cameraView(camera, scene.bounds()), gbuffer);
     const std::vector<uint32_t> ids = gbuffer.triangleId.download(ctx());
@@ -137,5 +138,5 @@ TEST_F(CameraRender, LispsmFallsBackToTheUniformMapForOrthographicCameras) {
   EXPECT_EQ(warped.image.require("visibility.Y").data, uniform.image.require("visibility.Y").data);
 }
 
-}  // namespace
+}  // namespace camera_render_test
 }  // namespace penumbra

@@ -21,9 +21,10 @@
 #include "tests/support/cl_test.h"
 #include "tests/support/render.h"
 #include "tools/reference/tracer.h"
+#include "host/views/raster_scene.h"
 
 namespace penumbra {
-namespace {
+namespace izb_test {
 
 using test::renderWith;
 
@@ -69,7 +70,7 @@ TEST_F(Izb, ConservativeTileListsHoldEveryTriangleOverAPoint) {
     scene.triangles.push_back({base, base + 1, base + 2});
   }
   Rasterizer raster(ctx());
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   for (bool perspective : {true, false}) {
     RasterView view;
     view.width = 203, view.height = 137;
@@ -151,7 +152,7 @@ struct Agreement {
 Agreement agreement(Context& ctx, const Scene& scene, const Camera& camera, const Light& light,
                     const std::vector<float>& visibility, float tolerance) {
   Rasterizer raster(ctx);
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   GBuffer g;
   raster.drawGBuffer(cameraView(camera, scene.bounds()), g);
   const std::vector<cl_float4> position = g.position.download(ctx);
@@ -323,5 +324,5 @@ TEST_F(Izb, EmptyScenesAreLit) {
   for (float v : r.image.require("visibility.Y").data) EXPECT_EQ(v, 1.0f);
 }
 
-}  // namespace
+}  // namespace izb_test
 }  // namespace penumbra

@@ -12,9 +12,10 @@
 #include "raster/rasterizer.h"
 #include "tests/support/analytic_scenes.h"
 #include "tests/support/cl_test.h"
+#include "host/views/raster_scene.h"
 
 namespace penumbra {
-namespace {
+namespace light_fit_test {
 using test::ClTest;
 
 class LightFit : public ClTest {};
@@ -46,7 +47,7 @@ TEST_F(LightFit, ReceiverBoxMatchesTheGBufferOnTheHost) {
   Camera camera = test::topDown();
   camera.width = 97, camera.height = 61;  // odd sizes
   Rasterizer raster(ctx());
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   GBuffer g;
   raster.drawGBuffer(cameraView(camera, scene.bounds()), g);
   for (const char* spec : {"spot:0,4,0:0,0,0:120", "dir:1,-1,0.3"}) {
@@ -77,7 +78,7 @@ TEST_F(LightFit, CameraSeeingNothingGivesAnEmptyBoxAndTheWholeSceneFit) {
   Camera away = test::topDown();
   away.target = {0.0f, 20.0f, 5.0f};  // looks up, away from everything
   Rasterizer raster(ctx());
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   GBuffer g;
   raster.drawGBuffer(cameraView(away, scene.bounds()), g);
   const Light light = parseLight("dir:0,-1,0");
@@ -94,7 +95,7 @@ TEST_F(LightFit, EveryReceiverLandsInsideTheMarginAndTexelsShrink) {
   close.eye = {1.0f, 2.5f, 2.5f};  // sees a corner of the ground and part of the occluder
   close.target = {1.5f, 0.0f, 1.0f};
   Rasterizer raster(ctx());
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   GBuffer g;
   raster.drawGBuffer(cameraView(close, scene.bounds()), g);
   const std::vector<cl_float4> positions = g.position.download(ctx());
@@ -126,5 +127,5 @@ TEST_F(LightFit, EveryReceiverLandsInsideTheMarginAndTexelsShrink) {
   }
 }
 
-}  // namespace
+}  // namespace light_fit_test
 }  // namespace penumbra

@@ -13,9 +13,10 @@
 #include "tests/raster_support.h"
 #include "tests/reference/raster_ref.h"
 #include "tests/support/cl_test.h"
+#include "host/views/raster_scene.h"
 
 namespace penumbra::test {
-namespace {
+namespace raster_alpha_test {
 
 class RasterAlpha : public ClTest {};
 
@@ -68,7 +69,7 @@ TEST_P(RasterAlphaSoup, MatchesReference) {
       c.orthographic ? orthoView(97, 61, {0.5f, 1.0f, 6.0f}, {0, 0, 0}, {-2.2f, 2.0f, -1.9f, 2.1f}, 1.0f, 11.0f)
                      : perspectiveView(97, 61, {0.5f, 1.0f, 6.0f}, {0, 0, 0}, 50.0f, 0.5f, 20.0f);
   Rasterizer raster(ctx());
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   const RasterOutput out = drawPoisoned(ctx(), raster, view);
   const RefRasterizer ref(scene, view);
   const RasterComparison cmp = compareWithReference(out, ref, view, 10.0);
@@ -105,7 +106,7 @@ TEST_F(RasterAlpha, ClippedMaskedTrianglesMatchReference) {
   s.uvs = {{0, 0}, {200, 0}, {200, 200}, {0, 200}};  // one texture repeat per 4 world units
   const RasterView view = perspectiveView(128, 96, {0.3f, 0.5f, 2.0f}, {0, -1, -3}, 70.0f, 0.05f, 100.0f);
   Rasterizer raster(ctx());
-  raster.setScene(s);
+  uploadScene(raster, s);
   const RasterOutput out = drawPoisoned(ctx(), raster, view);
   const RefRasterizer ref(s, view);
   EXPECT_GT(ref.fannedTriangles(), 0u);
@@ -147,7 +148,7 @@ TEST_F(RasterAlpha, ShadowMapHasNoDepthInTheHole) {
           perspective ? perspectiveView(64, 64, {0, 0, 4}, {0, 0, 0}, 53.13010235f, 1.0f, 10.0f)  // 4x4 at z = 0
                       : orthoView(64, 64, {0, 0, 4}, {0, 0, 0}, {-2, 2, -2, 2}, 1.0f, 10.0f);
       Rasterizer raster(ctx());
-      raster.setScene(scene);
+      uploadScene(raster, scene);
       const RasterOutput out = drawPoisoned(ctx(), raster, view);
       const float texel = 4.0f / 64;  // card units per map texel at z = 0 (both views)
       int hole = 0, frame = 0;
@@ -184,7 +185,7 @@ TEST_F(RasterAlpha, SingleSidedBackFacesAreCulledOnlyWhereTheViewAsks) {
     RasterView view = orthoView(64, 64, {0, 0, -4}, {0, 0, 0}, {-2, 2, -2, 2}, 1.0f, 10.0f);
     view.cullSingleSided = true;
     Rasterizer raster(ctx());
-    raster.setScene(scene);
+    uploadScene(raster, scene);
     GBuffer g;
     raster.drawGBuffer(view, g);
     const std::vector<uint32_t> seen = g.triangleId.download(ctx());
@@ -228,13 +229,13 @@ TEST_F(RasterAlpha, OpaqueTrianglesAreDrawnBitForBitAsWithoutMaterials) {
     const RasterView view = ortho ? orthoView(131, 67, {0.5f, 1, 6}, {0, 0, 0}, {-2.2f, 2, -1.9f, 2.1f}, 1, 11)
                                   : perspectiveView(131, 67, {0.5f, 1, 6}, {0, 0, 0}, 50, 0.5f, 20);
     Rasterizer a(ctx()), b(ctx());
-    a.setScene(plain);
-    b.setScene(withMaterials);
+    uploadScene(a, plain);
+    uploadScene(b, withMaterials);
     const RasterOutput x = drawPoisoned(ctx(), a, view), y = drawPoisoned(ctx(), b, view);
     EXPECT_EQ(x.ids, y.ids);
     EXPECT_EQ(0, std::memcmp(x.depth.data(), y.depth.data(), x.depth.size() * sizeof(float)));
   }
 }
 
-}  // namespace
+}  // namespace raster_alpha_test
 }  // namespace penumbra::test

@@ -8,15 +8,16 @@
 #include "tests/raster_support.h"
 #include "tests/reference/raster_ref.h"
 #include "tests/support/cl_test.h"
+#include "host/views/raster_scene.h"
 
 namespace penumbra::test {
-namespace {
+namespace raster_coverage_test {
 
 class RasterCoverageTest : public ClTest {
  protected:
   RasterOutput draw(const Scene& scene, const RasterView& view) {
     Rasterizer raster(ctx());
-    raster.setScene(scene);
+    uploadScene(raster, scene);
     RasterOutput out = drawPoisoned(ctx(), raster, view);
     lastStats = raster.stats();
     return out;
@@ -73,9 +74,9 @@ void expectHalvesPartition(Context& ctx, const Scene& scene, const RasterView& v
     halves[h].objectIds.assign(halves[h].triangles.size(), 0);
   }
   Rasterizer raster(ctx);
-  raster.setScene(halves[0]);
+  uploadScene(raster, halves[0]);
   const RasterOutput even = drawPoisoned(ctx, raster, view);
-  raster.setScene(halves[1]);
+  uploadScene(raster, halves[1]);
   const RasterOutput odd = drawPoisoned(ctx, raster, view);
   size_t both = 0, differ = 0;
   for (size_t i = 0; i < whole.ids.size(); ++i) {
@@ -251,5 +252,5 @@ TEST_F(RasterCoverageTest, OneRowAndOneColumnViewports) {
   }
 }
 
-}  // namespace
+}  // namespace raster_coverage_test
 }  // namespace penumbra::test

@@ -10,9 +10,10 @@
 #include "tests/raster_support.h"
 #include "tests/reference/raster_ref.h"
 #include "tests/support/cl_test.h"
+#include "host/views/raster_scene.h"
 
 namespace penumbra::test {
-namespace {
+namespace raster_gbuffer_test {
 
 // Float ray-plane intersection (raster/gbuffer.cl): error <= kPositionUlps ulp of (|eye| + |hit|) / |cos|, where
 // cos is between the ray and the plane normal; measured worst about 2.
@@ -45,7 +46,7 @@ GBuffer poisonedGBuffer(Context& ctx, int width, int height) {
 
 RasterGBufferTest::Result RasterGBufferTest::check(const Scene& scene, const RasterView& view) {
   Rasterizer raster(ctx());
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   GBuffer g = poisonedGBuffer(ctx(), view.width, view.height);
   raster.drawGBuffer(view, g);
   const RasterOutput depthOnly = drawPoisoned(ctx(), raster, view);
@@ -160,7 +161,7 @@ TEST_F(RasterGBufferTest, SuzanneMatchesReference) {
   for (DepthMode mode : {DepthMode::kViewZ, DepthMode::kNdc}) {
     const RasterView view = perspectiveView(160, 120, {1.2f, 0.8f, 3.6f}, {0, 0, 0}, 45.0f, 0.5f, 20.0f, mode);
     Rasterizer raster(ctx());
-    raster.setScene(scene);
+    uploadScene(raster, scene);
     const RasterOutput out = drawPoisoned(ctx(), raster, view);
     const RefRasterizer ref(scene, view);
     const RasterComparison cmp = compareWithReference(out, ref, view, 10.0);
@@ -171,5 +172,5 @@ TEST_F(RasterGBufferTest, SuzanneMatchesReference) {
   EXPECT_GT(check(scene, camera).covered, 2000u);
 }
 
-}  // namespace
+}  // namespace raster_gbuffer_test
 }  // namespace penumbra::test

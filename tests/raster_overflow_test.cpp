@@ -11,9 +11,10 @@
 #include "tests/raster_support.h"
 #include "tests/reference/raster_ref.h"
 #include "tests/support/cl_test.h"
+#include "host/views/raster_scene.h"
 
 namespace penumbra::test {
-namespace {
+namespace raster_overflow_test {
 
 class RasterOverflowTest : public ClTest {};
 
@@ -30,14 +31,14 @@ TEST_F(RasterOverflowTest, TinyCapacitiesGrowAndMatch) {
   const Scene scene = clippedSoup();
   const RasterView view = clippedView();
   Rasterizer roomy(ctx());
-  roomy.setScene(scene);
+  uploadScene(roomy, scene);
   const RasterOutput expected = drawPoisoned(ctx(), roomy, view);
   EXPECT_EQ(roomy.stats().retries, 0);
   const size_t big = 1 << 20;
   const RasterCapacities cases[] = {{1, big, big}, {big, 1, big}, {big, big, 1}, {1, 1, 1}};
   for (const RasterCapacities& caps : cases) {
     Rasterizer tight(ctx());
-    tight.setScene(scene);
+    uploadScene(tight, scene);
     tight.setCapacities(caps);
     const RasterOutput out = drawPoisoned(ctx(), tight, view);
     SCOPED_TRACE(fmt::format("capacities {} {} {}", caps.extraTriangles, caps.binEntries, caps.tileEntries));
@@ -64,7 +65,7 @@ TEST_F(RasterOverflowTest, TinyCapacitiesGrowAndMatch) {
 TEST_F(RasterOverflowTest, HardMaximumIsACleanError) {
   const Scene scene = clippedSoup();
   Rasterizer raster(ctx());
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   RasterCapacities caps{1, 1, 1};
   caps.maxEntries = 64;
   raster.setCapacities(caps);
@@ -99,7 +100,7 @@ TEST_F(RasterOverflowTest, HostileVerticesAreDropped) {
                           {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}, {9, 10, 9}, {11, 12, 13}, {14, 0, 1}});
   const RasterView view = perspectiveView(61, 47, {0, 0, 3}, {0, 0, 0}, 60.0f, 0.1f, 10.0f);
   Rasterizer raster(ctx());
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   const RasterOutput out = drawPoisoned(ctx(), raster, view);
   size_t good = 0;
   for (uint32_t id : out.ids) {
@@ -114,7 +115,7 @@ TEST_F(RasterOverflowTest, HostileVerticesAreDropped) {
 TEST_F(RasterOverflowTest, OutOfRangeIndexIsRejectedAtUpload) {
   Scene scene = makeScene({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 3}});
   Rasterizer raster(ctx());
-  EXPECT_THROW(raster.setScene(scene), std::invalid_argument);
+  EXPECT_THROW(uploadScene(raster, scene), std::invalid_argument);
 }
 
 TEST_F(RasterOverflowTest, EverythingInOneTile) {
@@ -132,7 +133,7 @@ TEST_F(RasterOverflowTest, EverythingInOneTile) {
   view.projection = glm::ortho(0.0f, 37.0f, 0.0f, 29.0f, -1.0f, 1.0f);
   view.width = 37, view.height = 29;
   Rasterizer raster(ctx());
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   const RasterOutput out = drawPoisoned(ctx(), raster, view);
   const RefRasterizer ref(scene, view);
   const RasterComparison cmp = compareWithReference(out, ref, view, 1.0);
@@ -145,7 +146,7 @@ TEST_F(RasterOverflowTest, ManyTinyTriangles) {
   const Scene scene = triangleSoup(250000, 23, 1.6f, 0.01f);
   const RasterView view = perspectiveView(256, 192, {0, 0, 4.5f}, {0, 0, 0}, 50.0f, 0.5f, 20.0f);
   Rasterizer raster(ctx());
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   raster.setCapacities(RasterCapacities{16, 1000, 1000});
   const RasterOutput out = drawPoisoned(ctx(), raster, view);
   EXPECT_GT(raster.stats().retries, 0);
@@ -158,7 +159,7 @@ TEST_F(RasterOverflowTest, EveryLaunchIsProfiledUnderRaster) {
   Profiler profiler;
   ProfilerScope scope(ctx(), profiler);
   Rasterizer raster(ctx());
-  raster.setScene(clippedSoup());
+  uploadScene(raster, clippedSoup());
   drawPoisoned(ctx(), raster, clippedView());
   std::vector<std::string> names;
   for (const PassTime& pass : profiler.resolve()) names.push_back(pass.name);
@@ -167,5 +168,5 @@ TEST_F(RasterOverflowTest, EveryLaunchIsProfiledUnderRaster) {
     EXPECT_NE(std::find(names.begin(), names.end(), std::string("raster/") + kernel), names.end()) << kernel;
 }
 
-}  // namespace
+}  // namespace raster_overflow_test
 }  // namespace penumbra::test

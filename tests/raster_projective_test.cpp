@@ -7,9 +7,10 @@
 #include "tests/raster_support.h"
 #include "tests/reference/raster_ref.h"
 #include "tests/support/cl_test.h"
+#include "host/views/raster_scene.h"
 
 namespace penumbra::test {
-namespace {
+namespace raster_projective_test {
 
 // LiSPSM-like: x_c, y_c and w_c from eye x and y only (w_c from the y axis, perpendicular to the view axis z),
 // z_c from z and y. Rows over eye (x, y, z, 1); glm is column-major, so m[column][row].
@@ -44,7 +45,7 @@ TEST_P(RasterProjectiveSoup, MatchesReference) {
   view.projection = c.tilted ? tiltedPerspective(float(c.width) / float(c.height)) : warpLike();
   view.width = c.width, view.height = c.height, view.depthMode = DepthMode::kViewZ;
   Rasterizer raster(ctx());
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   const RasterOutput out = drawPoisoned(ctx(), raster, view);
   const RefRasterizer ref(scene, view);
   const RasterComparison cmp = compareWithReference(out, ref, view, 10.0);
@@ -80,7 +81,7 @@ double worstPlaneDepthError(Context& ctx, float sx, float sy, size_t& covered) {
   view.projection = warpLike();
   view.width = 83, view.height = 71, view.depthMode = DepthMode::kViewZ;
   Rasterizer raster(ctx);
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   const RasterOutput out = drawPoisoned(ctx, raster, view);
   const glm::dmat4 P(view.projection);
   covered = 0;
@@ -113,7 +114,7 @@ TEST_F(RasterProjective, WarpedPlaneStoresItsLinearDepth) {
 TEST_F(RasterProjective, RefusesGeneralMatricesOutsideLinearDepthAndSingularOnes) {
   const Scene scene = triangleSoup(10, 3, 1.0f, 0.5f);
   Rasterizer raster(ctx());
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   RasterTargets targets;
   RasterView view;
   view.view = glm::lookAt(glm::vec3(0, 0, 6), glm::vec3(0.0f), glm::vec3(0, 1, 0));
@@ -131,5 +132,5 @@ TEST_F(RasterProjective, RefusesGeneralMatricesOutsideLinearDepthAndSingularOnes
   EXPECT_THROW(raster.draw(view, targets), std::invalid_argument);
 }
 
-}  // namespace
+}  // namespace raster_projective_test
 }  // namespace penumbra::test

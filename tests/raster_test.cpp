@@ -12,9 +12,10 @@
 #include "tests/raster_support.h"
 #include "tests/reference/raster_ref.h"
 #include "tests/support/cl_test.h"
+#include "host/views/raster_scene.h"
 
 namespace penumbra::test {
-namespace {
+namespace raster_test {
 
 class RasterTest : public ClTest {};
 
@@ -46,7 +47,7 @@ TEST_P(RasterSoupTest, MatchesReference) {
   const Scene scene = triangleSoup(c.triangles, 1234 + c.width, 1.8f, c.size);
   const RasterView view = soupView(c);
   Rasterizer raster(ctx());
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   const RasterOutput out = drawPoisoned(ctx(), raster, view);
   const RefRasterizer ref(scene, view);
   const RasterComparison cmp = compareWithReference(out, ref, view, 10.0);
@@ -83,7 +84,7 @@ TEST_F(RasterTest, ScissorLeavesOutsideUntouched) {
   RasterView view = perspectiveView(150, 110, {0.5f, 1.0f, 6.0f}, {0, 0, 0}, 50.0f, 0.5f, 20.0f);
   view.scissor = Scissor{13, 21, 101, 90};  // not tile- or bin-aligned
   Rasterizer raster(ctx());
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   const RasterOutput out = drawPoisoned(ctx(), raster, view);
   const RefRasterizer ref(scene, view);
   const RasterComparison cmp = compareWithReference(out, ref, view, 10.0);
@@ -96,7 +97,7 @@ TEST_F(RasterTest, ScissorAcrossBinsAndOutsideViewport) {
   RasterView view = perspectiveView(300, 280, {0.5f, 1.0f, 6.0f}, {0, 0, 0}, 50.0f, 0.5f, 20.0f);
   view.scissor = Scissor{120, 100, 400, 141};  // crosses a bin border, clamped on the right
   Rasterizer raster(ctx());
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   const RasterOutput out = drawPoisoned(ctx(), raster, view);
   RasterView clamped = view;
   clamped.scissor = Scissor{120, 100, 300, 141};
@@ -122,7 +123,7 @@ TEST_F(RasterTest, TileMaskDrawsItsTilesOnlyAndEqualsAFullDrawThere) {
       }
     Buffer<uint32_t> maskBuffer(ctx(), std::span<const uint32_t>(mask));
     Rasterizer raster(ctx());
-    raster.setScene(scene);
+    uploadScene(raster, scene);
     const RasterOutput full = drawPoisoned(ctx(), raster, view);
     RasterView masked = view;
     masked.tileMask = &maskBuffer;
@@ -148,7 +149,7 @@ TEST_F(RasterTest, TileMaskDrawsItsTilesOnlyAndEqualsAFullDrawThere) {
   Buffer<uint32_t> small(ctx(), 63);
   view.tileMask = &small;
   Rasterizer raster(ctx());
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   RasterTargets targets;
   EXPECT_THROW(raster.draw(view, targets), std::invalid_argument);
   Buffer<uint32_t> enough(ctx(), 64);
@@ -162,7 +163,7 @@ TEST_F(RasterTest, EmptyScissorDrawsNothing) {
   RasterView view = perspectiveView(40, 30, {0, 0, 6}, {0, 0, 0}, 50.0f, 0.5f, 20.0f);
   view.scissor = Scissor{10, 10, 10, 20};
   Rasterizer raster(ctx());
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   const RasterOutput out = drawPoisoned(ctx(), raster, view);
   for (size_t i = 0; i < out.ids.size(); ++i) ASSERT_EQ(out.ids[i], kPoisonId);
 }
@@ -173,7 +174,7 @@ TEST_F(RasterTest, BackFaceCullingOnClosedMeshKeepsTheVisibleSurface) {
     RasterView view = perspectiveView(96, 80, {0.5f, 1.5f, 4.0f}, {0, 0, 0}, 50.0f, 0.5f, 20.0f);
     view.cullBackFaces = cull;
     Rasterizer raster(ctx());
-    raster.setScene(sphere);
+    uploadScene(raster, sphere);
     const RasterOutput out = drawPoisoned(ctx(), raster, view);
     const RefRasterizer ref(sphere, view);
     EXPECT_TRUE(matchesReference(compareWithReference(out, ref, view, 10.0))) << "cull " << cull;
@@ -190,7 +191,7 @@ TEST_F(RasterTest, BackFaceCullingDropsClockwiseTriangles) {
   RasterView view = orthoView(40, 20, {0, 0, 5}, {0, 0, 0}, {-2, 2, -1, 1}, 1, 10);
   view.cullBackFaces = true;
   Rasterizer raster(ctx());
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   const RasterOutput out = drawPoisoned(ctx(), raster, view);
   size_t left = 0, right = 0;
   for (uint32_t id : out.ids) left += id == 0, right += id == 1;
@@ -224,7 +225,7 @@ TEST_F(RasterTest, DeterministicAcrossRuns) {
   for (glm::vec3& p : scene.positions) p.z = 0.0f;
   const RasterView view = orthoView(97, 61, {0, 0, 5}, {0, 0, 0}, {-2, 2, -1.5f, 1.5f}, 1, 10);
   Rasterizer raster(ctx());
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   const RasterOutput a = drawPoisoned(ctx(), raster, view), b = drawPoisoned(ctx(), raster, view);
   EXPECT_EQ(a.ids, b.ids);
   EXPECT_EQ(a.depth, b.depth);
@@ -233,5 +234,5 @@ TEST_F(RasterTest, DeterministicAcrossRuns) {
   EXPECT_TRUE(matchesReference(cmp, cmp.covered));
 }
 
-}  // namespace
+}  // namespace raster_test
 }  // namespace penumbra::test

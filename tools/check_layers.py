@@ -6,14 +6,15 @@ import os
 import re
 import sys
 
-# Lowest first. The rasterizer and the filtering stages sit on the runtime and the scene; the views on the
-# rasterizer; techniques compose views and stages; the Renderer and the metrics use techniques; the public API,
-# the Python module and the tools sit on top.
+# Lowest first. The rasterizer sits on the runtime alone (it takes plain arrays, raster/geometry.h), beside the scene
+# and the I/O it may not include; the filtering stages on the runtime and the scene; the views on the rasterizer
+# and the scene (host/views/raster_scene.h is where they meet); techniques compose views and stages; the Renderer
+# and the metrics use techniques; the public API, the Python module and the tools sit on top.
 RANKS = {
     'kernels': 0,
     'host/cl': 1, 'host': 1,
-    'host/io': 2, 'host/scene': 2,
-    'host/stages': 3, 'raster': 3,
+    'host/io': 2, 'host/scene': 2, 'raster': 2,
+    'host/stages': 3,
     'host/views': 4,
     'host/techniques': 5,
     'host/pipeline': 6, 'host/eval': 6,

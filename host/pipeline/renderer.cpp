@@ -13,6 +13,7 @@
 #include "host/pipeline/memory_plan.h"
 #include "host/scene/light_names.h"
 #include "host/views/views.h"
+#include "host/views/raster_scene.h"
 
 namespace penumbra {
 namespace {
@@ -81,7 +82,7 @@ void recordTechniques(const std::vector<FrameLight>& lights,
 }  // namespace
 
 Renderer::Renderer(Context& ctx, const Scene& scene) : ctx_(ctx), scene_(scene), raster_(ctx) {
-  raster_.setScene(scene);
+  uploadScene(raster_, scene);
 }
 
 void Renderer::addDebugChannels(const Light& light, Slot& slot, Image& image) {

@@ -31,6 +31,7 @@
 #include "raster/rasterizer.h"
 #ifdef PENUMBRA_GL_PEER
 #include "tools/bench/gl_depth_peer.h"
+#include "host/views/raster_scene.h"
 #endif
 
 namespace penumbra {
@@ -157,7 +158,7 @@ void addCase(Context& ctx, const std::string& name, std::shared_ptr<const Scene>
       fmt::format("raster/{}/{}", name, view.width).c_str(),
       [&ctx, name, scene, view](benchmark::State& state) {
         Rasterizer raster(ctx);
-        raster.setScene(*scene);
+        uploadScene(raster, *scene);
         RasterTargets targets;
         raster.draw(view, targets);  // warm-up: builds kernels, grows the queues
         std::map<std::string, double> perKernel;
@@ -223,7 +224,7 @@ void runPeer(benchmark::State& state, Context& ctx, GlDepthPeer& peer, const Sce
   if (query) state.counters["gpu_query_us"] = benchmark::Counter(queryMs * 1e3 / n);
   state.counters["triangles"] = benchmark::Counter(static_cast<double>(scene.triangleCount()));
   Rasterizer raster(ctx);
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   RasterTargets targets;
   raster.draw(view, targets);
   size_t differ = 0;

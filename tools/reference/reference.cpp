@@ -14,6 +14,7 @@
 #include "host/scene/light_names.h"
 #include "host/views/views.h"
 #include "raster/rasterizer.h"
+#include "host/views/raster_scene.h"
 
 namespace penumbra::reference {
 namespace {
@@ -69,7 +70,7 @@ ReferenceResult renderReference(Context& ctx, const Scene& scene, const Camera& 
   const Bounds bounds = scene.bounds();
   const Clock::time_point start = Clock::now();
   Rasterizer raster(ctx);
-  raster.setScene(scene);
+  uploadScene(raster, scene);
   GBuffer gbuffer;
   raster.drawGBuffer(cameraView(camera, bounds), gbuffer);
   const std::vector<cl_float4> position = gbuffer.position.download(ctx), normal = gbuffer.normal.download(ctx);

@@ -1,0 +1,31 @@
+// Scene -> RasterGeometry: per material, alphaMaterial()'s record (host/scene/material.h) once its texture index is
+// checked; the arrays are the scene's own.
+#include "host/views/raster_scene.h"
+
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace penumbra {
+
+SceneGeometry::SceneGeometry(const Scene& scene) {
+  materials_.reserve(scene.materials.size());
+  for (const Material& m : scene.materials) {
+    if (m.alphaTexture >= 0 && static_cast<size_t>(m.alphaTexture) >= scene.alphaTextures.size())
+      throw std::invalid_argument(fmt::format("raster scene: material \"{}\": alpha texture {} out of range ({} textures)",
+                                              m.name, m.alphaTexture, scene.alphaTextures.size()));
+    materials_.push_back({alphaMaterial(m, scene.alphaTextures), m.mayDiscard(), m.doubleSided, m.name.c_str()});
+  }
+  geometry_.positions = scene.positions;
+  geometry_.normals = scene.normals;
+  geometry_.triangles = scene.triangles;
+  geometry_.objectIds = scene.objectIds;
+  geometry_.materials = materials_;
+  geometry_.materialIds = scene.materialIds;
+  geometry_.uvs = scene.uvs;
+  geometry_.alphaTexels = scene.alphaTexels;
+}
+
+void uploadScene(Rasterizer& raster, const Scene& scene) { raster.setGeometry(SceneGeometry(scene).geometry()); }
+
+}  // namespace penumbra

@@ -1,0 +1,32 @@
+// A Scene as the rasterizer's plain arrays (raster/geometry.h): its materials turned into the records the kernels
+// read (each alpha texture located in the scene's atlas), everything else viewed in place. The one place where
+// host/scene meets raster/.
+#pragma once
+
+#include <vector>
+
+#include "host/scene/scene.h"
+#include "raster/geometry.h"
+#include "raster/rasterizer.h"
+
+namespace penumbra {
+
+class SceneGeometry {
+ public:
+  // Views of `scene`, which must outlive this object. Throws std::invalid_argument ("raster scene: ...") for a
+  // material whose alpha texture is not one of the scene's.
+  explicit SceneGeometry(const Scene& scene);
+  SceneGeometry(const SceneGeometry&) = delete;
+  SceneGeometry& operator=(const SceneGeometry&) = delete;
+
+  const RasterGeometry& geometry() const { return geometry_; }
+
+ private:
+  std::vector<RasterMaterial> materials_;
+  RasterGeometry geometry_;
+};
+
+// Uploads the scene's triangles and materials to `raster` (Rasterizer::setGeometry).
+void uploadScene(Rasterizer& raster, const Scene& scene);
+
+}  // namespace penumbra
