@@ -1,12 +1,16 @@
 // The subcommands of the `penumbra` tool. Each lives in its own file, registers its options on the app and
-// returns the function that runs it once the command line is parsed.
+// returns the function that runs it once the command line is parsed; main.cpp holds the table of them. CLI11 stays
+// out of this header: only the files that add options include it.
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+namespace CLI {
+class App;
+}
 
 namespace penumbra::cli {
 
@@ -33,11 +37,5 @@ Command addBenchCommand(CLI::App& app);
 Command addPlanCommand(CLI::App& app);
 Command addRunCommand(CLI::App& app);
 Command addStatusCommand(CLI::App& app);
-
-// The registry: one line per command.
-inline std::vector<Command> registerCommands(CLI::App& app) {
-  return {addDevicesCommand(app), addRenderCommand(app), addReferenceCommand(app), addCompareCommand(app),
-          addBenchCommand(app),   addPlanCommand(app),   addRunCommand(app),       addStatusCommand(app)};
-}
 
 }  // namespace penumbra::cli

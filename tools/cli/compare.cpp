@@ -13,6 +13,8 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include <CLI/CLI.hpp>
+
 #include "host/eval/metrics.h"
 #include "host/io/exr.h"
 #include "host/io/png.h"

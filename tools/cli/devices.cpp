@@ -5,6 +5,8 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include <CLI/CLI.hpp>
+
 #include "host/cl/device.h"
 #include "host/cl/error.h"
 #include "tools/cli/commands.h"

@@ -26,13 +26,20 @@ std::string unknownSubcommand(int argc, char** argv, const std::vector<penumbra:
   return fmt::format("unknown subcommand '{}' (one of {}; see --help)", argv[1], names);
 }
 
+// The registry: one line per command.
+std::vector<penumbra::cli::Command> registerCommands(CLI::App& app) {
+  using namespace penumbra::cli;
+  return {addDevicesCommand(app), addRenderCommand(app), addReferenceCommand(app), addCompareCommand(app),
+          addBenchCommand(app),   addPlanCommand(app),   addRunCommand(app),       addStatusCommand(app)};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"penumbra: filtered and soft shadows for glTF scenes, every stage an OpenCL kernel"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "penumbra " + std::string(penumbra::version()));
-  const std::vector<penumbra::cli::Command> commands = penumbra::cli::registerCommands(app);
+  const std::vector<penumbra::cli::Command> commands = registerCommands(app);
   if (const std::string unknown = unknownSubcommand(argc, argv, commands); !unknown.empty()) {
     fmt::print(stderr, "penumbra: {}\n", unknown);
     return 2;

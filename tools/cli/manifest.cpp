@@ -11,6 +11,8 @@
 #include <map>
 #include <stdexcept>
 
+#include <CLI/CLI.hpp>
+
 #include "host/cl/context.h"
 #include "host/scene/load.h"
 #include "host/version.h"

@@ -1,6 +1,8 @@
 // `penumbra reference SCENE [view options] -o ref.exr [--spp N] [--seed S]`: ray-traced (Embree) visibility for
 // the same camera, lights and G-buffer as `render`, written with the same channels plus "stderr.Y" and "lit.Y" (and
 // per light stderr.<layer>.Y, lit.<layer>.Y), a PNG preview beside it, and the cost and the first light's noise.
+#include <CLI/CLI.hpp>
+
 #include "tools/reference/reference.h"
 
 #include <fmt/format.h>

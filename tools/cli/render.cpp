@@ -5,6 +5,8 @@
 
 #include <memory>
 
+#include <CLI/CLI.hpp>
+
 #include "host/cl/context.h"
 #include "host/scene/load.h"
 #include "tools/cli/commands.h"

@@ -12,6 +12,8 @@
 #include <optional>
 #include <set>
 
+#include <CLI/CLI.hpp>
+
 #include "host/cl/error.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/job_status.h"
