@@ -4,7 +4,7 @@
 # Extra arguments go to `penumbra render` (e.g. --technique pcf, --device cpu).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-./scripts/setup.sh
+BUILD_TARGETS=penumbra ./scripts/setup.sh  # the tool alone: the tests and benchmarks are test.sh's
 BUILD_DIR=${BUILD_DIR:-build}
 mkdir -p out
 ./"$BUILD_DIR"/tools/penumbra devices | head -n 1

@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Shared by demo.sh and test.sh: installs the Debian packages penumbra needs (only the missing ones; uses
-# sudo when not root), then configures and builds penumbra (Release) into ./build.
-# Environment: BUILD_DIR (default build), BUILD_TYPE (default Release), JOBS (default nproc).
+# sudo when not root), then configures (Ninja when installed, in a new build folder) and builds penumbra (Release)
+# into ./build: every target, or only those named in BUILD_TARGETS (demo.sh: the penumbra tool).
+# Environment: BUILD_DIR (default build), BUILD_TYPE (default Release), JOBS (default nproc), BUILD_TARGETS.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 PACKAGES=(
-  cmake g++ make pkg-config
+  cmake g++ make ninja-build pkg-config
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo
   libopenexr-dev libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libcli11-dev libfmt-dev
   libpng-dev  # PNG previews, written row by row
@@ -36,7 +37,12 @@ fi
 BUILD_DIR=${BUILD_DIR:-build}
 BUILD_TYPE=${BUILD_TYPE:-Release}
 JOBS=${JOBS:-$(nproc)}
+GENERATOR=()
+# A build folder keeps the generator it was made with; a new one gets Ninja when it is there.
+if [ ! -f "$BUILD_DIR/CMakeCache.txt" ] && command -v ninja >/dev/null; then GENERATOR=(-G Ninja); fi
 echo "==> configuring ($BUILD_TYPE) in $BUILD_DIR"
-cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE="$BUILD_TYPE" "$@" >/dev/null
-echo "==> building with $JOBS jobs"
-cmake --build "$BUILD_DIR" -j "$JOBS"
+cmake -S . -B "$BUILD_DIR" "${GENERATOR[@]}" -DCMAKE_BUILD_TYPE="$BUILD_TYPE" "$@" >/dev/null
+TARGETS=()
+for target in ${BUILD_TARGETS:-}; do TARGETS+=(--target "$target"); done
+echo "==> building ${BUILD_TARGETS:-everything} with $JOBS jobs"
+cmake --build "$BUILD_DIR" -j "$JOBS" "${TARGETS[@]}"

@@ -15,7 +15,7 @@
 #include "tests/reference/alpha_ref.h"
 
 namespace penumbra {
-namespace {
+namespace alpha_test {
 
 // LINEAR: float coordinates carry a relative error of ~1e-7 of |uv| * size texels (|uv| <= 6 here, size <= 7), and
 // the alpha moves by at most 1 (in 0..1 units) per texel: 1e-4 leaves a wide margin.
@@ -190,5 +190,5 @@ TEST(AlphaSamplerEdges, TextureTransformFollowsTheExtensionsExample) {
   EXPECT_NEAR(glm::distance(apply({0.25f, 0.2f}), glm::vec2(0.25f, 0.8f)), 0.0f, eps);
 }
 
-}  // namespace
+}  // namespace alpha_test
 }  // namespace penumbra

@@ -20,7 +20,7 @@
 #include "tests/support/cl_test.h"
 
 namespace penumbra {
-namespace {
+namespace bench_test {
 
 TEST(BenchStats, MedianOfOddEvenAndEmpty) {
   EXPECT_DOUBLE_EQ(median({3, 1, 2}), 2.0);
@@ -224,5 +224,5 @@ TEST(LitMask, CompareCountsCoveredPixelsInsideTheMask) {
   EXPECT_FALSE(hasMask(ours, ref, noMask));
 }
 
-}  // namespace
+}  // namespace bench_test
 }  // namespace penumbra

@@ -18,7 +18,7 @@
 #include "tests/support/compare.h"
 
 namespace penumbra {
-namespace {
+namespace blur_local_test {
 using test::Tolerance;
 
 // Direct sums of <= 2 * 128 + 1 fp32 products of data in [0, 1] per pass: <= 257 roundings of ~6e-8, twice.
@@ -120,5 +120,5 @@ TEST_F(BlurLocalMemory, FusedMomentsFitSmallDevices) {
   }
 }
 
-}  // namespace
+}  // namespace blur_local_test
 }  // namespace penumbra

@@ -19,7 +19,7 @@
 #include "tests/support/compare.h"
 
 namespace penumbra {
-namespace {
+namespace blur_test {
 using test::kPoison;
 using test::Tolerance;
 
@@ -387,5 +387,5 @@ TEST_F(BlurKernels, RejectsSmallBuffers) {
   EXPECT_THROW(blur(ctx(), big, big, big, {5, 5, 3}, gaussian(1.0f)), std::invalid_argument);
 }
 
-}  // namespace
+}  // namespace blur_test
 }  // namespace penumbra

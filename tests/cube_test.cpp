@@ -18,7 +18,7 @@
 #include "tests/support/cl_test.h"
 
 namespace penumbra {
-namespace {
+namespace cube_test {
 
 constexpr float kNan = std::numeric_limits<float>::quiet_NaN();
 constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -205,5 +205,5 @@ TEST_F(CubeKernels, FaceGBufferAndCopyMatchTheirReferences) {
     ASSERT_EQ(v[i], faceOf[i] == CUBE_NO_FACE ? test::kPoison : static_cast<float>(faceOf[i]) + 0.5f) << i;
 }
 
-}  // namespace
+}  // namespace cube_test
 }  // namespace penumbra

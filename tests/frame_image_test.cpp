@@ -26,7 +26,7 @@
 #include "tests/support/cl_test.h"
 
 namespace penumbra {
-namespace {
+namespace frame_image_test {
 
 namespace fs = std::filesystem;
 
@@ -158,5 +158,5 @@ TEST_F(FrameImage, DeferredChannelsEqualTheWholeImage) {
   }
 }
 
-}  // namespace
+}  // namespace frame_image_test
 }  // namespace penumbra

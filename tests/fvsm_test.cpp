@@ -15,7 +15,7 @@
 #include "tools/reference/reference.h"
 
 namespace penumbra {
-namespace {
+namespace fvsm_test {
 
 using test::renderWith;
 
@@ -163,5 +163,5 @@ TEST(FvsmCrop, TilesMapTheirPartOntoTheirWholeMap) {
   }
 }
 
-}  // namespace
+}  // namespace fvsm_test
 }  // namespace penumbra

@@ -16,7 +16,7 @@
 #include "tools/reference/reference.h"
 
 namespace penumbra {
-namespace {
+namespace gltf_animation_render_test {
 
 // Of the covered pixels able to receive light, those off by more than 0.1 from the reference: the shadow edge's
 // pixels differ by the map's texels (256^2 over the fitted receivers).
@@ -64,5 +64,5 @@ TEST_F(GltfAnimationRender, TheShadowFollowsTheAnimatedCaster) {
   }
 }
 
-}  // namespace
+}  // namespace gltf_animation_render_test
 }  // namespace penumbra

@@ -28,7 +28,7 @@
 #include "tools/reference/reference.h"
 
 namespace penumbra {
-namespace {
+namespace gltf_lights_render_test {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
@@ -231,5 +231,5 @@ TEST_F(GltfLightsRender, FileWithCameraSpotSunAndPointMatchesTheReferencePerLigh
   }
 }
 
-}  // namespace
+}  // namespace gltf_lights_render_test
 }  // namespace penumbra

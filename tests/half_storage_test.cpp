@@ -23,7 +23,7 @@
 #include "tests/support/random_images.h"
 
 namespace penumbra {
-namespace {
+namespace half_storage_test {
 using test::kPoison;
 
 constexpr cl_half kHalfPoison = 0xFBFF;  // -65504, the most negative finite half: no stage writes it here
@@ -185,5 +185,5 @@ TEST_F(HalfStorage, MipsAverageTheStoredLevelAboveAndBothSchedulesAgree) {
   }
 }
 
-}  // namespace
+}  // namespace half_storage_test
 }  // namespace penumbra

@@ -11,7 +11,7 @@
 #include "tests/support/render.h"
 
 namespace penumbra {
-namespace {
+namespace id_buffer_test {
 using test::ClTest;
 using test::renderWith;
 
@@ -73,5 +73,5 @@ TEST_P(IdBuffer, InterObjectShadowsKeepTheirHardEdge) {
 
 INSTANTIATE_TEST_SUITE_P(All, IdBuffer, ::testing::Values("sm", "pcf", "pssm", "jittered"));
 
-}  // namespace
+}  // namespace id_buffer_test
 }  // namespace penumbra

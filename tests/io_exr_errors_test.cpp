@@ -15,7 +15,7 @@
 #include "host/io/exr.h"
 
 namespace penumbra {
-namespace {
+namespace io_exr_errors_test {
 
 namespace fs = std::filesystem;
 
@@ -145,5 +145,5 @@ TEST_F(ExrErrors, OverwriteReplacesTheWholeFile) {
   EXPECT_EQ(filesInDir(), std::vector<std::string>{"twice.exr"});
 }
 
-}  // namespace
+}  // namespace io_exr_errors_test
 }  // namespace penumbra

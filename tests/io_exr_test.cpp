@@ -16,7 +16,7 @@
 #include "tests/support/compare.h"
 
 namespace penumbra {
-namespace {
+namespace io_exr_test {
 
 namespace fs = std::filesystem;
 
@@ -247,5 +247,5 @@ TEST_F(ExrTest, DataWindowAwayFromOriginReadsEveryPixelTypeAsFloat) {
   EXPECT_EQ(image.attributes().count("exposure"), 0u);  // a float attribute, not a string
 }
 
-}  // namespace
+}  // namespace io_exr_test
 }  // namespace penumbra

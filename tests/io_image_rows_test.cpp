@@ -18,7 +18,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace penumbra {
-namespace {
+namespace io_image_rows_test {
 
 namespace fs = std::filesystem;
 
@@ -162,5 +162,5 @@ TEST(ImageRowsFiles, AFailingReaderLeavesNoFile) {
   EXPECT_TRUE(fs::is_empty(folder));  // neither the file nor its temporary
 }
 
-}  // namespace
+}  // namespace io_image_rows_test
 }  // namespace penumbra

@@ -9,7 +9,7 @@
 #include "host/io/image.h"
 
 namespace penumbra {
-namespace {
+namespace io_image_test {
 
 // True when `what` occurs in the message of the exception `f` throws as E.
 template <class E, class F>
@@ -98,5 +98,5 @@ TEST(ImageFlipRows, ImageFlipsEveryChannelAndTwiceIsIdentity) {
   EXPECT_EQ(image.require("R").data, (std::vector<float>{0, 1, 2, 3, 4, 5}));
 }
 
-}  // namespace
+}  // namespace io_image_test
 }  // namespace penumbra

@@ -21,7 +21,7 @@
 #include "host/io/png.h"
 
 namespace penumbra {
-namespace {
+namespace io_png_test {
 
 namespace fs = std::filesystem;
 
@@ -272,5 +272,5 @@ TEST_F(PngFalseColour, RefusesBadSizesAndRanges) {
   EXPECT_FALSE(fs::exists(dir_ / "a.png"));
 }
 
-}  // namespace
+}  // namespace io_png_test
 }  // namespace penumbra

@@ -18,7 +18,7 @@
 #include "tools/reference/reference.h"
 
 namespace penumbra {
-namespace {
+namespace jittered_test {
 using test::ClTest;
 using test::renderWith;
 
@@ -292,5 +292,5 @@ TEST(JitteredParams, BadValuesAreRefused) {
   EXPECT_NO_THROW(params.set("confidence", "simple"));
 }
 
-}  // namespace
+}  // namespace jittered_test
 }  // namespace penumbra

@@ -22,7 +22,7 @@
 #include "tools/reference/reference.h"
 
 namespace penumbra {
-namespace {
+namespace lispsm_test {
 using test::ClTest;
 using test::renderWith;
 
@@ -446,5 +446,5 @@ TEST_F(LispsmTechnique, SnappedSplitsAreAUsageError) {
                std::invalid_argument);
 }
 
-}  // namespace
+}  // namespace lispsm_test
 }  // namespace penumbra

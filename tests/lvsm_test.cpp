@@ -25,7 +25,7 @@
 #include "tests/support/render.h"
 
 namespace penumbra {
-namespace {
+namespace lvsm_test {
 using test::ClTest;
 using test::renderWith;
 
@@ -323,5 +323,5 @@ TEST(LvsmLayout, OverlapsAndUniformSplits) {
   EXPECT_EQ(formatSplits({0.0f, 0.2f, 0.5f, 1.0f}), "0.2,0.5");
 }
 
-}  // namespace
+}  // namespace lvsm_test
 }  // namespace penumbra

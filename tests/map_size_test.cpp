@@ -29,7 +29,7 @@
 #include "tests/support/cl_test.h"
 
 namespace penumbra {
-namespace {
+namespace map_size_test {
 
 constexpr double kBinsPerOctave = 8.0;  // FIT_SIZE_BINS_PER_OCTAVE
 
@@ -414,5 +414,5 @@ TEST_F(PenumbraWidthTest, AutoIsTheRadiusDefaultOfEveryFixedKernel) {
   EXPECT_EQ(Params(findTechnique("pcf").params).getInt("pcf-adaptive"), 0);  // the penumbra's width, not the footprint
 }
 
-}  // namespace
+}  // namespace map_size_test
 }  // namespace penumbra

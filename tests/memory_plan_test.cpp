@@ -9,7 +9,7 @@
 #include "host/techniques/technique.h"
 
 namespace penumbra {
-namespace {
+namespace memory_plan_test {
 
 constexpr uint64_t kGiB = uint64_t{1} << 30;
 
@@ -163,5 +163,5 @@ TEST(FrameCheck, AFrameThatSeesNothingWarns) {
   EXPECT_FALSE(emptyFrameWarning(flat, cameraOf(2, 1), covered).has_value());
 }
 
-}  // namespace
+}  // namespace memory_plan_test
 }  // namespace penumbra

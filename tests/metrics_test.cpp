@@ -11,7 +11,7 @@
 #include <vector>
 
 namespace penumbra {
-namespace {
+namespace metrics_test {
 
 constexpr float kNan = std::numeric_limits<float>::quiet_NaN();
 constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -151,5 +151,5 @@ TEST(Metrics, CompareImagesChecksSizeAndChannelAndUsesCoverage) {
   EXPECT_DOUBLE_EQ(m.meanSigned, 0.25);
 }
 
-}  // namespace
+}  // namespace metrics_test
 }  // namespace penumbra

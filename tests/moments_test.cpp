@@ -17,7 +17,7 @@
 #include "tests/support/compare.h"
 
 namespace penumbra {
-namespace {
+namespace moments_test {
 using test::ClTestWithParam;
 using test::kPoison;
 using test::Tolerance;
@@ -188,5 +188,5 @@ TEST_F(MomentsKernels, PackUnorm16MatchesReferenceWithinOneCode) {
   EXPECT_THROW(packMomentsUnorm16(ctx(), in, values.size(), out, offset + 1), std::invalid_argument);
 }
 
-}  // namespace
+}  // namespace moments_test
 }  // namespace penumbra

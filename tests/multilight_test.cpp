@@ -18,7 +18,7 @@
 #include "tools/reference/reference.h"
 
 namespace penumbra {
-namespace {
+namespace multilight_test {
 
 // kernels/shade.cl's constants: the ambient term a multi-light preview adds once and each single-light one adds.
 constexpr float kAlbedo = 0.75f, kAmbient = 0.12f;
@@ -208,5 +208,5 @@ TEST_F(MultiLight, APointLightAmongTheLightsGetsItsOwnLayer) {
   EXPECT_LT(m.off, 0.02);  // a hard point light: sm differs along the shadow's edge pixels only
 }
 
-}  // namespace
+}  // namespace multilight_test
 }  // namespace penumbra

@@ -6,7 +6,7 @@
 #include "host/techniques/technique.h"
 
 namespace penumbra {
-namespace {
+namespace params_test {
 
 std::vector<ParamSpec> specs() { return {{"radius", 2, 0, 16, "r"}, {"mode", 1, 0, 1, "m", {"uniform", "adaptive"}}}; }
 
@@ -45,5 +45,5 @@ TEST(TechniqueRegistry, EveryTechniqueHasValidDefaults) {
   EXPECT_THROW(findTechnique("nope"), std::invalid_argument);
 }
 
-}  // namespace
+}  // namespace params_test
 }  // namespace penumbra

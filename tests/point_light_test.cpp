@@ -24,7 +24,7 @@
 #include "tools/reference/reference.h"
 
 namespace penumbra {
-namespace {
+namespace point_light_test {
 
 using test::Values;
 
@@ -485,5 +485,5 @@ TEST_F(PointLights, TheRendererRefusesATechniqueWithoutPointLights) {
                                                       {"light point:0,3,0 is a point light, which technique flat"}));
 }
 
-}  // namespace
+}  // namespace point_light_test
 }  // namespace penumbra

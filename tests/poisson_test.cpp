@@ -7,7 +7,7 @@
 #include <stdexcept>
 
 namespace penumbra {
-namespace {
+namespace poisson_test {
 
 TEST(Poisson, PointsLieInTheDiskWellSpreadAndDeterministic) {
   for (int count : {1, 2, 7, 16, 32, 64}) {
@@ -50,5 +50,5 @@ TEST(Poisson, GridSearchGivesTheExhaustiveSearchsPatterns) {
   }
 }
 
-}  // namespace
+}  // namespace poisson_test
 }  // namespace penumbra

@@ -19,7 +19,7 @@
 #include "tools/reference/reference.h"
 
 namespace penumbra {
-namespace {
+namespace pssm_test {
 using test::renderWith;
 using test::ClTest;
 
@@ -235,5 +235,5 @@ TEST_F(PssmSeams, SplitPlanesLeaveNoSeamAgainstTheReference) {
   }
 }
 
-}  // namespace
+}  // namespace pssm_test
 }  // namespace penumbra

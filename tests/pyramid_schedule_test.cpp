@@ -16,7 +16,7 @@
 #include "tests/support/random_images.h"
 
 namespace penumbra {
-namespace {
+namespace pyramid_schedule_test {
 using test::kPoison;
 
 struct Case {
@@ -135,5 +135,5 @@ TEST(PyramidPlanTest, DispatchCountsAndLocalMemory) {
   EXPECT_THROW(planPyramid(64, 64, 8, kGpuLocal, {}, 1), std::invalid_argument);
 }
 
-}  // namespace
+}  // namespace pyramid_schedule_test
 }  // namespace penumbra

@@ -18,7 +18,7 @@
 #include "tests/support/random_images.h"
 
 namespace penumbra {
-namespace {
+namespace pyramid_test {
 using test::kPoison;
 using test::Tolerance;
 
@@ -147,5 +147,5 @@ TEST(PyramidLayoutTest, LevelsAndOffsets) {
   EXPECT_EQ(pyramidLayout(4096, 4096, 0).levels.size(), 13u);
 }
 
-}  // namespace
+}  // namespace pyramid_test
 }  // namespace penumbra

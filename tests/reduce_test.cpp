@@ -15,7 +15,7 @@
 #include "tests/support/cl_test.h"
 
 namespace penumbra {
-namespace {
+namespace reduce_test {
 
 // fp32 sums of positive terms: serial runs of <= 64 samples then trees of depth <= 16; the error is
 // bounded by (64 + 16) eps relative to the (all positive) sum.
@@ -90,5 +90,5 @@ TEST(ReducePlan, FixedByCountAndValidated) {
   EXPECT_THROW(planLloydReduction(10, REDUCE_MAX_CLUSTERS + 1), std::invalid_argument);
 }
 
-}  // namespace
+}  // namespace reduce_test
 }  // namespace penumbra

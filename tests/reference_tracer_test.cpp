@@ -19,7 +19,7 @@
 #include "tools/reference/reference.h"
 
 namespace penumbra::reference {
-namespace {
+namespace reference_tracer_test {
 using test::ClTest;
 
 constexpr double kPi = std::numbers::pi;
@@ -218,5 +218,5 @@ TEST_F(Reference, NoNanAndVisibilityInRangeOnEveryBuiltinScene) {
   }
 }
 
-}  // namespace
+}  // namespace reference_tracer_test
 }  // namespace penumbra::reference

@@ -21,7 +21,7 @@
 #include "tests/support/cl_test.h"
 
 namespace penumbra {
-namespace {
+namespace runtime_test {
 namespace fs = std::filesystem;
 using test::ClTest;
 using test::kPoison;
@@ -322,5 +322,5 @@ TEST_F(Runtime, TwoContextsInOneProcess) {
   EXPECT_EQ(b.download(other)[7], 2.0f);
 }
 
-}  // namespace
+}  // namespace runtime_test
 }  // namespace penumbra

@@ -21,7 +21,7 @@
 #include "tests/support/compare.h"
 
 namespace penumbra {
-namespace {
+namespace sat_test {
 using test::kPoison;
 using test::Tolerance;
 
@@ -271,11 +271,11 @@ TEST_F(SatKernels, ExplicitOffsetIsUsed) {
   EXPECT_TRUE(test::allNear(std::span<const float>(actual), std::span<const double>(expected), tol));
 }
 
-}  // namespace
+}  // namespace sat_test
 }  // namespace penumbra
 
 namespace penumbra {
-namespace {
+namespace sat_test {
 
 // Devices of 16 and 32 KiB with the GPU layouts forced: Auto takes the tiled scan where its static tiles fit and the
 // line scans where they do not (4 channels: 17 to 20.5 KiB of 32-bit words, 41 KiB of 64-bit ones), and every mode
@@ -294,5 +294,5 @@ TEST_F(SatKernels, AutoFitsSmallDevices) {
   }
 }
 
-}  // namespace
+}  // namespace sat_test
 }  // namespace penumbra

@@ -8,7 +8,7 @@
 #include "scene_test_util.h"
 
 namespace penumbra {
-namespace {
+namespace scene_camera_test {
 
 using test::throwsWith;
 
@@ -115,5 +115,5 @@ TEST(CameraDescribe, RoundTrips) {
   EXPECT_EQ(d.fovYDeg, c.fovYDeg);
 }
 
-}  // namespace
+}  // namespace scene_camera_test
 }  // namespace penumbra

@@ -15,7 +15,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace penumbra {
-namespace {
+namespace scene_file_test {
 
 namespace fs = std::filesystem;
 using test::throwsWith;
@@ -312,5 +312,5 @@ TEST(SceneFileDefault, IsTheAntiqueCameraOnAGround) {
   EXPECT_NEAR(s.bounds().min.y, -0.000806f, 1e-6f);  // the ground sits at the model's lowest point
 }
 
-}  // namespace
+}  // namespace scene_file_test
 }  // namespace penumbra

@@ -8,7 +8,7 @@
 #include "scene_test_util.h"
 
 namespace penumbra {
-namespace {
+namespace scene_framing_test {
 
 class SceneFraming : public ::testing::TestWithParam<Bounds> {};
 
@@ -46,5 +46,5 @@ TEST(SceneFramingErrors, EmptyBoundsAreRefused) {
   EXPECT_THROW(framingLight(Bounds{}), std::invalid_argument);
 }
 
-}  // namespace
+}  // namespace scene_framing_test
 }  // namespace penumbra

@@ -20,7 +20,7 @@
 #include <stb/stb_image_write.h>
 
 namespace penumbra {
-namespace {
+namespace scene_gltf_alpha_test {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
@@ -259,5 +259,5 @@ TEST_F(GltfAlpha, MalformedInputGivesOneClearError) {
   }
 }
 
-}  // namespace
+}  // namespace scene_gltf_alpha_test
 }  // namespace penumbra

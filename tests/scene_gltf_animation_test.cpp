@@ -18,7 +18,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace penumbra {
-namespace {
+namespace scene_gltf_animation_test {
 
 using test::GltfBuilder;
 using test::throwsWith;
@@ -260,5 +260,5 @@ TEST(GltfAnimationFiles, AnimatedMorphCubeChangesShapeOverTime) {
   EXPECT_GT(moved, 1e-3f);
 }
 
-}  // namespace
+}  // namespace scene_gltf_animation_test
 }  // namespace penumbra

@@ -8,7 +8,7 @@
 #include "scene_test_util.h"
 
 namespace penumbra {
-namespace {
+namespace scene_gltf_assimp_test {
 
 const std::string kAssimpDir = "/usr/share/assimp/models/glTF2/";
 
@@ -104,5 +104,5 @@ TEST_P(GltfAssimpPrimitiveModes, TrianglesOrSkipped) {
 
 INSTANTIATE_TEST_SUITE_P(Gltf, GltfAssimpPrimitiveModes, ::testing::Range(0, 16));
 
-}  // namespace
+}  // namespace scene_gltf_assimp_test
 }  // namespace penumbra

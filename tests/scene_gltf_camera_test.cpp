@@ -18,7 +18,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace penumbra {
-namespace {
+namespace scene_gltf_camera_test {
 
 namespace fs = std::filesystem;
 using test::GltfBuilder;
@@ -234,5 +234,5 @@ TEST_F(GltfCameras, AppendRenumbersGltfIndices) {
   EXPECT_EQ(both.cameras[1].gltfIndex, 1);
 }
 
-}  // namespace
+}  // namespace scene_gltf_camera_test
 }  // namespace penumbra

@@ -15,7 +15,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace penumbra {
-namespace {
+namespace scene_gltf_lights_test {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
@@ -233,5 +233,5 @@ INSTANTIATE_TEST_SUITE_P(
                  {"light 0 (node 1)", "no direction"}}),
     [](const auto& info) { return std::string(info.param.name); });
 
-}  // namespace
+}  // namespace scene_gltf_lights_test
 }  // namespace penumbra

@@ -12,7 +12,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace penumbra {
-namespace {
+namespace scene_gltf_malformed_test {
 
 namespace fs = std::filesystem;
 using test::sceneData;
@@ -161,5 +161,5 @@ TEST_F(GltfRuntime, EmptyGarbageAndMissingFiles) {
   EXPECT_TRUE(throwsWith([&] { loadGltf(dir_.string()); }, {"not a regular file"}));
 }
 
-}  // namespace
+}  // namespace scene_gltf_malformed_test
 }  // namespace penumbra

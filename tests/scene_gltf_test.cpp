@@ -9,7 +9,7 @@
 #include "scene_test_util.h"
 
 namespace penumbra {
-namespace {
+namespace scene_gltf_test {
 
 using test::bundledScene;
 using test::sceneData;
@@ -122,5 +122,5 @@ TEST(GltfTransforms, GlbAndGltfGiveTheSameScene) {
   EXPECT_EQ(a.triangles, b.triangles);
 }
 
-}  // namespace
+}  // namespace scene_gltf_test
 }  // namespace penumbra

@@ -8,7 +8,7 @@
 #include "scene_test_util.h"
 
 namespace penumbra {
-namespace {
+namespace scene_light_test {
 
 using test::throwsWith;
 
@@ -91,5 +91,5 @@ TEST(LightDescribe, RoundTrips) {
   EXPECT_EQ(parseLight("spot:0,10,0:0,0,0:60:0.5").describe(), "spot:0,10,0:0,0,0:60:0.5");
 }
 
-}  // namespace
+}  // namespace scene_light_test
 }  // namespace penumbra

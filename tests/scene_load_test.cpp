@@ -9,7 +9,7 @@
 #include "scene_test_util.h"
 
 namespace penumbra {
-namespace {
+namespace scene_load_test {
 
 namespace fs = std::filesystem;
 using test::throwsWith;
@@ -47,5 +47,5 @@ TEST(SceneLoad, WarningsGoToTheSink) {
   EXPECT_NE(capture.warnings[0].find("normals replaced"), std::string::npos) << capture.warnings[0];
 }
 
-}  // namespace
+}  // namespace scene_load_test
 }  // namespace penumbra

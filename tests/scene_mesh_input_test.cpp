@@ -15,7 +15,7 @@
 #include "scene_test_util.h"
 
 namespace penumbra {
-namespace {
+namespace scene_mesh_input_test {
 
 using test::throwsWith;
 
@@ -104,5 +104,5 @@ TEST(MeshScene, BadInputNamesTheMeshAndTheElement) {
                          {"2 triangles and 4 vertices, over the limits of 1"}));
 }
 
-}  // namespace
+}  // namespace scene_mesh_input_test
 }  // namespace penumbra

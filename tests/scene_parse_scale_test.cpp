@@ -15,7 +15,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace penumbra {
-namespace {
+namespace scene_parse_scale_test {
 
 namespace fs = std::filesystem;
 using test::GltfBuilder;
@@ -103,5 +103,5 @@ TEST_F(ParseScale, SceneFileCoordinatesOutOfRangeNameTheField) {
   EXPECT_TRUE(throwsWith([&] { loadSceneFile(ground); }, {"ground.json", "/ground/y", "coordinate range"}));
 }
 
-}  // namespace
+}  // namespace scene_parse_scale_test
 }  // namespace penumbra

@@ -9,7 +9,7 @@
 #include "scene_test_util.h"
 
 namespace penumbra {
-namespace {
+namespace scene_procedural_test {
 
 using test::throwsWith;
 
@@ -130,5 +130,5 @@ TEST(Procedural, SpecWithParameters) {
   EXPECT_EQ(s.objectNames.size(), 3u);
 }
 
-}  // namespace
+}  // namespace scene_procedural_test
 }  // namespace penumbra

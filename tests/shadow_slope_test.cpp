@@ -16,7 +16,7 @@
 #include "tests/support/cl_test.h"
 
 namespace penumbra {
-namespace {
+namespace shadow_slope_test {
 
 constexpr float kMaxSlope = 10.0f;      // SHADOW_MAX_SLOPE
 constexpr double kRelTolerance = 2e-3;  // float projections of one-texel steps against double ray casts
@@ -150,5 +150,5 @@ TEST_F(ShadowSlope, EdgeOnClampsAndAPlaneSquareToTheAxisIsFlat) {
   EXPECT_NEAR(tanToLight(light, ground, glm::vec3(0, 1, 0)), 0.373, 0.001);
 }
 
-}  // namespace
+}  // namespace shadow_slope_test
 }  // namespace penumbra

@@ -8,7 +8,7 @@
 #include <vector>
 
 namespace penumbra {
-namespace {
+namespace shimmer_test {
 
 TEST(Shimmer, CountsOnlyPixelsWhoseReferenceIsStable) {
   // Pixel 0: reference stable, ours changes 0.5. Pixel 1: the reference's edge moves (1 -> 0): not counted.
@@ -60,5 +60,5 @@ TEST(Shimmer, CombinesPairsByPixelCount) {
   EXPECT_EQ(combineShimmer({}).pixels, 0u);
 }
 
-}  // namespace
+}  // namespace shimmer_test
 }  // namespace penumbra

@@ -26,7 +26,7 @@
 #include "tests/support/render.h"
 
 namespace penumbra {
-namespace {
+namespace techniques_moments_test {
 using test::ClTest;
 using test::renderWith;
 
@@ -322,5 +322,5 @@ INSTANTIATE_TEST_SUITE_P(
         ConfigCase{"esm_fp16_unblurred", "esm", {{"moment-storage", "fp16"}, {"blur-radius", "0"}}}),
     [](const ::testing::TestParamInfo<ConfigCase>& p) { return p.param.name; });
 
-}  // namespace
+}  // namespace techniques_moments_test
 }  // namespace penumbra

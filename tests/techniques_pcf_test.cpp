@@ -12,7 +12,7 @@
 #include "tests/support/render.h"
 
 namespace penumbra {
-namespace {
+namespace techniques_pcf_test {
 using test::ClTest;
 
 class PcfTechniques : public ClTest {
@@ -149,5 +149,5 @@ TEST_F(PcfTechniques, PoissonTapsAndTheReceiverFitKeepTheHardEdge) {
   EXPECT_NE(fitted.image.attributes().at("penumbra:light-fit").find("receivers"), std::string::npos);
 }
 
-}  // namespace
+}  // namespace techniques_pcf_test
 }  // namespace penumbra

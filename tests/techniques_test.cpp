@@ -13,7 +13,7 @@
 #include "tests/support/render.h"
 
 namespace penumbra {
-namespace {
+namespace techniques_test {
 using test::renderWith;
 using test::ClTest;
 using test::pointAbove;
@@ -77,5 +77,5 @@ INSTANTIATE_TEST_SUITE_P(All, Techniques,
                          ::testing::Values("sm", "pcf", "pcss", "vsm", "evsm2", "evsm4", "esm", "msm", "savsm",
                                            "lvsm", "jittered", "izb", "fvsm"));
 
-}  // namespace
+}  // namespace techniques_test
 }  // namespace penumbra

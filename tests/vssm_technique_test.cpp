@@ -25,7 +25,7 @@
 #include "tests/support/render.h"
 
 namespace penumbra {
-namespace {
+namespace vssm_technique_test {
 using test::renderWith;
 // test::squareOverPlane: parallel planes, where the Chebyshev bound is exact (sec. 4.1) and VSSM's blocker
 // depth (eq. 4) is the occluder's.
@@ -277,5 +277,5 @@ TEST_F(VssmTechnique, RejectsBadParameters) {
   EXPECT_EQ(params.describe().find("vssm-subdivision=mixed") != std::string::npos, true);
 }
 
-}  // namespace
+}  // namespace vssm_technique_test
 }  // namespace penumbra

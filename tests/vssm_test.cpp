@@ -19,7 +19,7 @@
 #include "tests/support/cl_test.h"
 
 namespace penumbra {
-namespace {
+namespace vssm_test {
 using test::kPoison;
 
 // Receivers whose visibility may differ by more than kVisTol: fp32 kernel vs double reference flips the
@@ -246,5 +246,5 @@ TEST(VssmQuadTree, ChildAndNextLinksWalkTheTreeDepthFirst) {
   EXPECT_THROW(vssmQuadTree(VSSM_MAX_LEVELS + 1), std::invalid_argument);
 }
 
-}  // namespace
+}  // namespace vssm_test
 }  // namespace penumbra

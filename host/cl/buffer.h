@@ -2,8 +2,6 @@
 // OpenCL forbids zero-sized buffers, so an empty Buffer still owns one element.
 #pragma once
 
-#include <fmt/format.h>
-
 #include <CL/opencl.hpp>
 #include <algorithm>
 #include <numeric>
@@ -58,8 +56,7 @@ class Buffer {
   void allocate(Context& ctx, size_t count, cl_mem_flags flags = CL_MEM_READ_WRITE) {
     if (buffer_() != nullptr && count == count_ && flags == flags_ && context_ == ctx.context()()) return;
     if (count > ctx.info().maxAllocBytes / sizeof(T))
-      throw ClError(CL_INVALID_BUFFER_SIZE, fmt::format("clCreateBuffer({} bytes, device max alloc {} bytes)",
-                                                        count * sizeof(T), ctx.info().maxAllocBytes));
+      throwBufferTooLarge(count, sizeof(T), ctx.info().maxAllocBytes);
     cl_int err = CL_SUCCESS;
     buffer_ = cl::Buffer(ctx.context(), flags, std::max<size_t>(count, 1) * sizeof(T), nullptr, &err);
     clCheck(err, "clCreateBuffer");
@@ -76,9 +73,7 @@ class Buffer {
   Buffer region(Context& ctx, size_t first, size_t count) const {
     if (first + count > count_) throw std::out_of_range("Buffer::region past the end");
     if (first * sizeof(T) % ctx.info().baseAddressAlignBytes != 0)
-      throw ClError(CL_MISALIGNED_SUB_BUFFER_OFFSET,
-                    fmt::format("clCreateSubBuffer(offset {} bytes, device alignment {} bytes)", first * sizeof(T),
-                                ctx.info().baseAddressAlignBytes));
+      throwMisalignedRegion(first * sizeof(T), ctx.info().baseAddressAlignBytes);
     const cl_buffer_region bytes{first * sizeof(T), std::max<size_t>(count, 1) * sizeof(T)};
     cl_int err = CL_SUCCESS;
     Buffer view;

@@ -104,4 +104,19 @@ BuildError::BuildError(std::string source, std::string device, std::string optio
           fmt::format("OpenCL build of '{}' failed on '{}' with options '{}':\n{}", source, device, options, log)),
       log_(std::move(log)) {}
 
+void throwBufferTooLarge(size_t count, size_t elementBytes, uint64_t maxAllocBytes) {
+  throw ClError(CL_INVALID_BUFFER_SIZE,
+                fmt::format("clCreateBuffer({} bytes, device max alloc {} bytes)", count * elementBytes, maxAllocBytes));
+}
+
+void throwMisalignedRegion(size_t offsetBytes, uint64_t alignBytes) {
+  throw ClError(CL_MISALIGNED_SUB_BUFFER_OFFSET,
+                fmt::format("clCreateSubBuffer(offset {} bytes, device alignment {} bytes)", offsetBytes, alignBytes));
+}
+
+void checkSetArg(cl_int code, unsigned index, std::string_view kernel, std::string_view stage) {
+  if (code != CL_SUCCESS) throw ClError(code, fmt::format("clSetKernelArg({})", index), std::string(kernel),
+                                        std::string(stage));
+}
+
 }  // namespace penumbra

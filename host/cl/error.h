@@ -5,6 +5,8 @@
 
 #include <CL/cl.h>
 
+#include <cstddef>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -43,6 +45,14 @@ class NoDeviceError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 inline constexpr int kExitNoDevice = 69;
+
+// The errors of Buffer's templates, formatted here rather than in every file that instantiates them:
+// CL_INVALID_BUFFER_SIZE for `count` elements of `elementBytes` above the device's largest allocation,
+// CL_MISALIGNED_SUB_BUFFER_OFFSET for a region starting `offsetBytes` in.
+[[noreturn]] void throwBufferTooLarge(size_t count, size_t elementBytes, uint64_t maxAllocBytes);
+[[noreturn]] void throwMisalignedRegion(size_t offsetBytes, uint64_t alignBytes);
+// clSetKernelArg's failure for argument `index` of `kernel` (Kernel::args).
+void checkSetArg(cl_int code, unsigned index, std::string_view kernel, std::string_view stage);
 
 // Throws ClError unless code == CL_SUCCESS.
 inline void clCheck(cl_int code, std::string_view call, std::string_view kernel = {}, std::string_view stage = {}) {

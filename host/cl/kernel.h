@@ -4,8 +4,6 @@
 // OpenCL and PoCL 3.1 lack non-uniform work-groups), and reports the launch's event to the profiler.
 #pragma once
 
-#include <fmt/format.h>
-
 #include <CL/opencl.hpp>
 #include <array>
 #include <string>
@@ -84,7 +82,7 @@ class Kernel {
       static_assert(std::is_trivially_copyable_v<T>, "kernel arguments are buffers, LocalMem or POD values");
       err = kernel_.setArg(index, sizeof(T), &value);
     }
-    clCheck(err, fmt::format("clSetKernelArg({})", index), entry_, stage_);
+    checkSetArg(err, index, entry_, stage_);
   }
 
   void checkLimits(const Range& local) const;

@@ -11,7 +11,7 @@
 #include "tests/api/caller_cl.h"
 
 namespace penumbra::test {
-namespace {
+namespace context_test {
 
 TEST(ApiContext, OnTheCallersObjectsRetainsOnlyWhatItKeeps) {
   CallerCl cl;
@@ -143,5 +143,5 @@ TEST(ApiContext, ErrorsAreStatusCodesWithAThreadLocalMessage) {
   EXPECT_STREQ(pn_version(), PN_VERSION_STRING);
 }
 
-}  // namespace
+}  // namespace context_test
 }  // namespace penumbra::test

@@ -10,7 +10,7 @@
 #include "tests/api/caller_cl.h"
 
 namespace penumbra::test {
-namespace {
+namespace cpp_api_test {
 
 TEST(ApiCpp, ErrorsCarryTheStatusAndMessage) {
   try {
@@ -108,5 +108,5 @@ TEST(ApiCpp, AFramesBufferFeedsAStage) {
   clReleaseMemObject(table);
 }
 
-}  // namespace
+}  // namespace cpp_api_test
 }  // namespace penumbra::test

@@ -12,7 +12,7 @@
 #include "tests/api/caller_cl.h"
 
 namespace penumbra::test {
-namespace {
+namespace renderer_test {
 
 constexpr int kWidth = 64, kHeight = 48;
 
@@ -337,5 +337,5 @@ TEST(ApiRenderer, TechniquesAndTheirParameters) {
   pn_params_release(params);
 }
 
-}  // namespace
+}  // namespace renderer_test
 }  // namespace penumbra::test

@@ -12,7 +12,7 @@
 #include "tests/api/caller_cl.h"
 
 namespace penumbra::test {
-namespace {
+namespace scene_test {
 
 constexpr int kSize = 64;
 // A 10 x 10 ground (y = 0) and a 2 x 2 card (y = 1), both facing +Y, counter-clockwise from above.
@@ -98,5 +98,5 @@ TEST(ApiScene, BadArraysAreRefusedByName) {
   pn_scene_release(scene);
 }
 
-}  // namespace
+}  // namespace scene_test
 }  // namespace penumbra::test

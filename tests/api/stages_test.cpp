@@ -17,7 +17,7 @@
 #include "tests/support/random_images.h"
 
 namespace penumbra::test {
-namespace {
+namespace stages_test {
 
 // fp32 normalisation is within ~3 ulp of the double value; squares double it (moments_test.cpp).
 constexpr Tolerance kVsmTol{1e-6, 1e-6};
@@ -353,5 +353,5 @@ TEST_F(ApiStages, SubBuffersAndBadBuffers) {
   for (cl_mem m : {parent, out, foreign, small}) clReleaseMemObject(m);
 }
 
-}  // namespace
+}  // namespace stages_test
 }  // namespace penumbra::test

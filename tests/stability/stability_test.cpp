@@ -19,7 +19,7 @@
 #include "tools/reference/reference.h"
 
 namespace penumbra {
-namespace {
+namespace stability_test {
 
 using test::Values;
 
@@ -386,5 +386,5 @@ TEST_F(Stability, DegenerateScenesNeverCrashOrEmitNan) {
     }
 }
 
-}  // namespace
+}  // namespace stability_test
 }  // namespace penumbra
