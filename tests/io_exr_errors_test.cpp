@@ -106,11 +106,11 @@ TEST_F(ExrErrors, UnwritablePaths) {
   EXPECT_EQ(filesInDir(), std::vector<std::string>{"plain-file"});
 }
 
-TEST_F(ExrErrors, FailedRenameLeavesNoTempFile) {
-  // The target is a directory: the whole file is written to the temp file, then rename() fails.
+TEST_F(ExrErrors, DirectoryTargetIsRefusedAndLeavesNoTempFile) {
+  // The target is a directory: refused before anything is written (host/io/atomic_file.h), never renamed over.
   const fs::path target = dir_ / "taken.exr";
   fs::create_directory(target);
-  EXPECT_TRUE(startsWithPathAndSays(errorOf([&] { writeExr(target, smallImage()); }), target, "cannot replace file"));
+  EXPECT_TRUE(startsWithPathAndSays(errorOf([&] { writeExr(target, smallImage()); }), target, "is a directory"));
   EXPECT_EQ(filesInDir(), std::vector<std::string>{"taken.exr"});
   EXPECT_TRUE(fs::is_directory(target));
 }

@@ -95,12 +95,19 @@ PendingFile::~PendingFile() {
   std::filesystem::remove(temp_, ignored);
 }
 
+bool PendingFile::write(const void* data, size_t size) {
+  errno = 0;
+  if (stream_.write(static_cast<const char*>(data), static_cast<std::streamsize>(size))) return true;
+  if (writeError_ == 0) writeError_ = errno;
+  return false;
+}
+
 void PendingFile::finish() {
   if (finished_) return;
   errno = 0;
   stream_.flush();
   const bool flushed = stream_.good();
-  int error = errno;
+  int error = writeError_ != 0 ? writeError_ : errno;
   stream_.close();
   if (error == 0) error = errno;
   if (!flushed || stream_.fail())
@@ -150,8 +157,8 @@ void commitOrDefer(std::unique_ptr<PendingFile> file, CommitGroup* group) {
 
 void writeFileAtomically(const std::filesystem::path& target, std::span<const unsigned char> bytes) {
   PendingFile file(target);
-  file.stream().write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  file.commit();
+  file.write(bytes.data(), bytes.size());
+  file.commit();  // throws naming the write's failure
 }
 
 void writeFileAtomically(const std::filesystem::path& target, std::string_view text) {

@@ -42,6 +42,9 @@ class PendingFile {
   PendingFile& operator=(const PendingFile&) = delete;
 
   std::ofstream& stream() { return stream_; }
+  // Writes `size` bytes to stream(), keeping the system's reason (errno) of a failure for finish()'s message: a
+  // device's error (/dev/full: ENOSPC) surfaces in the write, and later calls may change errno. False on failure.
+  bool write(const void* data, size_t size);
   // The path as the caller named it (messages name this one).
   const std::filesystem::path& target() const { return target_; }
   const std::filesystem::path& tempPath() const { return temp_; }
@@ -59,6 +62,7 @@ class PendingFile {
   OutputTarget resolved_;
   std::filesystem::path temp_;  // empty for kInPlace
   std::ofstream stream_;
+  int writeError_ = 0;  // errno of the first failed write()
   bool finished_ = false;
   bool committed_ = false;
 };

@@ -9,10 +9,12 @@
 #include <png.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <csetjmp>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <memory>
@@ -96,9 +98,13 @@ class PngRowWriter {
   }
   static void onWarning(png_structp, png_const_charp) {}
   static void onWrite(png_structp png, png_bytep data, size_t size) {
-    std::ofstream& stream = static_cast<PngRowWriter*>(png_get_io_ptr(png))->file_->stream();
-    if (!stream.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size)))
-      png_error(png, "write failed (disk full?)");
+    PendingFile& file = *static_cast<PngRowWriter*>(png_get_io_ptr(png))->file_;
+    if (!file.write(data, size)) {
+      const int error = errno;
+      char why[160];
+      std::snprintf(why, sizeof(why), "write failed: %s", error != 0 ? std::strerror(error) : "stream error");
+      png_error(png, why);
+    }
   }
   static void onFlush(png_structp) {}
   static bool start(png_structp png, png_infop info, int width, int height, int colourType) {
