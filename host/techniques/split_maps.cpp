@@ -82,17 +82,6 @@ std::vector<ParamSpec> splitParams() {
   };
 }
 
-ViewDepthRange tightViewDepth(ShadowFrame& frame) {
-  const GBuffer& g = frame.gbuffer;
-  const DepthRange range = reduceDepthRange(frame.ctx, g.depth, static_cast<size_t>(g.width) * g.height);
-  ViewDepthRange r;
-  if (range.min <= range.max && range.max > 0.0f) {
-    r.far = range.max * 1.001f;
-    r.near = std::clamp(range.min * 0.999f, r.far * 1e-5f, r.far * 0.999f);
-  }
-  return r;
-}
-
 namespace {
 SplitFit splitFit(const ShadowFrame& frame, const Params& params, float marginTexels, bool snap) {
   ReceiverBounds everything;
@@ -115,7 +104,7 @@ SplitPlan planSplits(ShadowFrame& frame, const Params& params, float marginTexel
   const SplitFit fit = splitFit(frame, params, marginTexels, params.getInt("pssm-snap") == kSnapOn);
   if (fit.snap && lispsmEnabled(params))  // a warp follows the camera: whole-texel snapping cannot hold it still
     throw std::invalid_argument("--pssm-snap on cannot be combined with --warp lispsm");
-  const auto [near, far] = tightViewDepth(frame);
+  const auto [near, far] = tightViewDepth(frame.ctx, frame.gbuffer);
   const int count = params.getInt("pssm-splits");
   const float lambda = static_cast<float>(params.get("pssm-lambda"));
   if (count == kAutoSplits) {

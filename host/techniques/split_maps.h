@@ -25,13 +25,6 @@ struct SplitPlan {
   bool warpOption = false;       // the technique has --warp (pssm): the header records it
 };
 
-// The tight view-depth range [near, far] of what the camera sees (a min/max reduction of the G-buffer's linear depth,
-// as sample-distribution shadow maps do), widened a little so the extreme pixels are inside.
-struct ViewDepthRange {
-  float near = 1.0f, far = 2.0f;
-};
-ViewDepthRange tightViewDepth(ShadowFrame& frame);
-
 // The light's view cropped to the camera's frustum slice [near, far] (the split crop of planSplits), fitted with
 // `marginTexels` per the "fit" parameter (map-size texels).
 LightView sliceLightView(const ShadowFrame& frame, const Params& params, float near, float far, float marginTexels);

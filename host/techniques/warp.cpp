@@ -2,7 +2,6 @@
 #include "host/techniques/warp.h"
 
 #include "host/views/light_fit.h"
-#include "host/techniques/split_maps.h"
 
 namespace penumbra {
 namespace {
@@ -48,7 +47,7 @@ LightView fitWarpedLightView(ShadowFrame& frame, const Params& params, int size,
     return fitLightView(frame.light, frame.scene.bounds(), size, receivers, marginTexels);
   }
   // The camera depth range the map serves: the visible pixels' (as pssm's splits take theirs).
-  const auto [near, far] = tightViewDepth(frame);
+  const auto [near, far] = tightViewDepth(frame.ctx, frame.gbuffer);
   LispsmFit fit;
   LightView view = fitWarpedLightView(frame, params, size, marginTexels, near, far, receivers, &fit);
   frame.attributes["penumbra:warp"] = fit.describe();

@@ -184,4 +184,14 @@ DepthRange reduceDepthRange(Context& ctx, const Buffer<float>& depth, size_t cou
   return range;
 }
 
+ViewDepthRange tightViewDepth(Context& ctx, const GBuffer& g) {
+  const DepthRange range = reduceDepthRange(ctx, g.depth, static_cast<size_t>(g.width) * g.height);
+  ViewDepthRange r;
+  if (range.min <= range.max && range.max > 0.0f) {
+    r.far = range.max * 1.001f;
+    r.near = std::clamp(range.min * 0.999f, r.far * 1e-5f, r.far * 0.999f);
+  }
+  return r;
+}
+
 }  // namespace penumbra

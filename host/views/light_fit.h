@@ -81,4 +81,12 @@ struct DepthRange {
 };
 DepthRange reduceDepthRange(Context& ctx, const Buffer<float>& depth, size_t count);
 
+// The tight view-depth range [near, far] of what the camera sees (a min/max reduction of the G-buffer's linear depth,
+// as sample-distribution shadow maps do), widened a little so the extreme pixels are inside; [1, 2] for a frame that
+// sees nothing. What pssm's splits, the LiSPSM warp and jittered's reduction are planned over.
+struct ViewDepthRange {
+  float near = 1.0f, far = 2.0f;
+};
+ViewDepthRange tightViewDepth(Context& ctx, const GBuffer& gbuffer);
+
 }  // namespace penumbra
