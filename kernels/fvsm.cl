@@ -8,6 +8,7 @@
 // covering them) and runs sm's hard test in that tile, its bias in that tile's texel footprint.
 #define SHADOW_NORMAL_OFFSET_SCALED 0  // the whole normal offset at every angle (kernels/shared/shadow_common.h)
 #include "kernels/shared/fvsm.h"
+#include "kernels/shared/shade.h"
 #include "kernels/shared/shadow_common.h"
 
 // The cell of the finest grid (cells x cells over the base map) holding base texel t, or -1 outside the base map.
@@ -47,12 +48,12 @@ __kernel void fvsm_request(__global const float4* position, __global const float
 // sm's hard test of every covered pixel whose page-table tile is one of this batch's (leaves begin .. begin + count
 // - 1, their views in `views`); the tiles' depths lie one after the other in `atlas`, tile * tile texels each.
 // level[i] gets the tile's quadtree level (the debug channel). Other pixels are left as they are (1: lit).
-__kernel void fvsm_visibility(__global const float4* position, __global const float4* normal, uint width, uint height,
-                              __global const float* atlas, __constant const LightViewGpu* base, float biasConstant,
-                              float biasSlope, float normalOffset, int receiverPlane,
-                              __constant const LightViewGpu* views, uint begin, uint count,
-                              __global const uint* page, uint cells, __global const int* leafLevels,
-                              __global float* visibility, __global float* level) {
+__kernel void fvsm_visibility(__global const float4* position, __global const float4* normal,
+                              __global const float* atlas, __constant const LightViewGpu* base, ShadeFrame f,
+                              __constant const LightViewGpu* views, __global const uint* page,
+                              __global const int* leafLevels, FvsmBatch b, __global float* visibility,
+                              __global float* level) {
+  const uint width = f.width, height = f.height, begin = b.begin, count = b.count, cells = b.cells;
   const uint i = get_global_id(0);
   float4 p;
   const int cell = fvsm_pixel(position, i, width * height, base, cells, &p);
@@ -60,14 +61,14 @@ __kernel void fvsm_visibility(__global const float4* position, __global const fl
   const uint leaf = page[cell];
   if (leaf == FVSM_NO_LEAF || leaf < begin || leaf - begin >= count) return;
   __constant const LightViewGpu* lv = views + (leaf - begin);
-  const ShadowBias bias = {biasConstant, biasSlope, normalOffset};
+  const ShadowBias bias = {f.biasConstant, f.biasSlope, f.normalOffset};
   const float3 n = normal[i].xyz;
   const Receiver r = sc_receiver(lv, p.xyz, n, bias);
   float lit = 1.0f;
   if (r.valid) {
     __global const float* map = atlas + (size_t)leaf * (size_t)lv->width * (size_t)lv->height;
-    const ReceiverPlane rp = sc_receiver_plane_at(receiverPlane, position, lv, width, height, i, p.xyz, n, r.texel);
-    lit = sc_hard_lit(map, lv, r, rp, biasConstant * r.texel);
+    const ReceiverPlane rp = sc_receiver_plane_at(f.receiverPlane, position, lv, width, height, i, p.xyz, n, r.texel);
+    lit = sc_hard_lit(map, lv, r, rp, f.biasConstant * r.texel);
   }
   visibility[i] = lit;
   level[i] = (float)leafLevels[leaf];

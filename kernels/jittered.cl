@@ -13,6 +13,7 @@
 #define SHADOW_NORMAL_OFFSET_SCALED 0  // the whole normal offset at every angle (kernels/shared/shadow_common.h)
 #include "kernels/shared/id_buffer.h"
 #include "kernels/shared/jittered.h"
+#include "kernels/shared/shade.h"
 #include "kernels/shared/shadow_common.h"
 
 // Eq. 4: 1 at a texel centre, 0 on its border (max norm), for continuous texel coordinate `uv`.
@@ -226,12 +227,11 @@ inline uint jittered_lookup(__global const float4* position, __global const floa
 // pixel in pass 0's texels, which translations and the common rotation scale keep for every pass (background: 1;
 // other modes: 0). Every pixel's state and visibility are written (background: lit, nothing kept).
 __kernel __attribute__((reqd_work_group_size(JITTER_GROUP, 1, 1))) void jittered_first(
-    __global const float4* position, __global const float4* normal, uint width, uint height, __global const float* map,
-    __constant const LightViewGpu* lv, float biasConstant, float biasSlope, float normalOffset, int receiverPlane,
-    int idMode, __global const uint* mapIds, __global const uint* objectIds, __global const uint* pixelTriangle,
-    __global const uint* pixelObject, JitterShade s, float precision, __global JitterPixel* state,
-    __global int* counters, __global uint* next, __global uint* tileMask, int tilesX, int tilesY, int tileSize,
-    __global float* visibility) {
+    __global const float4* position, __global const float4* normal, __global const float* map,
+    __constant const LightViewGpu* lv, ShadeFrame f, __global const uint* mapIds, __global const uint* objectIds,
+    __global const uint* pixelTriangle, __global const uint* pixelObject, JitterShade s, __global JitterPixel* state,
+    __global int* counters, __global uint* next, __global uint* tileMask, __global float* visibility) {
+  const uint width = f.width, height = f.height;
   __local JitterGroup wg;
   uint i = get_global_id(0), flags = 0;
   int2 texel = (int2)(0);
@@ -239,14 +239,14 @@ __kernel __attribute__((reqd_work_group_size(JITTER_GROUP, 1, 1))) void jittered
   JitterPixel px = {0.0f};
   px.kept = -1.0f, px.lit = 1.0f;
   if (s.mode == JITTER_OPTIMAL && i < width * height)
-    px.slack = p.w == 0.0f ? 1.0f : jittered_slack(position, width, height, lv, precision, i, p);
+    px.slack = p.w == 0.0f ? 1.0f : jittered_slack(position, width, height, lv, s.precision, i, p);
   if (p.w != 0.0f) {
-    ShadowBias bias = {biasConstant, biasSlope, normalOffset};
-    flags = jittered_lookup(position, normal, width, height, map, lv, bias, receiverPlane, idMode, mapIds, objectIds,
-                            pixelTriangle, pixelObject, s, 0, px.slack, i, p, true, &texel, &px);
+    ShadowBias bias = {f.biasConstant, f.biasSlope, f.normalOffset};
+    flags = jittered_lookup(position, normal, width, height, map, lv, bias, f.receiverPlane, f.idMode, mapIds,
+                            objectIds, pixelTriangle, pixelObject, s, 0, px.slack, i, p, true, &texel, &px);
   }
   if (i < width * height) jittered_store(state, visibility, i, px, 1.0f, 0);
-  jittered_count(flags, texel, i, &wg, counters, next, tileMask, tilesX, tilesY, tileSize);
+  jittered_count(flags, texel, i, &wg, counters, next, tileMask, s.tilesX, s.tilesY, s.tileSize);
 }
 
 // Pass k > 0 of LiSPSM n-parameter jittering (Luksch sec. 6.5.1): the pass's warp differs from pass 0's, so it is no
@@ -254,11 +254,13 @@ __kernel __attribute__((reqd_work_group_size(JITTER_GROUP, 1, 1))) void jittered
 // in this pass's texels (the paper: "the optimal confidence has to be recalculated whenever n is changed"; biased by
 // it, confidences of differently warped passes compare again). Over the previous pass's work list.
 __kernel __attribute__((reqd_work_group_size(JITTER_GROUP, 1, 1))) void jittered_reproject(
-    __global const float4* position, __global const float4* normal, uint width, uint height, __global const uint* work,
-    uint count, __global const float* map, __constant const LightViewGpu* lv, float biasConstant, float biasSlope,
-    float normalOffset, int receiverPlane, int idMode, __global const uint* mapIds, __global const uint* objectIds,
-    __global const uint* pixelTriangle, __global const uint* pixelObject, JitterShade s, int pass, float precision,
-    __global JitterPixel* state, __global int* counters, __global uint* next, __global float* visibility) {
+    __global const float4* position, __global const float4* normal, __global const uint* work,
+    __global const float* map, __constant const LightViewGpu* lv, ShadeFrame f, __global const uint* mapIds,
+    __global const uint* objectIds, __global const uint* pixelTriangle, __global const uint* pixelObject,
+    JitterShade s, JitterPass jp, __global JitterPixel* state, __global int* counters, __global uint* next,
+    __global float* visibility) {
+  const uint width = f.width, height = f.height, count = jp.count;
+  const int pass = jp.pass;
   __local JitterGroup wg;
   uint flags = 0, i = get_global_id(0) < count ? work[get_global_id(0)] : 0u;
   int2 texel = (int2)(0);
@@ -266,10 +268,10 @@ __kernel __attribute__((reqd_work_group_size(JITTER_GROUP, 1, 1))) void jittered
     float4 p = position[i];
     JitterPixel px = state[i];
     float before = px.lit;
-    float slack = s.mode == JITTER_OPTIMAL ? jittered_slack(position, width, height, lv, precision, i, p) : 0.0f;
-    ShadowBias bias = {biasConstant, biasSlope, normalOffset};
-    flags = jittered_lookup(position, normal, width, height, map, lv, bias, receiverPlane, idMode, mapIds, objectIds,
-                            pixelTriangle, pixelObject, s, pass, slack, i, p, false, &texel, &px);
+    float slack = s.mode == JITTER_OPTIMAL ? jittered_slack(position, width, height, lv, s.precision, i, p) : 0.0f;
+    ShadowBias bias = {f.biasConstant, f.biasSlope, f.normalOffset};
+    flags = jittered_lookup(position, normal, width, height, map, lv, bias, f.receiverPlane, f.idMode, mapIds,
+                            objectIds, pixelTriangle, pixelObject, s, pass, slack, i, p, false, &texel, &px);
     // A receiver whose lookup fails here (behind this warp's eye) keeps what it has and stays listed.
     if (flags == 0u) flags = jittered_untested(s, px.kept);
     jittered_store(state, visibility, i, px, before, pass);
@@ -286,11 +288,14 @@ __kernel __attribute__((reqd_work_group_size(JITTER_GROUP, 1, 1))) void jittered
 // its window or beyond its far plane) keeps what it has. The depth comparison is sc_hard_lit's against the moved
 // lookup. It runs over the previous pass's work list (`work`, `count` pixels) and writes the next one (`next`).
 __kernel __attribute__((reqd_work_group_size(JITTER_GROUP, 1, 1))) void jittered_pass(
-    __global const uint* work, uint count, __global const float* map, int mapWidth, int mapHeight, float4 jitter,
-    float mapFar, int idMode, __global const uint* mapIds, __global const uint* objectIds,
-    __global const uint* pixelTriangle, __global const uint* pixelObject, JitterShade s, int pass,
-    __global JitterPixel* state, __global int* counters, __global uint* next, __global uint* tileMask, int tilesX,
-    int tilesY, int tileSize, __global float* visibility) {
+    __global const uint* work, __global const float* map, __global const uint* mapIds, __global const uint* objectIds,
+    __global const uint* pixelTriangle, __global const uint* pixelObject, JitterShade s, JitterPass jp,
+    __global JitterPixel* state, __global int* counters, __global uint* next, __global uint* tileMask,
+    __global float* visibility) {
+  const uint count = jp.count;
+  const int mapWidth = jp.mapWidth, mapHeight = jp.mapHeight, idMode = jp.idMode, pass = jp.pass;
+  const float4 jitter = jp.jitter;
+  const float mapFar = jp.mapFar;
   __local JitterGroup wg;
   __local JitterPixel staged[JITTER_GROUP];
   __local float near[JITTER_GROUP * JITTER_NEIGHBOURS];
@@ -334,5 +339,5 @@ __kernel __attribute__((reqd_work_group_size(JITTER_GROUP, 1, 1))) void jittered
     texel = convert_int2_sat(clamp(t, -1.0f, (float)max(mapWidth, mapHeight)));
     jittered_store(state, visibility, i, px, before, pass);
   }
-  jittered_count(flags, texel, i, &wg, counters, next, tileMask, tilesX, tilesY, tileSize);
+  jittered_count(flags, texel, i, &wg, counters, next, tileMask, s.tilesX, s.tilesY, s.tileSize);
 }

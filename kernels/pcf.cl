@@ -12,36 +12,38 @@
 //   combined mode, between objects beside) its depth comparison, so the filter averages id tests.
 #include "kernels/shared/id_buffer.h"
 #include "kernels/shared/rotation.h"
+#include "kernels/shared/shade.h"
 #include "kernels/shared/shadow_common.h"
 
-__kernel void pcf_visibility(__global const float4* position, __global const float4* normal, uint width, uint height,
-                             __global const float* map, __constant const LightViewGpu* lv, float biasConstant,
-                             float biasSlope, float normalOffset, int idMode, __global const uint* mapIds,
+__kernel void pcf_visibility(__global const float4* position, __global const float4* normal, __global const float* map,
+                             __constant const LightViewGpu* lv, ShadeFrame f, __global const uint* mapIds,
                              __global const uint* objectIds, __global const uint* pixelTriangle,
-                             __global const uint* pixelObject, int radius, int receiverPlane, int adaptive,
-                             float maxRadius, int poissonTaps, __global const float2* poisson,
+                             __global const uint* pixelObject, PcfShade s, __global const float2* poisson,
                              __global float* filterOut, __global float* visibility) {
+  const uint width = f.width, height = f.height;
+  const float biasConstant = f.biasConstant;
+  const int idMode = f.idMode, radius = s.radius, poissonTaps = s.poissonTaps;
   uint i = get_global_id(0);
   if (i >= width * height) return;
   float4 p = position[i];
   visibility[i] = 1.0f;
   filterOut[i] = 0.0f;
   if (p.w == 0.0f) return;
-  ShadowBias bias = {biasConstant, biasSlope, normalOffset};
+  ShadowBias bias = {f.biasConstant, f.biasSlope, f.normalOffset};
   float3 n = normal[i].xyz;
   Receiver r = sc_receiver(lv, p.xyz, n, bias);
   if (!r.valid) return;
   // The footprint serves the receiver plane and the adaptive size: measured only when one of them is on.
-  Footprint f = {(float3)(0.0f), (float3)(0.0f)};
-  if (receiverPlane || adaptive) f = sc_footprint(position, lv, width, height, i, p.xyz, n);
-  ReceiverPlane rp = sc_receiver_plane(f, r.texel);
-  if (!receiverPlane) rp.valid = 0;
+  Footprint fp = {(float3)(0.0f), (float3)(0.0f)};
+  if (f.receiverPlane || s.adaptive) fp = sc_footprint(position, lv, width, height, i, p.xyz, n);
+  ReceiverPlane rp = sc_receiver_plane(fp, r.texel);
+  if (!f.receiverPlane) rp.valid = 0;
   const float planeBias = biasConstant * r.texel;
   const uint ownTriangle = id_pixel(pixelTriangle, i, idMode), ownObject = id_pixel(pixelObject, i, idMode);
   const float2 idUv = lv_project(lv, p.xyz).xy;  // the id lookups' position: no normal offset
   // Half-width of the kernel in texels.
   float reach = (float)radius;
-  if (adaptive) reach = min(max(reach, 0.5f * sc_footprint_texels(f)), maxRadius);
+  if (s.adaptive) reach = min(max(reach, 0.5f * sc_footprint_texels(fp)), s.maxRadius);
   filterOut[i] = reach;
   float sum = 0.0f;
   int taps = 0;

@@ -3,14 +3,16 @@
 // ID buffer (Luksch sec. 9.1, kernels/shared/id_buffer.h) the map's triangle ids decide instead, or beside it.
 #define SHADOW_NORMAL_OFFSET_SCALED 0  // the whole normal offset at every angle (kernels/shared/shadow_common.h)
 #include "kernels/shared/id_buffer.h"
+#include "kernels/shared/shade.h"
 #include "kernels/shared/shadow_common.h"
 
-__kernel void sm_visibility(__global const float4* position, __global const float4* normal, uint width, uint height,
-                            __global const float* map, __constant const LightViewGpu* lv, float biasConstant,
-                            float biasSlope, float normalOffset, int receiverPlane, int idMode,
-                            __global const uint* mapIds, __global const uint* objectIds,
-                            __global const uint* pixelTriangle, __global const uint* pixelObject,
-                            __global float* visibility) {
+__kernel void sm_visibility(__global const float4* position, __global const float4* normal, __global const float* map,
+                            __constant const LightViewGpu* lv, ShadeFrame f, __global const uint* mapIds,
+                            __global const uint* objectIds, __global const uint* pixelTriangle,
+                            __global const uint* pixelObject, __global float* visibility) {
+  const uint width = f.width, height = f.height;
+  const float biasConstant = f.biasConstant;
+  const int idMode = f.idMode;
   uint i = get_global_id(0);
   if (i >= width * height) return;
   float4 p = position[i];
@@ -18,13 +20,13 @@ __kernel void sm_visibility(__global const float4* position, __global const floa
     visibility[i] = 1.0f;
     return;
   }
-  ShadowBias bias = {biasConstant, biasSlope, normalOffset};
+  ShadowBias bias = {f.biasConstant, f.biasSlope, f.normalOffset};
   float3 n = normal[i].xyz;
   Receiver r = sc_receiver(lv, p.xyz, n, bias);
   float lit = 1.0f;
   if (r.valid) {
     // The map holds the occluder's depth at the texel centre: compare it with the receiver's own plane there.
-    ReceiverPlane rp = sc_receiver_plane_at(receiverPlane, position, lv, width, height, i, p.xyz, n, r.texel);
+    ReceiverPlane rp = sc_receiver_plane_at(f.receiverPlane, position, lv, width, height, i, p.xyz, n, r.texel);
     lit = id_visibility(mapIds, objectIds, lv->width, lv->height, lv_project(lv, p.xyz).xy,
                         id_pixel(pixelTriangle, i, idMode), id_pixel(pixelObject, i, idMode), idMode,
                         sc_hard_lit(map, lv, r, rp, biasConstant * r.texel));

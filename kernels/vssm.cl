@@ -5,6 +5,7 @@
 // or subdivision (L18). Built with -DSAT_MODE=... -DSAT_CHANNELS=2 for the SAT's storage.
 #include "kernels/shared/chebyshev.h"
 #include "kernels/shared/moments.h"
+#include "kernels/shared/shade.h"
 #include "kernels/shared/vssm_subdivide.h"
 
 // The HSM's input: light depth normalised as the moments stage does (background and NaN -> 1, no occluder).
@@ -185,19 +186,20 @@ inline void vssm_store(VssmResult res, uint i, __global float4* debug, __global 
 }
 
 // Per camera pixel; debug = (blocker depth, penumbra half-width, sub-kernels visited, path; -1 for background).
-__kernel void vssm_visibility(__global const float4* position, __global const float4* normal, uint count,
-                              __global const float* depth, __constant const LightViewGpu* lv, float biasConstant,
-                              float biasSlope, float normalOffset, __global const SAT_T* sat, SatTableDesc desc,
-                              __global const float* satOffset, __global const float2* hsm,
-                              __constant const PyramidLevel* levels, __constant const VssmNode* nodes,
-                              VssmParams params, __global float4* debug, __global float* visibility) {
+__kernel void vssm_visibility(__global const float4* position, __global const float4* normal,
+                              __global const float* depth, __constant const LightViewGpu* lv, ShadeFrame f,
+                              __global const SAT_T* sat, SatTableDesc desc, __global const float* satOffset,
+                              __global const float2* hsm, __constant const PyramidLevel* levels,
+                              __constant const VssmNode* nodes, VssmParams params, __global float4* debug,
+                              __global float* visibility) {
+  const uint count = f.width * f.height;
   const uint i = get_global_id(0);
   if (i >= count) return;
   visibility[i] = 1.0f;
   debug[i] = (float4)(0.0f, 0.0f, 0.0f, -1.0f);
   const float4 p = position[i];
   if (p.w == 0.0f) return;
-  const ShadowBias bias = {biasConstant, biasSlope, normalOffset};
+  const ShadowBias bias = {f.biasConstant, f.biasSlope, f.normalOffset};
   const Receiver rc = sc_receiver(lv, p.xyz, normal[i].xyz, bias);
   if (!rc.valid) return;
   const VssmMaps m = {sat, satOffset, depth, hsm, levels, nodes, lv, desc, params};

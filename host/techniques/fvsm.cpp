@@ -14,6 +14,7 @@
 //   4. fvsm_visibility: sm's hard test through the page table (finest cells -> tile), with the bias in the footprint
 //      of the tile used.
 #include "kernels/shared/fvsm.h"
+#include "kernels/shared/id_buffer.h"
 
 #include <fmt/format.h>
 
@@ -217,6 +218,7 @@ class FittedVirtualShadowMap final : public Technique {
 
       // 4. The lookups, a batch of tile views at a time.
       Kernel lookup(ctx, "kernels/fvsm.cl", "fvsm_visibility", "shade");
+      const ShadeFrame shade = shadeFrame(frame, params_, params_.getInt("receiver-plane"), ID_BUFFER_OFF);
       batches_.resize(std::max(batches_.size(), (leaves.size() + kViewsPerBatch - 1) / kViewsPerBatch));
       for (size_t begin = 0; begin < leaves.size(); begin += kViewsPerBatch) {
         const size_t count = std::min(kViewsPerBatch, leaves.size() - begin);
@@ -226,9 +228,9 @@ class FittedVirtualShadowMap final : public Technique {
         gpu.allocate(ctx, batch.size(), CL_MEM_READ_ONLY);
         gpu.upload(ctx, std::span<const LightViewGpu>(batch));
         lookup
-            .args(g.position, g.normal, width, height, atlasDepth_, baseGpu_, bias.constant, bias.slope,
-                  bias.normalOffset, params_.getInt("receiver-plane"), gpu, static_cast<uint32_t>(begin),
-                  static_cast<uint32_t>(count), page_, static_cast<uint32_t>(cells), leafLevels_, visibility, level_)
+            .args(g.position, g.normal, atlasDepth_, baseGpu_, shade, gpu, page_, leafLevels_,
+                  FvsmBatch{static_cast<uint32_t>(begin), static_cast<uint32_t>(count), static_cast<uint32_t>(cells)},
+                  visibility, level_)
             .moves(pixels * kVisibilityBytesPerPixel)
             .launch(pixels, kPixelGroup);
       }

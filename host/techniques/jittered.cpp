@@ -189,7 +189,7 @@ class Jittered final : public Technique {
     if (plan.nJitter > 0.0f && !plan.warped) throw std::invalid_argument("--lispsm-n-jitter needs --warp lispsm");
     renderShadowMap(frame, params_, map_, 0.0f);
     plan.fitted = map_.view;
-    if (plan.reduction > 0.0f || plan.nJitter > 0.0f) plan.depth = tightViewDepth(frame);
+    if (plan.reduction > 0.0f || plan.nJitter > 0.0f) plan.depth = tightViewDepth(frame.ctx, frame.gbuffer);
     plan.margin = static_cast<float>(params_.get("normal-offset")) + 1.0f;  // renderShadowMap's, no filter reach
     if (plan.nJitter > 0.0f) {  // pass 0's n, as renderShadowMap's fit chose it
       LispsmFit fit;
@@ -250,18 +250,17 @@ class Jittered final : public Technique {
   // A pass of n jitter: every listed pixel projected through this pass's own warped map (jittered_reproject).
   std::array<int32_t, JITTER_COUNTERS> reproject(ShadowFrame& frame, int pass, Buffer<float>& visibility) {
     const GBuffer& g = frame.gbuffer;
-    const uint32_t width = static_cast<uint32_t>(g.width), height = static_cast<uint32_t>(g.height);
-    const JitterShade shade = shadeArgs();
+    const JitterShade shade = shadeArgs(0);
+    const ShadeFrame frameShade = shadeFrame(frame, params_, params_.getInt("receiver-plane"), params_.getInt("id-buffer"));
+    JitterPass jp{};
+    jp.pass = pass, jp.count = static_cast<uint32_t>(active_), jp.idMode = frameShade.idMode;
     resetCounters(frame.ctx);
     passGpu_.allocate(frame.ctx, 1);
     passGpu_.upload(frame.ctx, std::span<const LightViewGpu>(&map_.view.gpu, 1));
-    const BiasArgs bias = biasArgs(params_);
     Kernel kernel(frame.ctx, "kernels/jittered.cl", "jittered_reproject", "shade");
     kernel
-        .args(g.position, g.normal, width, height, work_, static_cast<uint32_t>(active_), map_.targets.depth, passGpu_,
-              bias.constant, bias.slope, bias.normalOffset, params_.getInt("receiver-plane"),
-              params_.getInt("id-buffer"), map_.targets.triangleId, frame.raster.objectIds(), g.triangleId, g.objectId,
-              shade, pass, static_cast<float>(params_.get("jitter-precision")), state_, counters_, next_, visibility)
+        .args(g.position, g.normal, work_, map_.targets.depth, passGpu_, frameShade, map_.targets.triangleId,
+              frame.raster.objectIds(), g.triangleId, g.objectId, shade, jp, state_, counters_, next_, visibility)
         // per listed pixel: its index, its position and normal, four neighbours' positions (eq. 5), its state read
         // and written, and the next list's entry
         .moves(uint64_t(active_) * (4 + 16 * 6 + 2 * sizeof(JitterPixel) + 4))
@@ -269,9 +268,11 @@ class Jittered final : public Technique {
     return readCounters(frame.ctx);
   }
 
-  JitterShade shadeArgs() const {
+  // The technique's scalars (kernels/shared/jittered.h), with a tile mask of maskTiles^2 tiles (0: none).
+  JitterShade shadeArgs(int maskTiles) const {
     return {params_.getInt("confidence"), static_cast<float>(params_.get("confidence-threshold")),
-            params_.getInt("jitter-agreement")};
+            params_.getInt("jitter-agreement"), static_cast<float>(params_.get("jitter-precision")), maskTiles,
+            maskTiles, kRasterTileSize};
   }
 
   void resetCounters(Context& ctx) {
@@ -294,31 +295,29 @@ class Jittered final : public Technique {
     const GBuffer& g = frame.gbuffer;
     const uint32_t width = static_cast<uint32_t>(g.width), height = static_cast<uint32_t>(g.height);
     const uint64_t pixels = uint64_t{width} * height;
-    const JitterShade shade = shadeArgs();
     const int idMode = params_.getInt("id-buffer");
     resetCounters(frame.ctx);
     const int size = map_.view.raster.width, tiles = (size + kRasterTileSize - 1) / kRasterTileSize;
     tileMask_.allocate(frame.ctx, masking_ ? static_cast<size_t>(tiles) * tiles : 1);
     if (masking_) tileMask_.fill(frame.ctx, 0u);  // the previous pass's draw has read it
     const int maskTiles = masking_ ? tiles : 0;   // 0: the kernels mark nothing
+    const JitterShade shade = shadeArgs(maskTiles);
     if (pass == 0) {
-      const BiasArgs bias = biasArgs(params_);
+      const ShadeFrame frameShade = shadeFrame(frame, params_, params_.getInt("receiver-plane"), idMode);
       Kernel kernel(frame.ctx, "kernels/jittered.cl", "jittered_first", "shade");
       kernel
-          .args(g.position, g.normal, width, height, map_.targets.depth, map_.gpu, bias.constant, bias.slope,
-                bias.normalOffset, params_.getInt("receiver-plane"), idMode, map_.targets.triangleId,
-                frame.raster.objectIds(), g.triangleId, g.objectId, shade,
-                static_cast<float>(params_.get("jitter-precision")), state_, counters_, next_, tileMask_, maskTiles,
-                maskTiles, kRasterTileSize, visibility)
+          .args(g.position, g.normal, map_.targets.depth, map_.gpu, frameShade, map_.targets.triangleId,
+                frame.raster.objectIds(), g.triangleId, g.objectId, shade, state_, counters_, next_, tileMask_,
+                visibility)
           // + the state; the work list's entries as a bound
           .moves(pixels * (kVisibilityBytesPerPixel + sizeof(JitterPixel) + 4))
           .launch(pixels, size_t{JITTER_GROUP});
     } else {
+      const JitterPass jp{jitter, size, size, map_.view.gpu.zFar, pass, static_cast<uint32_t>(active_), idMode, {0, 0}};
       Kernel kernel(frame.ctx, "kernels/jittered.cl", "jittered_pass", "shade");
       kernel
-          .args(work_, static_cast<uint32_t>(active_), map_.targets.depth, size, size, jitter, map_.view.gpu.zFar,
-                idMode, map_.targets.triangleId, frame.raster.objectIds(), g.triangleId, g.objectId, shade, pass,
-                state_, counters_, next_, tileMask_, maskTiles, maskTiles, kRasterTileSize, visibility)
+          .args(work_, map_.targets.depth, map_.targets.triangleId, frame.raster.objectIds(), g.triangleId, g.objectId,
+                shade, jp, state_, counters_, next_, tileMask_, visibility)
           // per listed pixel: its index, its state read and written, and the next list's entry
           .moves(uint64_t(active_) * (4 + 2 * sizeof(JitterPixel) + 4))
           .launch(static_cast<size_t>(active_), size_t{JITTER_GROUP});

@@ -27,10 +27,10 @@ class PercentageCloser final : public Technique {
     }
     filter_.allocate(frame.ctx, visibility.size());
     const GBuffer& g = frame.gbuffer;
-    launchVisibility(frame, map_, params, "kernels/pcf.cl", "pcf_visibility", visibility, params.getInt("id-buffer"),
-                     map_.targets.triangleId, frame.raster.objectIds(), g.triangleId, g.objectId, radius,
-                     params.getInt("receiver-plane"), static_cast<int>(adaptive), maxRadius, poissonTaps, poisson_,
-                     filter_);
+    const ShadeFrame shade = shadeFrame(frame, params, params.getInt("receiver-plane"), params.getInt("id-buffer"));
+    const PcfShade pcf{radius, static_cast<int>(adaptive), maxRadius, poissonTaps};
+    launchVisibility(frame, map_, shade, "kernels/pcf.cl", "pcf_visibility", visibility, map_.targets.triangleId,
+                     frame.raster.objectIds(), g.triangleId, g.objectId, pcf, poisson_, filter_);
   }
 
   void addDebugChannels(Context& ctx, Image& image) override { image.add("filter.Z", filter_.download(ctx)); }

@@ -5,6 +5,8 @@
 #include "host/techniques/poisson.h"
 #include "host/techniques/registry.h"
 #include "host/techniques/shadow_map.h"
+#include "kernels/shared/id_buffer.h"
+#include "kernels/shared/shade.h"
 
 namespace penumbra {
 namespace {
@@ -20,8 +22,8 @@ class PercentageCloserSoft final : public Technique {
     const int pattern = params_.getInt("pcss-pattern");
     if (searchDisk_.empty()) {
       // taps^2 points each (the grid's count); their own seeds, so the two patterns do not line up.
-      const int searchCount = pattern == kPoisson ? searchTaps * searchTaps : 1;
-      const int filterCount = pattern == kPoisson ? filterTaps * filterTaps : 1;
+      const int searchCount = pattern == SHADE_PATTERN_POISSON ? searchTaps * searchTaps : 1;
+      const int filterCount = pattern == SHADE_PATTERN_POISSON ? filterTaps * filterTaps : 1;
       const std::vector<cl_float2> search = poissonDisk(searchCount, 2), filter = poissonDisk(filterCount, 1);
       searchDisk_ = Buffer<cl_float2>(frame.ctx, std::span<const cl_float2>(search), CL_MEM_READ_ONLY);
       filterDisk_ = Buffer<cl_float2>(frame.ctx, std::span<const cl_float2>(filter), CL_MEM_READ_ONLY);
@@ -39,16 +41,16 @@ class PercentageCloserSoft final : public Technique {
       pyramid_.allocate(frame.ctx, 1);
       levels_.allocate(frame.ctx, 1, CL_MEM_READ_ONLY);
     }
-    launchVisibility(frame, map_, params_, "kernels/pcss.cl", "pcss_visibility", visibility,
-                     params_.getInt("receiver-plane"), searchTaps, filterTaps,
-                     static_cast<float>(params_.get("pcss-max-radius")), pattern, searchDisk_, filterDisk_,
-                     static_cast<int>(adaptive), pyramid_, levels_, static_cast<uint32_t>(levels_.size()), blocker_);
+    const ShadeFrame shade = shadeFrame(frame, params_, params_.getInt("receiver-plane"), ID_BUFFER_OFF);
+    const PcssShade pcss{searchTaps, filterTaps, static_cast<float>(params_.get("pcss-max-radius")), pattern,
+                         static_cast<int>(adaptive), static_cast<uint32_t>(levels_.size())};
+    launchVisibility(frame, map_, shade, "kernels/pcss.cl", "pcss_visibility", visibility, pcss, searchDisk_,
+                     filterDisk_, pyramid_, levels_, blocker_);
   }
 
   void addDebugChannels(Context& ctx, Image& image) override { image.add("blocker.Z", blocker_.download(ctx)); }
 
  private:
-  static constexpr int kPoisson = 1;   // pcss-pattern's index of "poisson"
   static constexpr int kAdaptive = 1;  // pcss-search's index of "adaptive"
 
   Params params_;
@@ -68,8 +70,9 @@ TechniqueInfo pcssTechnique() {
   params.push_back({"pcss-filter-taps", 8, 1, 64, "PCF: taps x taps (grid) or taps^2 (disk) bilinear comparisons"});
   params.push_back({"pcss-max-radius", 64, 1, 512, "Largest search/filter half-width in texels"});
   // The disk by default: at the grid's tap count it halves the grid's error or more, docs/techniques/sm-pcf-pcss.md.
+  static_assert(SHADE_PATTERN_GRID == 0 && SHADE_PATTERN_POISSON == 1, "pcss-pattern's choices are SHADE_PATTERN_*");
   params.push_back({"pcss-pattern",
-                    1,
+                    SHADE_PATTERN_POISSON,
                     0,
                     1,
                     "Search and filter taps: taps^2 rotated Poisson-disk points over the light's disk, or a taps x "

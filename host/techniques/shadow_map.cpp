@@ -123,6 +123,12 @@ BiasArgs biasArgs(const Params& params) {
           static_cast<float>(params.get("normal-offset"))};
 }
 
+ShadeFrame shadeFrame(const ShadowFrame& frame, const Params& params, int receiverPlane, int idMode) {
+  const BiasArgs bias = biasArgs(params);
+  return {static_cast<uint32_t>(frame.gbuffer.width), static_cast<uint32_t>(frame.gbuffer.height), bias.constant,
+          bias.slope, bias.normalOffset, receiverPlane, idMode};
+}
+
 void renderShadowMap(ShadowFrame& frame, const Params& params, ShadowMap& map, float reachTexels) {
   const int size = params.getInt("map-size");
   const bool toReceivers = params.getInt("fit") == 1;

@@ -9,6 +9,7 @@
 #include "host/techniques/params.h"
 #include "host/techniques/technique.h"
 #include "host/views/views.h"
+#include "kernels/shared/shade.h"
 
 namespace penumbra {
 
@@ -74,19 +75,20 @@ ParamSpec idBufferParam();
 using BiasArgs = ReceiverBias;
 BiasArgs biasArgs(const Params& params);
 
-// Launches a per-pixel visibility kernel of the shadow-map family. Every such kernel takes
-// (position, normal, G-buffer width, height, map, light view, bias, slope bias, normal offset, EXTRA...,
-// visibility).
+// The scalars every visibility launch of the shadow-map family has (kernels/shared/shade.h): the G-buffer's size,
+// the bias of `params`, the receiver plane (0/1) and the ID buffer's mode (ID_BUFFER_*).
+ShadeFrame shadeFrame(const ShadowFrame& frame, const Params& params, int receiverPlane, int idMode);
+
+// Launches a per-pixel visibility kernel of the shadow-map family (sm, pcf, pcss). Every such kernel takes
+// (position, normal, map, light view, ShadeFrame, EXTRA..., visibility): its own scalars travel in a struct of
+// kernels/shared/shade.h among EXTRA.
 template <class... Extra>
-void launchVisibility(ShadowFrame& frame, const ShadowMap& map, const Params& params, const std::string& source,
+void launchVisibility(ShadowFrame& frame, const ShadowMap& map, const ShadeFrame& shade, const std::string& source,
                       const std::string& entry, Buffer<float>& visibility, const Extra&... extra) {
   const GBuffer& g = frame.gbuffer;
-  const BiasArgs bias = biasArgs(params);
-  const uint32_t width = static_cast<uint32_t>(g.width), height = static_cast<uint32_t>(g.height);
+  const uint32_t width = shade.width, height = shade.height;
   Kernel kernel(frame.ctx, source, entry, "shade");
-  kernel
-      .args(g.position, g.normal, width, height, map.targets.depth, map.gpu, bias.constant, bias.slope,
-            bias.normalOffset, extra..., visibility)
+  kernel.args(g.position, g.normal, map.targets.depth, map.gpu, shade, extra..., visibility)
       .moves(uint64_t{width} * height * kVisibilityBytesPerPixel)
       .launch(static_cast<size_t>(width) * height, kPixelGroup);
 }

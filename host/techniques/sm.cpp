@@ -13,8 +13,9 @@ class HardShadowMap final : public Technique {
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     renderShadowMap(frame, params_, map_, 0.0f);
     const GBuffer& g = frame.gbuffer;
-    launchVisibility(frame, map_, params_, "kernels/sm.cl", "sm_visibility", visibility,
-                     params_.getInt("receiver-plane"), params_.getInt("id-buffer"), map_.targets.triangleId,
+    const ShadeFrame shade =
+        shadeFrame(frame, params_, params_.getInt("receiver-plane"), params_.getInt("id-buffer"));
+    launchVisibility(frame, map_, shade, "kernels/sm.cl", "sm_visibility", visibility, map_.targets.triangleId,
                      frame.raster.objectIds(), g.triangleId, g.objectId);
   }
 

@@ -8,6 +8,7 @@
 #include "host/techniques/registry.h"
 #include "host/techniques/shadow_map.h"
 #include "host/techniques/vssm_maps.h"
+#include "kernels/shared/id_buffer.h"
 
 namespace penumbra {
 namespace {
@@ -28,14 +29,13 @@ class VarianceSoftShadows final : public Technique {
     const GBuffer& g = frame.gbuffer;
     const uint32_t count = static_cast<uint32_t>(g.width) * static_cast<uint32_t>(g.height);
     debug_.allocate(frame.ctx, count);
-    const BiasArgs bias = biasArgs(params_);
+    const ShadeFrame frameShade = shadeFrame(frame, params_, 0, ID_BUFFER_OFF);  // no receiver plane, no ID buffer
     Kernel kernel(frame.ctx, "kernels/vssm.cl", "vssm_visibility", "shade", maps_.buildOptions());
     std::visit(
         [&](const auto& sat) {
           kernel
-              .args(g.position, g.normal, count, map_.targets.depth, map_.gpu, bias.constant, bias.slope,
-                    bias.normalOffset, sat, maps_.satDesc(), maps_.satOffset(), maps_.hsm(), maps_.levels(),
-                    maps_.nodes(), shade, debug_, visibility)
+              .args(g.position, g.normal, map_.targets.depth, map_.gpu, frameShade, sat, maps_.satDesc(),
+                    maps_.satOffset(), maps_.hsm(), maps_.levels(), maps_.nodes(), shade, debug_, visibility)
               .moves(uint64_t{count} * kVisibilityBytesPerPixel)
               .launch(count, kPixelGroup);
         },

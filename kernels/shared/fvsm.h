@@ -8,4 +8,15 @@
 #define FVSM_NO_LEAF 0xffffffffu  // a page-table entry no drawn tile covers
 #define FVSM_MAX_LEVELS 10        // quadtree levels below the root at most (2^10 tiles a side)
 
+// One batch of fvsm_visibility's lookups: the tiles [begin, begin + count) whose views the launch holds, and the
+// page table's cells per side.
+typedef struct FvsmBatch {
+  uint begin, count;
+  uint cells;
+} FvsmBatch;
+
+#if PENUMBRA_HOST
+static_assert(sizeof(FvsmBatch) == 12, "FvsmBatch is shared with OpenCL C");
+#endif
+
 #endif

@@ -36,10 +36,25 @@
 #define JITTER_NEIGHBOURS ((2 * JITTER_AGREEMENT_RADIUS + 1) * (2 * JITTER_AGREEMENT_RADIUS + 1))
 
 typedef struct JitterShade {
-  int mode;         // JITTER_*
-  float threshold;  // simple: the confidence a lookup needs to add shadow
-  int agreement;    // optimal: consecutive agreeing passes that settle a pixel (0: off)
+  int mode;          // JITTER_*
+  float threshold;   // simple: the confidence a lookup needs to add shadow
+  int agreement;     // optimal: consecutive agreeing passes that settle a pixel (0: off)
+  float precision;   // optimal: eq. 5's required precision (--jitter-precision)
+  int tilesX, tilesY;  // the next pass's tile mask (0: the kernels mark nothing)
+  int tileSize;        // pixels per side of a mask tile (RASTER_TILE_SIZE)
 } JitterShade;
+
+// What changes from pass to pass: its number, its work list and, for jittered_pass, its texel transform from pass 0's
+// map (host/techniques/jittered.cpp's texelTransform) and that map's size and far plane.
+typedef struct JitterPass {
+  pn_float4 jitter;        // (s cos, s sin, shift x, shift y)
+  int mapWidth, mapHeight;
+  float mapFar;            // the reduced map's far plane: farther receivers are not in it
+  int pass;                // 0 the first pass
+  uint count;              // pixels on the work list
+  int idMode;              // ID_BUFFER_* (kernels/shared/id_buffer.h)
+  int pad[2];
+} JitterPass;
 
 // One receiver's state across a frame's passes, in one 64-byte line so that a later pass, which reads its listed
 // pixels scattered over the frame, touches one line per pixel: pass 0's lookup (later passes move it with their
@@ -59,7 +74,9 @@ typedef struct JitterPixel {
 } JitterPixel;
 
 #if PENUMBRA_HOST
-static_assert(sizeof(JitterShade) == 12, "JitterShade layout must match OpenCL C");
+static_assert(sizeof(JitterShade) == 28 && offsetof(JitterShade, tileSize) == 24, "JitterShade as in OpenCL C");
+static_assert(sizeof(JitterPass) == 48 && offsetof(JitterPass, mapWidth) == 16 && offsetof(JitterPass, idMode) == 36,
+              "JitterPass as in OpenCL C");
 static_assert(sizeof(JitterPixel) == 64, "JitterPixel is one cache line, laid out as in OpenCL C");
 #endif
 

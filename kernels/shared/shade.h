@@ -1,0 +1,44 @@
+// The scalars of the shadow-map visibility kernels (sm_visibility, pcf_visibility, pcss_visibility) as structs
+// passed by value, filled once on the host (host/techniques/shadow_map.h's launchVisibility and the technique):
+// ShadeFrame for what every launch has (the frame's size, the receiver bias, the receiver plane, the ID buffer),
+// PcfShade and PcssShade for each filter's own. The buffers stay positional arguments. Shared by host and kernels.
+#ifndef PENUMBRA_KERNELS_SHARED_SHADE_H
+#define PENUMBRA_KERNELS_SHARED_SHADE_H
+
+#include "kernels/shared/common.h"
+
+// How the filters place their taps (pcf's and pcss's --*-pattern / --pcf-poisson-taps).
+#define SHADE_PATTERN_GRID 0     // a regular grid of taps x taps texels
+#define SHADE_PATTERN_POISSON 1  // a Poisson disk rotated per pixel
+
+typedef struct ShadeFrame {
+  uint width, height;  // G-buffer pixels (row 0 at the bottom)
+  float biasConstant;  // ShadowBias.base: texel footprints at the receiver
+  float biasSlope;     // ShadowBias.slope: times the receiver's depth slope
+  float normalOffset;  // ShadowBias.normalOffset
+  int receiverPlane;   // 1: the receiver-plane depth bias (sc_receiver_plane)
+  int idMode;          // ID_BUFFER_* (kernels/shared/id_buffer.h): sm and pcf; 0 (off) elsewhere
+} ShadeFrame;
+
+typedef struct PcfShade {
+  int radius;       // half width of the kernel in texels
+  int adaptive;     // 1: widened to the pixel's footprint in the map, up to maxRadius
+  float maxRadius;  // texels
+  int poissonTaps;  // 0: the (2 radius + 1)^2 grid; else this many rotated Poisson taps
+} PcfShade;
+
+typedef struct PcssShade {
+  int searchTaps, filterTaps;  // taps per side of the blocker search and the filter (squared on Poisson disks)
+  float maxRadius;             // texels: the largest search and filter radius
+  int pattern;                 // SHADE_PATTERN_*
+  int adaptive;                // 1: the blocker search bounded by the min-max pyramid (levelCount levels)
+  uint levelCount;
+} PcssShade;
+
+#if PENUMBRA_HOST
+static_assert(sizeof(ShadeFrame) == 28 && offsetof(ShadeFrame, idMode) == 24, "ShadeFrame is shared with OpenCL C");
+static_assert(sizeof(PcfShade) == 16 && offsetof(PcfShade, poissonTaps) == 12, "PcfShade is shared with OpenCL C");
+static_assert(sizeof(PcssShade) == 24 && offsetof(PcssShade, levelCount) == 20, "PcssShade is shared with OpenCL C");
+#endif
+
+#endif  // PENUMBRA_KERNELS_SHARED_SHADE_H
