@@ -7,11 +7,11 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "host/eval/bandwidth.h"
-#include "host/eval/bench_report.h"
-#include "host/eval/bench_stats.h"
+#include "tools/eval/bandwidth.h"
+#include "tools/eval/bench_report.h"
+#include "tools/eval/bench_stats.h"
 #include "host/eval/metrics.h"
-#include "host/eval/sweep.h"
+#include "tools/eval/sweep.h"
 #include "host/pipeline/frame_image.h"
 #include "host/pipeline/renderer.h"
 #include "host/scene/framing.h"

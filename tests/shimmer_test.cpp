@@ -1,6 +1,6 @@
-// The shimmer metric (host/eval/shimmer.h) on hand-computed frames: only stable, covered pixels count; NaN counts as
+// The shimmer metric (tools/eval/shimmer.h) on hand-computed frames: only stable, covered pixels count; NaN counts as
 // a full change; sizes must agree; pairs combine pixel-weighted.
-#include "host/eval/shimmer.h"
+#include "tools/eval/shimmer.h"
 
 #include <gtest/gtest.h>
 

@@ -19,7 +19,7 @@ RANKS = {
     'host/techniques': 5,
     'host/pipeline': 6, 'host/eval': 6,
     'include/penumbra': 7,
-    'api': 8, 'python': 8, 'tools/reference': 8, 'tools/bench': 8, 'tools/cli': 9,
+    'api': 8, 'python': 8, 'tools/reference': 8, 'tools/bench': 8, 'tools/eval': 8, 'tools/cli': 9,
 }
 SOURCES = ('.h', '.hpp', '.cpp', '.c', '.cl', '.h.in')
 INCLUDE = re.compile(r'^\s*#\s*include\s+["<]([^">]+)[">]')

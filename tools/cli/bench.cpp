@@ -14,11 +14,11 @@
 
 #include <CLI/CLI.hpp>
 
-#include "host/eval/bandwidth.h"
+#include "tools/eval/bandwidth.h"
 #include "host/cl/context.h"
-#include "host/eval/bench_report.h"
-#include "host/eval/bench_stats.h"
-#include "host/eval/sweep.h"
+#include "tools/eval/bench_report.h"
+#include "tools/eval/bench_stats.h"
+#include "tools/eval/sweep.h"
 #include "host/io/atomic_file.h"
 #include "host/io/exr.h"
 #include "host/pipeline/frame_image.h"

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "host/eval/metrics.h"
-#include "host/eval/sweep.h"
+#include "tools/eval/sweep.h"
 #include "host/scene/light.h"
 #include "host/techniques/technique.h"
 #include "tools/cli/technique_options.h"

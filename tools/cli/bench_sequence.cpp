@@ -9,10 +9,10 @@
 #include <fstream>
 #include <sstream>
 
-#include "host/eval/bench_report.h"
-#include "host/eval/bench_stats.h"
+#include "tools/eval/bench_report.h"
+#include "tools/eval/bench_stats.h"
 #include "host/eval/metrics.h"
-#include "host/eval/shimmer.h"
+#include "tools/eval/shimmer.h"
 #include "host/io/atomic_file.h"
 #include "host/pipeline/renderer.h"
 #include "host/scene/light_names.h"

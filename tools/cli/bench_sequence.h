@@ -1,6 +1,6 @@
 // `penumbra bench SCENE --camera-path PATH --frames N`: every technique x setting x light over the frames of a camera
 // path, each frame's reference traced once (Embree); per cell the median frame time, the mean accuracy over the frames
-// and the temporal stability between consecutive frames (host/eval/shimmer.h). Writes CSV rows of their own (one per
+// and the temporal stability between consecutive frames (tools/eval/shimmer.h). Writes CSV rows of their own (one per
 // cell, `shimmer` among the columns: tools/chart.py charts them per technique).
 #pragma once
 

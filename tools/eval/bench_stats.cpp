@@ -1,5 +1,5 @@
 // Medians over runs and bandwidth floors for `penumbra bench`.
-#include "host/eval/bench_stats.h"
+#include "tools/eval/bench_stats.h"
 
 #include <algorithm>
 

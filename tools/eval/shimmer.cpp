@@ -1,5 +1,5 @@
 // Per pixel |Δ ours| where |Δ reference| <= kStableReference, summed in double.
-#include "host/eval/shimmer.h"
+#include "tools/eval/shimmer.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // Sweep parsing and expansion into per-technique settings.
-#include "host/eval/sweep.h"
+#include "tools/eval/sweep.h"
 
 #include <fmt/format.h>
 

@@ -1,11 +1,11 @@
 // Copy bandwidth from profiling events of clEnqueueCopyBuffer between two device buffers.
-#include "host/eval/bandwidth.h"
+#include "tools/eval/bandwidth.h"
 
 #include <algorithm>
 #include <vector>
 
 #include "host/cl/error.h"
-#include "host/eval/bench_stats.h"
+#include "tools/eval/bench_stats.h"
 
 namespace penumbra {
 

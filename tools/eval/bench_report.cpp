@@ -1,5 +1,5 @@
 // CSV and JSON of bench rows: the same columns in both, empty (CSV) or null (JSON) where a value does not apply.
-#include "host/eval/bench_report.h"
+#include "tools/eval/bench_report.h"
 
 #include <fmt/format.h>
 
