@@ -7,5 +7,5 @@ cd "$(dirname "$0")/.."
 BUILD_TARGETS=penumbra ./scripts/setup.sh  # the tool alone: the tests and benchmarks are test.sh's
 BUILD_DIR=${BUILD_DIR:-build}
 mkdir -p out
-./"$BUILD_DIR"/tools/penumbra devices | head -n 1
-./"$BUILD_DIR"/tools/penumbra render scenes/default.json -o out/default.exr "$@"
+"$BUILD_DIR"/tools/penumbra devices | head -n 1
+"$BUILD_DIR"/tools/penumbra render scenes/default.json -o out/default.exr "$@"
