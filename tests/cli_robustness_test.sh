@@ -68,4 +68,26 @@ if [ -c /dev/full ]; then
   expect full-device-still-device 0 'device' -- bash -c "[ -c /dev/full ] && echo device"
 fi
 
+# Inputs read with a bound (docs/robustness.md, Limits): a manifest, sweep or camera path from /dev/zero stops at its
+# limit at once, a FIFO nobody writes to reads as empty instead of blocking, a directory is named; a sweep's job count
+# and its template's field widths are checked before any job is made.
+expect manifest-dev-zero 66 '/dev/zero: the manifest is over the limit of 268435456 bytes' -- \
+  timeout 60 "$bin" run /dev/zero --out "$scratch/run"
+mkfifo "$scratch/manifest.fifo"
+expect manifest-fifo-without-writer 66 'manifest.fifo: the manifest holds no job' -- \
+  timeout 60 "$bin" run "$scratch/manifest.fifo" --out "$scratch/run"
+expect manifest-directory 66 'cannot read the manifest: is a directory' -- timeout 60 "$bin" run "$scratch" --out "$scratch/run"
+expect sweep-dev-zero 1 '/dev/zero: the sweep is over the limit of 16777216 bytes' -- \
+  timeout 60 "$bin" plan /dev/zero -o "$scratch/jobs.jsonl"
+echo '{"scene": "builtin:box", "technique": "sm", "frames": 3, "output": "f{frame:999999999}.exr"}' >"$scratch/wide.json"
+expect sweep-field-width 1 "a width or precision above 64 in '\\{frame:999999999\\}'" -- \
+  timeout 60 "$bin" plan "$scratch/wide.json" -o "$scratch/jobs.jsonl"
+hundred=$(seq -s, 0 99)
+echo "{\"scene\": \"builtin:box\", \"technique\": [\"sm\", \"pcf\", \"pcss\", \"vsm\"], \"a\": [$hundred], \"b\": [$hundred], \
+\"c\": [$hundred], \"output\": \"x{index}.exr\"}" >"$scratch/product.json"
+expect sweep-product 1 'more than 1000000 jobs \(4 "technique" x 100 "a" x 100 "b" x 100 "c"\)' -- \
+  timeout 60 "$bin" plan "$scratch/product.json" -o "$scratch/jobs.jsonl"
+expect camera-path-dev-zero 2 '/dev/zero: the camera path is over the limit of 67108864 bytes' -- \
+  timeout 60 "$bin" bench builtin:box --camera-path @/dev/zero --frames 2 --techniques sm -o "$scratch/b.csv"
+
 finish

@@ -6,7 +6,6 @@
 #include <fmt/format.h>
 
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "tools/eval/bench_report.h"
@@ -14,6 +13,7 @@
 #include "host/eval/metrics.h"
 #include "tools/eval/shimmer.h"
 #include "host/io/atomic_file.h"
+#include "host/io/bounded_read.h"
 #include "host/pipeline/renderer.h"
 #include "host/scene/light_names.h"
 #include "tools/cli/camera_path.h"
@@ -31,9 +31,11 @@ struct SequenceRow {
 nlohmann::json readPath(const std::string& text) {
   std::string json = text;
   if (!text.empty() && text[0] == '@') {
-    std::ifstream in(text.substr(1));
-    if (!in) throw std::invalid_argument(fmt::format("--camera-path {}: cannot read the file", text));
-    json.assign(std::istreambuf_iterator<char>(in), {});
+    try {
+      json = readBoundedFile(text.substr(1), kMaxCameraPathBytes, "the camera path");
+    } catch (const std::runtime_error& e) {
+      throw std::invalid_argument(fmt::format("--camera-path: {}", e.what()));
+    }
   }
   try {
     return nlohmann::json::parse(json);

@@ -7,8 +7,10 @@
 
 #include <chrono>
 #include <climits>
+#include <sstream>
 #include <stdexcept>
 
+#include "host/io/bounded_read.h"
 #include "host/io/exr.h"
 
 namespace penumbra::cli {
@@ -69,7 +71,7 @@ std::map<std::string, StatusRecord> latestRecords(const fs::path& outDir) {
   std::error_code error;
   for (const fs::directory_entry& entry : fs::directory_iterator(statusFolder(outDir), error)) {
     if (entry.path().extension() != ".jsonl") continue;
-    std::ifstream in(entry.path());
+    std::istringstream in(readBoundedFile(entry.path(), kMaxStatusLogBytes, "the status log"));
     for (std::string line; std::getline(in, line);) {
       try {
         const StatusRecord record = fromJson(json::parse(line));

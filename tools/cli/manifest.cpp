@@ -7,13 +7,14 @@
 
 #include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <map>
+#include <sstream>
 #include <stdexcept>
 
 #include <CLI/CLI.hpp>
 
 #include "host/cl/context.h"
+#include "host/io/bounded_read.h"
 #include "host/scene/load.h"
 #include "host/version.h"
 #include "tools/cli/commands.h"
@@ -127,11 +128,12 @@ ManifestJob parseJob(const json& object, const JobPaths& paths) {
 }
 
 std::vector<ManifestJob> readManifest(const fs::path& path, const fs::path& outDir) {
-  errno = 0;
-  std::ifstream in(path);
-  if (!in)
-    throw CommandError(kExitNoManifest,
-                       fmt::format("{}: cannot read the manifest: {}", path.string(), std::strerror(errno)));
+  std::istringstream in;
+  try {
+    in.str(readBoundedFile(path, kMaxManifestBytes, "the manifest"));
+  } catch (const std::runtime_error& e) {
+    throw CommandError(kExitNoManifest, e.what());
+  }
   const JobPaths paths{path.parent_path(), outDir};
   std::vector<ManifestJob> jobs;
   std::map<std::string, size_t> outputs, ids;  // -> line

@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "host/io/atomic_file.h"
+#include "host/io/bounded_read.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/scene_cache.h"
 #include "tools/cli/sweep_plan.h"
@@ -27,13 +28,12 @@ struct PlanOptions {
 };
 
 ordered_json readSweep(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot read the sweep", path));
+  const std::string text = readBoundedFile(path, kMaxSweepBytes, "the sweep");
   try {
-    return ordered_json::parse(in);
+    return ordered_json::parse(text);
   } catch (const json::exception& e) {
-    const std::string text = e.what();
-    throw std::runtime_error(fmt::format("{}: not JSON: {}", path, text.substr(text.find("] ") + 2)));
+    const std::string message = e.what();
+    throw std::runtime_error(fmt::format("{}: not JSON: {}", path, message.substr(message.find("] ") + 2)));
   }
 }
 
