@@ -105,6 +105,27 @@ std::string jsonMessage(const json::exception& e) {
   return "not JSON: " + (end == std::string::npos ? text : text.substr(end + 2));
 }
 
+// Registers the files `job` writes in `files`; the error when one of them is another line's (or its own twice).
+std::string claimOutputs(const ManifestJob& job, size_t line, std::map<std::string, std::pair<size_t, std::string>>& files) {
+  const ImageOutputPlan plan = planImageOutput(job.options.output);
+  const std::string exrName = fs::path(job.output).lexically_normal().string();
+  std::vector<std::pair<std::string, std::string>> mine;  // key, name in messages
+  for (const auto& [file, name] : {std::pair{plan.exr, exrName}, std::pair{plan.png, std::string()}}) {
+    if (!file) continue;
+    const std::string key = fs::absolute(*file).lexically_normal().string();
+    mine.emplace_back(key, name.empty() ? "preview " + file->string() : "output " + name);
+  }
+  for (const auto& [key, name] : mine) {
+    const auto it = files.find(key);
+    if (it == files.end()) continue;
+    if (it->second.second == name)  // the same role: "output a.exr is line 1's too"
+      return fmt::format("{} is line {}'s too", name, it->second.first);
+    return fmt::format("{} is line {}'s {}", name, it->second.first, it->second.second);
+  }
+  for (const auto& [key, name] : mine) files.emplace(key, std::pair{line, name});
+  return {};
+}
+
 }  // namespace
 
 ManifestJob parseJob(const json& object, const JobPaths& paths) {
@@ -136,7 +157,10 @@ std::vector<ManifestJob> readManifest(const fs::path& path, const fs::path& outD
   }
   const JobPaths paths{path.parent_path(), outDir};
   std::vector<ManifestJob> jobs;
-  std::map<std::string, size_t> outputs, ids;  // -> line
+  std::map<std::string, size_t> ids;  // -> line
+  // Every file a job writes (its EXR and its PNG preview, under --out) -> the line and the name it has there: no job
+  // may write another's file, whichever of the two it is (a preview named like another job's EXR would replace it).
+  std::map<std::string, std::pair<size_t, std::string>> files;
   std::string text;
   for (size_t line = 1; std::getline(in, text); ++line) {
     if (text.find_first_not_of(" \t\r") == std::string::npos) continue;
@@ -150,9 +174,7 @@ std::vector<ManifestJob> readManifest(const fs::path& path, const fs::path& outD
     }
     job.where = fmt::format("{}:{}", path.string(), line);
     job.line = line, job.index = jobs.size();
-    const std::string output = fs::path(job.output).lexically_normal().string();
-    if (job.error.empty() && !outputs.emplace(output, line).second)
-      job.error = fmt::format("output {} is line {}'s too", output, outputs[output]);
+    if (job.error.empty()) job.error = claimOutputs(job, line, files);
     if (job.error.empty() && !job.id.empty() && !ids.emplace(job.id, line).second)
       job.error = fmt::format("id {} is line {}'s too", job.id, ids[job.id]);
     if (!job.error.empty()) job.error = job.where + ": " + job.error;
