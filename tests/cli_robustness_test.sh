@@ -90,4 +90,17 @@ expect sweep-product 1 'more than 1000000 jobs \(4 "technique" x 100 "a" x 100 "
 expect camera-path-dev-zero 2 '/dev/zero: the camera path is over the limit of 67108864 bytes' -- \
   timeout 60 "$bin" bench builtin:box --camera-path @/dev/zero --frames 2 --techniques sm -o "$scratch/b.csv"
 
+# bench on SIGTERM: the frame in flight ends, the settings measured so far are written, exit 143 (it used to die from
+# the signal with nothing written).
+"$bin" bench builtin:box --techniques sm,pcf,pcss,vsm --size 96x64 --map-size 256 --runs 400 --no-reference \
+  -o "$scratch/term.csv" >"$scratch/term.log" 2>&1 &
+bench_pid=$!
+for _ in $(seq 1 1200); do grep -q '(25% done)' "$scratch/term.log" && break; sleep 0.1; done
+kill -TERM "$bench_pid"
+wait "$bench_pid"
+expect bench-sigterm-exit 0 '^143$' -- echo "$?"
+expect bench-sigterm-message 0 'bench: stopped by SIGTERM: wrote the [1-3] of 4 settings measured so far' -- \
+  cat "$scratch/term.log"
+expect bench-sigterm-rows 0 '^builtin:box,sm,default,total,' -- cat "$scratch/term.csv"
+
 finish

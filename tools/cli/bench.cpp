@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <memory>
 #include <sstream>
+#include <string_view>
 
 #include <CLI/CLI.hpp>
 
@@ -30,6 +31,7 @@
 #include "tools/cli/bench_sequence.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/progress.h"
+#include "tools/cli/stop_signal.h"
 #include "tools/cli/technique_options.h"
 #include "tools/cli/view_options.h"
 #include "tools/reference/reference.h"
@@ -218,8 +220,11 @@ int run(const BenchOptions& o) {
     }
   Progress progress(cells.size() * static_cast<size_t>(o.warmup + o.runs), !o.quiet);
   std::vector<std::string> failed;
+  // SIGINT / SIGTERM: the frame in flight ends, the rows of every setting with a timed run are written, and the exit
+  // code says which signal it was (130, 143); a second signal ends the process at once.
+  const StopSignals stop;
   auto frame = [&](Cell& cell, int i) {
-    if (cell.failed) return;
+    if (cell.failed || stop.requested()) return;
     try {
       Renderer& renderer = cell.own ? *cell.own : shared;
       cell.last = isReferenceTechnique(*cell.job->technique)
@@ -236,7 +241,7 @@ int run(const BenchOptions& o) {
   };
   std::vector<BenchRow> rows;
   auto finish = [&](Cell& cell) {  // the cell's rows; its last image is freed
-    if (cell.failed) return;
+    if (cell.failed || cell.runs.empty()) return;  // a stop before its first timed run: nothing measured
     std::optional<ErrorMetrics> metrics;
     if (ref) metrics = compareImages(cell.last.image, *ref, lightSpec(spec, *cell.light, lights.size()));
     addRows(o, *cell.job, *cell.light, summariseRuns(cell.runs), copy.bytesPerSecond, metrics, rows);
@@ -245,11 +250,12 @@ int run(const BenchOptions& o) {
   };
   if (o.interleave) {
     progress.announce(fmt::format("{} settings interleaved", cells.size()));
-    for (int i = 0; i < o.warmup + o.runs; ++i)
+    for (int i = 0; i < o.warmup + o.runs && !stop.requested(); ++i)
       for (Cell& cell : cells) frame(cell, i);
     for (Cell& cell : cells) finish(cell);
   } else {
     for (Cell& cell : cells) {
+      if (stop.requested()) break;
       progress.announce(cell.label);
       for (int i = 0; i < o.warmup + o.runs; ++i) frame(cell, i);
       finish(cell);
@@ -257,6 +263,13 @@ int run(const BenchOptions& o) {
   }
   progress.finish();
   writeOutputs(o, meta, rows);
+  if (stop.requested()) {
+    size_t measured = 0;
+    for (const BenchRow& r : rows) measured += r.pass == kTotalPass;
+    fmt::print(stderr, "bench: stopped by {}: wrote the {} of {} settings measured so far to {}\n", stop.name(),
+               measured, cells.size(), o.output);
+    return std::string_view(stop.name()) == "SIGINT" ? 130 : 143;
+  }
   if (!o.quiet) {
     printSummary(meta, rows);
     fmt::print("wrote {}{}\n", o.output, o.json.empty() ? "" : " and " + o.json);
