@@ -121,11 +121,12 @@ cat >"$s/bad.jsonl" <<'JSONL'
 {"technique": "sm", "output": "s.exr"}
 {"scene": "missing.gltf", "technique": "sm", "size": "32x24", "png": "none", "output": "missing.exr"}
 {"scene": "builtin:box", "technique": "sm", "size": "32x24", "png": "good.exr", "output": "other.exr"}
+{"scene": "builtin:box", "technique": "sm", "size": "32x24", "technique": "pcss", "output": "twice.exr"}
 JSONL
 out=$("$bin" run "$s/bad.jsonl" --out "$s/bad" 2>&1)
 rc=$?
 expect bad-exit 0 '^65$' -- echo "$rc"
-expect bad-summary 0 "14 jobs: 1 rendered, 0 skipped, 13 failed" -- echo "$out"
+expect bad-summary 0 "15 jobs: 1 rendered, 0 skipped, 14 failed" -- echo "$out"
 expect bad-json 0 "bad.jsonl:2: not JSON: .*syntax error" -- echo "$out"
 expect bad-option 0 "bad.jsonl:4: \"frobnicate\" is not an option of penumbra render" -- echo "$out"
 expect bad-technique 0 "bad.jsonl:5: unknown technique 'nope'" -- echo "$out"
@@ -139,8 +140,9 @@ expect bad-bool 0 "bad.jsonl:12: \"map-size\": true is not a string or a number"
 expect bad-no-scene 0 "bad.jsonl:13: no \"scene\"" -- echo "$out"
 expect bad-missing-scene 0 "bad.jsonl:14: .*missing.gltf" -- echo "$out"
 # A preview named like another job's EXR would turn that EXR into a PNG: refused when the manifest is read.
+expect bad-duplicate-key 0 'bad.jsonl:16: duplicate key "technique"' -- echo "$out"
 expect bad-preview-over-output 0 "bad.jsonl:15: preview .*/bad/good.exr is line 1's output good.exr" -- echo "$out"
-expect status-failed 65 "14 jobs: 1 done, 13 failed, 0 missing" -- "$bin" status "$s/bad.jsonl" --out "$s/bad"
+expect status-failed 65 "15 jobs: 1 done, 14 failed, 0 missing" -- "$bin" status "$s/bad.jsonl" --out "$s/bad"
 expect max-failures 65 "2 failed, [0-9]+ left \(--max-failures 2\)" -- "$bin" run "$s/bad.jsonl" --out "$s/bad2" --max-failures 2
 # --only-failed: the missing scene appears (a copy of a glTF with a camera), only its job runs again.
 cp "$(dirname "$0")/data/scenes/triangle.bin" "$s/triangle.bin"
@@ -151,7 +153,7 @@ printf '{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "n
  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
   {"bufferView": 0, "byteOffset": 36, "componentType": 5126, "count": 3, "type": "VEC3"},
   {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]}' >"$s/missing.gltf"
-expect only-failed 65 "13 jobs: 1 rendered, 0 skipped, 12 failed" -- "$bin" run "$s/bad.jsonl" --out "$s/bad" --only-failed
+expect only-failed 65 "14 jobs: 1 rendered, 0 skipped, 13 failed" -- "$bin" run "$s/bad.jsonl" --out "$s/bad" --only-failed
 expect only-failed-done 0 "wrote|" -- "$exr_equal" "$s/bad/missing.exr" "$s/bad/missing.exr"
 expect status-missing 75 "6 jobs: 0 done, 0 failed, 6 missing" -- "$bin" status "$s/jobs.jsonl" --out "$s/empty-out"
 

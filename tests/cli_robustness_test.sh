@@ -103,4 +103,18 @@ expect bench-sigterm-message 0 'bench: stopped by SIGTERM: wrote the [1-3] of 4 
   cat "$scratch/term.log"
 expect bench-sigterm-rows 0 '^builtin:box,sm,default,total,' -- cat "$scratch/term.csv"
 
+# Values that used to be accepted and made nonsense or aborts (docs/robustness.md, Messages).
+expect blend-cutoff-nan 2 '--blend-cutoff: not a number in \[0, 1\]' -- "$bin" render builtin:box --blend-cutoff nan \
+  -o "$scratch/x.exr"
+expect light-radius-1e30 2 'radius: 1e30 is outside \[0, 1e\+18\]' -- \
+  "$bin" reference builtin:box --light spot:0,5,0:0,0,0:60:1e30 -o "$scratch/x.exr"
+expect time-limit-nan 2 '--time-limit nan: use 90s, 15m, 2h or H:MM:SS' -- "$bin" run /dev/null --time-limit nan \
+  --out "$scratch/run"
+expect time-limit-99-minutes 2 '--time-limit 1:99:99: use' -- "$bin" run /dev/null --time-limit 1:99:99 --out "$scratch/run"
+expect max-failures-negative 2 '--max-failures: Value -1 not in range' -- "$bin" run /dev/null --max-failures -1 \
+  --out "$scratch/run"
+"$bin" render builtin:box -t sm --size 32x24 --map-size 64 -q -o "$scratch/cov.exr" --png none
+expect compare-coverage-unknown 4 '--coverage nan: neither image has that channel' -- \
+  "$bin" compare "$scratch/cov.exr" "$scratch/cov.exr" --coverage nan
+
 finish

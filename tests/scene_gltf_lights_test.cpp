@@ -152,7 +152,9 @@ TEST_F(GltfLights, BadExtrasSizesAreRefused) {
       [&] {
         loadGltf(single(spotWith({{"radius", -1}})));
       },
-      {"lights.gltf", "light 0 (node 1)", "extras.penumbra.radius", "[0, inf)"}));
+      {"lights.gltf", "light 0 (node 1)", "extras.penumbra.radius", "[0, 1e+18]"}));
+  EXPECT_TRUE(throwsWith([&] { loadGltf(single(spotWith({{"radius", 1e30}}))); },
+                         {"extras.penumbra.radius", "[0, 1e+18]"}));
   EXPECT_TRUE(throwsWith([&] { loadGltf(single(spotWith({{"radius", "big"}}))); }, {"extras.penumbra.radius"}));
   EXPECT_TRUE(throwsWith([&] { loadGltf(single(spotWith({{"radus", 1}}))); }, {"extras.penumbra.radus", "unknown"}));
   EXPECT_TRUE(throwsWith([&] { loadGltf(single(spotWith(3))); }, {"extras.penumbra: expected an object"}));

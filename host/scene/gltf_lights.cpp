@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "host/scene/light_names.h"
+#include "host/scene/limits.h"
 
 namespace penumbra::detail {
 namespace {
@@ -46,10 +47,10 @@ void readSize(const Where& where, const tinygltf::Value& extras, Light& light) {
   if (!size.Has(key)) return;
   const tinygltf::Value& v = size.Get(key);
   const double x = v.IsNumber() ? v.GetNumberAsDouble() : NAN;
-  const bool ok = directional ? (x >= 0.0 && x < kMaxAngularRadiusDeg) : (x >= 0.0 && std::isfinite(x));
+  const bool ok = directional ? (x >= 0.0 && x < kMaxAngularRadiusDeg) : (x >= 0.0 && x <= kMaxCoordinate);
   if (!ok)
     where.fail(fmt::format("extras.penumbra.{}: expected a number in {}", key,
-                           directional ? "[0, 45) degrees" : "[0, inf) metres"));
+                           directional ? "[0, 45) degrees" : "[0, 1e+18] metres (the renderer's coordinate range)"));
   (directional ? light.angularRadiusDeg : light.radius) = static_cast<float>(x);
 }
 

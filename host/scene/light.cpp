@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "host/scene/limits.h"
 #include "host/scene/spec_parse.h"
 
 namespace penumbra {
@@ -18,6 +19,9 @@ constexpr float kMaxAngularRadiusDeg = 45.0f;  // exclusive; a sun disk wider th
 float parseRadius(std::string_view text) {
   const float radius = detail::parseFiniteFloat(text, "radius");
   if (radius < 0.0f) throw std::invalid_argument(fmt::format("radius: {} is negative", radius));
+  // A light larger than the coordinate range has no meaning, and Embree's reference aborts on one (from 1e19).
+  if (!inCoordinateRange(radius))
+    throw std::invalid_argument(fmt::format("radius: {} is outside [0, 1e+18] (the renderer's coordinate range)", text));
   return radius;
 }
 

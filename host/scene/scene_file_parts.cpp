@@ -86,7 +86,7 @@ Light readLight(const Json& value, const std::string& file, const std::string& p
     light.target = r.vec3("target");
     if (light.position == light.target) r.fail("target", "equals position");
     light.fovDeg = static_cast<float>(r.number("fov_deg", 0, 180, "(0, 180)", 60.0));
-    light.radius = static_cast<float>(r.number("radius", 0, HUGE_VAL, "[0, inf)", 0.0));
+    light.radius = static_cast<float>(r.number("radius", 0, kMaxCoordinate, "[0, 1e+18] (the renderer's coordinate range)", 0.0));
   } else if (type == "dir") {
     light.type = LightType::Directional;
     light.direction = glm::normalize(nonZero(r, "direction"));
@@ -94,7 +94,7 @@ Light readLight(const Json& value, const std::string& file, const std::string& p
   } else if (type == "point") {
     light.type = LightType::Point;
     light.position = r.vec3("position");
-    light.radius = static_cast<float>(r.number("radius", 0, HUGE_VAL, "[0, inf)", 0.0));
+    light.radius = static_cast<float>(r.number("radius", 0, kMaxCoordinate, "[0, 1e+18] (the renderer's coordinate range)", 0.0));
   } else {
     r.fail("type", fmt::format("expected \"spot\", \"dir\" or \"point\", got \"{}\"", type));
   }
@@ -117,7 +117,8 @@ void readLightSize(const Json& value, const std::string& file, const std::string
   } else {
     if (r.has("angular_radius_deg"))
       r.fail("angular_radius_deg", fmt::format("light \"{}\" is not directional: give radius", name));
-    it->radius = static_cast<float>(r.number("radius", 0, HUGE_VAL, "[0, inf)"));
+    it->radius =
+        static_cast<float>(r.number("radius", 0, kMaxCoordinate, "[0, 1e+18] (the renderer's coordinate range)"));
   }
   r.finish();
 }

@@ -34,6 +34,7 @@ struct CompareOptions {
   double errorRange = 0.5;
   bool json = false;
   bool masked = false;  // the mask channel was found (set by run)
+  bool coverageGiven = false;  // --coverage on the command line: a name neither image has is an error, not "all"
 };
 
 // The reference's own noise (its "stderr.Y") over the compared pixels, when it has one.
@@ -150,6 +151,9 @@ int run(CompareOptions options) {
     ours = readExr(options.ours);
     ref = readExr(options.reference);
     if (!options.light.empty()) selectLight(options, ours, ref);
+    if (options.coverageGiven && !ours.find(options.spec.coverage) && !ref.find(options.spec.coverage))
+      throw std::runtime_error(fmt::format("--coverage {}: neither image has that channel (the reference's: {})",
+                                           options.spec.coverage, fmt::join(ref.channelNames(), ", ")));
     metrics = compareImages(ours, ref, options.spec);
     noise = referenceNoise(ours, ref, options.spec);
     masked = hasMask(ours, ref, options.spec);
@@ -220,7 +224,10 @@ Command addCompareCommand(CLI::App& app) {
   addThreshold(sub, "umbra-light", o->limits.umbraLight,
                "Of the umbra pixels (reference < 0.02), the fraction where ours > 0.1");
   addThreshold(sub, "bias", o->limits.bias, "Absolute mean signed error");
-  return {sub, [o] { return run(*o); }};
+  return {sub, [o, sub] {
+            o->coverageGiven = sub->count("--coverage") > 0;
+            return run(*o);
+          }};
 }
 
 }  // namespace penumbra::cli

@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cstring>
 #include <map>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -105,6 +106,19 @@ std::string jsonMessage(const json::exception& e) {
   return "not JSON: " + (end == std::string::npos ? text : text.substr(end + 2));
 }
 
+// One manifest line as JSON, a key given twice in one object refused (nlohmann would keep the last one silently,
+// so `{"technique": "sm", ..., "technique": "pcss"}` rendered pcss).
+json parseLine(const std::string& text) {
+  std::vector<std::set<std::string>> keys;  // per open object
+  return json::parse(text, [&keys](int, json::parse_event_t event, json& value) {
+    if (event == json::parse_event_t::object_start) keys.emplace_back();
+    if (event == json::parse_event_t::object_end) keys.pop_back();
+    if (event == json::parse_event_t::key && !keys.back().insert(value.get<std::string>()).second)
+      throw std::invalid_argument(fmt::format("duplicate key \"{}\"", value.get<std::string>()));
+    return true;
+  });
+}
+
 // Registers the files `job` writes in `files`; the error when one of them is another line's (or its own twice).
 std::string claimOutputs(const ManifestJob& job, size_t line, std::map<std::string, std::pair<size_t, std::string>>& files) {
   const ImageOutputPlan plan = planImageOutput(job.options.output);
@@ -166,7 +180,7 @@ std::vector<ManifestJob> readManifest(const fs::path& path, const fs::path& outD
     if (text.find_first_not_of(" \t\r") == std::string::npos) continue;
     ManifestJob job;
     try {
-      job = parseJob(json::parse(text), paths);
+      job = parseJob(parseLine(text), paths);
     } catch (const json::exception& e) {
       job.error = jsonMessage(e);
     } catch (const std::invalid_argument& e) {

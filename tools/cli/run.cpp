@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <memory>
 #include <optional>
@@ -66,16 +67,19 @@ double parseDuration(const std::string& text) {
     return std::invalid_argument(fmt::format("--time-limit {}: use 90s, 15m, 2h or H:MM:SS", text));
   };
   try {
-    if (text.find(':') != std::string::npos) {
-      for (size_t start = 0; start <= text.size();) {
+    if (text.find(':') != std::string::npos) {  // [H:]M:SS, every field a non-negative number, M and S below 60
+      for (size_t start = 0, field = 0; start <= text.size(); ++field) {
         const size_t colon = std::min(text.find(':', start), text.size());
-        total = total * 60 + std::stod(text.substr(start, colon - start), &pos);
-        if (pos != colon - start) throw fail();
+        const double value = std::stod(text.substr(start, colon - start), &pos);
+        if (pos != colon - start || !std::isfinite(value) || value < 0 || (field > 0 && value >= 60)) throw fail();
+        total = total * 60 + value;
         start = colon + 1;
       }
+      if (!(total > 0)) throw fail();
       return total;
     }
     total = std::stod(text, &pos);
+    if (!std::isfinite(total)) throw fail();
   } catch (const std::logic_error&) {
     throw fail();
   }
@@ -258,7 +262,9 @@ Command addRunCommand(CLI::App& app) {
   sub->add_option("--shard-count", o->shardCount, "N for --shard auto where the environment has no count");
   sub->add_flag("--skip-existing,!--no-skip-existing", o->skipExisting,
                 "Skip a job whose output carries its id (default; --no-skip-existing renders everything)");
-  sub->add_option("--max-failures", o->maxFailures, "Stop after K failed jobs (0: never)")->capture_default_str();
+  sub->add_option("--max-failures", o->maxFailures, "Stop after K failed jobs (0: never)")
+      ->check(CLI::Range(size_t{0}, size_t{1} << 40))
+      ->capture_default_str();
   sub->add_flag("--only-failed", o->onlyFailed, "Only the jobs whose last status record is a failure");
   sub->add_option("--time-limit", o->timeLimit,
                   "Start no job that might not finish within this wall time (90s, 15m, 2h, H:MM:SS); exit 75 with "

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdlib>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -62,6 +64,12 @@ inline void addViewOptions(CLI::App* sub, ViewOptions& options) {
                   "Alpha cutoff of glTF alphaMode BLEND materials, which are drawn as MASK (shadows have no "
                   "translucency)")
       ->check(CLI::Range(0.0f, 1.0f))
+      ->check(CLI::Validator(
+          [](std::string& text) {  // CLI::Range lets NaN through (every comparison with it is false)
+            const float value = std::strtof(text.c_str(), nullptr);
+            return std::isfinite(value) ? std::string() : "not a number in [0, 1]";
+          },
+          "FINITE"))
       ->capture_default_str();
   sub->add_option("--memory-limit", options.memoryLimit,
                   "Refuse a frame whose memory plan needs more device or host memory than this (4GiB, 512MiB, ...; "
