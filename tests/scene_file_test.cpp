@@ -122,6 +122,13 @@ INSTANTIATE_TEST_SUITE_P(
         BadFile{R"({"models": [{"path": "triangle.gltf", "rotation_quat": [0, 0, 0, 0]}]})", {"zero quaternion"}},
         BadFile{R"({"procedural": [{"name": "box", "size": 1e30}]})", {"/procedural/0", "size = 1e+30 is outside"}},
         BadFile{R"({"procedural": [{"name": "boxx"}]})", {"/procedural/0", "unknown built-in scene"}},
+        // Checked before any geometry is built: eight million-pole scenes (96 M triangles), a misspelled key beside
+        // a large one (it used to come out after 12 M triangles were built).
+        BadFile{R"({"procedural": [)"
+                R"({"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}]})",
+                {"/procedural: the built-in scenes make 96000016 triangles, more than the limit of 67108864"}},
+        BadFile{R"({"procedural": [{"name": "poles", "rows": 1000, "columns": 1000}], "lihgts": []})",
+                {"/lihgts: unknown key"}},
         BadFile{R"({"procedural": [{"name": "box", "size": "big"}]})", {"/procedural/0/size: expected a number"}},
         BadFile{R"({"procedural": [{"name": "box", "colour": 1}]})", {"/procedural/0", "unknown parameter \"colour\""}},
         BadFile{R"({"ground": {}})", {"/ground", "no models"}},

@@ -56,6 +56,19 @@ TEST(Procedural, EveryListedSceneBuilds) {
     EXPECT_GT(makeProcedural(info.name).triangleCount(), 0u) << info.name;
 }
 
+// What a scene file checks its limits with before building: the same count as the scene built.
+TEST(Procedural, TriangleCountMatchesTheBuiltScene) {
+  for (const ProceduralInfo& info : proceduralScenes())
+    EXPECT_EQ(proceduralTriangleCount(info.name), makeProcedural(info.name).triangles.size()) << info.name;
+  for (const auto& [rows, columns] : {std::pair{1.0, 1.0}, {7.0, 3.0}, {40.0, 25.0}}) {
+    const ProceduralParams params{{"rows", rows}, {"columns", columns}};
+    EXPECT_EQ(proceduralTriangleCount("poles", params), makeProcedural("poles", params).triangles.size());
+  }
+  EXPECT_EQ(proceduralTriangleCount("poles", {{"rows", 1000}, {"columns", 1000}}), 12000002u);
+  EXPECT_THROW(proceduralTriangleCount("poles", {{"rows", 1001}}), SceneError);
+  EXPECT_THROW(proceduralTriangleCount("boxx"), SceneError);
+}
+
 TEST(Procedural, BoxRestsOnTheGround) {
   const Scene s = makeProcedural("box", {{"size", 2.0}});
   EXPECT_EQ(s.bounds().min, glm::vec3(-5, 0, -5));

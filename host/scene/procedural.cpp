@@ -209,7 +209,10 @@ const std::vector<ProceduralInfo>& proceduralScenes() {
   return kScenes;
 }
 
-Scene makeProcedural(std::string_view name, const ProceduralParams& params) {
+namespace {
+
+// The index of `name` in proceduralScenes() with `params` checked against its parameters. Throws SceneError.
+size_t checkedScene(std::string_view name, const ProceduralParams& params) {
   const auto& scenes = proceduralScenes();
   for (size_t i = 0; i < scenes.size(); ++i) {
     if (scenes[i].name != name) continue;
@@ -222,11 +225,26 @@ Scene makeProcedural(std::string_view name, const ProceduralParams& params) {
         throw SceneError(fmt::format("builtin:{}: {} = {} is outside {}..{}{}", name, key, value, p->min, p->max,
                                      p->integer ? " (integers only)" : ""));
     }
-    return kBuilders[i](Args{scenes[i], params});
+    return i;
   }
   std::string names;
   for (const auto& s : scenes) names += (names.empty() ? "" : ", ") + s.name;
   throw SceneError(fmt::format("builtin:{}: unknown built-in scene (available: {})", name, names));
+}
+
+}  // namespace
+
+Scene makeProcedural(std::string_view name, const ProceduralParams& params) {
+  const size_t i = checkedScene(name, params);
+  return kBuilders[i](Args{proceduralScenes()[i], params});
+}
+
+uint64_t proceduralTriangleCount(std::string_view name, const ProceduralParams& params) {
+  const size_t i = checkedScene(name, params);
+  const Args a{proceduralScenes()[i], params};
+  if (name == "poles")  // up to a million poles: counted, not built
+    return uint64_t{12} * static_cast<uint64_t>(a("rows")) * static_cast<uint64_t>(a("columns")) + 2;
+  return kBuilders[i](a).triangles.size();  // the others stay small (their parameters' ranges bound them)
 }
 
 Scene makeProceduralFromSpec(std::string_view spec) {

@@ -2,6 +2,7 @@
 // box, stacked-planes, poles, staircase, single-triangle, plane, cards (alpha-tested).
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <string>
@@ -34,6 +35,11 @@ const std::vector<ProceduralInfo>& proceduralScenes();
 // Builds a built-in scene. Throws SceneError naming the scene and parameter for an unknown name or
 // parameter, a value outside its range, or a fractional value for an integer parameter.
 Scene makeProcedural(std::string_view name, const ProceduralParams& params = {});
+
+// The triangles makeProcedural(name, params) would make, without making the large ones (poles: 12 a pole and the
+// ground's 2): what a scene file checks against LoadOptions::maxTriangles before building any geometry. Throws as
+// makeProcedural does for a bad name or parameter.
+uint64_t proceduralTriangleCount(std::string_view name, const ProceduralParams& params = {});
 
 // "NAME" or "NAME:key=value,key=value" (what follows "builtin:" in a scene spec).
 Scene makeProceduralFromSpec(std::string_view spec);
