@@ -123,6 +123,26 @@ TEST(MemoryPlan, SingleBufferAboveTheDeviceMaximumIsNamed) {
       MemoryError);
 }
 
+// The rasterizer's set-up records of a large scene (10 M triangles: 720 MB in one buffer) met the device's largest
+// allocation only at the first draw (CL_INVALID_BUFFER_SIZE); the plan names them before any work.
+TEST(MemoryPlan, RasterizerRecordsOfALargeSceneAreChecked) {
+  const TechniqueInfo& pcss = findTechnique("pcss");
+  Params params(pcss.params);
+  const PlannedScene scene{10'000'000, 5'000'000};
+  const MemoryPlan plan = planFrame(cameraOf(1024, 1024), {{LightType::Spot, &pcss, &params}}, FrameDownload::Image,
+                                    scene);
+  const MemoryPlan bare = planFrame(cameraOf(1024, 1024), {{LightType::Spot, &pcss, &params}});
+  EXPECT_GE(plan.deviceBytes() - bare.deviceBytes(), uint64_t{10'000'000} * 64);  // records alone
+  try {
+    checkMemoryPlan(plan, deviceWith(64 * kGiB, 512u << 20), std::nullopt);
+    ADD_FAILURE() << "a 720 MB buffer passed a 512 MiB largest allocation";
+  } catch (const MemoryError& e) {
+    EXPECT_NE(std::string(e.what()).find("rasterizer: scene and queues needs one buffer of"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_NO_THROW(checkMemoryPlan(plan, deviceWith(64 * kGiB, 1024u << 20), std::nullopt));
+}
+
 TEST(MemoryPlan, ParsesSizes) {
   EXPECT_EQ(parseMemorySize("4GiB", "x"), 4 * kGiB);
   EXPECT_EQ(parseMemorySize("512m", "x"), uint64_t{512} << 20);

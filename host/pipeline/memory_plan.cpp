@@ -107,10 +107,26 @@ std::string MemoryPlan::describe() const {
   return out;
 }
 
-MemoryPlan planFrame(const Camera& camera, const std::vector<PlannedLight>& lights, FrameDownload download) {
+// The rasterizer's buffers for `scene`: positions and normals (12 bytes each a vertex), triangles, object ids and
+// material bits (20 bytes a triangle), set-up records (RasterTriangle, 64 bytes, for every triangle and an eighth more
+// for clipping fans), the bin queue (two 4-byte entries, 2 a triangle) and the tile queue (4 a triangle and 2 a
+// tile of the largest view, here the frame's): sizeQueues' first estimates.
+MemoryStage rasterizerStage(const PlannedScene& scene, uint64_t pixels) {
+  if (scene.triangles == 0) return {"rasterizer", 0, 0, 0};
+  const uint64_t t = scene.triangles, records = t + 1024 + t / 8, binEntries = 4096 + 2 * t;
+  const uint64_t tileEntries = 16384 + 4 * t + 2 * (pixels / 64);
+  MemoryStage stage{"rasterizer: scene and queues"};
+  stage.deviceBytes = scene.vertices * 24 + t * 20 + records * 64 + binEntries * 8 + tileEntries * 4;
+  stage.largestBuffer = std::max({records * 64, tileEntries * 4, t * 12, scene.vertices * 12});
+  return stage;
+}
+
+MemoryPlan planFrame(const Camera& camera, const std::vector<PlannedLight>& lights, FrameDownload download,
+                     PlannedScene scene) {
   const uint64_t pixels = static_cast<uint64_t>(camera.width) * static_cast<uint64_t>(camera.height);
   MemoryPlan plan;
   plan.stages.push_back({"G-buffer", pixels * kGBufferBytesPerPixel, 0, pixels * 16});
+  if (scene.triangles > 0) plan.stages.push_back(rasterizerStage(scene, pixels));
   for (size_t i = 0; i < lights.size(); ++i) {
     const uint64_t perPixel =
         kVisibilityBytesPerPixel + kTechniquePixelBytes + (lights[i].type == LightType::Point ? 4 : 0);

@@ -53,12 +53,19 @@ struct PlannedLight {
   const Params* params;
 };
 
-// The plan of one frame of `camera`'s size with `lights`. Estimates, on the high side: the G-buffer, visibility and
+// The scene as the rasterizer holds it (every draw: the camera's G-buffer and each light's maps).
+struct PlannedScene {
+  uint64_t triangles = 0, vertices = 0;
+};
+
+// The plan of one frame of `camera`'s size with `lights` over `scene`. Estimates, on the high side: the G-buffer, visibility and
 // preview buffers are exact; a technique's maps are sized from its map-size, moment storage, blur, mip chain and
 // layer parameters, and its per-pixel buffers (debug channels, filter scratch) at 32 bytes per pixel.
-// A deferred download holds its writer's bands on the host (kDeferredHostBytes), not the image.
+// A deferred download holds its writer's bands on the host (kDeferredHostBytes), not the image. The rasterizer's
+// stage holds the uploaded scene and its queues at their first sizes (raster/rasterizer.cpp's sizeQueues): its
+// largest buffer, 72 bytes a triangle of set-up records, is what meets the device's largest allocation first.
 MemoryPlan planFrame(const Camera& camera, const std::vector<PlannedLight>& lights,
-                     FrameDownload download = FrameDownload::Image);
+                     FrameDownload download = FrameDownload::Image, PlannedScene scene = {});
 
 // What a deferred frame's writers hold at most: the EXR's band (32 MiB), the PNG's (8 MiB) and the float4 buffers'
 // band caches (under 32 MiB).

@@ -50,7 +50,7 @@ MemoryPlan checkedPlan(const Scene& scene, const Camera& camera, const std::vect
     planned.push_back({l.light.type, l.technique, &l.params});
   }
   checkFrameRange(scene, camera, frameLights);
-  MemoryPlan plan = planFrame(camera, planned, download);
+  MemoryPlan plan = planFrame(camera, planned, download, {scene.triangles.size(), scene.positions.size()});
   checkMemoryPlan(plan, device, limit);
   return plan;
 }

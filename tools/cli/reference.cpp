@@ -53,7 +53,8 @@ int run(const ReferenceOptions& options) {
     if (light.isArea()) reference::SampleLayout::fromSpp(options.trace.spp);  // a bad --spp is a usage error
   const std::optional<uint64_t> limit = memoryLimit(options.view);
   Context ctx(options.device);
-  checkMemoryPlan(planFrame(camera, {}), ctx.info(), limit);  // the G-buffer and the image; the tracer's BVH aside
+  checkMemoryPlan(planFrame(camera, {}, FrameDownload::Image, {scene.triangles.size(), scene.positions.size()}),
+                  ctx.info(), limit);  // the G-buffer and the image; the tracer's BVH aside
   reference::ReferenceResult result = reference::renderReference(ctx, scene, camera, lights, options.trace);
   result.image.attributes()["penumbra:scene"] = sceneProvenance(options.view);
   recordMaterials(scene, result.image);
