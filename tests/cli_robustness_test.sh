@@ -117,4 +117,18 @@ expect max-failures-negative 2 '--max-failures: Value -1 not in range' -- "$bin"
 expect compare-coverage-unknown 4 '--coverage nan: neither image has that channel' -- \
   "$bin" compare "$scratch/cov.exr" "$scratch/cov.exr" --coverage nan
 
+# Messages that name the problem (docs/robustness.md, Messages).
+expect map-size-range 2 '--map-size-min 4096 is above --map-size-max 1024' -- \
+  "$bin" render builtin:box --map-size-min 4096 --map-size-max 1024 -o "$scratch/x.exr"
+expect eye-target-1e-30 2 'camera eye and target: \(0, 1, 0\) and \(0, 1, 1e-30\) are 1e-30 apart' -- \
+  "$bin" render builtin:box --camera 0,1,0:0,1,1e-30 -o "$scratch/x.exr"
+expect light-radius-1e300 2 'radius: 1e300 is beyond the largest float' -- \
+  "$bin" render builtin:box --light point:0,5,0:1e300 -o "$scratch/x.exr"
+ln -sf loop-b.glb "$scratch/loop-a.glb" && ln -sf loop-a.glb "$scratch/loop-b.glb"
+expect symlink-loop 1 'loop-a.glb: cannot open: Too many levels of symbolic links' -- \
+  "$bin" render "$scratch/loop-a.glb" -o "$scratch/x.exr"
+mkdir -p "$scratch/folder.glb"
+expect directory-as-scene 1 'folder.glb: is a directory, not a scene file' -- \
+  "$bin" render "$scratch/folder.glb" -o "$scratch/x.exr"
+
 finish

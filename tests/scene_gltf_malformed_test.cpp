@@ -158,7 +158,7 @@ TEST_F(GltfRuntime, EmptyGarbageAndMissingFiles) {
   EXPECT_TRUE(throwsWith([&] { loadGltf(write("deep.gltf", std::string(100000, '[') + std::string(100000, ']'))); },
                          {"deep.gltf", "nested deeper than 64 levels"}));
   EXPECT_TRUE(throwsWith([&] { loadGltf((dir_ / "missing.gltf").string()); }, {"missing.gltf", "file not found"}));
-  EXPECT_TRUE(throwsWith([&] { loadGltf(dir_.string()); }, {"not a regular file"}));
+  EXPECT_TRUE(throwsWith([&] { loadGltf(dir_.string()); }, {"is a directory, not a scene file"}));
 }
 
 }  // namespace scene_gltf_malformed_test

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,14 @@ Params sizeMapForFrame(ShadowFrame& frame, const Params& params) {
                                               : fmt::format("auto {} (quantile {} of {} pixels needs {:.0f})",
                                                             need.size, quantile, need.pixels, need.needed);
   return sized;
+}
+
+void checkMapSizeRange(const Params& params) {
+  if (!params.has("map-size-min") || !params.has("map-size-max")) return;
+  const int lo = params.getInt("map-size-min"), hi = params.getInt("map-size-max");
+  if (lo > hi)
+    throw std::invalid_argument(fmt::format("--map-size-min {} is above --map-size-max {} (auto map sizes lie between)",
+                                            lo, hi));
 }
 
 }  // namespace penumbra

@@ -11,6 +11,10 @@ namespace penumbra {
 // True when `params` has a map-size of auto (0).
 bool autoMapSize(const Params& params);
 
+// Throws std::invalid_argument naming both options when map-size-min is above map-size-max (before any work; it used
+// to surface mid-frame as "neededMapSize: ... an empty size range").
+void checkMapSizeRange(const Params& params);
+
 // `params` with map-size set to neededMapSize over the view the technique fits (fitWarpedLightView, the LiSPSM warp
 // included; a point light's six cube faces, their guard band included), probed at 1024 texels, with
 // map-size-quantile, -min and -max; records "penumbra:map-size" (the size, the quantile and what it needed) in

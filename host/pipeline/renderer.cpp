@@ -46,6 +46,7 @@ MemoryPlan checkedPlan(const Scene& scene, const Camera& camera, const std::vect
   std::vector<PlannedLight> planned;
   for (const FrameLight& l : lights) {
     refuseUnsupportedLight(l.light, *l.technique);
+    checkMapSizeRange(l.params);
     frameLights.push_back(l.light);
     planned.push_back({l.light.type, l.technique, &l.params});
   }

@@ -77,7 +77,10 @@ fs::path resolveSceneModel(const fs::path& folder, std::string_view path) {
 fs::path resolveUserFile(const std::string& path) {
   std::error_code ec;
   const fs::path resolved = fs::canonical(fs::path(path), ec);
-  if (ec) throw SceneError(fmt::format("{}: file not found", path));
+  // The system's reason, not always "not found": a symlink loop (ELOOP), a permission, a path through a file.
+  if (ec == std::errc::no_such_file_or_directory) throw SceneError(fmt::format("{}: file not found", path));
+  if (ec) throw SceneError(fmt::format("{}: cannot open: {}", path, ec.message()));
+  if (fs::is_directory(resolved, ec)) throw SceneError(fmt::format("{}: is a directory, not a scene file", path));
   if (!fs::is_regular_file(resolved, ec)) throw SceneError(fmt::format("{}: not a regular file", path));
   return resolved;
 }

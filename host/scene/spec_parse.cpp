@@ -27,6 +27,13 @@ float parseFiniteFloat(std::string_view text, std::string_view what) {
   float value = 0.0f;
   const char* end = text.data() + text.size();
   const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+  if (ec == std::errc::result_out_of_range && ptr == end && !text.empty()) {  // a number, but not a float's
+    double wide = 0.0;
+    std::from_chars(text.data(), end, wide);
+    if (std::fabs(wide) > 1.0)
+      throw std::invalid_argument(fmt::format("{}: {} is beyond the largest float (3.4e+38)", what, text));
+    return 0.0f;  // below the smallest float: as close to 0 as float gets
+  }
   if (text.empty() || ec != std::errc() || ptr != end)
     throw std::invalid_argument(fmt::format("{}: expected a number, got \"{}\"", what, text));
   if (!std::isfinite(value)) throw std::invalid_argument(fmt::format("{}: {} is not a finite number", what, text));
