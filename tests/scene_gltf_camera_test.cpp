@@ -113,6 +113,18 @@ TEST_F(GltfCameras, OrthographicUnderTransformedNodeProjectsKnownPoint) {
   EXPECT_NEAR(pixelOf(square, c.eye + glm::vec3(2, -3, -1), scene.bounds()).x, 100.0f, kPixelTolerance);
 }
 
+// A near plane beyond the whole scene clips it all, zfar or not (without zfar it used to be ignored).
+TEST_F(GltfCameras, NearPlaneBeyondTheSceneWithoutFarClipsEverything) {
+  Camera camera;
+  camera.eye = {0, 1, 5}, camera.target = {0, 0, 0};
+  camera.clipNear = 1e6f, camera.clipFar = INFINITY;
+  const Bounds scene{glm::vec3(-10, 0, -10), glm::vec3(10, 0, 10)};
+  const RasterView view = cameraView(camera, scene);
+  EXPECT_EQ(view.projection, camera.projection(1e6f, 2e6f));
+  const glm::vec4 clip = view.projection * view.view * glm::vec4(0, 0, 0, 1);
+  EXPECT_LT(clip.z, -clip.w);  // in front of the near plane: clipped
+}
+
 TEST_F(GltfCameras, NamesOrderAndSelection) {
   GltfBuilder b = ground();
   const Json persp = {{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}};

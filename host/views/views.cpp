@@ -69,12 +69,14 @@ RasterView cameraView(const Camera& camera, const Bounds& sceneBounds) {
   view.view = camera.view();
   float zNear, zFar;
   depthRange(view.view, bounds, zNear, zFar);
-  // The file's own planes clip inside the fitted range; when nothing lies between them, their range as it is.
+  // The file's own planes clip inside the fitted range; when nothing lies between them, their range as it is (an
+  // infinite far plane, glTF's perspective without zfar: the near plane and as far again), so that the frame shows
+  // what the file says, nothing, rather than the scene its near plane clips away.
   const float clipNear = std::max(zNear, camera.clipNear), clipFar = std::min(zFar, camera.clipFar);
   if (clipNear < clipFar) {
     zNear = clipNear, zFar = clipFar;
-  } else if (camera.clipNear > 0.0f && std::isfinite(camera.clipFar)) {
-    zNear = camera.clipNear, zFar = camera.clipFar;
+  } else if (camera.clipNear > 0.0f) {
+    zNear = camera.clipNear, zFar = std::isfinite(camera.clipFar) ? camera.clipFar : 2.0f * camera.clipNear;
   }
   view.projection = camera.projection(zNear, zFar);
   view.width = camera.width;
