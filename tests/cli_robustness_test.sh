@@ -92,7 +92,7 @@ expect camera-path-dev-zero 2 '/dev/zero: the camera path is over the limit of 6
 
 # bench on SIGTERM: the frame in flight ends, the settings measured so far are written, exit 143 (it used to die from
 # the signal with nothing written).
-"$bin" bench builtin:box --techniques sm,pcf,pcss,vsm --size 96x64 --map-size 256 --runs 400 --no-reference \
+"$bin" bench builtin:box --techniques sm,pcf,pcss,vsm --size 96x64 --map-size 256 --runs 100 --no-reference \
   -o "$scratch/term.csv" >"$scratch/term.log" 2>&1 &
 bench_pid=$!
 for _ in $(seq 1 1200); do grep -q '(25% done)' "$scratch/term.log" && break; sleep 0.1; done
@@ -130,5 +130,10 @@ expect symlink-loop 1 'loop-a.glb: cannot open: Too many levels of symbolic link
 mkdir -p "$scratch/folder.glb"
 expect directory-as-scene 1 'folder.glb: is a directory, not a scene file' -- \
   "$bin" render "$scratch/folder.glb" -o "$scratch/x.exr"
+
+echo '{"scene": "builtin:box", "technique": "sm", "frames": 4, "camera": {"orbit": {"target": [0, 0, 0],
+ "radius": 1e300}}, "output": "o{frame}.exr"}' >"$scratch/orbit.json"
+expect plan-orbit-1e300 1 'camera path, frame 0: camera "0,0,1e\+300:0,0,0:45": eye z: 1e\+300 is beyond the largest' -- \
+  "$bin" plan "$scratch/orbit.json" -o "$scratch/jobs.jsonl"
 
 finish

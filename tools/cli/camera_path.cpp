@@ -10,6 +10,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include "host/scene/camera.h"
+
 namespace penumbra::cli {
 namespace {
 
@@ -80,9 +82,20 @@ std::string keyframes(const json& keys, long long frame) {
 }  // namespace
 
 std::string cameraOnPath(const json& path, long long frame, long long frameCount) {
-  if (path.is_object() && path.size() == 1 && path.contains("orbit")) return orbit(path["orbit"], frame, frameCount);
-  if (path.is_object() && path.size() == 1 && path.contains("keyframes")) return keyframes(path["keyframes"], frame);
-  throw std::invalid_argument("camera: a path is {\"orbit\": {...}} or {\"keyframes\": [...]}");
+  std::string camera;
+  if (path.is_object() && path.size() == 1 && path.contains("orbit"))
+    camera = orbit(path["orbit"], frame, frameCount);
+  else if (path.is_object() && path.size() == 1 && path.contains("keyframes"))
+    camera = keyframes(path["keyframes"], frame);
+  else
+    throw std::invalid_argument("camera: a path is {\"orbit\": {...}} or {\"keyframes\": [...]}");
+  // The camera as `run` will parse it: a plan never writes a job that `run` refuses (an orbit of radius 1e300).
+  try {
+    parseCamera(camera);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(fmt::format("camera path, frame {}: {}", frame, e.what()));
+  }
+  return camera;
 }
 
 }  // namespace penumbra::cli
