@@ -85,10 +85,10 @@ Scene readModel(const FileContext& ctx, const Json& value, const std::string& po
   return model;
 }
 
-// A "procedural" entry: its name and parameters, checked, and what it builds (`build`) or the triangles it would
-// (`build` false: the scene's triangles are left empty and counted in `triangles`).
-Scene readProcedural(const FileContext& ctx, const Json& value, const std::string& pointer, bool build = true,
-                     uint64_t* triangles = nullptr) {
+// A "procedural" entry's name and parameters, then `make(name, params)` (makeProcedural, or
+// proceduralTriangleCount to check the file before building), its errors named with the entry's pointer.
+template <class Make>
+auto readProcedural(const FileContext& ctx, const Json& value, const std::string& pointer, Make make) {
   ObjectReader r(value, ctx.file, pointer);
   const std::string name = r.string("name");
   ProceduralParams params;
@@ -98,11 +98,7 @@ Scene readProcedural(const FileContext& ctx, const Json& value, const std::strin
     params[it.key()] = it.value().get<double>();
   }
   try {
-    if (!build) {
-      *triangles += proceduralTriangleCount(name, params);
-      return {};
-    }
-    return makeProcedural(name, params);
+    return make(name, params);
   } catch (const SceneError& e) {
     failAt(ctx.file, pointer, e.what());
   }
@@ -203,15 +199,22 @@ Scene loadSceneFileResolved(const std::filesystem::path& path, const std::string
   for (const char* key : kTopLevelKeys) root.find(key);
   root.finish();
   uint64_t procedural = 0;
-  forEach(root, "procedural",
-          [&](const Json& v, const std::string& p) { readProcedural(ctx, v, p, false, &procedural); });
+  forEach(root, "procedural", [&](const Json& v, const std::string& p) {
+    procedural += readProcedural(ctx, v, p, [](std::string_view name, const ProceduralParams& params) {
+      return proceduralTriangleCount(name, params);
+    });
+  });
   checkTriangles(ctx, procedural, "/procedural", "the built-in scenes");
   Scene scene;
   forEach(root, "models", [&](const Json& v, const std::string& p) {
     scene.append(readModel(ctx, v, p));
     checkTriangles(ctx, scene.triangles.size() + procedural, p, "the models so far and the built-in scenes");
   });
-  forEach(root, "procedural", [&](const Json& v, const std::string& p) { scene.append(readProcedural(ctx, v, p)); });
+  forEach(root, "procedural", [&](const Json& v, const std::string& p) {
+    scene.append(readProcedural(ctx, v, p, [](std::string_view name, const ProceduralParams& params) {
+      return makeProcedural(name, params);
+    }));
+  });
   readGround(ctx, root, scene);
   readViews(ctx, root, scene);
   root.finish();
