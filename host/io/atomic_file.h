@@ -48,7 +48,6 @@ class PendingFile {
   // The path as the caller named it (messages name this one).
   const std::filesystem::path& target() const { return target_; }
   const std::filesystem::path& tempPath() const { return temp_; }
-  OutputMode mode() const { return resolved_.mode; }
 
   // Flushes and closes the stream, checks that every byte reached the file and syncs it to disk; no rename yet.
   // Throws std::runtime_error naming the target on failure (the temp file is removed). Idempotent.
@@ -76,7 +75,6 @@ class CommitGroup {
   // Finishes `file` (PendingFile::finish) and holds it until commit(). Throws as finish() does.
   void add(std::unique_ptr<PendingFile> file);
   void commit();
-  bool empty() const { return files_.empty(); }
 
  private:
   std::vector<std::unique_ptr<PendingFile>> files_;

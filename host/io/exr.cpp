@@ -27,10 +27,10 @@
 #include <climits>
 #include <cstring>
 #include <fstream>
+#include <memory>
 #include <new>
 #include <set>
 #include <span>
-#include <memory>
 #include <stdexcept>
 #include <string_view>
 

@@ -120,7 +120,9 @@ json parseLine(const std::string& text) {
 }
 
 // Registers the files `job` writes in `files`; the error when one of them is another line's (or its own twice).
-std::string claimOutputs(const ManifestJob& job, size_t line, std::map<std::string, std::pair<size_t, std::string>>& files) {
+using ClaimedFiles = std::map<std::string, std::pair<size_t, std::string>>;  // file -> its line and its name there
+
+std::string claimOutputs(const ManifestJob& job, size_t line, ClaimedFiles& files) {
   const ImageOutputPlan plan = planImageOutput(job.options.output);
   const std::string exrName = fs::path(job.output).lexically_normal().string();
   std::vector<std::pair<std::string, std::string>> mine;  // key, name in messages
@@ -174,7 +176,7 @@ std::vector<ManifestJob> readManifest(const fs::path& path, const fs::path& outD
   std::map<std::string, size_t> ids;  // -> line
   // Every file a job writes (its EXR and its PNG preview, under --out) -> the line and the name it has there: no job
   // may write another's file, whichever of the two it is (a preview named like another job's EXR would replace it).
-  std::map<std::string, std::pair<size_t, std::string>> files;
+  ClaimedFiles files;
   std::string text;
   for (size_t line = 1; std::getline(in, text); ++line) {
     if (text.find_first_not_of(" \t\r") == std::string::npos) continue;

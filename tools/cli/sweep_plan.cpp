@@ -60,7 +60,7 @@ std::vector<long long> parseFrames(const ordered_json& frames) {
     else if (frames.contains("count") && frames["count"].is_number_integer())
       count = frames["count"].get<long long>();
   }
-  if (count <= 0 || count > 1000000)
+  if (count <= 0 || count > kMaxJobs)
     throw std::invalid_argument(
         "\"frames\": use N, {\"start\": a, \"end\": b} or {\"start\": a, \"count\": n} "
         "(1 to 10^6 frames)");
