@@ -23,11 +23,3 @@ __kernel void copy_float4(__global const float4* in, __global float4* out, uint 
   uint i = get_global_id(0);
   if (i < count) out[i] = in[i];
 }
-
-// Uses a __local argument so the runtime's local-memory limit check can be tested.
-__kernel void fill_local_test(__global float* out, uint count, __local float* scratch) {
-  uint i = get_global_id(0);
-  scratch[get_local_id(0)] = (float)i;
-  barrier(CLK_LOCAL_MEM_FENCE);
-  if (i < count) out[i] = scratch[get_local_id(0)];
-}

@@ -70,9 +70,3 @@ __kernel void moments_pack_half(__global const float* in, __global half* out, ui
   uint i = get_global_id(0);
   if (i < count) vstore_half_rte(in[i], i, out);
 }
-
-// Test hook: decodes optimized MSM moments back to power moments (used by tests and shading kernels).
-__kernel void moments_msm_decode_test(__global const float4* in, __global float4* out, uint count) {
-  uint i = get_global_id(0);
-  if (i < count) out[i] = moments_msm_decode(in[i]);
-}

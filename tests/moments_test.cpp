@@ -153,7 +153,7 @@ TEST_F(MomentsKernels, MsmDecodeInvertsEncode) {
     for (int k = 1; k <= 4; ++k) expected.push_back(std::pow(d, k));
   }
   Buffer<cl_float4> in(ctx(), std::span<const cl_float4>(encoded)), out(ctx(), kCount);
-  Kernel(ctx(), "kernels/moments.cl", "moments_msm_decode_test", "moments")
+  Kernel(ctx(), "tests/kernels/moments_probe.cl", "moments_msm_decode_test", "moments")
       .args(in, out, uint32_t(kCount))
       .launch(kCount, 64);
   const std::vector<cl_float4> decoded = out.download(ctx());

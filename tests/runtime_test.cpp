@@ -126,6 +126,23 @@ TEST(RuntimeSources, ResolvesIncludesFromTheEmbeddedTable) {
   EXPECT_THROW(resolveKernelSource("kernels/does_not_exist.cl"), std::runtime_error);
 }
 
+// The probe kernels (tests/kernels/) are the test program's own table: the library ships none of them, they resolve
+// the library's includes, and no name may be embedded twice.
+TEST(RuntimeSources, ProbeKernelsAreATableOfTheTestsNotOfTheLibrary) {
+  for (const EmbeddedSource& source : embeddedSources()) {
+    EXPECT_FALSE(source.name.starts_with("tests/")) << source.name;
+    for (const char* probe : {"sat_test_box", "moments_msm_decode_test", "fill_local_test", "vssm_visibility_receivers",
+                              "shadow_depth_slope_test"})
+      EXPECT_EQ(source.text.find(probe), std::string_view::npos) << source.name << " holds the probe " << probe;
+  }
+  const std::string probe = resolveKernelSource("tests/kernels/vssm_probe.cl");
+  EXPECT_NE(probe.find("vssm_visibility_receivers"), std::string::npos);
+  EXPECT_NE(probe.find("vssm_pixel"), std::string::npos);  // kernels/vssm.cl, from the library's table
+  const EmbeddedSource twice[] = {{"kernels/fill.cl", "__kernel void shadowing() {}"}};
+  EXPECT_THROW(addEmbeddedSources(twice), std::logic_error);
+  EXPECT_NE(resolveKernelSource("kernels/fill.cl").find("fill_float"), std::string::npos);  // still the library's
+}
+
 // PENUMBRA_KERNEL_DIR: every source and include must be in the folder; nothing falls back to the embedded copy.
 TEST(RuntimeSources, KernelDirMissingFileNamesTheFolderAndTheFile) {
   const fs::path dir = freshDir("kernel-dir");
@@ -272,7 +289,7 @@ TEST_F(Runtime, LaunchChecksWorkGroupAndLocalMemoryLimits) {
     EXPECT_EQ(e.kernel(), "fill_float");
     EXPECT_EQ(e.stage(), "test");
   }
-  Kernel local(ctx(), "kernels/fill.cl", "fill_local_test", "test");
+  Kernel local(ctx(), "tests/kernels/runtime_probe.cl", "fill_local_test", "test");
   local.args(out, 16u, LocalMem{static_cast<size_t>(ctx().info().localMemBytes) + 4});
   try {
     local.launch(16, 16);

@@ -197,7 +197,7 @@ void checkLookup(Context& ctx, uint32_t channels) {
   Buffer<float> sums(ctx, boxes.size() * channels), means(ctx, boxes.size() * channels);
   sums.fill(ctx, kPoison);
   means.fill(ctx, kPoison);
-  Kernel(ctx, "kernels/sat.cl", "sat_test_box", "sat", satBuildOptions(desc))
+  Kernel(ctx, "tests/kernels/sat_probe.cl", "sat_test_box", "sat", satBuildOptions(desc))
       .args(table, desc, offset, boxBuffer, uint32_t(boxes.size()), sums, means)
       .launch(boxes.size(), 64);
   const std::vector<float> actualSums = sums.download(ctx), actualMeans = means.download(ctx);

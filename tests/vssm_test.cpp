@@ -147,7 +147,7 @@ KernelOut runKernel(Context& ctx, const Case& c, const std::vector<float>& map, 
   Buffer<cl_float4> rxBuffer(ctx, std::span<const cl_float4>(rx)), debug(ctx, count);
   Buffer<float> slopeBuffer(ctx, std::span<const float>(slopes)), visibility(ctx, count);
   visibility.fill(ctx, kPoison);
-  Kernel kernel(ctx, "kernels/vssm.cl", "vssm_visibility_receivers", "vssm", maps.buildOptions());
+  Kernel kernel(ctx, "tests/kernels/vssm_probe.cl", "vssm_visibility_receivers", "vssm", maps.buildOptions());
   std::visit(
       [&](const auto& sat) {
         kernel

@@ -7,10 +7,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 namespace penumbra {
 namespace {
@@ -36,10 +38,30 @@ std::optional<std::string> readOverride(std::string_view name) {
   return text.str();
 }
 
+// Tables added by the program (addEmbeddedSources), searched after the library's.
+struct AddedTables {
+  std::mutex mutex;
+  std::vector<std::span<const EmbeddedSource>> tables;
+};
+
+AddedTables& addedTables() {
+  static AddedTables added;
+  return added;
+}
+
+const EmbeddedSource* find(std::span<const EmbeddedSource> table, std::string_view name) {
+  for (const EmbeddedSource& source : table)
+    if (source.name == name) return &source;
+  return nullptr;
+}
+
 std::string lookup(std::string_view name) {
   if (auto text = readOverride(name)) return *text;
-  for (const EmbeddedSource& source : embeddedSources())
-    if (source.name == name) return std::string(source.text);
+  if (const EmbeddedSource* source = find(embeddedSources(), name)) return std::string(source->text);
+  AddedTables& added = addedTables();
+  const std::lock_guard<std::mutex> lock(added.mutex);
+  for (std::span<const EmbeddedSource> table : added.tables)
+    if (const EmbeddedSource* source = find(table, name)) return std::string(source->text);
   throw std::runtime_error(fmt::format("OpenCL source '{}' is not embedded in this build", name));
 }
 
@@ -76,6 +98,17 @@ void append(std::string_view name, std::set<std::string>& seen, std::string& out
 }
 
 }  // namespace
+
+void addEmbeddedSources(std::span<const EmbeddedSource> table) {
+  AddedTables& added = addedTables();
+  const std::lock_guard<std::mutex> lock(added.mutex);
+  for (const EmbeddedSource& source : table) {
+    bool taken = find(embeddedSources(), source.name) != nullptr;
+    for (std::span<const EmbeddedSource> other : added.tables) taken = taken || find(other, source.name) != nullptr;
+    if (taken) throw std::logic_error(fmt::format("OpenCL source '{}' is embedded twice", source.name));
+  }
+  added.tables.push_back(table);
+}
 
 std::string resolveKernelSource(std::string_view name) {
   std::set<std::string> seen;

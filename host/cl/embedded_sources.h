@@ -14,8 +14,13 @@ struct EmbeddedSource {
   std::string_view text;
 };
 
-// The generated table (sorted by name).
+// The library's generated table (sorted by name).
 std::span<const EmbeddedSource> embeddedSources();
+
+// Adds a program's own table to the lookup, after the library's: the probe kernels the tests and benchmarks compile
+// beside the library's (tests/kernels/), which the library does not ship. Thread-safe; throws std::logic_error when a
+// name is already in the library's table or an added one.
+void addEmbeddedSources(std::span<const EmbeddedSource> table);
 
 // The text of one source with its `#include "..."` lines resolved recursively (each header once), ready for
 // clCreateProgramWithSource. With PENUMBRA_KERNEL_DIR set, every file is read from that directory instead (a

@@ -49,7 +49,7 @@ double worstBoxMeanError(Context& ctx, const std::vector<float>& image, const Im
   Buffer<cl_float4> boxBuffer(ctx, boxes.size());
   boxBuffer.upload(ctx, std::span<const cl_float4>(reinterpret_cast<const cl_float4*>(boxes.data()), boxes.size()));
   Buffer<float> sums(ctx, boxes.size() * 2), means(ctx, boxes.size() * 2);
-  Kernel(ctx, "kernels/sat.cl", "sat_test_box", "sat", satBuildOptions(desc))
+  Kernel(ctx, "tests/kernels/sat_probe.cl", "sat_test_box", "sat", satBuildOptions(desc))
       .args(table, desc, offset, boxBuffer, uint32_t(boxes.size()), sums, means)
       .launch(boxes.size(), 64);
   const std::vector<float> got = means.download(ctx);
