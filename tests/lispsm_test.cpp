@@ -282,7 +282,7 @@ TEST_F(LispsmTechnique, WarpNoneIsTheUniformFit) {
   ShadowFrame frame{ctx(), raster, scene, light, camera, gbuffer, receivers};
   Params params(findTechnique("sm").params);
   params.set("warp", "none");
-  const LightView warped = fitWarpedLightView(frame, params, 512, 3.0f);
+  const LightView warped = fitWarpedLightView(frame, WarpedFit{WarpSettings::from(params), true}, 512, 3.0f);
   const LightView uniform = fitLightView(light, scene.bounds(), 512, &receivers, 3.0f);
   EXPECT_EQ(std::memcmp(&warped.gpu, &uniform.gpu, sizeof(LightViewGpu)), 0);
   EXPECT_EQ(warped.raster.view, uniform.raster.view);

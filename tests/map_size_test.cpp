@@ -348,7 +348,7 @@ TEST_F(PenumbraWidthTest, TheRadiusGrowsWithTheLightsSizeUpToItsMaximum) {
     const TechniqueInfo& info = findTechnique(name);
     Params params(info.params);
     params.set(radius + "-max", "16");
-    EXPECT_TRUE(autoRadius(params, radius)) << name << ": the default";
+    EXPECT_TRUE(AutoRadius::from(params, radius).automatic) << name << ": the default";
     const auto chosen = [&](const char* light, const Params& p) {
       Renderer renderer(ctx(), scene);
       return chosenAuto(renderer.render(camera, parseLight(light), info, p), "penumbra:" + radius);
@@ -397,18 +397,21 @@ TEST_F(PenumbraWidthTest, AutoIsTheRadiusDefaultOfEveryFixedKernel) {
   }
   Params params(findTechnique("vsm").params);
   params.set("blur-radius", "0");
-  EXPECT_FALSE(autoRadius(params, "blur-radius"));
-  EXPECT_EQ(params.getInt("blur-radius"), 0);  // 0 stays off, not auto
+  EXPECT_FALSE(AutoRadius::from(params, "blur-radius").automatic);
+  EXPECT_EQ(AutoRadius::from(params, "blur-radius").radius, 0);  // 0 stays off, not auto
+  EXPECT_EQ(momentBlurReach(MomentFilter::from(params)), 0.0f);
   params.set("blur-radius", "auto");
-  EXPECT_TRUE(autoRadius(params, "blur-radius"));
-  EXPECT_EQ(radiusLimit(params, "blur-radius"), 16);                     // the map's margin before it is measured
+  const AutoRadius blur = AutoRadius::from(params, "blur-radius");
+  EXPECT_TRUE(blur.automatic);
+  EXPECT_EQ(blur.limit(), 16);  // the map's margin before it is measured
+  // The Gaussian of the largest radius reaches 3 sigma: sigma^2 = r (r + 1) / 3.
+  EXPECT_EQ(momentBlurReach(MomentFilter::from(params)), std::ceil(3.0f * std::sqrt(16.0f * 17.0f / 3.0f)));
   EXPECT_THROW(params.set("blur-radius", "-1"), std::invalid_argument);  // auto's value is not a radius
-  EXPECT_THROW(momentBlurConfig(params), std::logic_error);              // resolved per frame first
   EXPECT_EQ(Params(findTechnique("esm").params).getInt("blur-radius-max"), 2);
   EXPECT_EQ(Params(findTechnique("evsm2").params).getInt("blur-radius-max"), 2);
   for (const char* name : {"pcf", "pssm"}) {
     Params pcf(findTechnique(name).params);
-    EXPECT_TRUE(autoRadius(pcf, "pcf-radius")) << name;
+    EXPECT_TRUE(AutoRadius::from(pcf, "pcf-radius").automatic) << name;
     EXPECT_EQ(pcf.getInt("pcf-radius-max"), 4) << name;
   }
   EXPECT_EQ(Params(findTechnique("pcf").params).getInt("pcf-adaptive"), 0);  // the penumbra's width, not the footprint

@@ -1,7 +1,12 @@
 // Technique parameters: defaults, validation of text values, choices, provenance text; and the registry.
 #include "host/techniques/params.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+
+#include <memory>
+#include <set>
+#include <string>
 
 #include "host/techniques/technique.h"
 
@@ -40,9 +45,69 @@ TEST(TechniqueRegistry, EveryTechniqueHasValidDefaults) {
       EXPECT_GE(spec.defaultValue, spec.min) << info.name << " --" << spec.name;
       EXPECT_LE(spec.defaultValue, spec.max) << info.name << " --" << spec.name;
     }
-    EXPECT_NE(info.create(Params(info.params)), nullptr);
+    EXPECT_NE(info.create(Params(info.params), 1024), nullptr);
   }
   EXPECT_THROW(findTechnique("nope"), std::invalid_argument);
+}
+
+// Another valid value of `spec` than its default: the next choice, or the far end of its range.
+std::string otherValue(const ParamSpec& spec) {
+  if (!spec.choices.empty())
+    return spec.choices[(static_cast<size_t>(spec.defaultValue) + 1) % spec.choices.size()];
+  const double value = spec.isAuto(spec.defaultValue) || spec.defaultValue != spec.max ? spec.max : spec.min;
+  return fmt::format("{}", value);
+}
+
+TEST(TechniqueRegistry, AnInstanceIsItsTypedSettings) {
+  // The renderer keeps an instance while matches() holds, so every parameter the instance reads must change it; the
+  // renderer's own (auto map size's range, the point light's cube guard) do not.
+  const std::set<std::string> renderers = {"map-size-quantile", "map-size-min", "map-size-max", "cube-guard"};
+  for (const TechniqueInfo& info : techniques()) {
+    const Params defaults(info.params);
+    const std::unique_ptr<Technique> instance = info.create(defaults, 1024);
+    EXPECT_TRUE(instance->matches(defaults, 1024)) << info.name;
+    if (defaults.isAuto("map-size")) {
+      EXPECT_FALSE(instance->matches(defaults, 2048)) << info.name << ": a new size";
+    }
+    int changed = 0;
+    for (const ParamSpec& spec : info.params) {
+      if (spec.text) continue;  // lvsm-splits needs a placement that takes it
+      Params other = defaults;
+      other.set(spec.name, otherValue(spec));
+      try {
+        info.create(other, 1024);
+      } catch (const std::invalid_argument&) {
+        continue;  // contradicts another default (jittered's rotation under its LiSPSM warp)
+      }
+      EXPECT_EQ(instance->matches(other, 1024), renderers.count(spec.name) != 0)
+          << info.name << " --" << spec.name << " " << otherValue(spec);
+      ++changed;
+    }
+    EXPECT_GT(changed, 0) << info.name;
+  }
+  // --map-size auto needs the frame's size: a technique made without one is a caller's error.
+  const TechniqueInfo& sm = findTechnique("sm");
+  EXPECT_THROW(sm.create(Params(sm.params), 0), std::logic_error);
+}
+
+TEST(TechniqueRegistry, ContradictingValuesAreRefusedWithBothOptionsNamed) {
+  const auto refusal = [](const std::string& technique, const ParamValues& values) -> std::string {
+    const TechniqueInfo& info = findTechnique(technique);
+    try {
+      info.create(techniqueParams(info, values), 1024);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  EXPECT_EQ(refusal("savsm", {{"savsm-width", "9"}, {"savsm-max-width", "8"}}),
+            "--savsm-width 9 is larger than --savsm-max-width 8");
+  EXPECT_EQ(refusal("lvsm", {{"lvsm-transition", "0.1"}, {"lvsm-overlap", "0.05"}}),
+            "--lvsm-transition 0.1 is larger than --lvsm-overlap 0.05");
+  EXPECT_EQ(refusal("pssm", {{"pssm-snap", "on"}, {"warp", "lispsm"}}),
+            "--pssm-snap on cannot be combined with --warp lispsm");
+  EXPECT_EQ(refusal("jittered", {{"lispsm-n-jitter", "1"}, {"warp", "none"}}), "--lispsm-n-jitter needs --warp lispsm");
+  EXPECT_EQ(refusal("sm", {{"bias", "2"}}), "accepted");
 }
 
 }  // namespace params_test

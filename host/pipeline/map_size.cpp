@@ -1,5 +1,5 @@
 // --map-size auto: the light's view probed at a fixed size, the pixels' needs reduced on the device
-// (host/views/light_fit.h neededMapSize), the size written into the technique's parameters.
+// (host/views/light_fit.h neededMapSize), the size the technique's instance is made with.
 #include "host/pipeline/map_size.h"
 
 #include <fmt/format.h>
@@ -25,7 +25,7 @@ constexpr int kProbeSize = 1024;
 
 bool autoMapSize(const Params& params) { return params.isAuto("map-size"); }
 
-Params sizeMapForFrame(ShadowFrame& frame, const Params& params) {
+int sizeMapForFrame(ShadowFrame& frame, const Params& params) {
   std::vector<LightViewGpu> views;
   if (frame.light.type == LightType::Point) {
     const float guard = std::clamp(static_cast<float>(params.get("cube-guard")), 0.0f,
@@ -34,18 +34,17 @@ Params sizeMapForFrame(ShadowFrame& frame, const Params& params) {
     for (int face = 0; face < CUBE_FACES; ++face)
       views.push_back(fitLightView(cubeFaceLight(frame.light, face, tangent), frame.scene.bounds(), kProbeSize).gpu);
   } else {
-    views.push_back(fitWarpedLightView(frame, params, kProbeSize, 0.0f).gpu);
+    const WarpedFit fit{WarpSettings::from(params), params.getInt("fit") == 1};
+    views.push_back(fitWarpedLightView(frame, fit, kProbeSize, 0.0f).gpu);
   }
   const double quantile = params.get("map-size-quantile");
   const MapSizeNeed need = neededMapSize(frame.ctx, frame.gbuffer, views, quantile, params.getInt("map-size-min"),
                                          params.getInt("map-size-max"));
-  Params sized = params;
-  sized.set("map-size", std::to_string(need.size));
   frame.attributes["penumbra:map-size"] = need.pixels == 0
                                               ? fmt::format("auto {} (no pixel measured)", need.size)
                                               : fmt::format("auto {} (quantile {} of {} pixels needs {:.0f})",
                                                             need.size, quantile, need.pixels, need.needed);
-  return sized;
+  return need.size;
 }
 
 void checkMapSizeRange(const Params& params) {

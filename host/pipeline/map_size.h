@@ -15,10 +15,10 @@ bool autoMapSize(const Params& params);
 // to surface mid-frame as "neededMapSize: ... an empty size range").
 void checkMapSizeRange(const Params& params);
 
-// `params` with map-size set to neededMapSize over the view the technique fits (fitWarpedLightView, the LiSPSM warp
+// The map size for this frame: neededMapSize over the view the technique fits (fitWarpedLightView, the LiSPSM warp
 // included; a point light's six cube faces, their guard band included), probed at 1024 texels, with
 // map-size-quantile, -min and -max; records "penumbra:map-size" (the size, the quantile and what it needed) in
-// frame.attributes.
-Params sizeMapForFrame(ShadowFrame& frame, const Params& params);
+// frame.attributes. The technique's instance is made with it (TechniqueInfo::create's mapSize).
+int sizeMapForFrame(ShadowFrame& frame, const Params& params);
 
 }  // namespace penumbra

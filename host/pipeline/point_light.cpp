@@ -26,13 +26,13 @@ void mergeAttributes(std::map<std::string, std::string>& into, const std::map<st
 
 }  // namespace
 
-void CubeShadows::render(ShadowFrame& frame, Technique& technique, const Params& params, Buffer<float>& visibility) {
+void CubeShadows::render(ShadowFrame& frame, Technique& technique, int size, float cubeGuard,
+                         Buffer<float>& visibility) {
   const Light& point = frame.light;
   if (point.type != LightType::Point) throw std::invalid_argument("CubeShadows: not a point light");
   Context& ctx = frame.ctx;
-  const int size = params.getInt("map-size");
   // The guard as cube_window_tangent clamps it, for the header.
-  const float guard = std::clamp(static_cast<float>(params.get("cube-guard")), 0.0f,
+  const float guard = std::clamp(cubeGuard, 0.0f,
                                  CUBE_MAX_GUARD_FRACTION * static_cast<float>(size));
   const float tangent = cube_window_tangent(guard, size);
   const Bounds bounds = frame.scene.bounds();

@@ -17,11 +17,12 @@ namespace penumbra {
 class CubeShadows {
  public:
   // Writes the visibility of `frame.light` (a point light) seen from `frame.gbuffer` (the camera's) into
-  // `visibility`: each face's own pixels from the technique's render of that face, 1 for background. `params` are
-  // the technique's (map-size and cube-guard set the face window). Faces without a pixel are skipped. Records
+  // `visibility`: each face's own pixels from the technique's render of that face, 1 for background. `size` (the
+  // technique's map size for this frame) and `cubeGuard` (texels) set the face window. Faces without a pixel are
+  // skipped. Records
   // "penumbra:cube" (guard, window, faces drawn) and every attribute a face recorded, as "+X: ...; -Y: ...", in
   // frame.attributes. frame.receivers is not used (each face reduces its own).
-  void render(ShadowFrame& frame, Technique& technique, const Params& params, Buffer<float>& visibility);
+  void render(ShadowFrame& frame, Technique& technique, int size, float cubeGuard, Buffer<float>& visibility);
 
   // The face of every pixel in the last render (CUBE_NO_FACE for background), rows bottom-up.
   const Buffer<int32_t>& faces() const { return faces_; }

@@ -93,12 +93,11 @@ void Renderer::addDebugChannels(const Light& light, Slot& slot, Image& image) {
   image.add("cubeFace.Y", std::move(faces));
 }
 
-Technique& Renderer::techniqueFor(Slot& slot, const TechniqueInfo& technique, const Params& params) {
-  std::string key = technique.name + ": " + params.describe();
-  if (slot.technique == nullptr || key != slot.key) {
+Technique& Renderer::techniqueFor(Slot& slot, const TechniqueInfo& technique, const Params& params, int mapSize) {
+  if (slot.technique == nullptr || slot.info != &technique || !slot.technique->matches(params, mapSize)) {
     slot.technique.reset();  // release the old instance's buffers before the new one allocates
-    slot.technique = technique.create(params);
-    slot.key = std::move(key);
+    slot.technique = technique.create(params, mapSize);
+    slot.info = &technique;
   }
   return *slot.technique;
 }
@@ -110,10 +109,12 @@ std::map<std::string, std::string> Renderer::shadow(const Camera& camera, const 
                                                            light.light.type == LightType::Spot);
   ShadowFrame frame{ctx_, raster_, scene_, light.light, camera, gbuffer_, receivers};
   // --map-size auto: the technique instance is the one of this frame's size (host/pipeline/map_size.h).
-  const Params params = autoMapSize(light.params) ? sizeMapForFrame(frame, light.params) : light.params;
-  Technique& shadows = techniqueFor(slot, *light.technique, params);
+  const Params& params = light.params;
+  const int mapSize = autoMapSize(params) ? sizeMapForFrame(frame, params) : 0;
+  Technique& shadows = techniqueFor(slot, *light.technique, params, mapSize);
   if (point)
-    slot.cube.render(frame, shadows, params, slot.visibility);
+    slot.cube.render(frame, shadows, mapSize > 0 ? mapSize : params.getInt("map-size"),
+                     static_cast<float>(params.get("cube-guard")), slot.visibility);
   else
     shadows.render(frame, slot.visibility);
   return std::move(frame.attributes);

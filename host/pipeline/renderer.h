@@ -77,11 +77,13 @@ class Renderer {
  private:
   struct Slot {
     std::unique_ptr<Technique> technique;
-    std::string key;  // "name: parameters" of technique
+    const TechniqueInfo* info = nullptr;  // what `technique` is an instance of
     Buffer<float> visibility;
     CubeShadows cube;  // a point light's faces
   };
-  Technique& techniqueFor(Slot& slot, const TechniqueInfo& technique, const Params& params);
+  // The slot's instance while it matches `technique`, `params` and the frame's `mapSize` (Technique::matches), else a
+  // new one in its place.
+  Technique& techniqueFor(Slot& slot, const TechniqueInfo& technique, const Params& params, int mapSize);
   // One light's visibility into slot.visibility: a point light's cube faces, or the technique on the light's frame
   // fitted to the receivers it sees. Returns what the technique recorded for the header.
   std::map<std::string, std::string> shadow(const Camera& camera, const FrameLight& light, Slot& slot);

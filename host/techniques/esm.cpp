@@ -23,25 +23,35 @@ constexpr double kUmbraLight = 0.02;
 
 // esm-exponent, or under auto ln(1 / 0.02) over the esm-exponent-quantile of the camera's hard-shadowed pixels'
 // occluder distances in normalised depth, within esm-exponent-min..max; recorded in the header.
-Params resolveExponent(ShadowFrame& frame, const ShadowMap& map, const Params& params) {
-  if (!params.isAuto("esm-exponent")) return params;
-  const double quantile = params.get("esm-exponent-quantile");
+double frameExponent(ShadowFrame& frame, const ShadowMap& map, const MomentSettings& s) {
+  if (!s.esmAuto) return s.esmExponent;
   const float range = map.view.gpu.zFar - map.view.gpu.zNear;
   // The histogram's unit: 1/16 of the map's depth range, so its octaves suit any scene scale.
   const OccluderDistance d = measureOccluderDistance(frame.ctx, frame.gbuffer, map.targets.depth, map.gpu,
-                                                     biasArgs(params), quantile, std::max(range, 1e-6f) / 16.0f);
-  const double lo = params.get("esm-exponent-min"), hi = std::max(lo, params.get("esm-exponent-max"));
+                                                     s.map.receiverBias(), s.esmQuantile, std::max(range, 1e-6f) / 16.0f);
+  const double lo = s.esmMin, hi = std::max(lo, s.esmMax);
   const double normalised = d.distance / range;
   double exponent = lo;  // no shadowed pixel: nothing to darken
   if (d.pixels > 0)      // occluders at distance 0 (contact) need the sharpest step
     exponent = normalised > 0.0 ? std::clamp(std::log(1.0 / kUmbraLight) / normalised, lo, hi) : hi;
-  Params resolved = params;
-  resolved.set("esm-exponent", fmt::format("{:.6g}", exponent));
+  // 6 significant digits, as auto has always rounded it: frames stay identical to earlier versions'.
+  exponent = std::stod(fmt::format("{:.6g}", exponent));
   frame.attributes["penumbra:esm-exponent"] =
       d.pixels == 0 ? fmt::format("auto {:.4g} (no shadowed pixel measured)", exponent)
                     : fmt::format("auto {:.4g} (quantile {} of {} shadowed pixels: occluder {:.4g} of the depth range)",
-                                  exponent, quantile, d.pixels, normalised);
-  return resolved;
+                                  exponent, s.esmQuantile, d.pixels, normalised);
+  return exponent;
+}
+
+MomentTechniqueSpec esmSpec() {
+  MomentTechniqueSpec spec{MomentKind::Esm, "kernels/esm.cl", "esm_visibility", false, 1};
+  spec.configure = [](ShadowFrame& frame, const ShadowMap& map, const MomentSettings& s, MomentsConfig& config,
+                      MomentShade& shade) {
+    config.esmExponent = esmClampExponent(static_cast<float>(frameExponent(frame, map, s)), config.storage);
+    shade.expPositive = config.esmExponent;
+    shade.esmLogSpace = esmLogSpace(config.esmExponent) ? 1u : 0u;
+  };
+  return spec;
 }
 
 }  // namespace
@@ -66,16 +76,7 @@ TechniqueInfo esmTechnique() {
   std::vector<ParamSpec> params = momentMapParams(extra);
   positiveWarpBlurMax(params);
   return {"esm", "Exponential shadow maps: filtered e^(c d) against e^(c t), in log space beyond c = 80", params,
-          [](const Params& p) {
-            MomentTechniqueSpec spec{MomentKind::Esm, "kernels/esm.cl", "esm_visibility", false, 1};
-            spec.resolve = resolveExponent;
-            spec.configure = [](const Params& q, MomentsConfig& config, MomentShade& s) {
-              config.esmExponent = esmClampExponent(static_cast<float>(q.get("esm-exponent")), config.storage);
-              s.expPositive = config.esmExponent;
-              s.esmLogSpace = esmLogSpace(config.esmExponent) ? 1u : 0u;
-            };
-            return std::make_unique<MomentTechnique>(spec, p);
-          }};
+          momentTechniqueFactory(esmSpec())};
 }
 
 }  // namespace penumbra

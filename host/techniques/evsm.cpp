@@ -15,25 +15,26 @@ std::vector<ParamSpec> evsmParams(bool negative) {
   return params;
 }
 
+MomentTechniqueSpec evsmSpec(bool four) {
+  MomentTechniqueSpec spec{four ? MomentKind::Evsm4 : MomentKind::Evsm2, "kernels/evsm.cl", "evsm_visibility"};
+  spec.configure = [four](ShadowFrame&, const ShadowMap&, const MomentSettings& s, MomentsConfig& config,
+                          MomentShade& shade) {
+    s.chebyshev.apply(shade);
+    config.evsmPositive = evsmClampExponent(s.evsmPositive, config.storage);
+    config.evsmNegative = four ? evsmClampExponent(s.evsmNegative, config.storage) : 0.0f;
+    shade.expPositive = config.evsmPositive;
+    shade.expNegative = config.evsmNegative;
+  };
+  return spec;
+}
+
 TechniqueInfo evsmTechnique(bool four) {
-  const MomentKind kind = four ? MomentKind::Evsm4 : MomentKind::Evsm2;
   std::vector<ParamSpec> params = momentMapParams(evsmParams(four));
   if (!four) positiveWarpBlurMax(params);
   return {four ? "evsm4" : "evsm2",
           four ? "Exponential VSM with positive and negative warps (minimum of the two bounds)"
                : "Exponential VSM with the positive warp",
-          params, [kind, four](const Params& p) {
-            MomentTechniqueSpec spec{kind, "kernels/evsm.cl", "evsm_visibility"};
-            spec.configure = [four](const Params& q, MomentsConfig& config, MomentShade& s) {
-              setChebyshevShade(q, s);
-              config.evsmPositive = evsmClampExponent(static_cast<float>(q.get("evsm-positive")), config.storage);
-              config.evsmNegative =
-                  four ? evsmClampExponent(static_cast<float>(q.get("evsm-negative")), config.storage) : 0.0f;
-              s.expPositive = config.evsmPositive;
-              s.expNegative = config.evsmNegative;
-            };
-            return std::make_unique<MomentTechnique>(spec, p);
-          }};
+          params, momentTechniqueFactory(evsmSpec(four))};
 }
 
 }  // namespace

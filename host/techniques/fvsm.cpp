@@ -118,25 +118,39 @@ class TilePyramid {
   int levels_, cells_;
 };
 
-class FittedVirtualShadowMap final : public Technique {
+struct FvsmSettings {
+  MapSettings map;  // map-size: the tile
+  int receiverPlane = 1;
+  double maxSize = 0;  // fvsm-max-size
+  float quality = 0;
+  double outliers = 0;
+  double budget = 0;  // fvsm-budget, texels
+  static FvsmSettings from(const Params& params, int mapSize) {
+    return {MapSettings::from(params, mapSize), params.getInt("receiver-plane"), params.get("fvsm-max-size"),
+            static_cast<float>(params.get("fvsm-quality")), params.get("fvsm-outliers"), params.get("fvsm-budget")};
+  }
+  bool operator==(const FvsmSettings&) const = default;
+};
+
+class FittedVirtualShadowMap final : public TechniqueOf<FvsmSettings> {
  public:
-  explicit FittedVirtualShadowMap(const Params& params) : params_(params) {}
+  using TechniqueOf::TechniqueOf;
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     Context& ctx = frame.ctx;
     const GBuffer& g = frame.gbuffer;
     const size_t pixels = static_cast<size_t>(g.width) * static_cast<size_t>(g.height);
-    const int tile = params_.getInt("map-size");
+    const int tile = settings_.map.size;
     const int levels = std::clamp(
-        static_cast<int>(std::floor(std::log2(params_.get("fvsm-max-size") / static_cast<double>(tile)) + 1e-9)), 0,
+        static_cast<int>(std::floor(std::log2(settings_.maxSize / static_cast<double>(tile)) + 1e-9)), 0,
         FVSM_MAX_LEVELS);
     const int cells = 1 << levels;
-    const BiasArgs bias = biasArgs(params_);
+    const ReceiverBias bias = settings_.map.receiverBias();
     // Tiles overlap by this many texels on every side: the normal offset and the nearest texel of a receiver in the
     // tile's nominal square stay inside the tile.
     const int margin = static_cast<int>(std::ceil(bias.normalOffset)) + 2;
     const LightView base =
-        fitLightView(frame.light, frame.scene.bounds(), tile, params_.getInt("fit") == 1 ? &frame.receivers : nullptr,
+        fitLightView(frame.light, frame.scene.bounds(), tile, settings_.map.fit.fitReceivers ? &frame.receivers : nullptr,
                      static_cast<float>(margin));
     baseGpu_.allocate(ctx, 1, CL_MEM_READ_ONLY);
     baseGpu_.upload(ctx, std::span<const LightViewGpu>(&base.gpu, 1));
@@ -149,13 +163,13 @@ class FittedVirtualShadowMap final : public Technique {
     Kernel request(ctx, "kernels/fvsm.cl", "fvsm_request", "fvsm");
     request
         .args(g.position, g.normal, width, height, baseGpu_, static_cast<uint32_t>(cells), levels,
-              static_cast<float>(params_.get("fvsm-quality")), histogram_)
+              settings_.quality, histogram_)
         .moves(pixels * kVisibilityBytesPerPixel)
         .launch(pixels, kPixelGroup);
     const std::vector<uint32_t> counts = histogram_.download(ctx);
 
     // 2. Outlier rejection per cell, the quadtree, the budget.
-    const double outliers = params_.get("fvsm-outliers");
+    const double outliers = settings_.outliers;
     std::vector<int> need(static_cast<size_t>(cells) * cells, -1);
     std::vector<uint64_t> cellPixels(need.size(), 0);
     uint64_t covered = 0;
@@ -174,7 +188,7 @@ class FittedVirtualShadowMap final : public Technique {
       need[c] = level, cellPixels[c] = total, covered += total;
     }
     const uint64_t tileTexels = static_cast<uint64_t>(tile) * static_cast<uint64_t>(tile);
-    const uint64_t budget = static_cast<uint64_t>(params_.get("fvsm-budget"));
+    const uint64_t budget = static_cast<uint64_t>(settings_.budget);
     uint64_t starved = 0;
     const std::vector<Leaf> leaves = TilePyramid(std::move(need), std::move(cellPixels), levels)
                                          .fit(std::max<uint64_t>(1, budget / tileTexels), starved);
@@ -218,7 +232,7 @@ class FittedVirtualShadowMap final : public Technique {
 
       // 4. The lookups, a batch of tile views at a time.
       Kernel lookup(ctx, "kernels/fvsm.cl", "fvsm_visibility", "shade");
-      const ShadeFrame shade = shadeFrame(frame, params_, params_.getInt("receiver-plane"), ID_BUFFER_OFF);
+      const ShadeFrame shade = shadeFrame(frame, settings_.map, settings_.receiverPlane, ID_BUFFER_OFF);
       batches_.resize(std::max(batches_.size(), (leaves.size() + kViewsPerBatch - 1) / kViewsPerBatch));
       for (size_t begin = 0; begin < leaves.size(); begin += kViewsPerBatch) {
         const size_t count = std::min(kViewsPerBatch, leaves.size() - begin);
@@ -253,7 +267,6 @@ class FittedVirtualShadowMap final : public Technique {
   }
 
  private:
-  Params params_;
   Buffer<LightViewGpu> baseGpu_;
   std::vector<Buffer<LightViewGpu>> batches_;
   Buffer<uint32_t> histogram_, page_;
@@ -286,7 +299,9 @@ TechniqueInfo fvsmTechnique() {
                     "Texels drawn per frame at most (8 bytes each on the device); within it the tiles that serve the "
                     "most undersampled pixels are refined first, and the header counts the pixels left coarser"});
   return {"fvsm", "Fitted virtual shadow maps: quadtree tiles drawn only where the receivers need them", params,
-          [](const Params& p) { return std::make_unique<FittedVirtualShadowMap>(p); }};
+          [](const Params& p, int mapSize) {
+            return std::make_unique<FittedVirtualShadowMap>(FvsmSettings::from(p, mapSize));
+          }};
 }
 
 }  // namespace penumbra

@@ -34,10 +34,21 @@ void moveNearPlane(glm::mat4& P, float zNear) {
   P[3][2] = static_cast<float>(-2.0 * f * zNear / (f - zNear));
 }
 
-class IrregularZBuffer final : public Technique {
+struct IzbSettings {
+  int gridSize = 0;  // map-size: the light grid's texels per side
+  bool fitReceivers = true;
+  int samples = 1;   // per pixel (izb_samples_of_choice)
+  size_t chunk = 0;  // izb-chunk
+  static IzbSettings from(const Params& params, int /*mapSize: izb's grid size has no auto*/) {
+    return {params.getInt("map-size"), params.getInt("fit") == 1, izb_samples_of_choice(params.getInt("izb-samples")),
+            static_cast<size_t>(params.get("izb-chunk"))};
+  }
+  bool operator==(const IzbSettings&) const = default;
+};
+
+class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
  public:
-  explicit IrregularZBuffer(const Params& params)
-      : params_(params), samples_(izb_samples_of_choice(params.getInt("izb-samples"))) {}
+  explicit IrregularZBuffer(const IzbSettings& settings) : TechniqueOf(settings), samples_(settings.samples) {}
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     Context& ctx = frame.ctx;
@@ -49,7 +60,7 @@ class IrregularZBuffer final : public Technique {
     const uint32_t cellsX = static_cast<uint32_t>((grid.raster.width + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS);
     const uint32_t cellsY = static_cast<uint32_t>((grid.raster.height + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS);
     const uint32_t cells = cellsX * cellsY;
-    const size_t chunk = static_cast<size_t>(params_.get("izb-chunk"));
+    const size_t chunk = settings_.chunk;
     const size_t pixelsPerChunk = std::max<size_t>(1, chunk / static_cast<size_t>(samples_));
     const size_t chunkSamples = std::min(pixels, pixelsPerChunk) * static_cast<size_t>(samples_);
     cellOf_.allocate(ctx, chunkSamples);
@@ -108,7 +119,7 @@ class IrregularZBuffer final : public Technique {
     frame.attributes["penumbra:izb"] = fmt::format(
         "{} grid {}x{} texels ({}x{} cells), {} samples per pixel in {} chunk{}, {} triangle-cell entries, {} samples "
         "outside the grid (lit)",
-        params_.getInt("fit") == 1 ? "receivers" : "scene", grid.raster.width, grid.raster.height, cellsX, cellsY,
+        settings_.fitReceivers ? "receivers" : "scene", grid.raster.width, grid.raster.height, cellsX, cellsY,
         samples_, chunks, chunks == 1 ? "" : "s", entries, outside);
   }
 
@@ -116,8 +127,8 @@ class IrregularZBuffer final : public Technique {
   // The light grid: the light's view fitted as a shadow map's, with one texel of margin (a ray origin's offset off its
   // surface and rounding move it less than that); a spot light's near plane moved next to the light.
   LightView gridView(ShadowFrame& frame) const {
-    const int size = params_.getInt("map-size");
-    const bool toReceivers = params_.getInt("fit") == 1;
+    const int size = settings_.gridSize;
+    const bool toReceivers = settings_.fitReceivers;
     LightView view =
         fitLightView(frame.light, frame.scene.bounds(), size, toReceivers ? &frame.receivers : nullptr, 1.0f);
     if (view.gpu.kind == LIGHT_KIND_SPOT) moveNearPlane(view.raster.projection, view.gpu.zFar * kSpotNearOverFar);
@@ -135,7 +146,6 @@ class IrregularZBuffer final : public Technique {
     add.args(cellStart_, blockSums_, cells).moves(uint64_t{cells} * 8).launch(cells, kPixelGroup);
   }
 
-  Params params_;
   int samples_;
   Buffer<LightViewGpu> gpu_;
   Buffer<uint32_t> cellOf_, sorted_, cellCount_, cellStart_, cursor_, blockSums_, occluded_, outside_;
@@ -169,7 +179,7 @@ TechniqueInfo izbTechnique() {
   };
   return {"izb",
           "Exact hard shadows: irregular z-buffer, each G-buffer sample tested against the triangles over its cell",
-          params, [](const Params& p) { return std::make_unique<IrregularZBuffer>(p); }};
+          params, [](const Params& p, int mapSize) { return std::make_unique<IrregularZBuffer>(IzbSettings::from(p, mapSize)); }};
 }
 
 }  // namespace penumbra

@@ -23,6 +23,7 @@
 #include "host/techniques/shadow_map.h"
 #include "host/techniques/split_maps.h"
 #include "host/techniques/warp.h"
+#include "kernels/shared/id_buffer.h"
 
 namespace penumbra {
 namespace {
@@ -93,23 +94,64 @@ cl_float4 texelTransform(const LightView& first, const LightView& to, float angl
   return {{s * c, s * sn, shift.x, shift.y}};
 }
 
-class Jittered final : public Technique {
+struct JitterSettings {
+  MapSettings map;
+  int receiverPlane = 1;
+  int idMode = ID_BUFFER_OFF;
+  int confidence = JITTER_OPTIMAL;  // JITTER_* mode
+  float confidenceThreshold = 0;
+  int agreement = 0;  // jitter-agreement
+  float precision = 0;
+  int passes = 0, window = 0;
+  double epsilon = 0;
+  bool scissor = true;
+  float rotation = 0, reduction = 0;  // jitter-rotation (degrees), jitter-reduction
+  float nJitter = 0;                  // lispsm-n-jitter
+  // Throws std::invalid_argument for rotation or reduction with --warp lispsm, and n jitter without it.
+  static JitterSettings from(const Params& params, int mapSize) {
+    JitterSettings s;
+    s.map = MapSettings::from(params, mapSize);
+    s.receiverPlane = params.getInt("receiver-plane");
+    s.idMode = params.getInt("id-buffer");
+    s.confidence = params.getInt("confidence");
+    s.confidenceThreshold = static_cast<float>(params.get("confidence-threshold"));
+    s.agreement = params.getInt("jitter-agreement");
+    s.precision = static_cast<float>(params.get("jitter-precision"));
+    s.passes = params.getInt("jitter-passes");
+    s.window = params.getInt("jitter-window");
+    s.epsilon = params.get("jitter-epsilon");
+    s.scissor = params.getInt("jitter-scissor") == 1;
+    s.rotation = static_cast<float>(params.get("jitter-rotation"));
+    s.reduction = static_cast<float>(params.get("jitter-reduction"));
+    s.nJitter = static_cast<float>(params.get("lispsm-n-jitter"));
+    // LiSPSM (--warp lispsm): translational jitter only; a rotated or reduced warped map is no similarity of the
+    // first.
+    if (s.map.fit.warp.lispsm && (s.rotation != 0.0f || s.reduction != 0.0f))
+      throw std::invalid_argument(
+          "--jitter-rotation and --jitter-reduction need --warp none (jittered warps its map with lispsm by default)");
+    if (s.nJitter > 0.0f && !s.map.fit.warp.lispsm) throw std::invalid_argument("--lispsm-n-jitter needs --warp lispsm");
+    return s;
+  }
+  bool operator==(const JitterSettings&) const = default;
+};
+
+class Jittered final : public TechniqueOf<JitterSettings> {
  public:
-  explicit Jittered(const Params& params) : params_(params) {}
+  using TechniqueOf::TechniqueOf;
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     const Plan plan = planPasses(frame);
     reset(frame.ctx, static_cast<size_t>(frame.gbuffer.width) * frame.gbuffer.height);
-    const int mode = params_.getInt("confidence"), maxPasses = params_.getInt("jitter-passes");
-    const int window = params_.getInt("jitter-window");
-    const double epsilon = params_.get("jitter-epsilon");
+    const int mode = settings_.confidence, maxPasses = settings_.passes;
+    const int window = settings_.window;
+    const double epsilon = settings_.epsilon;
     int quiet = 0;
     int64_t covered = 0;  // pass 0's receivers: the stopping rule's denominator (later passes see their list only)
     std::optional<Scissor> scissor;
     // Optimal without rotation or reduction: each pass marks the map tiles its unconfident pixels will read, and
     // the next pass draws only those (inside the scissor box of the same lookups).
     // Rotated, reduced or n-jittered passes move distant texels by more than the margin: they draw whole maps.
-    masking_ = params_.getInt("jitter-scissor") == 1 && mode == JITTER_OPTIMAL && plan.maxAngle == 0.0f &&
+    masking_ = settings_.scissor && mode == JITTER_OPTIMAL && plan.maxAngle == 0.0f &&
                plan.reduction == 0.0f && plan.nJitter == 0.0f;
     LightView first;  // pass 0's view: every later pass's lookups are moved from its texels
     for (int pass = 0; pass < maxPasses; ++pass) {
@@ -158,9 +200,8 @@ class Jittered final : public Technique {
     }
     image.add("pass.Y", pass);
     image.add("confidence.Y", kept);
-    if (params_.getInt("confidence") == JITTER_OPTIMAL && params_.getInt("jitter-agreement") > 0)
-      image.add("settled.Y", settled);
-    if (params_.getInt("confidence") == JITTER_OPTIMAL) image.add("requiredConfidence.Y", required);
+    if (settings_.confidence == JITTER_OPTIMAL && settings_.agreement > 0) image.add("settled.Y", settled);
+    if (settings_.confidence == JITTER_OPTIMAL) image.add("requiredConfidence.Y", required);
   }
 
  private:
@@ -176,25 +217,20 @@ class Jittered final : public Technique {
 
   Plan planPasses(ShadowFrame& frame) {
     Plan plan;
-    plan.maxAngle = glm::radians(static_cast<float>(params_.get("jitter-rotation")));
+    plan.maxAngle = glm::radians(settings_.rotation);
     // Every pass shares one texel size, so confidences of different passes compare (sec. 6.5.1's caveat).
     plan.scale = std::cos(plan.maxAngle) + std::sin(plan.maxAngle);
-    plan.reduction = static_cast<float>(params_.get("jitter-reduction"));
-    // LiSPSM (--warp lispsm): translational jitter only; a rotated or reduced warped map is no similarity of the first.
-    plan.warped = lispsmEnabled(params_);
-    if (plan.warped && (plan.maxAngle != 0.0f || plan.reduction != 0.0f))
-      throw std::invalid_argument(
-          "--jitter-rotation and --jitter-reduction need --warp none (jittered warps its map with lispsm by default)");
-    plan.nJitter = static_cast<float>(params_.get("lispsm-n-jitter"));
-    if (plan.nJitter > 0.0f && !plan.warped) throw std::invalid_argument("--lispsm-n-jitter needs --warp lispsm");
-    renderShadowMap(frame, params_, map_, 0.0f);
+    plan.reduction = settings_.reduction;
+    plan.warped = settings_.map.fit.warp.lispsm;
+    plan.nJitter = settings_.nJitter;
+    renderShadowMap(frame, settings_.map, map_, 0.0f);
     plan.fitted = map_.view;
     if (plan.reduction > 0.0f || plan.nJitter > 0.0f) plan.depth = tightViewDepth(frame.ctx, frame.gbuffer);
-    plan.margin = static_cast<float>(params_.get("normal-offset")) + 1.0f;  // renderShadowMap's, no filter reach
+    plan.margin = settings_.map.normalOffset + 1.0f;  // renderShadowMap's, no filter reach
     if (plan.nJitter > 0.0f) {  // pass 0's n, as renderShadowMap's fit chose it
       LispsmFit fit;
-      fitWarpedLightView(frame, params_, params_.getInt("map-size"), plan.margin, plan.depth.near, plan.depth.far,
-                         receivers(frame), &fit);
+      fitWarpedLightView(frame, settings_.map.fit.warp, settings_.map.size, plan.margin, plan.depth.near,
+                         plan.depth.far, receivers(frame), &fit);
       if (fit.warped)
         plan.n0 = fit.n;
       else
@@ -205,17 +241,16 @@ class Jittered final : public Technique {
   }
 
   const ReceiverBounds* receivers(ShadowFrame& frame) const {
-    return params_.getInt("fit") == 1 ? &frame.receivers : nullptr;
+    return settings_.map.fit.fitReceivers ? &frame.receivers : nullptr;
   }
 
   // Pass k's map under LiSPSM n-parameter jittering (Luksch sec. 6.5.1): pass 0's warp with n scaled by
   // 2^(J h_k), h_k in [-1, 1) from the Halton sequence in base 7 (bases 2 and 3 shift it, base 5 rotates), so
   // passes alternate between more texels near the camera (smaller n) and more far away (larger n).
   LightView nJitteredView(ShadowFrame& frame, const Plan& plan, int pass) const {
-    Params warped = params_;
-    const float n = plan.n0 * std::exp2(plan.nJitter * 2.0f * centred(static_cast<uint32_t>(pass), 7));
-    warped.set("lispsm-n", fmt::format("{}", n));
-    return fitWarpedLightView(frame, warped, params_.getInt("map-size"), plan.margin, plan.depth.near, plan.depth.far,
+    WarpSettings warp = settings_.map.fit.warp;
+    warp.n = plan.n0 * std::exp2(plan.nJitter * 2.0f * centred(static_cast<uint32_t>(pass), 7));
+    return fitWarpedLightView(frame, warp, settings_.map.size, plan.margin, plan.depth.near, plan.depth.far,
                               receivers(frame), nullptr);
   }
 
@@ -225,7 +260,7 @@ class Jittered final : public Technique {
     if (plan.reduction == 0.0f || pass == 0) return plan.fitted;
     const float far =
         std::max(plan.depth.far * std::pow(plan.reduction, static_cast<float>(pass)), plan.depth.near * 1.01f);
-    return sliceLightView(frame, params_, plan.depth.near, far, plan.margin);
+    return sliceLightView(frame, settings_.map, plan.depth.near, far, plan.margin);
   }
 
   // The per-pixel buffers, reused across frames (pass 0 writes every pixel's state and visibility).
@@ -251,7 +286,7 @@ class Jittered final : public Technique {
   std::array<int32_t, JITTER_COUNTERS> reproject(ShadowFrame& frame, int pass, Buffer<float>& visibility) {
     const GBuffer& g = frame.gbuffer;
     const JitterShade shade = shadeArgs(0);
-    const ShadeFrame frameShade = shadeFrame(frame, params_, params_.getInt("receiver-plane"), params_.getInt("id-buffer"));
+    const ShadeFrame frameShade = shadeFrame(frame, settings_.map, settings_.receiverPlane, settings_.idMode);
     JitterPass jp{};
     jp.pass = pass, jp.count = static_cast<uint32_t>(active_), jp.idMode = frameShade.idMode;
     resetCounters(frame.ctx);
@@ -270,8 +305,7 @@ class Jittered final : public Technique {
 
   // The technique's scalars (kernels/shared/jittered.h), with a tile mask of maskTiles^2 tiles (0: none).
   JitterShade shadeArgs(int maskTiles) const {
-    return {params_.getInt("confidence"), static_cast<float>(params_.get("confidence-threshold")),
-            params_.getInt("jitter-agreement"), static_cast<float>(params_.get("jitter-precision")), maskTiles,
+    return {settings_.confidence, settings_.confidenceThreshold, settings_.agreement, settings_.precision, maskTiles,
             maskTiles, kRasterTileSize};
   }
 
@@ -295,7 +329,7 @@ class Jittered final : public Technique {
     const GBuffer& g = frame.gbuffer;
     const uint32_t width = static_cast<uint32_t>(g.width), height = static_cast<uint32_t>(g.height);
     const uint64_t pixels = uint64_t{width} * height;
-    const int idMode = params_.getInt("id-buffer");
+    const int idMode = settings_.idMode;
     resetCounters(frame.ctx);
     const int size = map_.view.raster.width, tiles = (size + kRasterTileSize - 1) / kRasterTileSize;
     tileMask_.allocate(frame.ctx, masking_ ? static_cast<size_t>(tiles) * tiles : 1);
@@ -303,7 +337,7 @@ class Jittered final : public Technique {
     const int maskTiles = masking_ ? tiles : 0;   // 0: the kernels mark nothing
     const JitterShade shade = shadeArgs(maskTiles);
     if (pass == 0) {
-      const ShadeFrame frameShade = shadeFrame(frame, params_, params_.getInt("receiver-plane"), idMode);
+      const ShadeFrame frameShade = shadeFrame(frame, settings_.map, settings_.receiverPlane, idMode);
       Kernel kernel(frame.ctx, "kernels/jittered.cl", "jittered_first", "shade");
       kernel
           .args(g.position, g.normal, map_.targets.depth, map_.gpu, frameShade, map_.targets.triangleId,
@@ -325,7 +359,6 @@ class Jittered final : public Technique {
     return readCounters(frame.ctx);
   }
 
-  Params params_;
   ShadowMap map_;
   Buffer<JitterPixel> state_;  // per pixel: pass 0's lookup, slack, what is kept (kernels/shared/jittered.h)
   Buffer<int32_t> counters_;
@@ -391,7 +424,7 @@ TechniqueInfo jitteredTechnique() {
   return {"jittered",
           "Confidence-based jittered shadow maps: Halton-jittered passes of sm's map accumulated by confidence "
           "(simple/adapted/optimal) with a device-counted stopping rule",
-          params, [](const Params& p) { return std::make_unique<Jittered>(p); }};
+          params, [](const Params& p, int mapSize) { return std::make_unique<Jittered>(JitterSettings::from(p, mapSize)); }};
 }
 
 }  // namespace penumbra

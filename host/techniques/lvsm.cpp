@@ -19,26 +19,63 @@ enum Placement { kUniform = 0, kManual = 1, kLloyd = 2 };
 enum Storage { kFloat32 = 0, kUnorm16 = 1 };
 enum Schedule { kEveryFrame = 0, kIncremental = 1 };
 
-class LayeredVsm final : public Technique {
- public:
-  explicit LayeredVsm(const Params& params) : requested_(params), params_(params) {
+struct LvsmSettings {
+  MapSettings map;
+  MomentFilter filter;
+  Chebyshev chebyshev;
+  int layers = 0;  // lvsm-layers; 0 = auto
+  Placement placement = kLloyd;
+  std::vector<float> manual;  // lvsm-splits: interior splits, empty when not given
+  float overlap = 0, transition = 0;
+  bool unorm = false;  // lvsm-storage unorm16
+  LloydConfig lloyd;   // lvsm-lloyd-iterations, -tolerance, lvsm-teleport
+  bool incremental = false;  // lvsm-lloyd-schedule incremental
+  int splitsPerFrame = 0;
+  int maxLayers = 0;
+  double autoGain = 0;
+  float leakGap = 0;
+
+  static LvsmSettings from(const Params& params, int mapSize) {
+    LvsmSettings s;
+    s.map = MapSettings::from(params, mapSize);
+    s.filter = MomentFilter::from(params);
+    s.chebyshev = Chebyshev::from(params);
+    s.layers = params.getInt("lvsm-layers");
+    s.placement = static_cast<Placement>(params.getInt("lvsm-placement"));
+    s.overlap = static_cast<float>(params.get("lvsm-overlap"));
+    s.transition = static_cast<float>(params.get("lvsm-transition"));
+    s.unorm = params.getInt("lvsm-storage") == kUnorm16;
+    s.lloyd.maxIterations = params.getInt("lvsm-lloyd-iterations");
+    s.lloyd.tolerance = static_cast<float>(params.get("lvsm-lloyd-tolerance"));
+    s.lloyd.teleport = params.getInt("lvsm-teleport") == 1;
+    s.incremental = params.getInt("lvsm-lloyd-schedule") == kIncremental;
+    s.splitsPerFrame = params.getInt("lvsm-lloyd-splits-per-frame");
+    s.maxLayers = params.getInt("lvsm-max-layers");
+    s.autoGain = params.get("lvsm-auto-gain");
+    s.leakGap = static_cast<float>(params.get("lvsm-leak-gap"));
     if (params.get("lvsm-transition") > params.get("lvsm-overlap"))
       throw std::invalid_argument(fmt::format("--lvsm-transition {} is larger than --lvsm-overlap {}",
                                               params.get("lvsm-transition"), params.get("lvsm-overlap")));
     const std::string& text = params.getText("lvsm-splits");
-    const int placement = params.getInt("lvsm-placement");
-    if (!text.empty()) manual_ = parseSplits(text);
-    if (placement == kManual && text.empty())
+    if (!text.empty()) s.manual = parseSplits(text);
+    if (s.placement == kManual && text.empty())
       throw std::invalid_argument("--lvsm-placement manual needs --lvsm-splits");
-    if (!text.empty() && (placement == kUniform || params.getInt("lvsm-layers") == 0))
+    if (!text.empty() && (s.placement == kUniform || s.layers == 0))
       throw std::invalid_argument("--lvsm-splits applies to manual and lloyd placement with a fixed layer count");
-    if (params.getInt("lvsm-lloyd-schedule") == kIncremental && params.getInt("lvsm-layers") == 0)
+    if (s.incremental && s.layers == 0)
       throw std::invalid_argument("--lvsm-lloyd-schedule incremental needs a fixed layer count (--lvsm-layers 1..16)");
+    return s;
   }
+  bool operator==(const LvsmSettings&) const = default;
+};
+
+class LayeredVsm final : public TechniqueOf<LvsmSettings> {
+ public:
+  using TechniqueOf::TechniqueOf;
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override;
   void addDebugChannels(Context& ctx, Image& image) override {
-    debug_.addChannels(ctx, image, 2, true, momentTrilinear(params_));
+    debug_.addChannels(ctx, image, 2, true, settings_.filter.trilinear);
     image.add("layer.Y", layerIndex_.download(ctx));
   }
 
@@ -48,13 +85,11 @@ class LayeredVsm final : public Technique {
   std::vector<float> recordSplits(ShadowFrame& frame, const std::vector<float>& splits, const LvsmLayout& layout,
                                   const std::string& how, const std::string& leaks) const;
   LvsmLayout layoutFor(const std::vector<float>& splits, bool uniform) const {
-    return lvsmLayout(splits, uniform, static_cast<float>(params_.get("lvsm-overlap")),
-                      static_cast<float>(params_.get("lvsm-transition")),
-                      static_cast<float>(params_.get("min-variance")),
-                      static_cast<float>(params_.get("lvsm-leak-gap")));
+    return lvsmLayout(splits, uniform, settings_.overlap, settings_.transition, settings_.chebyshev.minVariance,
+                      settings_.leakGap);
   }
   double leak(ShadowFrame& frame, const LvsmLayout& layout) const {
-    const auto size = static_cast<uint32_t>(params_.getInt("map-size"));
+    const auto size = static_cast<uint32_t>(settings_.map.size);
     return lvsmLeak(frame.ctx, map_.targets.depth, size, size, map_.view.gpu.zNear, map_.view.gpu.zFar, layout);
   }
   void buildLayers(Context& ctx, const LvsmLayout& layout);
@@ -62,9 +97,7 @@ class LayeredVsm final : public Technique {
   LloydResult incrementalStep(ShadowFrame& frame, const LvsmSamples& samples, std::vector<float> start,
                               LloydConfig config);
 
-  Params requested_;  // as given (blur-radius may be auto)
-  Params params_;     // this frame's: blur-radius resolved
-  std::vector<float> manual_;
+  int blurRadius_ = 0;  // this frame's blur-radius (resolved under auto)
   std::vector<float> kept_;  // incremental schedule: the splits of the last frame, s_0..s_N
   size_t round_ = 0;         // incremental schedule: frames so far (which splits move next)
   ShadowMap map_;
@@ -79,30 +112,29 @@ class LayeredVsm final : public Technique {
 // Splits by the placement parameter; with --lvsm-layers 0 the layer count grows while the leak metric drops
 // by at least --lvsm-auto-gain (relative) and is above 1e-4.
 std::vector<float> LayeredVsm::planSplits(ShadowFrame& frame, LvsmLayout& layout) {
-  const int placement = params_.getInt("lvsm-placement"), layers = params_.getInt("lvsm-layers");
+  const LvsmSettings& set = settings_;
+  const Placement placement = set.placement;
+  const int layers = set.layers;
   std::string how = "uniform", leaks;
-  std::vector<float> splits = !manual_.empty() ? manual_ : uniformSplits(std::max(layers, 1));
+  std::vector<float> splits = !set.manual.empty() ? set.manual : uniformSplits(std::max(layers, 1));
   if (placement == kManual) how = "manual";
   if (placement == kLloyd) {
-    const auto size = static_cast<uint32_t>(params_.getInt("map-size"));
+    const auto size = static_cast<uint32_t>(set.map.size);
     LvsmSamples samples;
     lloydSamples(frame.ctx, map_.targets.depth, size, size, map_.view.gpu.zNear, map_.view.gpu.zFar,
-                 static_cast<float>(params_.get("min-variance")), samples);
-    LloydConfig config;
-    config.maxIterations = params_.getInt("lvsm-lloyd-iterations");
-    config.tolerance = static_cast<float>(params_.get("lvsm-lloyd-tolerance"));
-    config.teleport = params_.getInt("lvsm-teleport") == 1;
-    if (params_.getInt("lvsm-lloyd-schedule") == kIncremental) {
+                 set.chebyshev.minVariance, samples);
+    const LloydConfig config = set.lloyd;
+    if (set.incremental) {
       const LloydResult r = incrementalStep(frame, samples, splits, config);
       splits = r.splits;
       how = fmt::format("lloyd incremental frame={} splits-per-frame={} teleports={} last-move={:.3g}", round_,
-                        params_.getInt("lvsm-lloyd-splits-per-frame"), r.teleports, r.lastMove);
+                        set.splitsPerFrame, r.teleports, r.lastMove);
       layout = layoutFor(splits, false);
       return recordSplits(frame, splits, layout, how, leaks);
     }
     LloydResult r = lloydRelax(frame.ctx, samples, splits, config);
     if (layers == 0) {  // auto: N = 1, 2, ..., each started from N - 1's splits plus one in the heaviest layer
-      const int maxLayers = params_.getInt("lvsm-max-layers");
+      const int maxLayers = set.maxLayers;
       r = LloydResult{uniformSplits(1)};
       double best = leak(frame, layoutFor(r.splits, false));
       leaks = fmt::format("N=1:{:.4g}", best);
@@ -112,7 +144,7 @@ std::vector<float> LayeredVsm::planSplits(ShadowFrame& frame, LvsmLayout& layout
         LloydResult next = lloydRelax(frame.ctx, samples, start, config);
         const double value = leak(frame, layoutFor(next.splits, false));
         leaks += fmt::format(" N={}:{:.4g}", next.splits.size() - 1, value);
-        if (value > (1.0 - params_.get("lvsm-auto-gain")) * best) break;
+        if (value > (1.0 - set.autoGain) * best) break;
         r = next, best = value;
       }
     }
@@ -131,7 +163,7 @@ LloydResult LayeredVsm::incrementalStep(ShadowFrame& frame, const LvsmSamples& s
                                         LloydConfig config) {
   if (kept_.size() == start.size()) start = kept_;
   config.maxIterations = 1;
-  config.splitsPerIteration = params_.getInt("lvsm-lloyd-splits-per-frame");
+  config.splitsPerIteration = settings_.splitsPerFrame;
   config.firstSplit = round_ * static_cast<size_t>(config.splitsPerIteration);
   LloydResult r = lloydRelax(frame.ctx, samples, start, config);
   kept_ = r.splits;
@@ -158,10 +190,10 @@ std::vector<float> LayeredVsm::recordSplits(ShadowFrame& frame, const std::vecto
 // straight into its layer's slice of the layer array (Buffer::region); unorm16 layers are packed from the fp32
 // working buffers.
 void LayeredVsm::buildLayers(Context& ctx, const LvsmLayout& layout) {
-  const auto size = static_cast<uint32_t>(params_.getInt("map-size"));
+  const auto size = static_cast<uint32_t>(settings_.map.size);
   const ImageShape shape{size, size, 2};
-  const bool trilinear = momentTrilinear(params_), unorm = params_.getInt("lvsm-storage") == kUnorm16;
-  const bool blurred = params_.getInt("blur-radius") > 0;
+  const bool trilinear = settings_.filter.trilinear, unorm = settings_.unorm;
+  const bool blurred = blurRadius_ > 0;
   const PyramidLayout pyramid = pyramidLayout(size, size, 1);
   const size_t mipCount = trilinear ? pyramid.texels * 2 : 0;
   // Layer strides rounded up so that every layer's slice starts at an offset a sub-buffer may have.
@@ -186,7 +218,7 @@ void LayeredVsm::buildLayers(Context& ctx, const LvsmLayout& layout) {
     Buffer<float> plane = unorm ? moments_ : layers_.region(ctx, i * planeFloats_, shape.count());
     if (blurred) {
       computeMoments(ctx, map_.targets.depth, size, size, config, moments_);
-      blur(ctx, moments_, plane, scratch_, shape, momentBlurConfig(params_));
+      blur(ctx, moments_, plane, scratch_, shape, momentBlurConfig(settings_.filter, blurRadius_));
     } else {
       computeMoments(ctx, map_.targets.depth, size, size, config, plane);
     }
@@ -200,9 +232,9 @@ void LayeredVsm::buildLayers(Context& ctx, const LvsmLayout& layout) {
 
 void LayeredVsm::render(ShadowFrame& frame, Buffer<float>& visibility) {
   Context& ctx = frame.ctx;
-  params_ = requested_;
-  renderShadowMap(frame, params_, map_, momentBlurReach(params_));
-  params_ = resolveAutoRadius(frame, map_, params_, "blur-radius");
+  const LvsmSettings& set = settings_;
+  renderShadowMap(frame, set.map, map_, momentBlurReach(set.filter));
+  blurRadius_ = resolveAutoRadius(frame, map_, set.map, set.filter.blur);
   LvsmLayout layout;
   planSplits(frame, layout);
   buildLayers(ctx, layout);
@@ -210,15 +242,15 @@ void LayeredVsm::render(ShadowFrame& frame, Buffer<float>& visibility) {
   layout.mipFloats = static_cast<uint32_t>(mipFloats_);
   Buffer<LvsmLayout> layoutBuffer(ctx, std::span<const LvsmLayout>(&layout, 1), CL_MEM_READ_ONLY);
 
-  MomentShade shade = momentShade(frame, map_, params_, 2);
-  setChebyshevShade(params_, shade);
+  MomentShade shade = momentShade(frame, map_, set.map, set.filter.filterBias, 2);
+  set.chebyshev.apply(shade);
   shade.levels = static_cast<uint32_t>(mipLevels_.size()) + 1;
-  shade.blurSigma = params_.getInt("blur-radius") > 0 ? momentBlurConfig(params_).sigma : 0.0f;
+  shade.blurSigma = blurRadius_ > 0 ? momentBlurConfig(set.filter, blurRadius_).sigma : 0.0f;
   const GBuffer& g = frame.gbuffer;
   const size_t pixels = size_t(shade.width) * shade.height;
   debug_.allocate(ctx, pixels);
   layerIndex_.allocate(ctx, pixels);
-  const bool unorm = params_.getInt("lvsm-storage") == kUnorm16;
+  const bool unorm = set.unorm;
   Kernel kernel(ctx, "kernels/lvsm.cl", "lvsm_visibility", "shade", unorm ? "-DLVSM_UNORM16" : "");
   if (unorm)
     kernel.args(g.position, g.normal, map_.gpu, layers16_, layerMips16_, mipLevels_, shade, layoutBuffer, visibility,
@@ -265,7 +297,8 @@ std::vector<ParamSpec> lvsmParams() {
 
 TechniqueInfo lvsmTechnique() {
   return {"lvsm", "Layered variance shadow maps: the depth range split into warped VSM layers (Lloyd-placed)",
-          filteredMomentParams(lvsmParams()), [](const Params& p) { return std::make_unique<LayeredVsm>(p); }};
+          filteredMomentParams(lvsmParams()),
+          [](const Params& p, int mapSize) { return std::make_unique<LayeredVsm>(LvsmSettings::from(p, mapSize)); }};
 }
 
 }  // namespace penumbra

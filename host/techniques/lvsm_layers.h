@@ -43,6 +43,7 @@ struct LloydConfig {
   // it in order. Teleportation still applies to any empty cluster.
   int splitsPerIteration = 0;
   size_t firstSplit = 0;
+  bool operator==(const LloydConfig&) const = default;
 };
 struct LloydResult {
   std::vector<float> splits;  // s_0..s_N

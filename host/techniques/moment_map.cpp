@@ -79,12 +79,40 @@ std::vector<ParamSpec> chebyshevParams() {
           bleedingParam()};
 }
 
-void setChebyshevShade(const Params& params, MomentShade& shade) {
-  shade.minVariance = static_cast<float>(params.get("min-variance"));
-  shade.bleeding = static_cast<float>(params.get("bleeding-reduction"));
+Chebyshev Chebyshev::from(const Params& params) {
+  Chebyshev c;
+  if (params.has("min-variance")) c.minVariance = static_cast<float>(params.get("min-variance"));
+  if (params.has("bleeding-reduction")) c.bleeding = static_cast<float>(params.get("bleeding-reduction"));
+  return c;
 }
 
-MomentShade momentShade(const ShadowFrame& frame, const ShadowMap& map, const Params& params, uint32_t channels) {
+MomentFilter MomentFilter::from(const Params& params) {
+  return {AutoRadius::from(params, "blur-radius"),
+          params.getInt("blur-filter") == kBox ? BlurFilter::Box : BlurFilter::Gaussian,
+          params.getInt("moment-filtering") == kTrilinear, static_cast<float>(params.get("filter-bias"))};
+}
+
+MomentSettings MomentSettings::from(const Params& params, int mapSize) {
+  MomentSettings m;
+  m.map = MapSettings::from(params, mapSize);
+  m.filter = MomentFilter::from(params);
+  m.storage = momentStorage(params);
+  m.chebyshev = Chebyshev::from(params);
+  if (params.has("evsm-positive")) m.evsmPositive = static_cast<float>(params.get("evsm-positive"));
+  if (params.has("evsm-negative")) m.evsmNegative = static_cast<float>(params.get("evsm-negative"));
+  if (params.has("msm-bias")) m.msmBias = static_cast<float>(params.get("msm-bias"));
+  if (params.has("esm-exponent")) {
+    m.esmAuto = params.isAuto("esm-exponent");
+    m.esmExponent = m.esmAuto ? 0.0 : params.get("esm-exponent");
+    m.esmQuantile = params.get("esm-exponent-quantile");
+    m.esmMin = params.get("esm-exponent-min");
+    m.esmMax = params.get("esm-exponent-max");
+  }
+  return m;
+}
+
+MomentShade momentShade(const ShadowFrame& frame, const ShadowMap& map, const MapSettings& settings, float filterBias,
+                        uint32_t channels) {
   MomentShade s{};
   s.width = static_cast<uint32_t>(frame.gbuffer.width);
   s.height = static_cast<uint32_t>(frame.gbuffer.height);
@@ -92,12 +120,11 @@ MomentShade momentShade(const ShadowFrame& frame, const ShadowMap& map, const Pa
   s.levels = 1;
   s.depthNear = map.view.gpu.zNear;
   s.depthInvRange = 1.0f / (map.view.gpu.zFar - map.view.gpu.zNear);  // the moments stage's normalisation
-  const BiasArgs bias = biasArgs(params);
-  s.bias = bias.constant;
-  s.slopeBias = bias.slope;
-  s.normalOffset = bias.normalOffset;
+  s.bias = settings.bias;
+  s.slopeBias = settings.slopeBias;
+  s.normalOffset = settings.normalOffset;
   s.filterWidth = s.maxWidth = 1.0f;
-  s.filterBias = static_cast<float>(params.get("filter-bias"));
+  s.filterBias = filterBias;
   return s;
 }
 
@@ -124,24 +151,23 @@ void MomentDebug::addChannels(Context& ctx, Image& image, uint32_t channels, boo
 
 void MomentTechnique::render(ShadowFrame& frame, Buffer<float>& visibility) {
   Context& ctx = frame.ctx;
-  params_ = requested_;
-  const int size = params_.getInt("map-size");
-  renderShadowMap(frame, params_, map_, blurReach());
-  params_ = resolveAutoRadius(frame, map_, params_, "blur-radius");
-  if (spec_.resolve) params_ = spec_.resolve(frame, map_, params_);
+  const MomentSettings& s = settings_;
+  const int size = s.map.size;
+  renderShadowMap(frame, s.map, map_, momentBlurReach(s.filter));
+  blurRadius_ = resolveAutoRadius(frame, map_, s.map, s.filter.blur);
   channels_ = momentChannels(spec_.kind);
   MomentsConfig config;
   config.kind = spec_.kind;
   config.depthNear = map_.view.gpu.zNear;
   config.depthFar = map_.view.gpu.zFar;
-  config.storage = momentStorage(params_);
-  MomentShade shade = momentShade(frame, map_, params_, channels_);
-  if (spec_.configure) spec_.configure(params_, config, shade);
+  config.storage = s.storage;
+  MomentShade shade = momentShade(frame, map_, s.map, s.filter.filterBias, channels_);
+  if (spec_.configure) spec_.configure(frame, map_, s, config, shade);
 
   const ImageShape shape{static_cast<uint32_t>(size), static_cast<uint32_t>(size), channels_};
   filterMoments(ctx, config, shape);
   shade.levels = static_cast<uint32_t>(mipLevels_.size()) + 1;
-  shade.blurSigma = params_.getInt("blur-radius") > 0 ? blurConfig().sigma : 0.0f;
+  shade.blurSigma = blurRadius_ > 0 ? momentBlurConfig(s.filter, blurRadius_).sigma : 0.0f;
 
   const GBuffer& g = frame.gbuffer;
   const size_t pixels = size_t(shade.width) * shade.height;
@@ -166,33 +192,27 @@ void positiveWarpBlurMax(std::vector<ParamSpec>& params) {
   paramNamed(params, "blur-radius-max").defaultValue = 2;
 }
 
-BlurConfig momentBlurConfig(const Params& params) {
-  if (autoRadius(params, "blur-radius"))
-    throw std::logic_error("momentBlurConfig: blur-radius auto not resolved for the frame");
+BlurConfig momentBlurConfig(const MomentFilter& filter, int radius) {
   BlurConfig config;
-  const int radius = params.getInt("blur-radius");
-  config.filter = params.getInt("blur-filter") == kBox ? BlurFilter::Box : BlurFilter::Gaussian;
+  config.filter = filter.filter;
   config.radius = radius;
   config.sigma = static_cast<float>(std::sqrt(radius * (radius + 1.0) / 3.0));
   return config;
 }
 
-float momentBlurReach(const Params& params) {
-  if (autoRadius(params, "blur-radius")) {  // fitted before its penumbrae are measured: the largest radius's reach
-    Params largest = params;
-    largest.set("blur-radius", std::to_string(radiusLimit(params, "blur-radius")));
-    return momentBlurReach(largest);
-  }
-  if (params.getInt("blur-radius") == 0) return 0.0f;
-  const BlurConfig config = momentBlurConfig(params);
+float momentBlurReach(const MomentFilter& filter) {
+  // Under auto the map is fitted before its penumbrae are measured: the largest radius's reach.
+  const int radius = filter.blur.limit();
+  if (radius == 0) return 0.0f;
+  const BlurConfig config = momentBlurConfig(filter, radius);
   return config.filter == BlurFilter::Box ? static_cast<float>(config.radius) : std::ceil(3.0f * config.sigma);
 }
 
-bool momentTrilinear(const Params& params) { return params.getInt("moment-filtering") == kTrilinear; }
-
-BlurConfig MomentTechnique::blurConfig() const { return momentBlurConfig(params_); }
-
-float MomentTechnique::blurReach() const { return momentBlurReach(params_); }
+std::function<std::unique_ptr<Technique>(const Params&, int)> momentTechniqueFactory(MomentTechniqueSpec spec) {
+  return [spec](const Params& params, int mapSize) {
+    return std::make_unique<MomentTechnique>(spec, MomentSettings::from(params, mapSize));
+  };
+}
 
 // The moments in the storage asked for; the buffers of the other storage are emptied.
 void MomentTechnique::filterMoments(Context& ctx, const MomentsConfig& config, const ImageShape& shape) {
@@ -211,13 +231,14 @@ template <class T>
 void MomentTechnique::filterMomentsInto(Context& ctx, const MomentsConfig& config, const ImageShape& shape,
                                         Buffer<T>& moments, Buffer<T>& mips) {
   moments.allocate(ctx, shape.count());
-  if (params_.getInt("blur-radius") > 0) {
-    scratch_.allocate(ctx, blurMomentsScratch(ctx, shape, blurConfig(), config.storage, config.kind));
-    blurMoments(ctx, map_.targets.depth, config, moments, scratch_, shape.width, shape.height, blurConfig());
+  if (blurRadius_ > 0) {
+    const BlurConfig blur = momentBlurConfig(settings_.filter, blurRadius_);
+    scratch_.allocate(ctx, blurMomentsScratch(ctx, shape, blur, config.storage, config.kind));
+    blurMoments(ctx, map_.targets.depth, config, moments, scratch_, shape.width, shape.height, blur);
   } else {
     computeMoments(ctx, map_.targets.depth, shape.width, shape.height, config, moments);
   }
-  if (params_.getInt("moment-filtering") != kTrilinear) {
+  if (!settings_.filter.trilinear) {
     mips.allocate(ctx, 0);  // no levels: the kernel takes the buffers either way (one element each)
     mipLevels_.allocate(ctx, 0, CL_MEM_READ_ONLY);
     return;
@@ -236,7 +257,7 @@ void MomentTechnique::filterMomentsInto(Context& ctx, const MomentsConfig& confi
 
 void MomentTechnique::addDebugChannels(Context& ctx, Image& image) {
   const uint32_t shown = spec_.debugMoments == 0 ? channels_ : spec_.debugMoments;
-  debug_.addChannels(ctx, image, shown, spec_.hasVariance, params_.getInt("moment-filtering") == kTrilinear);
+  debug_.addChannels(ctx, image, shown, spec_.hasVariance, settings_.filter.trilinear);
 }
 
 }  // namespace penumbra

@@ -36,18 +36,36 @@ MomentStorage momentStorage(const Params& params);  // reads moment-storage
 ParamSpec bleedingParam();
 // min-variance and bleeding-reduction: the Chebyshev techniques (vsm, evsm2/4, savsm).
 std::vector<ParamSpec> chebyshevParams();
-void setChebyshevShade(const Params& params, MomentShade& shade);  // reads chebyshevParams()
 
-// The blur that momentFilterParams() ask for (a box of 2r+1 taps, or a Gaussian of the same variance
-// r(r+1)/3; blur-radius resolved for the frame), the texels it reads from a texel (the light fit's margin; under auto,
-// blur-radius-max's), and whether lookups are trilinear.
-BlurConfig momentBlurConfig(const Params& params);
-float momentBlurReach(const Params& params);
-bool momentTrilinear(const Params& params);
+// chebyshevParams() as parsed (msm has bleeding-reduction alone: its min variance stays 0).
+struct Chebyshev {
+  float minVariance = 0, bleeding = 0;
+  static Chebyshev from(const Params& params);  // reads whichever of the two the technique declares
+  void apply(MomentShade& shade) const { shade.minVariance = minVariance, shade.bleeding = bleeding; }
+  bool operator==(const Chebyshev&) const = default;
+};
+
+// momentFilterParams() as parsed.
+struct MomentFilter {
+  AutoRadius blur;
+  BlurFilter filter = BlurFilter::Gaussian;
+  bool trilinear = false;  // moment-filtering trilinear
+  float filterBias = 0;
+  static MomentFilter from(const Params& params);
+  bool operator==(const MomentFilter&) const = default;
+};
+
+// The blur of `filter` at this frame's `radius` (blur-radius resolved: a box of 2r+1 taps, or a Gaussian of the
+// same variance r(r+1)/3), and the texels the blur reads from a texel at its largest (the light fit's margin; under
+// auto, blur-radius-max's).
+BlurConfig momentBlurConfig(const MomentFilter& filter, int radius);
+float momentBlurReach(const MomentFilter& filter);
 
 // The MomentShade fields common to every moment technique: sizes, normalisation over the map's
-// [zNear, zFar] and the biases. The technique fills its own fields (min variance, exponents, ...).
-MomentShade momentShade(const ShadowFrame& frame, const ShadowMap& map, const Params& params, uint32_t channels);
+// [zNear, zFar], the biases of `settings` and filter-bias. The technique fills its own fields (min variance,
+// exponents, ...).
+MomentShade momentShade(const ShadowFrame& frame, const ShadowMap& map, const MapSettings& settings, float filterBias,
+                        uint32_t channels);
 
 // Per-pixel debug outputs of a moment visibility kernel, turned into EXR layers.
 struct MomentDebug {
@@ -58,6 +76,22 @@ struct MomentDebug {
   void addChannels(Context& ctx, Image& image, uint32_t channels, bool variance, bool width) const;
 };
 
+// The settings of a technique of the filtered-moments family (vsm, evsm2/4, esm, msm): the map, the filter and
+// storage, and each technique's own values (zero where it has no such parameter).
+struct MomentSettings {
+  MapSettings map;
+  MomentFilter filter;
+  MomentStorage storage = MomentStorage::Float32;
+  Chebyshev chebyshev;
+  float evsmPositive = 0, evsmNegative = 0;  // evsm-positive, evsm-negative
+  float msmBias = 0;                         // msm-bias
+  // esm-exponent (auto: measured per frame), esm-exponent-quantile, -min, -max.
+  bool esmAuto = false;
+  double esmExponent = 0, esmQuantile = 0, esmMin = 0, esmMax = 0;
+  static MomentSettings from(const Params& params, int mapSize);
+  bool operator==(const MomentSettings&) const = default;
+};
+
 // A technique of the filtered-moments family: its moments, the kernel that shades with them, and which
 // debug layers mean something for it.
 struct MomentTechniqueSpec {
@@ -65,31 +99,28 @@ struct MomentTechniqueSpec {
   std::string source, entry;  // "kernels/vsm.cl", "vsm_visibility"
   bool hasVariance = true;    // write "variance.Y"
   uint32_t debugMoments = 0;  // moment layers to write: 0 = every channel
-  // Technique-specific MomentsConfig / MomentShade fields from the parameters (exponents, moment bias).
-  std::function<void(const Params&, MomentsConfig&, MomentShade&)> configure = {};
-  // The frame's parameters once its map is drawn (a parameter measured from the scene, like esm's auto exponent).
-  std::function<Params(ShadowFrame&, const ShadowMap&, const Params&)> resolve = {};
+  // Technique-specific MomentsConfig / MomentShade fields for this frame once its map is drawn (exponents, moment
+  // bias; esm's auto exponent is measured on the map here).
+  std::function<void(ShadowFrame&, const ShadowMap&, const MomentSettings&, MomentsConfig&, MomentShade&)> configure =
+      {};
 };
 
 // shadow map -> moments -> blur -> mips -> visibility kernel, one instance per render.
-class MomentTechnique final : public Technique {
+class MomentTechnique final : public TechniqueOf<MomentSettings> {
  public:
-  MomentTechnique(MomentTechniqueSpec spec, const Params& params)
-      : spec_(std::move(spec)), requested_(params), params_(params) {}
+  MomentTechnique(MomentTechniqueSpec spec, const MomentSettings& settings)
+      : TechniqueOf(settings), spec_(std::move(spec)) {}
   void render(ShadowFrame& frame, Buffer<float>& visibility) override;
   void addDebugChannels(Context& ctx, Image& image) override;
 
  private:
-  BlurConfig blurConfig() const;
-  float blurReach() const;  // texels the blur reads from a texel: the margin the light fit keeps
   void filterMoments(Context& ctx, const MomentsConfig& config, const ImageShape& shape);
   template <class T>
   void filterMomentsInto(Context& ctx, const MomentsConfig& config, const ImageShape& shape, Buffer<T>& moments,
                          Buffer<T>& mips);
 
   MomentTechniqueSpec spec_;
-  Params requested_;  // as given (blur-radius may be auto)
-  Params params_;     // this frame's: blur-radius resolved
+  int blurRadius_ = 0;  // this frame's blur-radius (resolved under auto)
   ShadowMap map_;
   Buffer<float> moments_, scratch_, mips_;  // fp32 storage (empty with fp16)
   Buffer<cl_half> moments16_, mips16_;      // fp16 storage (empty with fp32)
@@ -97,5 +128,8 @@ class MomentTechnique final : public Technique {
   MomentDebug debug_;
   uint32_t channels_ = 2;
 };
+
+// A MomentTechnique factory for the registry: `spec` with each instance's settings parsed from its parameters.
+std::function<std::unique_ptr<Technique>(const Params&, int)> momentTechniqueFactory(MomentTechniqueSpec spec);
 
 }  // namespace penumbra

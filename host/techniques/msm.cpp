@@ -14,6 +14,17 @@ namespace {
 // worst error against box-filtered PCF, 1.8e-2 with the fp32 default 3e-5.
 constexpr float kHalfMinMomentBias = 1e-3f;
 
+MomentTechniqueSpec msmSpec() {
+  MomentTechniqueSpec spec{MomentKind::Msm, "kernels/msm.cl", "msm_visibility"};
+  spec.configure = [](ShadowFrame&, const ShadowMap&, const MomentSettings& s, MomentsConfig& config,
+                      MomentShade& shade) {
+    shade.momentBias = s.msmBias;
+    if (config.storage == MomentStorage::Float16) shade.momentBias = std::max(shade.momentBias, kHalfMinMomentBias);
+    shade.bleeding = s.chebyshev.bleeding;
+  };
+  return spec;
+}
+
 }  // namespace
 
 TechniqueInfo msmTechnique() {
@@ -23,15 +34,7 @@ TechniqueInfo msmTechnique() {
        "moment storage)"},
       bleedingParam()};
   return {"msm", "Moment shadow maps: four moments and the Hamburger lower bound", momentMapParams(extra),
-          [](const Params& p) {
-            MomentTechniqueSpec spec{MomentKind::Msm, "kernels/msm.cl", "msm_visibility"};
-            spec.configure = [](const Params& q, MomentsConfig& config, MomentShade& s) {
-              s.momentBias = static_cast<float>(q.get("msm-bias"));
-              if (config.storage == MomentStorage::Float16) s.momentBias = std::max(s.momentBias, kHalfMinMomentBias);
-              s.bleeding = static_cast<float>(q.get("bleeding-reduction"));
-            };
-            return std::make_unique<MomentTechnique>(spec, p);
-          }};
+          momentTechniqueFactory(msmSpec())};
 }
 
 }  // namespace penumbra

@@ -5,30 +5,47 @@
 #include "host/techniques/registry.h"
 #include "host/techniques/shadow_map.h"
 #include "host/techniques/warp.h"
+#include "kernels/shared/id_buffer.h"
 
 namespace penumbra {
 namespace {
 
-class PercentageCloser final : public Technique {
+struct PcfSettings {
+  MapSettings map;
+  int receiverPlane = 1;
+  int idMode = ID_BUFFER_OFF;
+  AutoRadius radius;
+  bool adaptive = false;
+  float maxRadius = 0;  // pcf-max-radius
+  int poissonTaps = 0;
+  static PcfSettings from(const Params& params, int mapSize) {
+    return {MapSettings::from(params, mapSize),       params.getInt("receiver-plane"),
+            params.getInt("id-buffer"),               AutoRadius::from(params, "pcf-radius"),
+            params.getInt("pcf-adaptive") == 1,       static_cast<float>(params.get("pcf-max-radius")),
+            params.getInt("pcf-poisson-taps")};
+  }
+  bool operator==(const PcfSettings&) const = default;
+};
+
+class PercentageCloser final : public TechniqueOf<PcfSettings> {
  public:
-  explicit PercentageCloser(const Params& params) : params_(params) {}
+  using TechniqueOf::TechniqueOf;
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
-    const bool adaptive = params_.getInt("pcf-adaptive") == 1;
-    const auto limit = static_cast<float>(radiusLimit(params_, "pcf-radius"));
-    const float maxRadius = std::max(static_cast<float>(params_.get("pcf-max-radius")), limit);
-    renderShadowMap(frame, params_, map_, adaptive ? maxRadius : limit);
-    const Params params = resolveAutoRadius(frame, map_, params_, "pcf-radius");
-    const int radius = params.getInt("pcf-radius");
-    const int poissonTaps = params.getInt("pcf-poisson-taps");
+    const PcfSettings& s = settings_;
+    const auto limit = static_cast<float>(s.radius.limit());
+    const float maxRadius = std::max(s.maxRadius, limit);
+    renderShadowMap(frame, s.map, map_, s.adaptive ? maxRadius : limit);
+    const int radius = resolveAutoRadius(frame, map_, s.map, s.radius);
+    const int poissonTaps = s.poissonTaps;
     if (poisson_.empty()) {
       const std::vector<cl_float2> disk = poissonDisk(std::max(poissonTaps, 1));
       poisson_ = Buffer<cl_float2>(frame.ctx, std::span<const cl_float2>(disk), CL_MEM_READ_ONLY);
     }
     filter_.allocate(frame.ctx, visibility.size());
     const GBuffer& g = frame.gbuffer;
-    const ShadeFrame shade = shadeFrame(frame, params, params.getInt("receiver-plane"), params.getInt("id-buffer"));
-    const PcfShade pcf{radius, static_cast<int>(adaptive), maxRadius, poissonTaps};
+    const ShadeFrame shade = shadeFrame(frame, s.map, s.receiverPlane, s.idMode);
+    const PcfShade pcf{radius, static_cast<int>(s.adaptive), maxRadius, poissonTaps};
     launchVisibility(frame, map_, shade, "kernels/pcf.cl", "pcf_visibility", visibility, map_.targets.triangleId,
                      frame.raster.objectIds(), g.triangleId, g.objectId, pcf, poisson_, filter_);
   }
@@ -36,7 +53,6 @@ class PercentageCloser final : public Technique {
   void addDebugChannels(Context& ctx, Image& image) override { image.add("filter.Z", filter_.download(ctx)); }
 
  private:
-  Params params_;
   ShadowMap map_;
   Buffer<cl_float2> poisson_;
   Buffer<float> filter_;
@@ -61,7 +77,7 @@ TechniqueInfo pcfTechnique() {
   params.push_back(
       {"pcf-poisson-taps", 0, 0, 64, "Rotated Poisson-disk taps over the kernel instead of the grid (0: grid)"});
   return {"pcf", "Percentage-closer filtering: grid or rotated Poisson taps, adaptive size, receiver-plane bias",
-          params, [](const Params& p) { return std::make_unique<PercentageCloser>(p); }};
+          params, [](const Params& p, int mapSize) { return std::make_unique<PercentageCloser>(PcfSettings::from(p, mapSize)); }};
 }
 
 }  // namespace penumbra

@@ -11,15 +11,37 @@
 namespace penumbra {
 namespace {
 
-class PercentageCloserSoft final : public Technique {
+constexpr int kSearchAdaptive = 1;  // pcss-search's index of "adaptive"
+
+struct PcssSettings {
+  MapSettings map;
+  int receiverPlane = 1;
+  int searchTaps = 0, filterTaps = 0;
+  float maxRadius = 0;
+  int pattern = SHADE_PATTERN_POISSON;  // SHADE_PATTERN_*
+  bool adaptive = false;                // pcss-search adaptive
+  static PcssSettings from(const Params& params, int mapSize) {
+    return {MapSettings::from(params, mapSize),
+            params.getInt("receiver-plane"),
+            params.getInt("pcss-search-taps"),
+            params.getInt("pcss-filter-taps"),
+            static_cast<float>(params.get("pcss-max-radius")),
+            params.getInt("pcss-pattern"),
+            params.getInt("pcss-search") == kSearchAdaptive};
+  }
+  bool operator==(const PcssSettings&) const = default;
+};
+
+class PercentageCloserSoft final : public TechniqueOf<PcssSettings> {
  public:
-  explicit PercentageCloserSoft(const Params& params) : params_(params) {}
+  using TechniqueOf::TechniqueOf;
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
-    renderShadowMap(frame, params_, map_, static_cast<float>(params_.get("pcss-max-radius")));
+    const PcssSettings& s = settings_;
+    renderShadowMap(frame, s.map, map_, s.maxRadius);
     blocker_.allocate(frame.ctx, visibility.size());
-    const int searchTaps = params_.getInt("pcss-search-taps"), filterTaps = params_.getInt("pcss-filter-taps");
-    const int pattern = params_.getInt("pcss-pattern");
+    const int searchTaps = s.searchTaps, filterTaps = s.filterTaps;
+    const int pattern = s.pattern;
     if (searchDisk_.empty()) {
       // taps^2 points each (the grid's count); their own seeds, so the two patterns do not line up.
       const int searchCount = pattern == SHADE_PATTERN_POISSON ? searchTaps * searchTaps : 1;
@@ -28,7 +50,7 @@ class PercentageCloserSoft final : public Technique {
       searchDisk_ = Buffer<cl_float2>(frame.ctx, std::span<const cl_float2>(search), CL_MEM_READ_ONLY);
       filterDisk_ = Buffer<cl_float2>(frame.ctx, std::span<const cl_float2>(filter), CL_MEM_READ_ONLY);
     }
-    const bool adaptive = params_.getInt("pcss-search") == kAdaptive;
+    const bool adaptive = s.adaptive;
     if (adaptive) {  // the map's min-max pyramid: the nearest caster over any region
       const uint32_t size = static_cast<uint32_t>(map_.view.gpu.width);
       const PyramidLayout layout = pyramidLayout(size, size, 0);
@@ -41,8 +63,8 @@ class PercentageCloserSoft final : public Technique {
       pyramid_.allocate(frame.ctx, 1);
       levels_.allocate(frame.ctx, 1, CL_MEM_READ_ONLY);
     }
-    const ShadeFrame shade = shadeFrame(frame, params_, params_.getInt("receiver-plane"), ID_BUFFER_OFF);
-    const PcssShade pcss{searchTaps, filterTaps, static_cast<float>(params_.get("pcss-max-radius")), pattern,
+    const ShadeFrame shade = shadeFrame(frame, s.map, s.receiverPlane, ID_BUFFER_OFF);
+    const PcssShade pcss{searchTaps, filterTaps, s.maxRadius, pattern,
                          static_cast<int>(adaptive), static_cast<uint32_t>(levels_.size())};
     launchVisibility(frame, map_, shade, "kernels/pcss.cl", "pcss_visibility", visibility, pcss, searchDisk_,
                      filterDisk_, pyramid_, levels_, blocker_);
@@ -51,9 +73,6 @@ class PercentageCloserSoft final : public Technique {
   void addDebugChannels(Context& ctx, Image& image) override { image.add("blocker.Z", blocker_.download(ctx)); }
 
  private:
-  static constexpr int kAdaptive = 1;  // pcss-search's index of "adaptive"
-
-  Params params_;
   ShadowMap map_;
   Buffer<cl_float2> pyramid_;  // --pcss-search adaptive: the map's min-max pyramid
   Buffer<PyramidLevel> levels_;
@@ -86,7 +105,7 @@ TechniqueInfo pcssTechnique() {
                     "caster in it from a min-max pyramid, lit without taps where nothing can block (adaptive)",
                     {"full", "adaptive"}});
   return {"pcss", "Percentage-closer soft shadows (blocker search + PCF) for area lights", params,
-          [](const Params& p) { return std::make_unique<PercentageCloserSoft>(p); }};
+          [](const Params& p, int mapSize) { return std::make_unique<PercentageCloserSoft>(PcssSettings::from(p, mapSize)); }};
 }
 
 }  // namespace penumbra

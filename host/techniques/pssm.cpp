@@ -11,26 +11,40 @@ namespace {
 
 enum FilterChoice { kPcf = 0, kHard = 1 };
 
-class ParallelSplit final : public Technique {
+struct PssmSettings {
+  MapSettings map;
+  SplitSettings splits;
+  bool hard = false;  // pssm-filter hard
+  AutoRadius radius;  // pcf-radius
+  int idMode = ID_BUFFER_OFF;
+  static PssmSettings from(const Params& params, int mapSize) {
+    return {MapSettings::from(params, mapSize), SplitSettings::from(params), params.getInt("pssm-filter") == kHard,
+            AutoRadius::from(params, "pcf-radius"), params.getInt("id-buffer")};
+  }
+  bool operator==(const PssmSettings&) const = default;
+};
+
+class ParallelSplit final : public TechniqueOf<PssmSettings> {
  public:
-  explicit ParallelSplit(const Params& params) : requested_(params), params_(params) {}
+  using TechniqueOf::TechniqueOf;
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     Context& ctx = frame.ctx;
-    params_ = requested_;
-    const bool hard = params_.getInt("pssm-filter") == kHard;
-    SplitPlan plan = planSplits(frame, params_, hard ? 0.0f : static_cast<float>(radiusLimit(params_, "pcf-radius")));
-    const size_t texels = static_cast<size_t>(params_.getInt("map-size")) * params_.getInt("map-size");
-    const int idMode = params_.getInt("id-buffer");
+    const PssmSettings& set = settings_;
+    const bool hard = set.hard;
+    SplitPlan plan = planSplits(frame, set.map, set.splits, hard ? 0.0f : static_cast<float>(set.radius.limit()));
+    const size_t texels = static_cast<size_t>(set.map.size) * set.map.size;
+    const int idMode = set.idMode;
+    int radius = hard ? 0 : set.radius.radius;  // resolved on split 0 under auto
     atlas_.allocate(ctx, plan.views.size() * texels);
     idAtlas_.allocate(ctx, idMode == ID_BUFFER_OFF ? 1 : plan.views.size() * texels);
     drawSplits(frame, plan, targets_, [&](size_t s, const Buffer<float>& depth) {
-      if (s == 0 && !hard) params_ = resolveAutoRadiusOnSplit0(frame, plan, depth, params_, "pcf-radius");
+      if (s == 0 && !hard) radius = resolveAutoRadiusOnSplit0(frame, plan, depth, set.map, set.radius);
       copyInto(ctx, depth, atlas_, s * texels, texels);
       if (idMode != ID_BUFFER_OFF) copyInto(ctx, targets_.triangleId, idAtlas_, s * texels, texels);
     });
-    gpu_.upload(ctx, frame, plan, params_);
-    gpu_.shade.radius = hard ? 0 : params_.getInt("pcf-radius");
+    gpu_.upload(ctx, frame, plan, set.map, set.splits);
+    gpu_.shade.radius = radius;
     recordSplits(frame, plan);
 
     const GBuffer& g = frame.gbuffer;
@@ -48,8 +62,6 @@ class ParallelSplit final : public Technique {
   void addDebugChannels(Context& ctx, Image& image) override { aovs_.addChannels(ctx, image); }
 
  private:
-  Params requested_;  // as given (pcf-radius may be auto)
-  Params params_;     // this frame's: pcf-radius resolved on split 0
   RasterTargets targets_;
   Buffer<float> atlas_;
   Buffer<uint32_t> idAtlas_;  // the splits' triangle ids with an ID buffer, else one unused element
@@ -69,7 +81,7 @@ TechniqueInfo pssmTechnique() {
   for (const ParamSpec& spec : splitParams()) params.push_back(spec);
   for (const ParamSpec& spec : warpParams()) params.push_back(spec);
   return {"pssm", "Parallel-split shadow maps, hard or PCF per split (uniform/log/practical/auto splits)", params,
-          [](const Params& p) { return std::make_unique<ParallelSplit>(p); }};
+          [](const Params& p, int mapSize) { return std::make_unique<ParallelSplit>(PssmSettings::from(p, mapSize)); }};
 }
 
 }  // namespace penumbra

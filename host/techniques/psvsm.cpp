@@ -10,20 +10,34 @@
 namespace penumbra {
 namespace {
 
-class ParallelSplitVariance final : public Technique {
+struct PsvsmSettings {
+  MapSettings map;
+  SplitSettings splits;
+  MomentFilter filter;
+  MomentStorage storage = MomentStorage::Float32;
+  Chebyshev chebyshev;
+  static PsvsmSettings from(const Params& params, int mapSize) {
+    return {MapSettings::from(params, mapSize), SplitSettings::from(params), MomentFilter::from(params),
+            momentStorage(params), Chebyshev::from(params)};
+  }
+  bool operator==(const PsvsmSettings&) const = default;
+};
+
+class ParallelSplitVariance final : public TechniqueOf<PsvsmSettings> {
  public:
-  explicit ParallelSplitVariance(const Params& params) : requested_(params), params_(params) {}
+  using TechniqueOf::TechniqueOf;
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     Context& ctx = frame.ctx;
-    params_ = requested_;
-    const uint32_t size = static_cast<uint32_t>(params_.getInt("map-size"));
+    const PsvsmSettings& set = settings_;
+    const uint32_t size = static_cast<uint32_t>(set.map.size);
     const ImageShape shape{size, size, 2};
-    SplitPlan plan = planSplits(frame, params_, momentBlurReach(params_));
-    const bool trilinear = momentTrilinear(params_);
+    SplitPlan plan = planSplits(frame, set.map, set.splits, momentBlurReach(set.filter));
+    const bool trilinear = set.filter.trilinear;
     const PyramidLayout layout = pyramidLayout(size, size, 1);
     const size_t mipTexels = trilinear ? layout.texels : 0;
-    const MomentStorage storage = momentStorage(params_);
+    const MomentStorage storage = set.storage;
+    blurRadius_ = set.filter.blur.radius;  // resolved on split 0 under auto
     if (storage == MomentStorage::Float16) {
       maps_.clear(ctx);
       drawMoments(frame, plan, shape, mipTexels, storage, maps16_);
@@ -34,15 +48,15 @@ class ParallelSplitVariance final : public Technique {
     mipLevels_.allocate(ctx, trilinear ? layout.levels.size() : 0, CL_MEM_READ_ONLY);
     if (trilinear) mipLevels_.upload(ctx, std::span<const PyramidLevel>(layout.levels));
     // Split 0's (blur-radius resolved on its map), scaled per split.
-    const float sigma = params_.getInt("blur-radius") > 0 ? momentBlurConfig(params_).sigma : 0.0f;
-    gpu_.upload(ctx, frame, plan, params_, sigma);
+    const float sigma = blurRadius_ > 0 ? momentBlurConfig(set.filter, blurRadius_).sigma : 0.0f;
+    gpu_.upload(ctx, frame, plan, set.map, set.splits, sigma);
     gpu_.shade.mipTexels = static_cast<uint32_t>(mipTexels);
     recordSplits(frame, plan);
 
     ShadowMap first;  // momentShade's common fields; the kernel replaces the normalisation per split
     first.view = plan.views[0];
-    MomentShade shade = momentShade(frame, first, params_, 2);
-    setChebyshevShade(params_, shade);
+    MomentShade shade = momentShade(frame, first, set.map, set.filter.filterBias, 2);
+    set.chebyshev.apply(shade);
     shade.levels = trilinear ? static_cast<uint32_t>(layout.levels.size()) + 1 : 1;
     const GBuffer& g = frame.gbuffer;
     const size_t pixels = static_cast<size_t>(g.width) * g.height;
@@ -86,13 +100,13 @@ class ParallelSplitVariance final : public Technique {
     if (mipTexels > 0) maps.mips.allocate(ctx, mipTexels * 2);
     drawSplits(frame, plan, targets_, [&](size_t s, const Buffer<float>& depth) {
       const LightViewGpu& v = plan.views[s].gpu;
-      if (s == 0) params_ = resolveAutoRadiusOnSplit0(frame, plan, depth, params_, "blur-radius");
+      if (s == 0) blurRadius_ = resolveAutoRadiusOnSplit0(frame, plan, depth, settings_.map, settings_.filter.blur);
       MomentsConfig config;
       config.depthNear = v.zNear, config.depthFar = v.zFar;
       config.storage = storage;
-      if (params_.getInt("blur-radius") > 0) {
+      if (blurRadius_ > 0) {
         // Step 2d: the kernel shrinks with the split's zoom (texels of split 0).
-        BlurConfig scaled = momentBlurConfig(params_);
+        BlurConfig scaled = momentBlurConfig(settings_.filter, blurRadius_);
         scaled.scale = plan.views[0].gpu.texelScale / v.texelScale;
         scratch_.allocate(ctx, blurMomentsScratch(ctx, shape, scaled, storage, config.kind));
         blurMoments(ctx, depth, config, maps.moments, scratch_, shape.width, shape.height, scaled);
@@ -106,8 +120,7 @@ class ParallelSplitVariance final : public Technique {
     });
   }
 
-  Params requested_;  // as given (blur-radius may be auto)
-  Params params_;     // this frame's: blur-radius resolved on split 0
+  int blurRadius_ = 0;  // this frame's blur-radius: resolved on split 0 under auto
   RasterTargets targets_;
   Buffer<float> scratch_;
   Maps<float> maps_;
@@ -128,7 +141,9 @@ TechniqueInfo psvsmTechnique() {
   // 20-55 % on box, stacked-planes and staircase: docs/techniques/pssm.md ("Bilinear lookups by default").
   for (const ParamSpec& spec : splitParams()) params.push_back(spec);
   return {"psvsm", "Parallel-split variance shadow maps: VSM per split, blur scaled by zoom, optional mipmaps", params,
-          [](const Params& p) { return std::make_unique<ParallelSplitVariance>(p); }};
+          [](const Params& p, int mapSize) {
+            return std::make_unique<ParallelSplitVariance>(PsvsmSettings::from(p, mapSize));
+          }};
 }
 
 }  // namespace penumbra

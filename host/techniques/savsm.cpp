@@ -19,24 +19,51 @@ namespace {
 enum Precision { kFloat = 0, kFixed32 = 1, kFixed64 = 2, kDouble = 3 };
 constexpr double kAutoDistance = -1.0;  // savsm-occluder-distance auto (outside [0, 1e6])
 
-class SummedAreaVsm final : public Technique {
- public:
-  explicit SummedAreaVsm(const Params& params) : params_(params) {
+struct SavsmSettings {
+  MapSettings map;
+  Chebyshev chebyshev;
+  float filterBias = 0;
+  uint32_t widthFrom = MOMENT_WIDTH_LIGHT;  // MOMENT_WIDTH_*
+  float width = 0, maxWidth = 0;            // savsm-width, savsm-max-width
+  bool autoDistance = false;                // savsm-occluder-distance auto
+  float occluderDistance = 0;
+  double distanceQuantile = 0;
+  Precision precision = kFixed32;  // sat-precision
+  // Throws std::invalid_argument when savsm-width is above savsm-max-width.
+  static SavsmSettings from(const Params& params, int mapSize) {
     if (params.get("savsm-width") > params.get("savsm-max-width"))
       throw std::invalid_argument(fmt::format("--savsm-width {} is larger than --savsm-max-width {}",
                                               params.get("savsm-width"), params.get("savsm-max-width")));
+    SavsmSettings s;
+    s.map = MapSettings::from(params, mapSize);
+    s.chebyshev = Chebyshev::from(params);
+    s.filterBias = static_cast<float>(params.get("filter-bias"));
+    s.widthFrom = static_cast<uint32_t>(params.getInt("savsm-width-from"));
+    s.width = static_cast<float>(params.get("savsm-width"));
+    s.maxWidth = static_cast<float>(params.get("savsm-max-width"));
+    s.autoDistance = params.isAuto("savsm-occluder-distance");
+    s.occluderDistance = s.autoDistance ? 0.0f : static_cast<float>(params.get("savsm-occluder-distance"));
+    s.distanceQuantile = params.get("savsm-occluder-distance-quantile");
+    s.precision = static_cast<Precision>(params.getInt("sat-precision"));
+    return s;
   }
+  bool operator==(const SavsmSettings&) const = default;
+};
+
+class SummedAreaVsm final : public TechniqueOf<SavsmSettings> {
+ public:
+  using TechniqueOf::TechniqueOf;
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
-    const int size = params_.getInt("map-size");
-    renderShadowMap(frame, params_, map_, 0.5f * static_cast<float>(params_.get("savsm-max-width")));
+    const int size = settings_.map.size;
+    renderShadowMap(frame, settings_.map, map_, 0.5f * settings_.maxWidth);
     MomentsConfig config;
     config.depthNear = map_.view.gpu.zNear;
     config.depthFar = map_.view.gpu.zFar;
     shape_ = {static_cast<uint32_t>(size), static_cast<uint32_t>(size), 2};
     moments_.allocate(frame.ctx, shape_.count());
     computeMoments(frame.ctx, map_.targets.depth, shape_.width, shape_.height, config, moments_);
-    switch (params_.getInt("sat-precision")) {
+    switch (settings_.precision) {
       case kFixed32:
         return shade<uint32_t>(frame, visibility);
       case kFixed64:
@@ -55,11 +82,11 @@ class SummedAreaVsm final : public Technique {
   template <class T>
   void shade(ShadowFrame& frame, Buffer<float>& visibility) {
     Context& ctx = frame.ctx;
-    MomentShade s = momentShade(frame, map_, params_, 2);
-    setChebyshevShade(params_, s);
-    s.widthMode = static_cast<uint32_t>(params_.getInt("savsm-width-from"));
-    s.filterWidth = static_cast<float>(params_.get("savsm-width"));
-    s.maxWidth = static_cast<float>(params_.get("savsm-max-width"));
+    MomentShade s = momentShade(frame, map_, settings_.map, settings_.filterBias, 2);
+    settings_.chebyshev.apply(s);
+    s.widthMode = settings_.widthFrom;
+    s.filterWidth = settings_.width;
+    s.maxWidth = settings_.maxWidth;
     s.occluderDistance = occluderDistance(frame);
 
     SatConfig satConfig;
@@ -85,18 +112,17 @@ class SummedAreaVsm final : public Technique {
   // savsm-occluder-distance, or under auto its quantile over the camera's pixels in the map's hard shadow (in units
   // of the scene's size / 16, so the histogram's range suits any scale), recorded in the header.
   float occluderDistance(ShadowFrame& frame) const {
-    if (!params_.isAuto("savsm-occluder-distance")) return static_cast<float>(params_.get("savsm-occluder-distance"));
-    const double quantile = params_.get("savsm-occluder-distance-quantile");
+    if (!settings_.autoDistance) return settings_.occluderDistance;
+    const double quantile = settings_.distanceQuantile;
     const float unit = std::max(frame.scene.bounds().orUnit().radius(), 1e-6f) / 16.0f;
     const OccluderDistance d = measureOccluderDistance(frame.ctx, frame.gbuffer, map_.targets.depth, map_.gpu,
-                                                       biasArgs(params_), quantile, unit);
+                                                       settings_.map.receiverBias(), quantile, unit);
     frame.attributes["penumbra:savsm-occluder-distance"] =
         d.pixels == 0 ? std::string("auto 0 (no shadowed pixel measured)")
                       : fmt::format("auto {:.4g} (quantile {} of {} shadowed pixels)", d.distance, quantile, d.pixels);
     return static_cast<float>(d.distance);
   }
 
-  Params params_;
   ShadowMap map_;
   ImageShape shape_;
   Buffer<float> moments_;
@@ -137,7 +163,7 @@ TechniqueInfo savsmTechnique() {
                     "Summed-area table storage (double needs a device with fp64)",
                     {"float", "fixed32", "fixed64", "double"}});
   return {"savsm", "Summed-area variance shadow maps with a per-pixel filter width", params,
-          [](const Params& p) { return std::make_unique<SummedAreaVsm>(p); }};
+          [](const Params& p, int mapSize) { return std::make_unique<SummedAreaVsm>(SavsmSettings::from(p, mapSize)); }};
 }
 
 }  // namespace penumbra

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 #include "host/views/light_fit.h"
@@ -83,25 +84,26 @@ std::vector<ParamSpec> pcfRadiusParams() {
                           4);
 }
 
-bool autoRadius(const Params& params, const std::string& name) { return params.isAuto(name); }
-
-int radiusLimit(const Params& params, const std::string& name) {
-  return params.getInt(autoRadius(params, name) ? name + "-max" : name);
+AutoRadius AutoRadius::from(const Params& params, const std::string& name) {
+  AutoRadius r;
+  r.name = name;
+  r.automatic = params.isAuto(name);
+  r.radius = r.automatic ? 0 : params.getInt(name);
+  r.quantile = params.get(name + "-quantile");
+  r.max = params.getInt(name + "-max");
+  return r;
 }
 
-Params resolveAutoRadius(ShadowFrame& frame, const Buffer<float>& depth, const Buffer<LightViewGpu>& view,
-                         const Params& params, const std::string& name) {
-  if (!autoRadius(params, name)) return params;
-  const double quantile = params.get(name + "-quantile");
-  const PenumbraWidth width = measurePenumbraWidth(frame.ctx, frame.gbuffer, depth, view, biasArgs(params), quantile);
-  const int radius = std::min(static_cast<int>(std::floor(width.halfWidth)), params.getInt(name + "-max"));
-  Params resolved = params;
-  resolved.set(name, std::to_string(radius));
-  frame.attributes["penumbra:" + name] =
+int resolveAutoRadius(ShadowFrame& frame, const Buffer<float>& depth, const Buffer<LightViewGpu>& view,
+                      const ReceiverBias& bias, const AutoRadius& wanted) {
+  if (!wanted.automatic) return wanted.radius;
+  const PenumbraWidth width = measurePenumbraWidth(frame.ctx, frame.gbuffer, depth, view, bias, wanted.quantile);
+  const int radius = std::min(static_cast<int>(std::floor(width.halfWidth)), wanted.max);
+  frame.attributes["penumbra:" + wanted.name] =
       width.pixels == 0 ? fmt::format("auto {} (no shadowed pixel measured)", radius)
                         : fmt::format("auto {} (quantile {} of {} shadowed pixels: penumbra half-width {:.3g} texels)",
-                                      radius, quantile, width.pixels, width.halfWidth);
-  return resolved;
+                                      radius, wanted.quantile, width.pixels, width.halfWidth);
+  return radius;
 }
 
 ParamSpec receiverPlaneParam() {
@@ -118,22 +120,31 @@ ParamSpec idBufferParam() {
           {"off", "object", "polygon", "combined"}};
 }
 
-BiasArgs biasArgs(const Params& params) {
-  return {static_cast<float>(params.get("bias")), static_cast<float>(params.get("slope-bias")),
-          static_cast<float>(params.get("normal-offset"))};
+MapSettings MapSettings::from(const Params& params, int autoSize) {
+  MapSettings m;
+  if (params.isAuto("map-size")) {
+    if (autoSize <= 0) throw std::logic_error("MapSettings: --map-size auto without the frame's size");
+    m.size = autoSize;
+  } else {
+    m.size = params.getInt("map-size");
+  }
+  m.fit = {WarpSettings::from(params), params.getInt("fit") == 1};
+  m.bias = static_cast<float>(params.get("bias"));
+  m.slopeBias = static_cast<float>(params.get("slope-bias"));
+  m.normalOffset = static_cast<float>(params.get("normal-offset"));
+  return m;
 }
 
-ShadeFrame shadeFrame(const ShadowFrame& frame, const Params& params, int receiverPlane, int idMode) {
-  const BiasArgs bias = biasArgs(params);
-  return {static_cast<uint32_t>(frame.gbuffer.width), static_cast<uint32_t>(frame.gbuffer.height), bias.constant,
-          bias.slope, bias.normalOffset, receiverPlane, idMode};
+ShadeFrame shadeFrame(const ShadowFrame& frame, const MapSettings& settings, int receiverPlane, int idMode) {
+  return {static_cast<uint32_t>(frame.gbuffer.width), static_cast<uint32_t>(frame.gbuffer.height), settings.bias,
+          settings.slopeBias, settings.normalOffset, receiverPlane, idMode};
 }
 
-void renderShadowMap(ShadowFrame& frame, const Params& params, ShadowMap& map, float reachTexels) {
-  const int size = params.getInt("map-size");
-  const bool toReceivers = params.getInt("fit") == 1;
-  const float margin = reachTexels + static_cast<float>(params.get("normal-offset")) + 1.0f;
-  map.view = fitWarpedLightView(frame, params, size, margin);
+void renderShadowMap(ShadowFrame& frame, const MapSettings& settings, ShadowMap& map, float reachTexels) {
+  const int size = settings.size;
+  const bool toReceivers = settings.fit.fitReceivers;
+  const float margin = reachTexels + settings.normalOffset + 1.0f;
+  map.view = fitWarpedLightView(frame, settings.fit, size, margin);
   frame.raster.draw(map.view.raster, map.targets);
   const DepthRange drawn = reduceDepthRange(frame.ctx, map.targets.depth, static_cast<size_t>(size) * size);
   if (drawn.min > map.view.gpu.zNear && drawn.min < map.view.gpu.zFar) map.view.gpu.zNear = drawn.min;

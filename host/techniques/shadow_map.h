@@ -8,6 +8,7 @@
 #include "host/cl/kernel.h"
 #include "host/techniques/params.h"
 #include "host/techniques/technique.h"
+#include "host/techniques/warp.h"
 #include "host/views/views.h"
 #include "kernels/shared/shade.h"
 
@@ -35,33 +36,57 @@ void unscaledNormalOffset(std::vector<ParamSpec>& params);
 // goes into the help.
 void fixMapSize(std::vector<ParamSpec>& params, const std::string& why);
 
-// Fits the light's view (per the "fit" parameter: the whole scene, or the visible receivers with a margin
-// around them of `reachTexels`, the farthest any of the technique's taps reaches from a receiver's texel,
-// plus the normal offset and one texel for bilinear taps), rasterizes it, and tightens view.gpu.zNear to the nearest
-// caster actually drawn, so depth ranges (moment normalisation, blocker search) start where the occluders do.
-void renderShadowMap(ShadowFrame& frame, const Params& params, ShadowMap& map, float reachTexels);
+// shadowMapParams() as parsed: what renderShadowMap and the shading kernels read. The auto-size settings
+// (map-size-quantile, -min, -max) and cube-guard are the renderer's (host/pipeline/map_size.h, point_light.h), not
+// the instance's.
+struct MapSettings {
+  int size = 0;  // texels per side: --map-size, or the frame's choice under auto
+  WarpedFit fit;  // --fit receivers|scene and the warp (host/techniques/warp.h)
+  float bias = 0, slopeBias = 0, normalOffset = 0;
+  // Throws std::logic_error when --map-size is auto and `autoSize` (the frame's choice) is not positive.
+  static MapSettings from(const Params& params, int autoSize);
+  ReceiverBias receiverBias() const { return {bias, slopeBias, normalOffset}; }
+  bool operator==(const MapSettings&) const = default;
+};
+
+// Fits the light's view (per --fit: the whole scene, or the visible receivers with a margin around them of
+// `reachTexels`, the farthest any of the technique's taps reaches from a receiver's texel, plus the normal offset and
+// one texel for bilinear taps), rasterizes it, and tightens view.gpu.zNear to the nearest caster actually drawn, so
+// depth ranges (moment normalisation, blocker search) start where the occluders do.
+void renderShadowMap(ShadowFrame& frame, const MapSettings& settings, ShadowMap& map, float reachTexels);
 
 // A fixed kernel's half-width chosen per frame from the scene's penumbrae (pcf-radius, blur-radius): NAME (default
 // auto, else 0..max texels; `help` says what r is), NAME-quantile (0.05) and NAME-max (`maxDefault`; `maxNote` is
-// appended to its help). Under auto the map is fitted with NAME-max's reach (radiusLimit: it is drawn before it is
-// measured), then resolveAutoRadius measures the half-width h the quantile of the camera's pixels in the hard shadow
-// of its nearest texels reach (host/views/light_fit.h measurePenumbraWidth) and sets r = floor(h) up to NAME-max: a
-// box of 2r + 1 taps turns a hard edge into a ramp about as wide as that penumbra. Measured in
+// appended to its help). Under auto the map is fitted with NAME-max's reach (AutoRadius::limit: it is drawn before it
+// is measured), then resolveAutoRadius measures the half-width h the quantile of the camera's pixels in the hard
+// shadow of its nearest texels reach (host/views/light_fit.h measurePenumbraWidth) and takes r = floor(h) up to
+// NAME-max: a box of 2r + 1 taps turns a hard edge into a ramp about as wide as that penumbra. Measured in
 // docs/techniques/moments.md and docs/techniques/sm-pcf-pcss.md.
 std::vector<ParamSpec> autoRadiusParams(const std::string& name, const std::string& help, double max, double maxDefault,
                                         const std::string& maxNote = {});
 // pcf-radius as autoRadiusParams (auto, at most 4 by default) for pcf and pssm.
 std::vector<ParamSpec> pcfRadiusParams();
-bool autoRadius(const Params& params, const std::string& name);
-int radiusLimit(const Params& params, const std::string& name);  // NAME, or NAME-max under auto
-// `params` with NAME set for this frame from `map` (unchanged unless auto), recorded in the header's "penumbra:NAME"
-// (a point light's cube faces each measure their own: host/pipeline/point_light.cpp merges them per face).
-// Split techniques measure on split 0's map (`depth`, `view`): their radii are texels of split 0.
-Params resolveAutoRadius(ShadowFrame& frame, const Buffer<float>& depth, const Buffer<LightViewGpu>& view,
-                         const Params& params, const std::string& name);
-inline Params resolveAutoRadius(ShadowFrame& frame, const ShadowMap& map, const Params& params,
-                                const std::string& name) {
-  return resolveAutoRadius(frame, map.targets.depth, map.gpu, params, name);
+
+// autoRadiusParams(name) as parsed.
+struct AutoRadius {
+  std::string name;    // "pcf-radius": the header's "penumbra:NAME"
+  bool automatic = false;
+  int radius = 0;      // texels, when not automatic
+  double quantile = 0;
+  int max = 0;
+  static AutoRadius from(const Params& params, const std::string& name);
+  int limit() const { return automatic ? max : radius; }  // the most it can be: the map's margin before it is measured
+  bool operator==(const AutoRadius&) const = default;
+};
+
+// The half-width for this frame: the fixed radius, or under auto measured on `depth` / `view` with `bias` and recorded
+// in the header's "penumbra:NAME" (a point light's cube faces each measure their own: host/pipeline/point_light.cpp
+// merges them per face). Split techniques measure on split 0's map: their radii are texels of split 0.
+int resolveAutoRadius(ShadowFrame& frame, const Buffer<float>& depth, const Buffer<LightViewGpu>& view,
+                      const ReceiverBias& bias, const AutoRadius& radius);
+inline int resolveAutoRadius(ShadowFrame& frame, const ShadowMap& map, const MapSettings& settings,
+                             const AutoRadius& radius) {
+  return resolveAutoRadius(frame, map.targets.depth, map.gpu, settings.receiverBias(), radius);
 }
 
 // "receiver-plane": receiver-plane depth bias on (1) or off (0), for the techniques whose kernels take it.
@@ -71,13 +96,9 @@ ParamSpec receiverPlaneParam();
 // whose kernels take it (sm, pcf, pssm, jittered).
 ParamSpec idBufferParam();
 
-// The three bias parameters as kernel arguments, in sc_receiver's order.
-using BiasArgs = ReceiverBias;
-BiasArgs biasArgs(const Params& params);
-
 // The scalars every visibility launch of the shadow-map family has (kernels/shared/shade.h): the G-buffer's size,
-// the bias of `params`, the receiver plane (0/1) and the ID buffer's mode (ID_BUFFER_*).
-ShadeFrame shadeFrame(const ShadowFrame& frame, const Params& params, int receiverPlane, int idMode);
+// the bias of `settings`, the receiver plane (0/1) and the ID buffer's mode (ID_BUFFER_*).
+ShadeFrame shadeFrame(const ShadowFrame& frame, const MapSettings& settings, int receiverPlane, int idMode);
 
 // Launches a per-pixel visibility kernel of the shadow-map family (sm, pcf, pcss). Every such kernel takes
 // (position, normal, map, light view, ShadeFrame, EXTRA..., visibility): its own scalars travel in a struct of

@@ -2,25 +2,34 @@
 #include "host/techniques/registry.h"
 #include "host/techniques/shadow_map.h"
 #include "host/techniques/warp.h"
+#include "kernels/shared/id_buffer.h"
 
 namespace penumbra {
 namespace {
 
-class HardShadowMap final : public Technique {
+struct SmSettings {
+  MapSettings map;
+  int receiverPlane = 1;
+  int idMode = ID_BUFFER_OFF;
+  static SmSettings from(const Params& params, int mapSize) {
+    return {MapSettings::from(params, mapSize), params.getInt("receiver-plane"), params.getInt("id-buffer")};
+  }
+  bool operator==(const SmSettings&) const = default;
+};
+
+class HardShadowMap final : public TechniqueOf<SmSettings> {
  public:
-  explicit HardShadowMap(const Params& params) : params_(params) {}
+  using TechniqueOf::TechniqueOf;
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
-    renderShadowMap(frame, params_, map_, 0.0f);
+    renderShadowMap(frame, settings_.map, map_, 0.0f);
     const GBuffer& g = frame.gbuffer;
-    const ShadeFrame shade =
-        shadeFrame(frame, params_, params_.getInt("receiver-plane"), params_.getInt("id-buffer"));
+    const ShadeFrame shade = shadeFrame(frame, settings_.map, settings_.receiverPlane, settings_.idMode);
     launchVisibility(frame, map_, shade, "kernels/sm.cl", "sm_visibility", visibility, map_.targets.triangleId,
                      frame.raster.objectIds(), g.triangleId, g.objectId);
   }
 
  private:
-  Params params_;
   ShadowMap map_;
 };
 
@@ -33,7 +42,7 @@ TechniqueInfo smTechnique() {
   params.push_back(idBufferParam());
   for (ParamSpec& spec : warpParams()) params.push_back(spec);
   return {"sm", "Hard shadow map with constant, slope-scaled, normal-offset and receiver-plane depth bias", params,
-          [](const Params& p) { return std::make_unique<HardShadowMap>(p); }};
+          [](const Params& p, int mapSize) { return std::make_unique<HardShadowMap>(SmSettings::from(p, mapSize)); }};
 }
 
 }  // namespace penumbra

@@ -29,7 +29,7 @@ float texelWorld(const LightView& view, float depth) {
 
 struct SplitFit {
   const ShadowFrame& frame;
-  const Params& params;
+  const WarpSettings& warp;
   ReceiverBounds receivers;  // what splits are cropped to: the visible receivers, or everything (fit=scene)
   glm::mat4 lightEye;
   int size;
@@ -37,10 +37,10 @@ struct SplitFit {
   bool snap;
 
   // The split's view; with --warp lispsm its own LiSPSM warp, n from the split's near/far (Luksch sec. 7.1).
-  LightView view(float near, float far, LispsmFit* warp = nullptr) const {
+  LightView view(float near, float far, LispsmFit* lispsm = nullptr) const {
     const ReceiverBounds box = sliceBounds(frame.light, lightEye, frustumSliceCorners(frame.camera, near, far), receivers);
     const ReceiverBounds* crop = box.empty ? &frame.receivers : &box;
-    if (lispsmEnabled(params)) return fitWarpedLightView(frame, params, size, margin, near, far, crop, warp);
+    if (warp.lispsm) return fitWarpedLightView(frame, warp, size, margin, near, far, crop, lispsm);
     return fitLightView(frame.light, frame.scene.bounds(), size, crop, margin, snap);
   }
 };
@@ -83,47 +83,59 @@ std::vector<ParamSpec> splitParams() {
 }
 
 namespace {
-SplitFit splitFit(const ShadowFrame& frame, const Params& params, float marginTexels, bool snap) {
+SplitFit splitFit(const ShadowFrame& frame, const MapSettings& map, float marginTexels, bool snap) {
   ReceiverBounds everything;
   everything.empty = false;
   everything.lo = glm::vec2(-INFINITY), everything.hi = glm::vec2(INFINITY);
   everything.depthMax = INFINITY;
-  const bool toReceivers = params.getInt("fit") == 1;
-  return {frame, params, toReceivers ? frame.receivers : everything, lightEyeMatrix(frame.light, frame.scene.bounds()),
-          params.getInt("map-size"), marginTexels, snap};
+  return {frame,    map.fit.warp, map.fit.fitReceivers ? frame.receivers : everything,
+          lightEyeMatrix(frame.light, frame.scene.bounds()), map.size, marginTexels, snap};
 }
 }  // namespace
 
-LightView sliceLightView(const ShadowFrame& frame, const Params& params, float near, float far, float marginTexels) {
-  return splitFit(frame, params, marginTexels, false).view(near, far);
+SplitSettings SplitSettings::from(const Params& params) {
+  SplitSettings s;
+  s.count = params.getInt("pssm-splits");
+  s.scheme = static_cast<SplitScheme>(params.getInt("pssm-scheme"));
+  s.lambda = static_cast<float>(params.get("pssm-lambda"));
+  s.maxSplits = params.getInt("pssm-max-splits");
+  s.rho = static_cast<float>(params.get("pssm-rho"));
+  s.snap = params.getInt("pssm-snap") == kSnapOn;
+  s.blend = static_cast<float>(params.get("pssm-blend"));
+  s.splitBias = static_cast<float>(params.get("pssm-split-bias"));
+  if (s.snap && WarpSettings::from(params).lispsm)
+    throw std::invalid_argument("--pssm-snap on cannot be combined with --warp lispsm");
+  return s;
 }
 
-SplitPlan planSplits(ShadowFrame& frame, const Params& params, float marginTexels) {
+LightView sliceLightView(const ShadowFrame& frame, const MapSettings& map, float near, float far, float marginTexels) {
+  return splitFit(frame, map, marginTexels, false).view(near, far);
+}
+
+SplitPlan planSplits(ShadowFrame& frame, const MapSettings& map, const SplitSettings& splits, float marginTexels) {
   SplitPlan plan;
-  plan.warpOption = params.has("warp");
-  const SplitFit fit = splitFit(frame, params, marginTexels, params.getInt("pssm-snap") == kSnapOn);
-  if (fit.snap && lispsmEnabled(params))  // a warp follows the camera: whole-texel snapping cannot hold it still
-    throw std::invalid_argument("--pssm-snap on cannot be combined with --warp lispsm");
+  plan.warpOption = map.fit.warp.declared;
+  const SplitFit fit = splitFit(frame, map, marginTexels, splits.snap);
   const auto [near, far] = tightViewDepth(frame.ctx, frame.gbuffer);
-  const int count = params.getInt("pssm-splits");
-  const float lambda = static_cast<float>(params.get("pssm-lambda"));
+  const int count = splits.count;
+  const float lambda = splits.lambda;
   if (count == kAutoSplits) {
-    const float factor = autoFactor(fit, near, far, static_cast<float>(params.get("pssm-rho")), plan.scheme);
-    plan.distances = autoSplitDistances(near, far, factor, params.getInt("pssm-max-splits"), lambda);
+    const float factor = autoFactor(fit, near, far, splits.rho, plan.scheme);
+    plan.distances = autoSplitDistances(near, far, factor, splits.maxSplits, lambda);
   } else {
-    const auto scheme = static_cast<SplitScheme>(params.getInt("pssm-scheme"));
+    const SplitScheme scheme = splits.scheme;
     plan.distances = splitDistances(scheme, count, near, far, lambda);
     static const char* kNames[] = {"uniform", "logarithmic", "practical"};
     plan.scheme = fmt::format("{}{}", kNames[static_cast<int>(scheme)],
                               scheme == SplitScheme::Practical ? fmt::format(" (lambda {})", lambda) : "");
   }
-  const float delta = static_cast<float>(params.get("pssm-split-bias"));
+  const float delta = splits.splitBias;
   biasSplitDistances(plan.distances, delta);
   if (delta != 0.0f) plan.scheme += fmt::format(", delta_bias {}", delta);
   for (size_t s = 0; s + 1 < plan.distances.size(); ++s) {
     LispsmFit warp;
     plan.views.push_back(fit.view(plan.distances[s], plan.distances[s + 1], &warp));
-    if (lispsmEnabled(params)) plan.warps.push_back(warp);
+    if (map.fit.warp.lispsm) plan.warps.push_back(warp);
   }
   return plan;
 }
@@ -152,8 +164,8 @@ template void copyInto(Context&, const Buffer<float>&, Buffer<float>&, size_t, s
 template void copyInto(Context&, const Buffer<cl_half>&, Buffer<cl_half>&, size_t, size_t);
 template void copyInto(Context&, const Buffer<uint32_t>&, Buffer<uint32_t>&, size_t, size_t);
 
-void SplitGpu::upload(Context& ctx, const ShadowFrame& frame, const SplitPlan& plan, const Params& params,
-                      float blurSigma) {
+void SplitGpu::upload(Context& ctx, const ShadowFrame& frame, const SplitPlan& plan, const MapSettings& map,
+                      const SplitSettings& splitSettings, float blurSigma) {
   const size_t m = plan.views.size();
   std::vector<LightViewGpu> gpu;
   host.assign(m, PssmSplit{});
@@ -169,15 +181,14 @@ void SplitGpu::upload(Context& ctx, const ShadowFrame& frame, const SplitPlan& p
     split.depthNear = v.zNear;
     split.depthInvRange = 1.0f / (v.zFar - v.zNear);
   }
-  const int size = params.getInt("map-size");
-  const BiasArgs bias = biasArgs(params);
+  const int size = map.size;
   shade = PssmShade{};
   shade.width = static_cast<uint32_t>(frame.gbuffer.width);
   shade.height = static_cast<uint32_t>(frame.gbuffer.height);
   shade.splits = static_cast<uint32_t>(m);
   shade.mapTexels = static_cast<uint32_t>(size) * static_cast<uint32_t>(size);
-  shade.blend = static_cast<float>(params.get("pssm-blend"));
-  shade.bias = bias.constant, shade.slopeBias = bias.slope, shade.normalOffset = bias.normalOffset;
+  shade.blend = splitSettings.blend;
+  shade.bias = map.bias, shade.slopeBias = map.slopeBias, shade.normalOffset = map.normalOffset;
   views.allocate(ctx, m, CL_MEM_READ_ONLY);
   views.upload(ctx, std::span<const LightViewGpu>(gpu));
   splits.allocate(ctx, m, CL_MEM_READ_ONLY);
@@ -194,11 +205,11 @@ void SplitAovs::addChannels(Context& ctx, Image& image) const {
   image.add("resolutionError.Y", resolutionError.download(ctx));
 }
 
-Params resolveAutoRadiusOnSplit0(ShadowFrame& frame, const SplitPlan& plan, const Buffer<float>& depth,
-                                 const Params& params, const std::string& name) {
-  if (!autoRadius(params, name)) return params;
+int resolveAutoRadiusOnSplit0(ShadowFrame& frame, const SplitPlan& plan, const Buffer<float>& depth,
+                              const MapSettings& map, const AutoRadius& radius) {
+  if (!radius.automatic) return radius.radius;
   const Buffer<LightViewGpu> first(frame.ctx, std::span<const LightViewGpu>(&plan.views[0].gpu, 1), CL_MEM_READ_ONLY);
-  return resolveAutoRadius(frame, depth, first, params, name);
+  return resolveAutoRadius(frame, depth, first, map.receiverBias(), radius);
 }
 
 void recordSplits(ShadowFrame& frame, const SplitPlan& plan) {

@@ -17,6 +17,22 @@ namespace penumbra {
 // pssm-splits, pssm-scheme, pssm-lambda, pssm-max-splits, pssm-rho, pssm-snap, pssm-blend, pssm-split-bias.
 std::vector<ParamSpec> splitParams();
 
+// splitParams() as parsed.
+struct SplitSettings {
+  int count = 0;  // pssm-splits; 0 = auto
+  SplitScheme scheme = SplitScheme::Practical;
+  float lambda = 0;
+  int maxSplits = 0;
+  float rho = 0;
+  bool snap = false;
+  float blend = 0;
+  float splitBias = 0;  // pssm-split-bias (Luksch eq. 10's delta_bias)
+  // Throws std::invalid_argument for --pssm-snap on with --warp lispsm (whole-texel snapping cannot hold a warp that
+  // follows the camera still).
+  static SplitSettings from(const Params& params);
+  bool operator==(const SplitSettings&) const = default;
+};
+
 struct SplitPlan {
   std::vector<float> distances;  // C_0 .. C_m, camera view depth
   std::vector<LightView> views;  // one per split
@@ -26,15 +42,15 @@ struct SplitPlan {
 };
 
 // The light's view cropped to the camera's frustum slice [near, far] (the split crop of planSplits), fitted with
-// `marginTexels` per the "fit" parameter (map-size texels).
-LightView sliceLightView(const ShadowFrame& frame, const Params& params, float near, float far, float marginTexels);
+// `marginTexels` per --fit (map-size texels).
+LightView sliceLightView(const ShadowFrame& frame, const MapSettings& map, float near, float far, float marginTexels);
 
 // Distances from the tight camera depth range of the G-buffer (a min/max reduction, as sample-distribution shadow
 // maps do) and each split's light view: the minimum bounding square of its frustum slice in light space (crop),
 // intersected with the visible receivers and the scene, widened by `marginTexels` (the filter's reach), optionally
 // snapped; the near plane stays at the nearest caster in the scene (every caster towards the light is kept). With
 // --warp lispsm (pssm) each split gets its own LiSPSM view of its slice instead (no snapping: a usage error).
-SplitPlan planSplits(ShadowFrame& frame, const Params& params, float marginTexels);
+SplitPlan planSplits(ShadowFrame& frame, const MapSettings& map, const SplitSettings& splits, float marginTexels);
 
 // Copies `count` elements of `src` into `dst` at element `offset` (one "transfer/copy" pass); float, cl_half or
 // uint32_t (triangle ids).
@@ -53,8 +69,8 @@ struct SplitGpu {
   std::vector<PssmSplit> host;
   PssmShade shade{};
   // `blurSigma`: the moment blur's standard deviation in texels of split 0 (psvsm; 0 for pssm).
-  void upload(Context& ctx, const ShadowFrame& frame, const SplitPlan& plan, const Params& params,
-              float blurSigma = 0.0f);
+  void upload(Context& ctx, const ShadowFrame& frame, const SplitPlan& plan, const MapSettings& map,
+              const SplitSettings& splits, float blurSigma = 0.0f);
 };
 
 // Split index and resolution error AOVs of the last render ("split.Y", "resolutionError.Y").
@@ -66,8 +82,8 @@ struct SplitAovs {
 
 // resolveAutoRadius (host/techniques/shadow_map.h) on split 0's map, `depth` once drawn: a split technique's radius
 // is texels of split 0, which the farther splits scale by their zoom.
-Params resolveAutoRadiusOnSplit0(ShadowFrame& frame, const SplitPlan& plan, const Buffer<float>& depth,
-                                 const Params& params, const std::string& name);
+int resolveAutoRadiusOnSplit0(ShadowFrame& frame, const SplitPlan& plan, const Buffer<float>& depth,
+                              const MapSettings& map, const AutoRadius& radius);
 
 // "penumbra:pssm-distances", "penumbra:pssm-scheme", "penumbra:light-fit" (one entry per split).
 void recordSplits(ShadowFrame& frame, const SplitPlan& plan);

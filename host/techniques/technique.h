@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "host/cl/buffer.h"
@@ -41,13 +42,33 @@ class Technique {
   virtual void render(ShadowFrame& frame, Buffer<float>& visibility) = 0;
   // Debug channels ("blocker.Z", "moments.R", ...) from the last render, rows bottom-up like the G-buffer.
   virtual void addDebugChannels(Context& /*ctx*/, Image& /*image*/) {}
+  // Whether `params` (with `mapSize`, the frame's choice under --map-size auto) parse into this instance's settings:
+  // an instance is its typed settings, so the renderer keeps it for as long as this holds.
+  virtual bool matches(const Params& params, int mapSize) const = 0;
+};
+
+// A technique whose instance holds `Settings`, its parameters parsed once: `Settings::from(params, mapSize)` reads
+// every value it needs (and throws std::invalid_argument naming the options when they contradict each other),
+// `operator==` compares two instances' settings.
+template <class Settings>
+class TechniqueOf : public Technique {
+ public:
+  explicit TechniqueOf(Settings settings) : settings_(std::move(settings)) {}
+  bool matches(const Params& params, int mapSize) const override {
+    return Settings::from(params, mapSize) == settings_;
+  }
+
+ protected:
+  const Settings settings_;
 };
 
 struct TechniqueInfo {
   std::string name;  // --technique NAME
   std::string description;
   std::vector<ParamSpec> params;
-  std::function<std::unique_ptr<Technique>(const Params&)> create;
+  // An instance from `params` parsed into the technique's settings; `mapSize` is the frame's choice under --map-size
+  // auto (host/pipeline/map_size.h) and is ignored otherwise. Throws std::invalid_argument for contradicting values.
+  std::function<std::unique_ptr<Technique>(const Params& params, int mapSize)> create;
   // Point lights: empty when the technique shadows them, as six cube faces that it renders as spot lights
   // (host/pipeline/point_light.h); otherwise why six spot faces cannot work for it (the refusal's reason).
   std::string pointLightRefusal = {};

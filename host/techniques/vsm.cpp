@@ -5,13 +5,21 @@
 
 namespace penumbra {
 
+namespace {
+
+MomentTechniqueSpec vsmSpec() {
+  MomentTechniqueSpec spec{MomentKind::Vsm, "kernels/vsm.cl", "vsm_visibility"};
+  spec.configure = [](ShadowFrame&, const ShadowMap&, const MomentSettings& s, MomentsConfig&, MomentShade& shade) {
+    s.chebyshev.apply(shade);
+  };
+  return spec;
+}
+
+}  // namespace
+
 TechniqueInfo vsmTechnique() {
   return {"vsm", "Variance shadow maps: filtered depth moments and the one-tailed Chebyshev bound",
-          momentMapParams(chebyshevParams()), [](const Params& p) {
-            MomentTechniqueSpec spec{MomentKind::Vsm, "kernels/vsm.cl", "vsm_visibility"};
-            spec.configure = [](const Params& q, MomentsConfig&, MomentShade& s) { setChebyshevShade(q, s); };
-            return std::make_unique<MomentTechnique>(spec, p);
-          }};
+          momentMapParams(chebyshevParams()), momentTechniqueFactory(vsmSpec())};
 }
 
 }  // namespace penumbra

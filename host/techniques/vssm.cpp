@@ -15,21 +15,30 @@ namespace {
 
 enum Subdivision { kNone = 0, kUniform = 1, kAdaptive = 2, kMixed = 3 };
 
-class VarianceSoftShadows final : public Technique {
+struct VssmTechniqueSettings {
+  MapSettings map;
+  VssmSettings vssm;
+  static VssmTechniqueSettings from(const Params& params, int mapSize) {
+    return {MapSettings::from(params, mapSize), VssmSettings::from(params)};
+  }
+  bool operator==(const VssmTechniqueSettings&) const = default;
+};
+
+class VarianceSoftShadows final : public TechniqueOf<VssmTechniqueSettings> {
  public:
-  explicit VarianceSoftShadows(const Params& params) : params_(params) {}
+  using TechniqueOf::TechniqueOf;
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
-    const VssmMapConfig config = vssmMapConfig(params_);
-    renderShadowMap(frame, params_, map_, config.maxRadius);
+    const VssmMapConfig& config = settings_.vssm.maps;
+    renderShadowMap(frame, settings_.map, map_, config.maxRadius);
     const LightViewGpu& lv = map_.view.gpu;
     maps_.build(frame.ctx, map_.targets.depth, static_cast<uint32_t>(lv.width), static_cast<uint32_t>(lv.height),
                 lv.zNear, lv.zFar, config);
-    const VssmParams shade = vssmParams(params_, maps_, frame.scene.bounds().radius());
+    const VssmParams shade = vssmParams(settings_.vssm, maps_, frame.scene.bounds().radius());
     const GBuffer& g = frame.gbuffer;
     const uint32_t count = static_cast<uint32_t>(g.width) * static_cast<uint32_t>(g.height);
     debug_.allocate(frame.ctx, count);
-    const ShadeFrame frameShade = shadeFrame(frame, params_, 0, ID_BUFFER_OFF);  // no receiver plane, no ID buffer
+    const ShadeFrame frameShade = shadeFrame(frame, settings_.map, 0, ID_BUFFER_OFF);  // no receiver plane, no ID buffer
     Kernel kernel(frame.ctx, "kernels/vssm.cl", "vssm_visibility", "shade", maps_.buildOptions());
     std::visit(
         [&](const auto& sat) {
@@ -53,7 +62,6 @@ class VarianceSoftShadows final : public Technique {
   }
 
  private:
-  Params params_;
   ShadowMap map_;
   VssmMaps maps_;
   Buffer<cl_float4> debug_;
@@ -61,37 +69,46 @@ class VarianceSoftShadows final : public Technique {
 
 }  // namespace
 
-VssmMapConfig vssmMapConfig(const Params& params) {
-  VssmMapConfig config;
-  config.sat = static_cast<VssmSatMode>(params.getInt("vssm-sat"));
-  config.maxRadius = static_cast<float>(params.get("vssm-max-radius"));
-  config.treeHeight = static_cast<uint32_t>(params.getInt("vssm-levels"));
-  return config;
+VssmSettings VssmSettings::from(const Params& params) {
+  VssmSettings s;
+  s.maps.sat = static_cast<VssmSatMode>(params.getInt("vssm-sat"));
+  s.maps.maxRadius = static_cast<float>(params.get("vssm-max-radius"));
+  s.maps.treeHeight = static_cast<uint32_t>(params.getInt("vssm-levels"));
+  s.subdivision = params.getInt("vssm-subdivision");
+  s.searchDivisions = static_cast<uint32_t>(params.getInt("vssm-m"));
+  s.shadeDivisions = static_cast<uint32_t>(params.getInt("vssm-n"));
+  s.leafTaps = static_cast<uint32_t>(params.getInt("vssm-leaf-taps"));
+  s.diskStrips = static_cast<uint32_t>(params.getInt("vssm-disk-strips"));
+  s.litThreshold = params.get("vssm-lit-threshold");
+  s.contact = params.get("vssm-contact");
+  s.minVariance = static_cast<float>(params.get("vssm-min-variance"));
+  s.pGuard = static_cast<float>(params.get("vssm-p-guard"));
+  return s;
 }
 
-VssmParams vssmParams(const Params& params, const VssmMaps& maps, float sceneRadius) {
+VssmParams vssmParams(const VssmSettings& settings, const VssmMaps& maps, float sceneRadius) {
   VssmParams p{};
   p.depthNear = maps.depthNear();
   p.depthInvRange = maps.depthInvRange();
   // Sec. 6.5 compares sigma^2 with 0.0001 r. A variance is a squared depth, so we read the threshold as
   // (0.0001 r) * r: identical for r = 1 and independent of the scene's scale. Normalised like the moments.
   const double r = sceneRadius, inv = p.depthInvRange;
-  p.litVariance = static_cast<float>(params.get("vssm-lit-threshold") * r * r * inv * inv);
-  p.contactDepth = static_cast<float>(params.get("vssm-contact") * r);  // sec. 6.4: epsilon = 0.01 r
-  p.maxRadius = static_cast<float>(params.get("vssm-max-radius"));
-  p.minVariance = static_cast<float>(params.get("vssm-min-variance"));
-  const int scheme = params.getInt("vssm-subdivision");
+  p.litVariance = static_cast<float>(settings.litThreshold * r * r * inv * inv);
+  p.contactDepth = static_cast<float>(settings.contact * r);  // sec. 6.4: epsilon = 0.01 r
+  p.maxRadius = settings.maps.maxRadius;
+  p.minVariance = settings.minVariance;
+  const int scheme = settings.subdivision;
   p.searchScheme = scheme == kNone       ? VSSM_SCHEME_NONE
                    : scheme == kAdaptive ? VSSM_SCHEME_ADAPTIVE
                                          : VSSM_SCHEME_UNIFORM;
   p.shadeScheme = scheme == kNone ? VSSM_SCHEME_NONE : scheme == kUniform ? VSSM_SCHEME_UNIFORM : VSSM_SCHEME_ADAPTIVE;
-  p.searchDivisions = static_cast<uint32_t>(params.getInt("vssm-m"));
-  p.shadeDivisions = static_cast<uint32_t>(params.getInt("vssm-n"));
-  p.leafTaps = static_cast<uint32_t>(params.getInt("vssm-leaf-taps"));
+  p.searchDivisions = settings.searchDivisions;
+  p.shadeDivisions = settings.shadeDivisions;
+  p.leafTaps = settings.leafTaps;
   p.nodeCount = maps.nodeCount();
   p.pyramidLevels = maps.levelCount();
-  p.planarMaxLit = static_cast<float>(params.get("vssm-p-guard"));
-  p.diskStrips = static_cast<uint32_t>(params.getInt("vssm-disk-strips"));
+  p.planarMaxLit = settings.pGuard;
+  p.diskStrips = settings.diskStrips;
   return p;
 }
 
@@ -126,7 +143,9 @@ TechniqueInfo vssmTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
   for (ParamSpec& spec : vssmParamSpecs()) params.push_back(std::move(spec));
   return {"vssm", "Variance soft shadow mapping (SAT moments, min-max HSM, kernel subdivision) for area lights", params,
-          [](const Params& p) { return std::make_unique<VarianceSoftShadows>(p); }};
+          [](const Params& p, int mapSize) {
+            return std::make_unique<VarianceSoftShadows>(VssmTechniqueSettings::from(p, mapSize));
+          }};
 }
 
 }  // namespace penumbra

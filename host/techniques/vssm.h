@@ -1,5 +1,5 @@
-// `vssm` pieces the tests and benchmarks share with the technique: its parameters and how they become the map
-// configuration and the shading kernel's VssmParams.
+// `vssm` pieces the tests and benchmarks share with the technique: its parameters, as parsed, and how they become the
+// shading kernel's VssmParams.
 #pragma once
 
 #include <vector>
@@ -13,8 +13,20 @@ namespace penumbra {
 // vssm-subdivision, vssm-m, vssm-n, vssm-levels, vssm-leaf-taps, vssm-lit-threshold, vssm-contact,
 // vssm-max-radius, vssm-min-variance, vssm-sat (the shadow-map parameters come on top).
 std::vector<ParamSpec> vssmParamSpecs();
-VssmMapConfig vssmMapConfig(const Params& params);
+
+// vssmParamSpecs() as parsed.
+struct VssmSettings {
+  VssmMapConfig maps;  // vssm-sat, vssm-max-radius, vssm-levels
+  int subdivision = 3;  // vssm-subdivision: none, uniform, adaptive, mixed
+  uint32_t searchDivisions = 0, shadeDivisions = 0;  // vssm-m, vssm-n
+  uint32_t leafTaps = 0, diskStrips = 0;
+  double litThreshold = 0, contact = 0;  // fractions of the scene's radius (squared for the variance)
+  float minVariance = 0, pGuard = 0;
+  static VssmSettings from(const Params& params);
+  bool operator==(const VssmSettings&) const = default;
+};
+
 // The kernel's parameters for maps built by `maps`; thresholds scale with the scene's bounding-sphere radius.
-VssmParams vssmParams(const Params& params, const VssmMaps& maps, float sceneRadius);
+VssmParams vssmParams(const VssmSettings& settings, const VssmMaps& maps, float sceneRadius);
 
 }  // namespace penumbra

@@ -27,6 +27,7 @@ struct VssmMapConfig {
   VssmSatMode sat = VssmSatMode::Fixed64;
   float maxRadius = 128.0f;  // texels: the widest box looked up, which bounds fixed32's fraction bits
   uint32_t treeHeight = 3;   // H of the adaptive subdivision, 1..VSSM_MAX_LEVELS
+  bool operator==(const VssmMapConfig&) const = default;
 };
 
 // Nodes of the full quad-tree of height H in depth-first order, with Child and Next links (sec. 5.3, Fig. 5(b)).

@@ -25,31 +25,38 @@ std::vector<ParamSpec> warpParams(bool lispsmByDefault) {
   };
 }
 
-bool lispsmEnabled(const Params& params) { return params.has("warp") && params.getInt("warp") == kWarpLispsm; }
+WarpSettings WarpSettings::from(const Params& params) {
+  WarpSettings warp;
+  if (!params.has("warp")) return warp;
+  warp.declared = true;
+  warp.lispsm = params.getInt("warp") == kWarpLispsm;
+  warp.n = static_cast<float>(params.get("lispsm-n"));
+  return warp;
+}
 
-LightView fitWarpedLightView(const ShadowFrame& frame, const Params& params, int size, float marginTexels,
+LightView fitWarpedLightView(const ShadowFrame& frame, const WarpSettings& warp, int size, float marginTexels,
                              float nearDepth, float farDepth, const ReceiverBounds* receivers, LispsmFit* fit) {
-  if (!lispsmEnabled(params)) return fitLightView(frame.light, frame.scene.bounds(), size, receivers, marginTexels);
+  if (!warp.lispsm) return fitLightView(frame.light, frame.scene.bounds(), size, receivers, marginTexels);
   if (frame.camera.orthographic()) {  // LiSPSM warps towards the eye point; parallel view rays have none
     if (fit != nullptr) *fit = LispsmFit{}, fit->uniformBecause = kOrthographicFallback;
     return fitLightView(frame.light, frame.scene.bounds(), size, receivers, marginTexels);
   }
   const LispsmInput input{frame.light, frame.camera,         nearDepth,
                           farDepth,    frame.scene.bounds(), receivers,
-                          size,        marginTexels,         static_cast<float>(params.get("lispsm-n"))};
+                          size,        marginTexels,         warp.n};
   return fitLispsmView(input, fit);
 }
 
-LightView fitWarpedLightView(ShadowFrame& frame, const Params& params, int size, float marginTexels) {
-  const ReceiverBounds* receivers = params.getInt("fit") == 1 ? &frame.receivers : nullptr;
-  if (!lispsmEnabled(params)) {
-    if (params.has("warp")) frame.attributes["penumbra:warp"] = "none";  // techniques without the option: no entry
+LightView fitWarpedLightView(ShadowFrame& frame, const WarpedFit& fitted, int size, float marginTexels) {
+  const ReceiverBounds* receivers = fitted.fitReceivers ? &frame.receivers : nullptr;
+  if (!fitted.warp.lispsm) {
+    if (fitted.warp.declared) frame.attributes["penumbra:warp"] = "none";  // techniques without the option: no entry
     return fitLightView(frame.light, frame.scene.bounds(), size, receivers, marginTexels);
   }
   // The camera depth range the map serves: the visible pixels' (as pssm's splits take theirs).
   const auto [near, far] = tightViewDepth(frame.ctx, frame.gbuffer);
   LispsmFit fit;
-  LightView view = fitWarpedLightView(frame, params, size, marginTexels, near, far, receivers, &fit);
+  LightView view = fitWarpedLightView(frame, fitted.warp, size, marginTexels, near, far, receivers, &fit);
   frame.attributes["penumbra:warp"] = fit.describe();
   return view;
 }
