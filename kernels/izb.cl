@@ -250,23 +250,23 @@ static bool izb_blocks(const IzbRay* ray, uint t, __global const float* position
 // One work-item per sorted sample: its ray against every triangle listed for its cell; occluded[pixel] counts the
 // pixel's blocked samples.
 __kernel void izb_test(__global const uint* sorted, __global const uint* cellOf, __global const uint* cellStart,
-                       __global const uint* cellCount, uint cells, __global const float4* position,
+                       __global const uint* cellCount, __global const float4* position,
                        __global const float4* normal, __global const uint* pixelTriangle,
                        __global const float* positions, __global const uint* triangles, const IzbFrame f,
                        __constant const LightViewGpu* lv, __global const uint* tileCount,
                        __global const uint* tileOffset, __global const uint* tileEntries,
-                       __global const uint* alphaIndex, uint alphaTested, __global const AlphaTriangle* alphaTriangles,
+                       __global const uint* alphaIndex, __global const AlphaTriangle* alphaTriangles,
                        __global const AlphaMaterial* alphaMaterials, __global const uchar* alphaTexels,
                        __global uint* occluded) {
   const uint k = get_global_id(0);
-  if (k >= cellStart[cells - 1] + cellCount[cells - 1]) return;
+  if (k >= cellStart[f.cells - 1] + cellCount[f.cells - 1]) return;
   const uint i = sorted[k];
   IzbRay ray;
   uint pixel;
   if (!izb_ray(&f, i, position, pixelTriangle, normal, positions, triangles, lv, &ray, &pixel)) return;
   const uint cell = cellOf[i], begin = tileOffset[cell], end = begin + tileCount[cell];
   for (uint e = begin; e < end; ++e)
-    if (izb_blocks(&ray, tileEntries[e], positions, triangles, alphaIndex, alphaTested, alphaTriangles,
+    if (izb_blocks(&ray, tileEntries[e], positions, triangles, alphaIndex, f.alphaTested, alphaTriangles,
                    alphaMaterials, alphaTexels)) {
       atomic_inc(&occluded[pixel]);
       return;

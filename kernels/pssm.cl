@@ -42,7 +42,7 @@ inline float pssm_split_visibility(__global const float* maps, __global const ui
 }
 
 __kernel void pssm_visibility(__global const float4* position, __global const float4* normal,
-                              __global const float* viewDepth, __global const float* maps, int idMode,
+                              __global const float* viewDepth, __global const float* maps,
                               __global const uint* idMaps, __global const uint* objectIds,
                               __global const uint* pixelTriangle, __global const uint* pixelObject,
                               __constant const LightViewGpu* lightViews, __constant const PssmSplit* splits,
@@ -59,7 +59,7 @@ __kernel void pssm_visibility(__global const float4* position, __global const fl
   float3 n = normal[i].xyz;
   float z = viewDepth[i];
   int split = pssm_quad_split(position, viewDepth, splits, s, i), inside = 1;
-  PssmIds ids = {idMode, id_pixel(pixelTriangle, i, idMode), id_pixel(pixelObject, i, idMode)};
+  PssmIds ids = {s.idMode, id_pixel(pixelTriangle, i, s.idMode), id_pixel(pixelObject, i, s.idMode)};
   float lit = pssm_split_visibility(maps, idMaps, objectIds, lightViews, splits, s, ids, split, p.xyz, n, &inside);
   if (!inside) {  // a quad across a depth discontinuity: this pixel lies outside the quad's split
     split = pssm_split_of(splits, s.splits, z);

@@ -79,9 +79,10 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
     f.sceneRadius = frame.scene.triangles.empty() ? 0.0f : frame.scene.bounds().radius();
     f.width = static_cast<uint32_t>(g.width), f.height = static_cast<uint32_t>(g.height);
     f.samples = samples_, f.pattern = izb_pattern_offset(samples_);
+    f.cells = cells;
 
     const raster::SceneBuffers& scene = frame.raster.deviceScene();
-    const uint32_t alphaTested = scene.materials.alphaTested ? 1u : 0u;
+    f.alphaTested = scene.materials.alphaTested ? 1u : 0u;
     Kernel bin(ctx, "kernels/izb.cl", "izb_bin", "izb"), scanBlocks(ctx, "kernels/izb.cl", "izb_scan_blocks", "izb");
     Kernel scanSums(ctx, "kernels/izb.cl", "izb_scan_sums", "izb"),
         scanAdd(ctx, "kernels/izb.cl", "izb_scan_add", "izb");
@@ -105,8 +106,8 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
       grid.raster.tileMask = &cellCount_;
       const RasterTileLists lists = frame.raster.drawTileLists(grid.raster);
       entries += lists.entryCount;
-      test.args(sorted_, cellOf_, cellStart_, cellCount_, cells, g.position, g.normal, g.triangleId, scene.positions,
-                scene.triangles, f, gpu_, *lists.count, *lists.offset, *lists.entries, scene.alphaIndex, alphaTested,
+      test.args(sorted_, cellOf_, cellStart_, cellCount_, g.position, g.normal, g.triangleId, scene.positions,
+                scene.triangles, f, gpu_, *lists.count, *lists.offset, *lists.entries, scene.alphaIndex,
                 scene.alphaTriangles, scene.alphaMaterials, scene.alphaTexels, occluded_)
           .moves(count * 8)
           .launch(count, kPixelGroup);

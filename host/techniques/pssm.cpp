@@ -45,6 +45,7 @@ class ParallelSplit final : public TechniqueOf<PssmSettings> {
     });
     gpu_.upload(ctx, frame, plan, set.map, set.splits);
     gpu_.shade.radius = radius;
+    gpu_.shade.idMode = idMode;
     recordSplits(frame, plan);
 
     const GBuffer& g = frame.gbuffer;
@@ -52,7 +53,7 @@ class ParallelSplit final : public TechniqueOf<PssmSettings> {
     aovs_.allocate(ctx, pixels);
     Kernel kernel(ctx, "kernels/pssm.cl", "pssm_visibility", "shade");
     kernel
-        .args(g.position, g.normal, g.depth, atlas_, idMode, idAtlas_, frame.raster.objectIds(), g.triangleId,
+        .args(g.position, g.normal, g.depth, atlas_, idAtlas_, frame.raster.objectIds(), g.triangleId,
               g.objectId, gpu_.views, gpu_.splits, gpu_.shade, visibility, aovs_.split,
               aovs_.resolutionError)
         .moves(pixels * (kVisibilityBytesPerPixel + 4 + 8))  // + camera depth read, split and error AOVs written

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "host/cl/buffer.h"
+#include "host/cl/buffer_copy.h"
 #include "host/views/splits.h"
 #include "host/techniques/shadow_map.h"
 #include "host/techniques/warp.h"
@@ -51,11 +52,6 @@ LightView sliceLightView(const ShadowFrame& frame, const MapSettings& map, float
 // snapped; the near plane stays at the nearest caster in the scene (every caster towards the light is kept). With
 // --warp lispsm (pssm) each split gets its own LiSPSM view of its slice instead (no snapping: a usage error).
 SplitPlan planSplits(ShadowFrame& frame, const MapSettings& map, const SplitSettings& splits, float marginTexels);
-
-// Copies `count` elements of `src` into `dst` at element `offset` (one "transfer/copy" pass); float, cl_half or
-// uint32_t (triangle ids).
-template <class T>
-void copyInto(Context& ctx, const Buffer<T>& src, Buffer<T>& dst, size_t offset, size_t count);
 
 // Draws every split's depth map (split s into `targets`, then tightens its zNear to the nearest caster drawn) and
 // hands it to `each(s, depth)` before the next split reuses the targets.

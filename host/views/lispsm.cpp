@@ -30,7 +30,7 @@ double texelAt(const glm::dmat4& P, int size, const glm::dvec3& e) {
   return std::max(glm::length(gu), glm::length(gv)) / std::abs(gu.x * gv.y - gu.y * gv.x);
 }
 
-struct Range {
+struct Extent {
   double lo = INFINITY, hi = -INFINITY;
   void grow(double v) { lo = std::min(lo, v), hi = std::max(hi, v); }
   double center() const { return 0.5 * (lo + hi); }
@@ -82,7 +82,7 @@ Axes lightSpaceAxes(const glm::dmat4& eye, const Camera& camera) {
 // convex body are at its vertices.
 struct Warp {
   double n, depthB, sc, tc;
-  Range s, t, xw, zw;
+  Extent s, t, xw, zw;
 };
 
 // B's ranges along the axes; depthB at least minExtent.
@@ -239,7 +239,7 @@ SpotAxes spotAxes(const LispsmInput& in, const SpotBody& body, const glm::dmat4&
 double perWorldUnit(const SpotBody& body, const SpotAxes& s, double depthB, double minWorld) {
   if (!(s.axes.sinGamma > 1e-9)) return depthB / minWorld;  // n is clamped to the uniform limit anyway
   const glm::dvec3 axis = glm::normalize(s.view - glm::dot(s.view, s.ray) * s.ray);
-  Range t;
+  Extent t;
   for (const glm::dvec3& p : body.world) t.grow(glm::dot(axis, p));
   return depthB / std::max(t.hi - t.lo, minWorld);
 }

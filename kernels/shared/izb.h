@@ -28,10 +28,12 @@ typedef struct {
   int pattern;              // first pattern entry (izb_pattern_offset)
   uint pixelBegin;          // first pixel of this chunk
   uint sampleCount;         // samples of this chunk: pixels * samples
+  uint cells;               // cells of the light grid
+  uint alphaTested;         // 1 when the scene has alpha-tested casters (their texels are looked up), else 0
 } IzbFrame;
 
 #if PENUMBRA_HOST
-static_assert(sizeof(IzbFrame) == 92, "IzbFrame layout must match OpenCL C");
+static_assert(sizeof(IzbFrame) == 100, "IzbFrame layout must match OpenCL C");
 #endif
 
 // Sub-pixel sample offsets from the pixel centre, in pixels, x then y, for 1, 4, 8 and 32 samples per pixel (the

@@ -27,12 +27,14 @@ typedef struct PssmShade {
   float blend;         // blend band: the last `blend` fraction of a split's depth range fades into the next; 0 = off
   float bias, slopeBias, normalOffset;  // ShadowBias, texel footprints of the split used
   int radius;                           // pssm: PCF radius in texels of split 0; 0 = one hard comparison
-  float pad0, pad1;
+  int idMode;                           // pssm: ID_BUFFER_* (kernels/shared/id_buffer.h)
+  float pad0;
 } PssmShade;
 
 #if PENUMBRA_HOST
 static_assert(sizeof(PssmSplit) == 32, "PssmSplit layout is shared with OpenCL C");
-static_assert(sizeof(PssmShade) == 48 && offsetof(PssmShade, blend) == 20, "PssmShade layout is shared with OpenCL C");
+static_assert(sizeof(PssmShade) == 48 && offsetof(PssmShade, blend) == 20 && offsetof(PssmShade, idMode) == 40,
+              "PssmShade layout is shared with OpenCL C");
 #else
 #include "kernels/shared/moment_map.h"
 
