@@ -108,7 +108,7 @@ std::vector<BenchRow> exampleRows() {
   total.bytes = 0;
   total.floorMs.reset();
   ErrorMetrics m;
-  m.pixels = 10, m.mae = 0.125, m.leak = 0.5;
+  m.pixels = 10, m.mae = 0.125, m.leak = 0.5, m.penumbraMae = 0.25, m.penumbraPixels = 4;
   total.metrics = m;
   return {pass, total};
 }
@@ -131,13 +131,14 @@ TEST(BenchReport, CsvHasTheColumnsAndQuotesFields) {
   ASSERT_EQ(lines.size(), 3u);
   EXPECT_EQ(lines[0],
             "scene,technique,setting,pass,calls,ms,bytes,floor_ms,mae,rmse,p95,max,off,leak,false_shadow,umbra_light,"
-            "mean_signed,pixels,width,height,runs,copy_gbps,device,parameters,light");
+            "mean_signed,pixels,width,height,runs,copy_gbps,device,parameters,light,penumbra_mae,penumbra_pixels,"
+            "bytes_per_pixel");
   EXPECT_EQ(lines[1],
             "builtin:box,pcf,map-size=512,shade/pcf_visibility,1,2.5,3600,0.25,,,,,,,,,,,64,32,3,2,"
-            "\"Device, v1\",\"bias=1, \"\"x\"\"\",Key");
+            "\"Device, v1\",\"bias=1, \"\"x\"\"\",Key,,,1.7578125");  // 3600 bytes over 64 x 32 pixels
   EXPECT_EQ(lines[2],
             "builtin:box,pcf,map-size=512,total,1,2.5,,,0.125,0,0,0,0,0.5,0,0,0,10,64,32,3,2,"
-            "\"Device, v1\",\"bias=1, \"\"x\"\"\",Key");
+            "\"Device, v1\",\"bias=1, \"\"x\"\"\",Key,0.25,4,");
 }
 
 TEST(BenchReport, JsonCarriesMetaAndTheSameRows) {

@@ -185,6 +185,8 @@ expect compare-outside 1 "FAIL: mae" -- "$bin" compare "$scratch/box.exr" "$scra
 expect compare-json 0 '"false_shadow"' -- "$bin" compare --json "$scratch/box.exr" "$scratch/ref.exr"
 expect compare-json-umbra 0 '"umbra_light"' -- "$bin" compare --json "$scratch/box.exr" "$scratch/ref.exr"
 expect compare-umbra-limit 0 'umbra_light' -- "$bin" compare "$scratch/box.exr" "$scratch/ref.exr" --max-umbra-light 1
+expect compare-json-penumbra 0 '"penumbra_pixels"' -- "$bin" compare --json "$scratch/box.exr" "$scratch/ref.exr" \
+  --max-penumbra-mae 1
 expect compare-json-fail 1 '"pass": false' -- "$bin" compare --json "$scratch/box.exr" "$scratch/ref.exr" --max-rmse 0
 expect compare-error-image 0 "PASS" -- "$bin" compare "$scratch/box.exr" "$scratch/ref.exr" --error-image "$scratch/err/err.exr"
 if [ ! -s "$scratch/err/err.exr" ] || [ ! -s "$scratch/err/err.png" ]; then

@@ -54,6 +54,26 @@ TEST(Metrics, UmbraLightIsAShareOfTheUmbra) {
   EXPECT_EQ(lit.umbraLight, 0.0);  // no umbra: nothing let in
 }
 
+// The penumbra MAE is over the pixels whose reference lies strictly between 0 and 1, where soft shadows differ; the lit
+// and umbra pixels (reference exactly 1 or 0) count in `mae` only, and the coverage still applies.
+TEST(Metrics, PenumbraMaeIsOverThePenumbraPixelsOnly) {
+  const std::vector<float> ref = {0.0f, 1.0f, 0.25f, 0.5f, 0.999f, 0.75f};
+  const std::vector<float> ours = {0.5f, 0.5f, 0.5f, 0.5f, 1.0f, 0.0f};
+  const std::vector<float> coverage = {1, 1, 1, 1, 1, 0};
+  const ErrorMetrics m = computeErrorMetrics(ours, ref, coverage);
+  EXPECT_EQ(m.penumbraPixels, 3u);                                 // 0.25, 0.5, 0.999 (0.75 is not covered)
+  EXPECT_NEAR(m.penumbraMae, (0.25 + 0.0 + 0.001) / 3.0, 1e-7);   // float 0.999's error, within its rounding
+  EXPECT_DOUBLE_EQ(m.mae, (0.5 + 0.5 + 0.25 + 0.0 + (1.0 - double(0.999f))) / 5.0);
+  MetricThresholds limits;
+  limits.penumbraMae = 0.05;
+  const std::vector<std::string> failed = exceededThresholds(m, limits);
+  ASSERT_EQ(failed.size(), 1u);
+  EXPECT_EQ(failed[0].rfind("penumbra-mae 0.0836", 0), 0u) << failed[0];
+  const ErrorMetrics hard = computeErrorMetrics(std::vector<float>{1.0f, 0.0f}, std::vector<float>{0.0f, 1.0f});
+  EXPECT_EQ(hard.penumbraPixels, 0u);
+  EXPECT_EQ(hard.penumbraMae, 0.0);  // no penumbra: nothing to get wrong there
+}
+
 TEST(Metrics, PercentileIsNearestRank) {
   std::vector<float> ours(100), ref(100, 0.0f);
   for (int i = 0; i < 100; ++i) ours[i] = static_cast<float>(100 - i) / 128.0f;  // |e| = 1/128 .. 100/128, shuffled

@@ -41,6 +41,7 @@ ErrorMetrics computeErrorMetrics(std::span<const float> ours, std::span<const fl
   absolute.reserve(ours.size());
   double sumAbs = 0, sumSq = 0, sum = 0;
   size_t off = 0, leak = 0, falseShadow = 0, umbraLight = 0;
+  double penumbraAbs = 0;
   for (size_t i = 0; i < ours.size(); ++i) {
     if (!covered(coverage, i)) continue;
     const double a = ours[i], r = reference[i];
@@ -57,6 +58,7 @@ ErrorMetrics computeErrorMetrics(std::span<const float> ours, std::span<const fl
     falseShadow += r > kShadowReference && a < kShadowOurs;
     m.umbraPixels += r < kUmbraReference;
     umbraLight += r < kUmbraReference && a > kUmbraOurs;
+    if (r > 0.0 && r < 1.0) ++m.penumbraPixels, penumbraAbs += std::abs(e);
   }
   m.pixels = absolute.size();
   if (m.pixels == 0) return m;
@@ -67,6 +69,7 @@ ErrorMetrics computeErrorMetrics(std::span<const float> ours, std::span<const fl
   m.off = static_cast<double>(off) / n;
   m.leak = static_cast<double>(leak) / n;
   m.falseShadow = static_cast<double>(falseShadow) / n;
+  if (m.penumbraPixels > 0) m.penumbraMae = penumbraAbs / static_cast<double>(m.penumbraPixels);
   if (m.umbraPixels > 0) m.umbraLight = static_cast<double>(umbraLight) / static_cast<double>(m.umbraPixels);
   m.p95 = percentile(absolute, 0.95);
   return m;
@@ -96,6 +99,7 @@ std::vector<std::string> exceededThresholds(const ErrorMetrics& metrics, const M
   check("false-shadow", metrics.falseShadow, limits.falseShadow);
   check("umbra-light", metrics.umbraLight, limits.umbraLight);
   check("bias", std::abs(metrics.meanSigned), limits.bias);
+  check("penumbra-mae", metrics.penumbraMae, limits.penumbraMae);
   return failed;
 }
 

@@ -38,6 +38,11 @@ struct ErrorMetrics {
   double umbraLight = 0;
   size_t umbraPixels = 0;  // covered pixels with reference < kUmbraReference
   double meanSigned = 0;   // mean e (> 0: ours too bright on average)
+  // Mean |e| over the penumbra pixels only (reference strictly between 0 and 1; 0 when there are none): the error
+  // where soft-shadow techniques differ, which the fully lit and umbra pixels every technique gets right dilute in
+  // `mae`.
+  double penumbraMae = 0;
+  size_t penumbraPixels = 0;
 };
 
 // `coverage` may be empty (every pixel counts); else a pixel counts when coverage > 0. Throws
@@ -52,6 +57,7 @@ std::vector<float> signedError(std::span<const float> ours, std::span<const floa
 // Upper limits; a metric without one is not checked.
 struct MetricThresholds {
   std::optional<double> mae, rmse, p95, maxAbs, off, leak, falseShadow, umbraLight, bias;  // bias: |meanSigned|
+  std::optional<double> penumbraMae;
 };
 
 // One line per metric over its limit ("mae 0.031 > 0.02"); a non-finite pixel is always a failure. Empty: pass.

@@ -147,16 +147,19 @@ void writeOutputs(const BenchOptions& o, const BenchMeta& meta, const std::vecto
 void printSummary(const BenchMeta& meta, const std::vector<BenchRow>& rows) {
   fmt::print("{}: {}x{}, median of {} runs after {} warm-up; copy bandwidth {:.2f} GB/s\n", meta.device, meta.width,
              meta.height, meta.runs, meta.warmup, meta.copyBytesPerSecond * 1e-9);
-  fmt::print("  {:<8} {:<28} {:<10} {:>10} {:>10} {:>9} {:>9} {:>9} {:>9}\n", "technique", "setting", "light", "ms",
-             "floor ms", "mae", "leak", "false sh.", "umbra");
+  fmt::print("  {:<8} {:<28} {:<10} {:>10} {:>10} {:>8} {:>9} {:>9} {:>9} {:>9} {:>9}\n", "technique", "setting",
+             "light", "ms", "floor ms", "B/pixel", "mae", "pen. mae", "leak", "false sh.", "umbra");
   for (const BenchRow& r : rows) {
     if (r.pass != kTotalPass) continue;
     const auto metric = [&](double ErrorMetrics::*m) {
       return r.metrics ? fmt::format("{:.5f}", (*r.metrics).*m) : std::string("-");
     };
-    fmt::print("  {:<8} {:<28} {:<10} {:>10.3f} {:>10} {:>9} {:>9} {:>9} {:>9}\n", r.technique, r.setting, r.light,
-               r.ms, r.floorMs ? fmt::format("{:.3f}", *r.floorMs) : "-", metric(&ErrorMetrics::mae),
-               metric(&ErrorMetrics::leak), metric(&ErrorMetrics::falseShadow), metric(&ErrorMetrics::umbraLight));
+    const double pixels = static_cast<double>(meta.width) * meta.height;
+    fmt::print("  {:<8} {:<28} {:<10} {:>10.3f} {:>10} {:>8} {:>9} {:>9} {:>9} {:>9} {:>9}\n", r.technique, r.setting,
+               r.light, r.ms, r.floorMs ? fmt::format("{:.3f}", *r.floorMs) : "-",
+               r.bytes > 0 && pixels > 0 ? fmt::format("{:.0f}", static_cast<double>(r.bytes) / pixels) : "-",
+               metric(&ErrorMetrics::mae), metric(&ErrorMetrics::penumbraMae), metric(&ErrorMetrics::leak),
+               metric(&ErrorMetrics::falseShadow), metric(&ErrorMetrics::umbraLight));
   }
 }
 

@@ -109,7 +109,8 @@ std::vector<Row> rows(const ErrorMetrics& m, const MetricThresholds& l) {
           {"leak", m.leak, l.leak},
           {"false_shadow", m.falseShadow, l.falseShadow},
           {"umbra_light", m.umbraLight, l.umbraLight},
-          {"mean_signed", m.meanSigned, l.bias}};
+          {"mean_signed", m.meanSigned, l.bias},
+          {"penumbra_mae", m.penumbraMae, l.penumbraMae}};
 }
 
 void printJson(const CompareOptions& o, const Image& ref, const ErrorMetrics& m,
@@ -122,6 +123,7 @@ void printJson(const CompareOptions& o, const Image& ref, const ErrorMetrics& m,
   nlohmann::json out = {{"ours", o.ours},        {"reference", o.reference},  {"channel", o.spec.channel},
                         {"width", ref.width()},  {"height", ref.height()},    {"mask", o.masked ? o.spec.mask : ""},
                         {"pixels", m.pixels},    {"non_finite", m.nonFinite}, {"umbra_pixels", m.umbraPixels},
+                        {"penumbra_pixels", m.penumbraPixels},
                         {"metrics", metrics},    {"thresholds", limits},      {"failed", failed},
                         {"pass", failed.empty()}};
   if (noise) out["reference_stderr"] = {{"mean", noise->mean}, {"rms", noise->rms}};
@@ -224,6 +226,8 @@ Command addCompareCommand(CLI::App& app) {
   addThreshold(sub, "umbra-light", o->limits.umbraLight,
                "Of the umbra pixels (reference < 0.02), the fraction where ours > 0.1");
   addThreshold(sub, "bias", o->limits.bias, "Absolute mean signed error");
+  addThreshold(sub, "penumbra-mae", o->limits.penumbraMae,
+               "Mean absolute error over the penumbra pixels (reference strictly between 0 and 1)");
   return {sub, [o, sub] {
             o->coverageGiven = sub->count("--coverage") > 0;
             return run(*o);

@@ -14,10 +14,12 @@ Cells cells(const BenchMeta& meta, const BenchRow& r) {
     if (!r.metrics) return std::nullopt;
     return (*r.metrics).*field;
   };
-  std::optional<nlohmann::json> pixels;
-  if (r.metrics) pixels = r.metrics->pixels;
-  std::optional<nlohmann::json> bytes, floor;
+  std::optional<nlohmann::json> pixels, penumbraPixels;
+  if (r.metrics) pixels = r.metrics->pixels, penumbraPixels = r.metrics->penumbraPixels;
+  std::optional<nlohmann::json> bytes, floor, bytesPerPixel;
   if (r.bytes > 0) bytes = r.bytes;
+  if (r.bytes > 0 && meta.width > 0 && meta.height > 0)
+    bytesPerPixel = static_cast<double>(r.bytes) / (static_cast<double>(meta.width) * meta.height);
   if (r.floorMs) floor = *r.floorMs;
   return {{"scene", r.scene},
           {"technique", r.technique},
@@ -43,7 +45,10 @@ Cells cells(const BenchMeta& meta, const BenchRow& r) {
           {"copy_gbps", meta.copyBytesPerSecond * 1e-9},
           {"device", meta.device},
           {"parameters", r.parameters},
-          {"light", r.light}};
+          {"light", r.light},
+          {"penumbra_mae", metric(&ErrorMetrics::penumbraMae)},
+          {"penumbra_pixels", penumbraPixels},
+          {"bytes_per_pixel", bytesPerPixel}};
 }
 
 std::string csvText(const nlohmann::json& value) {

@@ -34,8 +34,8 @@ struct BenchMeta {
   bool masked = false;    // metrics restricted to the reference's lit.Y mask
 };
 
-// The CSV's columns, in order (the chart and table scripts read them by name; "light" came last, after
-// "parameters", so older readers by position keep working).
+// The CSV's columns, in order (the chart and table scripts read them by name; "light", then "penumbra_mae",
+// "penumbra_pixels" and "bytes_per_pixel" came last, after "parameters", so older readers by position keep working).
 const std::vector<std::string>& benchCsvColumns();
 
 // Quotes a field when it holds a comma, a quote or a line break (quotes doubled).
