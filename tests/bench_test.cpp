@@ -110,6 +110,7 @@ std::vector<BenchRow> exampleRows() {
   ErrorMetrics m;
   m.pixels = 10, m.mae = 0.125, m.leak = 0.5, m.penumbraMae = 0.25, m.penumbraPixels = 4;
   total.metrics = m;
+  total.wallMs = 12.5, total.firstWallMs = 480;
   return {pass, total};
 }
 
@@ -132,13 +133,13 @@ TEST(BenchReport, CsvHasTheColumnsAndQuotesFields) {
   EXPECT_EQ(lines[0],
             "scene,technique,setting,pass,calls,ms,bytes,floor_ms,mae,rmse,p95,max,off,leak,false_shadow,umbra_light,"
             "mean_signed,pixels,width,height,runs,copy_gbps,device,parameters,light,penumbra_mae,penumbra_pixels,"
-            "bytes_per_pixel");
+            "bytes_per_pixel,wall_ms,first_wall_ms");
   EXPECT_EQ(lines[1],
             "builtin:box,pcf,map-size=512,shade/pcf_visibility,1,2.5,3600,0.25,,,,,,,,,,,64,32,3,2,"
-            "\"Device, v1\",\"bias=1, \"\"x\"\"\",Key,,,1.7578125");  // 3600 bytes over 64 x 32 pixels
+            "\"Device, v1\",\"bias=1, \"\"x\"\"\",Key,,,1.7578125,,");  // 3600 bytes over 64 x 32 pixels
   EXPECT_EQ(lines[2],
             "builtin:box,pcf,map-size=512,total,1,2.5,,,0.125,0,0,0,0,0.5,0,0,0,10,64,32,3,2,"
-            "\"Device, v1\",\"bias=1, \"\"x\"\"\",Key,0.25,4,");
+            "\"Device, v1\",\"bias=1, \"\"x\"\"\",Key,0.25,4,,12.5,480");
 }
 
 TEST(BenchReport, JsonCarriesMetaAndTheSameRows) {
@@ -152,6 +153,8 @@ TEST(BenchReport, JsonCarriesMetaAndTheSameRows) {
   EXPECT_EQ(j["rows"][0]["bytes"], 3600);
   EXPECT_TRUE(j["rows"][1]["floor_ms"].is_null());
   EXPECT_DOUBLE_EQ(j["rows"][1]["mae"].get<double>(), 0.125);
+  EXPECT_DOUBLE_EQ(j["rows"][1]["first_wall_ms"].get<double>(), 480.0);
+  EXPECT_TRUE(j["rows"][0]["wall_ms"].is_null());  // pass rows have no wall time
   EXPECT_EQ(j["rows"][1].size(), benchCsvColumns().size());
 }
 

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <chrono>
 #include <filesystem>
 #include <memory>
 #include <sstream>
@@ -112,8 +113,14 @@ std::optional<Image> loadReference(const BenchOptions& o, Context& ctx, const Sc
   return std::move(result.image);
 }
 
+// Host wall times of one setting's frames: every timed run's and the first frame's.
+struct WallTimes {
+  std::vector<double> runs;
+  std::optional<double> first;
+};
+
 void addRows(const BenchOptions& o, const Job& job, const Light& light, const RunSummary& summary, double bandwidth,
-             const std::optional<ErrorMetrics>& metrics, std::vector<BenchRow>& rows) {
+             const std::optional<ErrorMetrics>& metrics, const WallTimes& walls, std::vector<BenchRow>& rows) {
   BenchRow base{o.view.scene, job.technique->name, job.setting.label, job.params.describe(), {}, 0, 0, 0, {},
                 {},           lightLayer(light)};
   for (const PassSummary& pass : summary.passes) {
@@ -127,6 +134,8 @@ void addRows(const BenchOptions& o, const Job& job, const Light& light, const Ru
   for (const PassSummary& pass : summary.passes) total.calls += pass.calls;
   total.floorMs = bandwidthFloorMs(summary.totalBytes, bandwidth);
   total.metrics = metrics;
+  if (!walls.runs.empty()) total.wallMs = median(walls.runs);
+  total.firstWallMs = walls.first;
   rows.push_back(std::move(total));
 }
 
@@ -147,17 +156,20 @@ void writeOutputs(const BenchOptions& o, const BenchMeta& meta, const std::vecto
 void printSummary(const BenchMeta& meta, const std::vector<BenchRow>& rows) {
   fmt::print("{}: {}x{}, median of {} runs after {} warm-up; copy bandwidth {:.2f} GB/s\n", meta.device, meta.width,
              meta.height, meta.runs, meta.warmup, meta.copyBytesPerSecond * 1e-9);
-  fmt::print("  {:<8} {:<28} {:<10} {:>10} {:>10} {:>8} {:>9} {:>9} {:>9} {:>9} {:>9}\n", "technique", "setting",
-             "light", "ms", "floor ms", "B/pixel", "mae", "pen. mae", "leak", "false sh.", "umbra");
+  fmt::print("  {:<8} {:<28} {:<10} {:>10} {:>10} {:>8} {:>10} {:>10} {:>9} {:>9} {:>9} {:>9} {:>9}\n", "technique",
+             "setting", "light", "ms", "floor ms", "B/pixel", "wall ms", "1st wall", "mae", "pen. mae", "leak",
+             "false sh.", "umbra");
   for (const BenchRow& r : rows) {
     if (r.pass != kTotalPass) continue;
     const auto metric = [&](double ErrorMetrics::*m) {
       return r.metrics ? fmt::format("{:.5f}", (*r.metrics).*m) : std::string("-");
     };
     const double pixels = static_cast<double>(meta.width) * meta.height;
-    fmt::print("  {:<8} {:<28} {:<10} {:>10.3f} {:>10} {:>8} {:>9} {:>9} {:>9} {:>9} {:>9}\n", r.technique, r.setting,
-               r.light, r.ms, r.floorMs ? fmt::format("{:.3f}", *r.floorMs) : "-",
+    const auto wall = [](const std::optional<double>& ms) { return ms ? fmt::format("{:.1f}", *ms) : std::string("-"); };
+    fmt::print("  {:<8} {:<28} {:<10} {:>10.3f} {:>10} {:>8} {:>10} {:>10} {:>9} {:>9} {:>9} {:>9} {:>9}\n",
+               r.technique, r.setting, r.light, r.ms, r.floorMs ? fmt::format("{:.3f}", *r.floorMs) : "-",
                r.bytes > 0 && pixels > 0 ? fmt::format("{:.0f}", static_cast<double>(r.bytes) / pixels) : "-",
+               wall(r.wallMs), wall(r.firstWallMs),
                metric(&ErrorMetrics::mae), metric(&ErrorMetrics::penumbraMae), metric(&ErrorMetrics::leak),
                metric(&ErrorMetrics::falseShadow), metric(&ErrorMetrics::umbraLight));
   }
@@ -205,6 +217,7 @@ int run(const BenchOptions& o) {
     std::string label;
     std::unique_ptr<Renderer> own;
     std::vector<std::vector<PassTime>> runs;
+    WallTimes walls;
     RenderResult last;
     bool failed = false;
   };
@@ -230,10 +243,13 @@ int run(const BenchOptions& o) {
     if (cell.failed || stop.requested()) return;
     try {
       Renderer& renderer = cell.own ? *cell.own : shared;
+      const auto start = std::chrono::steady_clock::now();
       cell.last = isReferenceTechnique(*cell.job->technique)
                       ? traceFrame(ctx, scene, camera, *cell.light, cell.job->params)
                       : renderer.render(camera, *cell.light, *cell.job->technique, cell.job->params);
-      if (i >= o.warmup) cell.runs.push_back(cell.last.passes);
+      const double wall = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      if (!cell.walls.first) cell.walls.first = wall;
+      if (i >= o.warmup) cell.runs.push_back(cell.last.passes), cell.walls.runs.push_back(wall);
     } catch (const std::exception& e) {  // one failing setting must not lose the others' measurements
       fmt::print(stderr, "bench: {} failed: {}\n", cell.label, e.what());
       failed.push_back(cell.label);
@@ -247,7 +263,7 @@ int run(const BenchOptions& o) {
     if (cell.failed || cell.runs.empty()) return;  // a stop before its first timed run: nothing measured
     std::optional<ErrorMetrics> metrics;
     if (ref) metrics = compareImages(cell.last.image, *ref, lightSpec(spec, *cell.light, lights.size()));
-    addRows(o, *cell.job, *cell.light, summariseRuns(cell.runs), copy.bytesPerSecond, metrics, rows);
+    addRows(o, *cell.job, *cell.light, summariseRuns(cell.runs), copy.bytesPerSecond, metrics, cell.walls, rows);
     cell.last = {};
     cell.own.reset();
   };

@@ -48,7 +48,9 @@ Cells cells(const BenchMeta& meta, const BenchRow& r) {
           {"light", r.light},
           {"penumbra_mae", metric(&ErrorMetrics::penumbraMae)},
           {"penumbra_pixels", penumbraPixels},
-          {"bytes_per_pixel", bytesPerPixel}};
+          {"bytes_per_pixel", bytesPerPixel},
+          {"wall_ms", r.wallMs ? std::optional<nlohmann::json>(*r.wallMs) : std::nullopt},
+          {"first_wall_ms", r.firstWallMs ? std::optional<nlohmann::json>(*r.firstWallMs) : std::nullopt}};
 }
 
 std::string csvText(const nlohmann::json& value) {

@@ -24,6 +24,10 @@ struct BenchRow {
   std::optional<double> floorMs;        // bytes / copy bandwidth
   std::optional<ErrorMetrics> metrics;  // total rows, when a reference was compared
   std::string light;                    // the light's layer (light_names.h lightLayer): rows per light of the frame
+  // Total rows: host wall time of a frame, from the render call to its results on the host: the median over the timed
+  // runs (steady frames), and the setting's first frame (warm-up or not), which also pays the program builds and
+  // buffer allocations a steady frame reuses.
+  std::optional<double> wallMs, firstWallMs;
 };
 
 struct BenchMeta {
@@ -35,7 +39,8 @@ struct BenchMeta {
 };
 
 // The CSV's columns, in order (the chart and table scripts read them by name; "light", then "penumbra_mae",
-// "penumbra_pixels" and "bytes_per_pixel" came last, after "parameters", so older readers by position keep working).
+// "penumbra_pixels", "bytes_per_pixel", "wall_ms" and "first_wall_ms" came last, after "parameters", so older readers
+// by position keep working).
 const std::vector<std::string>& benchCsvColumns();
 
 // Quotes a field when it holds a comma, a quote or a line break (quotes doubled).
