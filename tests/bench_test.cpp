@@ -3,6 +3,9 @@
 // the profiler collects, Renderer reuse across frames, and the lit.Y mask and its effect on compareImages().
 #include <gtest/gtest.h>
 
+#include <map>
+#include <set>
+
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -80,6 +83,24 @@ TEST(Sweep, ExpandsOnlyTheParametersATechniqueHas) {
   EXPECT_THROW(checkSweeps({parseSweep("pcf-radius=1")}, {&sm}), std::invalid_argument);
   EXPECT_THROW(checkSweeps({parseSweep("bias=1"), parseSweep("bias=2")}, {&sm}), std::invalid_argument);
   EXPECT_NO_THROW(checkSweeps(sweeps, {&sm, &pcf}));
+}
+
+// "default" holds the parameter at the technique's own default: auto for pcf's map size, 2048 for pssm's.
+TEST(Sweep, DefaultHoldsTheTechniquesOwnValue) {
+  const Sweep sizes = parseSweep("map-size=default,512");
+  for (const char* name : {"pcf", "pssm"}) {
+    const std::vector<Setting> s = expandSweeps(findTechnique(name), {sizes});
+    ASSERT_EQ(s.size(), 2u) << name;
+    EXPECT_EQ(s[0].label, "map-size=default") << name;
+    EXPECT_TRUE(s[0].values.empty()) << name;
+    EXPECT_EQ(s[0].defaults, std::set<std::string>{"map-size"}) << name;
+    EXPECT_EQ(s[1].values.at("map-size"), "512") << name;
+    EXPECT_TRUE(s[1].defaults.empty()) << name;
+  }
+  const std::vector<Setting> zipped = expandSweeps(findTechnique("pcf"), {parseSweep("pcf-radius+map-size=2+default")});
+  ASSERT_EQ(zipped.size(), 1u);
+  EXPECT_EQ(zipped[0].values, (std::map<std::string, std::string>{{"pcf-radius", "2"}}));
+  EXPECT_EQ(zipped[0].defaults, std::set<std::string>{"map-size"});
 }
 
 TEST(Sweep, MovesSeveralParametersTogether) {

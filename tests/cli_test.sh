@@ -263,6 +263,16 @@ else
   echo "SKIP chart: matplotlib is missing for $python (apt-get install python3-matplotlib)"
 fi
 expect accuracy-table 0 "wrote" -- "$python" "$tools/accuracy_table.py" "$scratch/accuracy.md" "$scratch/box.csv"
+# The default beside fixed map sizes in one run (--sweep map-size=default,...; the cached reference), then the table of
+# whether each default sits on its technique's front.
+expect bench-sweep-default 0 "map-size=default" -- "$bin" bench builtin:box --size 48x32 --map-size 64 --spp 4 --runs 1 \
+  --warmup 0 --techniques sm --sweep map-size=default,64,128 -o "$scratch/bench/bench.csv"
+cp "$scratch/bench/bench.csv" "$scratch/front.csv" 2>/dev/null
+expect default-front 0 "wrote .* of 1 defaults on their front" -- "$python" "$tools/default_front.py" \
+  "$scratch/front.md" "$scratch/front.csv"
+expect default-front-row 0 "^\| builtin:box \| 48x32 \| light0 \| sm \| auto \|" -- cat "$scratch/front.md"
+expect default-front-none 1 "no technique has both" -- "$python" "$tools/default_front.py" "$scratch/x.md" \
+  "$scratch/box.csv"
 expect accuracy-table-row 0 "^\| pcf \| pcf-radius=1 \|" -- cat "$scratch/accuracy.md"
 # The Luksch sec. 10 comparison end to end on one tiny scene: references, bench per camera and config, table.
 expect luksch-eval 0 "" -- "$python" "$tools/luksch_eval.py" "$bin" "$scratch/luksch" --size 32x18 --map-size 64 \

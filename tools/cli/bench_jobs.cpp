@@ -52,6 +52,7 @@ std::vector<BenchJob> planBenchJobs(const BenchOptions& options) {
     std::vector<std::string> skipped;
     for (Setting& setting : expandSweeps(*technique, sweeps, &skipped)) {
       ParamValues values = options.params;
+      for (const std::string& name : setting.defaults) values.erase(name);
       for (const auto& [name, value] : setting.values) values[name] = value;
       Params params = techniqueParams(*technique, values, false);
       jobs.push_back({technique, std::move(setting), std::move(params)});

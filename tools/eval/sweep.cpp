@@ -61,7 +61,12 @@ std::vector<Setting> expandSweeps(const TechniqueInfo& technique, const std::vec
       for (const std::string& value : sweep.values) {
         Setting s = base;
         const std::vector<std::string> parts = split(value, '+');
-        for (size_t k = 0; k < parts.size(); ++k) s.values[sweep.names[k]] = parts[k];
+        for (size_t k = 0; k < parts.size(); ++k) {
+          if (parts[k] == kSweepDefault)
+            s.defaults.insert(sweep.names[k]);
+          else
+            s.values[sweep.names[k]] = parts[k];
+        }
         s.label += (s.label.empty() ? "" : " ") + sweep.param + "=" + value;
         next.push_back(std::move(s));
       }

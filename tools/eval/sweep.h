@@ -5,6 +5,7 @@
 #pragma once
 
 #include <map>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -23,8 +24,14 @@ struct Sweep {
 // naming the text when a name or a value is empty, there is no '=', or a value has the wrong number of parts.
 Sweep parseSweep(std::string_view text);
 
+// A sweep value "default" holds its parameter at the technique's own default (auto for --map-size where the
+// technique has it, its fixed size otherwise), over any value given as an option: the default beside fixed values in
+// one interleaved run.
+inline constexpr const char* kSweepDefault = "default";
+
 struct Setting {
   std::map<std::string, std::string> values;  // swept parameter -> value for this setting
+  std::set<std::string> defaults;             // swept parameters held at the technique's default (kSweepDefault)
   std::string label;                          // "map-size=512 blur-radius=1" in sweep order; "default" when none
 };
 

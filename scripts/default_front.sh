@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Regenerates docs/default-front.md: whether each technique's default map size sits on its own speed-vs-error front.
+# Per scene and frame size, one interleaved `penumbra bench --sweep map-size=default,<fixed sizes>` run against an
+# Embree reference (cached in out/front/), then tools/default_front.py over the CSVs. The whole matrix (every
+# technique, sizes 256..8192, three frame sizes) takes hours on a 2-core PoCL machine and minutes on a GPU; the
+# environment narrows it.
+# Environment: PENUMBRA (a built tool; default: build with scripts/setup.sh and use $BUILD_DIR/tools/penumbra),
+# SCENES (space-separated; default: scenes/*.json and the built-in scenes), SIZES ("480x270 1280x720 1920x1080"),
+# MAP_SIZES (256,512,1024,2048,4096,8192), TECHNIQUES (all), SPP (256), RUNS (3), WARMUP (1), OUT (docs/default-front.md).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+SIZES=${SIZES:-480x270 1280x720 1920x1080}
+MAP_SIZES=${MAP_SIZES:-256,512,1024,2048,4096,8192}
+TECHNIQUES=${TECHNIQUES:-all}
+SPP=${SPP:-256}
+RUNS=${RUNS:-3}
+WARMUP=${WARMUP:-1}
+OUT=${OUT:-docs/default-front.md}
+read -r -a SCENE_LIST <<<"${SCENES:-$(echo scenes/*.json) builtin:box builtin:staircase builtin:stacked-planes builtin:poles builtin:cards}"
+PYTHON=${PYTHON:-$([ -x /usr/bin/python3 ] && echo /usr/bin/python3 || echo python3)}
+
+if [ -z "${PENUMBRA:-}" ]; then
+  ./scripts/setup.sh -DPENUMBRA_BUILD_BENCHMARKS=OFF
+  PENUMBRA=${BUILD_DIR:-build}/tools/penumbra
+fi
+export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$(dirname "$PENUMBRA")/../pocl-cache}
+
+mkdir -p out/front
+csvs=()
+for scene in "${SCENE_LIST[@]}"; do
+  for size in $SIZES; do
+    name=$(basename "$scene" .json | tr ':' '-')-$size
+    echo "default_front: $scene at $size"
+    "$PENUMBRA" bench "$scene" --size "$size" --techniques "$TECHNIQUES" --sweep "map-size=default,$MAP_SIZES" \
+      --interleave --runs "$RUNS" --warmup "$WARMUP" --spp "$SPP" --quiet -o "out/front/$name.csv" >/dev/null
+    csvs+=("out/front/$name.csv")
+  done
+done
+command="SCENES=\"${SCENE_LIST[*]}\" SIZES=\"$SIZES\" MAP_SIZES=$MAP_SIZES TECHNIQUES=$TECHNIQUES ./scripts/default_front.sh"
+"$PYTHON" tools/default_front.py "$OUT" "${csvs[@]}" --command "$command"
