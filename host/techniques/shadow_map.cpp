@@ -23,7 +23,7 @@ constexpr int kMapSizeFixed = 2048;
 std::vector<ParamSpec> shadowMapParams() {
   ParamSpec mapSize{"map-size", 0, 16, 8192,
                     "Shadow-map width and height in texels, or auto: the size the camera's pixels need "
-                    "(--map-size-quantile of them get a texel per pixel), a power of two within "
+                    "(--map-size-quantile of them get a texel per pixel), rounded up to a multiple of 128 within "
                     "--map-size-min..--map-size-max"};
   mapSize.autoName = "auto";  // autoValue 0: the default
   return {

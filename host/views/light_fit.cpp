@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "host/cl/kernel.h"
+#include "raster/constants.h"
 #include "host/scene/camera.h"
 
 namespace penumbra {
@@ -114,9 +115,11 @@ MapSizeNeed neededMapSize(Context& ctx, const GBuffer& gbuffer, std::span<const 
   if (need.pixels == 0) return need;
   // The bin at which the running count reaches the quantile; its upper edge is the size.
   need.needed = std::exp2(static_cast<double>(quantileBin(bins, quantile) + 1) / kSizeBinsPerOctave);
-  int size = 1;
-  while (size < maxSize && size < need.needed) size *= 2;
-  need.size = std::clamp(size, minSize, maxSize);
+  // Up to a whole number of the rasterizer's bins, not to a power of two: a need of 2233 draws 2304^2 texels, not
+  // 4096^2 (3.2 times as many).
+  static_assert(kMapSizeStep == 1 << RASTER_BIN_PIXEL_LOG2, "auto sizes are whole rasterizer bins");
+  const double steps = std::ceil(std::min(need.needed, static_cast<double>(maxSize)) / kMapSizeStep);
+  need.size = std::clamp(static_cast<int>(steps) * kMapSizeStep, minSize, maxSize);
   return need;
 }
 

@@ -32,10 +32,13 @@ glm::mat4 lightEyeMatrix(const Light& light, const Bounds& scene);
 // Box of the covered G-buffer pixels seen from `lightEye`. Launch "fit/fit_receivers_partial".
 ReceiverBounds reduceReceivers(Context& ctx, const GBuffer& gbuffer, const glm::mat4& lightEye, bool perspective);
 
+// Auto map sizes are whole numbers of the rasterizer's 128-texel bins (RASTER_BIN_PIXEL_LOG2).
+inline constexpr int kMapSizeStep = 128;
+
 // The map size the camera's pixels need (`--map-size auto`): per covered pixel, the size at which its shorter screen
 // step to an on-plane neighbour spans one texel of the first of `views` whose map holds it (Luksch sec. 7, eq. 5, the
 // measure of pssm's resolutionError; a directional or spot light's one view, or a point light's six cube faces, each
-// fitted at any size); `size` is the `quantile` of those over the pixels, rounded up to a power of two within
+// fitted at any size); `size` is the `quantile` of those over the pixels, rounded up to a multiple of kMapSizeStep within
 // [minSize, maxSize]. Launch "fit/fit_size_partial" (a histogram of 8 bins an octave, so `needed` is within 9 % above
 // the exact quantile).
 struct MapSizeNeed {
