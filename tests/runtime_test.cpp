@@ -126,8 +126,8 @@ TEST(RuntimeSources, ResolvesIncludesFromTheEmbeddedTable) {
   EXPECT_THROW(resolveKernelSource("kernels/does_not_exist.cl"), std::runtime_error);
 }
 
-// The probe kernels (tests/kernels/) are the test program's own table: the library ships none of them, they resolve
-// the library's includes, and no name may be embedded twice.
+// The probe kernels (tests/kernels/) are a table the tests add to their contexts: the library ships none of them, they
+// resolve the library's includes, and no name may be embedded twice.
 TEST(RuntimeSources, ProbeKernelsAreATableOfTheTestsNotOfTheLibrary) {
   for (const EmbeddedSource& source : embeddedSources()) {
     EXPECT_FALSE(source.name.starts_with("tests/")) << source.name;
@@ -135,12 +135,13 @@ TEST(RuntimeSources, ProbeKernelsAreATableOfTheTestsNotOfTheLibrary) {
                               "shadow_depth_slope_test"})
       EXPECT_EQ(source.text.find(probe), std::string_view::npos) << source.name << " holds the probe " << probe;
   }
-  const std::string probe = resolveKernelSource("tests/kernels/vssm_probe.cl");
+  EXPECT_THROW(resolveKernelSource("tests/kernels/vssm_probe.cl"), std::runtime_error);  // not the library's
+  const std::string probe = resolveKernelSource("tests/kernels/vssm_probe.cl", {probeKernelSources()});
   EXPECT_NE(probe.find("vssm_visibility_receivers"), std::string::npos);
   EXPECT_NE(probe.find("vssm_pixel"), std::string::npos);  // kernels/vssm.cl, from the library's table
   const EmbeddedSource twice[] = {{"kernels/fill.cl", "__kernel void shadowing() {}"}};
-  EXPECT_THROW(addEmbeddedSources(twice), std::logic_error);
-  EXPECT_NE(resolveKernelSource("kernels/fill.cl").find("fill_float"), std::string::npos);  // still the library's
+  EXPECT_THROW(checkNewSources(twice, {}), std::logic_error);
+  EXPECT_THROW(checkNewSources(probeKernelSources(), {probeKernelSources()}), std::logic_error);
 }
 
 // PENUMBRA_KERNEL_DIR: every source and include must be in the folder; nothing falls back to the embedded copy.
@@ -174,6 +175,13 @@ TEST(RuntimeSources, KernelDirMissingFileNamesTheFolderAndTheFile) {
 }
 
 class Runtime : public ClTest {};
+
+TEST_F(Runtime, ProbeKernelsBuildOnlyInContextsTheyWereAddedTo) {
+  Kernel(ctx(), "tests/kernels/runtime_probe.cl", "fill_local_test", "test");  // the fixture added them
+  Context bare;
+  EXPECT_THROW(Kernel(bare, "tests/kernels/runtime_probe.cl", "fill_local_test", "test"), std::runtime_error);
+  EXPECT_THROW(ctx().addSources(probeKernelSources()), std::logic_error);  // once per context
+}
 
 TEST_F(Runtime, ProgramCacheBuildsOnce) {
   const size_t before = ctx().programsBuilt();

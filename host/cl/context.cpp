@@ -136,12 +136,18 @@ std::string Context::buildOptions(const std::string& options) const {
   return all;
 }
 
+void Context::addSources(std::span<const EmbeddedSource> table) {
+  std::lock_guard lock(mutex_);
+  checkNewSources(table, sources_);
+  sources_.push_back(table);
+}
+
 const cl::Program& Context::program(const std::string& sourceName, const std::string& options) {
   std::lock_guard lock(mutex_);
   const std::string all = buildOptions(options);
   auto key = std::make_tuple(sourceName, all);
   if (auto it = programs_.find(key); it != programs_.end()) return *it->second;
-  const std::string source = resolveKernelSource(sourceName);
+  const std::string source = resolveKernelSource(sourceName, sources_);
   auto program = std::make_unique<cl::Program>(buildProgram(sourceName, source, all, fnv1a64(source)));
   return *programs_.emplace(key, std::move(program)).first->second;
 }

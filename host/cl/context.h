@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "host/cl/device.h"
+#include "host/cl/embedded_sources.h"
 
 namespace penumbra {
 
@@ -44,6 +45,9 @@ class Context {
   // stored on disk, keyed by the source hash, options, platform, device and driver version.
   // Throws BuildError with the build log on failure.
   const cl::Program& program(const std::string& sourceName, const std::string& options = {});
+  // Sources this context's programs may also be built from, searched after the library's table: the tests' and
+  // benchmarks' probe kernels (tests/kernels/). Throws std::logic_error for a name already known.
+  void addSources(std::span<const EmbeddedSource> table);
 
   // Options every program gets: -cl-std=CL1.2, feature macros
   // (PENUMBRA_HAS_FP64, PENUMBRA_HAS_INT64_ATOMICS) and the caller's options.
@@ -76,6 +80,7 @@ class Context {
   cl::CommandQueue queue_;
   std::mutex mutex_;
   std::map<std::tuple<std::string, std::string>, std::unique_ptr<cl::Program>> programs_;
+  SourceTables sources_;  // addSources()
   size_t programsBuilt_ = 0;
   bool ownsQueue_ = true;
   class Profiler* profiler_ = nullptr;

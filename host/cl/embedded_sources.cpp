@@ -7,7 +7,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <mutex>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -38,29 +37,16 @@ std::optional<std::string> readOverride(std::string_view name) {
   return text.str();
 }
 
-// Tables added by the program (addEmbeddedSources), searched after the library's.
-struct AddedTables {
-  std::mutex mutex;
-  std::vector<std::span<const EmbeddedSource>> tables;
-};
-
-AddedTables& addedTables() {
-  static AddedTables added;
-  return added;
-}
-
 const EmbeddedSource* find(std::span<const EmbeddedSource> table, std::string_view name) {
   for (const EmbeddedSource& source : table)
     if (source.name == name) return &source;
   return nullptr;
 }
 
-std::string lookup(std::string_view name) {
+std::string lookup(std::string_view name, const SourceTables& more) {
   if (auto text = readOverride(name)) return *text;
   if (const EmbeddedSource* source = find(embeddedSources(), name)) return std::string(source->text);
-  AddedTables& added = addedTables();
-  const std::lock_guard<std::mutex> lock(added.mutex);
-  for (std::span<const EmbeddedSource> table : added.tables)
+  for (std::span<const EmbeddedSource> table : more)
     if (const EmbeddedSource* source = find(table, name)) return std::string(source->text);
   throw std::runtime_error(fmt::format("OpenCL source '{}' is not embedded in this build", name));
 }
@@ -77,10 +63,11 @@ std::optional<std::string> includeTarget(std::string_view line) {
   return std::string(line.substr(open + 1, close - open - 1));
 }
 
-void append(std::string_view name, std::set<std::string>& seen, std::string& out, int depth) {
+void append(std::string_view name, const SourceTables& more, std::set<std::string>& seen, std::string& out,
+            int depth) {
   if (depth > 16) throw std::runtime_error(fmt::format("OpenCL source '{}': includes nest too deep", name));
   if (!seen.insert(std::string(name)).second) return;
-  const std::string text = lookup(name);
+  const std::string text = lookup(name, more);
   std::istringstream lines(text);
   std::string line;
   int number = 0;
@@ -88,7 +75,7 @@ void append(std::string_view name, std::set<std::string>& seen, std::string& out
   while (std::getline(lines, line)) {
     ++number;
     if (auto target = includeTarget(line)) {
-      append(*target, seen, out, depth + 1);
+      append(*target, more, seen, out, depth + 1);
       out += fmt::format("#line {} \"{}\"\n", number + 1, name);
     } else {
       out += line;
@@ -99,21 +86,18 @@ void append(std::string_view name, std::set<std::string>& seen, std::string& out
 
 }  // namespace
 
-void addEmbeddedSources(std::span<const EmbeddedSource> table) {
-  AddedTables& added = addedTables();
-  const std::lock_guard<std::mutex> lock(added.mutex);
+void checkNewSources(std::span<const EmbeddedSource> table, const SourceTables& tables) {
   for (const EmbeddedSource& source : table) {
     bool taken = find(embeddedSources(), source.name) != nullptr;
-    for (std::span<const EmbeddedSource> other : added.tables) taken = taken || find(other, source.name) != nullptr;
+    for (std::span<const EmbeddedSource> other : tables) taken = taken || find(other, source.name) != nullptr;
     if (taken) throw std::logic_error(fmt::format("OpenCL source '{}' is embedded twice", source.name));
   }
-  added.tables.push_back(table);
 }
 
-std::string resolveKernelSource(std::string_view name) {
+std::string resolveKernelSource(std::string_view name, const SourceTables& more) {
   std::set<std::string> seen;
   std::string out;
-  append(name, seen, out, 0);
+  append(name, more, seen, out, 0);
   return out;
 }
 

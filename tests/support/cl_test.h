@@ -9,12 +9,16 @@
 #include <gtest/gtest.h>
 
 #include "host/cl/context.h"
+#include "tests/kernels/probes.h"
 
 namespace penumbra::test {
 
 class ClTest : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { context_ = std::make_unique<Context>(); }
+  static void SetUpTestSuite() {
+    context_ = std::make_unique<Context>();
+    withProbeKernels(*context_);
+  }
   static void TearDownTestSuite() { context_.reset(); }
   static Context& ctx() { return *context_; }
 
@@ -32,7 +36,9 @@ inline std::unique_ptr<Context> smallGpuContext(const Context& like, uint64_t lo
   DeviceInfo info = like.info();
   info.localMemBytes = std::min<uint64_t>(info.deviceLocalMemBytes, localBytes);
   info.layouts = "gpu";
-  return std::make_unique<Context>(info);
+  auto ctx = std::make_unique<Context>(info);
+  withProbeKernels(*ctx);
+  return ctx;
 }
 
 // A value no kernel writes by accident: outputs are filled with it before a launch, so an unwritten

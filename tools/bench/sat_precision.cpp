@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/kernels/probes.h"
 #include "host/cl/buffer.h"
 #include "host/cl/context.h"
 #include "host/cl/kernel.h"
@@ -110,6 +111,7 @@ int main(int argc, char** argv) {
   }
   try {
     penumbra::Context ctx(device);
+    penumbra::withProbeKernels(ctx);
     return penumbra::report(ctx);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "sat_precision: %s\n", e.what());
