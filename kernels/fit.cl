@@ -94,17 +94,19 @@ __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_depth_p
 // pixel's screen steps to on-plane neighbours, projected into the first of `viewCount` views whose map holds the
 // pixel, measured in that map's texels (sc_footprint); the shorter step s says one texel per pixel takes a map
 // width / s texels wide. Bin floor(log2(width / s) * FIT_SIZE_BINS_PER_OCTAVE), clamped to the histogram; pixels with
-// no on-plane neighbour, behind the light or outside every map are not counted. Per group:
-// partial[g * FIT_SIZE_BINS + b] = count of bin b.
+// no on-plane neighbour, behind the light or outside every map are not counted. Only the pixels on a grid of `stride`
+// (every stride-th column of every stride-th row, from (0, 0)) are measured, each against its own neighbours. Per
+// group: partial[g * FIT_SIZE_BINS + b] = count of bin b.
 __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_size_partial(
-    __global const float4* position, __global const float4* normal, uint width, uint height, uint chunk,
+    __global const float4* position, __global const float4* normal, uint width, uint height, uint stride, uint chunk,
     __constant const LightViewGpu* views, uint viewCount, __global uint* partial) {
   __local uint bins[FIT_SIZE_BINS];
   const uint lid = get_local_id(0);
   fit_bins_clear(bins, FIT_SIZE_BINS);
-  const uint count = width * height;
+  const uint columns = (width + stride - 1) / stride, count = columns * ((height + stride - 1) / stride);
   const uint begin = get_group_id(0) * chunk, end = min(begin + chunk, count);
-  for (uint i = begin + lid; i < end; i += FIT_GROUP) {
+  for (uint k = begin + lid; k < end; k += FIT_GROUP) {
+    const uint i = (k / columns) * stride * width + (k % columns) * stride;
     float4 p = position[i];
     if (p.w == 0.0f) continue;
     int view = -1;

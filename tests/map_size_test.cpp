@@ -73,8 +73,8 @@ glm::vec3 project(const LightView& lv, const cl_float4& p) {  // lv_project on t
 
 // The measure on the host: per pixel inside the map, the shorter of the steps to the +1 (else -1) neighbours in x
 // and y that are surfaces (all on the one plane here), in texels; the bins of log2(width / step); the quantile's
-// upper bin edge.
-double referenceNeed(const Grid& g, const LightView& lv, double quantile) {
+// upper bin edge. `stride`: only the pixels on that grid are measured (sizeSampleStride).
+double referenceNeed(const Grid& g, const LightView& lv, double quantile, int stride = 1) {
   auto usable = [&](int i) {
     const cl_float4& p = g.position[i];
     if (p.s[3] == 0.0f || !std::isfinite(p.s[0])) return false;
@@ -89,8 +89,8 @@ double referenceNeed(const Grid& g, const LightView& lv, double quantile) {
   };
   std::vector<double> bins(128, 0.0);
   double total = 0;
-  for (int y = 0; y < g.height; ++y)
-    for (int x = 0; x < g.width; ++x) {
+  for (int y = 0; y < g.height; y += stride)
+    for (int x = 0; x < g.width; x += stride) {
       const int i = y * g.width + x;
       if (!usable(i)) continue;
       float lx = x + 1 < g.width ? step(i, i + 1) : 0.0f;
@@ -125,6 +125,25 @@ TEST_F(MapSize, QuantilesMatchTheHostReference) {
       last = need.needed;
     }
     EXPECT_GT(last, 2 * referenceNeed(grid, lv, 0.1)) << spec << ": the spacing varies, so do the needs";
+  }
+}
+
+// A frame of more than 4 x 65536 pixels is measured on a grid (stride 2 here, 5 at 1920x1080), each sample against its
+// own neighbours: the same quantiles as the host's measure on that grid.
+TEST_F(MapSize, LargeFramesAreMeasuredOnASampleGrid) {
+  EXPECT_EQ(sizeSampleStride(511 * 511), 1u);
+  EXPECT_EQ(sizeSampleStride(512 * 512), 2u);
+  EXPECT_EQ(sizeSampleStride(1920 * 1080), 5u);
+  const Grid grid = groundGrid(801, 401);  // odd sizes: the last row and column are sampled
+  ASSERT_EQ(sizeSampleStride(801 * 401), 2u);
+  const GBuffer g = upload(ctx(), grid);
+  const Bounds bounds{{0, 0, 0}, {460, 0.5f, 201}};  // the whole grid
+  const LightView lv = fitLightView(parseLight("dir:0.3,-1,0.2"), bounds, 512);
+  for (double q : {0.1, 0.9}) {
+    const MapSizeNeed need = neededMapSize(ctx(), g, std::span<const LightViewGpu>(&lv.gpu, 1), q, 16, 1 << 16);
+    EXPECT_EQ(need.needed, referenceNeed(grid, lv, q, 2)) << q;
+    EXPECT_LE(need.pixels, 401u * 201u);  // one pixel in four
+    EXPECT_GT(need.pixels, 401u * 201u / 2);
   }
 }
 

@@ -63,6 +63,10 @@ glm::mat4 lightEyeMatrix(const Light& light, const Bounds& sceneBounds) {
   return glm::lookAt(center - axis * (2.0f * radius), center, chooseUp(axis));
 }
 
+uint32_t sizeSampleStride(size_t pixels) {
+  return static_cast<uint32_t>(std::max(1.0, std::floor(std::sqrt(static_cast<double>(pixels) / kSizeSamples))));
+}
+
 ReceiverBounds reduceReceivers(Context& ctx, const GBuffer& gbuffer, const glm::mat4& lightEye, bool perspective) {
   ReceiverBounds bounds;
   const size_t count = static_cast<size_t>(gbuffer.width) * static_cast<size_t>(gbuffer.height);
@@ -98,8 +102,10 @@ MapSizeNeed neededMapSize(Context& ctx, const GBuffer& gbuffer, std::span<const 
     throw std::invalid_argument("neededMapSize: quantile outside (0, 1] or an empty size range");
   MapSizeNeed need;
   need.size = minSize;
-  const size_t count = static_cast<size_t>(gbuffer.width) * static_cast<size_t>(gbuffer.height);
-  if (count == 0) return need;
+  const size_t pixels = static_cast<size_t>(gbuffer.width) * static_cast<size_t>(gbuffer.height);
+  if (pixels == 0) return need;
+  const uint32_t stride = sizeSampleStride(pixels);
+  const size_t count = ((gbuffer.width + stride - 1) / stride) * ((gbuffer.height + stride - 1) / stride);
   const uint32_t chunk = chunkFor(count);
   const size_t groups = (count + chunk - 1) / chunk;
   Buffer<uint32_t> partial(ctx, groups * kSizeBins);
@@ -107,8 +113,9 @@ MapSizeNeed neededMapSize(Context& ctx, const GBuffer& gbuffer, std::span<const 
   Kernel kernel(ctx, "kernels/fit.cl", "fit_size_partial", "fit");
   kernel
       .args(gbuffer.position, gbuffer.normal, static_cast<uint32_t>(gbuffer.width),
-            static_cast<uint32_t>(gbuffer.height), chunk, viewBuffer, static_cast<uint32_t>(views.size()), partial)
-      .moves(count * 2 * sizeof(cl_float4))  // floor: read every position and normal once
+            static_cast<uint32_t>(gbuffer.height), stride, chunk, viewBuffer, static_cast<uint32_t>(views.size()),
+            partial)
+      .moves(count * 4 * sizeof(cl_float4))  // floor: each sample's position and normal, two neighbours' positions
       .launch(groups * kFitGroup, kFitGroup);
   const Histogram bins = sumPartials(partial.download(ctx), kSizeBins);
   need.pixels = bins.total;
