@@ -12,6 +12,12 @@
 #define FIT_PENUMBRA_BINS 128  // log2 of a penumbra half-width in texels in [-8, 8), FIT_SIZE_BINS_PER_OCTAVE an octave
 #define FIT_PENUMBRA_LOG2_MIN (-8)
 
+// Sample k of a width x height frame measured on a grid of `stride` (every stride-th column of every stride-th row,
+// from (0, 0)): its pixel index. `columns` = ceil(width / stride).
+inline uint fit_sample_pixel(uint k, uint width, uint stride, uint columns) {
+  return (k / columns) * stride * width + (k % columns) * stride;
+}
+
 // Min (lo) and max (hi) over the work-group; valid in every work-item afterwards.
 inline void fit_group_minmax(float4* lo, float4* hi, __local float4* los, __local float4* his) {
   const uint lid = get_local_id(0);
@@ -106,7 +112,7 @@ __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_size_pa
   const uint columns = (width + stride - 1) / stride, count = columns * ((height + stride - 1) / stride);
   const uint begin = get_group_id(0) * chunk, end = min(begin + chunk, count);
   for (uint k = begin + lid; k < end; k += FIT_GROUP) {
-    const uint i = (k / columns) * stride * width + (k % columns) * stride;
+    const uint i = fit_sample_pixel(k, width, stride, columns);
     float4 p = position[i];
     if (p.w == 0.0f) continue;
     int view = -1;
@@ -135,20 +141,22 @@ __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_size_pa
 // FIT_PENUMBRA_DISTANCE the occluder's distance in front of the receiver (light depth) over `unit`. Bin
 // floor((log2(value) - FIT_PENUMBRA_LOG2_MIN) * FIT_SIZE_BINS_PER_OCTAVE), clamped to the histogram (0, an occluder
 // touching its receiver, in bin 0); background, back-facing pixels (shadowed by their own surface), pixels outside the
-// map or behind the light, and lit pixels are not counted. Per group: partial[g * FIT_PENUMBRA_BINS + b] = count of b.
+// map or behind the light, and lit pixels are not counted. Only the pixels on a grid of `stride` are measured
+// (fit_sample_pixel). Per group: partial[g * FIT_PENUMBRA_BINS + b] = count of b.
 #define FIT_PENUMBRA_HALF_WIDTH 0
 #define FIT_PENUMBRA_DISTANCE 1
 __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_penumbra_partial(
-    __global const float4* position, __global const float4* normal, uint width, uint height, uint chunk,
+    __global const float4* position, __global const float4* normal, uint width, uint height, uint stride, uint chunk,
     __global const float* map, __constant const LightViewGpu* lv, float biasConstant, float biasSlope,
     float normalOffset, int measure, float unit, __global uint* partial) {
   __local uint bins[FIT_PENUMBRA_BINS];
   const uint lid = get_local_id(0);
   fit_bins_clear(bins, FIT_PENUMBRA_BINS);
-  const uint count = width * height;
+  const uint columns = (width + stride - 1) / stride, count = columns * ((height + stride - 1) / stride);
   const uint begin = get_group_id(0) * chunk, end = min(begin + chunk, count);
   const ShadowBias bias = {biasConstant, biasSlope, normalOffset};
-  for (uint i = begin + lid; i < end; i += FIT_GROUP) {
+  for (uint k = begin + lid; k < end; k += FIT_GROUP) {
+    const uint i = fit_sample_pixel(k, width, stride, columns);
     float4 p = position[i];
     float3 n = normal[i].xyz;
     if (p.w == 0.0f || !(dot(n, lv_to_light(lv, p.xyz)) > 0.0f)) continue;

@@ -73,7 +73,7 @@ glm::vec3 project(const LightView& lv, const cl_float4& p) {  // lv_project on t
 
 // The measure on the host: per pixel inside the map, the shorter of the steps to the +1 (else -1) neighbours in x
 // and y that are surfaces (all on the one plane here), in texels; the bins of log2(width / step); the quantile's
-// upper bin edge. `stride`: only the pixels on that grid are measured (sizeSampleStride).
+// upper bin edge. `stride`: only the pixels on that grid are measured (fitSampleStride).
 double referenceNeed(const Grid& g, const LightView& lv, double quantile, int stride = 1) {
   auto usable = [&](int i) {
     const cl_float4& p = g.position[i];
@@ -131,11 +131,11 @@ TEST_F(MapSize, QuantilesMatchTheHostReference) {
 // A frame of more than 4 x 65536 pixels is measured on a grid (stride 2 here, 5 at 1920x1080), each sample against its
 // own neighbours: the same quantiles as the host's measure on that grid.
 TEST_F(MapSize, LargeFramesAreMeasuredOnASampleGrid) {
-  EXPECT_EQ(sizeSampleStride(511 * 511), 1u);
-  EXPECT_EQ(sizeSampleStride(512 * 512), 2u);
-  EXPECT_EQ(sizeSampleStride(1920 * 1080), 5u);
+  EXPECT_EQ(fitSampleStride(511 * 511), 1u);
+  EXPECT_EQ(fitSampleStride(512 * 512), 2u);
+  EXPECT_EQ(fitSampleStride(1920 * 1080), 5u);
   const Grid grid = groundGrid(801, 401);  // odd sizes: the last row and column are sampled
-  ASSERT_EQ(sizeSampleStride(801 * 401), 2u);
+  ASSERT_EQ(fitSampleStride(801 * 401), 2u);
   const GBuffer g = upload(ctx(), grid);
   const Bounds bounds{{0, 0, 0}, {460, 0.5f, 201}};  // the whole grid
   const LightView lv = fitLightView(parseLight("dir:0.3,-1,0.2"), bounds, 512);
@@ -280,6 +280,21 @@ double referenceQuantile(std::vector<double> widths, double quantile) {
 
 class PenumbraWidthTest : public test::ClTest {};
 
+// Occluders in front of the ground at a distance that varies over `lv`'s map; every 5th texel empty, every 7th NaN, a
+// band of texels behind the receivers (lit).
+std::vector<float> syntheticOccluders(const LightView& lv) {
+  const size_t texels = size_t{lv.gpu.width} * lv.gpu.height;
+  std::vector<float> map(texels);
+  for (size_t i = 0; i < texels; ++i) {
+    const float x = static_cast<float>(i % lv.gpu.width) / lv.gpu.width;
+    const float y = static_cast<float>(i / lv.gpu.width) / lv.gpu.height;
+    map[i] = i % 5 == 0   ? INFINITY
+             : i % 7 == 0 ? std::numeric_limits<float>::quiet_NaN()
+                          : lv.gpu.zNear + (lv.gpu.zFar - lv.gpu.zNear) * (0.1f + 0.8f * x * y);
+  }
+  return map;
+}
+
 TEST_F(PenumbraWidthTest, QuantilesMatchTheHostReferenceUnderASunAndASpot) {
   Grid grid = groundGrid(131, 37);                                // not a multiple of the work-group
   grid.normal[4 * grid.width + 9] = {{0.0f, -1.0f, 0.0f, 1.0f}};  // back-facing: not counted
@@ -289,17 +304,7 @@ TEST_F(PenumbraWidthTest, QuantilesMatchTheHostReferenceUnderASunAndASpot) {
     LightView lv = fitLightView(parseLight(spec), bounds, 256);
     lv.gpu.lightSize = lv.gpu.kind == LIGHT_KIND_SPOT ? 1.0f : 0.02f;  // a spot of radius 1, a sun of tan 0.02
     const Buffer<LightViewGpu> view(ctx(), std::span<const LightViewGpu>(&lv.gpu, 1), CL_MEM_READ_ONLY);
-    // Occluders in front of the ground at a distance that varies over the map; every 5th texel empty, every 7th NaN,
-    // a band of texels behind the receivers (lit).
-    const size_t texels = size_t{lv.gpu.width} * lv.gpu.height;
-    std::vector<float> map(texels);
-    for (size_t i = 0; i < texels; ++i) {
-      const float x = static_cast<float>(i % lv.gpu.width) / lv.gpu.width;
-      const float y = static_cast<float>(i / lv.gpu.width) / lv.gpu.height;
-      map[i] = i % 5 == 0   ? INFINITY
-               : i % 7 == 0 ? std::numeric_limits<float>::quiet_NaN()
-                            : lv.gpu.zNear + (lv.gpu.zFar - lv.gpu.zNear) * (0.1f + 0.8f * x * y);
-    }
+    const std::vector<float> map = syntheticOccluders(lv);
     const Buffer<float> depth(ctx(), std::span<const float>(map));
     std::vector<double> widths;
     for (size_t i = 0; i < grid.position.size(); ++i) {
@@ -333,6 +338,34 @@ TEST_F(PenumbraWidthTest, QuantilesMatchTheHostReferenceUnderASunAndASpot) {
       EXPECT_LE(d.distance, referenceQuantile(distances, q) * bin) << spec << " q " << q;
     }
     EXPECT_THROW(measureOccluderDistance(ctx(), g, depth, view, {0, 0, 0}, 0.5, 0.0f), std::invalid_argument);
+  }
+}
+
+// Above 4 x 65536 pixels the penumbra histogram is measured on the same sample grid as the map size's need (stride 2
+// here): the host reference over those pixels, within a bin.
+TEST_F(PenumbraWidthTest, LargeFramesAreMeasuredOnASampleGrid) {
+  const Grid grid = groundGrid(801, 401);
+  ASSERT_EQ(fitSampleStride(grid.position.size()), 2u);
+  const GBuffer g = upload(ctx(), grid);
+  LightView lv = fitLightView(parseLight("dir:0.3,-1,0.2"), Bounds{{0, 0, 0}, {460, 0.5f, 201}}, 256);
+  lv.gpu.lightSize = 0.02f;
+  const Buffer<LightViewGpu> view(ctx(), std::span<const LightViewGpu>(&lv.gpu, 1), CL_MEM_READ_ONLY);
+  const std::vector<float> map = syntheticOccluders(lv);
+  const Buffer<float> depth(ctx(), std::span<const float>(map));
+  std::vector<double> widths;
+  for (int y = 0; y < grid.height; y += 2)
+    for (int x = 0; x < grid.width; x += 2) {
+      const size_t i = static_cast<size_t>(y) * grid.width + x;
+      const double h = referenceHalfWidth(lv, map, grid.position[i], grid.normal[i]);
+      if (h >= 0) widths.push_back(h);
+    }
+  ASSERT_GT(widths.size(), 10000u);
+  const double bin = std::exp2(1.0 / kBinsPerOctave);
+  for (double q : {0.05, 0.5}) {
+    const PenumbraWidth w = measurePenumbraWidth(ctx(), g, depth, view, {0, 0, 0}, q);
+    EXPECT_EQ(w.pixels, widths.size()) << q;
+    EXPECT_GE(w.halfWidth, referenceQuantile(widths, q) / bin) << q;
+    EXPECT_LE(w.halfWidth, referenceQuantile(widths, q) * bin) << q;
   }
 }
 

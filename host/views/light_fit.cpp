@@ -27,6 +27,11 @@ uint32_t chunkFor(size_t count) {
   return static_cast<uint32_t>(std::max(kFitGroup, roundUp(perGroup, kFitGroup)));
 }
 
+// Samples of `g` on a grid of `stride` (fit_sample_pixel).
+size_t sampleCount(const GBuffer& g, uint32_t stride) {
+  return static_cast<size_t>((g.width + stride - 1) / stride) * static_cast<size_t>((g.height + stride - 1) / stride);
+}
+
 cl_float4 row(const glm::mat4& m, int r) { return {{m[0][r], m[1][r], m[2][r], m[3][r]}}; }
 
 // A histogram of `bins` bins summed over the work-groups' partials, and its count.
@@ -63,8 +68,8 @@ glm::mat4 lightEyeMatrix(const Light& light, const Bounds& sceneBounds) {
   return glm::lookAt(center - axis * (2.0f * radius), center, chooseUp(axis));
 }
 
-uint32_t sizeSampleStride(size_t pixels) {
-  return static_cast<uint32_t>(std::max(1.0, std::floor(std::sqrt(static_cast<double>(pixels) / kSizeSamples))));
+uint32_t fitSampleStride(size_t pixels) {
+  return static_cast<uint32_t>(std::max(1.0, std::floor(std::sqrt(static_cast<double>(pixels) / kFitSamples))));
 }
 
 ReceiverBounds reduceReceivers(Context& ctx, const GBuffer& gbuffer, const glm::mat4& lightEye, bool perspective) {
@@ -104,8 +109,8 @@ MapSizeNeed neededMapSize(Context& ctx, const GBuffer& gbuffer, std::span<const 
   need.size = minSize;
   const size_t pixels = static_cast<size_t>(gbuffer.width) * static_cast<size_t>(gbuffer.height);
   if (pixels == 0) return need;
-  const uint32_t stride = sizeSampleStride(pixels);
-  const size_t count = ((gbuffer.width + stride - 1) / stride) * ((gbuffer.height + stride - 1) / stride);
+  const uint32_t stride = fitSampleStride(pixels);
+  const size_t count = sampleCount(gbuffer, stride);
   const uint32_t chunk = chunkFor(count);
   const size_t groups = (count + chunk - 1) / chunk;
   Buffer<uint32_t> partial(ctx, groups * kSizeBins);
@@ -141,17 +146,19 @@ PenumbraWidth penumbraQuantile(Context& ctx, const GBuffer& gbuffer, const Buffe
                                PenumbraMeasure measure, float unit) {
   if (!(quantile > 0.0 && quantile <= 1.0)) throw std::invalid_argument("penumbra histogram: quantile outside (0, 1]");
   PenumbraWidth width;
-  const size_t count = static_cast<size_t>(gbuffer.width) * static_cast<size_t>(gbuffer.height);
-  if (count == 0) return width;
+  const size_t pixels = static_cast<size_t>(gbuffer.width) * static_cast<size_t>(gbuffer.height);
+  if (pixels == 0) return width;
+  const uint32_t stride = fitSampleStride(pixels);
+  const size_t count = sampleCount(gbuffer, stride);
   const uint32_t chunk = chunkFor(count);
   const size_t groups = (count + chunk - 1) / chunk;
   Buffer<uint32_t> partial(ctx, groups * kPenumbraBins);
   Kernel kernel(ctx, "kernels/fit.cl", "fit_penumbra_partial", "fit");
   kernel
       .args(gbuffer.position, gbuffer.normal, static_cast<uint32_t>(gbuffer.width),
-            static_cast<uint32_t>(gbuffer.height), chunk, map, view, bias.constant, bias.slope, bias.normalOffset,
+            static_cast<uint32_t>(gbuffer.height), stride, chunk, map, view, bias.constant, bias.slope, bias.normalOffset,
             static_cast<int>(measure), unit, partial)
-      .moves(count * (2 * sizeof(cl_float4) + sizeof(float)))  // floor: every position and normal, a texel each
+      .moves(count * (2 * sizeof(cl_float4) + sizeof(float)))  // floor: each sample's position and normal, a texel
       .launch(groups * kFitGroup, kFitGroup);
   const Histogram bins = sumPartials(partial.download(ctx), kPenumbraBins);
   width.pixels = bins.total;

@@ -34,12 +34,13 @@ ReceiverBounds reduceReceivers(Context& ctx, const GBuffer& gbuffer, const glm::
 
 // Auto map sizes are whole numbers of the rasterizer's 128-texel bins (RASTER_BIN_PIXEL_LOG2).
 inline constexpr int kMapSizeStep = 128;
-// The map size's quantile is measured on at least this many pixels and not many more: a larger frame is sampled on a
-// grid of stride floor(sqrt(pixels / kSizeSamples)) (sizeSampleStride: 1 up to 511x511, 5 at 1920x1080), each sample
-// against its own neighbours. The 0.9-quantile's rank moves by about sqrt(0.9 * 0.1 / 65536), 0.1 % of the pixels,
-// far inside a histogram bin (9 % of the size).
-inline constexpr size_t kSizeSamples = 65536;
-uint32_t sizeSampleStride(size_t pixels);
+// The histograms the frame's choices are quantiles of (the map size's need, the penumbra widths and occluder
+// distances) are measured on at least this many pixels and not many more: a larger frame is sampled on a grid of
+// stride floor(sqrt(pixels / kFitSamples)) (fitSampleStride: 1 up to 511x511, 5 at 1920x1080), each sample against
+// its own neighbours and texels. The map size's 0.9-quantile's rank moves by about sqrt(0.9 * 0.1 / 65536), 0.1 % of
+// the pixels, far inside a histogram bin (9 % of the size). Bounds (receivers, depth ranges) are never sampled.
+inline constexpr size_t kFitSamples = 65536;
+uint32_t fitSampleStride(size_t pixels);
 
 // The map size the camera's pixels need (`--map-size auto`): per covered pixel, the size at which its shorter screen
 // step to an on-plane neighbour spans one texel of the first of `views` whose map holds it (Luksch sec. 7, eq. 5, the
