@@ -128,22 +128,23 @@ TEST_F(MapSize, QuantilesMatchTheHostReference) {
   }
 }
 
-// A frame of more than 4 x 65536 pixels is measured on a grid (stride 2 here, 5 at 1920x1080), each sample against its
+// A frame of 4 x 32768 pixels or more is measured on a grid (stride 2 here, 7 at 1920x1080), each sample against its
 // own neighbours: the same quantiles as the host's measure on that grid.
 TEST_F(MapSize, LargeFramesAreMeasuredOnASampleGrid) {
-  EXPECT_EQ(fitSampleStride(511 * 511), 1u);
-  EXPECT_EQ(fitSampleStride(512 * 512), 2u);
-  EXPECT_EQ(fitSampleStride(1920 * 1080), 5u);
-  const Grid grid = groundGrid(801, 401);  // odd sizes: the last row and column are sampled
-  ASSERT_EQ(fitSampleStride(801 * 401), 2u);
+  EXPECT_EQ(fitSampleStride(362 * 362), 1u);
+  EXPECT_EQ(fitSampleStride(363 * 363), 2u);
+  EXPECT_EQ(fitSampleStride(640 * 360), 2u);
+  EXPECT_EQ(fitSampleStride(1920 * 1080), 7u);
+  const Grid grid = groundGrid(601, 301);  // odd sizes: the last row and column are sampled
+  ASSERT_EQ(fitSampleStride(601 * 301), 2u);
   const GBuffer g = upload(ctx(), grid);
   const Bounds bounds{{0, 0, 0}, {460, 0.5f, 201}};  // the whole grid
   const LightView lv = fitLightView(parseLight("dir:0.3,-1,0.2"), bounds, 512);
   for (double q : {0.1, 0.9}) {
     const MapSizeNeed need = neededMapSize(ctx(), g, std::span<const LightViewGpu>(&lv.gpu, 1), q, 16, 1 << 16);
     EXPECT_EQ(need.needed, referenceNeed(grid, lv, q, 2)) << q;
-    EXPECT_LE(need.pixels, 401u * 201u);  // one pixel in four
-    EXPECT_GT(need.pixels, 401u * 201u / 2);
+    EXPECT_LE(need.pixels, 301u * 151u);  // one pixel in four
+    EXPECT_GT(need.pixels, 301u * 151u / 2);
   }
 }
 
@@ -341,10 +342,10 @@ TEST_F(PenumbraWidthTest, QuantilesMatchTheHostReferenceUnderASunAndASpot) {
   }
 }
 
-// Above 4 x 65536 pixels the penumbra histogram is measured on the same sample grid as the map size's need (stride 2
-// here): the host reference over those pixels, within a bin.
+// From 4 x 32768 pixels on, the penumbra histogram is measured on the same sample grid as the map size's need (stride
+// 2 here): the host reference over those pixels, within a bin.
 TEST_F(PenumbraWidthTest, LargeFramesAreMeasuredOnASampleGrid) {
-  const Grid grid = groundGrid(801, 401);
+  const Grid grid = groundGrid(601, 301);
   ASSERT_EQ(fitSampleStride(grid.position.size()), 2u);
   const GBuffer g = upload(ctx(), grid);
   LightView lv = fitLightView(parseLight("dir:0.3,-1,0.2"), Bounds{{0, 0, 0}, {460, 0.5f, 201}}, 256);

@@ -36,10 +36,11 @@ ReceiverBounds reduceReceivers(Context& ctx, const GBuffer& gbuffer, const glm::
 inline constexpr int kMapSizeStep = 128;
 // The histograms the frame's choices are quantiles of (the map size's need, the penumbra widths and occluder
 // distances) are measured on at least this many pixels and not many more: a larger frame is sampled on a grid of
-// stride floor(sqrt(pixels / kFitSamples)) (fitSampleStride: 1 up to 511x511, 5 at 1920x1080), each sample against
-// its own neighbours and texels. The map size's 0.9-quantile's rank moves by about sqrt(0.9 * 0.1 / 65536), 0.1 % of
-// the pixels, far inside a histogram bin (9 % of the size). Bounds (receivers, depth ranges) are never sampled.
-inline constexpr size_t kFitSamples = 65536;
+// stride floor(sqrt(pixels / kFitSamples)) (fitSampleStride: 1 up to 362x362, 2 at 640x360, 7 at 1920x1080), each
+// sample against its own neighbours and texels. The map size's 0.9-quantile's rank moves by about
+// sqrt(0.9 * 0.1 / 32768), 0.17 % of the pixels, far inside a histogram bin (9 % of the size). Bounds (receivers,
+// depth ranges) are never sampled.
+inline constexpr size_t kFitSamples = 32768;
 uint32_t fitSampleStride(size_t pixels);
 
 // The map size the camera's pixels need (`--map-size auto`): per covered pixel, the size at which its shorter screen
