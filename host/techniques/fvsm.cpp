@@ -299,9 +299,7 @@ TechniqueInfo fvsmTechnique() {
                     "Texels drawn per frame at most (8 bytes each on the device); within it the tiles that serve the "
                     "most undersampled pixels are refined first, and the header counts the pixels left coarser"});
   return {"fvsm", "Fitted virtual shadow maps: quadtree tiles drawn only where the receivers need them", params,
-          [](const Params& p, int mapSize) {
-            return std::make_unique<FittedVirtualShadowMap>(FvsmSettings::from(p, mapSize));
-          }};
+          makeTechnique<FittedVirtualShadowMap>};
 }
 
 }  // namespace penumbra

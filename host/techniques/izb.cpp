@@ -180,7 +180,7 @@ TechniqueInfo izbTechnique() {
   };
   return {"izb",
           "Exact hard shadows: irregular z-buffer, each G-buffer sample tested against the triangles over its cell",
-          params, [](const Params& p, int mapSize) { return std::make_unique<IrregularZBuffer>(IzbSettings::from(p, mapSize)); }};
+          params, makeTechnique<IrregularZBuffer>};
 }
 
 }  // namespace penumbra

@@ -424,7 +424,7 @@ TechniqueInfo jitteredTechnique() {
   return {"jittered",
           "Confidence-based jittered shadow maps: Halton-jittered passes of sm's map accumulated by confidence "
           "(simple/adapted/optimal) with a device-counted stopping rule",
-          params, [](const Params& p, int mapSize) { return std::make_unique<Jittered>(JitterSettings::from(p, mapSize)); }};
+          params, makeTechnique<Jittered>};
 }
 
 }  // namespace penumbra

@@ -245,7 +245,7 @@ void LayeredVsm::render(ShadowFrame& frame, Buffer<float>& visibility) {
   MomentShade shade = momentShade(frame, map_, set.map, set.filter.filterBias, 2);
   set.chebyshev.apply(shade);
   shade.levels = static_cast<uint32_t>(mipLevels_.size()) + 1;
-  shade.blurSigma = blurRadius_ > 0 ? momentBlurConfig(set.filter, blurRadius_).sigma : 0.0f;
+  shade.blurSigma = momentBlurConfig(set.filter, blurRadius_).sigma;
   const GBuffer& g = frame.gbuffer;
   const size_t pixels = size_t(shade.width) * shade.height;
   debug_.allocate(ctx, pixels);
@@ -298,7 +298,7 @@ std::vector<ParamSpec> lvsmParams() {
 TechniqueInfo lvsmTechnique() {
   return {"lvsm", "Layered variance shadow maps: the depth range split into warped VSM layers (Lloyd-placed)",
           filteredMomentParams(lvsmParams()),
-          [](const Params& p, int mapSize) { return std::make_unique<LayeredVsm>(LvsmSettings::from(p, mapSize)); }};
+          makeTechnique<LayeredVsm>};
 }
 
 }  // namespace penumbra

@@ -167,7 +167,7 @@ void MomentTechnique::render(ShadowFrame& frame, Buffer<float>& visibility) {
   const ImageShape shape{static_cast<uint32_t>(size), static_cast<uint32_t>(size), channels_};
   filterMoments(ctx, config, shape);
   shade.levels = static_cast<uint32_t>(mipLevels_.size()) + 1;
-  shade.blurSigma = blurRadius_ > 0 ? momentBlurConfig(s.filter, blurRadius_).sigma : 0.0f;
+  shade.blurSigma = momentBlurConfig(s.filter, blurRadius_).sigma;
 
   const GBuffer& g = frame.gbuffer;
   const size_t pixels = size_t(shade.width) * shade.height;

@@ -56,7 +56,7 @@ struct MomentFilter {
 };
 
 // The blur of `filter` at this frame's `radius` (blur-radius resolved: a box of 2r+1 taps, or a Gaussian of the
-// same variance r(r+1)/3), and the texels the blur reads from a texel at its largest (the light fit's margin; under
+// same variance r(r+1)/3; radius 0, no blur, has sigma 0), and the texels the blur reads from a texel at its largest (the light fit's margin; under
 // auto, blur-radius-max's).
 BlurConfig momentBlurConfig(const MomentFilter& filter, int radius);
 float momentBlurReach(const MomentFilter& filter);

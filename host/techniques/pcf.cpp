@@ -77,7 +77,7 @@ TechniqueInfo pcfTechnique() {
   params.push_back(
       {"pcf-poisson-taps", 0, 0, 64, "Rotated Poisson-disk taps over the kernel instead of the grid (0: grid)"});
   return {"pcf", "Percentage-closer filtering: grid or rotated Poisson taps, adaptive size, receiver-plane bias",
-          params, [](const Params& p, int mapSize) { return std::make_unique<PercentageCloser>(PcfSettings::from(p, mapSize)); }};
+          params, makeTechnique<PercentageCloser>};
 }
 
 }  // namespace penumbra

@@ -105,7 +105,7 @@ TechniqueInfo pcssTechnique() {
                     "caster in it from a min-max pyramid, lit without taps where nothing can block (adaptive)",
                     {"full", "adaptive"}});
   return {"pcss", "Percentage-closer soft shadows (blocker search + PCF) for area lights", params,
-          [](const Params& p, int mapSize) { return std::make_unique<PercentageCloserSoft>(PcssSettings::from(p, mapSize)); }};
+          makeTechnique<PercentageCloserSoft>};
 }
 
 }  // namespace penumbra

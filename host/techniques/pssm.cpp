@@ -82,7 +82,7 @@ TechniqueInfo pssmTechnique() {
   for (const ParamSpec& spec : splitParams()) params.push_back(spec);
   for (const ParamSpec& spec : warpParams()) params.push_back(spec);
   return {"pssm", "Parallel-split shadow maps, hard or PCF per split (uniform/log/practical/auto splits)", params,
-          [](const Params& p, int mapSize) { return std::make_unique<ParallelSplit>(PssmSettings::from(p, mapSize)); }};
+          makeTechnique<ParallelSplit>};
 }
 
 }  // namespace penumbra

@@ -48,7 +48,7 @@ class ParallelSplitVariance final : public TechniqueOf<PsvsmSettings> {
     mipLevels_.allocate(ctx, trilinear ? layout.levels.size() : 0, CL_MEM_READ_ONLY);
     if (trilinear) mipLevels_.upload(ctx, std::span<const PyramidLevel>(layout.levels));
     // Split 0's (blur-radius resolved on its map), scaled per split.
-    const float sigma = blurRadius_ > 0 ? momentBlurConfig(set.filter, blurRadius_).sigma : 0.0f;
+    const float sigma = momentBlurConfig(set.filter, blurRadius_).sigma;
     gpu_.upload(ctx, frame, plan, set.map, set.splits, sigma);
     gpu_.shade.mipTexels = static_cast<uint32_t>(mipTexels);
     recordSplits(frame, plan);
@@ -141,9 +141,7 @@ TechniqueInfo psvsmTechnique() {
   // 20-55 % on box, stacked-planes and staircase: docs/techniques/pssm.md ("Bilinear lookups by default").
   for (const ParamSpec& spec : splitParams()) params.push_back(spec);
   return {"psvsm", "Parallel-split variance shadow maps: VSM per split, blur scaled by zoom, optional mipmaps", params,
-          [](const Params& p, int mapSize) {
-            return std::make_unique<ParallelSplitVariance>(PsvsmSettings::from(p, mapSize));
-          }};
+          makeTechnique<ParallelSplitVariance>};
 }
 
 }  // namespace penumbra

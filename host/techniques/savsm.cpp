@@ -163,7 +163,7 @@ TechniqueInfo savsmTechnique() {
                     "Summed-area table storage (double needs a device with fp64)",
                     {"float", "fixed32", "fixed64", "double"}});
   return {"savsm", "Summed-area variance shadow maps with a per-pixel filter width", params,
-          [](const Params& p, int mapSize) { return std::make_unique<SummedAreaVsm>(SavsmSettings::from(p, mapSize)); }};
+          makeTechnique<SummedAreaVsm>};
 }
 
 }  // namespace penumbra

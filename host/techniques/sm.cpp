@@ -42,7 +42,7 @@ TechniqueInfo smTechnique() {
   params.push_back(idBufferParam());
   for (ParamSpec& spec : warpParams()) params.push_back(spec);
   return {"sm", "Hard shadow map with constant, slope-scaled, normal-offset and receiver-plane depth bias", params,
-          [](const Params& p, int mapSize) { return std::make_unique<HardShadowMap>(SmSettings::from(p, mapSize)); }};
+          makeTechnique<HardShadowMap>};
 }
 
 }  // namespace penumbra

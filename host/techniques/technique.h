@@ -50,9 +50,10 @@ class Technique {
 // A technique whose instance holds `Settings`, its parameters parsed once: `Settings::from(params, mapSize)` reads
 // every value it needs (and throws std::invalid_argument naming the options when they contradict each other),
 // `operator==` compares two instances' settings.
-template <class Settings>
+template <class S>
 class TechniqueOf : public Technique {
  public:
+  using Settings = S;
   explicit TechniqueOf(Settings settings) : settings_(std::move(settings)) {}
   bool matches(const Params& params, int mapSize) const override {
     return Settings::from(params, mapSize) == settings_;
@@ -61,6 +62,12 @@ class TechniqueOf : public Technique {
  protected:
   const Settings settings_;
 };
+
+// TechniqueInfo::create for a TechniqueOf subclass `T` made from its settings alone.
+template <class T>
+std::unique_ptr<Technique> makeTechnique(const Params& params, int mapSize) {
+  return std::make_unique<T>(T::Settings::from(params, mapSize));
+}
 
 struct TechniqueInfo {
   std::string name;  // --technique NAME

@@ -143,9 +143,7 @@ TechniqueInfo vssmTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
   for (ParamSpec& spec : vssmParamSpecs()) params.push_back(std::move(spec));
   return {"vssm", "Variance soft shadow mapping (SAT moments, min-max HSM, kernel subdivision) for area lights", params,
-          [](const Params& p, int mapSize) {
-            return std::make_unique<VarianceSoftShadows>(VssmTechniqueSettings::from(p, mapSize));
-          }};
+          makeTechnique<VarianceSoftShadows>};
 }
 
 }  // namespace penumbra

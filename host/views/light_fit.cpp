@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "host/cl/kernel.h"
-#include "raster/constants.h"
 #include "host/scene/camera.h"
+#include "raster/constants.h"
 
 namespace penumbra {
 namespace {
@@ -27,9 +27,22 @@ uint32_t chunkFor(size_t count) {
   return static_cast<uint32_t>(std::max(kFitGroup, roundUp(perGroup, kFitGroup)));
 }
 
-// Samples of `g` on a grid of `stride` (fit_sample_pixel).
-size_t sampleCount(const GBuffer& g, uint32_t stride) {
-  return static_cast<size_t>((g.width + stride - 1) / stride) * static_cast<size_t>((g.height + stride - 1) / stride);
+// The sample grid a quantile histogram of `g` is measured on (fitSampleStride, fit_sample_pixel) and its launch.
+struct SampleLaunch {
+  uint32_t stride;
+  size_t count;    // samples
+  uint32_t chunk;  // samples per work-group
+  size_t groups;
+};
+
+SampleLaunch sampleLaunch(const GBuffer& g) {
+  SampleLaunch s;
+  s.stride = fitSampleStride(static_cast<size_t>(g.width) * static_cast<size_t>(g.height));
+  s.count = static_cast<size_t>((g.width + s.stride - 1) / s.stride) *
+            static_cast<size_t>((g.height + s.stride - 1) / s.stride);
+  s.chunk = chunkFor(s.count);
+  s.groups = (s.count + s.chunk - 1) / s.chunk;
+  return s;
 }
 
 cl_float4 row(const glm::mat4& m, int r) { return {{m[0][r], m[1][r], m[2][r], m[3][r]}}; }
@@ -107,21 +120,17 @@ MapSizeNeed neededMapSize(Context& ctx, const GBuffer& gbuffer, std::span<const 
     throw std::invalid_argument("neededMapSize: quantile outside (0, 1] or an empty size range");
   MapSizeNeed need;
   need.size = minSize;
-  const size_t pixels = static_cast<size_t>(gbuffer.width) * static_cast<size_t>(gbuffer.height);
-  if (pixels == 0) return need;
-  const uint32_t stride = fitSampleStride(pixels);
-  const size_t count = sampleCount(gbuffer, stride);
-  const uint32_t chunk = chunkFor(count);
-  const size_t groups = (count + chunk - 1) / chunk;
-  Buffer<uint32_t> partial(ctx, groups * kSizeBins);
+  if (gbuffer.width == 0 || gbuffer.height == 0) return need;
+  const SampleLaunch s = sampleLaunch(gbuffer);
+  Buffer<uint32_t> partial(ctx, s.groups * kSizeBins);
   const Buffer<LightViewGpu> viewBuffer(ctx, views, CL_MEM_READ_ONLY);
   Kernel kernel(ctx, "kernels/fit.cl", "fit_size_partial", "fit");
   kernel
       .args(gbuffer.position, gbuffer.normal, static_cast<uint32_t>(gbuffer.width),
-            static_cast<uint32_t>(gbuffer.height), stride, chunk, viewBuffer, static_cast<uint32_t>(views.size()),
+            static_cast<uint32_t>(gbuffer.height), s.stride, s.chunk, viewBuffer, static_cast<uint32_t>(views.size()),
             partial)
-      .moves(count * 4 * sizeof(cl_float4))  // floor: each sample's position and normal, two neighbours' positions
-      .launch(groups * kFitGroup, kFitGroup);
+      .moves(s.count * 4 * sizeof(cl_float4))  // floor: each sample's position and normal, two neighbours' positions
+      .launch(s.groups * kFitGroup, kFitGroup);
   const Histogram bins = sumPartials(partial.download(ctx), kSizeBins);
   need.pixels = bins.total;
   if (need.pixels == 0) return need;
@@ -146,20 +155,16 @@ PenumbraWidth penumbraQuantile(Context& ctx, const GBuffer& gbuffer, const Buffe
                                PenumbraMeasure measure, float unit) {
   if (!(quantile > 0.0 && quantile <= 1.0)) throw std::invalid_argument("penumbra histogram: quantile outside (0, 1]");
   PenumbraWidth width;
-  const size_t pixels = static_cast<size_t>(gbuffer.width) * static_cast<size_t>(gbuffer.height);
-  if (pixels == 0) return width;
-  const uint32_t stride = fitSampleStride(pixels);
-  const size_t count = sampleCount(gbuffer, stride);
-  const uint32_t chunk = chunkFor(count);
-  const size_t groups = (count + chunk - 1) / chunk;
-  Buffer<uint32_t> partial(ctx, groups * kPenumbraBins);
+  if (gbuffer.width == 0 || gbuffer.height == 0) return width;
+  const SampleLaunch s = sampleLaunch(gbuffer);
+  Buffer<uint32_t> partial(ctx, s.groups * kPenumbraBins);
   Kernel kernel(ctx, "kernels/fit.cl", "fit_penumbra_partial", "fit");
   kernel
       .args(gbuffer.position, gbuffer.normal, static_cast<uint32_t>(gbuffer.width),
-            static_cast<uint32_t>(gbuffer.height), stride, chunk, map, view, bias.constant, bias.slope, bias.normalOffset,
-            static_cast<int>(measure), unit, partial)
-      .moves(count * (2 * sizeof(cl_float4) + sizeof(float)))  // floor: each sample's position and normal, a texel
-      .launch(groups * kFitGroup, kFitGroup);
+            static_cast<uint32_t>(gbuffer.height), s.stride, s.chunk, map, view, bias.constant, bias.slope,
+            bias.normalOffset, static_cast<int>(measure), unit, partial)
+      .moves(s.count * (2 * sizeof(cl_float4) + sizeof(float)))  // floor: each sample's position and normal, a texel
+      .launch(s.groups * kFitGroup, kFitGroup);
   const Histogram bins = sumPartials(partial.download(ctx), kPenumbraBins);
   width.pixels = bins.total;
   if (width.pixels == 0) return width;
