@@ -164,11 +164,11 @@ void printSummary(const BenchMeta& meta, const std::vector<BenchRow>& rows) {
     const auto metric = [&](double ErrorMetrics::*m) {
       return r.metrics ? fmt::format("{:.5f}", (*r.metrics).*m) : std::string("-");
     };
-    const double pixels = static_cast<double>(meta.width) * meta.height;
+    const std::optional<double> perPixel = bytesPerPixel(meta, r);
     const auto wall = [](const std::optional<double>& ms) { return ms ? fmt::format("{:.1f}", *ms) : std::string("-"); };
     fmt::print("  {:<8} {:<28} {:<10} {:>10.3f} {:>10} {:>8} {:>10} {:>10} {:>9} {:>9} {:>9} {:>9} {:>9}\n",
                r.technique, r.setting, r.light, r.ms, r.floorMs ? fmt::format("{:.3f}", *r.floorMs) : "-",
-               r.bytes > 0 && pixels > 0 ? fmt::format("{:.0f}", static_cast<double>(r.bytes) / pixels) : "-",
+               perPixel ? fmt::format("{:.0f}", *perPixel) : "-",
                wall(r.wallMs), wall(r.firstWallMs),
                metric(&ErrorMetrics::mae), metric(&ErrorMetrics::penumbraMae), metric(&ErrorMetrics::leak),
                metric(&ErrorMetrics::falseShadow), metric(&ErrorMetrics::umbraLight));

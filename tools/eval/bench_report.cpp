@@ -16,10 +16,9 @@ Cells cells(const BenchMeta& meta, const BenchRow& r) {
   };
   std::optional<nlohmann::json> pixels, penumbraPixels;
   if (r.metrics) pixels = r.metrics->pixels, penumbraPixels = r.metrics->penumbraPixels;
-  std::optional<nlohmann::json> bytes, floor, bytesPerPixel;
+  std::optional<nlohmann::json> bytes, floor, perPixel;
   if (r.bytes > 0) bytes = r.bytes;
-  if (r.bytes > 0 && meta.width > 0 && meta.height > 0)
-    bytesPerPixel = static_cast<double>(r.bytes) / (static_cast<double>(meta.width) * meta.height);
+  if (const std::optional<double> b = bytesPerPixel(meta, r)) perPixel = *b;
   if (r.floorMs) floor = *r.floorMs;
   return {{"scene", r.scene},
           {"technique", r.technique},
@@ -48,7 +47,7 @@ Cells cells(const BenchMeta& meta, const BenchRow& r) {
           {"light", r.light},
           {"penumbra_mae", metric(&ErrorMetrics::penumbraMae)},
           {"penumbra_pixels", penumbraPixels},
-          {"bytes_per_pixel", bytesPerPixel},
+          {"bytes_per_pixel", perPixel},
           {"wall_ms", r.wallMs ? std::optional<nlohmann::json>(*r.wallMs) : std::nullopt},
           {"first_wall_ms", r.firstWallMs ? std::optional<nlohmann::json>(*r.firstWallMs) : std::nullopt}};
 }
@@ -60,6 +59,11 @@ std::string csvText(const nlohmann::json& value) {
 }
 
 }  // namespace
+
+std::optional<double> bytesPerPixel(const BenchMeta& meta, const BenchRow& row) {
+  if (row.bytes == 0 || meta.width <= 0 || meta.height <= 0) return std::nullopt;
+  return static_cast<double>(row.bytes) / (static_cast<double>(meta.width) * meta.height);
+}
 
 const std::vector<std::string>& benchCsvColumns() {
   static const std::vector<std::string> columns = [] {

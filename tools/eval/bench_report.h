@@ -46,6 +46,9 @@ const std::vector<std::string>& benchCsvColumns();
 // Quotes a field when it holds a comma, a quote or a line break (quotes doubled).
 std::string csvField(const std::string& text);
 
+// The bytes `row` moves per pixel of the frame (its floor over width x height); nothing without a bytes hint.
+std::optional<double> bytesPerPixel(const BenchMeta& meta, const BenchRow& row);
+
 void writeBenchCsv(std::ostream& out, const BenchMeta& meta, const std::vector<BenchRow>& rows);
 nlohmann::json benchJson(const BenchMeta& meta, const std::vector<BenchRow>& rows);
 
