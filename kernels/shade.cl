@@ -7,7 +7,8 @@
 #define SHADE_AMBIENT 0.12f  // sky irradiance relative to the light
 
 // The light's terms: terms.x: cos of a spot's outer half angle; terms.y: cos of the inner one, or below -1 for a light
-// without one; terms.z: glTF's range (0: unlimited).
+// without one; terms.z: glTF's range (0: unlimited); terms.w: cos of 90% of the outer half angle (computed once on
+// the host, not per pixel).
 //
 // Spot cone.
 // With an inner cone (glTF's KHR_lights_punctual), the extension's falloff: ((c - cos outer) / (cos inner - cos
@@ -20,8 +21,7 @@ inline float shade_cone(__constant const LightViewGpu* lv, float3 toLight, float
     float t = clamp((c - cone.x) / max(cone.y - cone.x, 1e-3f), 0.0f, 1.0f);
     return t * t;
   }
-  float inner = cos(acos(cone.x) * 0.9f);
-  return clamp((c - cone.x) / max(inner - cone.x, 1e-6f), 0.0f, 1.0f);
+  return clamp((c - cone.x) / max(cone.w - cone.x, 1e-6f), 0.0f, 1.0f);
 }
 
 // The side of the surface the camera sees. eye.w == 0: an orthographic camera, eye.xyz the direction to it.

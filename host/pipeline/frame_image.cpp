@@ -185,12 +185,14 @@ std::vector<float> litMask(std::span<const cl_float4> position, std::span<const 
 namespace {
 
 // kernels/shade.cl's light terms: the cosines of the outer and inner half angles, the inner one -2 for a light without
-// an inner cone (command-line and scene-file spots keep the preview's own falloff), and glTF's range (0: unlimited).
+// an inner cone (command-line and scene-file spots keep the preview's own falloff, full up to the cosine of 90% of
+// the outer half angle, the fourth term), and glTF's range (0: unlimited).
 cl_float4 shadeTerms(const Light& light) {
   const float range = light.type == LightType::Directional ? 0.0f : light.range;
   if (light.type != LightType::Spot) return {{-1.0f, -2.0f, range, 0.0f}};
+  const float half = glm::radians(light.fovDeg) * 0.5f;
   const float inner = light.innerFovDeg >= 0.0f ? std::cos(glm::radians(light.innerFovDeg) * 0.5f) : -2.0f;
-  return {{std::cos(glm::radians(light.fovDeg) * 0.5f), inner, range, 0.0f}};
+  return {{std::cos(half), inner, range, std::cos(half * 0.9f)}};
 }
 
 // The light as kernels/shade.cl reads it: its position, axis and kind. It needs no map: a 1-texel view suffices for

@@ -35,7 +35,8 @@ class PercentageCloser final : public TechniqueOf<PcfSettings> {
     const PcfSettings& s = settings_;
     const auto limit = static_cast<float>(s.radius.limit());
     const float maxRadius = std::max(s.maxRadius, limit);
-    renderShadowMap(frame, s.map, map_, s.adaptive ? maxRadius : limit);
+    // Depth comparisons only: the auto radius's occluders lie at or beyond the nearest drawn caster anyway.
+    renderShadowMap(frame, s.map, map_, s.adaptive ? maxRadius : limit, MapNear::Fitted);
     const int radius = resolveAutoRadius(frame, map_, s.map, s.radius);
     const int poissonTaps = s.poissonTaps;
     if (poisson_.empty()) {

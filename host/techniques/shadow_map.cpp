@@ -140,14 +140,17 @@ ShadeFrame shadeFrame(const ShadowFrame& frame, const MapSettings& settings, int
           settings.slopeBias, settings.normalOffset, receiverPlane, idMode};
 }
 
-void renderShadowMap(ShadowFrame& frame, const MapSettings& settings, ShadowMap& map, float reachTexels) {
+void renderShadowMap(ShadowFrame& frame, const MapSettings& settings, ShadowMap& map, float reachTexels,
+                     MapNear near) {
   const int size = settings.size;
   const bool toReceivers = settings.fit.fitReceivers;
   const float margin = reachTexels + settings.normalOffset + 1.0f;
   map.view = fitWarpedLightView(frame, settings.fit, size, margin);
   frame.raster.draw(map.view.raster, map.targets);
-  const DepthRange drawn = reduceDepthRange(frame.ctx, map.targets.depth, static_cast<size_t>(size) * size);
-  if (drawn.min > map.view.gpu.zNear && drawn.min < map.view.gpu.zFar) map.view.gpu.zNear = drawn.min;
+  if (near == MapNear::Drawn) {
+    const DepthRange drawn = reduceDepthRange(frame.ctx, map.targets.depth, static_cast<size_t>(size) * size);
+    if (drawn.min > map.view.gpu.zNear && drawn.min < map.view.gpu.zFar) map.view.gpu.zNear = drawn.min;
+  }
   const LightViewGpu& gpu = map.view.gpu;
   frame.attributes["penumbra:light-fit"] =
       fmt::format("{} {}x{} texel {:.4g}{} depth {:.6g}..{:.6g}", toReceivers ? "receivers" : "scene", size, size,

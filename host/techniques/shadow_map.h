@@ -49,11 +49,17 @@ struct MapSettings {
   bool operator==(const MapSettings&) const = default;
 };
 
+// Whether a technique reads the map's near depth (lv->zNear): moment normalisation and blocker searches start there
+// (Drawn: tightened to the nearest caster drawn, a reduction over every texel); depth comparisons alone do not
+// (Fitted: the fit's near plane kept, no pass over the map).
+enum class MapNear { Drawn, Fitted };
+
 // Fits the light's view (per --fit: the whole scene, or the visible receivers with a margin around them of
 // `reachTexels`, the farthest any of the technique's taps reaches from a receiver's texel, plus the normal offset and
-// one texel for bilinear taps), rasterizes it, and tightens view.gpu.zNear to the nearest caster actually drawn, so
-// depth ranges (moment normalisation, blocker search) start where the occluders do.
-void renderShadowMap(ShadowFrame& frame, const MapSettings& settings, ShadowMap& map, float reachTexels);
+// one texel for bilinear taps), rasterizes it, and with MapNear::Drawn tightens view.gpu.zNear to the nearest caster
+// actually drawn, so depth ranges (moment normalisation, blocker search) start where the occluders do.
+void renderShadowMap(ShadowFrame& frame, const MapSettings& settings, ShadowMap& map, float reachTexels,
+                     MapNear near = MapNear::Drawn);
 
 // A fixed kernel's half-width chosen per frame from the scene's penumbrae (pcf-radius, blur-radius): NAME (default
 // auto, else 0..max texels; `help` says what r is), NAME-quantile (0.05) and NAME-max (`maxDefault`; `maxNote` is

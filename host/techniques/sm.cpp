@@ -22,7 +22,7 @@ class HardShadowMap final : public TechniqueOf<SmSettings> {
   using TechniqueOf::TechniqueOf;
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
-    renderShadowMap(frame, settings_.map, map_, 0.0f);
+    renderShadowMap(frame, settings_.map, map_, 0.0f, MapNear::Fitted);  // depth comparisons only
     const GBuffer& g = frame.gbuffer;
     const ShadeFrame shade = shadeFrame(frame, settings_.map, settings_.receiverPlane, settings_.idMode);
     launchVisibility(frame, map_, shade, "kernels/sm.cl", "sm_visibility", visibility, map_.targets.triangleId,
