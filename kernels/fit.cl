@@ -1,6 +1,7 @@
 // Bounds reductions for fitting the light's frustum and the filters to the scene (host/views/light_fit.cpp): the
 // light-space box of the receivers the camera sees (G-buffer positions), the depth range of a rasterized map, the
-// histogram of the map sizes the camera's pixels need, and the histogram of the penumbra widths its shadows have. Two
+// histogram of the map sizes the camera's pixels need, the histogram of the penumbra widths its shadows have, and the
+// histogram of the widths of the casters' features a drawn map holds. Two
 // passes without global atomics: every work-group reduces a fixed chunk in local memory and writes one partial; the
 // host reduces the few partials. Min, max and counts only, so the result does not depend on the order.
 
@@ -94,6 +95,43 @@ __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_depth_p
   }
   fit_group_minmax(&lo, &hi, los, his);
   if (get_local_id(0) == 0) partial[get_group_id(0)] = (float2)(lo.x, hi.x);
+}
+
+// Caster detail: the widths of the features a drawn map holds, in texels. Along each line of the map (work-item l <
+// height: row l; then column l - height), a feature is a run of texels entered by a step towards the light and left by
+// a step away from it, each step a depth jump of more than FIT_DETAIL_JUMP texel widths at the nearer side
+// (background, +INFINITY, and NaN texels lie infinitely deep): a leg, a wire, a bar between alpha holes. A slanted surface steps one
+// way only and holds no run. Per group: partial[g * FIT_DETAIL_BINS + b] = runs of width b + 1 texels (the last bin:
+// FIT_DETAIL_BINS or wider).
+#define FIT_DETAIL_BINS 64
+#define FIT_DETAIL_JUMP 8.0f
+__kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_detail_partial(
+    __global const float* depth, int width, int height, __constant const LightViewGpu* lv, __global uint* partial) {
+  __local uint bins[FIT_DETAIL_BINS];
+  fit_bins_clear(bins, FIT_DETAIL_BINS);
+  const int line = (int)get_global_id(0);
+  if (line < width + height) {
+    const int row = line < height;
+    const size_t first = row ? (size_t)line * width : (size_t)(line - height);
+    const size_t step = row ? 1 : (size_t)width;
+    const int n = row ? width : height;
+    int start = -1;
+    float prev = depth[first];
+    prev = isnan(prev) ? INFINITY : prev;
+    for (int k = 1; k < n; ++k) {
+      float d = depth[first + (size_t)k * step];
+      d = isnan(d) ? INFINITY : d;
+      const float jump = FIT_DETAIL_JUMP * lv_texel_world(lv, fmin(d, prev));
+      if (d < prev - jump) {
+        start = k;
+      } else if (start >= 0 && d > prev + jump) {
+        atomic_inc(&bins[min(k - start, FIT_DETAIL_BINS) - 1]);
+        start = -1;
+      }
+      prev = d;
+    }
+  }
+  fit_bins_store(bins, FIT_DETAIL_BINS, partial);
 }
 
 // Histogram of the map size each covered pixel needs (Luksch sec. 7, eq. 5, as pssm's resolutionError): the

@@ -2,12 +2,16 @@
 // host/views/light_fit.h neededMapSize, kernels/fit.cl fit_size_partial): the device histogram's quantiles against a
 // plain C++ reference of the same measure on a G-buffer with a spacing that varies across it, background, NaN and
 // out-of-map pixels among them; the analytic need of a uniform grid; the renderer choosing larger maps for larger
-// frames, for spot and point lights; the parameter's text form, and the techniques that refuse it. --blur-radius auto
+// frames, for spot and point lights; the needs measured on the drawn probe (narrower penumbrae and thinner casters ask
+// for larger maps; the caster-detail histogram of fit_detail_partial against a C++ reference on bars, nested bars,
+// ramps, NaN, 1x1 and odd-sized maps); the parameter's text form, and the techniques that refuse it. --blur-radius auto
 // and --pcf-radius auto (host/techniques/shadow_map.h autoRadiusParams, measurePenumbraWidth, fit_penumbra_partial),
 // savsm's --savsm-occluder-distance auto (measureOccluderDistance): the penumbra histogram's quantiles of widths and
 // distances against a C++ reference on the same G-buffers over hand-made maps (lit, empty and NaN texels, back-facing
 // and out-of-map pixels), under a sun and a spot; the radius growing with the light's size for every technique that
 // takes it (split techniques: measured on split 0); the text form.
+#include "host/pipeline/map_size.h"
+
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -119,7 +123,7 @@ TEST_F(MapSize, QuantilesMatchTheHostReference) {
       const MapSizeNeed need = neededMapSize(ctx(), g, std::span<const LightViewGpu>(&lv.gpu, 1), q, 16, 1 << 16);
       EXPECT_EQ(need.needed, referenceNeed(grid, lv, q)) << spec << " q " << q;
       EXPECT_GE(need.needed, last) << spec << " q " << q;  // grows with the quantile
-      EXPECT_GE(need.size, need.needed) << spec;  // the multiple of 128 at or above it
+      EXPECT_GE(need.size, need.needed) << spec;           // the multiple of 128 at or above it
       EXPECT_LT(need.size, need.needed + kMapSizeStep) << spec;
       EXPECT_EQ(need.size % kMapSizeStep, 0) << spec;
       last = need.needed;
@@ -128,23 +132,24 @@ TEST_F(MapSize, QuantilesMatchTheHostReference) {
   }
 }
 
-// A frame of 4 x 32768 pixels or more is measured on a grid (stride 2 here, 7 at 1920x1080), each sample against its
+// A frame of 4 x 8192 pixels or more is measured on a grid (stride 4 here, 15 at 1920x1080), each sample against its
 // own neighbours: the same quantiles as the host's measure on that grid.
 TEST_F(MapSize, LargeFramesAreMeasuredOnASampleGrid) {
-  EXPECT_EQ(fitSampleStride(362 * 362), 1u);
-  EXPECT_EQ(fitSampleStride(363 * 363), 2u);
-  EXPECT_EQ(fitSampleStride(640 * 360), 2u);
-  EXPECT_EQ(fitSampleStride(1920 * 1080), 7u);
+  EXPECT_EQ(fitSampleStride(181 * 181), 1u);
+  EXPECT_EQ(fitSampleStride(182 * 182), 2u);
+  EXPECT_EQ(fitSampleStride(480 * 270), 3u);
+  EXPECT_EQ(fitSampleStride(640 * 360), 5u);
+  EXPECT_EQ(fitSampleStride(1920 * 1080), 15u);
   const Grid grid = groundGrid(601, 301);  // odd sizes: the last row and column are sampled
-  ASSERT_EQ(fitSampleStride(601 * 301), 2u);
+  ASSERT_EQ(fitSampleStride(601 * 301), 4u);
   const GBuffer g = upload(ctx(), grid);
   const Bounds bounds{{0, 0, 0}, {460, 0.5f, 201}};  // the whole grid
   const LightView lv = fitLightView(parseLight("dir:0.3,-1,0.2"), bounds, 512);
   for (double q : {0.1, 0.9}) {
     const MapSizeNeed need = neededMapSize(ctx(), g, std::span<const LightViewGpu>(&lv.gpu, 1), q, 16, 1 << 16);
-    EXPECT_EQ(need.needed, referenceNeed(grid, lv, q, 2)) << q;
-    EXPECT_LE(need.pixels, 301u * 151u);  // one pixel in four
-    EXPECT_GT(need.pixels, 301u * 151u / 2);
+    EXPECT_EQ(need.needed, referenceNeed(grid, lv, q, 4)) << q;
+    EXPECT_LE(need.pixels, 151u * 76u);  // one pixel in sixteen
+    EXPECT_GT(need.pixels, 151u * 76u / 2);
   }
 }
 
@@ -195,7 +200,6 @@ TEST_F(MapSize, TheRendererSizesMapsToTheFrameForSpotAndPointLights) {
   const TechniqueInfo& sm = findTechnique("sm");
   Params params(sm.params);
   params.set("map-size", "auto");
-  params.set("map-size-min", "256");  // below the default floor (2048), so the frames' own needs show
   params.set("map-size-max", "8192");
   for (const char* spec : {"spot:0,4,0:0,0,0:120", "point:0.3,3,0.2"}) {
     Camera camera = test::topDown();
@@ -216,20 +220,145 @@ TEST_F(MapSize, TheRendererSizesMapsToTheFrameForSpotAndPointLights) {
   }
 }
 
-// The default: auto, never below the fixed 2048 it replaced (the pixels' need bounds what a scene needs from below
-// only), for every technique with one uniform map; the split and jittered techniques keep 2048.
-TEST(MapSizeDefaults, AutoWithTheFixedSizeAsItsFloor) {
+// The default: auto from 256 to 4096 texels, for every technique with one uniform map, its penumbra need 6 texels
+// across a half-width (sm and pcf, which trace no wider penumbra than a few texels: 3; vssm 24), its cap 16 (sm and
+// pcf: 4) and its caster need 2 texels across the thinnest features; the split and jittered techniques keep 2048.
+TEST(MapSizeDefaults, AutoFromThePixelsThePenumbraeAndTheCasters) {
   for (const char* name : {"sm", "pcf", "pcss", "vsm", "evsm2", "evsm4", "esm", "msm", "savsm", "vssm", "lvsm"}) {
     const Params params(findTechnique(name).params);
+    const bool shortPenumbra = std::string(name) == "sm" || std::string(name) == "pcf";
     EXPECT_TRUE(params.isAuto("map-size")) << name;
-    EXPECT_EQ(params.getInt("map-size-min"), 2048) << name;
+    EXPECT_EQ(params.getInt("map-size-min"), 256) << name;
     EXPECT_EQ(params.getInt("map-size-max"), 4096) << name;
+    EXPECT_EQ(params.get("map-size-penumbra"), shortPenumbra ? 3.0 : std::string(name) == "vssm" ? 24.0 : 6.0) << name;
+    EXPECT_EQ(params.get("map-size-penumbra-quantile"), 0.1) << name;
+    EXPECT_EQ(params.get("map-size-penumbra-max"), shortPenumbra ? 4.0 : 16.0) << name;
+    EXPECT_EQ(params.get("map-size-detail"), 2.0) << name;
   }
   for (const char* name : {"pssm", "psvsm", "jittered"}) {
     const Params params(findTechnique(name).params);
     EXPECT_FALSE(params.isAuto("map-size")) << name;
     EXPECT_EQ(params.getInt("map-size"), 2048) << name;
+    EXPECT_FALSE(params.has("map-size-penumbra")) << name;
   }
+}
+
+// The needs a render records under "penumbra:map-size": "auto N (pixels: ...; penumbrae: ... need P; casters: ... need
+// C)"; -1 for a need that is not there.
+double recordedNeed(const RenderResult& r, const std::string& what) {
+  const std::string& text = r.image.attributes().at("penumbra:map-size");
+  const size_t at = text.find(what + ": ");
+  if (at == std::string::npos) return -1.0;
+  const size_t need = text.find(" need ", at);
+  EXPECT_NE(need, std::string::npos) << text;
+  return std::stod(text.substr(need + 6));
+}
+
+// The cap a render recorded on the pixels' need ("... caps the pixels' need at C"); -1 without one.
+double recordedCap(const RenderResult& r) {
+  const std::string& text = r.image.attributes().at("penumbra:map-size");
+  const std::string key = "caps the pixels' need at ";
+  const size_t at = text.find(key);
+  return at == std::string::npos ? -1.0 : std::stod(text.substr(at + key.size()));
+}
+
+// The size the recorded needs give: the pixels' (capped), the penumbrae's and the casters', the largest.
+int sizeFromNeeds(const RenderResult& r, int minSize, int maxSize) {
+  const double cap = recordedCap(r), pixels = recordedNeed(r, "pixels");
+  return roundedMapSize(
+      std::max({cap > 0.0 ? std::min(pixels, cap) : pixels, recordedNeed(r, "penumbrae"), recordedNeed(r, "casters")}),
+      minSize, maxSize);
+}
+
+// Area lights: the smaller the light, the narrower the penumbrae and the larger the map, up to what the probe measured
+// (a half-width of 6 texels, 3 for sm); a point light (no penumbra) and map-size-penumbra 0 leave the pixels' need.
+TEST_F(MapSize, NarrowPenumbraeNeedLargerMaps) {
+  const Scene scene = test::squareOverPlane();
+  Camera camera = test::topDown();
+  camera.width = 120, camera.height = 90;  // the pixels alone need a small map
+  for (const char* name : {"pcss", "sm"}) {
+    const TechniqueInfo& info = findTechnique(name);
+    Params params(info.params);
+    params.set("map-size-max", "8192");
+    std::vector<int> sizes;
+    for (const char* spec : {"spot:0,4,0:0,0,0:120:0.4", "spot:0,4,0:0,0,0:120:0.1", "spot:0,4,0:0,0,0:120:0.025"}) {
+      Renderer renderer(ctx(), scene);
+      const RenderResult r = renderer.render(camera, parseLight(spec), info, params);
+      sizes.push_back(chosenSize(r));
+      const double penumbra = recordedNeed(r, "penumbrae"), pixels = recordedNeed(r, "pixels");
+      ASSERT_GT(penumbra, 0.0) << name << " " << spec << ": " << r.image.attributes().at("penumbra:map-size");
+      EXPECT_GT(pixels, 0.0) << name << " " << spec;
+      EXPECT_EQ(sizes.back(), sizeFromNeeds(r, 256, 8192)) << name << " " << spec;
+    }
+    EXPECT_GT(sizes[1], sizes[0]) << name;
+    EXPECT_GT(sizes[2], 2 * sizes[1]) << name << ": a quarter of the light, a quarter of the penumbra";
+    // The same light without the penumbra's need, and a light without a penumbra.
+    params.set("map-size-penumbra", "0");
+    Renderer renderer(ctx(), scene);
+    const RenderResult off = renderer.render(camera, parseLight("spot:0,4,0:0,0,0:120:0.025"), info, params);
+    EXPECT_EQ(recordedNeed(off, "penumbrae"), -1.0) << name;
+    EXPECT_LT(chosenSize(off), sizes[2]) << name;
+    params.set("map-size-penumbra", "6");
+    const RenderResult hard = renderer.render(camera, parseLight("spot:0,4,0:0,0,0:120"), info, params);
+    EXPECT_EQ(recordedNeed(hard, "penumbrae"), -1.0) << name;
+    EXPECT_EQ(chosenSize(hard), chosenSize(off)) << name;
+  }
+  // sm asks half the texels across a penumbra that a filter does.
+  Params pcss(findTechnique("pcss").params), sm(findTechnique("sm").params);
+  Renderer renderer(ctx(), scene);
+  const Light light = parseLight("spot:0,4,0:0,0,0:120:0.1");
+  const double filterNeed = recordedNeed(renderer.render(camera, light, findTechnique("pcss"), pcss), "penumbrae");
+  const double hardNeed = recordedNeed(renderer.render(camera, light, findTechnique("sm"), sm), "penumbrae");
+  EXPECT_NEAR(hardNeed, filterNeed / 2, 1e-6 * filterNeed);
+}
+
+// Wide penumbrae cap the pixels' need: a large light over the square, seen by a large frame, gets a smaller map than
+// its pixels ask for (the median half-width spans 16 texels, 4 for sm), and the frame's size is that cap or what the
+// narrow end of its penumbrae needs; --map-size-penumbra-max 0 gives the pixels' need.
+TEST_F(MapSize, WidePenumbraeCapThePixelsNeed) {
+  const Scene scene = test::squareOverPlane();
+  Camera camera = test::topDown();
+  camera.width = 800, camera.height = 600;
+  const Light light = parseLight("spot:0,4,0:0,0,0:120:1.5");
+  for (const char* name : {"pcss", "sm"}) {
+    const TechniqueInfo& info = findTechnique(name);
+    Params params(info.params);
+    params.set("map-size-max", "8192");
+    Renderer renderer(ctx(), scene);
+    const RenderResult capped = renderer.render(camera, light, info, params);
+    const double cap = recordedCap(capped), pixels = recordedNeed(capped, "pixels");
+    ASSERT_GT(cap, 0.0) << name << ": " << capped.image.attributes().at("penumbra:map-size");
+    EXPECT_LT(cap, pixels) << name << ": " << capped.image.attributes().at("penumbra:map-size");
+    EXPECT_EQ(chosenSize(capped), sizeFromNeeds(capped, 256, 8192)) << name;
+    params.set("map-size-penumbra-max", "0");
+    const RenderResult uncapped = renderer.render(camera, light, info, params);
+    EXPECT_EQ(recordedCap(uncapped), -1.0) << name;
+    EXPECT_EQ(chosenSize(uncapped), roundedMapSize(std::max(pixels, recordedNeed(uncapped, "penumbrae")), 256, 8192))
+        << name;
+    EXPECT_LT(chosenSize(capped), chosenSize(uncapped)) << name;
+  }
+}
+
+// Thin casters: the poles (0.1 wide) under a hard spot light are a texel or two wide in the probe, so the casters'
+// need asks for twice the probe's size per texel they lack; without it, the pixels' need alone.
+TEST_F(MapSize, ThinCastersNeedLargerMaps) {
+  const Scene scene = makeProcedural("poles");
+  Camera camera = scene.cameras.front();
+  camera.width = 96, camera.height = 54;
+  const TechniqueInfo& sm = findTechnique("sm");
+  Params params(sm.params);
+  Light light = scene.lights.front();  // its own light without its size: no penumbra need
+  light.radius = 0.0f, light.angularRadiusDeg = 0.0f;
+  Renderer renderer(ctx(), scene);
+  const RenderResult r = renderer.render(camera, light, sm, params);
+  const double casters = recordedNeed(r, "casters");
+  EXPECT_GE(casters, kMapProbeSize) << r.image.attributes().at("penumbra:map-size");
+  EXPECT_GT(casters, recordedNeed(r, "pixels")) << r.image.attributes().at("penumbra:map-size");
+  EXPECT_EQ(chosenSize(r), roundedMapSize(casters, 256, 4096));
+  params.set("map-size-detail", "0");
+  const RenderResult off = renderer.render(camera, light, sm, params);
+  EXPECT_EQ(recordedNeed(off, "casters"), -1.0);
+  EXPECT_LT(chosenSize(off), chosenSize(r));
 }
 
 TEST_F(MapSize, AutoIsATextValueThatSplitAndJitteredTechniquesRefuse) {
@@ -342,11 +471,11 @@ TEST_F(PenumbraWidthTest, QuantilesMatchTheHostReferenceUnderASunAndASpot) {
   }
 }
 
-// From 4 x 32768 pixels on, the penumbra histogram is measured on the same sample grid as the map size's need (stride
-// 2 here): the host reference over those pixels, within a bin.
+// From 4 x 8192 pixels on, the penumbra histogram is measured on the same sample grid as the map size's need (stride
+// 4 here): the host reference over those pixels, within a bin.
 TEST_F(PenumbraWidthTest, LargeFramesAreMeasuredOnASampleGrid) {
   const Grid grid = groundGrid(601, 301);
-  ASSERT_EQ(fitSampleStride(grid.position.size()), 2u);
+  ASSERT_EQ(fitSampleStride(grid.position.size()), 4u);
   const GBuffer g = upload(ctx(), grid);
   LightView lv = fitLightView(parseLight("dir:0.3,-1,0.2"), Bounds{{0, 0, 0}, {460, 0.5f, 201}}, 256);
   lv.gpu.lightSize = 0.02f;
@@ -354,13 +483,13 @@ TEST_F(PenumbraWidthTest, LargeFramesAreMeasuredOnASampleGrid) {
   const std::vector<float> map = syntheticOccluders(lv);
   const Buffer<float> depth(ctx(), std::span<const float>(map));
   std::vector<double> widths;
-  for (int y = 0; y < grid.height; y += 2)
-    for (int x = 0; x < grid.width; x += 2) {
+  for (int y = 0; y < grid.height; y += 4)
+    for (int x = 0; x < grid.width; x += 4) {
       const size_t i = static_cast<size_t>(y) * grid.width + x;
       const double h = referenceHalfWidth(lv, map, grid.position[i], grid.normal[i]);
       if (h >= 0) widths.push_back(h);
     }
-  ASSERT_GT(widths.size(), 10000u);
+  ASSERT_GT(widths.size(), 2000u);
   const double bin = std::exp2(1.0 / kBinsPerOctave);
   for (double q : {0.05, 0.5}) {
     const PenumbraWidth w = measurePenumbraWidth(ctx(), g, depth, view, {0, 0, 0}, q);
@@ -402,6 +531,7 @@ TEST_F(PenumbraWidthTest, TheRadiusGrowsWithTheLightsSizeUpToItsMaximum) {
     const TechniqueInfo& info = findTechnique(name);
     Params params(info.params);
     params.set(radius + "-max", "16");
+    params.set("map-size", "2048");  // one size for every light: the radius in texels follows the penumbra alone
     EXPECT_TRUE(AutoRadius::from(params, radius).automatic) << name << ": the default";
     const auto chosen = [&](const char* light, const Params& p) {
       Renderer renderer(ctx(), scene);
@@ -469,6 +599,90 @@ TEST_F(PenumbraWidthTest, AutoIsTheRadiusDefaultOfEveryFixedKernel) {
     EXPECT_EQ(pcf.getInt("pcf-radius-max"), 4) << name;
   }
   EXPECT_EQ(Params(findTechnique("pcf").params).getInt("pcf-adaptive"), 0);  // the penumbra's width, not the footprint
+}
+
+// Caster detail (kernels/fit.cl fit_detail_partial, through MapDetailMeter) against a C++ reference of the same
+// definition: along every row and column, runs of texels entered by a step towards the light and left by a step away
+// from it, each a depth jump of more than 8 texel widths at the nearer side; background and NaN infinitely deep.
+std::vector<uint64_t> referenceDetail(const LightViewGpu& lv, const std::vector<float>& map, int size) {
+  std::vector<uint64_t> bins(64, 0);
+  const auto texel = [&](float d) { return lv.kind == LIGHT_KIND_SPOT ? lv.texelScale * d : lv.texelScale; };
+  for (int line = 0; line < 2 * size; ++line) {
+    const auto at = [&](int k) {
+      const float d = line < size ? map[size_t(line) * size + k] : map[size_t(k) * size + (line - size)];
+      return std::isnan(d) ? INFINITY : d;
+    };
+    int start = -1;
+    float prev = at(0);
+    for (int k = 1; k < size; ++k) {
+      const float d = at(k), jump = 8.0f * texel(std::min(d, prev));
+      if (d < prev - jump) {
+        start = k;
+      } else if (start >= 0 && d > prev + jump) {
+        ++bins[std::min(k - start, 64) - 1];
+        start = -1;
+      }
+      prev = d;
+    }
+  }
+  return bins;
+}
+
+// A receiver plane at depth ~10 (a gentle slope: no jumps) with background in one corner; bars at depth 5 of widths
+// 1, 2, 3, 5, 8, 13 and 70 along the rows (a pseudo-random layout), a bar at depth 2 nested on one at 5, a ramp steeper
+// than the jump threshold (steps one way only), every 97th texel NaN.
+std::vector<float> detailMap(int size) {
+  std::vector<float> map(size_t(size) * size);
+  const int widths[] = {1, 2, 3, 5, 8, 13, 70};
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      float d = 10.0f + 0.001f * float(x + y);
+      if (x < size / 8 && y < size / 8) d = INFINITY;
+      const int w = widths[(y * 7 + 3) % 7], at = (y * 37) % std::max(size - w, 1);
+      if (x >= at && x < at + w) d = 5.0f;
+      if (y % 11 == 0 && x >= size / 2 && x < size / 2 + 12) d = x < size / 2 + 4 ? 5.0f : 2.0f;
+      if (y % 13 == 0 && x >= size / 3 && x < size / 3 + 6) d = 9.0f - 3.0f * float(x - size / 3);
+      if ((size_t(y) * size + x) % 97 == 0) d = std::numeric_limits<float>::quiet_NaN();
+      map[size_t(y) * size + x] = d;
+    }
+  return map;
+}
+
+TEST_F(MapSize, CasterDetailMatchesTheHostReference) {
+  const Bounds bounds{{0, 0, 0}, {30, 0.5f, 18.5f}};
+  for (const char* spec : {"dir:0.3,-1,0.2", "spot:15,12,9:15,0,9:120"})
+    for (int size : {1, 3, 131, 300}) {
+      const LightView lv = fitLightView(parseLight(spec), bounds, size);
+      const Buffer<LightViewGpu> view(ctx(), std::span<const LightViewGpu>(&lv.gpu, 1), CL_MEM_READ_ONLY);
+      const std::vector<float> map = detailMap(size);
+      const Buffer<float> depth(ctx(), std::span<const float>(map));
+      MapDetailMeter meter;
+      meter.add(ctx(), GBuffer{}, depth, size, view, {0, 0, 0}, false);
+      const std::vector<uint64_t> want = referenceDetail(lv.gpu, map, size);
+      uint64_t total = 0;
+      for (uint64_t b : want) total += b;
+      EXPECT_EQ(meter.features(), total) << spec << " " << size;
+      if (size < 100) continue;
+      EXPECT_GT(total, uint64_t(size)) << spec << ": the bars are counted";
+      for (double q : {0.05, 0.25, 0.5, 0.9, 1.0}) {
+        uint64_t running = 0;
+        size_t bin = 0;
+        while (bin + 1 < want.size() && double(running += want[bin]) < q * double(total)) ++bin;
+        EXPECT_EQ(meter.featureWidth(q), double(bin + 1)) << spec << " " << size << " q " << q;
+      }
+      // A second map adds to the counts (a point light's faces).
+      meter.add(ctx(), GBuffer{}, depth, size, view, {0, 0, 0}, false);
+      EXPECT_EQ(meter.features(), 2 * total) << spec << " " << size;
+    }
+  // Nothing drawn: no feature, width 0.
+  const LightView lv = fitLightView(parseLight("dir:0.3,-1,0.2"), bounds, 64);
+  const Buffer<LightViewGpu> view(ctx(), std::span<const LightViewGpu>(&lv.gpu, 1), CL_MEM_READ_ONLY);
+  const std::vector<float> empty(64 * 64, INFINITY);
+  const Buffer<float> depth(ctx(), std::span<const float>(empty));
+  MapDetailMeter meter;
+  meter.add(ctx(), GBuffer{}, depth, 64, view, {0, 0, 0}, false);
+  EXPECT_EQ(meter.features(), 0u);
+  EXPECT_EQ(meter.featureWidth(0.5), 0.0);
 }
 
 }  // namespace map_size_test

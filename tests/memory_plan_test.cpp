@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "host/pipeline/frame_check.h"
+#include "host/pipeline/map_size.h"
 #include "host/scene/procedural.h"
 #include "host/techniques/technique.h"
 
@@ -59,12 +60,12 @@ TEST(MemoryPlan, GrowsWithPixelsLightsAndMaps) {
   // A deferred frame (penumbra render) holds its writers' bands on the host, not the image.
   EXPECT_EQ(planFrame(cameraOf(8192, 8192), {{LightType::Spot, &sm, &small}}, FrameDownload::Deferred).hostBytes(),
             kDeferredHostBytes);
-  // --map-size auto is planned at the largest size it may choose.
+  // --map-size auto is planned at the largest size it may choose, with its drawn probe (depth and ids).
   Params automatic(sm.params), largest(sm.params);
   automatic.set("map-size", "auto");
   largest.set("map-size", std::to_string(largest.getInt("map-size-max")));
   EXPECT_EQ(device(cameraOf(64, 64), {{LightType::Spot, &sm, &automatic}}),
-            device(cameraOf(64, 64), {{LightType::Spot, &sm, &largest}}));
+            device(cameraOf(64, 64), {{LightType::Spot, &sm, &largest}}) + uint64_t{kMapProbeSize} * kMapProbeSize * 8);
 }
 
 // izb at 4K with 32 samples a pixel: its passes of at most --izb-chunk samples bound the sample buffers (8 bytes a
@@ -129,8 +130,8 @@ TEST(MemoryPlan, RasterizerRecordsOfALargeSceneAreChecked) {
   const TechniqueInfo& pcss = findTechnique("pcss");
   Params params(pcss.params);
   const PlannedScene scene{10'000'000, 5'000'000};
-  const MemoryPlan plan = planFrame(cameraOf(1024, 1024), {{LightType::Spot, &pcss, &params}}, FrameDownload::Image,
-                                    scene);
+  const MemoryPlan plan =
+      planFrame(cameraOf(1024, 1024), {{LightType::Spot, &pcss, &params}}, FrameDownload::Image, scene);
   const MemoryPlan bare = planFrame(cameraOf(1024, 1024), {{LightType::Spot, &pcss, &params}});
   EXPECT_GE(plan.deviceBytes() - bare.deviceBytes(), uint64_t{10'000'000} * 64);  // records alone
   try {

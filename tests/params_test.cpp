@@ -52,8 +52,7 @@ TEST(TechniqueRegistry, EveryTechniqueHasValidDefaults) {
 
 // Another valid value of `spec` than its default: the next choice, or the far end of its range.
 std::string otherValue(const ParamSpec& spec) {
-  if (!spec.choices.empty())
-    return spec.choices[(static_cast<size_t>(spec.defaultValue) + 1) % spec.choices.size()];
+  if (!spec.choices.empty()) return spec.choices[(static_cast<size_t>(spec.defaultValue) + 1) % spec.choices.size()];
   const double value = spec.isAuto(spec.defaultValue) || spec.defaultValue != spec.max ? spec.max : spec.min;
   return fmt::format("{}", value);
 }
@@ -61,7 +60,9 @@ std::string otherValue(const ParamSpec& spec) {
 TEST(TechniqueRegistry, AnInstanceIsItsTypedSettings) {
   // The renderer keeps an instance while matches() holds, so every parameter the instance reads must change it; the
   // renderer's own (auto map size's range, the point light's cube guard) do not.
-  const std::set<std::string> renderers = {"map-size-quantile", "map-size-min", "map-size-max", "cube-guard"};
+  const std::set<std::string> renderers = {"map-size-quantile",     "map-size-penumbra", "map-size-penumbra-quantile",
+                                           "map-size-penumbra-max", "map-size-detail",   "map-size-min",
+                                           "map-size-max",          "cube-guard"};
   for (const TechniqueInfo& info : techniques()) {
     const Params defaults(info.params);
     const std::unique_ptr<Technique> instance = info.create(defaults, 1024);

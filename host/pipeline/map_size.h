@@ -5,6 +5,7 @@
 
 #include "host/techniques/params.h"
 #include "host/techniques/technique.h"
+#include "raster/rasterizer.h"
 
 namespace penumbra {
 
@@ -15,10 +16,28 @@ bool autoMapSize(const Params& params);
 // to surface mid-frame as "neededMapSize: ... an empty size range").
 void checkMapSizeRange(const Params& params);
 
-// The map size for this frame: neededMapSize over the view the technique fits (fitWarpedLightView, the LiSPSM warp
-// included; a point light's six cube faces, their guard band included), probed at 1024 texels, with
-// map-size-quantile, -min and -max; records "penumbra:map-size" (the size, the quantile and what it needed) in
-// frame.attributes. The technique's instance is made with it (TechniqueInfo::create's mapSize).
-int sizeMapForFrame(ShadowFrame& frame, const Params& params);
+// The light's view drawn small (kMapProbeSize^2, one cube face after another) for what only a drawn map tells: how wide
+// the shadows' penumbrae are and how thin the casters are. The renderer keeps one per light, so its targets are
+// allocated once.
+inline constexpr int kMapProbeSize = 512;
+struct MapProbe {
+  RasterTargets targets;
+  Buffer<LightViewGpu> view;
+};
+
+// The map size for this frame, the largest of three needs, rounded up to a multiple of 128 texels within
+// map-size-min .. map-size-max:
+// - the pixels' (neededMapSize over the view the technique fits, the LiSPSM warp included, or a point light's six cube
+//   faces with their guard band, probed at 1024 texels): map-size-quantile of the camera's pixels get a texel each;
+// - the penumbrae's (area lights, map-size-penumbra > 0): the penumbra half-width that map-size-penumbra-quantile of
+//   the shadowed pixels reach spans map-size-penumbra texels (a narrower penumbra is an edge drawn at the texel's
+//   resolution; wider ones are filtered, and more texels buy nothing);
+// - the casters' (map-size-detail > 0): the thinnest 5 % of the features the probe holds span map-size-detail texels
+//   (a pole or a bar narrower than a texel drops out of the map).
+// Under an area light the pixels' need (not the other two) is capped where the median penumbra half-width would span
+// more than map-size-penumbra-max texels: a penumbra that wide is filtered, and more texels buy nothing.
+// The last two are measured on `probe`. Records "penumbra:map-size" (the size and each need) in frame.attributes. The
+// technique's instance is made with it (TechniqueInfo::create's mapSize).
+int sizeMapForFrame(ShadowFrame& frame, const Params& params, MapProbe& probe);
 
 }  // namespace penumbra

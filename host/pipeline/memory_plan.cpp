@@ -11,6 +11,7 @@
 #include <numeric>
 #include <utility>
 
+#include "host/pipeline/map_size.h"
 #include "kernels/shared/izb.h"
 
 namespace penumbra {
@@ -69,6 +70,8 @@ MemoryStage techniqueMaps(const PlannedLight& light, size_t index, uint64_t pixe
   }
   stage.largestBuffer = texels * layers * std::max<uint64_t>(perTexel - kMapTexelBytes, 4);
   stage.deviceBytes = texels * layers * perTexel * faces;
+  if (param(light, "map-size", 0) == 0)  // auto: the drawn probe (host/pipeline/map_size.h)
+    stage.deviceBytes += uint64_t{kMapProbeSize} * kMapProbeSize * kMapTexelBytes;
   if (light.params->has("fvsm-budget")) {
     // fvsm: its atlas (faces reuse it) holds at most the budget, the whole virtual map, or a tile per pixel (every
     // tile drawn holds a pixel).

@@ -110,7 +110,7 @@ std::map<std::string, std::string> Renderer::shadow(const Camera& camera, const 
   ShadowFrame frame{ctx_, raster_, scene_, light.light, camera, gbuffer_, receivers};
   // --map-size auto: the technique instance is the one of this frame's size (host/pipeline/map_size.h).
   const Params& params = light.params;
-  const int mapSize = autoMapSize(params) ? sizeMapForFrame(frame, params) : 0;
+  const int mapSize = autoMapSize(params) ? sizeMapForFrame(frame, params, slot.probe) : 0;
   Technique& shadows = techniqueFor(slot, *light.technique, params, mapSize);
   if (point)
     slot.cube.render(frame, shadows, mapSize > 0 ? mapSize : params.getInt("map-size"),

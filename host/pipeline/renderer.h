@@ -13,6 +13,7 @@
 #include "host/cl/profiler.h"
 #include "host/io/image.h"
 #include "host/io/image_rows.h"
+#include "host/pipeline/map_size.h"
 #include "host/pipeline/memory_plan.h"
 #include "host/pipeline/point_light.h"
 #include "host/scene/scene.h"
@@ -80,6 +81,7 @@ class Renderer {
     const TechniqueInfo* info = nullptr;  // what `technique` is an instance of
     Buffer<float> visibility;
     CubeShadows cube;  // a point light's faces
+    MapProbe probe;    // --map-size auto's drawn probe (host/pipeline/map_size.h)
   };
   // The slot's instance while it matches `technique`, `params` and the frame's `mapSize` (Technique::matches), else a
   // new one in its place.

@@ -63,6 +63,7 @@ class PercentageCloser final : public TechniqueOf<PcfSettings> {
 
 TechniqueInfo pcfTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
+  shortPenumbraMapSize(params);
   params.push_back(receiverPlaneParam());
   params.push_back(idBufferParam());
   for (ParamSpec& spec : warpParams()) params.push_back(spec);

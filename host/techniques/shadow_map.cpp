@@ -8,33 +8,62 @@
 #include <stdexcept>
 #include <string>
 
+#include "host/techniques/warp.h"
 #include "host/views/light_fit.h"
 #include "kernels/shared/id_buffer.h"
-#include "host/techniques/warp.h"
 
 namespace penumbra {
 
 namespace {
-// The fixed size before auto became the default, and auto's smallest: the camera's pixels bound what a scene needs
-// from below only (casters can hold finer detail than their receivers' pixels: docs/techniques/README.md).
+// The size of the techniques without auto.
 constexpr int kMapSizeFixed = 2048;
+// --map-size auto: the smallest size, and the texels across a penumbra's half-width and a thin caster's width
+// (calibrated on docs/default-front.md's sweeps).
+// A filter traces a penumbra's ramp when its half-width spans 6 texels; a hard edge (sm) or a short kernel (pcf) is
+// placed within a third of the half-width with 3, and more texels buy it nothing: the penumbra it cannot draw is the
+// larger error.
+constexpr int kMapSizeMin = 256;
+constexpr double kPenumbraTexels = 6.0;
+constexpr double kShortPenumbraTexels = 3.0;
+// Beyond a median half-width of 16 texels (the moment blur's widest) a filter's taps only spread thinner; sm and pcf
+// (a 4-texel kernel) gain nothing beyond 4.
+constexpr double kPenumbraMaxTexels = 16.0;
+constexpr double kShortPenumbraMaxTexels = 4.0;
+constexpr double kDetailTexels = 2.0;
 }  // namespace
 
 std::vector<ParamSpec> shadowMapParams() {
   ParamSpec mapSize{"map-size", 0, 16, 8192,
-                    "Shadow-map width and height in texels, or auto: the size the camera's pixels need "
-                    "(--map-size-quantile of them get a texel per pixel), rounded up to a multiple of 128 within "
-                    "--map-size-min..--map-size-max"};
+                    "Shadow-map width and height in texels, or auto: the largest of what the camera's pixels need "
+                    "(--map-size-quantile of them get a texel per pixel), what the penumbrae need "
+                    "(--map-size-penumbra) and what thin casters need (--map-size-detail), rounded up to a multiple "
+                    "of 128 within --map-size-min..--map-size-max"};
   mapSize.autoName = "auto";  // autoValue 0: the default
   return {
       mapSize,
       {"map-size-quantile", 0.9, 0.01, 1, "--map-size auto: the share of the camera's pixels that get a texel each"},
-      {"map-size-min", kMapSizeFixed, 16, 8192,
-       "--map-size auto: the smallest size (the pixels' need is a lower bound: casters may hold finer detail)"},
+      {"map-size-penumbra", kPenumbraTexels, 0, 64,
+       "--map-size auto, area lights: the penumbra half-width that --map-size-penumbra-quantile of the shadowed pixels "
+       "reach spans at least this many texels (measured on a 512^2 probe of the light's view; 0: off)"},
+      {"map-size-penumbra-quantile", 0.1, 0.01, 1,
+       "--map-size auto: the share of the shadowed pixels whose penumbra may be narrower than --map-size-penumbra"},
+      {"map-size-penumbra-max", kPenumbraMaxTexels, 0, 256,
+       "--map-size auto, area lights: the pixels' need is capped where the median penumbra half-width would span more "
+       "texels than this (wider penumbrae are filtered: more texels buy nothing; 0: off)"},
+      {"map-size-detail", kDetailTexels, 0, 64,
+       "--map-size auto: the thinnest 5 % of the casters' features (legs, poles, bars between alpha holes, measured "
+       "on the probe) span at least this many texels (0: off)"},
+      {"map-size-min", kMapSizeMin, 16, 8192, "--map-size auto: the smallest size"},
       {"map-size-max", 4096, 16, 8192, "--map-size auto: the largest size"},
-      {"fit", 1, 0, 1, "Light frustum fitted to the whole scene, or to the receivers the camera sees", {"scene", "receivers"}},
+      {"fit",
+       1,
+       0,
+       1,
+       "Light frustum fitted to the whole scene, or to the receivers the camera sees",
+       {"scene", "receivers"}},
       {"bias", 1.0, 0, 100, "Constant depth bias, in texel footprints at the receiver"},
-      {"slope-bias", 1.0, 0, 100, "Slope-scaled depth bias, in texel footprints times the receiver's depth slope in the map (a sun's: tan(angle "
+      {"slope-bias", 1.0, 0, 100,
+       "Slope-scaled depth bias, in texel footprints times the receiver's depth slope in the map (a sun's: tan(angle "
        "to the light))"},
       {"normal-offset", 1.0, 0, 100,
        "Receiver offset along its normal, in texel footprints, times sin(angle to the light)"},
@@ -46,6 +75,11 @@ std::vector<ParamSpec> shadowMapParams() {
 
 void unscaledNormalOffset(std::vector<ParamSpec>& params) {
   paramNamed(params, "normal-offset").help = "Receiver offset along its normal, in texel footprints, at every angle";
+}
+
+void shortPenumbraMapSize(std::vector<ParamSpec>& params) {
+  paramNamed(params, "map-size-penumbra").defaultValue = kShortPenumbraTexels;
+  paramNamed(params, "map-size-penumbra-max").defaultValue = kShortPenumbraMaxTexels;
 }
 
 void fixMapSize(std::vector<ParamSpec>& params, const std::string& why) {
@@ -107,14 +141,20 @@ int resolveAutoRadius(ShadowFrame& frame, const Buffer<float>& depth, const Buff
 }
 
 ParamSpec receiverPlaneParam() {
-  return {"receiver-plane", 1, 0, 1,
+  return {"receiver-plane",
+          1,
+          0,
+          1,
           "Receiver-plane depth bias: compare each texel with the receiver's plane (from neighbouring pixels) "
           "instead of the slope-scaled bias; falls back to it where the plane is unknown",
           {"off", "on"}};
 }
 
 ParamSpec idBufferParam() {
-  return {"id-buffer", ID_BUFFER_OFF, ID_BUFFER_OFF, ID_BUFFER_COMBINED,
+  return {"id-buffer",
+          ID_BUFFER_OFF,
+          ID_BUFFER_OFF,
+          ID_BUFFER_COMBINED,
           "ID buffer: a receiver is lit where one of its four nearest texels holds its own object or triangle id "
           "(no depth bias); combined: ids between objects, the biased depth test within one",
           {"off", "object", "polygon", "combined"}};
@@ -136,12 +176,16 @@ MapSettings MapSettings::from(const Params& params, int autoSize) {
 }
 
 ShadeFrame shadeFrame(const ShadowFrame& frame, const MapSettings& settings, int receiverPlane, int idMode) {
-  return {static_cast<uint32_t>(frame.gbuffer.width), static_cast<uint32_t>(frame.gbuffer.height), settings.bias,
-          settings.slopeBias, settings.normalOffset, receiverPlane, idMode};
+  return {static_cast<uint32_t>(frame.gbuffer.width),
+          static_cast<uint32_t>(frame.gbuffer.height),
+          settings.bias,
+          settings.slopeBias,
+          settings.normalOffset,
+          receiverPlane,
+          idMode};
 }
 
-void renderShadowMap(ShadowFrame& frame, const MapSettings& settings, ShadowMap& map, float reachTexels,
-                     MapNear near) {
+void renderShadowMap(ShadowFrame& frame, const MapSettings& settings, ShadowMap& map, float reachTexels, MapNear near) {
   const int size = settings.size;
   const bool toReceivers = settings.fit.fitReceivers;
   const float margin = reachTexels + settings.normalOffset + 1.0f;

@@ -32,6 +32,11 @@ std::vector<ParamSpec> shadowMapParams();
 // For the techniques whose kernels move the receiver by the whole normal offset at every angle (sm, fvsm, jittered:
 // SHADOW_NORMAL_OFFSET_SCALED 0 in kernels/shared/shadow_common.h): normal-offset's help says so.
 void unscaledNormalOffset(std::vector<ParamSpec>& params);
+// For a technique that traces no penumbra wider than a few texels (sm draws hard edges; pcf's kernel reaches
+// --pcf-radius-max, 4 texels): --map-size auto's penumbra need asks for 3 texels across a penumbra's half-width instead
+// of a filter's 6 (its edge is placed within a third of the half-width, and more texels only widen the penumbra beyond
+// what it draws), and caps the pixels' need where the median half-width would span 4 texels instead of 16.
+void shortPenumbraMapSize(std::vector<ParamSpec>& params);
 // For techniques whose map-size is not one uniform map's (per split, or warped): no auto and its settings; `why`
 // goes into the help.
 void fixMapSize(std::vector<ParamSpec>& params, const std::string& why);
@@ -40,7 +45,7 @@ void fixMapSize(std::vector<ParamSpec>& params, const std::string& why);
 // (map-size-quantile, -min, -max) and cube-guard are the renderer's (host/pipeline/map_size.h, point_light.h), not
 // the instance's.
 struct MapSettings {
-  int size = 0;  // texels per side: --map-size, or the frame's choice under auto
+  int size = 0;   // texels per side: --map-size, or the frame's choice under auto
   WarpedFit fit;  // --fit receivers|scene and the warp (host/techniques/warp.h)
   float bias = 0, slopeBias = 0, normalOffset = 0;
   // Throws std::logic_error when --map-size is auto and `autoSize` (the frame's choice) is not positive.
@@ -75,9 +80,9 @@ std::vector<ParamSpec> pcfRadiusParams();
 
 // autoRadiusParams(name) as parsed.
 struct AutoRadius {
-  std::string name;    // "pcf-radius": the header's "penumbra:NAME"
+  std::string name;  // "pcf-radius": the header's "penumbra:NAME"
   bool automatic = false;
-  int radius = 0;      // texels, when not automatic
+  int radius = 0;  // texels, when not automatic
   double quantile = 0;
   int max = 0;
   static AutoRadius from(const Params& params, const std::string& name);

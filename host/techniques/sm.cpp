@@ -38,6 +38,7 @@ class HardShadowMap final : public TechniqueOf<SmSettings> {
 TechniqueInfo smTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
   unscaledNormalOffset(params);
+  shortPenumbraMapSize(params);
   params.push_back(receiverPlaneParam());
   params.push_back(idBufferParam());
   for (ParamSpec& spec : warpParams()) params.push_back(spec);

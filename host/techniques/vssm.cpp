@@ -141,6 +141,9 @@ std::vector<ParamSpec> vssmParamSpecs() {
 
 TechniqueInfo vssmTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
+  // Its error keeps falling until the narrow end of the penumbrae spans ~24 texels (its disk strips and sub-kernels are
+  // whole texels): docs/techniques/README.md, "Beyond the pixels".
+  paramNamed(params, "map-size-penumbra").defaultValue = 24;
   for (ParamSpec& spec : vssmParamSpecs()) params.push_back(std::move(spec));
   return {"vssm", "Variance soft shadow mapping (SAT moments, min-max HSM, kernel subdivision) for area lights", params,
           makeTechnique<VarianceSoftShadows>};

@@ -20,6 +20,7 @@ constexpr size_t kSizeBins = 128;           // FIT_SIZE_BINS
 constexpr double kSizeBinsPerOctave = 8.0;  // FIT_SIZE_BINS_PER_OCTAVE, also the penumbra histogram's
 constexpr size_t kPenumbraBins = 128;       // FIT_PENUMBRA_BINS
 constexpr double kPenumbraLog2Min = -8.0;   // FIT_PENUMBRA_LOG2_MIN
+constexpr size_t kDetailBins = 64;          // FIT_DETAIL_BINS
 
 // Chunk per group so that at most kMaxGroups groups cover `count` items, each chunk a multiple of the group.
 uint32_t chunkFor(size_t count) {
@@ -136,26 +137,26 @@ MapSizeNeed neededMapSize(Context& ctx, const GBuffer& gbuffer, std::span<const 
   if (need.pixels == 0) return need;
   // The bin at which the running count reaches the quantile; its upper edge is the size.
   need.needed = std::exp2(static_cast<double>(quantileBin(bins, quantile) + 1) / kSizeBinsPerOctave);
+  need.size = roundedMapSize(need.needed, minSize, maxSize);
+  return need;
+}
+
+int roundedMapSize(double needed, int minSize, int maxSize) {
   // Up to a whole number of the rasterizer's bins, not to a power of two: a need of 2233 draws 2304^2 texels, not
   // 4096^2 (3.2 times as many).
   static_assert(kMapSizeStep == 1 << RASTER_BIN_PIXEL_LOG2, "auto sizes are whole rasterizer bins");
-  const double steps = std::ceil(std::min(need.needed, static_cast<double>(maxSize)) / kMapSizeStep);
-  need.size = std::clamp(static_cast<int>(steps) * kMapSizeStep, minSize, maxSize);
-  return need;
+  const double steps = std::ceil(std::min(needed, static_cast<double>(maxSize)) / kMapSizeStep);
+  return std::clamp(static_cast<int>(steps) * kMapSizeStep, minSize, maxSize);
 }
 
 namespace {
 
 enum PenumbraMeasure { kHalfWidth = 0, kDistance = 1 };  // FIT_PENUMBRA_HALF_WIDTH, FIT_PENUMBRA_DISTANCE
 
-// The `quantile` of fit_penumbra_partial's histogram of `measure` (distances over `unit`): the bin's geometric centre
-// (bin 0, which also holds the zeros, as 0), and the pixels counted.
-PenumbraWidth penumbraQuantile(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& map,
-                               const Buffer<LightViewGpu>& view, const ReceiverBias& bias, double quantile,
-                               PenumbraMeasure measure, float unit) {
-  if (!(quantile > 0.0 && quantile <= 1.0)) throw std::invalid_argument("penumbra histogram: quantile outside (0, 1]");
-  PenumbraWidth width;
-  if (gbuffer.width == 0 || gbuffer.height == 0) return width;
+// fit_penumbra_partial's histogram of `measure` (distances over `unit`).
+Histogram penumbraBins(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& map, const Buffer<LightViewGpu>& view,
+                       const ReceiverBias& bias, PenumbraMeasure measure, float unit) {
+  if (gbuffer.width == 0 || gbuffer.height == 0) return {std::vector<uint64_t>(kPenumbraBins, 0)};
   const SampleLaunch s = sampleLaunch(gbuffer);
   Buffer<uint32_t> partial(ctx, s.groups * kPenumbraBins);
   Kernel kernel(ctx, "kernels/fit.cl", "fit_penumbra_partial", "fit");
@@ -165,13 +166,27 @@ PenumbraWidth penumbraQuantile(Context& ctx, const GBuffer& gbuffer, const Buffe
             bias.normalOffset, static_cast<int>(measure), unit, partial)
       .moves(s.count * (2 * sizeof(cl_float4) + sizeof(float)))  // floor: each sample's position and normal, a texel
       .launch(s.groups * kFitGroup, kFitGroup);
-  const Histogram bins = sumPartials(partial.download(ctx), kPenumbraBins);
+  return sumPartials(partial.download(ctx), kPenumbraBins);
+}
+
+// The `quantile` of a penumbra histogram: the bin's geometric centre (bin 0, which also holds the zeros, as 0), and
+// the pixels counted.
+PenumbraWidth penumbraQuantile(const Histogram& bins, double quantile) {
+  if (!(quantile > 0.0 && quantile <= 1.0)) throw std::invalid_argument("penumbra histogram: quantile outside (0, 1]");
+  PenumbraWidth width;
   width.pixels = bins.total;
   if (width.pixels == 0) return width;
   const size_t bin = quantileBin(bins, quantile);
   width.halfWidth =
       bin == 0 ? 0.0 : std::exp2((static_cast<double>(bin) + 0.5) / kSizeBinsPerOctave + kPenumbraLog2Min);
   return width;
+}
+
+PenumbraWidth penumbraQuantile(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& map,
+                               const Buffer<LightViewGpu>& view, const ReceiverBias& bias, double quantile,
+                               PenumbraMeasure measure, float unit) {
+  if (!(quantile > 0.0 && quantile <= 1.0)) throw std::invalid_argument("penumbra histogram: quantile outside (0, 1]");
+  return penumbraQuantile(penumbraBins(ctx, gbuffer, map, view, bias, measure, unit), quantile);
 }
 
 }  // namespace
@@ -204,6 +219,43 @@ DepthRange reduceDepthRange(Context& ctx, const Buffer<float>& depth, size_t cou
     range.max = std::max(range.max, p.s[1]);
   }
   return range;
+}
+
+void MapDetailMeter::add(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& depth, int size,
+                         const Buffer<LightViewGpu>& view, const ReceiverBias& bias, bool penumbrae) {
+  if (penumbrae) {
+    const Histogram h = penumbraBins(ctx, gbuffer, depth, view, bias, kHalfWidth, 1.0f);
+    penumbra_.resize(h.bins.size(), 0);
+    for (size_t b = 0; b < h.bins.size(); ++b) penumbra_[b] += h.bins[b];
+  }
+  const size_t lines = 2 * static_cast<size_t>(size);
+  const size_t groups = (lines + kFitGroup - 1) / kFitGroup;
+  Buffer<uint32_t> partial(ctx, groups * kDetailBins);
+  Kernel kernel(ctx, "kernels/fit.cl", "fit_detail_partial", "fit");
+  kernel.args(depth, size, size, view, partial)
+      .moves(2 * static_cast<uint64_t>(size) * static_cast<uint64_t>(size) * sizeof(float))  // rows, then columns
+      .launch(groups * kFitGroup, kFitGroup);
+  const Histogram h = sumPartials(partial.download(ctx), kDetailBins);
+  features_.resize(kDetailBins, 0);
+  for (size_t b = 0; b < kDetailBins; ++b) features_[b] += h.bins[b];
+}
+
+PenumbraWidth MapDetailMeter::penumbra(double quantile) const {
+  Histogram h{penumbra_};
+  for (uint64_t b : h.bins) h.total += b;
+  return penumbraQuantile(h, quantile);
+}
+
+uint64_t MapDetailMeter::features() const {
+  uint64_t total = 0;
+  for (uint64_t b : features_) total += b;
+  return total;
+}
+
+double MapDetailMeter::featureWidth(double quantile) const {
+  Histogram h{features_};
+  h.total = features();
+  return h.total == 0 ? 0.0 : static_cast<double>(quantileBin(h, quantile) + 1);
 }
 
 ViewDepthRange tightViewDepth(Context& ctx, const GBuffer& g) {
