@@ -22,12 +22,6 @@ namespace {
 // typical pixels near 1, far from float round-off either way.
 constexpr int kProbeSize = 1024;
 
-}  // namespace
-
-bool autoMapSize(const Params& params) { return params.isAuto("map-size"); }
-
-namespace {
-
 // The share of the probe's caster features whose width map-size-detail is about: the thinnest.
 constexpr double kDetailQuantile = 0.05;
 
@@ -98,6 +92,8 @@ DrawnNeeds drawnNeeds(ShadowFrame& frame, const Params& params, MapProbe& probe,
 }
 
 }  // namespace
+
+bool autoMapSize(const Params& params) { return params.isAuto("map-size"); }
 
 int sizeMapForFrame(ShadowFrame& frame, const Params& params, MapProbe& probe) {
   std::vector<LightViewGpu> views;
