@@ -1,6 +1,8 @@
 // `pcss`: percentage-closer soft shadows for spot disk lights and sun disks (kernels/pcss.cl): blocker
 // search, penumbra from similar triangles, PCF, on grids or rotated Poisson disks. Debug channel: the average blocker
 // depth.
+#include <algorithm>
+
 #include "host/stages/pyramid.h"
 #include "host/techniques/poisson.h"
 #include "host/techniques/registry.h"
@@ -12,6 +14,15 @@ namespace penumbra {
 namespace {
 
 constexpr int kSearchAdaptive = 1;  // pcss-search's index of "adaptive"
+
+// --pcss-max-radius auto: a 32nd of the map's side (64 texels at 2048^2), the same width in the scene at every size,
+// so that a larger map never reaches less far (at 4096^2 a fixed 64 cut default.json's contact-free penumbrae:
+// MAE 0.00211 against 0.00165 with 128, 480x270, 256-spp reference).
+constexpr int kMaxRadiusDivisor = 32;
+float maxRadiusFor(const Params& params, int mapSize) {
+  if (!params.isAuto("pcss-max-radius")) return static_cast<float>(params.get("pcss-max-radius"));
+  return static_cast<float>(std::max(mapSize / kMaxRadiusDivisor, 1));
+}
 
 struct PcssSettings {
   MapSettings map;
@@ -25,7 +36,7 @@ struct PcssSettings {
             params.getInt("receiver-plane"),
             params.getInt("pcss-search-taps"),
             params.getInt("pcss-filter-taps"),
-            static_cast<float>(params.get("pcss-max-radius")),
+            maxRadiusFor(params, MapSettings::from(params, mapSize).size),
             params.getInt("pcss-pattern"),
             params.getInt("pcss-search") == kSearchAdaptive};
   }
@@ -87,7 +98,10 @@ TechniqueInfo pcssTechnique() {
   params.push_back(receiverPlaneParam());
   params.push_back({"pcss-search-taps", 8, 1, 64, "Blocker search: taps x taps samples (grid) or taps^2 (disk)"});
   params.push_back({"pcss-filter-taps", 8, 1, 64, "PCF: taps x taps (grid) or taps^2 (disk) bilinear comparisons"});
-  params.push_back({"pcss-max-radius", 64, 1, 512, "Largest search/filter half-width in texels"});
+  ParamSpec maxRadius{"pcss-max-radius", 0, 1, 512,
+                      "Largest search/filter half-width in texels; auto: a 32nd of the map's side (64 at 2048)"};
+  maxRadius.autoName = "auto";  // autoValue 0: the default
+  params.push_back(maxRadius);
   // The disk by default: at the grid's tap count it halves the grid's error or more, docs/techniques/sm-pcf-pcss.md.
   static_assert(SHADE_PATTERN_GRID == 0 && SHADE_PATTERN_POISSON == 1, "pcss-pattern's choices are SHADE_PATTERN_*");
   params.push_back({"pcss-pattern",
