@@ -95,6 +95,29 @@ void expectEdge(const RenderResult& result, float band, const std::string& what)
 // --pcss-search adaptive: where the pyramid says nothing in the search region lies in front of the receiver
 // (blocker.Z = -1) the full search finds no blocker either (exactly lit); the early-out takes most lit pixels; and the
 // narrowed region's taps come closer to brute-force PCSS (64 x 64 taps) than the full region's at the same count.
+// --pcss-max-radius auto (the default) is a 32nd of the map's side: the same frame as the explicit radius at 1024^2
+// (32), 2048^2 (64, the fixed default before) and 4096^2 (128), under a light large enough that the reach matters
+// (the penumbrae are wider than 32 texels at 1024^2): a smaller reach darkens differently.
+TEST_F(PcfTechniques, PcssMaxRadiusAutoIsA32ndOfTheMap) {
+  const Scene scene = test::squareOverPlane();
+  Camera camera = test::topDown();
+  camera.width = 96, camera.height = 72;
+  const TechniqueInfo& pcss = findTechnique("pcss");
+  EXPECT_TRUE(Params(pcss.params).isAuto("pcss-max-radius"));
+  const Light light = parseLight("spot:0,4,0:0,0,0:120:1.5");
+  auto visibility = [&](int size, const char* radius) {
+    Params params(pcss.params);
+    params.set("map-size", std::to_string(size));
+    params.set("pcss-max-radius", radius);
+    Renderer renderer(ctx(), scene);
+    return renderer.render(camera, light, pcss, params).image.require("visibility.Y").data;
+  };
+  for (const auto& [size, radius] : {std::pair{1024, "32"}, {2048, "64"}, {4096, "128"}}) {
+    EXPECT_EQ(visibility(size, "auto"), visibility(size, radius)) << size;
+  }
+  EXPECT_NE(visibility(4096, "auto"), visibility(4096, "64")) << "the reach matters under this light";
+}
+
 TEST_F(PcfTechniques, PcssAdaptiveSearchSkipsOnlyWhatCannotBlockAndSamplesCloser) {
   const Scene scene = test::squareOverPlane();
   Camera camera = test::topDown();
