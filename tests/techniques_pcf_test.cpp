@@ -1,6 +1,7 @@
 // The sm/pcf/pcss options beyond the basics: receiver-plane depth bias (acne-free without slope bias),
 // the adaptive PCF kernel (grows with the pixel's footprint in the map), rotated Poisson taps (same shadow
-// edge as the grid), and the receiver fit (same hard edge as the whole-scene fit, finer texels).
+// edge as the grid), the receiver fit (same hard edge as the whole-scene fit, finer texels), and pcss's reach scaled with
+// the map (--pcss-max-radius auto).
 #include <gtest/gtest.h>
 
 #include <cmath>
