@@ -221,13 +221,25 @@ DepthRange reduceDepthRange(Context& ctx, const Buffer<float>& depth, size_t cou
   return range;
 }
 
+namespace {
+
+// `h`'s counts added bin by bin to `sum` (empty: zeros).
+void addBins(std::vector<uint64_t>& sum, const Histogram& h) {
+  sum.resize(h.bins.size(), 0);
+  for (size_t b = 0; b < h.bins.size(); ++b) sum[b] += h.bins[b];
+}
+
+Histogram withTotal(const std::vector<uint64_t>& bins) {
+  Histogram h{bins};
+  for (uint64_t b : h.bins) h.total += b;
+  return h;
+}
+
+}  // namespace
+
 void MapDetailMeter::add(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& depth, int size,
                          const Buffer<LightViewGpu>& view, const ReceiverBias& bias, bool penumbrae) {
-  if (penumbrae) {
-    const Histogram h = penumbraBins(ctx, gbuffer, depth, view, bias, kHalfWidth, 1.0f);
-    penumbra_.resize(h.bins.size(), 0);
-    for (size_t b = 0; b < h.bins.size(); ++b) penumbra_[b] += h.bins[b];
-  }
+  if (penumbrae) addBins(penumbra_, penumbraBins(ctx, gbuffer, depth, view, bias, kHalfWidth, 1.0f));
   const size_t lines = 2 * static_cast<size_t>(size);
   const size_t groups = (lines + kFitGroup - 1) / kFitGroup;
   Buffer<uint32_t> partial(ctx, groups * kDetailBins);
@@ -235,26 +247,17 @@ void MapDetailMeter::add(Context& ctx, const GBuffer& gbuffer, const Buffer<floa
   kernel.args(depth, size, size, view, partial)
       .moves(2 * static_cast<uint64_t>(size) * static_cast<uint64_t>(size) * sizeof(float))  // rows, then columns
       .launch(groups * kFitGroup, kFitGroup);
-  const Histogram h = sumPartials(partial.download(ctx), kDetailBins);
-  features_.resize(kDetailBins, 0);
-  for (size_t b = 0; b < kDetailBins; ++b) features_[b] += h.bins[b];
+  addBins(features_, sumPartials(partial.download(ctx), kDetailBins));
 }
 
 PenumbraWidth MapDetailMeter::penumbra(double quantile) const {
-  Histogram h{penumbra_};
-  for (uint64_t b : h.bins) h.total += b;
-  return penumbraQuantile(h, quantile);
+  return penumbraQuantile(withTotal(penumbra_), quantile);
 }
 
-uint64_t MapDetailMeter::features() const {
-  uint64_t total = 0;
-  for (uint64_t b : features_) total += b;
-  return total;
-}
+uint64_t MapDetailMeter::features() const { return withTotal(features_).total; }
 
 double MapDetailMeter::featureWidth(double quantile) const {
-  Histogram h{features_};
-  h.total = features();
+  const Histogram h = withTotal(features_);
   return h.total == 0 ? 0.0 : static_cast<double>(quantileBin(h, quantile) + 1);
 }
 
