@@ -35,9 +35,9 @@ constexpr double kDetailTexels = 2.0;
 std::vector<ParamSpec> shadowMapParams() {
   ParamSpec mapSize{"map-size", 0, 16, 8192,
                     "Shadow-map width and height in texels, or auto: the largest of what the camera's pixels need "
-                    "(--map-size-quantile of them get a texel per pixel; capped by --map-size-penumbra-max), what the penumbrae need "
-                    "(--map-size-penumbra) and what thin casters need (--map-size-detail), rounded up to a multiple "
-                    "of 128 within --map-size-min..--map-size-max"};
+                    "(--map-size-quantile of them get a texel per pixel; capped by --map-size-penumbra-max), what the "
+                    "penumbrae need (--map-size-penumbra) and what thin casters need (--map-size-detail), rounded up "
+                    "to a multiple of 128 within --map-size-min..--map-size-max"};
   mapSize.autoName = "auto";  // autoValue 0: the default
   return {
       mapSize,
