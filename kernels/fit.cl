@@ -100,9 +100,9 @@ __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_depth_p
 // Caster detail: the widths of the features a drawn map holds, in texels. Along each line of the map (work-item l <
 // height: row l; then column l - height), a feature is a run of texels entered by a step towards the light and left by
 // a step away from it, each step a depth jump of more than FIT_DETAIL_JUMP texel widths at the nearer side
-// (background, +INFINITY, and NaN texels lie infinitely deep): a leg, a wire, a bar between alpha holes. A slanted surface steps one
-// way only and holds no run. Per group: partial[g * FIT_DETAIL_BINS + b] = runs of width b + 1 texels (the last bin:
-// FIT_DETAIL_BINS or wider).
+// (background, +INFINITY, and NaN texels lie infinitely deep): a leg, a wire, a bar between alpha holes. A slanted
+// surface steps one way only and holds no run. Per group: partial[g * FIT_DETAIL_BINS + b] = runs of width b + 1
+// texels (the last bin: FIT_DETAIL_BINS or wider).
 #define FIT_DETAIL_BINS 64
 #define FIT_DETAIL_JUMP 8.0f
 __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_detail_partial(

@@ -32,11 +32,12 @@ struct PcssSettings {
   int pattern = SHADE_PATTERN_POISSON;  // SHADE_PATTERN_*
   bool adaptive = false;                // pcss-search adaptive
   static PcssSettings from(const Params& params, int mapSize) {
-    return {MapSettings::from(params, mapSize),
+    const MapSettings map = MapSettings::from(params, mapSize);
+    return {map,
             params.getInt("receiver-plane"),
             params.getInt("pcss-search-taps"),
             params.getInt("pcss-filter-taps"),
-            maxRadiusFor(params, MapSettings::from(params, mapSize).size),
+            maxRadiusFor(params, map.size),
             params.getInt("pcss-pattern"),
             params.getInt("pcss-search") == kSearchAdaptive};
   }

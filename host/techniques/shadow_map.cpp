@@ -55,11 +55,7 @@ std::vector<ParamSpec> shadowMapParams() {
        "on the probe) span at least this many texels (0: off)"},
       {"map-size-min", kMapSizeMin, 16, 8192, "--map-size auto: the smallest size"},
       {"map-size-max", 4096, 16, 8192, "--map-size auto: the largest size"},
-      {"fit",
-       1,
-       0,
-       1,
-       "Light frustum fitted to the whole scene, or to the receivers the camera sees",
+      {"fit", 1, 0, 1, "Light frustum fitted to the whole scene, or to the receivers the camera sees",
        {"scene", "receivers"}},
       {"bias", 1.0, 0, 100, "Constant depth bias, in texel footprints at the receiver"},
       {"slope-bias", 1.0, 0, 100,
@@ -141,20 +137,14 @@ int resolveAutoRadius(ShadowFrame& frame, const Buffer<float>& depth, const Buff
 }
 
 ParamSpec receiverPlaneParam() {
-  return {"receiver-plane",
-          1,
-          0,
-          1,
+  return {"receiver-plane", 1, 0, 1,
           "Receiver-plane depth bias: compare each texel with the receiver's plane (from neighbouring pixels) "
           "instead of the slope-scaled bias; falls back to it where the plane is unknown",
           {"off", "on"}};
 }
 
 ParamSpec idBufferParam() {
-  return {"id-buffer",
-          ID_BUFFER_OFF,
-          ID_BUFFER_OFF,
-          ID_BUFFER_COMBINED,
+  return {"id-buffer", ID_BUFFER_OFF, ID_BUFFER_OFF, ID_BUFFER_COMBINED,
           "ID buffer: a receiver is lit where one of its four nearest texels holds its own object or triangle id "
           "(no depth bias); combined: ids between objects, the biased depth test within one",
           {"off", "object", "polygon", "combined"}};
@@ -176,13 +166,8 @@ MapSettings MapSettings::from(const Params& params, int autoSize) {
 }
 
 ShadeFrame shadeFrame(const ShadowFrame& frame, const MapSettings& settings, int receiverPlane, int idMode) {
-  return {static_cast<uint32_t>(frame.gbuffer.width),
-          static_cast<uint32_t>(frame.gbuffer.height),
-          settings.bias,
-          settings.slopeBias,
-          settings.normalOffset,
-          receiverPlane,
-          idMode};
+  return {static_cast<uint32_t>(frame.gbuffer.width), static_cast<uint32_t>(frame.gbuffer.height), settings.bias,
+          settings.slopeBias, settings.normalOffset, receiverPlane, idMode};
 }
 
 void renderShadowMap(ShadowFrame& frame, const MapSettings& settings, ShadowMap& map, float reachTexels, MapNear near) {

@@ -45,7 +45,7 @@ void fixMapSize(std::vector<ParamSpec>& params, const std::string& why);
 // (map-size-quantile, -min, -max) and cube-guard are the renderer's (host/pipeline/map_size.h, point_light.h), not
 // the instance's.
 struct MapSettings {
-  int size = 0;   // texels per side: --map-size, or the frame's choice under auto
+  int size = 0;  // texels per side: --map-size, or the frame's choice under auto
   WarpedFit fit;  // --fit receivers|scene and the warp (host/techniques/warp.h)
   float bias = 0, slopeBias = 0, normalOffset = 0;
   // Throws std::logic_error when --map-size is auto and `autoSize` (the frame's choice) is not positive.
