@@ -113,11 +113,55 @@ inline float vssm_blocker_depth(const VssmMaps* m, const VssmReceiver* r, float2
   return blocked > 0.0f ? depthSum / blocked : -1.0f;
 }
 
+// Beyond the paper: the fallback of a penumbra kernel whose blockers lie at several depths. Eq. 4's single blocker
+// z_occ = mu - sigma^2 / (t - mu) is where all of them would sit if the kernel held one blocker depth and receivers at
+// t, and the Chebyshev bound is tight for exactly that two-depth mix (Cantelli). One blocker depth puts z_occ at the
+// kernel's nearest texel z_min; occluders stacked inside the kernel (a plate above a plate under a large light) put it
+// between them, and there the bound can let most of the light into the umbra (stacked planes, light radius 2: a
+// quarter of the umbra pixels above 0.1). Where z_occ - z_min exceeds stackedSpread (t - z_min), the kernel is
+// shaded by stackedTaps^2 jittered bilinear comparisons instead (Bavoil 2008's cells, as the contact PCF; on a disk
+// kernel the taps inside the disk). Subdividing would not help: Algorithm 2 pools normal sub-kernels into one bound.
+inline float vssm_stacked_pcf(const VssmMaps* m, const VssmReceiver* r, float2 c, float w) {
+  const int taps = (int)m->p.stackedTaps;
+  const float cell = 2.0f * w / (float)taps;
+  float lit = 0.0f, count = 0.0f;
+  for (int j = 0; j < taps; ++j)
+    for (int i = 0; i < taps; ++i) {
+      const uint tap = (r->seed * (uint)(taps * taps) + (uint)(j * taps + i)) * 2u;
+      const float2 pos = c - w + cell * (float2)((float)i + vssm_hash01(tap), (float)j + vssm_hash01(tap + 1u));
+      if (m->p.diskStrips != 0u && length(pos - c) > w) continue;
+      lit += sc_compare_bilinear(m->depth, m->lv->width, m->lv->height, pos, vssm_tap_depth(r, pos));
+      count += 1.0f;
+    }
+  if (count > 0.0f) return lit / count;
+  return sc_compare_bilinear(m->depth, m->lv->width, m->lv->height, c, vssm_tap_depth(r, c));  // no tap in the disk
+}
+
 // Alg. 1 L17-L20 and Alg. 2 L28-L31: visibility over the penumbra kernel of half-width w at c: the Chebyshev bound
 // L of the normal group weighted by VSMArea, 1 by LitArea and the PCF result L1 by PCFArea.
-inline float vssm_shade(const VssmMaps* m, const VssmReceiver* r, float2 c, float w, int* subdivided, int* visited) {
+// Beyond the paper, first: the HSM's range over the penumbra kernel, as L8-L10 over the search kernel (lit, or umbra
+// whatever the moments say, which blockers at several depths spread), then vssm_stacked_pcf where they do.
+// `path`: VSSM_PATH_LIT, VSSM_PATH_UMBRA or VSSM_PATH_STACKED where the range decided, else unchanged.
+inline float vssm_shade(const VssmMaps* m, const VssmReceiver* r, float2 c, float w, int* subdivided, int* visited,
+                        int* path) {
+  const float2 range = vssm_hsm_range(m, c - w, c + w);
+  if (range.x >= r->t) {
+    *path = VSSM_PATH_LIT;
+    return 1.0f;
+  }
+  if (range.y < r->t - r->tSlope * w * M_SQRT2_F) {
+    *path = VSSM_PATH_UMBRA;
+    return 0.0f;
+  }
   const float2 e = vssm_kernel_moments(m, c, w);
-  if (e.x < r->t) return cheb_upper_bound(e, r->t, m->p.minVariance);
+  if (e.x < r->t) {
+    const float spread = m->p.stackedSpread;
+    if (spread > 0.0f && vssm_occluder(e, r->t, m->p.minVariance) - range.x > spread * (r->t - range.x)) {
+      *path = VSSM_PATH_STACKED;
+      return vssm_stacked_pcf(m, r, c, w);
+    }
+    return cheb_upper_bound(e, r->t, m->p.minVariance);
+  }
   if (m->p.shadeScheme == VSSM_SCHEME_NONE) return 1.0f;
   *subdivided = 1;
   VssmAccum acc = vssm_accum_zero();
@@ -175,8 +219,9 @@ inline VssmResult vssm_pixel(const VssmMaps* m, VssmReceiver r) {
     out.path = VSSM_PATH_CONTACT;
     return out;
   }
-  out.visibility = vssm_shade(m, &r, r.uv, wp, &subdivided, &out.visited);
-  out.path = subdivided ? VSSM_PATH_SUBDIVIDED : VSSM_PATH_PLANAR;
+  int path = -1;
+  out.visibility = vssm_shade(m, &r, r.uv, wp, &subdivided, &out.visited, &path);
+  out.path = path >= 0 ? path : subdivided ? VSSM_PATH_SUBDIVIDED : VSSM_PATH_PLANAR;
   return out;
 }
 

@@ -1,7 +1,7 @@
 // VSSM's per-pixel kernel (kernels/vssm.cl, vssm_visibility_receivers) against the double-precision reference
 // (tests/reference/vssm_ref.cpp) on random and adversarial maps: planar blocks, NaN and empty texels, 1x1, thin
 // and non-power-of-two maps, huge depth ranges, receivers outside the map; every subdivision scheme and SAT
-// storage. Plus the quad-tree's Child/Next links.
+// storage, the stacked-blocker PCF fallback on and off. Plus the quad-tree's Child/Next links.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -40,6 +40,7 @@ struct Case {
   float holes = 0.05f;  // share of NaN / empty texels
   double visTol = kVisTol;
   int diskStrips = 0;  // beyond the paper: disk kernels of at most this many strips
+  double stacked = 0.1;  // beyond the paper: the stacked-blocker PCF fallback's threshold (the default; 0 = never)
 };
 
 std::string caseName(const ::testing::TestParamInfo<Case>& p) { return p.param.name; }
@@ -101,6 +102,7 @@ ref::VssmSettings settingsFor(const Case& c) {
   s.m = 5, s.n = 6, s.levels = 3, s.leafTaps = 2;
   s.planarMaxLit = 0.9;
   s.diskStrips = c.diskStrips;
+  s.stackedSpread = c.stacked, s.stackedTaps = 8;
   s.litVariance = 2.5e-5, s.contactDepth = 0.02 * (c.zFar - c.zNear), s.maxRadius = 24, s.minVariance = 1e-6;
   return s;
 }
@@ -136,6 +138,7 @@ KernelOut runKernel(Context& ctx, const Case& c, const std::vector<float>& map, 
   p.nodeCount = maps.nodeCount(), p.pyramidLevels = maps.levelCount();
   p.planarMaxLit = float(s.planarMaxLit);
   p.diskStrips = uint32_t(s.diskStrips);
+  p.stackedSpread = float(s.stackedSpread), p.stackedTaps = uint32_t(s.stackedTaps);
   std::vector<cl_float4> rx(receivers.size());
   std::vector<float> slopes(receivers.size());
   for (size_t i = 0; i < receivers.size(); ++i) {
@@ -174,7 +177,7 @@ TEST_P(VssmKernel, MatchesReference) {
   light.spot = c.spot, light.lightSize = lv.lightSize, light.texelScale = lv.texelScale;
   light.zNear = c.zNear, light.zFar = c.zFar;
   const ref::VssmReference reference(map, c.width, c.height, light, settings);
-  size_t flips = 0, paths = 0, subdivided = 0;
+  size_t flips = 0, paths = 0, subdivided = 0, stacked = 0;
   double sum = 0.0;
   std::string report;
   for (size_t i = 0; i < receivers.size(); ++i) {
@@ -184,6 +187,7 @@ TEST_P(VssmKernel, MatchesReference) {
     const double diff = std::abs(vis - want.visibility);
     sum += diff;
     subdivided += want.path == VSSM_PATH_SUBDIVIDED;
+    stacked += want.path == VSSM_PATH_STACKED;
     if (diff > c.visTol && ++flips <= 5)
       report += fmt::format("\n  receiver {} ({:.3f}, {:.3f}, d {:.4g}): {} vs {} (paths {} / {})", i, receivers[i].u,
                             receivers[i].v, receivers[i].depth, vis, want.visibility, got.debug[i].s[3], want.path);
@@ -194,6 +198,13 @@ TEST_P(VssmKernel, MatchesReference) {
   EXPECT_LE(sum / n, kMeanVisTol);
   if (c.searchScheme != VSSM_SCHEME_NONE && c.width * c.height > 1) {
     EXPECT_GT(subdivided, 0u) << "no receiver took the subdivision path";
+  }
+  // The random maps' blocks overlap at several depths: some penumbra kernels hold stacked blockers.
+  if (c.stacked > 0 && c.width * c.height > 1) {
+    EXPECT_GT(stacked, 0u) << "no receiver took the stacked-blocker fallback";
+  }
+  if (c.stacked == 0) {
+    EXPECT_EQ(stacked, 0u);
   }
 }
 
@@ -217,7 +228,9 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"disk16_adaptive_64x64", 64, 64, 2.0f, 12.0f, kA, kA, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 16},
         Case{"disk8_none_45x45", 45, 45, 2.0f, 12.0f, kN, kN, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 8},
         Case{"disk8_mixed_1x1", 1, 1, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 8},
-        Case{"disk8_directional", 50, 50, 5.0f, 25.0f, kU, kA, VssmSatMode::Fixed64, false, 0.05f, kVisTol, 8}),
+        Case{"disk8_directional", 50, 50, 5.0f, 25.0f, kU, kA, VssmSatMode::Fixed64, false, 0.05f, kVisTol, 8},
+        Case{"mixed_no_stacked_fallback", 61, 37, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 0,
+             0.0}),
     caseName);
 
 TEST(VssmQuadTree, ChildAndNextLinksWalkTheTreeDepthFirst) {

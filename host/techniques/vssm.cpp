@@ -83,6 +83,8 @@ VssmSettings VssmSettings::from(const Params& params) {
   s.contact = params.get("vssm-contact");
   s.minVariance = static_cast<float>(params.get("vssm-min-variance"));
   s.pGuard = static_cast<float>(params.get("vssm-p-guard"));
+  s.stackedSpread = static_cast<float>(params.get("vssm-stacked"));
+  s.stackedTaps = static_cast<uint32_t>(params.getInt("vssm-stacked-taps"));
   return s;
 }
 
@@ -109,6 +111,8 @@ VssmParams vssmParams(const VssmSettings& settings, const VssmMaps& maps, float 
   p.pyramidLevels = maps.levelCount();
   p.planarMaxLit = settings.pGuard;
   p.diskStrips = settings.diskStrips;
+  p.stackedSpread = settings.stackedSpread;
+  p.stackedTaps = settings.stackedTaps;
   return p;
 }
 
@@ -135,6 +139,10 @@ std::vector<ParamSpec> vssmParamSpecs() {
       {"vssm-disk-strips", 8, 0, 32,
        "Beyond the paper: search and penumbra kernels as disks of at most this many area-matched SAT strips (one per "
        "texel row at most); 0 = the paper's squares"},
+      {"vssm-stacked", 0.1, 0, 1,
+       "Beyond the paper: a penumbra kernel whose eq. 4 blocker lies more than this share of the way from its nearest "
+       "texel to the receiver holds blockers at several depths and is shaded by jittered PCF; 0 = never"},
+      {"vssm-stacked-taps", 8, 1, 32, "PCF fallback of a stacked-blocker kernel: taps x taps jittered cells"},
       {"vssm-sat", 0, 0, 3, "SAT storage of the moments", {"fixed64", "fixed32", "fp32", "fp64"}},
   };
 }

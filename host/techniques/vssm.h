@@ -11,7 +11,8 @@
 namespace penumbra {
 
 // vssm-subdivision, vssm-m, vssm-n, vssm-levels, vssm-leaf-taps, vssm-lit-threshold, vssm-contact,
-// vssm-max-radius, vssm-min-variance, vssm-sat (the shadow-map parameters come on top).
+// vssm-max-radius, vssm-p-guard, vssm-min-variance, vssm-disk-strips, vssm-stacked, vssm-stacked-taps, vssm-sat (the
+// shadow-map parameters come on top).
 std::vector<ParamSpec> vssmParamSpecs();
 
 // vssmParamSpecs() as parsed.
@@ -22,6 +23,8 @@ struct VssmSettings {
   uint32_t leafTaps = 0, diskStrips = 0;
   double litThreshold = 0, contact = 0;  // fractions of the scene's radius (squared for the variance)
   float minVariance = 0, pGuard = 0;
+  float stackedSpread = 0;   // vssm-stacked
+  uint32_t stackedTaps = 0;  // vssm-stacked-taps
   static VssmSettings from(const Params& params);
   bool operator==(const VssmSettings&) const = default;
 };

@@ -13,12 +13,13 @@
 #define VSSM_SCHEME_ADAPTIVE 2  // sec. 5.3, Algorithm 2: linear quad-tree traversal of height H
 
 // The path a pixel took (debug channel path.Z).
-#define VSSM_PATH_LIT 0         // min-max HSM: every texel of the search kernel is behind the receiver (Alg. 1 L8)
-#define VSSM_PATH_UMBRA 1       // min-max HSM: every texel blocks (Alg. 1 L8)
+#define VSSM_PATH_LIT 0  // min-max HSM: every texel of the search (Alg. 1 L8) or penumbra kernel is behind the receiver
+#define VSSM_PATH_UMBRA 1       // min-max HSM: every texel of the search (Alg. 1 L8) or penumbra kernel blocks
 #define VSSM_PATH_PLANAR 2      // blocker depth and visibility from one Chebyshev bound each (L15, L20)
 #define VSSM_PATH_SUBDIVIDED 3  // the search or the shading kernel was subdivided (L12, L18)
 #define VSSM_PATH_CONTACT 4     // contact shadow: 3x3 jittered bilinear PCF (sec. 6.4)
 #define VSSM_PATH_NO_BLOCKER 5  // the blocker search found no blocker: lit
+#define VSSM_PATH_STACKED 6     // the penumbra kernel's blockers lie at several depths: jittered PCF (vssm.cl)
 
 #define VSSM_MAX_LEVELS 5     // quad-tree height H: 4^5 = 1024 leaves, 1365 nodes (21 KiB of __constant)
 #define VSSM_NO_NODE 0xffffu  // Child of a leaf
@@ -49,12 +50,15 @@ typedef struct VssmParams {
   uint pyramidLevels;    // levels of the min-max HSM, base included
   float planarMaxLit;    // guard of eq. 4: above this Chebyshev P the search kernel is subdivided (1: never)
   uint diskStrips;       // beyond the paper: 0 the square kernels of Yang et al., else at most this many disk strips
-  uint pad2;
+  float stackedSpread;   // beyond the paper: eq. 4's blocker this far past the nearest texel, over t - nearest, selects
+                         // the PCF fallback (0: never)
+  uint stackedTaps;      // the fallback's jittered taps per side
+  uint pad0, pad1, pad2;
 } VssmParams;
 
 #if PENUMBRA_HOST
 static_assert(sizeof(VssmNode) == 16, "VssmNode layout is shared with OpenCL C");
-static_assert(sizeof(VssmParams) == 64, "VssmParams layout is shared with OpenCL C");
+static_assert(sizeof(VssmParams) == 80, "VssmParams layout is shared with OpenCL C");
 static_assert(offsetof(VssmParams, searchScheme) == 24 && offsetof(VssmParams, pyramidLevels) == 48);
 #endif
 

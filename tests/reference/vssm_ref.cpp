@@ -260,10 +260,26 @@ double VssmReference::blocker(const Rx& r, double w, double zmin, bool& subdivid
   return blocked > 0 ? depthSum / blocked : -1;
 }
 
-double VssmReference::shade(const Rx& r, double w, bool& subdivided, int& visited) const {
+double VssmReference::shade(const Rx& r, double w, bool& subdivided, int& visited, int& path) const {
+  const auto [zmin, zmax] = hsmRange(r.u - w, r.v - w, r.u + w, r.v + w);  // the penumbra kernel's square
+  if (zmin >= r.t) {
+    path = 0;
+    return 1;
+  }
+  if (zmax < r.t - r.tSlope * w * std::sqrt(2.0)) {
+    path = 1;
+    return 0;
+  }
   const auto [e1, e2] = kernelMoments(r, w);
   const double minVar = settings_.minVariance;
-  if (e1 < r.t) return chebyshev(e1, std::max(e2 - e1 * e1, minVar), r.t);
+  if (e1 < r.t) {
+    const double var = std::max(e2 - e1 * e1, minVar);
+    if (settings_.stackedSpread > 0 && occluderDepth(e1, var, r.t) - zmin > settings_.stackedSpread * (r.t - zmin)) {
+      path = 6;
+      return stackedPcf(r, w);
+    }
+    return chebyshev(e1, var, r.t);
+  }
   if (settings_.shadeScheme == 0) return 1;
   subdivided = true;
   Sums s;
@@ -289,6 +305,23 @@ double VssmReference::contact(const Rx& r, double lo[2], double hi[2]) const {
   return lit / 9;
 }
 
+// stackedTaps^2 jittered cells over the kernel's square; on a disk kernel the taps inside it (vssm.cl).
+double VssmReference::stackedPcf(const Rx& r, double w) const {
+  const int taps = settings_.stackedTaps;
+  const double cell = 2 * w / taps;
+  double lit = 0;
+  int count = 0;
+  for (int j = 0; j < taps; ++j)
+    for (int i = 0; i < taps; ++i) {
+      const uint32_t tap = (r.seed * uint32_t(taps * taps) + uint32_t(j * taps + i)) * 2u;
+      const double u = r.u - w + cell * (i + hash01(tap)), v = r.v - w + cell * (j + hash01(tap + 1u));
+      if (settings_.diskStrips != 0 && std::hypot(u - r.u, v - r.v) > w) continue;
+      lit += bilinearLit(u, v, tapDepth(r, u, v));
+      ++count;
+    }
+  return count > 0 ? lit / count : bilinearLit(r.u, r.v, tapDepth(r, r.u, r.v));
+}
+
 VssmResult VssmReference::pixel(const VssmReceiverIn& in) const {
   const double invRange = 1.0 / (light_.zFar - light_.zNear);
   const double t = std::min((in.depth - in.bias - light_.zNear) * invRange, 1.0);  // nothing lies beyond far
@@ -311,8 +344,9 @@ VssmResult VssmReference::pixel(const VssmReceiverIn& in) const {
     out.path = 4;
     return out;
   }
-  out.visibility = shade(r, wp, subdivided, out.visited);
-  out.path = subdivided ? 3 : 2;
+  int path = -1;
+  out.visibility = shade(r, wp, subdivided, out.visited, path);
+  out.path = path >= 0 ? path : subdivided ? 3 : 2;
   return out;
 }
 

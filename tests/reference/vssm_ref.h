@@ -28,6 +28,8 @@ struct VssmSettings {
   double minVariance = 1e-6;  // normalised depth^2
   double planarMaxLit = 1.0;  // eq. 4 on the whole search kernel only while P <= this
   int diskStrips = 0;         // beyond the paper: 0 square kernels, else disks of at most this many strips
+  double stackedSpread = 0;   // beyond the paper: the stacked-blocker PCF fallback's threshold (0: never)
+  int stackedTaps = 8;        // its jittered taps per side
 };
 
 struct VssmReceiverIn {
@@ -66,8 +68,11 @@ class VssmReference {
   std::pair<double, double> kernelMoments(const Rx& r, double w) const;
   void subdivide(const Rx& r, double w, bool search, Sums& s) const;
   double blocker(const Rx& r, double w, double zmin, bool& subdivided, int& visited) const;
-  double shade(const Rx& r, double w, bool& subdivided, int& visited) const;
+  // path: 0 (lit) or 1 (umbra) where the min-max range over the kernel's square decided, 6 for the stacked-blocker
+  // fallback, else unchanged.
+  double shade(const Rx& r, double w, bool& subdivided, int& visited, int& path) const;
   double contact(const Rx& r, double lo[2], double hi[2]) const;
+  double stackedPcf(const Rx& r, double w) const;
 
   std::vector<float> depth_;
   uint32_t width_, height_;
