@@ -194,15 +194,28 @@ inline VssmResult vssm_pixel(const VssmMaps* m, VssmReceiver r) {
   VssmResult out = {1.0f, 0.0f, 0.0f, 0, VSSM_PATH_LIT};
   __constant const LightViewGpu* lv = m->lv;
   // L7: the light seen from the receiver, cut by the map plane (the near plane).
-  const float wi = clamp(lv_penumbra_texels(lv, r.depth, lv->zNear), 0.5f, m->p.maxRadius);
-  const float2 range = vssm_hsm_range(m, r.uv - wi, r.uv + wi);
-  // L8-L10, conservative for the slope bias as well: lit when every texel passes the strictest comparison
-  // (the centre's), umbra when every texel fails the most lenient one (the kernel corner's).
-  if (range.x >= r.t) return out;
-  if (range.y < r.t - r.tSlope * wi * M_SQRT2_F) {
-    out.visibility = 0.0f;
-    out.path = VSSM_PATH_UMBRA;
-    return out;
+  float wi = clamp(lv_penumbra_texels(lv, r.depth, lv->zNear), 0.5f, m->p.maxRadius);
+  float2 range;
+  for (uint step = 0;; ++step) {
+    range = vssm_hsm_range(m, r.uv - wi, r.uv + wi);
+    // L8-L10, conservative for the slope bias as well: lit when every texel passes the strictest comparison
+    // (the centre's), umbra when every texel fails the most lenient one (the kernel corner's).
+    if (range.x >= r.t) return out;
+    if (range.y < r.t - r.tSlope * wi * M_SQRT2_F) {
+      out.visibility = 0.0f;
+      out.path = VSSM_PATH_UMBRA;
+      return out;
+    }
+    // Beyond the paper (pcss's adaptive search, kernels/pcss.cl): no texel of the kernel lies nearer than the HSM's
+    // minimum, and a blocker at depth z >= z_min hides the light only inside the light's cone cut at z, which
+    // narrows as z grows. The kernel cut at z_min holds every texel that can block: a lit receiver on a surface
+    // tilted to the light (most of a frame) shrinks its kernel to a few texels and leaves by L8 instead of
+    // subdividing a kernel sized for a caster at the near plane.
+    if (step >= m->p.searchNarrowings) break;
+    const float nearest = m->p.depthNear + range.x / m->p.depthInvRange;
+    const float narrowed = clamp(lv_penumbra_texels(lv, r.depth, fmax(nearest, lv->zNear)), 0.5f, m->p.maxRadius);
+    if (!(narrowed < wi)) break;
+    wi = narrowed;
   }
   int subdivided = 0;
   // The HSM tests above read the square around the kernel: conservative for a disk inside it.

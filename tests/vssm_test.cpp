@@ -1,7 +1,7 @@
 // VSSM's per-pixel kernel (kernels/vssm.cl, vssm_visibility_receivers) against the double-precision reference
 // (tests/reference/vssm_ref.cpp) on random and adversarial maps: planar blocks, NaN and empty texels, 1x1, thin
 // and non-power-of-two maps, huge depth ranges, receivers outside the map; every subdivision scheme and SAT
-// storage, the stacked-blocker PCF fallback on and off. Plus the quad-tree's Child/Next links.
+// storage, the stacked-blocker PCF fallback and the narrowed search on and off. Plus the quad-tree's Child/Next links.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -41,6 +41,7 @@ struct Case {
   double visTol = kVisTol;
   int diskStrips = 0;  // beyond the paper: disk kernels of at most this many strips
   double stacked = 0.1;  // beyond the paper: the stacked-blocker PCF fallback's threshold (the default; 0 = never)
+  int narrowings = 2;    // beyond the paper: search-kernel narrowings (vssm-search adaptive, the default; 0 = full)
 };
 
 std::string caseName(const ::testing::TestParamInfo<Case>& p) { return p.param.name; }
@@ -103,6 +104,7 @@ ref::VssmSettings settingsFor(const Case& c) {
   s.planarMaxLit = 0.9;
   s.diskStrips = c.diskStrips;
   s.stackedSpread = c.stacked, s.stackedTaps = 8;
+  s.searchNarrowings = c.narrowings;
   s.litVariance = 2.5e-5, s.contactDepth = 0.02 * (c.zFar - c.zNear), s.maxRadius = 24, s.minVariance = 1e-6;
   return s;
 }
@@ -139,6 +141,7 @@ KernelOut runKernel(Context& ctx, const Case& c, const std::vector<float>& map, 
   p.planarMaxLit = float(s.planarMaxLit);
   p.diskStrips = uint32_t(s.diskStrips);
   p.stackedSpread = float(s.stackedSpread), p.stackedTaps = uint32_t(s.stackedTaps);
+  p.searchNarrowings = uint32_t(s.searchNarrowings);
   std::vector<cl_float4> rx(receivers.size());
   std::vector<float> slopes(receivers.size());
   for (size_t i = 0; i < receivers.size(); ++i) {
@@ -230,7 +233,9 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"disk8_mixed_1x1", 1, 1, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 8},
         Case{"disk8_directional", 50, 50, 5.0f, 25.0f, kU, kA, VssmSatMode::Fixed64, false, 0.05f, kVisTol, 8},
         Case{"mixed_no_stacked_fallback", 61, 37, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 0,
-             0.0}),
+             0.0},
+        Case{"mixed_full_search", 61, 37, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 0, 0.1, 0},
+        Case{"disk8_full_search", 61, 37, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 8, 0.1, 0}),
     caseName);
 
 TEST(VssmQuadTree, ChildAndNextLinksWalkTheTreeDepthFirst) {

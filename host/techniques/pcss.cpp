@@ -13,8 +13,6 @@
 namespace penumbra {
 namespace {
 
-constexpr int kSearchAdaptive = 1;  // pcss-search's index of "adaptive"
-
 // --pcss-max-radius auto: a 32nd of the map's side (64 texels at 2048^2), the same width in the scene at every size,
 // so that a larger map never reaches less far (at 4096^2 a fixed 64 cut default.json's contact-free penumbrae:
 // MAE 0.00211 against 0.00165 with 128, 480x270, 256-spp reference).

@@ -103,6 +103,10 @@ inline int resolveAutoRadius(ShadowFrame& frame, const ShadowMap& map, const Map
 // "receiver-plane": receiver-plane depth bias on (1) or off (0), for the techniques whose kernels take it.
 ParamSpec receiverPlaneParam();
 
+// pcss-search and vssm-search: the blocker search over the light's cone cut at the near plane (full), or narrowed by
+// the nearest caster in it from a min-max pyramid (adaptive, the default).
+inline constexpr int kSearchFull = 0, kSearchAdaptive = 1;
+
 // "id-buffer": off | object | polygon | combined (Luksch sec. 9.1; kernels/shared/id_buffer.h), for the techniques
 // whose kernels take it (sm, pcf, pssm, jittered).
 ParamSpec idBufferParam();

@@ -14,6 +14,7 @@ namespace penumbra {
 namespace {
 
 enum Subdivision { kNone = 0, kUniform = 1, kAdaptive = 2, kMixed = 3 };
+constexpr uint32_t kSearchNarrowings = 2;  // vssm-search adaptive: as pcss's PCSS_ADAPTIVE_STEPS
 
 struct VssmTechniqueSettings {
   MapSettings map;
@@ -85,6 +86,7 @@ VssmSettings VssmSettings::from(const Params& params) {
   s.pGuard = static_cast<float>(params.get("vssm-p-guard"));
   s.stackedSpread = static_cast<float>(params.get("vssm-stacked"));
   s.stackedTaps = static_cast<uint32_t>(params.getInt("vssm-stacked-taps"));
+  s.searchNarrowings = params.getInt("vssm-search") == kSearchAdaptive ? kSearchNarrowings : 0;
   return s;
 }
 
@@ -113,6 +115,7 @@ VssmParams vssmParams(const VssmSettings& settings, const VssmMaps& maps, float 
   p.diskStrips = settings.diskStrips;
   p.stackedSpread = settings.stackedSpread;
   p.stackedTaps = settings.stackedTaps;
+  p.searchNarrowings = settings.searchNarrowings;
   return p;
 }
 
@@ -139,6 +142,13 @@ std::vector<ParamSpec> vssmParamSpecs() {
       {"vssm-disk-strips", 8, 0, 32,
        "Beyond the paper: search and penumbra kernels as disks of at most this many area-matched SAT strips (one per "
        "texel row at most); 0 = the paper's squares"},
+      {"vssm-search",
+       kSearchAdaptive,
+       0,
+       1,
+       "Blocker-search kernel: the light's cone cut at the near plane (full, the paper's L7), or narrowed twice by the "
+       "nearest texel in it from the min-max HSM (adaptive, as --pcss-search)",
+       {"full", "adaptive"}},
       {"vssm-stacked", 0.1, 0, 1,
        "Beyond the paper: a penumbra kernel whose eq. 4 blocker lies more than this share of the way from its nearest "
        "texel to the receiver holds blockers at several depths and is shaded by jittered PCF; 0 = never"},

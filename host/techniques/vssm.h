@@ -11,8 +11,8 @@
 namespace penumbra {
 
 // vssm-subdivision, vssm-m, vssm-n, vssm-levels, vssm-leaf-taps, vssm-lit-threshold, vssm-contact,
-// vssm-max-radius, vssm-p-guard, vssm-min-variance, vssm-disk-strips, vssm-stacked, vssm-stacked-taps, vssm-sat (the
-// shadow-map parameters come on top).
+// vssm-max-radius, vssm-p-guard, vssm-min-variance, vssm-disk-strips, vssm-search, vssm-stacked, vssm-stacked-taps,
+// vssm-sat (the shadow-map parameters come on top).
 std::vector<ParamSpec> vssmParamSpecs();
 
 // vssmParamSpecs() as parsed.
@@ -25,6 +25,7 @@ struct VssmSettings {
   float minVariance = 0, pGuard = 0;
   float stackedSpread = 0;   // vssm-stacked
   uint32_t stackedTaps = 0;  // vssm-stacked-taps
+  uint32_t searchNarrowings = 0;  // vssm-search: 0 full, 2 adaptive
   static VssmSettings from(const Params& params);
   bool operator==(const VssmSettings&) const = default;
 };

@@ -53,7 +53,8 @@ typedef struct VssmParams {
   float stackedSpread;   // beyond the paper: eq. 4's blocker this far past the nearest texel, over t - nearest, selects
                          // the PCF fallback (0: never)
   uint stackedTaps;      // the fallback's jittered taps per side
-  uint pad0, pad1, pad2;
+  uint searchNarrowings;  // beyond the paper: narrowings of the search kernel by its nearest texel (0: L7's kernel)
+  uint pad1, pad2;
 } VssmParams;
 
 #if PENUMBRA_HOST

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include "tests/reference/moments_ref.h"
 #include "tests/reference/pyramid_ref.h"
@@ -327,11 +328,20 @@ VssmResult VssmReference::pixel(const VssmReceiverIn& in) const {
   const double t = std::min((in.depth - in.bias - light_.zNear) * invRange, 1.0);  // nothing lies beyond far
   const Rx r{in.u, in.v, in.depth, in.bias, in.biasSlope, t, in.biasSlope * invRange, in.seed};
   VssmResult out;
-  const double wi = std::clamp(penumbraTexels(in.depth, light_.zNear), 0.5, settings_.maxRadius);
-  double lo[2] = {in.u - wi, in.v - wi}, hi[2] = {in.u + wi, in.v + wi};
-  const auto [zmin, zmax] = hsmRange(lo[0], lo[1], hi[0], hi[1]);
-  if (zmin >= r.t) return out;                                              // every tap lit
-  if (zmax < r.t - r.tSlope * wi * std::sqrt(2.0)) return {0, 0, 0, 0, 1};  // every tap blocked
+  double wi = std::clamp(penumbraTexels(in.depth, light_.zNear), 0.5, settings_.maxRadius);
+  double zmin = 0, zmax = 0;
+  for (int step = 0;; ++step) {
+    std::tie(zmin, zmax) = hsmRange(in.u - wi, in.v - wi, in.u + wi, in.v + wi);
+    if (zmin >= r.t) return out;                                              // every tap lit
+    if (zmax < r.t - r.tSlope * wi * std::sqrt(2.0)) return {0, 0, 0, 0, 1};  // every tap blocked
+    if (step >= settings_.searchNarrowings) break;
+    // The light's cone cut at the nearest texel's depth (vssm.cl).
+    const double nearest = light_.zNear + zmin / invRange;
+    const double narrowed =
+        std::clamp(penumbraTexels(in.depth, std::max(nearest, light_.zNear)), 0.5, settings_.maxRadius);
+    if (!(narrowed < wi)) break;
+    wi = narrowed;
+  }
   bool subdivided = false;
   const double zocc = blocker(r, wi, zmin, subdivided, out.visited);
   if (zocc < 0) return {1, 0, 0, out.visited, 5};

@@ -30,6 +30,7 @@ struct VssmSettings {
   int diskStrips = 0;         // beyond the paper: 0 square kernels, else disks of at most this many strips
   double stackedSpread = 0;   // beyond the paper: the stacked-blocker PCF fallback's threshold (0: never)
   int stackedTaps = 8;        // its jittered taps per side
+  int searchNarrowings = 0;   // beyond the paper: narrowings of the search kernel by its nearest texel
 };
 
 struct VssmReceiverIn {
