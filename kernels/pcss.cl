@@ -68,8 +68,9 @@ __kernel void pcss_visibility(__global const float4* position, __global const fl
   float search = clamp(lv_penumbra_texels(lv, r.depth, lv->zNear), 0.5f, maxRadius);
   for (int step = 0; s.adaptive && step < PCSS_ADAPTIVE_STEPS; ++step) {
     // The square around the region's disk; texels beyond the map hold no caster.
-    const float nearest =
-        pyramid_range(pyramid, levels, s.levelCount, lv->width, lv->height, r.uv - search, r.uv + search, INFINITY).x;
+    const float nearest = pyramid_depth_range_of(map, pyramid, levels, s.levelCount, lv->width, lv->height,
+                                                 r.uv - search, r.uv + search, INFINITY)
+                              .x;
     if (!(nearest < r.depth - r.bias)) {  // no tap can block (each compares against depth - bias or less)
       blockerOut[i] = -1.0f;
       return;

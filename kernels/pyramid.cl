@@ -16,7 +16,10 @@
 #define PYRAMID_MINMAX 0
 #endif
 #ifndef PYRAMID_FROM_DEPTH
-#define PYRAMID_FROM_DEPTH 0  // min-max: the batch reads the depth map and also writes level 0
+// Min-max, the first pass: 1 reads the depth map and also writes level 0 (background and NaN the empty range);
+// 2 reads it for levels 1.. only, which lookups read beside the map itself (background and NaN the farthest depth,
+// kernels/shared/pyramid.h pyramid_far_range and pyramid_depth_range_of).
+#define PYRAMID_FROM_DEPTH 0
 #endif
 
 #if PYRAMID_MINMAX
@@ -46,8 +49,10 @@ inline float2 pyramid_depth_range(float z) {
 }
 
 // Texel i of a level in global memory (PYRAMID_LOAD) or local memory (PYRAMID_LOAD_LOCAL), as computed.
-#if PYRAMID_FROM_DEPTH
+#if PYRAMID_FROM_DEPTH == 1
 #define PYRAMID_LOAD(p, i) pyramid_depth_range((p)[i])
+#elif PYRAMID_FROM_DEPTH == 2
+#define PYRAMID_LOAD(p, i) pyramid_far_range((p)[i])
 #elif PYRAMID_MINMAX
 #define PYRAMID_LOAD(p, i) ((p)[i])
 #else
@@ -96,7 +101,7 @@ inline void pyramid_level(__global const PyramidInput* src, PyramidLevel s, __gl
                 pyramid_reduce_global(src + (size_t)s.offset * PYRAMID_STRIDE, s.width, t));
 }
 
-#if PYRAMID_FROM_DEPTH
+#if PYRAMID_FROM_DEPTH == 1
 // Level 0 (the converted depth map; it starts both buffers) under owned level-1 texel (x, y): its 2x2
 // block, to the edge for the last row and column (odd sizes, 1-texel sides). The blocks tile level 0, and
 // the footprint has just read them.
@@ -150,7 +155,7 @@ inline void pyramid_batch(__global const PyramidInput* src, __global PyramidStor
         if (j + 1 < b.count) out[(y - sy.lo) * (sx.end - sx.lo) + x - sx.lo] = PYRAMID_ROUND(v);
         if (x < sx.own && y < sy.own) {
           PYRAMID_STORE(dst, d.offset + (size_t)y * d.width + x, v);
-#if PYRAMID_FROM_DEPTH
+#if PYRAMID_FROM_DEPTH == 1
           if (j == 0) pyramid_write_base(src, dst, s, d, x, y);
 #endif
         }
@@ -161,12 +166,14 @@ inline void pyramid_batch(__global const PyramidInput* src, __global PyramidStor
 }
 
 #if PYRAMID_MINMAX && PYRAMID_FROM_DEPTH
+#if PYRAMID_FROM_DEPTH == 1
 __kernel void pyramid_minmax_base(__global const float* depth, __global float2* out, PyramidLevel d) {
   const uint x = get_global_id(0), y = get_global_id(1);
   if (x >= d.width || y >= d.height) return;
   const size_t i = (size_t)y * d.width + x;
   out[d.offset + i] = pyramid_depth_range(depth[i]);
 }
+#endif
 
 __kernel void pyramid_minmax_batch(__global const float* depth, __global float2* dst, PyramidBatch b,
                                    __local float2* even, __local float2* odd) {

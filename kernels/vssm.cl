@@ -8,13 +8,6 @@
 #include "kernels/shared/shade.h"
 #include "kernels/shared/vssm_subdivide.h"
 
-// The HSM's input: light depth normalised as the moments stage does (background and NaN -> 1, no occluder).
-__kernel void vssm_normalize_depth(__global const float* depth, __global float* out, uint count, float depthNear,
-                                   float depthInvRange) {
-  const uint i = get_global_id(0);
-  if (i < count) out[i] = moments_normalize(depth[i], depthNear, depthInvRange);
-}
-
 // Sec. 4.2, eq. 4 with z_unocc = t: z_occ = (z_Avg - P t) / (1 - P) with P = sigma^2 / (sigma^2 + (t - mu)^2)
 // (eq. 1). Rearranged to the identical mu - sigma^2 / (t - mu), which needs no division by 1 - P as P -> 1;
 // callers clamp it into [zmin, t]. Requires mu < t.

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -125,6 +126,39 @@ TEST_P(PyramidMinMax, MatchesReference) {
     }
     EXPECT_EQ(mismatches, 0u) << "level " << l << " (min and max are exact)";
   }
+}
+
+// Levels 1.. alone (computeMinMaxLevels), background and NaN the farthest depth: the reference's pyramid of the map
+// with them replaced by a finite sentinel above every depth, the sentinel read back as +INFINITY. Exact, and the
+// returned top is the last level.
+TEST_P(PyramidMinMax, LevelsAboveTheMapMatchTheReference) {
+  const Case c = GetParam();
+  const std::vector<float> base =
+      test::randomDepthMap(c.width, c.height, c.width + 5 * c.height, c.channels == 0);  // 0 channels: empty map
+  constexpr float kFar = 3e38f;
+  std::vector<float> far = base;
+  for (float& z : far) z = std::isfinite(z) ? z : kFar;
+  const auto expected = ref::minMaxPyramid(far, c.width, c.height);
+  auto unsentinel = [&](float v) { return v == kFar ? INFINITY : v; };
+  const PyramidLayout layout = pyramidLayout(c.width, c.height, 1);
+  ASSERT_EQ(expected.size(), layout.levels.size() + 1);
+  Buffer<float> in(ctx(), std::span<const float>(base));
+  Buffer<cl_float2> out(ctx(), std::max<size_t>(layout.texels, 1));
+  out.fill(ctx(), {{kPoison, kPoison}});
+  const cl_float2 top = computeMinMaxLevels(ctx(), in, c.width, c.height, out);
+  const std::vector<cl_float2> actual = out.download(ctx());
+  for (size_t l = 1; l < expected.size(); ++l) {
+    size_t mismatches = 0;
+    for (size_t i = 0; i < expected[l].size(); ++i) {
+      const cl_float2 got = actual[layout.levels[l - 1].offset + i];
+      mismatches += got.s[0] != unsentinel(expected[l][i].first) || got.s[1] != unsentinel(expected[l][i].second);
+    }
+    EXPECT_EQ(mismatches, 0u) << "level " << l << " (min and max are exact)";
+  }
+  EXPECT_EQ(top.s[0], unsentinel(expected.back()[0].first));
+  EXPECT_EQ(top.s[1], unsentinel(expected.back()[0].second));
+  EXPECT_THROW(computeMinMaxLevels(ctx(), in, c.width, c.height, out, {PyramidSchedule::PerLevel}),
+               std::invalid_argument);
 }
 
 // channels == 0 marks an all-background map.

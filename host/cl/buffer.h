@@ -103,11 +103,16 @@ class Buffer {
     });
   }
 
-  std::vector<T> download(Context& ctx) const {
-    std::vector<T> data(count_);
-    if (count_ == 0) return data;
-    record(ctx, "download", bytes(), [&](cl::Event* event) {
-      return ctx.queue().enqueueReadBuffer(buffer_, CL_TRUE, 0, bytes(), data.data(), nullptr, event);
+  std::vector<T> download(Context& ctx) const { return download(ctx, 0, count_); }
+
+  // `count` elements from `offset`.
+  std::vector<T> download(Context& ctx, size_t offset, size_t count) const {
+    if (offset > count_ || count > count_ - offset) throw std::out_of_range("Buffer::download past the end");
+    std::vector<T> data(count);
+    if (count == 0) return data;
+    const size_t size = count * sizeof(T);
+    record(ctx, "download", size, [&](cl::Event* event) {
+      return ctx.queue().enqueueReadBuffer(buffer_, CL_TRUE, offset * sizeof(T), size, data.data(), nullptr, event);
     });
     return data;
   }

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -279,6 +280,31 @@ std::vector<cl::Event> computeMinMaxPyramid(Context& ctx, const Buffer<float>& d
   if (passes.size() > 1) rest.emplace(ctx, "kernels/pyramid.cl", "pyramid_minmax_batch", "pyramid", fromLevels);
   return recordPasses(ctx, first, rest ? *rest : first, depth, out, chain, passes, uint32_t(sizeof(float)), texelBytes,
                       true, config);
+}
+
+cl_float2 computeMinMaxLevels(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
+                              Buffer<cl_float2>& out, const PyramidConfig& config) {
+  if (config.schedule == PyramidSchedule::PerLevel)
+    throw std::invalid_argument("pyramid: levels-only min-max pyramids have the batched schedule only");
+  const PyramidLayout layout = pyramidLayout(width, height, 1);
+  checkBufferSize(depth.size(), size_t(width) * height, "pyramid", "depth");
+  checkBufferSize(out.size(), std::max<size_t>(layout.texels, 1), "pyramid", "min-max levels");
+  if (layout.levels.empty()) {  // 1x1: the map is the whole pyramid
+    const float z = depth.download(ctx)[0];
+    return std::isfinite(z) ? cl_float2{{z, z}} : cl_float2{{INFINITY, INFINITY}};
+  }
+  std::vector<PyramidLevel> chain{{0, width, height, 0}};  // level 0 in `depth`, the rest in `out`
+  chain.insert(chain.end(), layout.levels.begin(), layout.levels.end());
+  const auto texelBytes = uint32_t(sizeof(cl_float2));
+  const std::vector<PyramidPass> passes = plan(ctx, width, height, texelBytes, config);
+  Kernel first(ctx, "kernels/pyramid.cl", "pyramid_minmax_batch", "pyramid",
+               "-DPYRAMID_MINMAX=1 -DPYRAMID_FROM_DEPTH=2");
+  std::optional<Kernel> rest;
+  if (passes.size() > 1)
+    rest.emplace(ctx, "kernels/pyramid.cl", "pyramid_minmax_batch", "pyramid", "-DPYRAMID_MINMAX=1");
+  recordPasses(ctx, first, rest ? *rest : first, depth, out, chain, passes, uint32_t(sizeof(float)), texelBytes, false,
+               config);
+  return out.download(ctx, layout.levels.back().offset, 1)[0];
 }
 
 }  // namespace penumbra

@@ -91,4 +91,13 @@ std::vector<cl::Event> computeLogMomentMips(Context& ctx, const Buffer<cl_half>&
 std::vector<cl::Event> computeMinMaxPyramid(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
                                             Buffer<cl_float2>& out, const PyramidConfig& config = {});
 
+// Levels 1.. only of the min-max pyramid of `depth` into `out` (pyramidLayout(w, h, 1).texels float2, at least one):
+// level 0 stays the depth map, which lookups read beside them (kernels/shared/pyramid.h pyramid_depth_range_of), so
+// the first pass writes half the bytes computeMinMaxPyramid's does. Background and NaN texels are the farthest depth
+// (+INFINITY, +INFINITY): a minimum ignores them, a maximum says nothing occludes there. Batched only (a PerLevel
+// config throws std::invalid_argument). Returns the last level, 1x1: (min, max) over the whole map, waiting for it
+// (a 1x1 map: its texel). Launches "pyramid/pyramid_minmax_batch".
+cl_float2 computeMinMaxLevels(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
+                              Buffer<cl_float2>& out, const PyramidConfig& config = {});
+
 }  // namespace penumbra

@@ -48,7 +48,9 @@ class PercentageCloserSoft final : public TechniqueOf<PcssSettings> {
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     const PcssSettings& s = settings_;
-    renderShadowMap(frame, s.map, map_, s.maxRadius);
+    const bool adaptive = s.adaptive;
+    // Adaptive: the pyramid's top is the nearest caster drawn, no reduction of its own.
+    renderShadowMap(frame, s.map, map_, s.maxRadius, adaptive ? MapNear::Fitted : MapNear::Drawn);
     blocker_.allocate(frame.ctx, visibility.size());
     const int searchTaps = s.searchTaps, filterTaps = s.filterTaps;
     const int pattern = s.pattern;
@@ -60,22 +62,25 @@ class PercentageCloserSoft final : public TechniqueOf<PcssSettings> {
       searchDisk_ = Buffer<cl_float2>(frame.ctx, std::span<const cl_float2>(search), CL_MEM_READ_ONLY);
       filterDisk_ = Buffer<cl_float2>(frame.ctx, std::span<const cl_float2>(filter), CL_MEM_READ_ONLY);
     }
-    const bool adaptive = s.adaptive;
-    if (adaptive) {  // the map's min-max pyramid: the nearest caster over any region
+    uint32_t levelCount = 0;
+    if (adaptive) {  // the map's min-max pyramid above the map: the nearest caster over any region
       const uint32_t size = static_cast<uint32_t>(map_.view.gpu.width);
-      const PyramidLayout layout = pyramidLayout(size, size, 0);
-      if (pyramid_.size() != layout.texels) {
-        pyramid_.allocate(frame.ctx, layout.texels);
-        levels_ = Buffer<PyramidLevel>(frame.ctx, std::span<const PyramidLevel>(layout.levels), CL_MEM_READ_ONLY);
+      const PyramidLayout layout = pyramidLayout(size, size, 1);
+      levelCount = static_cast<uint32_t>(layout.levels.size());
+      if (pyramid_.size() != std::max<size_t>(layout.texels, 1)) {
+        pyramid_.allocate(frame.ctx, std::max<size_t>(layout.texels, 1));
+        levels_ = layout.levels.empty()
+                      ? Buffer<PyramidLevel>(frame.ctx, 1, CL_MEM_READ_ONLY)
+                      : Buffer<PyramidLevel>(frame.ctx, std::span<const PyramidLevel>(layout.levels), CL_MEM_READ_ONLY);
       }
-      computeMinMaxPyramid(frame.ctx, map_.targets.depth, size, size, pyramid_);
+      const cl_float2 drawn = computeMinMaxLevels(frame.ctx, map_.targets.depth, size, size, pyramid_);
+      tightenMapNear(frame, s.map, map_, drawn.s[0]);
     } else if (pyramid_.empty()) {  // unused arguments still need buffers
       pyramid_.allocate(frame.ctx, 1);
       levels_.allocate(frame.ctx, 1, CL_MEM_READ_ONLY);
     }
     const ShadeFrame shade = shadeFrame(frame, s.map, s.receiverPlane, ID_BUFFER_OFF);
-    const PcssShade pcss{searchTaps, filterTaps, s.maxRadius, pattern,
-                         static_cast<int>(adaptive), static_cast<uint32_t>(levels_.size())};
+    const PcssShade pcss{searchTaps, filterTaps, s.maxRadius, pattern, static_cast<int>(adaptive), levelCount};
     launchVisibility(frame, map_, shade, "kernels/pcss.cl", "pcss_visibility", visibility, pcss, searchDisk_,
                      filterDisk_, pyramid_, levels_, blocker_);
   }
@@ -84,7 +89,7 @@ class PercentageCloserSoft final : public TechniqueOf<PcssSettings> {
 
  private:
   ShadowMap map_;
-  Buffer<cl_float2> pyramid_;  // --pcss-search adaptive: the map's min-max pyramid
+  Buffer<cl_float2> pyramid_;  // --pcss-search adaptive: levels 1.. of the map's min-max pyramid
   Buffer<PyramidLevel> levels_;
   Buffer<cl_float2> searchDisk_, filterDisk_;
   Buffer<float> blocker_;

@@ -170,22 +170,39 @@ ShadeFrame shadeFrame(const ShadowFrame& frame, const MapSettings& settings, int
           settings.slopeBias, settings.normalOffset, receiverPlane, idMode};
 }
 
+namespace {
+
+// The view as the header reports it ("penumbra:light-fit") and on the device.
+void publishView(ShadowFrame& frame, const MapSettings& settings, ShadowMap& map) {
+  const LightViewGpu& gpu = map.view.gpu;
+  frame.attributes["penumbra:light-fit"] = fmt::format(
+      "{} {}x{} texel {:.4g}{} depth {:.6g}..{:.6g}", settings.fit.fitReceivers ? "receivers" : "scene", gpu.width,
+      gpu.height, gpu.texelScale, gpu.kind == LIGHT_KIND_SPOT ? "/depth" : "", gpu.zNear, gpu.zFar);
+  if (map.gpu.empty()) map.gpu.allocate(frame.ctx, 1, CL_MEM_READ_ONLY);
+  map.gpu.upload(frame.ctx, std::span<const LightViewGpu>(&map.view.gpu, 1));
+}
+
+// zNear tightened to the nearest caster drawn where that lies inside the fit's range.
+void tightenNear(LightViewGpu& gpu, float drawnMin) {
+  if (drawnMin > gpu.zNear && drawnMin < gpu.zFar) gpu.zNear = drawnMin;
+}
+
+}  // namespace
+
 void renderShadowMap(ShadowFrame& frame, const MapSettings& settings, ShadowMap& map, float reachTexels, MapNear near) {
   const int size = settings.size;
-  const bool toReceivers = settings.fit.fitReceivers;
   const float margin = reachTexels + settings.normalOffset + 1.0f;
   map.view = fitWarpedLightView(frame, settings.fit, size, margin);
   frame.raster.draw(map.view.raster, map.targets);
-  if (near == MapNear::Drawn) {
-    const DepthRange drawn = reduceDepthRange(frame.ctx, map.targets.depth, static_cast<size_t>(size) * size);
-    if (drawn.min > map.view.gpu.zNear && drawn.min < map.view.gpu.zFar) map.view.gpu.zNear = drawn.min;
-  }
-  const LightViewGpu& gpu = map.view.gpu;
-  frame.attributes["penumbra:light-fit"] =
-      fmt::format("{} {}x{} texel {:.4g}{} depth {:.6g}..{:.6g}", toReceivers ? "receivers" : "scene", size, size,
-                  gpu.texelScale, gpu.kind == LIGHT_KIND_SPOT ? "/depth" : "", gpu.zNear, gpu.zFar);
-  if (map.gpu.empty()) map.gpu.allocate(frame.ctx, 1, CL_MEM_READ_ONLY);
-  map.gpu.upload(frame.ctx, std::span<const LightViewGpu>(&map.view.gpu, 1));
+  if (near == MapNear::Drawn)
+    tightenNear(map.view.gpu, reduceDepthRange(frame.ctx, map.targets.depth, static_cast<size_t>(size) * size).min);
+  publishView(frame, settings, map);
+}
+
+void tightenMapNear(ShadowFrame& frame, const MapSettings& settings, ShadowMap& map, float drawnMin) {
+  const float before = map.view.gpu.zNear;
+  tightenNear(map.view.gpu, drawnMin);
+  if (map.view.gpu.zNear != before) publishView(frame, settings, map);
 }
 
 }  // namespace penumbra

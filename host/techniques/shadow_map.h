@@ -65,6 +65,10 @@ enum class MapNear { Drawn, Fitted };
 // actually drawn, so depth ranges (moment normalisation, blocker search) start where the occluders do.
 void renderShadowMap(ShadowFrame& frame, const MapSettings& settings, ShadowMap& map, float reachTexels,
                      MapNear near = MapNear::Drawn);
+// MapNear::Drawn's tightening after the fact, from a minimum a technique drawn with MapNear::Fitted computes anyway
+// (the top of its min-max pyramid, computeMinMaxLevels): zNear becomes `drawnMin` where that lies inside the fit's
+// range, and the view is published again (header attribute, device copy).
+void tightenMapNear(ShadowFrame& frame, const MapSettings& settings, ShadowMap& map, float drawnMin);
 
 // A fixed kernel's half-width chosen per frame from the scene's penumbrae (pcf-radius, blur-radius): NAME (default
 // auto, else 0..max texels; `help` says what r is), NAME-quantile (0.05) and NAME-max (`maxDefault`; `maxNote` is

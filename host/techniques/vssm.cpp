@@ -31,10 +31,13 @@ class VarianceSoftShadows final : public TechniqueOf<VssmTechniqueSettings> {
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     const VssmMapConfig& config = settings_.vssm.maps;
-    renderShadowMap(frame, settings_.map, map_, config.maxRadius);
+    renderShadowMap(frame, settings_.map, map_, config.maxRadius, MapNear::Fitted);
     const LightViewGpu& lv = map_.view.gpu;
-    maps_.build(frame.ctx, map_.targets.depth, static_cast<uint32_t>(lv.width), static_cast<uint32_t>(lv.height),
-                lv.zNear, lv.zFar, config);
+    const auto width = static_cast<uint32_t>(lv.width), height = static_cast<uint32_t>(lv.height);
+    // The HSM first: its top is the nearest caster drawn, which the moments are normalised from.
+    const cl_float2 drawn = maps_.buildHsm(frame.ctx, map_.targets.depth, width, height);
+    tightenMapNear(frame, settings_.map, map_, drawn.s[0]);
+    maps_.buildMoments(frame.ctx, map_.targets.depth, width, height, lv.zNear, lv.zFar, config);
     const VssmParams shade = vssmParams(settings_.vssm, maps_, frame.scene.bounds().radius());
     const GBuffer& g = frame.gbuffer;
     const uint32_t count = static_cast<uint32_t>(g.width) * static_cast<uint32_t>(g.height);

@@ -17,8 +17,6 @@
 namespace penumbra {
 namespace {
 
-constexpr size_t kNormalizeGroup = 64;
-
 // Fraction bits of a fixed-point table: every box the shading kernel reads sums (z, z^2) in [0, 1] over at most
 // the whole map (fixed64) or a (2 maxRadius + 2)^2 box (fixed32: the corners of the widest kernel).
 int fractionBits(VssmSatMode mode, uint32_t width, uint32_t height, float maxRadius) {
@@ -64,17 +62,32 @@ void VssmMaps::buildSat(Context& ctx, int fractionBits) {
 
 void VssmMaps::build(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height, float zNear, float zFar,
                      const VssmMapConfig& config) {
-  // Plan: sizes, layouts, link table.
+  buildHsm(ctx, depth, width, height);
+  buildMoments(ctx, depth, width, height, zNear, zFar, config);
+}
+
+cl_float2 VssmMaps::buildHsm(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height) {
+  checkShape({width, height, 1}, "vssm");
+  checkBufferSize(depth.size(), size_t{width} * height, "vssm", "depth");
+  const PyramidLayout layout = pyramidLayout(width, height, 1);
+  if (hsm_.size() != std::max<size_t>(layout.texels, 1) || levels_.empty()) {
+    hsm_.allocate(ctx, std::max<size_t>(layout.texels, 1));
+    levels_ = layout.levels.empty()
+                  ? Buffer<PyramidLevel>(ctx, 1, CL_MEM_READ_ONLY)  // a 1x1 map: the map alone
+                  : Buffer<PyramidLevel>(ctx, std::span<const PyramidLevel>(layout.levels), CL_MEM_READ_ONLY);
+  }
+  levelCount_ = static_cast<uint32_t>(layout.levels.size());
+  return computeMinMaxLevels(ctx, depth, width, height, hsm_);
+}
+
+void VssmMaps::buildMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height, float zNear,
+                            float zFar, const VssmMapConfig& config) {
+  // Plan: sizes, link table.
   const ImageShape shape{width, height, 2};
   checkShape(shape, "vssm");
   checkBufferSize(depth.size(), shape.texels(), "vssm", "depth");
-  const PyramidLayout layout = pyramidLayout(width, height, 0);
   if (moments_.size() != shape.count()) moments_.allocate(ctx, shape.count());
-  if (normalized_.size() != shape.texels()) normalized_.allocate(ctx, shape.texels());
-  if (hsm_.size() != layout.texels) hsm_.allocate(ctx, layout.texels);
   if (satOffset_.empty()) satOffset_.allocate(ctx, 4);
-  levels_ = Buffer<PyramidLevel>(ctx, std::span<const PyramidLevel>(layout.levels), CL_MEM_READ_ONLY);
-  levelCount_ = static_cast<uint32_t>(layout.levels.size());
   if (treeHeight_ != config.treeHeight || nodes_.empty()) {
     const std::vector<VssmNode> tree = vssmQuadTree(config.treeHeight);
     nodes_ = Buffer<VssmNode>(ctx, std::span<const VssmNode>(tree), CL_MEM_READ_ONLY);
@@ -87,7 +100,7 @@ void VssmMaps::build(Context& ctx, const Buffer<float>& depth, uint32_t width, u
   desc_.height = height;
   const int bits = fractionBits(config.sat, width, height, config.maxRadius);
 
-  // Record: L2 moments, L3 SAT, L4 HSM.
+  // Record: L2 moments, L3 SAT.
   MomentsConfig moments;
   moments.kind = MomentKind::Vsm;
   moments.depthNear = zNear;
@@ -107,12 +120,6 @@ void VssmMaps::build(Context& ctx, const Buffer<float>& depth, uint32_t width, u
       buildSat<double>(ctx, bits);
       break;
   }
-  const uint32_t texels = static_cast<uint32_t>(shape.texels());
-  Kernel normalize(ctx, "kernels/vssm.cl", "vssm_normalize_depth", "vssm", buildOptions());
-  normalize.args(depth, normalized_, texels, zNear_, invRange_)
-      .moves(uint64_t{texels} * 2 * sizeof(float))  // depth in, normalised depth out
-      .launch(texels, kNormalizeGroup);
-  computeMinMaxPyramid(ctx, normalized_, width, height, hsm_);
 }
 
 }  // namespace penumbra

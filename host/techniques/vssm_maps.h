@@ -1,7 +1,9 @@
 // The per-map inputs of variance soft shadow mapping (Yang et al. 2010, Algorithm 1 L1-L5): the light's depth ->
 // VSM moments normalised over [zNear, zFar] (host/stages/moments.h) -> their summed-area table
-// (host/stages/sat.h, storage selectable) and the normalised depth -> its min-max pyramid, the mip-map HSM of
-// sec. 6.1 (host/stages/pyramid.h); plus the Child/Next link table of the adaptive subdivision's quad-tree.
+// (host/stages/sat.h, storage selectable) and the depth's min-max pyramid above the map, the mip-map HSM of sec. 6.1
+// (host/stages/pyramid.h computeMinMaxLevels: lookups read level 0 from the map and normalise what they read,
+// kernels/shared/vssm_lookup.h, so the HSM needs neither a normalised copy nor [zNear, zFar]); plus the Child/Next
+// link table of the adaptive subdivision's quad-tree.
 #pragma once
 
 #include <CL/opencl.hpp>
@@ -37,11 +39,17 @@ class VssmMaps {
  public:
   using SatBuffer = std::variant<Buffer<uint64_t>, Buffer<uint32_t>, Buffer<float>, Buffer<double>>;
 
-  // Records "moments/moments_vsm", "vssm/vssm_normalize_depth", the "sat/..." passes and the
-  // "pyramid/pyramid_minmax_*" passes for a width x height map of linear light depth (+INFINITY empty).
-  // Throws std::runtime_error for fp64 on a device without it.
+  // buildHsm, then buildMoments.
   void build(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height, float zNear, float zFar,
              const VssmMapConfig& config);
+  // The "pyramid/pyramid_minmax_batch" passes for a width x height map of linear light depth (+INFINITY empty).
+  // Returns the drawn depth range (min, max over the map; +INFINITY where nothing is drawn), waiting for it: what
+  // MapNear::Drawn would have reduced the map for.
+  cl_float2 buildHsm(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height);
+  // "moments/moments_vsm" over [zNear, zFar] and the "sat/..." passes of the same map, and the quad-tree's links.
+  // Throws std::runtime_error for fp64 on a device without it.
+  void buildMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height, float zNear, float zFar,
+                    const VssmMapConfig& config);
 
   const SatTableDesc& satDesc() const { return desc_; }
   const SatBuffer& sat() const { return sat_; }
@@ -60,7 +68,7 @@ class VssmMaps {
   template <class T>
   void buildSat(Context& ctx, int fractionBits);
 
-  Buffer<float> moments_, normalized_, satOffset_;
+  Buffer<float> moments_, satOffset_;
   SatBuffer sat_;
   SatTableDesc desc_{};
   Buffer<cl_float2> hsm_;

@@ -75,18 +75,33 @@ inline int2 pyramid_cover_span(float a, float b, uint base, uint level) {
   return (int2)(max((int)floor(a * s - 1e-3f), 0), min((int)floor(b * s + 1e-3f), (int)level - 1));
 }
 
-// (min, max) over every base texel the box [lo, hi] (texels) touches, from a min-max pyramid of `levelCount` levels
-// over a width x height base: the finest level where the box covers at most 2 x 2 texels. A box reaching outside
-// the base also gets `outside` (the value of texels beyond the map); an empty box inside it, (+inf, -inf).
-inline float2 pyramid_range(__global const float2* pyramid, __constant const PyramidLevel* levels, uint levelCount,
-                            uint width, uint height, float2 lo, float2 hi, float outside) {
+// Level 0 of a levels-only min-max pyramid (host/stages/pyramid.h computeMinMaxLevels): the depth map itself, a texel
+// read as (z, z), background and NaN as the farthest depth (+inf, +inf): a maximum sees them (nothing there occludes),
+// a minimum does not. A select, not ?: on vectors (kernels/pyramid.cl pyramid_depth_range says why).
+inline float2 pyramid_far_range(float z) { return select((float2)(INFINITY), (float2)(z), (int2)(-isfinite(z))); }
+
+// (min, max) of depth over every base texel the box [lo, hi] (texels) touches, from a width x height depth map `base`
+// and the `levelCount` levels 1.. of its min-max pyramid (levels[0] is level 1): the finest level where the box covers
+// at most 2 x 2 texels, the depth map itself (pyramid_far_range) where that is level 0. A box reaching outside the
+// map also gets `outside` (the value of texels beyond it); an empty box inside it, (+inf, -inf).
+inline float2 pyramid_depth_range_of(__global const float* base, __global const float2* pyramid,
+                                     __constant const PyramidLevel* levels, uint levelCount, uint width, uint height,
+                                     float2 lo, float2 hi, float outside) {
   const float2 size = (float2)((float)width, (float)height);
   float2 range = (float2)(INFINITY, -INFINITY);
   if (any(lo < (float2)(0.0f)) || any(hi > size)) range = (float2)(outside);
   const float2 a = clamp(lo, (float2)(0.0f), size), b = clamp(hi, a, size);
   if (!(b.x > a.x && b.y > a.y)) return range;
+  int2 sx = pyramid_cover_span(a.x, b.x, width, width), sy = pyramid_cover_span(a.y, b.y, height, height);
+  if ((sx.y - sx.x <= 1 && sy.y - sy.x <= 1) || levelCount == 0) {
+    for (int y = sy.x; y <= sy.y; ++y)
+      for (int x = sx.x; x <= sx.y; ++x) {
+        const float2 v = pyramid_far_range(base[(size_t)y * width + x]);
+        range = (float2)(fmin(range.x, v.x), fmax(range.y, v.y));
+      }
+    return range;
+  }
   uint l = 0;
-  int2 sx, sy;
   for (;; ++l) {
     sx = pyramid_cover_span(a.x, b.x, width, levels[l].width);
     sy = pyramid_cover_span(a.y, b.y, height, levels[l].height);

@@ -31,7 +31,7 @@ typedef struct PcssShade {
   int searchTaps, filterTaps;  // taps per side of the blocker search and the filter (squared on Poisson disks)
   float maxRadius;             // texels: the largest search and filter radius
   int pattern;                 // SHADE_PATTERN_*
-  int adaptive;                // 1: the blocker search bounded by the min-max pyramid (levelCount levels)
+  int adaptive;                // 1: the blocker search bounded by the min-max pyramid (levelCount levels above the map)
   uint levelCount;
 } PcssShade;
 

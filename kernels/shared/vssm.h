@@ -47,7 +47,7 @@ typedef struct VssmParams {
   uint shadeDivisions;   // n: uniform shading sub-kernels per side
   uint leafTaps;         // PCF taps per side in a "non-planarity" leaf (sec. 5.1 option 2: 2 x 2)
   uint nodeCount;        // quad-tree nodes, (4^(H+1) - 1) / 3
-  uint pyramidLevels;    // levels of the min-max HSM, base included
+  uint pyramidLevels;    // levels 1.. of the min-max HSM (level 0 is the depth map)
   float planarMaxLit;    // guard of eq. 4: above this Chebyshev P the search kernel is subdivided (1: never)
   uint diskStrips;       // beyond the paper: 0 the square kernels of Yang et al., else at most this many disk strips
   float stackedSpread;   // beyond the paper: eq. 4's blocker this far past the nearest texel, over t - nearest, selects

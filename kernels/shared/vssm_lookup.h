@@ -5,6 +5,7 @@
 #ifndef PENUMBRA_KERNELS_SHARED_VSSM_LOOKUP_H
 #define PENUMBRA_KERNELS_SHARED_VSSM_LOOKUP_H
 
+#include "kernels/shared/moments.h"
 #include "kernels/shared/pyramid.h"
 #include "kernels/shared/sat.h"
 #include "kernels/shared/shadow_common.h"
@@ -15,7 +16,7 @@ typedef struct VssmMaps {
   __global const SAT_T* sat;        // SAT of the normalised VSM moments (z, z^2)
   __global const float* satOffset;  // fp32 tables: the offset; unused otherwise
   __global const float* depth;      // the light's linear depth map (+INFINITY where empty)
-  __global const float2* hsm;       // min-max pyramid of normalised depth
+  __global const float2* hsm;       // levels 1.. of the depth's min-max pyramid (level 0: `depth`)
   __constant const PyramidLevel* levels;
   __constant const VssmNode* nodes;
   __constant const LightViewGpu* lv;
@@ -44,10 +45,14 @@ inline float2 vssm_box_moments(const VssmMaps* m, float2 lo, float2 hi) {
   return (sum + (float2)(area - inside)) / area;
 }
 
-// (min, max) of normalised depth over every texel [lo, hi] touches (pyramid_range); parts outside the map count as
-// depth 1.
+// (min, max) of normalised depth over every texel [lo, hi] touches (pyramid_depth_range_of over the light depths,
+// then normalised as the moments are: the normalisation never decreases, so it maps the raw range onto the range of
+// the normalised texels exactly); background, NaN and parts outside the map count as depth 1.
 inline float2 vssm_hsm_range(const VssmMaps* m, float2 lo, float2 hi) {
-  return pyramid_range(m->hsm, m->levels, m->p.pyramidLevels, m->desc.width, m->desc.height, lo, hi, 1.0f);
+  const float2 raw = pyramid_depth_range_of(m->depth, m->hsm, m->levels, m->p.pyramidLevels, m->desc.width,
+                                            m->desc.height, lo, hi, INFINITY);
+  return (float2)(moments_normalize(raw.x, m->p.depthNear, m->p.depthInvRange),
+                  moments_normalize(raw.y, m->p.depthNear, m->p.depthInvRange));
 }
 
 // World depth a tap at texel position `pos` compares with: the PCF bias grows with the tap offset (pcf.cl).
