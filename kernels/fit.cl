@@ -81,18 +81,47 @@ __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_receive
 }
 
 // Finite depth range of a rasterized map (background is +INFINITY). Per group: partial[g] = (min, max).
+// FIT_CONTIGUOUS (CPUs, DeviceInfo::cpuLayouts): each work-item reduces one contiguous slice of the group's chunk,
+// branch-free (a non-finite depth becomes NaN, which fmin and fmax pass over), so that it streams and vectorizes:
+// PoCL runs a group's work-items one after another, and the strided walk GPUs coalesce took 12.8 ms for a 3840^2 map
+// here, 5.7 times its copy floor. Otherwise consecutive work-items read consecutive depths.
+#ifndef FIT_CONTIGUOUS
+#define FIT_CONTIGUOUS 0
+#endif
 __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_depth_partial(__global const float* depth,
                                                                                         uint count, uint chunk,
                                                                                         __global float2* partial) {
   __local float4 los[FIT_GROUP], his[FIT_GROUP];
   float4 lo = (float4)(INFINITY), hi = (float4)(-INFINITY);
   const uint begin = get_group_id(0) * chunk, end = min(begin + chunk, count);
+#if FIT_CONTIGUOUS
+  const uint slice = (chunk + FIT_GROUP - 1) / FIT_GROUP, first = min(begin + (uint)get_local_id(0) * slice, end);
+  const uint last = min(first + slice, end);
+  float8 l = (float8)(INFINITY), h = (float8)(-INFINITY);
+  uint i = first;
+  for (; i + 8 <= last; i += 8) {  // 8 depths at a time: vload8 takes any alignment
+    const float8 d = vload8(0, depth + i);
+    const float8 finite = select((float8)(NAN), d, isfinite(d));
+    l = fmin(l, finite);
+    h = fmax(h, finite);
+  }
+  for (; i < last; ++i) {
+    const float d = depth[i];
+    const float finite = isfinite(d) ? d : NAN;
+    l.s0 = fmin(l.s0, finite);
+    h.s0 = fmax(h.s0, finite);
+  }
+  const float4 l4 = fmin(l.lo, l.hi), h4 = fmax(h.lo, h.hi);
+  const float2 l2 = fmin(l4.lo, l4.hi), h2 = fmax(h4.lo, h4.hi);
+  lo.x = fmin(l2.x, l2.y), hi.x = fmax(h2.x, h2.y);
+#else
   for (uint i = begin + get_local_id(0); i < end; i += FIT_GROUP) {
     float d = depth[i];
     if (!isfinite(d)) continue;
     lo.x = fmin(lo.x, d);
     hi.x = fmax(hi.x, d);
   }
+#endif
   fit_group_minmax(&lo, &hi, los, his);
   if (get_local_id(0) == 0) partial[get_group_id(0)] = (float2)(lo.x, hi.x);
 }

@@ -1,18 +1,20 @@
 // The light fit (host/views/light_fit.h, views.h, kernels/fit.cl): the device reductions against plain
 // C++ over the same data, adversarial inputs (NaN, background only, empty), and the fitted view keeping
 // every visible receiver inside the map with the requested margin while using fewer world units per texel.
+#include "host/views/light_fit.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+#include <random>
 
-#include "host/views/light_fit.h"
-#include "host/views/views.h"
 #include "host/scene/procedural.h"
+#include "host/views/raster_scene.h"
+#include "host/views/views.h"
 #include "raster/rasterizer.h"
 #include "tests/support/analytic_scenes.h"
 #include "tests/support/cl_test.h"
-#include "host/views/raster_scene.h"
 
 namespace penumbra {
 namespace light_fit_test {
@@ -40,6 +42,24 @@ TEST_F(LightFit, DepthRangeIgnoresBackgroundAndNan) {
   Buffer<float> one(ctx(), std::span<const float>(empty));
   const DepthRange none = reduceDepthRange(ctx(), one, 1);
   EXPECT_GT(none.min, none.max) << "no finite depth: an empty range";
+
+  // A map-sized input: every work-item's slice long (the CPU layout's 8-wide loop and its tail), holes anywhere, the
+  // extremes at the first, the last and an odd index.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> unit(1.0f, 2.0f);
+  std::vector<float> map(1531 * 1031);
+  for (float& z : map) z = unit(rng);
+  for (size_t i = 0; i < map.size(); i += 97) map[i] = (i / 97) % 3 == 0 ? nan : inf;
+  map[0] = 0.5f, map[map.size() - 1] = 7.0f, map[777777] = nan, map[777779] = -inf;
+  Buffer<float> big(ctx(), std::span<const float>(map));
+  const DepthRange range2 = reduceDepthRange(ctx(), big, map.size());
+  EXPECT_EQ(range2.min, 0.5f);
+  EXPECT_EQ(range2.max, 7.0f);
+  map[0] = 1.25f, map[map.size() - 1] = 1.5f, map[1234567] = 0.25f, map[1234569] = 9.0f;
+  big.upload(ctx(), std::span<const float>(map));
+  const DepthRange range3 = reduceDepthRange(ctx(), big, map.size());
+  EXPECT_EQ(range3.min, 0.25f);
+  EXPECT_EQ(range3.max, 9.0f);
 }
 
 TEST_F(LightFit, ReceiverBoxMatchesTheGBufferOnTheHost) {

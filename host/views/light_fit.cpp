@@ -210,7 +210,7 @@ DepthRange reduceDepthRange(Context& ctx, const Buffer<float>& depth, size_t cou
   const uint32_t chunk = chunkFor(count);
   const size_t groups = (count + chunk - 1) / chunk;
   Buffer<cl_float2> partial(ctx, groups);
-  Kernel kernel(ctx, "kernels/fit.cl", "fit_depth_partial", "fit");
+  Kernel kernel(ctx, "kernels/fit.cl", "fit_depth_partial", "fit", ctx.info().cpuLayouts() ? "-DFIT_CONTIGUOUS=1" : "");
   kernel.args(depth, static_cast<uint32_t>(count), chunk, partial)
       .moves(count * sizeof(float))  // floor: read every depth once
       .launch(groups * kFitGroup, kFitGroup);
