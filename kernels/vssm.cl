@@ -76,6 +76,47 @@ inline void vssm_kernel_subdivide(const VssmMaps* m, const VssmReceiver* r, floa
   }
 }
 
+// Beyond the paper: the fallback of a kernel whose blockers lie at several depths. Eq. 4's single blocker
+// z_occ = mu - sigma^2 / (t - mu) is where all of them would sit if the kernel held one blocker depth and receivers at
+// t, and the Chebyshev bound is tight for exactly that two-depth mix (Cantelli). One blocker depth puts z_occ at the
+// kernel's nearest texel z_min; occluders stacked inside the kernel (a plate above a plate under a large light) put it
+// between them, and there the bound overstates the lit share (P >= the true one), which also moves eq. 4's blocker
+// towards the light (a wider penumbra kernel): both let light into the umbra (stacked planes, light radius 2: a
+// quarter of the umbra pixels above 0.1; radius 3: four fifths). Where z_occ - z_min exceeds stackedSpread
+// (t - z_min), the kernel is sampled instead: stackedTaps^2 jittered cells (Bavoil 2008's, as the contact PCF; on a
+// disk kernel the taps inside the disk), in the search the mean depth of the taps that block (PCSS's blocker average,
+// -1 for none), in the shading the lit share of bilinear comparisons. Subdividing would not help: Algorithm 2 pools
+// its normal sub-kernels into one bound, the same mix again.
+inline int vssm_stacked(const VssmMaps* m, float zocc, float zmin, float t) {
+  return m->p.stackedSpread > 0.0f && zocc - zmin > m->p.stackedSpread * (t - zmin);
+}
+
+inline float vssm_stacked_taps(const VssmMaps* m, const VssmReceiver* r, float2 c, float w, int search) {
+  const int taps = (int)m->p.stackedTaps;
+  const uint n = (uint)(taps * taps);
+  const float cell = 2.0f * w / (float)taps;
+  float sum = 0.0f, count = 0.0f, blocked = 0.0f;
+  for (int j = 0; j < taps; ++j)
+    for (int i = 0; i < taps; ++i) {
+      const uint tap = (r->seed * 2u * n + (search ? n : 0u) + (uint)(j * taps + i)) * 2u;
+      const float2 pos = c - w + cell * (float2)((float)i + vssm_hash01(tap), (float)j + vssm_hash01(tap + 1u));
+      if (m->p.diskStrips != 0u && length(pos - c) > w) continue;
+      count += 1.0f;
+      if (!search) {
+        sum += sc_compare_bilinear(m->depth, m->lv->width, m->lv->height, pos, vssm_tap_depth(r, pos));
+        continue;
+      }
+      const float z = sc_fetch(m->depth, m->lv->width, m->lv->height, (int)floor(pos.x), (int)floor(pos.y));
+      if (z < vssm_tap_depth(r, pos)) {
+        blocked += 1.0f;
+        sum += (z - m->p.depthNear) * m->p.depthInvRange;
+      }
+    }
+  if (search) return blocked > 0.0f ? sum / blocked : -1.0f;
+  if (count > 0.0f) return sum / count;
+  return sc_compare_bilinear(m->depth, m->lv->width, m->lv->height, c, vssm_tap_depth(r, c));  // no tap in the disk
+}
+
 // Alg. 1 L11-L15: the average blocker depth (normalised) over the search kernel of half-width w at c, or -1 when
 // nothing blocks. A "non-planarity" kernel is subdivided (sec. 5.2): d1 from the normal group (eq. 5, then eq. 4),
 // d2 from the PCF leaves, combined weighted by their blocker areas.
@@ -86,8 +127,11 @@ inline float vssm_blocker_depth(const VssmMaps* m, const VssmReceiver* r, float2
   // L15 on a planar kernel (z_Avg < t), guarded: as P -> 1 (the limit z_Avg -> t of the non-planarity case) eq. 4
   // amplifies the bound's error by 1 / (1 - P), so above planarMaxLit the kernel is subdivided as well.
   const int planar = e.x < r->t, none = m->p.searchScheme == VSSM_SCHEME_NONE;
-  if (planar && (none || cheb_upper_bound(e, r->t, minVariance) <= m->p.planarMaxLit))
-    return clamp(vssm_occluder(e, r->t, minVariance), zmin, r->t);
+  if (planar && (none || cheb_upper_bound(e, r->t, minVariance) <= m->p.planarMaxLit)) {
+    const float zocc = vssm_occluder(e, r->t, minVariance);
+    if (vssm_stacked(m, zocc, zmin, r->t)) return vssm_stacked_taps(m, r, c, w, 1);  // blockers at several depths
+    return clamp(zocc, zmin, r->t);
+  }
   if (none) return -1.0f;  // z_Avg >= t read as "no blocker", as VSM does
   *subdivided = 1;
   VssmAccum acc = vssm_accum_zero();
@@ -97,6 +141,9 @@ inline float vssm_blocker_depth(const VssmMaps* m, const VssmReceiver* r, float2
   if (acc.vsmArea > 0.0f) {
     const float2 g = (float2)(acc.m1, acc.m2) / acc.vsmArea;
     const float area = (1.0f - cheb_upper_bound(g, r->t, minVariance)) * acc.vsmArea;
+    // The normal group pools its sub-kernels into one bound: stacked blockers there are sampled as on a planar kernel.
+    if (area > 0.0f && vssm_stacked(m, vssm_occluder(g, r->t, minVariance), zmin, r->t))
+      return vssm_stacked_taps(m, r, c, w, 1);
     if (area > 0.0f) {
       const float d1 = vssm_occluder(g, r->t, minVariance) - acc.shift / acc.vsmArea;
       blocked += area;
@@ -106,34 +153,10 @@ inline float vssm_blocker_depth(const VssmMaps* m, const VssmReceiver* r, float2
   return blocked > 0.0f ? depthSum / blocked : -1.0f;
 }
 
-// Beyond the paper: the fallback of a penumbra kernel whose blockers lie at several depths. Eq. 4's single blocker
-// z_occ = mu - sigma^2 / (t - mu) is where all of them would sit if the kernel held one blocker depth and receivers at
-// t, and the Chebyshev bound is tight for exactly that two-depth mix (Cantelli). One blocker depth puts z_occ at the
-// kernel's nearest texel z_min; occluders stacked inside the kernel (a plate above a plate under a large light) put it
-// between them, and there the bound can let most of the light into the umbra (stacked planes, light radius 2: a
-// quarter of the umbra pixels above 0.1). Where z_occ - z_min exceeds stackedSpread (t - z_min), the kernel is
-// shaded by stackedTaps^2 jittered bilinear comparisons instead (Bavoil 2008's cells, as the contact PCF; on a disk
-// kernel the taps inside the disk). Subdividing would not help: Algorithm 2 pools normal sub-kernels into one bound.
-inline float vssm_stacked_pcf(const VssmMaps* m, const VssmReceiver* r, float2 c, float w) {
-  const int taps = (int)m->p.stackedTaps;
-  const float cell = 2.0f * w / (float)taps;
-  float lit = 0.0f, count = 0.0f;
-  for (int j = 0; j < taps; ++j)
-    for (int i = 0; i < taps; ++i) {
-      const uint tap = (r->seed * (uint)(taps * taps) + (uint)(j * taps + i)) * 2u;
-      const float2 pos = c - w + cell * (float2)((float)i + vssm_hash01(tap), (float)j + vssm_hash01(tap + 1u));
-      if (m->p.diskStrips != 0u && length(pos - c) > w) continue;
-      lit += sc_compare_bilinear(m->depth, m->lv->width, m->lv->height, pos, vssm_tap_depth(r, pos));
-      count += 1.0f;
-    }
-  if (count > 0.0f) return lit / count;
-  return sc_compare_bilinear(m->depth, m->lv->width, m->lv->height, c, vssm_tap_depth(r, c));  // no tap in the disk
-}
-
 // Alg. 1 L17-L20 and Alg. 2 L28-L31: visibility over the penumbra kernel of half-width w at c: the Chebyshev bound
 // L of the normal group weighted by VSMArea, 1 by LitArea and the PCF result L1 by PCFArea.
 // Beyond the paper, first: the HSM's range over the penumbra kernel, as L8-L10 over the search kernel (lit, or umbra
-// whatever the moments say, which blockers at several depths spread), then vssm_stacked_pcf where they do.
+// whatever the moments say, which blockers at several depths spread), then vssm_stacked_taps where they do.
 // `path`: VSSM_PATH_LIT, VSSM_PATH_UMBRA or VSSM_PATH_STACKED where the range decided, else unchanged.
 inline float vssm_shade(const VssmMaps* m, const VssmReceiver* r, float2 c, float w, int* subdivided, int* visited,
                         int* path) {
@@ -148,10 +171,9 @@ inline float vssm_shade(const VssmMaps* m, const VssmReceiver* r, float2 c, floa
   }
   const float2 e = vssm_kernel_moments(m, c, w);
   if (e.x < r->t) {
-    const float spread = m->p.stackedSpread;
-    if (spread > 0.0f && vssm_occluder(e, r->t, m->p.minVariance) - range.x > spread * (r->t - range.x)) {
+    if (vssm_stacked(m, vssm_occluder(e, r->t, m->p.minVariance), range.x, r->t)) {
       *path = VSSM_PATH_STACKED;
-      return vssm_stacked_pcf(m, r, c, w);
+      return vssm_stacked_taps(m, r, c, w, 0);
     }
     return cheb_upper_bound(e, r->t, m->p.minVariance);
   }

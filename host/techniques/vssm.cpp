@@ -153,9 +153,11 @@ std::vector<ParamSpec> vssmParamSpecs() {
        "nearest texel in it from the min-max HSM (adaptive, as --pcss-search)",
        {"full", "adaptive"}},
       {"vssm-stacked", 0.1, 0, 1,
-       "Beyond the paper: a penumbra kernel whose eq. 4 blocker lies more than this share of the way from its nearest "
-       "texel to the receiver holds blockers at several depths and is shaded by jittered PCF; 0 = never"},
-      {"vssm-stacked-taps", 8, 1, 32, "PCF fallback of a stacked-blocker kernel: taps x taps jittered cells"},
+       "Beyond the paper: a search or penumbra kernel whose eq. 4 blocker lies more than this share of the way from "
+       "its "
+       "nearest texel to the receiver holds blockers at several depths and is sampled by jittered taps (the blockers' "
+       "mean depth, PCF); 0 = never"},
+      {"vssm-stacked-taps", 8, 1, 32, "Stacked-blocker kernels: taps x taps jittered cells"},
       {"vssm-sat", 0, 0, 3, "SAT storage of the moments", {"fixed64", "fixed32", "fp32", "fp64"}},
   };
 }

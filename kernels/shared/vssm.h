@@ -51,7 +51,7 @@ typedef struct VssmParams {
   float planarMaxLit;    // guard of eq. 4: above this Chebyshev P the search kernel is subdivided (1: never)
   uint diskStrips;       // beyond the paper: 0 the square kernels of Yang et al., else at most this many disk strips
   float stackedSpread;   // beyond the paper: eq. 4's blocker this far past the nearest texel, over t - nearest, selects
-                         // the PCF fallback (0: never)
+                         // the jittered taps of a stacked-blocker search or penumbra kernel (0: never)
   uint stackedTaps;      // the fallback's jittered taps per side
   uint searchNarrowings;  // beyond the paper: narrowings of the search kernel by its nearest texel (0: L7's kernel)
   uint pad1, pad2;

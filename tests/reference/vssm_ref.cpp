@@ -241,8 +241,11 @@ double VssmReference::blocker(const Rx& r, double w, double zmin, bool& subdivid
   const double minVar = settings_.minVariance;
   if (e1 < r.t) {
     const double var = std::max(e2 - e1 * e1, minVar);
-    if (chebyshev(e1, var, r.t) <= settings_.planarMaxLit || settings_.searchScheme == 0)
-      return std::clamp(occluderDepth(e1, var, r.t), zmin, r.t);
+    if (chebyshev(e1, var, r.t) <= settings_.planarMaxLit || settings_.searchScheme == 0) {
+      const double zocc = occluderDepth(e1, var, r.t);
+      if (stacked(zocc, zmin, r.t)) return stackedTaps(r, w, true);
+      return std::clamp(zocc, zmin, r.t);
+    }
   }
   if (settings_.searchScheme == 0) return -1;
   subdivided = true;
@@ -253,6 +256,7 @@ double VssmReference::blocker(const Rx& r, double w, double zmin, bool& subdivid
   if (s.vsmArea > 0) {
     const double mean = s.m1 / s.vsmArea, var = std::max(s.m2 / s.vsmArea - mean * mean, minVar);
     const double area = (1 - chebyshev(mean, var, r.t)) * s.vsmArea;
+    if (area > 0 && stacked(occluderDepth(mean, var, r.t), zmin, r.t)) return stackedTaps(r, w, true);
     if (area > 0) {
       blocked += area;
       depthSum += std::clamp(occluderDepth(mean, var, r.t) - s.shift / s.vsmArea, zmin, r.t) * area;
@@ -275,9 +279,9 @@ double VssmReference::shade(const Rx& r, double w, bool& subdivided, int& visite
   const double minVar = settings_.minVariance;
   if (e1 < r.t) {
     const double var = std::max(e2 - e1 * e1, minVar);
-    if (settings_.stackedSpread > 0 && occluderDepth(e1, var, r.t) - zmin > settings_.stackedSpread * (r.t - zmin)) {
+    if (stacked(occluderDepth(e1, var, r.t), zmin, r.t)) {
       path = 6;
-      return stackedPcf(r, w);
+      return stackedTaps(r, w, false);
     }
     return chebyshev(e1, var, r.t);
   }
@@ -306,21 +310,32 @@ double VssmReference::contact(const Rx& r, double lo[2], double hi[2]) const {
   return lit / 9;
 }
 
+bool VssmReference::stacked(double zocc, double zmin, double t) const {
+  return settings_.stackedSpread > 0 && zocc - zmin > settings_.stackedSpread * (t - zmin);
+}
+
 // stackedTaps^2 jittered cells over the kernel's square; on a disk kernel the taps inside it (vssm.cl).
-double VssmReference::stackedPcf(const Rx& r, double w) const {
+double VssmReference::stackedTaps(const Rx& r, double w, bool search) const {
   const int taps = settings_.stackedTaps;
-  const double cell = 2 * w / taps;
-  double lit = 0;
+  const uint32_t n = uint32_t(taps * taps);
+  const double cell = 2 * w / taps, invRange = 1.0 / (light_.zFar - light_.zNear);
+  double sum = 0, blocked = 0;
   int count = 0;
   for (int j = 0; j < taps; ++j)
     for (int i = 0; i < taps; ++i) {
-      const uint32_t tap = (r.seed * uint32_t(taps * taps) + uint32_t(j * taps + i)) * 2u;
+      const uint32_t tap = (r.seed * 2u * n + (search ? n : 0u) + uint32_t(j * taps + i)) * 2u;
       const double u = r.u - w + cell * (i + hash01(tap)), v = r.v - w + cell * (j + hash01(tap + 1u));
       if (settings_.diskStrips != 0 && std::hypot(u - r.u, v - r.v) > w) continue;
-      lit += bilinearLit(u, v, tapDepth(r, u, v));
       ++count;
+      if (!search) {
+        sum += bilinearLit(u, v, tapDepth(r, u, v));
+        continue;
+      }
+      const double z = fetch(int(std::floor(u)), int(std::floor(v)));
+      if (z < tapDepth(r, u, v)) blocked += 1, sum += (z - light_.zNear) * invRange;
     }
-  return count > 0 ? lit / count : bilinearLit(r.u, r.v, tapDepth(r, r.u, r.v));
+  if (search) return blocked > 0 ? sum / blocked : -1;
+  return count > 0 ? sum / count : bilinearLit(r.u, r.v, tapDepth(r, r.u, r.v));
 }
 
 VssmResult VssmReference::pixel(const VssmReceiverIn& in) const {

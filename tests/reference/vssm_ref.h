@@ -73,7 +73,9 @@ class VssmReference {
   // fallback, else unchanged.
   double shade(const Rx& r, double w, bool& subdivided, int& visited, int& path) const;
   double contact(const Rx& r, double lo[2], double hi[2]) const;
-  double stackedPcf(const Rx& r, double w) const;
+  bool stacked(double zocc, double zmin, double t) const;
+  // search: the mean normalised depth of the taps that block (-1: none); else the lit share (vssm.cl).
+  double stackedTaps(const Rx& r, double w, bool search) const;
 
   std::vector<float> depth_;
   uint32_t width_, height_;
