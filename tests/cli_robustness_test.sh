@@ -42,6 +42,11 @@ expect ground-minus-1e38 1 'ground-minus-1e38.json: /ground/y: expected a number
 expect camera-1e30 2 'eye x: 1e30 is outside \+-1e\+18' -- "$bin" render builtin:box --camera 1e30,0,0:0,0,0 -o "$scratch/x.exr"
 expect scale-zero-warns 0 'warning: the frame sees no surface.*no extent' -- \
   "$bin" render "$corpus/gltf/hostile-scale-zero.gltf" --size 32x18 --map-size 64 -t sm -o "$scratch/zero.exr"
+# A light as large as the scene renders (the caller asked for it) but says why render and reference will disagree.
+expect light-engulfs-scene 0 'warning: light point:0,5,0:1e\+17: the scene comes within 5 of its centre, inside its radius' -- \
+  "$bin" render builtin:box --light point:0,5,0:1e17 --size 32x18 --map-size 64 -t sm -o "$scratch/engulf.exr"
+expect light-engulfs-scene-reference 0 'warning: light point:0,5,0:1e\+17: the scene comes within 5' -- \
+  "$bin" reference builtin:box --light point:0,5,0:1e17 --size 32x18 --spp 4 -o "$scratch/engulf-ref.exr"
 
 # Outputs that are not regular files are never replaced (docs/robustness.md, Outputs): a FIFO is written in place and
 # stays a FIFO, a symlink is written through and stays a link, a directory is refused, a full device is an error.

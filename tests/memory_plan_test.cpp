@@ -184,5 +184,27 @@ TEST(FrameCheck, AFrameThatSeesNothingWarns) {
   EXPECT_FALSE(emptyFrameWarning(flat, cameraOf(2, 1), covered).has_value());
 }
 
+// An area light the geometry comes within reach of warns, naming the distance; a light clear of it, a hard light and
+// a sun do not. builtin:box: a unit box on the ground (y = 0), x and z in [-0.5, 0.5].
+TEST(FrameCheck, AnAreaLightTheSceneReachesIntoWarns) {
+  const Scene box = makeProcedural("box", {});
+  auto warns = [&](const std::string& spec) { return lightReachWarning(box, parseLight(spec)); };
+  const auto inside = warns("point:0,0.5,0.6:0.3");  // 0.1 from the box's face z = 0.5
+  ASSERT_TRUE(inside.has_value());
+  EXPECT_NE(inside->find("within 0.1 of its centre, inside its radius 0.3"), std::string::npos) << *inside;
+  EXPECT_NE(inside->find("sphere"), std::string::npos);
+  const auto engulfs = warns("point:0,5,0:1e17");
+  ASSERT_TRUE(engulfs.has_value());
+  EXPECT_NE(engulfs->find("within 5 of its centre"), std::string::npos) << *engulfs;
+  const auto edge = warns("spot:0.7,1.2,0:0,0,0:60:0.3");  // 0.28 from the edge (0.5, 1, z) of the box's top
+  ASSERT_TRUE(edge.has_value());
+  EXPECT_NE(edge->find("disk"), std::string::npos);
+  EXPECT_FALSE(warns("point:0,0.5,1.0:0.3").has_value());      // 0.5 from the face: out of reach
+  EXPECT_FALSE(warns("point:0,0.5,0.6").has_value());          // a hard light has no extent
+  EXPECT_FALSE(warns("spot:0,3,0:0,0,0:60:0.5").has_value());  // 2 above the top
+  EXPECT_FALSE(warns("dir:0,-1,0:5").has_value());             // a sun's radius is an angle
+  EXPECT_FALSE(lightReachWarning(Scene{}, parseLight("point:0,0,0:1")).has_value());
+}
+
 }  // namespace memory_plan_test
 }  // namespace penumbra

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "host/scene/limits.h"
@@ -58,6 +59,54 @@ void checkFrameRange(const Scene& scene, const Camera& camera, std::span<const L
   if (bounds.empty()) return;
   check(bounds.min, "the scene's bounds: minimum corner");
   check(bounds.max, "the scene's bounds: maximum corner");
+}
+
+namespace {
+
+// Squared distance from p to segment [a, b].
+double segmentDistance2(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b) {
+  const glm::dvec3 ab = b - a;
+  const double length2 = glm::dot(ab, ab);
+  const double t = length2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / length2, 0.0, 1.0) : 0.0;
+  const glm::dvec3 d = p - (a + t * ab);
+  return glm::dot(d, d);
+}
+
+// Squared distance from p to triangle abc: to its plane where p projects inside it (every edge's side test agrees
+// with the normal), else to the nearest edge; a degenerate triangle is its edges.
+double triangleDistance2(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+  const glm::dvec3 n = glm::cross(b - a, c - a);
+  const double n2 = glm::dot(n, n);
+  if (n2 > 0.0) {
+    const bool inside = glm::dot(glm::cross(b - a, p - a), n) >= 0.0 && glm::dot(glm::cross(c - b, p - b), n) >= 0.0 &&
+                        glm::dot(glm::cross(a - c, p - c), n) >= 0.0;
+    if (inside) {
+      const double h = glm::dot(p - a, n);
+      return h * h / n2;
+    }
+  }
+  return std::min({segmentDistance2(p, a, b), segmentDistance2(p, b, c), segmentDistance2(p, c, a)});
+}
+
+}  // namespace
+
+std::optional<std::string> lightReachWarning(const Scene& scene, const Light& light) {
+  if (light.type == LightType::Directional || !(light.radius > 0.0f) || scene.triangles.empty()) return std::nullopt;
+  const Bounds bounds = scene.bounds();
+  const glm::dvec3 p(light.position);
+  const glm::dvec3 nearestCorner = glm::clamp(p, glm::dvec3(bounds.min), glm::dvec3(bounds.max));
+  const double radius = light.radius, radius2 = radius * radius;
+  if (glm::dot(p - nearestCorner, p - nearestCorner) >= radius2) return std::nullopt;  // the bounds lie beyond reach
+  for (const glm::uvec3& t : scene.triangles) {
+    const double d2 = triangleDistance2(p, glm::dvec3(scene.positions[t.x]), glm::dvec3(scene.positions[t.y]),
+                                        glm::dvec3(scene.positions[t.z]));
+    if (d2 < radius2)
+      return fmt::format(
+          "light {}: the scene comes within {:g} of its centre, inside its radius {:g}: a surface inside the {} has no "
+          "defined visibility, and the shadow maps and `penumbra reference` answer differently there",
+          light.label(), std::sqrt(d2), radius, light.type == LightType::Point ? "light's sphere" : "light's disk");
+  }
+  return std::nullopt;
 }
 
 std::optional<std::string> emptyFrameWarning(const Scene& scene, const Camera& camera, std::span<const float> alpha) {

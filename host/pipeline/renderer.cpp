@@ -165,6 +165,9 @@ RenderResult Renderer::render(const Camera& camera, const std::vector<FrameLight
                                                  ? emptyFrameWarning(scene_, camera, result.image.require("A").data)
                                                  : emptyFrameWarning(scene_, camera, seesSurface(ctx_, gbuffer_));
   if (warning) result.warnings.push_back(*warning);
+  for (const FrameLight& light : lights)
+    if (const std::optional<std::string> reach = lightReachWarning(scene_, light.light))
+      result.warnings.push_back(*reach);
   result.image.flipRows();  // the rasterizer's row 0 is the bottom row (frameChannels' readers flip their own)
   recordTechniques(lights, lightAttributes, result.image);
   result.passes = profiler.resolve();

@@ -1,16 +1,16 @@
 // `penumbra reference SCENE [view options] -o ref.exr [--spp N] [--seed S]`: ray-traced (Embree) visibility for
 // the same camera, lights and G-buffer as `render`, written with the same channels plus "stderr.Y" and "lit.Y" (and
 // per light stderr.<layer>.Y, lit.<layer>.Y), a PNG preview beside it, and the cost and the first light's noise.
-#include <CLI/CLI.hpp>
-
 #include "tools/reference/reference.h"
 
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <memory>
 #include <vector>
 
 #include "host/cl/context.h"
+#include "host/pipeline/frame_check.h"
 #include "host/scene/load.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/image_output.h"
@@ -51,6 +51,9 @@ int run(const ReferenceOptions& options) {
   const std::vector<Light> lights = resolveLights(options.view, scene);
   for (const Light& light : lights)
     if (light.isArea()) reference::SampleLayout::fromSpp(options.trace.spp);  // a bad --spp is a usage error
+  for (const Light& light : lights)
+    if (const std::optional<std::string> reach = lightReachWarning(scene, light))
+      fmt::print(stderr, "penumbra: warning: {}\n", *reach);
   const std::optional<uint64_t> limit = memoryLimit(options.view);
   Context ctx(options.device);
   checkMemoryPlan(planFrame(camera, {}, FrameDownload::Image, {scene.triangles.size(), scene.positions.size()}),
