@@ -418,7 +418,7 @@ TEST_F(PointLights, AFilterWiderThanTheGuardDegradesGracefully) {
   const Camera camera = cardsCamera();
   const Light light = bulb(0.4f);
   const Image ref = reference(scene, camera, light);
-  // A reach of 64 texels whatever the map's size (auto's is a 32nd of it): the filter this test is about.
+  // A reach of 64 texels whatever the map's size (auto's is a 32nd of it, at least 64): the filter this test is about.
   const RenderResult guarded = render(scene, camera, light, "pcss", {{"pcss-max-radius", "64"}});
   const RenderResult none = render(scene, camera, light, "pcss", {{"cube-guard", "0"}, {"pcss-max-radius", "64"}});
   const ErrorMetrics g = compareImages(guarded.image, ref), n = compareImages(none.image, ref);

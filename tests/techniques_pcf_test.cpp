@@ -96,10 +96,11 @@ void expectEdge(const RenderResult& result, float band, const std::string& what)
 // --pcss-search adaptive: where the pyramid says nothing in the search region lies in front of the receiver
 // (blocker.Z = -1) the full search finds no blocker either (exactly lit); the early-out takes most lit pixels; and the
 // narrowed region's taps come closer to brute-force PCSS (64 x 64 taps) than the full region's at the same count.
-// --pcss-max-radius auto (the default) is a 32nd of the map's side: the same frame as the explicit radius at 1024^2
-// (32), 2048^2 (64, the fixed default before) and 4096^2 (128), under a light large enough that the reach matters
-// (the penumbrae are wider than 32 texels at 1024^2): a smaller reach darkens differently.
-TEST_F(PcfTechniques, PcssMaxRadiusAutoIsA32ndOfTheMap) {
+// --pcss-max-radius auto (the default) is a 32nd of the map's side, at least 64 texels: the same frame as the explicit
+// radius at 512^2 and 1024^2 (64, not 16 or 32), 2048^2 (64, the fixed default before) and 4096^2 (128), under a light
+// large enough that the reach matters (the penumbrae are wider than 32 texels at 1024^2): a smaller reach darkens
+// differently.
+TEST_F(PcfTechniques, PcssMaxRadiusAutoIsA32ndOfTheMapAndAtLeast64) {
   const Scene scene = test::squareOverPlane();
   Camera camera = test::topDown();
   camera.width = 96, camera.height = 72;
@@ -113,10 +114,11 @@ TEST_F(PcfTechniques, PcssMaxRadiusAutoIsA32ndOfTheMap) {
     Renderer renderer(ctx(), scene);
     return renderer.render(camera, light, pcss, params).image.require("visibility.Y").data;
   };
-  for (const auto& [size, radius] : {std::pair{1024, "32"}, {2048, "64"}, {4096, "128"}}) {
+  for (const auto& [size, radius] : {std::pair{512, "64"}, {1024, "64"}, {2048, "64"}, {4096, "128"}}) {
     EXPECT_EQ(visibility(size, "auto"), visibility(size, radius)) << size;
   }
   EXPECT_NE(visibility(4096, "auto"), visibility(4096, "64")) << "the reach matters under this light";
+  EXPECT_NE(visibility(1024, "auto"), visibility(1024, "32")) << "and a 32nd of a small map is too short";
 }
 
 TEST_F(PcfTechniques, PcssAdaptiveSearchSkipsOnlyWhatCannotBlockAndSamplesCloser) {

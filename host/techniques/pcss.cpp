@@ -13,13 +13,15 @@
 namespace penumbra {
 namespace {
 
-// --pcss-max-radius auto: a 32nd of the map's side (64 texels at 2048^2), the same width in the scene at every size,
-// so that a larger map never reaches less far (at 4096^2 a fixed 64 cut default.json's contact-free penumbrae:
-// MAE 0.00211 against 0.00165 with 128, 480x270, 256-spp reference).
-constexpr int kMaxRadiusDivisor = 32;
+// --pcss-max-radius auto: a 32nd of the map's side, the same width in the scene at every size, so that a larger map
+// never reaches less far (at 4096^2 a fixed 64 cut default.json's contact-free penumbrae: MAE 0.00211 against 0.00165
+// with 128, 480x270, 256-spp reference); and at least 64 texels, the fixed reach before, since the map is small exactly
+// where the penumbrae are wide (--map-size auto draws 384-768^2 for stacked-planes under a light of radius 2-4: a 32nd
+// of that, 12-24 texels, tripled the MAE, 0.0092 against 0.0297 at radius 4). The taps are as many at any reach.
+constexpr int kMaxRadiusDivisor = 32, kMinAutoRadius = 64;
 float maxRadiusFor(const Params& params, int mapSize) {
   if (!params.isAuto("pcss-max-radius")) return static_cast<float>(params.get("pcss-max-radius"));
-  return static_cast<float>(std::max(mapSize / kMaxRadiusDivisor, 1));
+  return static_cast<float>(std::max(mapSize / kMaxRadiusDivisor, kMinAutoRadius));
 }
 
 struct PcssSettings {
@@ -103,7 +105,7 @@ TechniqueInfo pcssTechnique() {
   params.push_back({"pcss-search-taps", 8, 1, 64, "Blocker search: taps x taps samples (grid) or taps^2 (disk)"});
   params.push_back({"pcss-filter-taps", 8, 1, 64, "PCF: taps x taps (grid) or taps^2 (disk) bilinear comparisons"});
   ParamSpec maxRadius{"pcss-max-radius", 0, 1, 512,
-                      "Largest search/filter half-width in texels; auto: a 32nd of the map's side (64 at 2048)"};
+                      "Largest search/filter half-width in texels; auto: a 32nd of the map's side, at least 64"};
   maxRadius.autoName = "auto";  // autoValue 0: the default
   params.push_back(maxRadius);
   // The disk by default: at the grid's tap count it halves the grid's error or more, docs/techniques/sm-pcf-pcss.md.
