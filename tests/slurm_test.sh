@@ -98,9 +98,11 @@ expect slurm-outputs 0 '^8$' -- bash -c "ls '$s'/out/f0?.exr | wc -l"
 expect slurm-resubmit 0 '^[0-9]+$' -- timeout 120 bash -c "$(declare -f submit); s='$s' submit '$s/jobs.jsonl' '$s/out' --wait"
 expect slurm-resubmit-skipped 0 '^8$' -- bash -c "cat '$s'/out/penumbra-status/*.jsonl | grep -c '\"state\":\"skipped\"'"
 
-# Cancel a running array (heavier frames: each shard runs for seconds), then resubmit to completion.
-for i in $(seq 0 39); do
-  printf '{"scene": "builtin:box", "technique": "pcss", "size": "128x96", "map-size": 512, "camera": "%s,3,6:0,0,0:50", "output": "c%02d.exr"}\n' "$i" "$i"
+# Cancel a running array (heavier frames: each shard runs for seconds, 20 jobs of ~0.2 s on the 2-core CI machine;
+# 10 jobs at 128x96 and 512^2 took half a second a shard, so a shard could finish between its first output and the
+# scancel, and no shard was left to say it was stopped), then resubmit to completion.
+for i in $(seq 0 79); do
+  printf '{"scene": "builtin:box", "technique": "pcss", "size": "320x240", "map-size": 4096, "camera": "%s,3,6:0,0,0:50", "output": "c%02d.exr"}\n' "$i" "$i"
 done >"$s/long.jsonl"
 job=$(submit "$s/long.jsonl" "$s/cancel")
 for _ in $(seq 1 600); do compgen -G "$s/cancel/c*.exr" >/dev/null && break; sleep 0.1; done
@@ -109,8 +111,8 @@ for _ in $(seq 1 300); do [ -z "$(squeue -h -j "$job" 2>/dev/null)" ] && break; 
 expect scancel-gone 0 '^$' -- squeue -h -j "$job"
 expect scancel-sigterm 0 "left \(SIGTERM\)" -- cat "$s"/jobs/"$job"_*.out
 expect scancel-no-partial 0 '^0$' -- bash -c "find '$s/cancel' -name '*.tmp-*' | wc -l"
-expect scancel-missing 75 "40 jobs: [0-9]+ done, 0 failed, [1-9][0-9]* missing" -- "$bin" status "$s/long.jsonl" --out "$s/cancel"
+expect scancel-missing 75 "80 jobs: [0-9]+ done, 0 failed, [1-9][0-9]* missing" -- "$bin" status "$s/long.jsonl" --out "$s/cancel"
 expect scancel-resubmit 0 '^[0-9]+$' -- timeout 150 bash -c "$(declare -f submit); s='$s' submit '$s/long.jsonl' '$s/cancel' --wait"
-expect scancel-complete 0 "40 jobs: 40 done, 0 failed, 0 missing" -- "$bin" status "$s/long.jsonl" --out "$s/cancel"
+expect scancel-complete 0 "80 jobs: 80 done, 0 failed, 0 missing" -- "$bin" status "$s/long.jsonl" --out "$s/cancel"
 
 finish
