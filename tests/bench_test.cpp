@@ -122,7 +122,19 @@ TEST(Sweep, MovesSeveralParametersTogether) {
 }
 
 std::vector<BenchRow> exampleRows() {
-  BenchRow pass{"builtin:box", "pcf", "map-size=512", "bias=1, \"x\"", "shade/pcf_visibility", 1, 2.5, 3600, 0.25, {}};
+  BenchRow pass{"builtin:box",
+                "pcf",
+                "map-size=512",
+                "bias=1, \"x\"",
+                "shade/pcf_visibility",
+                1,
+                2.5,
+                3600,
+                0.25,
+                {},
+                "",
+                {},
+                {}};
   pass.light = "Key";
   BenchRow total = pass;
   total.pass = kTotalPass;

@@ -413,7 +413,7 @@ class PenumbraWidthTest : public test::ClTest {};
 // Occluders in front of the ground at a distance that varies over `lv`'s map; every 5th texel empty, every 7th NaN, a
 // band of texels behind the receivers (lit).
 std::vector<float> syntheticOccluders(const LightView& lv) {
-  const size_t texels = size_t{lv.gpu.width} * lv.gpu.height;
+  const size_t texels = static_cast<size_t>(lv.gpu.width) * static_cast<size_t>(lv.gpu.height);
   std::vector<float> map(texels);
   for (size_t i = 0; i < texels; ++i) {
     const float x = static_cast<float>(i % lv.gpu.width) / lv.gpu.width;

@@ -233,7 +233,7 @@ INSTANTIATE_TEST_SUITE_P(
                  kSpot,
                  Json{{"scale", {0, 0, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}},
                  {"light 0 (node 1)", "no direction"}}),
-    [](const auto& info) { return std::string(info.param.name); });
+    [](const auto& test) { return std::string(test.param.name); });
 
 }  // namespace scene_gltf_lights_test
 }  // namespace penumbra

@@ -24,6 +24,11 @@ const std::vector<float> kQuad = {-1, 0, -1, -1, 0, 1, 1, 0, 1, 1, 0, -1};
 const std::vector<uint32_t> kQuadIndices = {0, 1, 2, 0, 2, 3};
 
 MeshInput quad() { return MeshInput{kQuad, {}, kQuadIndices, std::nullopt, "", true}; }
+// An unnamed double-sided mesh of these arrays (every field given: -Wmissing-field-initializers).
+MeshInput mesh(std::span<const float> positions, std::span<const float> normals, std::span<const uint32_t> indices,
+               std::optional<glm::mat4> transform = std::nullopt) {
+  return MeshInput{positions, normals, indices, transform, "", true};
+}
 
 Scene one(const MeshInput& mesh) { return meshScene(std::span<const MeshInput>(&mesh, 1), {}); }
 
@@ -84,19 +89,16 @@ TEST(MeshScene, BadInputNamesTheMeshAndTheElement) {
   MeshInput named{kQuad, {}, outOfRange, std::nullopt, "rock", true};
   EXPECT_TRUE(
       throwsWith([&] { one(named); }, {"mesh 0 \"rock\": triangle 0 index 2 is 7, out of range (vertex count 4)"}));
-  EXPECT_TRUE(throwsWith([&] { one(MeshInput{nan, {}, tri}); }, {"mesh 0: position 1 is not finite"}));
-  EXPECT_TRUE(throwsWith([&] { one(MeshInput{eight, {}, tri}); }, {"8 position floats are not 3 per vertex"}));
-  EXPECT_TRUE(throwsWith([&] { one(MeshInput{kQuad, {}, two}); }, {"2 indices are not 3 per triangle"}));
-  EXPECT_TRUE(throwsWith([&] { one(MeshInput{kQuad, eight, kQuadIndices}); }, {"8 normal floats for 4 vertices"}));
-  MeshInput scaled{huge, {}, tri, glm::scale(glm::mat4(1.0f), glm::vec3(10.0f))};
+  EXPECT_TRUE(throwsWith([&] { one(mesh(nan, {}, tri)); }, {"mesh 0: position 1 is not finite"}));
+  EXPECT_TRUE(throwsWith([&] { one(mesh(eight, {}, tri)); }, {"8 position floats are not 3 per vertex"}));
+  EXPECT_TRUE(throwsWith([&] { one(mesh(kQuad, {}, two)); }, {"2 indices are not 3 per triangle"}));
+  EXPECT_TRUE(throwsWith([&] { one(mesh(kQuad, eight, kQuadIndices)); }, {"8 normal floats for 4 vertices"}));
+  const MeshInput scaled = mesh(huge, {}, tri, glm::scale(glm::mat4(1.0f), glm::vec3(10.0f)));
   EXPECT_TRUE(throwsWith([&] { one(scaled); }, {"position 1 is not finite after the transform"}));
   glm::mat4 bad(1.0f);
   bad[3][1] = std::numeric_limits<float>::infinity();
-  EXPECT_TRUE(throwsWith(
-      [&] {
-        one(MeshInput{kQuad, {}, kQuadIndices, bad});
-      },
-      {"transform element [3][1] (column, row) is not finite"}));
+  EXPECT_TRUE(throwsWith([&] { one(mesh(kQuad, {}, kQuadIndices, bad)); },
+                         {"transform element [3][1] (column, row) is not finite"}));
   LoadOptions limits;
   limits.maxTriangles = 1;
   const MeshInput q = quad();

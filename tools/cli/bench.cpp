@@ -121,8 +121,19 @@ struct WallTimes {
 
 void addRows(const BenchOptions& o, const Job& job, const Light& light, const RunSummary& summary, double bandwidth,
              const std::optional<ErrorMetrics>& metrics, const WallTimes& walls, std::vector<BenchRow>& rows) {
-  BenchRow base{o.view.scene, job.technique->name, job.setting.label, job.params.describe(), {}, 0, 0, 0, {},
-                {},           lightLayer(light)};
+  BenchRow base{o.view.scene,
+                job.technique->name,
+                job.setting.label,
+                job.params.describe(),
+                {},
+                0,
+                0,
+                0,
+                {},
+                {},
+                lightLayer(light),
+                {},
+                {}};
   for (const PassSummary& pass : summary.passes) {
     BenchRow row = base;
     row.pass = pass.name, row.calls = pass.calls, row.ms = pass.ms, row.bytes = pass.bytes;
