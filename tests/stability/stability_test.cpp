@@ -308,8 +308,9 @@ TEST_F(Stability, APointLightInsideAClosedBox) {
 // Issue 20's targets on every built-in scene under its own area light (each has one), default parameters, against
 // 256 spp: some technique reaches MAE <= kBestMaxMae on every scene; vssm stays within kVssmOverPcss of pcss's MAE
 // (measured 0.47-0.86 here since VSSM's narrowed search and stacked-blocker fallbacks; 0.48-0.92 since --map-size
-// auto sizes vssm's map for 24 texels across the narrow end of its penumbrae; 0.65-1.05 and box 1.098 at the 2048^2 floor before, which kVssmOverPcssBox guards with room for another
-// device's rounding; 1.24-1.63 at the pixels' need alone), since its disk kernels (--vssm-disk-strips 8; the paper's
+// auto sizes vssm's map for 24 texels across the narrow end of its penumbrae; 0.65-1.05 and box 1.098 at the 2048^2
+// floor before, which kVssmOverPcssBox guards with room for another device's rounding; 1.24-1.63 at the pixels' need
+// alone), since its disk kernels (--vssm-disk-strips 8; the paper's
 // squares were 1.8-2.1x), the receivers' exact depth slope and the sin-scaled normal offset (1.16-1.29 on box and
 // stacked-planes before: docs/techniques/README.md, "The normal offset"); and every technique keeps light out of the
 // umbra (umbra_light <= kMaxUmbraLight; measured worst 0.045, psvsm on poles). Held since the auto radii, savsm's auto
