@@ -8,6 +8,7 @@
 #include <bit>
 #include <cmath>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -305,6 +306,22 @@ cl_float2 computeMinMaxLevels(Context& ctx, const Buffer<float>& depth, uint32_t
   recordPasses(ctx, first, rest ? *rest : first, depth, out, chain, passes, uint32_t(sizeof(float)), texelBytes, false,
                config);
   return out.download(ctx, layout.levels.back().offset, 1)[0];
+}
+
+void MinMaxLevels::allocate(Context& ctx, uint32_t width, uint32_t height) {
+  if (!pyramid_.empty() && width == width_ && height == height_) return;
+  const PyramidLayout layout = pyramidLayout(width, height, 1);
+  pyramid_.allocate(ctx, std::max<size_t>(layout.texels, 1));
+  levels_ = layout.levels.empty()
+                ? Buffer<PyramidLevel>(ctx, 1, CL_MEM_READ_ONLY)  // a 1x1 map: the map alone
+                : Buffer<PyramidLevel>(ctx, std::span<const PyramidLevel>(layout.levels), CL_MEM_READ_ONLY);
+  count_ = static_cast<uint32_t>(layout.levels.size());
+  width_ = width, height_ = height;
+}
+
+cl_float2 MinMaxLevels::build(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height) {
+  allocate(ctx, width, height);
+  return computeMinMaxLevels(ctx, depth, width, height, pyramid_);
 }
 
 }  // namespace penumbra

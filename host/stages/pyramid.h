@@ -100,4 +100,24 @@ std::vector<cl::Event> computeMinMaxPyramid(Context& ctx, const Buffer<float>& d
 cl_float2 computeMinMaxLevels(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
                               Buffer<cl_float2>& out, const PyramidConfig& config = {});
 
+// computeMinMaxLevels' output with its layout on the device, reallocated only when the map's size changes: what a
+// kernel's pyramid_depth_range_of reads beside the map (pcss's adaptive search, vssm's HSM). Before the first
+// allocate() or build() the buffers are empty.
+class MinMaxLevels {
+ public:
+  // Buffers for a width x height map (at least one element each, so that a 1x1 map, which has no level above it,
+  // still passes kernel arguments).
+  void allocate(Context& ctx, uint32_t width, uint32_t height);
+  // allocate, then computeMinMaxLevels: the map's (min, max).
+  cl_float2 build(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height);
+  const Buffer<cl_float2>& pyramid() const { return pyramid_; }
+  const Buffer<PyramidLevel>& levels() const { return levels_; }
+  uint32_t count() const { return count_; }  // levels above the map
+
+ private:
+  Buffer<cl_float2> pyramid_;
+  Buffer<PyramidLevel> levels_;
+  uint32_t count_ = 0, width_ = 0, height_ = 0;
+};
+
 }  // namespace penumbra

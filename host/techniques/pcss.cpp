@@ -64,35 +64,24 @@ class PercentageCloserSoft final : public TechniqueOf<PcssSettings> {
       searchDisk_ = Buffer<cl_float2>(frame.ctx, std::span<const cl_float2>(search), CL_MEM_READ_ONLY);
       filterDisk_ = Buffer<cl_float2>(frame.ctx, std::span<const cl_float2>(filter), CL_MEM_READ_ONLY);
     }
-    uint32_t levelCount = 0;
     if (adaptive) {  // the map's min-max pyramid above the map: the nearest caster over any region
       const uint32_t size = static_cast<uint32_t>(map_.view.gpu.width);
-      const PyramidLayout layout = pyramidLayout(size, size, 1);
-      levelCount = static_cast<uint32_t>(layout.levels.size());
-      if (pyramid_.size() != std::max<size_t>(layout.texels, 1)) {
-        pyramid_.allocate(frame.ctx, std::max<size_t>(layout.texels, 1));
-        levels_ = layout.levels.empty()
-                      ? Buffer<PyramidLevel>(frame.ctx, 1, CL_MEM_READ_ONLY)
-                      : Buffer<PyramidLevel>(frame.ctx, std::span<const PyramidLevel>(layout.levels), CL_MEM_READ_ONLY);
-      }
-      const cl_float2 drawn = computeMinMaxLevels(frame.ctx, map_.targets.depth, size, size, pyramid_);
-      tightenMapNear(frame, s.map, map_, drawn.s[0]);
-    } else if (pyramid_.empty()) {  // unused arguments still need buffers
-      pyramid_.allocate(frame.ctx, 1);
-      levels_.allocate(frame.ctx, 1, CL_MEM_READ_ONLY);
+      tightenMapNear(frame, s.map, map_, pyramid_.build(frame.ctx, map_.targets.depth, size, size).s[0]);
+    } else {
+      pyramid_.allocate(frame.ctx, 1, 1);  // unused arguments still need buffers
     }
     const ShadeFrame shade = shadeFrame(frame, s.map, s.receiverPlane, ID_BUFFER_OFF);
-    const PcssShade pcss{searchTaps, filterTaps, s.maxRadius, pattern, static_cast<int>(adaptive), levelCount};
+    const PcssShade pcss{
+        searchTaps, filterTaps, s.maxRadius, pattern, static_cast<int>(adaptive), adaptive ? pyramid_.count() : 0u};
     launchVisibility(frame, map_, shade, "kernels/pcss.cl", "pcss_visibility", visibility, pcss, searchDisk_,
-                     filterDisk_, pyramid_, levels_, blocker_);
+                     filterDisk_, pyramid_.pyramid(), pyramid_.levels(), blocker_);
   }
 
   void addDebugChannels(Context& ctx, Image& image) override { image.add("blocker.Z", blocker_.download(ctx)); }
 
  private:
   ShadowMap map_;
-  Buffer<cl_float2> pyramid_;  // --pcss-search adaptive: levels 1.. of the map's min-max pyramid
-  Buffer<PyramidLevel> levels_;
+  MinMaxLevels pyramid_;  // --pcss-search adaptive: the map's min-max pyramid above it
   Buffer<cl_float2> searchDisk_, filterDisk_;
   Buffer<float> blocker_;
 };

@@ -109,7 +109,7 @@ ParamSpec receiverPlaneParam();
 
 // pcss-search and vssm-search: the blocker search over the light's cone cut at the near plane (full), or narrowed by
 // the nearest caster in it from a min-max pyramid (adaptive, the default).
-inline constexpr int kSearchFull = 0, kSearchAdaptive = 1;
+inline constexpr int kSearchAdaptive = 1;  // their index of "adaptive" ("full" is 0)
 
 // "id-buffer": off | object | polygon | combined (Luksch sec. 9.1; kernels/shared/id_buffer.h), for the techniques
 // whose kernels take it (sm, pcf, pssm, jittered).

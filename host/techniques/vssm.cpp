@@ -154,9 +154,8 @@ std::vector<ParamSpec> vssmParamSpecs() {
        {"full", "adaptive"}},
       {"vssm-stacked", 0.1, 0, 1,
        "Beyond the paper: a search or penumbra kernel whose eq. 4 blocker lies more than this share of the way from "
-       "its "
-       "nearest texel to the receiver holds blockers at several depths and is sampled by jittered taps (the blockers' "
-       "mean depth, PCF); 0 = never"},
+       "its nearest texel to the receiver holds blockers at several depths and is sampled by jittered taps (the "
+       "blockers' mean depth, PCF); 0 = never"},
       {"vssm-stacked-taps", 8, 1, 32, "Stacked-blocker kernels: taps x taps jittered cells"},
       {"vssm-sat", 0, 0, 3, "SAT storage of the moments", {"fixed64", "fixed32", "fp32", "fp64"}},
   };

@@ -69,15 +69,7 @@ void VssmMaps::build(Context& ctx, const Buffer<float>& depth, uint32_t width, u
 cl_float2 VssmMaps::buildHsm(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height) {
   checkShape({width, height, 1}, "vssm");
   checkBufferSize(depth.size(), size_t{width} * height, "vssm", "depth");
-  const PyramidLayout layout = pyramidLayout(width, height, 1);
-  if (hsm_.size() != std::max<size_t>(layout.texels, 1) || levels_.empty()) {
-    hsm_.allocate(ctx, std::max<size_t>(layout.texels, 1));
-    levels_ = layout.levels.empty()
-                  ? Buffer<PyramidLevel>(ctx, 1, CL_MEM_READ_ONLY)  // a 1x1 map: the map alone
-                  : Buffer<PyramidLevel>(ctx, std::span<const PyramidLevel>(layout.levels), CL_MEM_READ_ONLY);
-  }
-  levelCount_ = static_cast<uint32_t>(layout.levels.size());
-  return computeMinMaxLevels(ctx, depth, width, height, hsm_);
+  return hsm_.build(ctx, depth, width, height);
 }
 
 void VssmMaps::buildMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height, float zNear,

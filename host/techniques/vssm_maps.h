@@ -14,6 +14,7 @@
 
 #include "host/cl/buffer.h"
 #include "host/cl/context.h"
+#include "host/stages/pyramid.h"
 #include "kernels/shared/pyramid.h"
 #include "kernels/shared/sat.h"
 #include "kernels/shared/vssm.h"
@@ -54,10 +55,10 @@ class VssmMaps {
   const SatTableDesc& satDesc() const { return desc_; }
   const SatBuffer& sat() const { return sat_; }
   const Buffer<float>& satOffset() const { return satOffset_; }
-  const Buffer<cl_float2>& hsm() const { return hsm_; }
-  const Buffer<PyramidLevel>& levels() const { return levels_; }
+  const Buffer<cl_float2>& hsm() const { return hsm_.pyramid(); }
+  const Buffer<PyramidLevel>& levels() const { return hsm_.levels(); }
   const Buffer<VssmNode>& nodes() const { return nodes_; }
-  uint32_t levelCount() const { return levelCount_; }
+  uint32_t levelCount() const { return hsm_.count(); }
   uint32_t nodeCount() const { return nodeCount_; }
   float depthNear() const { return zNear_; }
   float depthInvRange() const { return invRange_; }
@@ -71,10 +72,9 @@ class VssmMaps {
   Buffer<float> moments_, satOffset_;
   SatBuffer sat_;
   SatTableDesc desc_{};
-  Buffer<cl_float2> hsm_;
-  Buffer<PyramidLevel> levels_;
+  MinMaxLevels hsm_;
   Buffer<VssmNode> nodes_;
-  uint32_t levelCount_ = 0, nodeCount_ = 0, treeHeight_ = 0;
+  uint32_t nodeCount_ = 0, treeHeight_ = 0;
   float zNear_ = 0.0f, invRange_ = 1.0f;
 };
 
