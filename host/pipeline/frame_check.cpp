@@ -94,9 +94,9 @@ std::optional<std::string> lightReachWarning(const Scene& scene, const Light& li
   if (light.type == LightType::Directional || !(light.radius > 0.0f) || scene.triangles.empty()) return std::nullopt;
   const Bounds bounds = scene.bounds();
   const glm::dvec3 p(light.position);
-  const glm::dvec3 nearestCorner = glm::clamp(p, glm::dvec3(bounds.min), glm::dvec3(bounds.max));
+  const glm::dvec3 nearestPoint = glm::clamp(p, glm::dvec3(bounds.min), glm::dvec3(bounds.max));
   const double radius = light.radius, radius2 = radius * radius;
-  if (glm::dot(p - nearestCorner, p - nearestCorner) >= radius2) return std::nullopt;  // the bounds lie beyond reach
+  if (glm::dot(p - nearestPoint, p - nearestPoint) >= radius2) return std::nullopt;  // the bounds lie out of reach
   for (const glm::uvec3& t : scene.triangles) {
     const double d2 = triangleDistance2(p, glm::dvec3(scene.positions[t.x]), glm::dvec3(scene.positions[t.y]),
                                         glm::dvec3(scene.positions[t.z]));
