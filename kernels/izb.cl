@@ -130,10 +130,11 @@ static bool izb_intersect(const IzbRay* r, float3 v0, float3 v1, float3 v2, floa
 
 // cellOf[i]: the cell of sample i (IZB_NO_CELL background, IZB_OUTSIDE_CELL outside the grid, counted in outside[0]);
 // cellCount must be zero on entry.
-__kernel void izb_bin(__global const float4* position, __global const float4* normal, __global const uint* pixelTriangle,
-                      __global const float* positions, __global const uint* triangles, const IzbFrame f,
-                      __constant const LightViewGpu* lv, __global uint* cellOf, __global uint* cellCount,
-                      __global uint* outside) {
+__kernel void izb_bin(__global const float4* position, __global const float4* normal,
+                      __global const uint* pixelTriangle, __global const float* positions,
+                      __global const uint* triangles, const IzbFrame f, __constant const LightViewGpu* lv,
+                      __global uint* cellOf, __global uint* cellCount, __global uint* outside, __global uint* depthMax,
+                      __global uint* cellDepth) {
   const uint i = get_global_id(0);
   if (i >= f.sampleCount) return;
   IzbRay ray;
@@ -152,6 +153,9 @@ __kernel void izb_bin(__global const float4* position, __global const float4* no
   const uint cell = ((uint)t.y / IZB_CELL_TEXELS) * cellsX + (uint)t.x / IZB_CELL_TEXELS;
   cellOf[i] = cell;
   atomic_inc(&cellCount[cell]);
+  // The farthest sample's light depth, of the frame and of the cell (non-negative floats order as their bits).
+  atomic_max(depthMax, as_uint(fmax(t.z, 0.0f)));
+  atomic_max(&cellDepth[cell], as_uint(fmax(t.z, 0.0f)));
 }
 
 // ---- Exclusive scan of the cell counts: blocks, the blocks' sums, then the sums added ----------------------------
@@ -273,10 +277,382 @@ __kernel void izb_test(__global const uint* sorted, __global const uint* cellOf,
     }
 }
 
-// visibility = the share of the pixel's samples that reach the light (1 for background).
-__kernel void izb_resolve(__global const float4* position, __global const uint* occluded, int samples, uint count,
+// ---- Area lights: every receiver sample against N points of the light ------------------------------------------
+// (after Johnson, Hunt, Mark, Burns & Junkins 2009, "Soft irregular shadow mapping"): a caster is listed in every cell
+// where it can hide some point of the light from some receiver sample of the cell, and each sample's N rays to the
+// light's points (the same rays `penumbra reference --izb-light-samples N` traces) are tested exactly against its
+// cell's casters; the visibility is the share of (sample, light point) pairs no caster blocks: occluders fuse exactly,
+// with no blocker-depth estimate and no bias.
+
+// The disk's basis for a sphere light seen along unit `axis` (camera.cpp chooseUp, light_samples.cpp diskBasis).
+static void izb_disk_basis(float3 axis, float3* tangent, float3* bitangent) {
+  float3 up = (float3)(0.0f, 1.0f, 0.0f);
+  if (!(length(cross(axis, up)) > 1e-3f)) up = (float3)(0.0f, 0.0f, 1.0f);
+  if (!(length(cross(axis, up)) > 1e-3f)) up = (float3)(1.0f, 0.0f, 0.0f);
+  *tangent = normalize(cross(axis, up));
+  *bitangent = cross(axis, *tangent);
+}
+
+// The ray from `origin` to the light's point of unit-disk point `disk` (host/techniques/izb_pattern.h), as
+// tools/reference/light_samples.cpp LightSampler::rayFromDisk.
+static IzbRay izb_light_ray(const IzbFrame* f, float3 origin, float2 disk) {
+  const float3 centre = vload3(0, f->lightCentre);
+  IzbRay ray;
+  ray.origin = origin;
+  if (f->lightKind == IZB_LIGHT_SUN) {
+    const float r2 = dot(disk, disk), x = r2 * f->lightOneMinusCos;
+    const float cosTheta = 1.0f - x, sinTheta = sqrt(fmax(0.0f, x * (2.0f - x))), r = sqrt(r2);
+    const float2 azimuth = r > 0.0f ? disk / r : (float2)(0.0f);
+    ray.direction = cosTheta * vload3(0, f->toLight) +
+                    sinTheta * (azimuth.x * vload3(0, f->lightTangent) + azimuth.y * vload3(0, f->lightBitangent));
+    ray.tfar = INFINITY;
+    return ray;
+  }
+  float3 tangent = vload3(0, f->lightTangent), bitangent = vload3(0, f->lightBitangent);
+  if (f->lightKind == IZB_LIGHT_SPHERE) {
+    const float3 d = centre - origin;
+    const float len = length(d);
+    izb_disk_basis(len > 0.0f ? d / len : -vload3(0, f->toLight), &tangent, &bitangent);
+  }
+  const float3 point = centre + f->lightRadius * (disk.x * tangent + disk.y * bitangent);
+  ray.direction = point - origin;
+  ray.tfar = IZB_SPOT_TFAR;
+  return ray;
+}
+
+// A caster's projection on the grid: its bounding box (texels) and nearest light depth; `unbounded` when it reaches the
+// light's plane (spot grid) or is not finite, and may then hide the light anywhere.
+typedef struct {
+  float2 lo, hi;
+  float zMin;
+  int unbounded;
+} IzbCaster;
+
+static IzbCaster izb_caster(__constant const LightViewGpu* lv, __global const float* positions,
+                            __global const uint* triangles, uint t) {
+  IzbCaster c = {(float2)(INFINITY), (float2)(-INFINITY), INFINITY, 0};
+  for (int v = 0; v < 3; ++v) {
+    const float3 p = lv_project(lv, izb_vertex(positions, triangles[3 * t + v]));
+    c.lo = fmin(c.lo, p.xy), c.hi = fmax(c.hi, p.xy), c.zMin = fmin(c.zMin, p.z);
+  }
+  c.unbounded = (lv->kind != LIGHT_KIND_DIRECTIONAL && !(c.zMin > 0.0f)) || !isfinite(c.zMin) ||
+                !(all(isfinite(c.lo)) && all(isfinite(c.hi)));
+  return c;
+}
+
+// How far (texels) a segment from a receiver sample at light depth at most zCell to the light strays from the sample's
+// own projection where it passes light depth z >= zMin (IzbFrame listReach): a sun's (zCell - zMin) tan(alpha); on a
+// spot grid s R sqrt(1 + T^2) / z with s = (o_z - z) / (o_z - l_z), at most (zCell - z) / (zCell - R) (it grows with
+// o_z when z > R), so at most listReach (zCell - zMin) / ((zCell - R) zMin). Negative: the caster lies behind every
+// such sample and blocks none of its segments; infinite: no bound (the caster reaches within R of the light's plane).
+static float izb_soft_reach(const IzbFrame* f, __constant const LightViewGpu* lv, float zMin, float zCell) {
+  if (lv->kind == LIGHT_KIND_DIRECTIONAL) return zMin < zCell ? f->listReach * (zCell - zMin) : -1.0f;
+  const float radius = f->lightRadius;  // a sphere's points lie up to R nearer the receivers than its centre
+  if (!(zMin < zCell + radius)) return -1.0f;
+  if (!(zMin > radius && zCell > radius)) return INFINITY;
+  return f->listReach * fmax(zCell - zMin, 0.0f) / ((zCell - radius) * zMin);
+}
+
+// The caster's candidate cells (x0, x1, y0, y1 inclusive; x0 > x1 when none): its box dilated by the reach towards
+// the farthest sample of the frame, within the grid. Each is then checked with its own farthest sample
+// (izb_soft_lists).
+static int4 izb_soft_box(const IzbFrame* f, __constant const LightViewGpu* lv, const IzbCaster* c, float zMax) {
+  const uint cellsX = ((uint)lv->width + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS;
+  const uint cellsY = ((uint)lv->height + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS;
+  const int4 every = (int4)(0, (int)cellsX - 1, 0, (int)cellsY - 1);
+  if (c->unbounded) return every;
+  const float reach = izb_soft_reach(f, lv, c->zMin, zMax);
+  if (reach < 0.0f) return (int4)(1, 0, 1, 0);
+  const float2 lo = c->lo - reach, hi = c->hi + reach;
+  if (!(all(isfinite(lo)) && all(isfinite(hi)))) return every;
+  if (hi.x < 0.0f || hi.y < 0.0f || lo.x >= (float)lv->width || lo.y >= (float)lv->height) return (int4)(1, 0, 1, 0);
+  const float2 last = (float2)((float)(cellsX - 1), (float)(cellsY - 1));
+  const float2 c0 = clamp(floor(lo / (float)IZB_CELL_TEXELS), (float2)(0.0f), last);
+  const float2 c1 = clamp(floor(hi / (float)IZB_CELL_TEXELS), (float2)(0.0f), last);
+  return (int4)((int)c0.x, (int)c1.x, (int)c0.y, (int)c1.y);
+}
+
+// Whether cell (x, y), whose farthest sample lies at light depth zCell, needs caster c: the cell's square meets the
+// caster's box dilated by the reach towards that sample.
+static bool izb_soft_listed(const IzbFrame* f, __constant const LightViewGpu* lv, const IzbCaster* c, int x, int y,
+                            float zCell) {
+  if (c->unbounded) return true;
+  const float reach = izb_soft_reach(f, lv, c->zMin, zCell);
+  if (reach < 0.0f) return false;
+  const float x0 = (float)(x * IZB_CELL_TEXELS), y0 = (float)(y * IZB_CELL_TEXELS);
+  return c->lo.x - reach <= x0 + (float)IZB_CELL_TEXELS && c->hi.x + reach >= x0 &&
+         c->lo.y - reach <= y0 + (float)IZB_CELL_TEXELS && c->hi.y + reach >= y0;
+}
+
+// Per caster, every cell holding samples (cellCount > 0) that needs it: counted into listCount (fill == 0) or written
+// to entries[listStart[c] + cursor[c]++] (fill == 1). listCount and cursor zero on entry.
+__kernel void izb_soft_lists(__global const float* positions, __global const uint* triangles, uint triangleCount,
+                             const IzbFrame f, __constant const LightViewGpu* lv, __global const uint* cellCount,
+                             __global const uint* cellDepth, __global const uint* depthMax, int fill,
+                             __global uint* listCount, __global const uint* listStart, __global uint* entries) {
+  const uint t = get_global_id(0);
+  if (t >= triangleCount) return;
+  const IzbCaster c = izb_caster(lv, positions, triangles, t);
+  const int4 box = izb_soft_box(&f, lv, &c, as_float(*depthMax));
+  const uint cellsX = ((uint)lv->width + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS;
+  for (int y = box.z; y <= box.w; ++y)
+    for (int x = box.x; x <= box.y; ++x) {
+      const uint cell = (uint)y * cellsX + (uint)x;
+      if (cellCount[cell] == 0 || !izb_soft_listed(&f, lv, &c, x, y, as_float(cellDepth[cell]))) continue;
+      const uint slot = atomic_inc(&listCount[cell]);
+      if (fill) entries[listStart[cell] + slot] = t;
+    }
+}
+
+// The cone from a receiver sample around every segment it can send to the light: unit `axis` towards the light's
+// centre (a sun: towards the sun), cos and sin of its half-angle, and the farthest a segment's point lies along the
+// axis.
+typedef struct {
+  float3 axis;
+  float cosHalf, sinHalf, reach;
+} IzbCone;
+
+static IzbCone izb_light_cone(const IzbFrame* f, float3 origin) {
+  IzbCone cone;
+  if (f->lightKind == IZB_LIGHT_SUN) {
+    cone.axis = vload3(0, f->toLight);
+    cone.cosHalf = 1.0f - f->lightOneMinusCos, cone.sinHalf = sqrt(fmax(0.0f, 1.0f - cone.cosHalf * cone.cosHalf));
+    cone.reach = INFINITY;
+    return cone;
+  }
+  // Every point of the disk lies in the ball of lightRadius around the centre, which subtends asin(R / D).
+  const float3 d = vload3(0, f->lightCentre) - origin;
+  const float distance = length(d), sine = f->lightRadius / distance;
+  cone.axis = d / distance;
+  cone.sinHalf = sine < 1.0f ? sine : 1.0f, cone.cosHalf = sine < 1.0f ? sqrt(1.0f - sine * sine) : 0.0f;
+  cone.reach = distance + f->lightRadius;
+  return cone;
+}
+
+// balls[t]: triangle t's bounding ball (its centroid, the farthest vertex's distance widened by 1e-3 against rounding),
+// for izb_may_block; planes[t]: its plane (unit normal n, n . p for its points; zero for a degenerate triangle), for
+// izb_beside.
+__kernel void izb_soft_balls(__global const float* positions, __global const uint* triangles, uint triangleCount,
+                             __global float4* balls, __global float4* planes) {
+  const uint t = get_global_id(0);
+  if (t >= triangleCount) return;
+  const float3 a = izb_vertex(positions, triangles[3 * t]), b = izb_vertex(positions, triangles[3 * t + 1]);
+  const float3 c = izb_vertex(positions, triangles[3 * t + 2]);
+  const float3 m = (a + b + c) / 3.0f;
+  balls[t] = (float4)(m, 1.001f * sqrt(fmax(fmax(dot(a - m, a - m), dot(b - m, b - m)), dot(c - m, c - m))));
+  const float3 n = cross(b - a, c - a);
+  const float len = length(n);
+  planes[t] = len > 0.0f && isfinite(len) ? (float4)(n / len, dot(n / len, m)) : (float4)(0.0f);
+}
+
+// Whether the origin and the whole light lie on one side of caster plane `plane`, clear of it by more than rounding
+// (the caster's vertices lie within `slack` of the plane): then no segment between them meets the caster. A sphere's
+// or disk's points lie within lightRadius of its centre; a sun's directions within alpha of its axis.
+static bool izb_beside(const IzbFrame* f, float3 origin, float4 plane, float slack) {
+  const float side = dot(plane.xyz, origin) - plane.w;
+  if (!(fabs(side) > slack)) return false;
+  if (f->lightKind == IZB_LIGHT_SUN) {
+    const float sinAlpha = sqrt(f->lightOneMinusCos * (2.0f - f->lightOneMinusCos));
+    return dot(plane.xyz, vload3(0, f->toLight)) * sign(side) > sinAlpha + 1e-5f;
+  }
+  const float light = dot(plane.xyz, vload3(0, f->lightCentre)) - plane.w;
+  return light * sign(side) > f->lightRadius + slack;
+}
+
+// Whether a caster in `ball` can meet a segment from `origin` inside `cone`: the ball against the cone, in front of
+// the origin and short of the light.
+static bool izb_may_block(const IzbCone* cone, float3 origin, float4 ball) {
+  const float rho = ball.w;
+  const float3 w = ball.xyz - origin;
+  const float len = length(w), along = dot(w, cone->axis);
+  if (!(len > rho)) return true;  // the ball holds the origin (or is not finite)
+  if (along + rho <= 0.0f || along - rho >= cone->reach) return false;
+  // The ball subtends gamma = asin(rho / len) around w: it meets the cone when the angle between w and the axis is at
+  // most half + gamma.
+  const float sinG = rho / len, cosG = sqrt(1.0f - sinG * sinG);
+  const float cosSum = cone->cosHalf * cosG - cone->sinHalf * sinG;
+  return cosSum <= 0.0f || along >= (cosSum - 1e-4f) * len;
+}
+
+// The plane the light's points lie in, seen from a receiver sample's origin o: a spot's disk (its own basis), a
+// sphere's disk facing o, a sun's directions at unit distance along its axis. `scale` turns the plane's coordinates
+// into the unit disk's that holds the light's points (the pattern's, host/techniques/izb_pattern.h).
+typedef struct {
+  float3 origin, centre, normal, tangent, bitangent;
+  float height;  // spot, sphere: (centre - origin) . normal, the plane's distance from o along the normal
+  float scale;
+  float near, nearReach;  // izb_soft_projection's clipping depth and the distance its clipped part may block within
+  int sun;
+} IzbLightPlane;
+
+static IzbLightPlane izb_light_plane(const IzbFrame* f, float3 origin) {
+  IzbLightPlane p;
+  p.origin = origin, p.centre = vload3(0, f->lightCentre), p.sun = f->lightKind == IZB_LIGHT_SUN;
+  p.normal = vload3(0, f->toLight);  // a spot's disk faces along its axis; a sun's plane lies across its direction
+  p.tangent = vload3(0, f->lightTangent), p.bitangent = vload3(0, f->lightBitangent);
+  if (f->lightKind == IZB_LIGHT_SPHERE) {
+    const float3 d = p.centre - origin;
+    const float len = length(d);
+    p.normal = len > 0.0f ? d / len : -vload3(0, f->toLight);
+    izb_disk_basis(p.normal, &p.tangent, &p.bitangent);
+  }
+  p.height = p.sun ? 1.0f : dot(p.centre - origin, p.normal);
+  const float tanAlpha = sqrt(f->lightOneMinusCos * (2.0f - f->lightOneMinusCos)) / (1.0f - f->lightOneMinusCos);
+  p.scale = 1.0f / (p.sun ? tanAlpha : f->lightRadius);  // the unit disk holds the light's points
+  // The light's farthest point from the origin's foot on the plane, over the plane's distance (a sun: tan(alpha)).
+  const float3 foot = (p.centre - origin) - p.height * p.normal;
+  const float spread = p.sun ? tanAlpha : (length(foot) + f->lightRadius) / p.height;
+  p.near = 1e-5f * (p.sun ? fmax(f->sceneRadius, FLT_MIN) : p.height);
+  p.nearReach = p.near * sqrt(1.0f + spread * spread) * 1.01f;
+  return p;
+}
+
+// Caster (a, b, c) with bounding ball `ball` projected from the origin onto the light's plane, where it can block:
+// its part at least `near` in front of the origin (a segment's points lie between the origin and the light's plane),
+// a convex polygon of up to four edges (unit normal n, offset: a point q is inside when dot(n, q) >= offset for every
+// edge). Returns the edges; 0 when no part of the caster can block; -1 when the points must be traced exactly: a
+// vertex at the light's plane, a degenerate projection, or a clipped-off part close enough to the origin that it may
+// project onto the light (a point at light depth a < near projects within the light only within near sqrt(1 +
+// (farReach / height)^2) of the origin).
+static int izb_soft_projection(const IzbLightPlane* p, float3 a, float3 b, float3 c, float4 ball, float2* n,
+                               float* offset) {
+  const float3 v[3] = {a - p->origin, b - p->origin, c - p->origin};
+  float along[3];
+  int inside = 0;
+  for (int i = 0; i < 3; ++i) {
+    along[i] = dot(v[i], p->normal);
+    if (!p->sun && !(along[i] < p->height * (1.0f - 1e-5f))) return -1;
+    inside += along[i] >= p->near;
+  }
+  const bool nearOrigin = !(length(ball.xyz - p->origin) - ball.w > p->nearReach);
+  if (inside < 3 && nearOrigin) return -1;
+  if (inside == 0) return 0;
+  float3 w[4];
+  int m = 0;
+  for (int i = 0; i < 3; ++i) {  // Sutherland-Hodgman against along >= near
+    const int j = (i + 1) % 3;
+    if (along[i] >= p->near) w[m++] = v[i];
+    if ((along[i] >= p->near) != (along[j] >= p->near))
+      w[m++] = v[i] + (v[j] - v[i]) * ((p->near - along[i]) / (along[j] - along[i]));
+  }
+  float2 q[4];
+  for (int i = 0; i < m; ++i) {
+    const float3 y = w[i] * (p->height / dot(w[i], p->normal)) - (p->sun ? (float3)(0.0f) : p->centre - p->origin);
+    q[i] = (float2)(dot(y, p->tangent), dot(y, p->bitangent)) * p->scale;
+  }
+  float area = 0.0f;
+  for (int i = 0; i < m; ++i) area += q[i].x * q[(i + 1) % m].y - q[(i + 1) % m].x * q[i].y;
+  if (!(fabs(area) > 1e-12f)) return -1;
+  const float sign = area > 0.0f ? 1.0f : -1.0f;
+  int edges = 0;
+  for (int i = 0; i < m; ++i) {
+    const float2 e = q[(i + 1) % m] - q[i];
+    const float len = length(e);
+    if (!(len > 0.0f)) continue;  // a repeated vertex: the other edges bound the polygon
+    n[edges] = sign * (float2)(-e.y, e.x) / len;
+    offset[edges] = dot(n[edges], q[i]);
+    ++edges;
+  }
+  return edges >= 3 ? edges : -1;
+}
+
+// The points of the light pattern (a mask of `words` words) that caster edge (n, offset) may hold, or certainly holds
+// (host/techniques/izb_pattern.h masks), the pattern turned by (c, s): its lookups are of the edge turned back.
+// Returns false when the edge holds none of the unit disk.
+static bool izb_edge_masks(float2 n, float offset, float2 cs, int words, __global const uint* masks,
+                           __global const uint** may) {
+  if (offset > 1.0f + IZB_MASK_MARGIN) return false;
+  const int a = izb_mask_angle_bin(cs.x * n.x + cs.y * n.y, cs.x * n.y - cs.y * n.x);
+  const int b = clamp((int)floor((offset + 1.0f) * (0.5f * (float)IZB_MASK_OFFSETS)), 0, IZB_MASK_OFFSETS - 1);
+  *may = masks + (size_t)((a * IZB_MASK_OFFSETS + b) * 2) * (size_t)words;
+  return true;
+}
+
+// One work-item per sorted sample. Each caster of its cell that can meet the cone of its segments to the light is
+// projected onto the light's plane; three bitmask lookups (its edges) give the light points it may hold and those it
+// certainly holds. The certain ones of an opaque caster are blocked outright, the others not yet blocked are traced
+// exactly (the reference's ray and test). Occluders fuse in the mask, with no blocker-depth estimate and no bias.
+// occluded[pixel] gains the blocked rays. Sub-pixel sample s turns its pattern by key pixel + s * 0x632be5ab.
+__kernel void izb_soft_test(__global const uint* sorted, __global const uint* cellOf, __global const uint* cellStart,
+                            __global const uint* cellCount, __global const float4* position,
+                            __global const float4* normal, __global const uint* pixelTriangle,
+                            __global const float* positions, __global const uint* triangles, const IzbFrame f,
+                            __constant const LightViewGpu* lv, __global const uint* listCount,
+                            __global const uint* listStart, __global const uint* listEntries,
+                            __global const float4* balls, __global const float4* planes, __global const float2* pattern,
+                            __global const float2* rotations, __global const uint* masks,
+                            __global const uint* alphaIndex, __global const AlphaTriangle* alphaTriangles,
+                            __global const AlphaMaterial* alphaMaterials, __global const uchar* alphaTexels,
+                            __global uint* occluded) {
+  const uint k = get_global_id(0);
+  if (k >= cellStart[f.cells - 1] + cellCount[f.cells - 1]) return;
+  const uint i = sorted[k];
+  IzbRay hard;
+  uint pixel;
+  if (!izb_ray(&f, i, position, pixelTriangle, normal, positions, triangles, lv, &hard, &pixel)) return;
+  const uint cell = cellOf[i], begin = listStart[cell], end = begin + listCount[cell];
+  if (begin == end) return;
+  const uint key = pixel + (i % (uint)f.samples) * 0x632be5abu, n = (uint)f.lightSamples;
+  const int words = izb_mask_words((int)n);
+  const float2 cs = rotations[izb_rotation_of(key)];
+  const IzbCone cone = izb_light_cone(&f, hard.origin);
+  const IzbLightPlane plane = izb_light_plane(&f, hard.origin);
+  uint mask[IZB_MAX_LIGHT_GRID * IZB_MAX_LIGHT_GRID / 32];
+  for (int w = 0; w < words; ++w) mask[w] = n - 32u * (uint)w >= 32u ? 0u : ~0u << (n - 32u * (uint)w);
+  uint blocked = 0;
+  for (uint e = begin; e < end && blocked < n; ++e) {
+    const uint t = listEntries[e];
+    const float4 ball = balls[t];
+    if (!izb_may_block(&cone, hard.origin, ball)) continue;
+    // Beside the caster's plane (the receiver's own surface, casters facing the light with the origin in front).
+    if (izb_beside(&f, hard.origin, planes[t], 1e-5f * (fmax(fmax(fabs(ball.x), fabs(ball.y)), fabs(ball.z)) + ball.w)))
+      continue;
+    float2 edge[4];
+    float offset[4];
+    __global const uint* table[4];
+    const int edges = izb_soft_projection(&plane, izb_vertex(positions, triangles[3 * t]),
+                                          izb_vertex(positions, triangles[3 * t + 1]),
+                                          izb_vertex(positions, triangles[3 * t + 2]), ball, edge, offset);
+    if (edges == 0) continue;  // no part of it lies between the origin and the light
+    const bool projected = edges > 0;
+    bool empty = false;
+    for (int c = 0; c < edges && !empty; ++c) empty = !izb_edge_masks(edge[c], offset[c], cs, words, masks, &table[c]);
+    if (empty) continue;  // the projection misses the light
+    const bool opaque = !f.alphaTested || alphaIndex[t] == ALPHA_NO_TRIANGLE;
+    for (int w = 0; w < words; ++w) {
+      uint test = ~mask[w];
+      if (projected) {
+        uint may = ~0u, certain = ~0u;
+        for (int c = 0; c < edges; ++c) may &= table[c][w], certain &= table[c][words + w];
+        test &= may;
+        if (opaque) {
+          const uint sure = test & certain;
+          mask[w] |= sure, blocked += popcount(sure), test &= ~certain;
+        }
+      }
+      while (test != 0u) {
+        const uint bit = 31u - clz(test & (0u - test));  // lowest set bit
+        test &= test - 1u;
+        const uint j = 32u * (uint)w + bit;
+        const float2 p = pattern[j];
+        const float2 d = (float2)(cs.x * p.x - cs.y * p.y, cs.y * p.x + cs.x * p.y);
+        const IzbRay ray = izb_light_ray(&f, hard.origin, d);
+        if (izb_blocks(&ray, t, positions, triangles, alphaIndex, f.alphaTested, alphaTriangles, alphaMaterials,
+                       alphaTexels)) {
+          mask[w] |= 1u << bit;
+          ++blocked;
+        }
+      }
+    }
+  }
+  if (blocked > 0) atomic_add(&occluded[pixel], blocked);
+}
+
+// visibility = the share of the pixel's `rays` (samples, times light points for an area light) that reach the light
+// (1 for background).
+__kernel void izb_resolve(__global const float4* position, __global const uint* occluded, int rays, uint count,
                           __global float* visibility) {
   const uint i = get_global_id(0);
   if (i >= count) return;
-  visibility[i] = position[i].w == 0.0f ? 1.0f : 1.0f - (float)occluded[i] / (float)samples;
+  visibility[i] = position[i].w == 0.0f ? 1.0f : 1.0f - (float)occluded[i] / (float)rays;
 }

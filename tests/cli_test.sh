@@ -45,7 +45,7 @@ expect jitter-rotation-with-warp 2 "need --warp none" -- "$bin" render builtin:b
 expect jittered-render 0 "" -- "$bin" render builtin:box -t jittered --id-buffer combined --jitter-reduction 0.6 --warp none \
   --size 32x18 --map-size 64 -q -o "$scratch/jittered.exr"
 expect izb-samples-choice 2 "--izb-samples: '3' is not one of 1, 4, 8, 32" -- "$bin" render builtin:box -t izb --izb-samples 3 -o "$scratch/x.exr"
-expect izb-render 0 "izb/izb_test" -- "$bin" render builtin:cards -t izb --izb-samples 4 --izb-chunk 1000 --size 48x32 \
+expect izb-render 0 "izb/izb_soft_test" -- "$bin" render builtin:cards -t izb --izb-samples 4 --izb-chunk 1000 --size 48x32 \
   --map-size 256 -o "$scratch/izb.exr"
 expect izb-header 0 'receivers grid 256x256 texels \(32x32 cells\), 4 samples per pixel in 7 chunks' -- \
   bash -c "LC_ALL=C grep -ao 'receivers grid [^,]*, [^,]*' '$scratch/izb.exr' | head -n 1"
@@ -178,6 +178,16 @@ fi
 expect reference-bad-spp 2 "spp 10" -- "$bin" reference builtin:box --size 64x48 --spp 10 -o "$scratch/y.exr"
 expect reference-bad-light 2 "light" -- "$bin" reference builtin:box --light spot:0,5,0:0,0,0:190 -o "$scratch/y.exr"
 expect reference-small 0 "wrote" -- "$bin" reference builtin:box --size 32x24 --spp 4 -o "$scratch/small.exr"
+# izb under an area light traces the rays `reference --izb-light-samples N` traces: the two images are equal.
+expect reference-izb-pattern 0 "wrote" -- "$bin" reference builtin:staircase --size 64x40 --izb-light-samples 25 \
+  -o "$scratch/ref-izb.exr"
+expect izb-soft 0 "izb/izb_soft_test" -- "$bin" render builtin:staircase --size 64x40 -t izb --izb-light-samples 25 \
+  -o "$scratch/izb-soft.exr"
+expect izb-soft-equals-reference 0 "max +0.000000" -- "$bin" compare "$scratch/izb-soft.exr" "$scratch/ref-izb.exr"
+expect izb-light-samples-square 2 "must be k\^2 for k in 4..16" -- "$bin" render builtin:box -t izb \
+  --izb-light-samples 20 -o "$scratch/x.exr"
+expect reference-izb-pattern-not-spp 2 "excludes" -- "$bin" reference builtin:box --izb-light-samples 16 --spp 16 \
+  -o "$scratch/x.exr"
 expect compare-self 0 "PASS" -- "$bin" compare "$scratch/ref.exr" "$scratch/ref.exr" --max-mae 0 --max-p95 0 --max-leak 0
 expect compare-no-limits 0 "^PASS" -- "$bin" compare "$scratch/box.exr" "$scratch/ref.exr"
 expect compare-within 0 "PASS" -- "$bin" compare "$scratch/box.exr" "$scratch/ref.exr" --max-mae 0.5 --max-false-shadow 0.5

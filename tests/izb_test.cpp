@@ -14,14 +14,16 @@
 
 #include "host/scene/camera.h"
 #include "host/scene/procedural.h"
+#include "host/techniques/izb_pattern.h"
 #include "host/techniques/registry.h"
+#include "host/views/raster_scene.h"
 #include "host/views/views.h"
 #include "raster/rasterizer.h"
 #include "tests/support/analytic_scenes.h"
 #include "tests/support/cl_test.h"
 #include "tests/support/render.h"
+#include "tools/reference/reference.h"
 #include "tools/reference/tracer.h"
-#include "host/views/raster_scene.h"
 
 namespace penumbra {
 namespace izb_test {
@@ -311,6 +313,226 @@ TEST_F(Izb, RefusesUnsupportedSampleCountsAndIsDeterministic) {
   const RenderResult a = renderWith(ctx(), scene, camera, light, "izb", {{"izb-samples", "8"}});
   const RenderResult b = renderWith(ctx(), scene, camera, light, "izb", {{"izb-samples", "8"}});
   EXPECT_EQ(a.image.require("visibility.Y").data, b.image.require("visibility.Y").data);
+}
+
+// ---- Area lights: N light points per sample -----------------------------------------------------------------
+
+// `light` given an extent where it has none: a disk or sphere of radius `radius`, a sun of 3 degrees.
+Light area(Light light, float radius = 0.3f) {
+  if (light.type == LightType::Directional) {
+    if (light.angularRadiusDeg == 0.0f) light.angularRadiusDeg = 3.0f;
+  } else if (light.radius == 0.0f) {
+    light.radius = radius;
+  }
+  return light;
+}
+
+// izb's soft visibility and the reference traced through the same N light points per pixel (TraceSettings
+// izbLightGrid: the same rays), at every covered pixel: `differing` counts the rays they disagree on (at least
+// |difference| * N per pixel).
+struct RayAgreement {
+  size_t pixels = 0, differing = 0;
+  uint64_t rays = 0;
+  std::string izb;  // the izb header
+};
+RayAgreement sameRays(Context& ctx, const Scene& scene, const Camera& camera, const Light& light, int n,
+                      test::Values values = {}) {
+  values["izb-light-samples"] = std::to_string(n);
+  const RenderResult r = renderWith(ctx, scene, camera, light, "izb", values);
+  EXPECT_TRUE(test::saneImage(r.image, "izb soft"));
+  reference::TraceSettings settings;
+  settings.izbLightGrid = izb_light_grid_of(n);
+  const reference::ReferenceResult truth = reference::renderReference(ctx, scene, camera, light, settings);
+  const auto& ours = r.image.require("visibility.Y").data;
+  const auto& theirs = truth.image.require("visibility.Y").data;
+  const auto& covered = truth.image.require("depth.Z").data;
+  RayAgreement a;
+  a.izb = r.image.attributes().at("penumbra:izb");
+  for (size_t i = 0; i < ours.size(); ++i) {
+    if (!std::isfinite(covered[i])) continue;
+    ++a.pixels;
+    a.rays += static_cast<uint64_t>(n);
+    a.differing += static_cast<size_t>(std::lround(std::abs(ours[i] - theirs[i]) * static_cast<float>(n)));
+  }
+  return a;
+}
+
+// At most one ray in 10^4 may differ: both trace the same ray with a watertight test, so only a ray within float
+// rounding of a caster's edge (the two compute the ray's direction with different roundings) can.
+constexpr double kMaxDifferingRays = 1e-4;
+
+void expectSameRays(Context& ctx, const std::string& label, const Scene& scene, const Camera& camera,
+                    const Light& light, int n, const test::Values& values = {}) {
+  const RayAgreement a = sameRays(ctx, scene, camera, light, n, values);
+  std::printf("%s: %zu pixels, %zu of %llu rays differ (%s)\n", label.c_str(), a.pixels, a.differing,
+              static_cast<unsigned long long>(a.rays), a.izb.c_str());
+  EXPECT_GT(a.pixels, 1000u) << label;
+  EXPECT_NE(a.izb.find("light points per sample"), std::string::npos) << label;
+  EXPECT_LE(static_cast<double>(a.differing), kMaxDifferingRays * static_cast<double>(a.rays)) << label;
+}
+
+// Every builtin scene under its own light given an extent (spot disks, suns, alpha-masked cards), then spheres (point
+// lights: six cube faces) and a sun of 5 degrees, and a scene-fitted grid.
+TEST_F(Izb, SoftEqualsTheReferenceTracedWithTheSameLightPoints) {
+  for (const ProceduralInfo& info : proceduralScenes()) {
+    const Scene scene = makeProcedural(info.name);
+    Camera camera = scene.cameras.empty() ? test::topDown() : scene.cameras.front();
+    camera.width = 120, camera.height = 72;
+    expectSameRays(ctx(), info.name, scene, camera, area(scene.lights.front()), 16);
+  }
+  for (const char* name : {"cards", "stacked-planes", "staircase"}) {
+    const Scene scene = makeProcedural(name);
+    Camera camera = scene.cameras.front();
+    camera.width = 112, camera.height = 64;
+    Light sphere = area(scene.lights.front(), 0.4f);
+    if (sphere.type != LightType::Directional) {
+      sphere.type = LightType::Point;
+      expectSameRays(ctx(), std::string(name) + " sphere", scene, camera, sphere, 25);
+    }
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
+    sun.angularRadiusDeg = 5.0f;
+    expectSameRays(ctx(), std::string(name) + " sun", scene, camera, sun, 16);
+    expectSameRays(ctx(), std::string(name) + " fit scene", scene, camera, area(scene.lights.front()), 36,
+                   {{"fit", "scene"}, {"map-size", "512"}});
+  }
+}
+
+// The grid, the passes and 64 or 256 points do not change the rays: chunks and grid sizes give the same image; more
+// points follow the reference as closely.
+TEST_F(Izb, SoftChunksGridsAndPatternSizesKeepTheRays) {
+  const Scene scene = makeProcedural("stacked-planes");
+  Camera camera = scene.cameras.front();
+  camera.width = 96, camera.height = 64;
+  const Light light = area(scene.lights.front());
+  const RenderResult one = renderWith(ctx(), scene, camera, light, "izb");
+  for (const test::Values& values : {test::Values{{"izb-chunk", "1000"}}, test::Values{{"map-size", "256"}}}) {
+    const RenderResult other = renderWith(ctx(), scene, camera, light, "izb", values);
+    EXPECT_EQ(other.image.require("visibility.Y").data, one.image.require("visibility.Y").data)
+        << values.begin()->first;
+  }
+  expectSameRays(ctx(), "stacked-planes 64", scene, camera, light, 64);
+  expectSameRays(ctx(), "stacked-planes 256", scene, camera, light, 256);
+}
+
+// Against a converged reference (1024 stratified rays a pixel), izb's 64 points are no worse than tracing 64 of the
+// reference's own stratified samples: the pattern's sampling error is all that is left.
+TEST_F(Izb, SoftErrorIsTheSamplingErrorOfItsPattern) {
+  for (const char* name : {"staircase", "stacked-planes"}) {
+    const Scene scene = makeProcedural(name);
+    Camera camera = scene.cameras.front();
+    camera.width = 160, camera.height = 96;
+    const Light light = area(scene.lights.front());
+    const RenderResult r = renderWith(ctx(), scene, camera, light, "izb");
+    const auto& ours = r.image.require("visibility.Y").data;
+    const auto truth = reference::renderReference(ctx(), scene, camera, light, {1024, 1, 0});
+    const auto traced = reference::renderReference(ctx(), scene, camera, light, {64, 2, 0});
+    const auto& exact = truth.image.require("visibility.Y").data;
+    const auto& sixtyFour = traced.image.require("visibility.Y").data;
+    const auto& covered = truth.image.require("depth.Z").data;
+    double izbError = 0, tracedError = 0;
+    size_t pixels = 0;
+    for (size_t i = 0; i < ours.size(); ++i) {
+      if (!std::isfinite(covered[i])) continue;
+      ++pixels;
+      izbError += std::abs(ours[i] - exact[i]), tracedError += std::abs(sixtyFour[i] - exact[i]);
+    }
+    izbError /= static_cast<double>(pixels), tracedError /= static_cast<double>(pixels);
+    std::printf("%s: MAE against 1024 spp: izb (64 points) %.6f, the reference at 64 spp %.6f\n", name, izbError,
+                tracedError);
+    EXPECT_GT(tracedError, 0.0) << name;  // the scene has penumbrae
+    EXPECT_LE(izbError, tracedError * 1.05) << name;
+  }
+}
+
+// Sub-pixel samples each draw their own turn of the pattern: values are multiples of 1 / (S N), and the image stays
+// within the sampling noise of one sample's.
+TEST_F(Izb, SoftSubPixelSamplesCombineWithLightPoints) {
+  const Scene scene = makeProcedural("box");
+  Camera camera = scene.cameras.front();
+  camera.width = 96, camera.height = 64;
+  const Light light = area(scene.lights.front());
+  const RenderResult single = renderWith(ctx(), scene, camera, light, "izb", {{"izb-light-samples", "16"}});
+  const auto& one = single.image.require("visibility.Y").data;
+  const RenderResult four =
+      renderWith(ctx(), scene, camera, light, "izb", {{"izb-light-samples", "16"}, {"izb-samples", "4"}});
+  ASSERT_TRUE(test::saneImage(four.image, "izb soft 4 samples"));
+  const auto& many = four.image.require("visibility.Y").data;
+  double difference = 0;
+  for (size_t i = 0; i < many.size(); ++i) {
+    const float v = many[i] * 64.0f;
+    EXPECT_NEAR(v, std::round(v), 1e-3f) << i;
+    difference += std::abs(many[i] - one[i]);
+  }
+  EXPECT_LT(difference / static_cast<double>(many.size()), 0.01);
+}
+
+TEST_F(Izb, SoftRefusesPatternSizesThatAreNoSquare) {
+  const Scene scene = makeProcedural("box");
+  Camera camera = scene.cameras.front();
+  camera.width = 32, camera.height = 24;
+  for (const char* n : {"20", "15", "289"}) {
+    Params params(findTechnique("izb").params);
+    bool refused = false;
+    try {
+      params.set("izb-light-samples", n);
+      renderWith(ctx(), scene, camera, area(scene.lights.front()), "izb", {{"izb-light-samples", n}});
+    } catch (const std::invalid_argument&) {
+      refused = true;
+    }
+    EXPECT_TRUE(refused) << n;
+  }
+}
+
+// The pattern's bitmask tables against the points themselves: for random edges (normal angle, offset) across the
+// light's plane, every point within the margin of the inner side is in the "may" mask of the edge's bin, and every
+// point of the "certain" mask lies inside by more than the margin; for disk and sun points, turned patterns too.
+TEST(IzbPattern, BitmaskTablesAreConservative) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> angle(-3.14159265358979, 3.14159265358979), offset(-1.2, 1.2);
+  for (int grid : {4, 8, 16}) {
+    const IzbLightPattern pattern(grid);
+    const int n = pattern.count(), words = izb_mask_words(n);
+    for (const glm::vec2& p : pattern.points()) EXPECT_LE(glm::length(p), 1.0f + 1e-6f);
+    for (bool sun : {false, true}) {
+      const float oneMinusCos = sun ? 1.0f - std::cos(glm::radians(10.0f)) : 0.0f;
+      const std::vector<uint32_t> masks = pattern.masks(sun, oneMinusCos, IZB_MASK_MARGIN);
+      ASSERT_EQ(masks.size(), static_cast<size_t>(IZB_MASK_ANGLES) * IZB_MASK_OFFSETS * 2 * words);
+      const double tanAlpha = std::tan(glm::radians(10.0));
+      size_t certain = 0, maybe = 0;
+      for (int trial = 0; trial < 2000; ++trial) {
+        const uint32_t key = static_cast<uint32_t>(rng());
+        const double a = angle(rng), d = offset(rng);
+        const glm::dvec2 normal(std::cos(a), std::sin(a));
+        // The lookup of kernels/izb.cl izb_edge_masks, the edge turned back by the key's rotation.
+        const glm::vec2 cs = pattern.rotations()[izb_rotation_of(key)];
+        const glm::vec2 e(normal);
+        const int bin = izb_mask_angle_bin(cs.x * e.x + cs.y * e.y, cs.x * e.y - cs.y * e.x);
+        const int b =
+            std::clamp(static_cast<int>(std::floor((d + 1.0) * 0.5 * IZB_MASK_OFFSETS)), 0, IZB_MASK_OFFSETS - 1);
+        const uint32_t* may = &masks[((static_cast<size_t>(bin) * IZB_MASK_OFFSETS + b) * 2) * words];
+        for (int j = 0; j < n; ++j) {
+          glm::dvec2 q(pattern.point(key, j));
+          if (sun) {  // the direction's tangent over tan(alpha), as the kernel's plane holds it
+            const double r = glm::length(q), x = r * r * oneMinusCos;
+            if (r > 0.0) q *= std::sqrt(x * (2.0 - x)) / (1.0 - x) / (tanAlpha * r);
+          }
+          const double s = glm::dot(normal, q) - d;
+          const bool inMay = (may[j / 32] >> (j % 32)) & 1u, inCertain = (may[words + j / 32] >> (j % 32)) & 1u;
+          if (s >= -IZB_MASK_MARGIN * 0.5) {
+            EXPECT_TRUE(inMay) << grid << " " << sun << " " << j << " " << s;
+          }
+          if (inCertain) {
+            EXPECT_GT(s, IZB_MASK_MARGIN * 0.5) << grid << " " << sun << " " << j;
+          }
+          certain += inCertain, maybe += inMay;
+        }
+      }
+      EXPECT_GT(certain, 0u);
+      EXPECT_GT(maybe, certain);
+    }
+  }
 }
 
 // An empty scene and a frame with no covered pixel: everything lit, nothing outside, no NaN.

@@ -69,7 +69,9 @@ TEST(MemoryPlan, GrowsWithPixelsLightsAndMaps) {
 }
 
 // izb at 4K with 32 samples a pixel: its passes of at most --izb-chunk samples bound the sample buffers (8 bytes a
-// sample: 128 MiB at the default 2^24), far below the 265 M samples' 2 GiB; its grid is 12 bytes a cell, not a map.
+// sample: 128 MiB at the default 2^24), far below the 265 M samples' 2 GiB; its grid is 24 bytes a cell (16 of the
+// samples, 8 of an area light's caster lists), not a map, beside the light pattern's bitmask tables (256 KiB at the
+// default 64 points).
 TEST(MemoryPlan, IzbSamplesAreBoundedByItsChunk) {
   const TechniqueInfo& izb = findTechnique("izb");
   Params one(izb.params), many(izb.params), small(izb.params);
@@ -84,7 +86,7 @@ TEST(MemoryPlan, IzbSamplesAreBoundedByItsChunk) {
     ADD_FAILURE() << "no izb stage in " << plan.describe();
     return uint64_t{0};
   };
-  const uint64_t cells = 256 * 256 * 12;
+  const uint64_t cells = 256 * 256 * 24 + 256 * 64 * 2 * 4 * 2;
   EXPECT_EQ(stage(one), cells + 3840ull * 2160 * 8);  // one sample a pixel: below the chunk
   EXPECT_EQ(stage(many), cells + (uint64_t{1} << 24) * 8);
   EXPECT_EQ(stage(small), cells + 65536ull * 8);

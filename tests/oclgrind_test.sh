@@ -65,7 +65,10 @@ case "$suite" in
     render "esm-log-space" -- -t esm --esm-exponent 400 --blur-radius 2 --moment-filtering trilinear
     render "esm-log-space-half" -- -t esm --esm-exponent 0.5 --blur-radius 2 --moment-storage fp16
     # izb's conservative draw in the CPU coarse layout, its sub-pixel samples and its passes (chunks) over the cells.
-    render "cpu-izb-samples-chunks" PENUMBRA_LAYOUTS= -- -t izb --izb-samples 8 --izb-chunk 4096
+    render "cpu-izb-samples-chunks" PENUMBRA_LAYOUTS= -- -t izb --izb-samples 8 --izb-chunk 4096 \
+      --light spot:-2,5,-1:0,0,0:60
+    # izb under the box's disk light: caster lists, bitmask lookups and exact rays, over two passes.
+    render "izb-soft" -- -t izb --izb-light-samples 16 --izb-chunk 1024
     for kib in 32 16; do
       local_env=OCLGRIND_LOCAL_MEM_SIZE=$((kib * 1024))
       render "local${kib}k-evsm4-r17" "$local_env" -- -t evsm4 --blur-radius 17

@@ -36,17 +36,22 @@ double param(const PlannedLight& light, const char* name, double fallback) {
   return light.params->has(name) ? light.params->get(name) : fallback;
 }
 
-// izb (host/techniques/izb.cpp) draws no map: its light grid holds 12 bytes per 8x8-texel cell (count, start,
-// cursor) and each pass 8 bytes per sample (cell, sorted index) of at most --izb-chunk samples. The cube faces of a
-// point light reuse them.
+// izb (host/techniques/izb.cpp) draws no map: its light grid holds 16 bytes per 8x8-texel cell (count, start,
+// cursor, farthest depth), 8 more under an area light (its caster lists' count and start; planned whatever the light,
+// since the plan does not see its radius) with the light pattern's bitmask tables (at most 1 MiB), and each pass 8
+// bytes per sample (cell, sorted index) of at most --izb-chunk samples. The casters' entries (in the hard case the
+// rasterizer's tile lists, under an area light izb's own) are grown to what a pass asks for, as the rasterizer's
+// queues are. The cube faces of a point light reuse them.
 MemoryStage izbGrid(const PlannedLight& light, size_t index, uint64_t pixels) {
   MemoryStage stage{fmt::format("light {} ({}): grid and samples", index, light.technique->name)};
   const auto cellsPerSide = static_cast<uint64_t>((param(light, "map-size", 8) + 7) / 8);
   const uint64_t samples =
       pixels * static_cast<uint64_t>(izb_samples_of_choice(light.params->getInt("izb-samples")));
   const uint64_t chunk = std::min(samples, static_cast<uint64_t>(param(light, "izb-chunk", 1 << 24)));
-  stage.largestBuffer = std::max(chunk * 4, cellsPerSide * cellsPerSide * 4);
-  stage.deviceBytes = cellsPerSide * cellsPerSide * 12 + chunk * 8;
+  const auto lightPoints = static_cast<uint64_t>(param(light, "izb-light-samples", 16));
+  const uint64_t tables = uint64_t{IZB_MASK_ANGLES} * IZB_MASK_OFFSETS * 2 * 4 * ((lightPoints + 31) / 32);
+  stage.largestBuffer = std::max({chunk * 4, cellsPerSide * cellsPerSide * 4, tables});
+  stage.deviceBytes = cellsPerSide * cellsPerSide * 24 + chunk * 8 + tables;
   return stage;
 }
 

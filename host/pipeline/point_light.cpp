@@ -52,6 +52,7 @@ void CubeShadows::render(ShadowFrame& frame, Technique& technique, int size, flo
       continue;
     }
     ShadowFrame faceFrame{ctx, frame.raster, frame.scene, spot, frame.camera, face_, receivers};
+    faceFrame.pointLight = &point;
     technique.render(faceFrame, faceVisibility_);
     selectCubeFace(ctx, faces_, faceVisibility_, face, visibility);
     mergeAttributes(attributes, faceFrame.attributes, name);

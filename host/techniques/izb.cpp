@@ -9,9 +9,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
+#include <memory>
 #include <stdexcept>
 
 #include "host/cl/kernel.h"
+#include "host/scene/camera.h"
+#include "host/techniques/izb_pattern.h"
 #include "host/techniques/registry.h"
 #include "host/techniques/shadow_map.h"
 #include "host/views/views.h"
@@ -34,17 +38,62 @@ void moveNearPlane(glm::mat4& P, float zNear) {
   P[3][2] = static_cast<float>(-2.0 * f * zNear / (f - zNear));
 }
 
+// --izb-light-samples N: the side k of its k x k pattern; throws std::invalid_argument unless N = k^2, k in 4..16.
+int lightGridOf(int samples) {
+  const int k = izb_light_grid_of(samples);
+  if (k == 0)
+    throw std::invalid_argument(
+        fmt::format("--izb-light-samples {}: must be k^2 for k in {}..{} (16, 25, 36, ..., 256)", samples,
+                    IZB_MIN_LIGHT_GRID, IZB_MAX_LIGHT_GRID));
+  return k;
+}
+
 struct IzbSettings {
   int gridSize = 0;  // map-size: the light grid's texels per side
   bool fitReceivers = true;
-  int samples = 1;   // per pixel (izb_samples_of_choice)
-  size_t chunk = 0;  // izb-chunk
+  int samples = 1;    // per pixel (izb_samples_of_choice)
+  size_t chunk = 0;   // izb-chunk
+  int lightGrid = 0;  // izb-light-samples = lightGrid^2, under an area light
   static IzbSettings from(const Params& params, int /*mapSize: izb's grid size has no auto*/) {
     return {params.getInt("map-size"), params.getInt("fit") == 1, izb_samples_of_choice(params.getInt("izb-samples")),
-            static_cast<size_t>(params.get("izb-chunk"))};
+            static_cast<size_t>(params.get("izb-chunk")), lightGridOf(params.getInt("izb-light-samples"))};
   }
   bool operator==(const IzbSettings&) const = default;
 };
+
+void store3(float* out, const glm::vec3& v) { out[0] = v.x, out[1] = v.y, out[2] = v.z; }
+
+// The area light as the reference samples it (tools/reference/light_samples.cpp) and the listing's reach
+// (kernels/izb.cl izb_soft_cells). On a spot grid (spot, cube face) a segment from a receiver sample o to a light point
+// l, both in the grid's light eye, meets light depth z at s = (o_z - z) / (o_z - l_z) <= 1 of its way, where its
+// projection has moved from o's by s (l_xy - proj(o) l_z) / z: at most R sqrt(1 + T^2) / z tangents for |l - c| <= R
+// and |proj(o)| <= T, the grid's widest tangent. On a sun grid, a direction within alpha of the axis moves
+// (o_z - z) tan(alpha).
+void describeLight(IzbFrame& f, const Light& light, const LightView& grid, int lightGrid) {
+  f.lightGrid = lightGrid, f.lightSamples = lightGrid * lightGrid;
+  f.lightKind = light.type == LightType::Directional ? IZB_LIGHT_SUN
+                : light.type == LightType::Point     ? IZB_LIGHT_SPHERE
+                                                     : IZB_LIGHT_DISK;
+  const glm::vec3 axis = light.axis();
+  const glm::vec3 tangent = glm::normalize(glm::cross(axis, chooseUp(axis)));
+  store3(f.lightCentre, light.position);
+  store3(f.toLight, -axis);
+  store3(f.lightTangent, tangent);
+  store3(f.lightBitangent, glm::cross(axis, tangent));
+  f.lightRadius = light.radius;
+  const float half = 0.5f * glm::radians(light.angularRadiusDeg);
+  f.lightOneMinusCos = 2.0f * std::sin(half) * std::sin(half);
+  if (grid.gpu.kind == LIGHT_KIND_DIRECTIONAL) {
+    f.listReach = std::tan(glm::radians(light.angularRadiusDeg)) / grid.gpu.texelScale;
+    return;
+  }
+  const glm::mat4& P = grid.raster.projection;  // tangent = (ndc + P[2][.]) / P[.][.] for a (cropped) perspective
+  float widest = 0.0f;
+  for (float x : {-1.0f, 1.0f})
+    for (float y : {-1.0f, 1.0f})
+      widest = std::max(widest, glm::length(glm::vec2((x + P[2][0]) / P[0][0], (y + P[2][1]) / P[1][1])));
+  f.listReach = light.radius * std::sqrt(1.0f + widest * widest) / grid.gpu.texelScale;
+}
 
 class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
  public:
@@ -60,6 +109,8 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
     const uint32_t cellsX = static_cast<uint32_t>((grid.raster.width + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS);
     const uint32_t cellsY = static_cast<uint32_t>((grid.raster.height + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS);
     const uint32_t cells = cellsX * cellsY;
+    const Light& light = frame.pointLight != nullptr ? *frame.pointLight : frame.light;
+    const bool soft = light.isArea();  // a radius of 0 is the exact hard shadow
     const size_t chunk = settings_.chunk;
     const size_t pixelsPerChunk = std::max<size_t>(1, chunk / static_cast<size_t>(samples_));
     const size_t chunkSamples = std::min(pixels, pixelsPerChunk) * static_cast<size_t>(samples_);
@@ -71,6 +122,10 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
     occluded_.fill(ctx, 0u);
     outside_.allocate(ctx, 1);
     outside_.fill(ctx, 0u);
+    depthMax_.allocate(ctx, 1);
+    if (soft)
+      for (Buffer<uint32_t>* b : {&listCount_, &listStart_}) b->allocate(ctx, cells);
+    cellDepth_.allocate(ctx, cells);
 
     IzbFrame f{};
     const glm::mat4 inverse(glm::inverse(glm::dmat4(rasterClipMatrix(cameraView(frame.camera, frame.scene.bounds())))));
@@ -80,6 +135,17 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
     f.width = static_cast<uint32_t>(g.width), f.height = static_cast<uint32_t>(g.height);
     f.samples = samples_, f.pattern = izb_pattern_offset(samples_);
     f.cells = cells;
+    if (soft) {
+      describeLight(f, light, grid, settings_.lightGrid);
+      pattern_.prepare(ctx, settings_.lightGrid, f.lightKind == IZB_LIGHT_SUN, f.lightOneMinusCos);
+      const raster::SceneBuffers& casters = frame.raster.deviceScene();
+      balls_.allocate(ctx, std::max<size_t>(casters.triangleCount, 1));
+      planes_.allocate(ctx, std::max<size_t>(casters.triangleCount, 1));
+      Kernel balls(ctx, "kernels/izb.cl", "izb_soft_balls", "izb");
+      balls.args(casters.positions, casters.triangles, casters.triangleCount, balls_, planes_)
+          .moves(uint64_t{casters.triangleCount} * (48 + 32))
+          .launch(casters.triangleCount, kPixelGroup);
+    }
 
     const raster::SceneBuffers& scene = frame.raster.deviceScene();
     f.alphaTested = scene.materials.alphaTested ? 1u : 0u;
@@ -94,15 +160,29 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
       f.pixelBegin = static_cast<uint32_t>(begin), f.sampleCount = static_cast<uint32_t>(count);
       cellCount_.fill(ctx, 0u);
       cursor_.fill(ctx, 0u);
+      depthMax_.fill(ctx, 0u);
+      cellDepth_.fill(ctx, 0u);
       // Bytes floors (Kernel::moves): bin reads each sample's pixel (position, normal, triangle id: 36 B, shared by
       // its samples) and writes its cell (4 B); scatter reads the cell and its start, writes the sorted index; test
       // reads the sorted index and the cell, then data-dependent triangle lists.
       bin.args(g.position, g.normal, g.triangleId, scene.positions, scene.triangles, f, gpu_, cellOf_, cellCount_,
-               outside_)
+               outside_, depthMax_, cellDepth_)
           .moves(count / static_cast<size_t>(samples_) * 36 + count * 4)
           .launch(count, kPixelGroup);
-      scan(scanBlocks, scanSums, scanAdd, cells);
+      scan(scanBlocks, scanSums, scanAdd, cellCount_, cellStart_, cells);
       scatter.args(cellOf_, cellStart_, cursor_, sorted_, f.sampleCount).moves(count * 12).launch(count, kPixelGroup);
+      if (soft) {
+        entries += listCasters(ctx, f, scene, scanBlocks, scanSums, scanAdd);
+        Kernel softTest(ctx, "kernels/izb.cl", "izb_soft_test", "izb");
+        softTest
+            .args(sorted_, cellOf_, cellStart_, cellCount_, g.position, g.normal, g.triangleId, scene.positions,
+                  scene.triangles, f, gpu_, listCount_, listStart_, listEntries_, balls_, planes_, pattern_.points,
+                  pattern_.rotations, pattern_.masks, scene.alphaIndex, scene.alphaTriangles, scene.alphaMaterials,
+                  scene.alphaTexels, occluded_)
+            .moves(count * 8)
+            .launch(count, kPixelGroup);
+        continue;
+      }
       grid.raster.tileMask = &cellCount_;
       const RasterTileLists lists = frame.raster.drawTileLists(grid.raster);
       entries += lists.entryCount;
@@ -113,7 +193,8 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
           .launch(count, kPixelGroup);
     }
     Kernel resolve(ctx, "kernels/izb.cl", "izb_resolve", "izb");
-    resolve.args(g.position, occluded_, samples_, static_cast<uint32_t>(pixels), visibility)
+    const int rays = samples_ * (soft ? settings_.lightGrid * settings_.lightGrid : 1);
+    resolve.args(g.position, occluded_, rays, static_cast<uint32_t>(pixels), visibility)
         .moves(pixels * (16 + 4 + 4))
         .launch(pixels, kPixelGroup);
     const uint32_t outside = outside_.download(ctx).front();
@@ -122,6 +203,11 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
         "outside the grid (lit)",
         settings_.fitReceivers ? "receivers" : "scene", grid.raster.width, grid.raster.height, cellsX, cellsY,
         samples_, chunks, chunks == 1 ? "" : "s", entries, outside);
+    if (soft)
+      frame.attributes["penumbra:izb"] += fmt::format(
+          "; area light: {} light points per sample ({}x{} stratified, jittered per pixel), casters listed in the "
+          "cells where they can hide part of the light",
+          rays / samples_, settings_.lightGrid, settings_.lightGrid);
   }
 
  private:
@@ -136,20 +222,80 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
     return view;
   }
 
-  // cellStart = exclusive scan of cellCount (kernels/izb.cl izb_scan_*).
-  void scan(Kernel& blocks, Kernel& sums, Kernel& add, uint32_t cells) {
+  // start = exclusive scan of count over the cells (kernels/izb.cl izb_scan_*).
+  void scan(Kernel& blocks, Kernel& sums, Kernel& add, const Buffer<uint32_t>& count, Buffer<uint32_t>& start,
+            uint32_t cells) {
     const size_t groups = (cells + IZB_SCAN_BLOCK - 1) / IZB_SCAN_BLOCK;
     if (groups > IZB_SCAN_BLOCK) throw std::logic_error("izb: more cells than one scan of block sums covers");
-    blocks.args(cellCount_, cellStart_, blockSums_, cells)
-        .moves(uint64_t{cells} * 8)
-        .launch(groups * IZB_SCAN_WG, IZB_SCAN_WG);
+    blocks.args(count, start, blockSums_, cells).moves(uint64_t{cells} * 8).launch(groups * IZB_SCAN_WG, IZB_SCAN_WG);
     sums.args(blockSums_, static_cast<uint32_t>(groups)).launch(IZB_SCAN_WG, IZB_SCAN_WG);
-    add.args(cellStart_, blockSums_, cells).moves(uint64_t{cells} * 8).launch(cells, kPixelGroup);
+    add.args(start, blockSums_, cells).moves(uint64_t{cells} * 8).launch(cells, kPixelGroup);
+  }
+
+  // Area lights: every caster listed in the cells holding samples where it can hide part of the light from one of
+  // them (kernels/izb.cl izb_soft_lists, counting then filling), into listCount_, listStart_ and listEntries_ (grown to
+  // the count, never shrunk); returns the entries.
+  uint64_t listCasters(Context& ctx, const IzbFrame& f, const raster::SceneBuffers& scene, Kernel& scanBlocks,
+                       Kernel& scanSums, Kernel& scanAdd) {
+    const uint32_t triangles = scene.triangleCount, cells = f.cells;
+    listCount_.fill(ctx, 0u);
+    Kernel lists(ctx, "kernels/izb.cl", "izb_soft_lists", "izb");
+    // Each caster reads its three vertices (36 B) and indices (12 B); the cells it visits are data-dependent.
+    lists
+        .args(scene.positions, scene.triangles, triangles, f, gpu_, cellCount_, cellDepth_, depthMax_, 0, listCount_,
+              listStart_, listEntries_)
+        .moves(uint64_t{triangles} * 48)
+        .launch(triangles, kPixelGroup);
+    scan(scanBlocks, scanSums, scanAdd, listCount_, listStart_, cells);
+    const uint64_t total =
+        uint64_t{listStart_.download(ctx, cells - 1, 1).front()} + listCount_.download(ctx, cells - 1, 1).front();
+    if (total > 0xffffffffu)
+      throw std::runtime_error(
+          fmt::format("izb: {} caster-cell entries under the area light exceed 2^32; lower "
+                      "--izb-chunk or --map-size",
+                      total));
+    if (listEntries_.size() < total) listEntries_.allocate(ctx, static_cast<size_t>(total + total / 4));
+    listCount_.fill(ctx, 0u);  // the same pass again, counting into place
+    lists
+        .args(scene.positions, scene.triangles, triangles, f, gpu_, cellCount_, cellDepth_, depthMax_, 1, listCount_,
+              listStart_, listEntries_)
+        .moves(uint64_t{triangles} * 48 + total * 4)
+        .launch(triangles, kPixelGroup);
+    return total;
   }
 
   int samples_;
   Buffer<LightViewGpu> gpu_;
   Buffer<uint32_t> cellOf_, sorted_, cellCount_, cellStart_, cursor_, blockSums_, occluded_, outside_;
+  Buffer<uint32_t> depthMax_, cellDepth_;   // the farthest sample's light depth, of the frame and per cell (float bits)
+  Buffer<uint32_t> listCount_, listStart_;  // area lights: casters per cell (izb_soft_lists)
+  Buffer<uint32_t> listEntries_;
+  Buffer<cl_float4> balls_, planes_;  // area lights: each caster's bounding ball and plane (izb_soft_balls)
+  // Area lights: the light pattern and its bitmask tables on the device, made again only when the pattern or (a sun's)
+  // tables change.
+  struct PatternGpu {
+    std::unique_ptr<IzbLightPattern> host;
+    bool sun = false;
+    float oneMinusCos = 0.0f;
+    bool tables = false;
+    Buffer<cl_float2> points, rotations;
+    Buffer<uint32_t> masks;
+    void prepare(Context& ctx, int grid, bool forSun, float sunOneMinusCos) {
+      if (!host || host->grid() != grid) {
+        host = std::make_unique<IzbLightPattern>(grid);
+        tables = false;
+        std::vector<cl_float2> p, r;
+        for (const glm::vec2& v : host->points()) p.push_back({{v.x, v.y}});
+        for (const glm::vec2& v : host->rotations()) r.push_back({{v.x, v.y}});
+        points = Buffer<cl_float2>(ctx, std::span<const cl_float2>(p), CL_MEM_READ_ONLY);
+        rotations = Buffer<cl_float2>(ctx, std::span<const cl_float2>(r), CL_MEM_READ_ONLY);
+      }
+      if (tables && sun == forSun && (!sun || oneMinusCos == sunOneMinusCos)) return;
+      sun = forSun, oneMinusCos = sunOneMinusCos, tables = true;
+      const std::vector<uint32_t> m = host->masks(sun, oneMinusCos, IZB_MASK_MARGIN);
+      masks = Buffer<uint32_t>(ctx, std::span<const uint32_t>(m), CL_MEM_READ_ONLY);
+    }
+  } pattern_;
 };
 
 }  // namespace
@@ -175,6 +321,10 @@ TechniqueInfo izbTechnique() {
       {"izb-chunk", IZB_CHUNK_SAMPLES, 64, 1u << 28,
        "Samples binned and tested per pass (8 bytes each on the device); more samples are processed in passes of "
        "whole pixels, each drawing the casters over the cells its samples fill"},
+      {"izb-light-samples", 64, 16, 256,
+       "Area lights: points of the light each sample's visibility is traced to exactly, a k x k stratified pattern "
+       "jittered per pixel (N = k^2, k in 4..16; `penumbra reference --izb-light-samples N` traces the same rays); "
+       "a light of radius 0 gets the exact hard shadow"},
       {"cube-guard", 8, 0, 2048,
        "Point lights: each cube face's grid reaches this many texels beyond its 90-degree square on every side"},
   };

@@ -32,6 +32,9 @@ struct ShadowFrame {
   const ReceiverBounds& receivers;
   // Provenance the technique records for the output's header ("penumbra:light-fit", ...).
   std::map<std::string, std::string> attributes = {};
+  // A cube face's point light (host/pipeline/point_light.h; `light` is then the face's square spot light), else null:
+  // for techniques that sample the light's own shape (izb's sphere).
+  const Light* pointLight = nullptr;
 };
 
 class Technique {

@@ -30,11 +30,76 @@ typedef struct {
   uint sampleCount;         // samples of this chunk: pixels * samples
   uint cells;               // cells of the light grid
   uint alphaTested;         // 1 when the scene has alpha-tested casters (their texels are looked up), else 0
+  // Area lights (izb_soft_*): the light's samples per receiver sample, N = lightGrid^2 (0: the hard path), and the
+  // light as the reference samples it (tools/reference/light_samples.h): its kind (IZB_LIGHT_*), centre (spot,
+  // sphere), unit direction towards a sun, the disk's or cone's basis (spot, sun; a sphere's disk faces each
+  // receiver), the disk's radius (spot, sphere) or the cone's 1 - cos(angular radius) (sun).
+  int lightSamples, lightGrid, lightKind;
+  float lightCentre[3], toLight[3], lightTangent[3], lightBitangent[3];
+  float lightRadius, lightOneMinusCos;
+  // The farthest any segment from a receiver sample to the light strays from the sample's own cell, in grid texels, is
+  // at most listReach / z (spot grid: a caster point at light depth z) or listReach * (zMax - z) (sun grid); listed
+  // casters are dilated by it (izb_soft_list).
+  float listReach;
 } IzbFrame;
 
 #if PENUMBRA_HOST
-static_assert(sizeof(IzbFrame) == 100, "IzbFrame layout must match OpenCL C");
+static_assert(sizeof(IzbFrame) == 172, "IzbFrame layout must match OpenCL C");
 #endif
+
+// Area lights: the kinds of light the soft path samples, as tools/reference/light_samples.cpp does.
+#define IZB_LIGHT_DISK 0    // a spot light: a disk of lightRadius at lightCentre, facing along the light's axis
+#define IZB_LIGHT_SPHERE 1  // a point light: the disk of lightRadius through lightCentre facing the receiver
+#define IZB_LIGHT_SUN 2     // a directional light: directions uniform over the cone of angular radius alpha
+#define IZB_MIN_LIGHT_GRID 4
+#define IZB_MAX_LIGHT_GRID 16  // --izb-light-samples: k^2 for k in 4..16 (16 .. 256)
+
+// The side k of --izb-light-samples N's k x k pattern, or 0 unless N = k^2 with k in 4..16.
+static inline int izb_light_grid_of(int samples) {
+  for (int k = IZB_MIN_LIGHT_GRID; k <= IZB_MAX_LIGHT_GRID; ++k)
+    if (k * k == samples) return k;
+  return 0;
+}
+
+// A 32-bit integer hash (Wellons' "lowbias32", full avalanche): the light pattern's jitter and each pixel's turn of
+// it, the same on every device and on the host.
+static inline uint izb_hash(uint x) {
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return x;
+}
+
+// The light pattern (host/techniques/izb_pattern.h): turned per pixel by one of IZB_ROTATIONS angles, and its bitmask
+// tables over IZB_MASK_ANGLES line normals times IZB_MASK_OFFSETS line offsets across [-1, 1] (the unit disk).
+#define IZB_ROTATIONS 256
+#define IZB_MASK_ANGLES 256
+#define IZB_MASK_OFFSETS 64
+#define IZB_MASK_MARGIN \
+  1e-3f  // units of the light's radius: "may" and "certainly" inside a projected edge differ by it
+
+// The rotation of pattern key `key` (a pixel, or a pixel's sub-pixel sample).
+static inline uint izb_rotation_of(uint key) { return izb_hash(key) >> 24; }
+
+// Jitter `axis` (0: x, 1: y) of point j of the pattern, in [0, 1): exactly 24 bits.
+static inline float izb_jitter(uint j, uint axis) {
+  return (float)(izb_hash(j * 2u + axis + 0x9e3779b9u) >> 8) * (1.0f / 16777216.0f);
+}
+
+// The angle bin of a line normal (x, y) in the masks: IZB_MASK_ANGLES bins uniform in its "diamond angle" (a
+// monotonic stand-in for the polar angle in [0, 4), one division instead of an arc tangent), 0 for the zero vector.
+static inline int izb_mask_angle_bin(float x, float y) {
+  const float ax = x < 0.0f ? -x : x, ay = y < 0.0f ? -y : y, sum = ax + ay;
+  if (!(sum > 0.0f)) return 0;
+  const float p = y >= 0.0f ? (x >= 0.0f ? y / sum : 1.0f - x / sum) : (x < 0.0f ? 2.0f - y / sum : 3.0f + x / sum);
+  const int bin = (int)(p * (0.25f * (float)IZB_MASK_ANGLES));
+  return bin < 0 ? 0 : bin >= IZB_MASK_ANGLES ? IZB_MASK_ANGLES - 1 : bin;
+}
+
+// Words of a mask of N points.
+static inline int izb_mask_words(int samples) { return (samples + 31) / 32; }
 
 // Sub-pixel sample offsets from the pixel centre, in pixels, x then y, for 1, 4, 8 and 32 samples per pixel (the
 // counts of Wyman et al. 2015's antialiased variant): the centre; the 4x rotated grid and the 8x pattern of the

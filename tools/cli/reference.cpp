@@ -12,6 +12,7 @@
 #include "host/cl/context.h"
 #include "host/pipeline/frame_check.h"
 #include "host/scene/load.h"
+#include "kernels/shared/izb.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/image_output.h"
 #include "tools/cli/view_options.h"
@@ -80,6 +81,16 @@ Command addReferenceCommand(CLI::App& app) {
                   "Light samples per pixel for disk and sun lights: 4 k^2 (4 independent k x k stratified grids)")
       ->capture_default_str();
   sub->add_option("--seed", options->trace.seed, "Seed of the light samples")->capture_default_str();
+  sub->add_option_function<int>(
+         "--izb-light-samples",
+         [options](int n) {
+           options->trace.izbLightGrid = izb_light_grid_of(n);
+           if (options->trace.izbLightGrid == 0)
+             throw CLI::ValidationError("--izb-light-samples", fmt::format("{} is not k^2 for k in 4..16", n));
+         },
+         "Instead of --spp: the N light points per pixel `izb` traces under an area light (its pattern, jittered per "
+         "pixel: N = k^2, k in 4..16), for a sample-for-sample comparison")
+      ->excludes("--spp");
   sub->add_option("--threads", options->trace.threads, "Tracing threads (0: one per hardware thread)")
       ->check(CLI::Range(0, 1024))
       ->capture_default_str();

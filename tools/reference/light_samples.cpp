@@ -51,8 +51,8 @@ glm::vec3 LightSampler::towardsCentre(const glm::vec3& p) const {
   return len > 0.0f ? d / len : -toLight_;
 }
 
-ShadowRay LightSampler::ray(const glm::vec3& origin, glm::vec2 u) const {
-  const glm::vec2 disk = exact_ ? glm::vec2(0.0f) : concentricDisk(u);
+ShadowRay LightSampler::rayFromDisk(const glm::vec3& origin, glm::vec2 diskPoint) const {
+  const glm::vec2 disk = exact_ ? glm::vec2(0.0f) : diskPoint;
   if (type_ == LightType::Spot) {
     const glm::vec3 point = centre_ + radius_ * (disk.x * tangent_ + disk.y * bitangent_);
     return {point - origin, kSpotTfar};

@@ -30,7 +30,9 @@ class LightSampler {
   // Unit vector from `p` towards the light's centre (what the ray origin is offset towards; a sphere's disk faces it).
   glm::vec3 towardsCentre(const glm::vec3& p) const;
   // The ray from `origin` to the light point or direction that `u` in [0,1)^2 selects; `u` is ignored when exact().
-  ShadowRay ray(const glm::vec3& origin, glm::vec2 u) const;
+  ShadowRay ray(const glm::vec3& origin, glm::vec2 u) const { return rayFromDisk(origin, concentricDisk(u)); }
+  // The same from `disk`, the unit-disk point concentricDisk(u) gives (izb's light pattern is made of such points).
+  ShadowRay rayFromDisk(const glm::vec3& origin, glm::vec2 disk) const;
 
  private:
   LightType type_;

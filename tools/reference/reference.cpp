@@ -82,8 +82,12 @@ ReferenceResult renderReference(Context& ctx, const Scene& scene, const Camera& 
   std::vector<Buffer<float>> visibilityGpu;
   std::vector<std::vector<float>> standardErrors;
   TraceResult first;
+  // izb's light pattern is keyed by the G-buffer pixel.
+  const std::vector<uint32_t> keys(r.pixels.begin(), r.pixels.end());
+  TraceSettings keyed = settings;
+  keyed.patternKeys = keys;
   for (size_t l = 0; l < lights.size(); ++l) {
-    TraceResult traced = tracer.trace(r.points, lights[l], settings);
+    TraceResult traced = tracer.trace(r.points, lights[l], keyed);
     std::vector<float> visibility(count, 1.0f), standardError(count, 0.0f);
     for (size_t k = 0; k < r.pixels.size(); ++k) {
       visibility[r.pixels[k]] = traced.visibility[k];

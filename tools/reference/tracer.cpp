@@ -11,11 +11,13 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 #include <string>
 #include <thread>
 
+#include "host/techniques/izb_pattern.h"
 #include "tools/reference/alpha_filter.h"
 #include "tools/reference/light_samples.h"
 
@@ -131,8 +133,15 @@ namespace {
 class ChunkTracer {
  public:
   ChunkTracer(RTCScene scene, const ShadowTracer& tracer, const LightSampler& sampler, SampleLayout layout,
-              uint64_t seed, TraceResult& out)
-      : scene_(scene), tracer_(tracer), sampler_(sampler), layout_(layout), seed_(seed), out_(out) {
+              const TraceSettings& settings, TraceResult& out)
+      : scene_(scene),
+        tracer_(tracer),
+        sampler_(sampler),
+        layout_(layout),
+        seed_(settings.seed),
+        patternKeys_(settings.izbLightGrid > 0 ? settings.patternKeys : std::span<const uint32_t>()),
+        pattern_(settings.izbLightGrid > 0 ? std::make_unique<IzbLightPattern>(settings.izbLightGrid) : nullptr),
+        out_(out) {
     rays_.reserve(kStreamRays + static_cast<size_t>(layout.spp()));
     tags_.reserve(rays_.capacity());
     counts_.resize(kChunkPoints * static_cast<size_t>(layout.replicates));
@@ -159,9 +168,10 @@ class ChunkTracer {
     for (int r = 0; r < layout_.replicates; ++r)
       for (int y = 0; y < layout_.grid; ++y)
         for (int x = 0; x < layout_.grid; ++x) {
-          const glm::vec2 u((static_cast<float>(x) + random.uniform()) * cell,
-                            (static_cast<float>(y) + random.uniform()) * cell);
-          const ShadowRay ray = sampler_.ray(origin, u);
+          const ShadowRay ray =
+              pattern_ ? sampler_.rayFromDisk(origin, pattern_->point(patternKeys_[index], y * layout_.grid + x))
+                       : sampler_.ray(origin, glm::vec2((static_cast<float>(x) + random.uniform()) * cell,
+                                                        (static_cast<float>(y) + random.uniform()) * cell));
           rays_.push_back(RTCRay{origin.x, origin.y, origin.z, 0.0f, ray.direction.x, ray.direction.y, ray.direction.z,
                                  0.0f, ray.tfar, 0xffffffffu, 0u, 0u});
           tags_.push_back(local * static_cast<uint32_t>(layout_.replicates) + static_cast<uint32_t>(r));
@@ -199,6 +209,8 @@ class ChunkTracer {
   const LightSampler& sampler_;
   SampleLayout layout_;
   uint64_t seed_;
+  std::span<const uint32_t> patternKeys_;     // izb's light pattern's key per point, or empty
+  std::unique_ptr<IzbLightPattern> pattern_;  // izb's light pattern, or null
   TraceResult& out_;
   std::vector<RTCRay> rays_;
   std::vector<uint32_t> tags_;    // (point in chunk) * replicates + replicate, per ray
@@ -210,7 +222,13 @@ class ChunkTracer {
 TraceResult ShadowTracer::trace(std::span<const ShadowPoint> points, const Light& light,
                                 const TraceSettings& settings) const {
   const LightSampler sampler(light);
-  const SampleLayout layout = sampler.exact() ? SampleLayout{} : SampleLayout::fromSpp(settings.spp);
+  const bool pattern = settings.izbLightGrid > 0 && !sampler.exact();
+  if (pattern && settings.patternKeys.size() != points.size())
+    throw std::invalid_argument(fmt::format("trace: izb's light pattern needs a key per point ({} keys, {} points)",
+                                            settings.patternKeys.size(), points.size()));
+  const SampleLayout layout = sampler.exact() ? SampleLayout{}
+                              : pattern       ? SampleLayout{1, settings.izbLightGrid}
+                                              : SampleLayout::fromSpp(settings.spp);
   TraceResult result;
   result.visibility.assign(points.size(), 1.0f);
   result.standardError.assign(points.size(), 0.0f);
@@ -221,7 +239,7 @@ TraceResult ShadowTracer::trace(std::span<const ShadowPoint> points, const Light
   const Clock::time_point start = Clock::now();
   std::atomic<size_t> next{0};
   auto work = [&] {
-    ChunkTracer chunk(impl_->scene, *this, sampler, layout, settings.seed, result);
+    ChunkTracer chunk(impl_->scene, *this, sampler, layout, settings, result);
     for (size_t begin; (begin = next.fetch_add(kChunkPoints)) < points.size();)
       chunk.run(points, begin, std::min(begin + kChunkPoints, points.size()));
   };

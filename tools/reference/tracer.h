@@ -35,6 +35,11 @@ struct TraceSettings {
   int spp = 1024;     // soft lights only; see SampleLayout
   uint64_t seed = 1;  // same seed, same points, same light: the same result on any thread count
   int threads = 0;    // 0: one per hardware thread
+  // Soft lights: izb's light pattern instead of spp (host/techniques/izb_pattern.h: izbLightGrid^2 jittered stratified
+  // points, turned for point i by its key patternKeys[i], its G-buffer pixel), so the tracer and `izb` trace the same
+  // rays; one replicate, so no standard error. 0: off.
+  int izbLightGrid = 0;
+  std::span<const uint32_t> patternKeys = {};
 };
 
 struct TraceResult {
