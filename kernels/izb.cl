@@ -580,10 +580,10 @@ __kernel void izb_soft_test(__global const uint* sorted, __global const uint* ce
                             __constant const LightViewGpu* lv, __global const uint* listCount,
                             __global const uint* listStart, __global const uint* listEntries,
                             __global const float4* balls, __global const float4* planes, __global const float2* pattern,
-                            __global const float2* rotations, __global const uint* masks,
-                            __global const uint* alphaIndex, __global const AlphaTriangle* alphaTriangles,
-                            __global const AlphaMaterial* alphaMaterials, __global const uchar* alphaTexels,
-                            __global uint* occluded) {
+                            __global const float2* rotations, __global const float2* planePoints,
+                            __global const uint* masks, __global const uint* alphaIndex,
+                            __global const AlphaTriangle* alphaTriangles, __global const AlphaMaterial* alphaMaterials,
+                            __global const uchar* alphaTexels, __global uint* occluded) {
   const uint k = get_global_id(0);
   if (k >= cellStart[f.cells - 1] + cellCount[f.cells - 1]) return;
   const uint i = sorted[k];
@@ -634,6 +634,18 @@ __kernel void izb_soft_test(__global const uint* sorted, __global const uint* ce
         const uint bit = 31u - clz(test & (0u - test));  // lowest set bit
         test &= test - 1u;
         const uint j = 32u * (uint)w + bit;
+        if (projected) {  // the point against the projection itself: clearly outside, or clearly inside an opaque one
+          const float2 h = planePoints[j];
+          const float2 q = (float2)(cs.x * h.x - cs.y * h.y, cs.y * h.x + cs.x * h.y);
+          float least = INFINITY;
+          for (int c = 0; c < edges; ++c) least = fmin(least, dot(edge[c], q) - offset[c]);
+          if (least < -IZB_MASK_MARGIN) continue;
+          if (opaque && least > IZB_MASK_MARGIN) {
+            mask[w] |= 1u << bit;
+            ++blocked;
+            continue;
+          }
+        }
         const float2 p = pattern[j];
         const float2 d = (float2)(cs.x * p.x - cs.y * p.y, cs.y * p.x + cs.x * p.y);
         const IzbRay ray = izb_light_ray(&f, hard.origin, d);

@@ -177,8 +177,8 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
         softTest
             .args(sorted_, cellOf_, cellStart_, cellCount_, g.position, g.normal, g.triangleId, scene.positions,
                   scene.triangles, f, gpu_, listCount_, listStart_, listEntries_, balls_, planes_, pattern_.points,
-                  pattern_.rotations, pattern_.masks, scene.alphaIndex, scene.alphaTriangles, scene.alphaMaterials,
-                  scene.alphaTexels, occluded_)
+                  pattern_.rotations, pattern_.planePoints, pattern_.masks, scene.alphaIndex, scene.alphaTriangles,
+                  scene.alphaMaterials, scene.alphaTexels, occluded_)
             .moves(count * 8)
             .launch(count, kPixelGroup);
         continue;
@@ -278,7 +278,7 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
     bool sun = false;
     float oneMinusCos = 0.0f;
     bool tables = false;
-    Buffer<cl_float2> points, rotations;
+    Buffer<cl_float2> points, rotations, planePoints;
     Buffer<uint32_t> masks;
     void prepare(Context& ctx, int grid, bool forSun, float sunOneMinusCos) {
       if (!host || host->grid() != grid) {
@@ -294,6 +294,10 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
       sun = forSun, oneMinusCos = sunOneMinusCos, tables = true;
       const std::vector<uint32_t> m = host->masks(sun, oneMinusCos, IZB_MASK_MARGIN);
       masks = Buffer<uint32_t>(ctx, std::span<const uint32_t>(m), CL_MEM_READ_ONLY);
+      std::vector<cl_float2> q;
+      for (const glm::dvec2& v : host->planePoints(sun, oneMinusCos))
+        q.push_back({{static_cast<float>(v.x), static_cast<float>(v.y)}});
+      planePoints = Buffer<cl_float2>(ctx, std::span<const cl_float2>(q), CL_MEM_READ_ONLY);
     }
   } pattern_;
 };

@@ -62,9 +62,7 @@ glm::vec2 IzbLightPattern::point(uint32_t key, int j) const {
   return {cx - sy, sx + cy};
 }
 
-std::vector<uint32_t> IzbLightPattern::masks(bool sun, float oneMinusCos, float margin) const {
-  const int n = count(), words = izb_mask_words(n);
-  // The points where the light's plane holds them (units of the disk's radius, or of tan(alpha) for a sun).
+std::vector<glm::dvec2> IzbLightPattern::planePoints(bool sun, float oneMinusCos) const {
   std::vector<glm::dvec2> plane;
   const double tanAlpha = sun ? tanOfOneMinusCos(oneMinusCos) : 1.0;
   for (const glm::vec2& p : points_) {
@@ -72,6 +70,12 @@ std::vector<uint32_t> IzbLightPattern::masks(bool sun, float oneMinusCos, float 
     const double r = glm::length(q);
     plane.push_back(!sun || r == 0.0 ? q : q * (tanOfOneMinusCos(r * r * oneMinusCos) / (tanAlpha * r)));
   }
+  return plane;
+}
+
+std::vector<uint32_t> IzbLightPattern::masks(bool sun, float oneMinusCos, float margin) const {
+  const int n = count(), words = izb_mask_words(n);
+  const std::vector<glm::dvec2> plane = planePoints(sun, oneMinusCos);
   std::vector<uint32_t> out(static_cast<size_t>(IZB_MASK_ANGLES) * IZB_MASK_OFFSETS * 2 * words, 0u);
   constexpr double kPi = std::numbers::pi;
   for (int a = 0; a < IZB_MASK_ANGLES; ++a) {

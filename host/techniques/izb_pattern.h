@@ -26,6 +26,12 @@ class IzbLightPattern {
   // Point j of pixel `key`: points()[j] turned by its rotation, computed as izb_soft_test computes it.
   glm::vec2 point(uint32_t key, int j) const;
 
+  // The points where the light's plane holds them, as izb_soft_test compares them with a caster's projection (units
+  // of the disk's radius, or for a sun of tan(alpha)): a disk light's are points() themselves, a sun's are its
+  // directions' tangents, radial(|p|) p / |p| with radial(r) = tan(theta(r)) / tan(alpha), 1 - cos(theta(r)) = r^2 (1 -
+  // cos(alpha)).
+  std::vector<glm::dvec2> planePoints(bool sun, float oneMinusCos) const;
+
   // The masks (IZB_MASK_WORDS words each) of izb_soft_test's lookups, for points that lie in the light's plane at
   // `radial(|p|) * p / |p|` (a disk light's are the points themselves, radial = identity; a sun's are its directions'
   // tangents over tan(alpha)): index ((angle * IZB_MASK_OFFSETS + offset) * 2 + certain) * IZB_MASK_WORDS + word.
