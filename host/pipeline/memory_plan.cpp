@@ -38,11 +38,11 @@ double param(const PlannedLight& light, const char* name, double fallback) {
 
 // izb (host/techniques/izb.cpp) draws no map: its light grid holds 16 bytes per 8x8-texel cell (count, start,
 // cursor, farthest depth), 8 more under an area light (its caster lists' count and start; planned whatever the light,
-// since the plan does not see its radius) with the light pattern's bitmask tables (at most 1 MiB), and each pass 8
-// bytes per sample (cell, sorted index) of at most --izb-chunk samples. The casters' entries (in the hard case the
-// rasterizer's tile lists, under an area light izb's own) are grown to what a pass asks for, as the rasterizer's
-// queues are. The cube faces of a point light reuse them.
-MemoryStage izbGrid(const PlannedLight& light, size_t index, uint64_t pixels) {
+// since the plan does not see its radius) with the light pattern's bitmask tables (at most 1 MiB) and 32 bytes per
+// triangle (the casters' bounding balls and planes), and each pass 8 bytes per sample (cell, sorted index) of at most
+// --izb-chunk samples. The casters' entries (in the hard case the rasterizer's tile lists, under an area light izb's
+// own) are grown to what a pass asks for, as the rasterizer's queues are. The cube faces of a point light reuse them.
+MemoryStage izbGrid(const PlannedLight& light, size_t index, uint64_t pixels, uint64_t triangles) {
   MemoryStage stage{fmt::format("light {} ({}): grid and samples", index, light.technique->name)};
   const auto cellsPerSide = static_cast<uint64_t>((param(light, "map-size", 8) + 7) / 8);
   const uint64_t samples =
@@ -50,8 +50,8 @@ MemoryStage izbGrid(const PlannedLight& light, size_t index, uint64_t pixels) {
   const uint64_t chunk = std::min(samples, static_cast<uint64_t>(param(light, "izb-chunk", 1 << 24)));
   const auto lightPoints = static_cast<uint64_t>(param(light, "izb-light-samples", 16));
   const uint64_t tables = uint64_t{IZB_MASK_ANGLES} * IZB_MASK_OFFSETS * 2 * 4 * ((lightPoints + 31) / 32);
-  stage.largestBuffer = std::max({chunk * 4, cellsPerSide * cellsPerSide * 4, tables});
-  stage.deviceBytes = cellsPerSide * cellsPerSide * 24 + chunk * 8 + tables;
+  stage.largestBuffer = std::max({chunk * 4, cellsPerSide * cellsPerSide * 4, tables, triangles * 16});
+  stage.deviceBytes = cellsPerSide * cellsPerSide * 24 + chunk * 8 + tables + triangles * 32;
   return stage;
 }
 
@@ -140,7 +140,7 @@ MemoryPlan planFrame(const Camera& camera, const std::vector<PlannedLight>& ligh
         kVisibilityBytesPerPixel + kTechniquePixelBytes + (lights[i].type == LightType::Point ? 4 : 0);
     plan.stages.push_back({fmt::format("light {} ({}): per-pixel buffers", i, lights[i].technique->name),
                            pixels * perPixel, 0, pixels * 16});
-    plan.stages.push_back(lights[i].params->has("izb-samples") ? izbGrid(lights[i], i, pixels)
+    plan.stages.push_back(lights[i].params->has("izb-samples") ? izbGrid(lights[i], i, pixels, scene.triangles)
                                                                : techniqueMaps(lights[i], i, pixels));
   }
   plan.stages.push_back({"shade", pixels * (kPreviewBytesPerPixel + (lights.size() > 1 ? 4 : 0)), 0, pixels * 16});
