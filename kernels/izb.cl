@@ -251,6 +251,18 @@ static bool izb_blocks(const IzbRay* ray, uint t, __global const float* position
   return alphaPasses(&m, alphaTexels, tu, tv) != 0;
 }
 
+// Sorted sample k of the pass (izb_scatter's order): its index i, its shadow ray towards the light's centre and its
+// pixel; false past the pass's samples or for background.
+static bool izb_sorted_sample(const IzbFrame* f, uint k, __global const uint* sorted, __global const uint* cellStart,
+                              __global const uint* cellCount, __global const float4* position,
+                              __global const float4* normal, __global const uint* pixelTriangle,
+                              __global const float* positions, __global const uint* triangles,
+                              __constant const LightViewGpu* lv, uint* i, IzbRay* ray, uint* pixel) {
+  if (k >= cellStart[f->cells - 1] + cellCount[f->cells - 1]) return false;
+  *i = sorted[k];
+  return izb_ray(f, *i, position, pixelTriangle, normal, positions, triangles, lv, ray, pixel);
+}
+
 // One work-item per sorted sample: its ray against every triangle listed for its cell; occluded[pixel] counts the
 // pixel's blocked samples.
 __kernel void izb_test(__global const uint* sorted, __global const uint* cellOf, __global const uint* cellStart,
@@ -262,12 +274,11 @@ __kernel void izb_test(__global const uint* sorted, __global const uint* cellOf,
                        __global const uint* alphaIndex, __global const AlphaTriangle* alphaTriangles,
                        __global const AlphaMaterial* alphaMaterials, __global const uchar* alphaTexels,
                        __global uint* occluded) {
-  const uint k = get_global_id(0);
-  if (k >= cellStart[f.cells - 1] + cellCount[f.cells - 1]) return;
-  const uint i = sorted[k];
+  uint i, pixel;
   IzbRay ray;
-  uint pixel;
-  if (!izb_ray(&f, i, position, pixelTriangle, normal, positions, triangles, lv, &ray, &pixel)) return;
+  if (!izb_sorted_sample(&f, get_global_id(0), sorted, cellStart, cellCount, position, normal, pixelTriangle, positions,
+                         triangles, lv, &i, &ray, &pixel))
+    return;
   const uint cell = cellOf[i], begin = tileOffset[cell], end = begin + tileCount[cell];
   for (uint e = begin; e < end; ++e)
     if (izb_blocks(&ray, tileEntries[e], positions, triangles, alphaIndex, f.alphaTested, alphaTriangles,
@@ -584,12 +595,11 @@ __kernel void izb_soft_test(__global const uint* sorted, __global const uint* ce
                             __global const uint* masks, __global const uint* alphaIndex,
                             __global const AlphaTriangle* alphaTriangles, __global const AlphaMaterial* alphaMaterials,
                             __global const uchar* alphaTexels, __global uint* occluded) {
-  const uint k = get_global_id(0);
-  if (k >= cellStart[f.cells - 1] + cellCount[f.cells - 1]) return;
-  const uint i = sorted[k];
+  uint i, pixel;
   IzbRay hard;
-  uint pixel;
-  if (!izb_ray(&f, i, position, pixelTriangle, normal, positions, triangles, lv, &hard, &pixel)) return;
+  if (!izb_sorted_sample(&f, get_global_id(0), sorted, cellStart, cellCount, position, normal, pixelTriangle, positions,
+                         triangles, lv, &i, &hard, &pixel))
+    return;
   const uint cell = cellOf[i], begin = listStart[cell], end = begin + listCount[cell];
   if (begin == end) return;
   const uint key = pixel + (i % (uint)f.samples) * 0x632be5abu, n = (uint)f.lightSamples;

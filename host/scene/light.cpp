@@ -3,10 +3,11 @@
 // "dir:DX,DY,DZ[:ANG_DEG]" and "point:PX,PY,PZ[:RADIUS]".
 #include "host/scene/light.h"
 
-#include <cmath>
-#include <stdexcept>
-
 #include <fmt/format.h>
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
 
 #include "host/scene/limits.h"
 #include "host/scene/spec_parse.h"
@@ -101,6 +102,19 @@ Light parseLight(std::string_view spec) {
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(fmt::format("light \"{}\": {}", spec, e.what()));
   }
+}
+
+glm::vec2 concentricDisk(glm::vec2 u) {
+  const glm::vec2 s = 2.0f * u - 1.0f;
+  if (s.x == 0.0f && s.y == 0.0f) return {0.0f, 0.0f};
+  constexpr float kQuarter = std::numbers::pi_v<float> / 4.0f;
+  float r, phi;
+  if (std::abs(s.x) > std::abs(s.y)) {
+    r = s.x, phi = kQuarter * (s.y / s.x);
+  } else {
+    r = s.y, phi = 2.0f * kQuarter - kQuarter * (s.x / s.y);
+  }
+  return {r * std::cos(phi), r * std::sin(phi)};
 }
 
 }  // namespace penumbra

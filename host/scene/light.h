@@ -54,4 +54,9 @@ struct Light {
 // (0, 180), negative radius, angular radius outside [0, 45).
 Light parseLight(std::string_view spec);
 
+// Shirley & Chiu's concentric map ("A Low Distortion Map Between Disk and Square", JGT 1997): [0,1]^2 onto the unit
+// disk, area-preserving and continuous, so a stratified square stays a stratified disk. Area lights are sampled
+// through it (the reference's sampler, izb's light pattern).
+glm::vec2 concentricDisk(glm::vec2 u);
+
 }  // namespace penumbra

@@ -8,25 +8,11 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "host/scene/light.h"
 #include "kernels/shared/izb.h"
 
 namespace penumbra {
 namespace {
-
-// Shirley & Chiu's concentric map ("A Low Distortion Map Between Disk and Square", JGT 1997): [0,1]^2 onto the unit
-// disk, area-preserving, so a stratified square stays a stratified disk.
-glm::vec2 concentric(glm::vec2 u) {
-  const glm::vec2 s = 2.0f * u - 1.0f;
-  if (s.x == 0.0f && s.y == 0.0f) return {0.0f, 0.0f};
-  constexpr float kQuarter = std::numbers::pi_v<float> / 4.0f;
-  float r, phi;
-  if (std::abs(s.x) > std::abs(s.y)) {
-    r = s.x, phi = kQuarter * (s.y / s.x);
-  } else {
-    r = s.y, phi = 2.0f * kQuarter - kQuarter * (s.x / s.y);
-  }
-  return {r * std::cos(phi), r * std::sin(phi)};
-}
 
 // The polar angle in [0, 2 pi] of diamond angle p in [0, 4] (kernels/shared/izb.h izb_mask_angle_bin): quadrant
 // floor(p) holds the direction (1 - q, q) turned by that many quarter turns, q = p - floor(p).
@@ -47,8 +33,8 @@ IzbLightPattern::IzbLightPattern(int grid) : grid_(grid) {
         fmt::format("izb light pattern: grid {} is outside {}..{}", grid, IZB_MIN_LIGHT_GRID, IZB_MAX_LIGHT_GRID));
   const auto k = static_cast<uint>(grid);
   for (uint j = 0; j < k * k; ++j)
-    points_.push_back(concentric({(static_cast<float>(j % k) + izb_jitter(j, 0u)) / static_cast<float>(k),
-                                  (static_cast<float>(j / k) + izb_jitter(j, 1u)) / static_cast<float>(k)}));
+    points_.push_back(concentricDisk({(static_cast<float>(j % k) + izb_jitter(j, 0u)) / static_cast<float>(k),
+                                      (static_cast<float>(j / k) + izb_jitter(j, 1u)) / static_cast<float>(k)}));
   for (int r = 0; r < IZB_ROTATIONS; ++r) {
     const double angle = 2.0 * std::numbers::pi * r / IZB_ROTATIONS;
     rotations_.emplace_back(static_cast<float>(std::cos(angle)), static_cast<float>(std::sin(angle)));

@@ -23,19 +23,6 @@ void diskBasis(const glm::vec3& axis, glm::vec3& tangent, glm::vec3& bitangent) 
 
 }  // namespace
 
-glm::vec2 concentricDisk(glm::vec2 u) {
-  const glm::vec2 s = 2.0f * u - 1.0f;
-  if (s.x == 0.0f && s.y == 0.0f) return {0.0f, 0.0f};
-  constexpr float kQuarter = std::numbers::pi_v<float> / 4.0f;
-  float r, phi;
-  if (std::abs(s.x) > std::abs(s.y)) {
-    r = s.x, phi = kQuarter * (s.y / s.x);
-  } else {
-    r = s.y, phi = 2.0f * kQuarter - kQuarter * (s.x / s.y);
-  }
-  return {r * std::cos(phi), r * std::sin(phi)};
-}
-
 LightSampler::LightSampler(const Light& light)
     : type_(light.type), exact_(!light.isArea()), centre_(light.position), toLight_(-light.axis()) {
   diskBasis(light.axis(), tangent_, bitangent_);

@@ -12,10 +12,6 @@
 
 namespace penumbra::reference {
 
-// Shirley & Chiu's concentric map ("A Low Distortion Map Between Disk and Square", JGT 1997): [0,1]^2 onto the
-// unit disk, area-preserving and continuous, so a stratified square stays a stratified disk.
-glm::vec2 concentricDisk(glm::vec2 u);
-
 struct ShadowRay {
   glm::vec3 direction;  // towards the light; not unit length for spot lights (it reaches the light point)
   float tfar;           // in units of |direction|: just short of the light point, or infinity
