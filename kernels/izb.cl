@@ -133,7 +133,7 @@ static bool izb_intersect(const IzbRay* r, float3 v0, float3 v1, float3 v2, floa
 __kernel void izb_bin(__global const float4* position, __global const float4* normal,
                       __global const uint* pixelTriangle, __global const float* positions,
                       __global const uint* triangles, const IzbFrame f, __constant const LightViewGpu* lv,
-                      __global uint* cellOf, __global uint* cellCount, __global uint* outside, __global uint* depthMax,
+                      __global uint* cellOf, __global uint* cellCount, __global uint* outside,
                       __global uint* cellDepth) {
   const uint i = get_global_id(0);
   if (i >= f.sampleCount) return;
@@ -153,9 +153,14 @@ __kernel void izb_bin(__global const float4* position, __global const float4* no
   const uint cell = ((uint)t.y / IZB_CELL_TEXELS) * cellsX + (uint)t.x / IZB_CELL_TEXELS;
   cellOf[i] = cell;
   atomic_inc(&cellCount[cell]);
-  // The farthest sample's light depth, of the frame and of the cell (non-negative floats order as their bits).
-  atomic_max(depthMax, as_uint(fmax(t.z, 0.0f)));
-  atomic_max(&cellDepth[cell], as_uint(fmax(t.z, 0.0f)));
+  // Area lights: the cell's farthest sample's light depth (non-negative floats order as their bits).
+  if (f.lightSamples > 0) atomic_max(&cellDepth[cell], as_uint(fmax(t.z, 0.0f)));
+}
+
+// depthMax: the farthest sample's light depth of the pass, the largest of the cells' (zero on entry).
+__kernel void izb_depth_max(__global const uint* cellDepth, uint cells, __global uint* depthMax) {
+  const uint c = get_global_id(0);
+  if (c < cells && cellDepth[c] > 0u) atomic_max(depthMax, cellDepth[c]);
 }
 
 // ---- Exclusive scan of the cell counts: blocks, the blocks' sums, then the sums added ----------------------------

@@ -125,7 +125,7 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
     depthMax_.allocate(ctx, 1);
     if (soft)
       for (Buffer<uint32_t>* b : {&listCount_, &listStart_}) b->allocate(ctx, cells);
-    cellDepth_.allocate(ctx, cells);
+    cellDepth_.allocate(ctx, soft ? cells : 1);  // izb_bin writes it only under an area light
 
     IzbFrame f{};
     const glm::mat4 inverse(glm::inverse(glm::dmat4(rasterClipMatrix(cameraView(frame.camera, frame.scene.bounds())))));
@@ -160,13 +160,12 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
       f.pixelBegin = static_cast<uint32_t>(begin), f.sampleCount = static_cast<uint32_t>(count);
       cellCount_.fill(ctx, 0u);
       cursor_.fill(ctx, 0u);
-      depthMax_.fill(ctx, 0u);
-      cellDepth_.fill(ctx, 0u);
+      if (soft) cellDepth_.fill(ctx, 0u);
       // Bytes floors (Kernel::moves): bin reads each sample's pixel (position, normal, triangle id: 36 B, shared by
       // its samples) and writes its cell (4 B); scatter reads the cell and its start, writes the sorted index; test
       // reads the sorted index and the cell, then data-dependent triangle lists.
       bin.args(g.position, g.normal, g.triangleId, scene.positions, scene.triangles, f, gpu_, cellOf_, cellCount_,
-               outside_, depthMax_, cellDepth_)
+               outside_, cellDepth_)
           .moves(count / static_cast<size_t>(samples_) * 36 + count * 4)
           .launch(count, kPixelGroup);
       scan(scanBlocks, scanSums, scanAdd, cellCount_, cellStart_, cells);
@@ -239,6 +238,9 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
                        Kernel& scanSums, Kernel& scanAdd) {
     const uint32_t triangles = scene.triangleCount, cells = f.cells;
     listCount_.fill(ctx, 0u);
+    depthMax_.fill(ctx, 0u);
+    Kernel depthMax(ctx, "kernels/izb.cl", "izb_depth_max", "izb");
+    depthMax.args(cellDepth_, cells, depthMax_).moves(uint64_t{cells} * 4).launch(cells, kPixelGroup);
     Kernel lists(ctx, "kernels/izb.cl", "izb_soft_lists", "izb");
     // Each caster reads its three vertices (36 B) and indices (12 B); the cells it visits are data-dependent.
     lists
@@ -267,7 +269,7 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
   int samples_;
   Buffer<LightViewGpu> gpu_;
   Buffer<uint32_t> cellOf_, sorted_, cellCount_, cellStart_, cursor_, blockSums_, occluded_, outside_;
-  Buffer<uint32_t> depthMax_, cellDepth_;   // the farthest sample's light depth, of the frame and per cell (float bits)
+  Buffer<uint32_t> depthMax_, cellDepth_;   // area lights: the farthest sample's light depth, of the pass and per cell
   Buffer<uint32_t> listCount_, listStart_;  // area lights: casters per cell (izb_soft_lists)
   Buffer<uint32_t> listEntries_;
   Buffer<cl_float4> balls_, planes_;  // area lights: each caster's bounding ball and plane (izb_soft_balls)
