@@ -10,6 +10,7 @@
 // kernels/shared/alpha.h. A ray from a sample to a spot or point light (the light grid's centre of projection) or
 // along a directional light's axis projects to one point of the grid, so the triangles that can block it are exactly
 // those whose projection covers the point its origin projects to. izb_resolve turns the blocked samples into visibility.
+// Under an area light, izb_soft_* (below) take the place of the conservative draw and izb_test.
 #include "kernels/shared/alpha.h"
 #include "kernels/shared/izb.h"
 #include "kernels/shared/light_view.h"

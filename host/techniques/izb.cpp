@@ -1,9 +1,12 @@
-// `izb`: exact hard shadows by an irregular z-buffer (kernels/izb.cl). The light grid is a light view fitted like a
+// `izb`: exact shadows by an irregular z-buffer (kernels/izb.cl). The light grid is a light view fitted like a
 // shadow map's (to the receivers the camera sees, or the whole scene), of map-size texels whose 8x8 tiles are the
 // cells; the samples are binned into it by a counting sort, the casters drawn over it conservatively by the binned
 // rasterizer (Rasterizer::drawTileLists, only the cells that hold samples), and each sample tested exactly against its
-// cell's triangles. Memory: 4 bytes per pixel, 8 per sample of a chunk of at most --izb-chunk samples (more samples
-// are processed in chunks of whole pixels, each with its own draw), 12 per cell, and the rasterizer's grown queues.
+// cell's triangles. Under an area light the casters are listed by izb's own kernels in every cell where they can hide
+// part of the light, and each sample's N light points (host/techniques/izb_pattern.h) are covered by bitmask lookups
+// and exact rays (docs/techniques/izb.md). Memory: 4 bytes per pixel, 8 per sample of a chunk of at most --izb-chunk
+// samples (more samples are processed in chunks of whole pixels, each with its own draw), 12 per cell (24 under an
+// area light, with 32 per triangle and the pattern's tables), and the grown queues or lists.
 #include "kernels/shared/izb.h"
 
 #include <fmt/format.h>
@@ -64,11 +67,11 @@ struct IzbSettings {
 void store3(float* out, const glm::vec3& v) { out[0] = v.x, out[1] = v.y, out[2] = v.z; }
 
 // The area light as the reference samples it (tools/reference/light_samples.cpp) and the listing's reach
-// (kernels/izb.cl izb_soft_cells). On a spot grid (spot, cube face) a segment from a receiver sample o to a light point
-// l, both in the grid's light eye, meets light depth z at s = (o_z - z) / (o_z - l_z) <= 1 of its way, where its
-// projection has moved from o's by s (l_xy - proj(o) l_z) / z: at most R sqrt(1 + T^2) / z tangents for |l - c| <= R
-// and |proj(o)| <= T, the grid's widest tangent. On a sun grid, a direction within alpha of the axis moves
-// (o_z - z) tan(alpha).
+// (kernels/izb.cl izb_soft_reach). On a spot grid (spot, cube face) a segment from a receiver sample o to a light point
+// l, both in the grid's light eye, meets light depth z at s = (o_z - z) / (o_z - l_z) of its way, where its projection
+// has moved from o's by s (l_xy - proj(o) l_z) / z: at most s R sqrt(1 + T^2) / z tangents for |l - c| <= R and
+// |proj(o)| <= T, the grid's widest tangent; listReach is R sqrt(1 + T^2) in texels, the kernel bounds s. On a sun
+// grid, a direction within alpha of the axis moves (o_z - z) tan(alpha); listReach is tan(alpha) in texels.
 void describeLight(IzbFrame& f, const Light& light, const LightView& grid, int lightGrid) {
   f.lightGrid = lightGrid, f.lightSamples = lightGrid * lightGrid;
   f.lightKind = light.type == LightType::Directional ? IZB_LIGHT_SUN
