@@ -310,33 +310,6 @@ static void izb_disk_basis(float3 axis, float3* tangent, float3* bitangent) {
   *bitangent = cross(axis, *tangent);
 }
 
-// The ray from `origin` to the light's point of unit-disk point `disk` (host/techniques/izb_pattern.h), as
-// tools/reference/light_samples.cpp LightSampler::rayFromDisk.
-static IzbRay izb_light_ray(const IzbFrame* f, float3 origin, float2 disk) {
-  const float3 centre = vload3(0, f->lightCentre);
-  IzbRay ray;
-  ray.origin = origin;
-  if (f->lightKind == IZB_LIGHT_SUN) {
-    const float r2 = dot(disk, disk), x = r2 * f->lightOneMinusCos;
-    const float cosTheta = 1.0f - x, sinTheta = sqrt(fmax(0.0f, x * (2.0f - x))), r = sqrt(r2);
-    const float2 azimuth = r > 0.0f ? disk / r : (float2)(0.0f);
-    ray.direction = cosTheta * vload3(0, f->toLight) +
-                    sinTheta * (azimuth.x * vload3(0, f->lightTangent) + azimuth.y * vload3(0, f->lightBitangent));
-    ray.tfar = INFINITY;
-    return ray;
-  }
-  float3 tangent = vload3(0, f->lightTangent), bitangent = vload3(0, f->lightBitangent);
-  if (f->lightKind == IZB_LIGHT_SPHERE) {
-    const float3 d = centre - origin;
-    const float len = length(d);
-    izb_disk_basis(len > 0.0f ? d / len : -vload3(0, f->toLight), &tangent, &bitangent);
-  }
-  const float3 point = centre + f->lightRadius * (disk.x * tangent + disk.y * bitangent);
-  ray.direction = point - origin;
-  ray.tfar = IZB_SPOT_TFAR;
-  return ray;
-}
-
 // A caster's projection on the grid: its bounding box (texels) and nearest light depth; `unbounded` when it reaches the
 // light's plane (spot grid) or is not finite, and may then hide the light anywhere.
 typedef struct {
@@ -524,6 +497,26 @@ static IzbLightPlane izb_light_plane(const IzbFrame* f, float3 origin) {
   return p;
 }
 
+// The ray from the plane's origin to the light's point of unit-disk point `disk` (host/techniques/izb_pattern.h), as
+// tools/reference/light_samples.cpp LightSampler::rayFromDisk: the disk's basis is the plane's (a sphere's faces the
+// origin, izb_light_plane computes it as the reference does).
+static IzbRay izb_light_ray(const IzbFrame* f, const IzbLightPlane* p, float2 disk) {
+  IzbRay ray;
+  ray.origin = p->origin;
+  if (p->sun) {
+    const float r2 = dot(disk, disk), x = r2 * f->lightOneMinusCos;
+    const float cosTheta = 1.0f - x, sinTheta = sqrt(fmax(0.0f, x * (2.0f - x))), r = sqrt(r2);
+    const float2 azimuth = r > 0.0f ? disk / r : (float2)(0.0f);
+    ray.direction = cosTheta * p->normal + sinTheta * (azimuth.x * p->tangent + azimuth.y * p->bitangent);
+    ray.tfar = INFINITY;
+    return ray;
+  }
+  const float3 point = p->centre + f->lightRadius * (disk.x * p->tangent + disk.y * p->bitangent);
+  ray.direction = point - p->origin;
+  ray.tfar = IZB_SPOT_TFAR;
+  return ray;
+}
+
 // Caster (a, b, c) with bounding ball `ball` projected from the origin onto the light's plane, where it can block:
 // its part at least `near` in front of the origin (a segment's points lie between the origin and the light's plane),
 // a convex polygon of up to four edges (unit normal n, offset: a point q is inside when dot(n, q) >= offset for every
@@ -664,7 +657,7 @@ __kernel void izb_soft_test(__global const uint* sorted, __global const uint* ce
         }
         const float2 p = pattern[j];
         const float2 d = (float2)(cs.x * p.x - cs.y * p.y, cs.y * p.x + cs.x * p.y);
-        const IzbRay ray = izb_light_ray(&f, hard.origin, d);
+        const IzbRay ray = izb_light_ray(&f, &plane, d);
         if (izb_blocks(&ray, t, positions, triangles, alphaIndex, f.alphaTested, alphaTriangles, alphaMaterials,
                        alphaTexels)) {
           mask[w] |= 1u << bit;

@@ -138,24 +138,24 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
     f.width = static_cast<uint32_t>(g.width), f.height = static_cast<uint32_t>(g.height);
     f.samples = samples_, f.pattern = izb_pattern_offset(samples_);
     f.cells = cells;
-    if (soft) {
-      describeLight(f, light, grid, settings_.lightGrid);
-      pattern_.prepare(ctx, settings_.lightGrid, f.lightKind == IZB_LIGHT_SUN, f.lightOneMinusCos);
-      const raster::SceneBuffers& casters = frame.raster.deviceScene();
-      balls_.allocate(ctx, std::max<size_t>(casters.triangleCount, 1));
-      planes_.allocate(ctx, std::max<size_t>(casters.triangleCount, 1));
-      Kernel balls(ctx, "kernels/izb.cl", "izb_soft_balls", "izb");
-      balls.args(casters.positions, casters.triangles, casters.triangleCount, balls_, planes_)
-          .moves(uint64_t{casters.triangleCount} * (48 + 32))
-          .launch(casters.triangleCount, kPixelGroup);
-    }
 
     const raster::SceneBuffers& scene = frame.raster.deviceScene();
     f.alphaTested = scene.materials.alphaTested ? 1u : 0u;
+    if (soft) {
+      describeLight(f, light, grid, settings_.lightGrid);
+      pattern_.prepare(ctx, settings_.lightGrid, f.lightKind == IZB_LIGHT_SUN, f.lightOneMinusCos);
+      balls_.allocate(ctx, std::max<size_t>(scene.triangleCount, 1));
+      planes_.allocate(ctx, std::max<size_t>(scene.triangleCount, 1));
+      Kernel balls(ctx, "kernels/izb.cl", "izb_soft_balls", "izb");
+      balls.args(scene.positions, scene.triangles, scene.triangleCount, balls_, planes_)
+          .moves(uint64_t{scene.triangleCount} * (48 + 32))
+          .launch(scene.triangleCount, kPixelGroup);
+    }
     Kernel bin(ctx, "kernels/izb.cl", "izb_bin", "izb"), scanBlocks(ctx, "kernels/izb.cl", "izb_scan_blocks", "izb");
     Kernel scanSums(ctx, "kernels/izb.cl", "izb_scan_sums", "izb"),
         scanAdd(ctx, "kernels/izb.cl", "izb_scan_add", "izb");
     Kernel scatter(ctx, "kernels/izb.cl", "izb_scatter", "izb"), test(ctx, "kernels/izb.cl", "izb_test", "izb");
+    Kernel softTest(ctx, "kernels/izb.cl", "izb_soft_test", "izb");
     uint64_t entries = 0;
     int chunks = 0;
     for (size_t begin = 0; begin < pixels; begin += pixelsPerChunk, ++chunks) {
@@ -175,7 +175,6 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
       scatter.args(cellOf_, cellStart_, cursor_, sorted_, f.sampleCount).moves(count * 12).launch(count, kPixelGroup);
       if (soft) {
         entries += listCasters(ctx, f, scene, scanBlocks, scanSums, scanAdd);
-        Kernel softTest(ctx, "kernels/izb.cl", "izb_soft_test", "izb");
         softTest
             .args(sorted_, cellOf_, cellStart_, cellCount_, g.position, g.normal, g.triangleId, scene.positions,
                   scene.triangles, f, gpu_, listCount_, listStart_, listEntries_, balls_, planes_, pattern_.points,
@@ -251,14 +250,15 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
               listStart_, listEntries_)
         .moves(uint64_t{triangles} * 48)
         .launch(triangles, kPixelGroup);
-    scan(scanBlocks, scanSums, scanAdd, listCount_, listStart_, cells);
-    const uint64_t total =
-        uint64_t{listStart_.download(ctx, cells - 1, 1).front()} + listCount_.download(ctx, cells - 1, 1).front();
+    // The total in 64 bits on the host (4 bytes a cell), where the device's 32-bit scan would wrap past 2^32.
+    uint64_t total = 0;
+    for (uint32_t n : listCount_.download(ctx)) total += n;
     if (total > 0xffffffffu)
       throw std::runtime_error(
           fmt::format("izb: {} caster-cell entries under the area light exceed 2^32; lower "
                       "--izb-chunk or --map-size",
                       total));
+    scan(scanBlocks, scanSums, scanAdd, listCount_, listStart_, cells);
     if (listEntries_.size() < total) listEntries_.allocate(ctx, static_cast<size_t>(total + total / 4));
     listCount_.fill(ctx, 0u);  // the same pass again, counting into place
     lists

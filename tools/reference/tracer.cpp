@@ -133,14 +133,14 @@ namespace {
 class ChunkTracer {
  public:
   ChunkTracer(RTCScene scene, const ShadowTracer& tracer, const LightSampler& sampler, SampleLayout layout,
-              const TraceSettings& settings, TraceResult& out)
+              const TraceSettings& settings, const IzbLightPattern* pattern, TraceResult& out)
       : scene_(scene),
         tracer_(tracer),
         sampler_(sampler),
         layout_(layout),
         seed_(settings.seed),
-        patternKeys_(settings.izbLightGrid > 0 ? settings.patternKeys : std::span<const uint32_t>()),
-        pattern_(settings.izbLightGrid > 0 ? std::make_unique<IzbLightPattern>(settings.izbLightGrid) : nullptr),
+        patternKeys_(settings.patternKeys),
+        pattern_(pattern),
         out_(out) {
     rays_.reserve(kStreamRays + static_cast<size_t>(layout.spp()));
     tags_.reserve(rays_.capacity());
@@ -209,8 +209,8 @@ class ChunkTracer {
   const LightSampler& sampler_;
   SampleLayout layout_;
   uint64_t seed_;
-  std::span<const uint32_t> patternKeys_;     // izb's light pattern's key per point, or empty
-  std::unique_ptr<IzbLightPattern> pattern_;  // izb's light pattern, or null
+  std::span<const uint32_t> patternKeys_;  // izb's light pattern's key per point (with pattern_)
+  const IzbLightPattern* pattern_;         // izb's light pattern, or null
   TraceResult& out_;
   std::vector<RTCRay> rays_;
   std::vector<uint32_t> tags_;    // (point in chunk) * replicates + replicate, per ray
@@ -229,6 +229,8 @@ TraceResult ShadowTracer::trace(std::span<const ShadowPoint> points, const Light
   const SampleLayout layout = sampler.exact() ? SampleLayout{}
                               : pattern       ? SampleLayout{1, settings.izbLightGrid}
                                               : SampleLayout::fromSpp(settings.spp);
+  const std::unique_ptr<IzbLightPattern> izbPattern =
+      pattern ? std::make_unique<IzbLightPattern>(settings.izbLightGrid) : nullptr;  // shared by the workers
   TraceResult result;
   result.visibility.assign(points.size(), 1.0f);
   result.standardError.assign(points.size(), 0.0f);
@@ -239,7 +241,7 @@ TraceResult ShadowTracer::trace(std::span<const ShadowPoint> points, const Light
   const Clock::time_point start = Clock::now();
   std::atomic<size_t> next{0};
   auto work = [&] {
-    ChunkTracer chunk(impl_->scene, *this, sampler, layout, settings, result);
+    ChunkTracer chunk(impl_->scene, *this, sampler, layout, settings, izbPattern.get(), result);
     for (size_t begin; (begin = next.fetch_add(kChunkPoints)) < points.size();)
       chunk.run(points, begin, std::min(begin + kChunkPoints, points.size()));
   };
