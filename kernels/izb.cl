@@ -517,13 +517,15 @@ static IzbRay izb_light_ray(const IzbFrame* f, const IzbLightPlane* p, float2 di
   return ray;
 }
 
+#define IZB_PROJECTION_REACH 1e3f  // light radii: the farthest projected vertex whose edges the masks are trusted with
+
 // Caster (a, b, c) with bounding ball `ball` projected from the origin onto the light's plane, where it can block:
 // its part at least `near` in front of the origin (a segment's points lie between the origin and the light's plane),
 // a convex polygon of up to four edges (unit normal n, offset: a point q is inside when dot(n, q) >= offset for every
 // edge). Returns the edges; 0 when no part of the caster can block; -1 when the points must be traced exactly: a
-// vertex at the light's plane, a degenerate projection, or a clipped-off part close enough to the origin that it may
-// project onto the light (a point at light depth a < near projects within the light only within near sqrt(1 +
-// (farReach / height)^2) of the origin).
+// vertex at the light's plane, a degenerate projection, one projected beyond IZB_PROJECTION_REACH, or a clipped-off
+// part close enough to the origin that it may project onto the light (a point at light depth a < near projects within
+// the light only within near sqrt(1 + (farReach / height)^2) of the origin).
 static int izb_soft_projection(const IzbLightPlane* p, float3 a, float3 b, float3 c, float4 ball, float2* n,
                                float* offset) {
   const float3 v[3] = {a - p->origin, b - p->origin, c - p->origin};
@@ -549,6 +551,9 @@ static int izb_soft_projection(const IzbLightPlane* p, float3 a, float3 b, float
   for (int i = 0; i < m; ++i) {
     const float3 y = w[i] * (p->height / dot(w[i], p->normal)) - (p->sun ? (float3)(0.0f) : p->centre - p->origin);
     q[i] = (float2)(dot(y, p->tangent), dot(y, p->bitangent)) * p->scale;
+    // Far beyond the light (a vertex clipped next to the origin, a caster grazing its plane) the edges' rounding, about
+    // 1e-7 of these coordinates, would approach the masks' margin: the points are traced instead.
+    if (!(fabs(q[i].x) < IZB_PROJECTION_REACH && fabs(q[i].y) < IZB_PROJECTION_REACH)) return -1;
   }
   float area = 0.0f;
   for (int i = 0; i < m; ++i) area += q[i].x * q[(i + 1) % m].y - q[(i + 1) % m].x * q[i].y;
