@@ -73,7 +73,7 @@ void store3(float* out, const glm::vec3& v) { out[0] = v.x, out[1] = v.y, out[2]
 // |proj(o)| <= T, the grid's widest tangent; listReach is R sqrt(1 + T^2) in texels, the kernel bounds s. On a sun
 // grid, a direction within alpha of the axis moves (o_z - z) tan(alpha); listReach is tan(alpha) in texels.
 void describeLight(IzbFrame& f, const Light& light, const LightView& grid, int lightGrid) {
-  f.lightGrid = lightGrid, f.lightSamples = lightGrid * lightGrid;
+  f.lightSamples = lightGrid * lightGrid;
   f.lightKind = light.type == LightType::Directional ? IZB_LIGHT_SUN
                 : light.type == LightType::Point     ? IZB_LIGHT_SPHERE
                                                      : IZB_LIGHT_DISK;
@@ -194,7 +194,7 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
           .launch(count, kPixelGroup);
     }
     Kernel resolve(ctx, "kernels/izb.cl", "izb_resolve", "izb");
-    const int rays = samples_ * (soft ? settings_.lightGrid * settings_.lightGrid : 1);
+    const int rays = samples_ * (soft ? f.lightSamples : 1);
     resolve.args(g.position, occluded_, rays, static_cast<uint32_t>(pixels), visibility)
         .moves(pixels * (16 + 4 + 4))
         .launch(pixels, kPixelGroup);

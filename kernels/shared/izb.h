@@ -30,21 +30,21 @@ typedef struct {
   uint sampleCount;         // samples of this chunk: pixels * samples
   uint cells;               // cells of the light grid
   uint alphaTested;         // 1 when the scene has alpha-tested casters (their texels are looked up), else 0
-  // Area lights (izb_soft_*): the light's samples per receiver sample, N = lightGrid^2 (0: the hard path), and the
-  // light as the reference samples it (tools/reference/light_samples.h): its kind (IZB_LIGHT_*), centre (spot,
-  // sphere), unit direction towards a sun, the disk's or cone's basis (spot, sun; a sphere's disk faces each
-  // receiver), the disk's radius (spot, sphere) or the cone's 1 - cos(angular radius) (sun).
-  int lightSamples, lightGrid, lightKind;
+  // Area lights (izb_soft_*): the light's points per receiver sample, N (0: the hard path), and the light as the
+  // reference samples it (tools/reference/light_samples.h): its kind (IZB_LIGHT_*), centre (spot, sphere), unit
+  // direction towards a sun, the disk's or cone's basis (spot, sun; a sphere's disk faces each receiver), the disk's
+  // radius (spot, sphere) or the cone's 1 - cos(angular radius) (sun).
+  int lightSamples, lightKind;
   float lightCentre[3], toLight[3], lightTangent[3], lightBitangent[3];
   float lightRadius, lightOneMinusCos;
-  // The farthest any segment from a receiver sample to the light strays from the sample's own cell, in grid texels, is
-  // at most listReach / z (spot grid: a caster point at light depth z) or listReach * (zMax - z) (sun grid); listed
-  // casters are dilated by it (izb_soft_list).
+  // How far a segment from a receiver sample at light depth o_z to the light strays from the sample's own position,
+  // in grid texels, where it passes light depth z: at most listReach (o_z - z) / ((o_z - R) z) on a spot grid, or
+  // listReach (o_z - z) on a sun grid; listed casters are dilated by it (kernels/izb.cl izb_soft_reach).
   float listReach;
 } IzbFrame;
 
 #if PENUMBRA_HOST
-static_assert(sizeof(IzbFrame) == 172, "IzbFrame layout must match OpenCL C");
+static_assert(sizeof(IzbFrame) == 168, "IzbFrame layout must match OpenCL C");
 #endif
 
 // Area lights: the kinds of light the soft path samples, as tools/reference/light_samples.cpp does.
