@@ -382,6 +382,9 @@ __kernel void izb_soft_lists(__global const float* positions, __global const uin
                              __global uint* listCount, __global const uint* listStart, __global uint* entries) {
   const uint t = get_global_id(0);
   if (t >= triangleCount) return;
+  const float3 a = izb_vertex(positions, triangles[3 * t]), b = izb_vertex(positions, triangles[3 * t + 1]);
+  const float3 v = izb_vertex(positions, triangles[3 * t + 2]);
+  if (all(a == b) || all(b == v) || all(v == a)) return;  // hides nothing (izb_soft_projection)
   const IzbCaster c = izb_caster(lv, positions, triangles, t);
   const int4 box = izb_soft_box(&f, lv, &c, as_float(*depthMax));
   const uint cellsX = ((uint)lv->width + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS;
@@ -450,18 +453,19 @@ static bool izb_beside(const IzbFrame* f, float3 origin, float4 plane, float sla
 }
 
 // Whether a caster in `ball` can meet a segment from `origin` inside `cone`: the ball against the cone, in front of
-// the origin and short of the light.
+// the origin and short of the light. In the plane of the axis and the ball's centre (a along the axis, p across it),
+// the ball meets the cone only if its centre lies within rho of the cone's side, p cos(half) - a sin(half) <= rho
+// (the side's line is nearer than its ray, so this never rejects a ball that meets it), tested squared: no square root
+// or division. The side is widened by 1e-3 (|a| + rho) against rounding (p^2 = |w|^2 - a^2 cancels near the axis).
 static bool izb_may_block(const IzbCone* cone, float3 origin, float4 ball) {
   const float rho = ball.w;
   const float3 w = ball.xyz - origin;
-  const float len = length(w), along = dot(w, cone->axis);
-  if (!(len > rho)) return true;  // the ball holds the origin (or is not finite)
-  if (along + rho <= 0.0f || along - rho >= cone->reach) return false;
-  // The ball subtends gamma = asin(rho / len) around w: it meets the cone when the angle between w and the axis is at
-  // most half + gamma.
-  const float sinG = rho / len, cosG = sqrt(1.0f - sinG * sinG);
-  const float cosSum = cone->cosHalf * cosG - cone->sinHalf * sinG;
-  return cosSum <= 0.0f || along >= (cosSum - 1e-4f) * len;
+  const float a = dot(w, cone->axis);
+  if (!(a + rho > 0.0f && a - rho < cone->reach)) return false;  // behind the origin, beyond the light (or NaN)
+  const float side = rho + a * cone->sinHalf + 1e-3f * (fabs(a) + rho);
+  if (side < 0.0f) return false;
+  const float p2 = fmax(dot(w, w) - a * a, 0.0f);
+  return p2 * cone->cosHalf * cone->cosHalf <= side * side;
 }
 
 // The plane the light's points lie in, seen from a receiver sample's origin o: a spot's disk (its own basis), a
@@ -471,7 +475,6 @@ typedef struct {
   float3 origin, centre, normal, tangent, bitangent;
   float height;  // spot, sphere: (centre - origin) . normal, the plane's distance from o along the normal
   float scale;
-  float near, nearReach;  // izb_soft_projection's clipping depth and the distance its clipped part may block within
   int sun;
 } IzbLightPlane;
 
@@ -489,12 +492,37 @@ static IzbLightPlane izb_light_plane(const IzbFrame* f, float3 origin) {
   p.height = p.sun ? 1.0f : dot(p.centre - origin, p.normal);
   const float tanAlpha = sqrt(f->lightOneMinusCos * (2.0f - f->lightOneMinusCos)) / (1.0f - f->lightOneMinusCos);
   p.scale = 1.0f / (p.sun ? tanAlpha : f->lightRadius);  // the unit disk holds the light's points
-  // The light's farthest point from the origin's foot on the plane, over the plane's distance (a sun: tan(alpha)).
-  const float3 foot = (p.centre - origin) - p.height * p.normal;
-  const float spread = p.sun ? tanAlpha : (length(foot) + f->lightRadius) / p.height;
-  p.near = 1e-5f * (p.sun ? fmax(f->sceneRadius, FLT_MIN) : p.height);
-  p.nearReach = p.near * sqrt(1.0f + spread * spread) * 1.01f;
   return p;
+}
+
+// The cone around the segments from the plane's origin to the light points that no caster has hidden yet (the zero
+// bits of `mask`): the bounding circle of their plane points (its box's centre, the farthest point), turned by cs as
+// they are, lifted to a ball in the light's plane (spot, sphere) or at unit distance along the sun's axis. A caster
+// outside it can only hide points already hidden, so izb_soft_test skips it and the answer stays exact.
+static IzbCone izb_unhidden_cone(const IzbLightPlane* p, const uint* mask, int words,
+                                 __global const float2* planePoints, float2 cs) {
+  float2 lo = (float2)(INFINITY), hi = (float2)(-INFINITY);
+  for (int w = 0; w < words; ++w)
+    for (uint open = ~mask[w]; open != 0u; open &= open - 1u) {
+      const float2 q = planePoints[32 * w + (int)(31u - clz(open & (0u - open)))];
+      lo = fmin(lo, q), hi = fmax(hi, q);
+    }
+  const float2 mid = 0.5f * (lo + hi);
+  float r2 = 0.0f;
+  for (int w = 0; w < words; ++w)
+    for (uint open = ~mask[w]; open != 0u; open &= open - 1u) {
+      const float2 q = planePoints[32 * w + (int)(31u - clz(open & (0u - open)))] - mid;
+      r2 = fmax(r2, dot(q, q));
+    }
+  const float2 c = (float2)(cs.x * mid.x - cs.y * mid.y, cs.y * mid.x + cs.x * mid.y);
+  const float s = 1.0f / p->scale, r = s * (sqrt(r2) * 1.0001f + 1e-6f);
+  const float3 target = (p->sun ? p->normal : p->centre - p->origin) + s * (c.x * p->tangent + c.y * p->bitangent);
+  const float distance = length(target), sine = r / distance;
+  IzbCone cone;
+  cone.axis = target / distance;
+  cone.sinHalf = sine < 1.0f ? sine : 1.0f, cone.cosHalf = sine < 1.0f ? sqrt(1.0f - sine * sine) : 0.0f;
+  cone.reach = p->sun ? INFINITY : distance + r;
+  return cone;
 }
 
 // The ray from the plane's origin to the light's point of unit-disk point `disk` (host/techniques/izb_pattern.h), as
@@ -517,58 +545,64 @@ static IzbRay izb_light_ray(const IzbFrame* f, const IzbLightPlane* p, float2 di
   return ray;
 }
 
-#define IZB_PROJECTION_REACH 1e3f  // light radii: the farthest projected vertex whose edges the masks are trusted with
+// An edge's line is trusted to the masks when its cross product's rounding, magnified by the light's distance over its
+// radius, moves it across the unit disk by at most ~8 eps IZB_EDGE_CONDITION = 2.4e-4 (a quarter of IZB_MASK_MARGIN).
+#define IZB_EDGE_CONDITION 512.0f
+#define IZB_HIDES_NONE (-2)
+#define IZB_TRACE (-1)
 
-// Caster (a, b, c) with bounding ball `ball` projected from the origin onto the light's plane, where it can block:
-// its part at least `near` in front of the origin (a segment's points lie between the origin and the light's plane),
-// a convex polygon of up to four edges (unit normal n, offset: a point q is inside when dot(n, q) >= offset for every
-// edge). Returns the edges; 0 when no part of the caster can block; -1 when the points must be traced exactly: a
-// vertex at the light's plane, a degenerate projection, one projected beyond IZB_PROJECTION_REACH, or a clipped-off
-// part close enough to the origin that it may project onto the light (a point at light depth a < near projects within
-// the light only within near sqrt(1 + (farReach / height)^2) of the origin).
-static int izb_soft_projection(const IzbLightPlane* p, float3 a, float3 b, float3 c, float4 ball, float2* n,
-                               float* offset) {
+// A caster's projection on the light's plane: the unit-disk points q with dot(g[i], q) >= h[i] for each edge i, each
+// side's value known to within tol[i] (rounding; at least IZB_MASK_MARGIN |g[i]|); `masked` when every edge is
+// conditioned well enough for the bitmask tables.
+typedef struct {
+  float2 g[3];
+  float h[3], tol[3];
+  int edges, masked;
+} IzbProjection;
+
+// Caster (a, b, c) seen from the plane's origin o, projected onto the light's plane (IzbProjection). With v_i the
+// vertices minus o, a direction d meets the triangle at t > 0 exactly when d = alpha v_0 + beta v_1 + gamma v_2 with
+// alpha, beta, gamma >= 0, i.e. when sign(det(v_0, v_1, v_2)) (v_i x v_j) . d >= 0 for each edge (the triple products
+// of a ray-triangle test): the plane through o and an edge cuts the light's plane in a line. The light's point of q
+// lies along d(q) = D + s (q.x T + q.y B) (spot, sphere: D = centre - o, s = radius; sun: D = the axis, s = tan
+// alpha), affine in q, so each edge is a half-plane of the light's plane: vertices behind o, or next to it, need no
+// clipping. Before the light: every vertex lies nearer than the light's plane (checked), so the hit does too. Returns
+// the edges, 0..3 (an edge that holds the whole disk is left out: 0 edges, the caster hides every light point),
+// IZB_HIDES_NONE when it hides none (an edge leaves the whole disk out, or two vertices coincide: the watertight test's
+// U and V are then opposite and W zero, so it meets no ray), IZB_TRACE when the points must be traced: a vertex at or
+// beyond the light's plane, or o in the caster's plane within rounding.
+static int izb_soft_projection(const IzbLightPlane* p, float3 a, float3 b, float3 c, IzbProjection* out) {
+  if (all(a == b) || all(b == c) || all(c == a)) return IZB_HIDES_NONE;
   const float3 v[3] = {a - p->origin, b - p->origin, c - p->origin};
-  float along[3];
-  int inside = 0;
+  for (int i = 0; i < 3; ++i)
+    if (!p->sun && !(dot(v[i], p->normal) < p->height * (1.0f - 1e-5f))) return IZB_TRACE;
+  // Products of v_i with the edges v_j - v_i, whose differences are near exact (Sterbenz), not of two long, nearly
+  // parallel v_i: det(v_0, v_1, v_2) = v_0 . (e_01 x e_02) and v_i x v_j = v_i x e_ij.
+  const float3 e[3] = {v[1] - v[0], v[2] - v[1], v[0] - v[2]};
+  const float3 normal = cross(e[0], -e[2]);
+  const float det = dot(v[0], normal);
+  if (!(det * det > 1e-10f * dot(v[0], v[0]) * dot(normal, normal))) return IZB_TRACE;  // o in the caster's plane
+  const float sgn = det > 0.0f ? 1.0f : -1.0f, s = 1.0f / p->scale;
+  const float3 d = p->sun ? p->normal : p->centre - p->origin;
+  const float reach = length(d) + s;  // |d(q)| over the unit disk
+  out->edges = 0, out->masked = 1;
   for (int i = 0; i < 3; ++i) {
-    along[i] = dot(v[i], p->normal);
-    if (!p->sun && !(along[i] < p->height * (1.0f - 1e-5f))) return -1;
-    inside += along[i] >= p->near;
+    const float3 m = sgn * cross(v[i], e[i]);
+    const float2 g = s * (float2)(dot(m, p->tangent), dot(m, p->bitangent));
+    const float h = -dot(m, d), g2 = dot(g, g);
+    // Inside where dot(g, q) >= h; over the unit disk dot(g, q) spans [-|g|, |g|]. Rounding moves h by about 8 eps
+    // |v_i| |e_i| reach, which a well-conditioned edge (|g| IZB_EDGE_CONDITION > |v_i| |e_i| reach) bounds by
+    // 8 eps IZB_EDGE_CONDITION |g|.
+    const float scale2 = dot(v[i], v[i]) * dot(e[i], e[i]) * (reach * reach);
+    const bool conditioned = g2 * (IZB_EDGE_CONDITION * IZB_EDGE_CONDITION) > scale2;
+    const float glen = sqrt(g2), err = conditioned ? (5e-7f * IZB_EDGE_CONDITION) * glen : 5e-7f * sqrt(scale2);
+    if (h + glen < -err) continue;  // the whole disk lies inside this edge
+    if (h - glen > err) return IZB_HIDES_NONE;
+    const int k = out->edges++;
+    out->g[k] = g, out->h[k] = h, out->tol[k] = fmax(err, IZB_MASK_MARGIN * glen);
+    out->masked &= conditioned;
   }
-  const bool nearOrigin = !(length(ball.xyz - p->origin) - ball.w > p->nearReach);
-  if (inside < 3 && nearOrigin) return -1;
-  if (inside == 0) return 0;
-  float3 w[4];
-  int m = 0;
-  for (int i = 0; i < 3; ++i) {  // Sutherland-Hodgman against along >= near
-    const int j = (i + 1) % 3;
-    if (along[i] >= p->near) w[m++] = v[i];
-    if ((along[i] >= p->near) != (along[j] >= p->near))
-      w[m++] = v[i] + (v[j] - v[i]) * ((p->near - along[i]) / (along[j] - along[i]));
-  }
-  float2 q[4];
-  for (int i = 0; i < m; ++i) {
-    const float3 y = w[i] * (p->height / dot(w[i], p->normal)) - (p->sun ? (float3)(0.0f) : p->centre - p->origin);
-    q[i] = (float2)(dot(y, p->tangent), dot(y, p->bitangent)) * p->scale;
-    // Far beyond the light (a vertex clipped next to the origin, a caster grazing its plane) the edges' rounding, about
-    // 1e-7 of these coordinates, would approach the masks' margin: the points are traced instead.
-    if (!(fabs(q[i].x) < IZB_PROJECTION_REACH && fabs(q[i].y) < IZB_PROJECTION_REACH)) return -1;
-  }
-  float area = 0.0f;
-  for (int i = 0; i < m; ++i) area += q[i].x * q[(i + 1) % m].y - q[(i + 1) % m].x * q[i].y;
-  if (!(fabs(area) > 1e-12f)) return -1;
-  const float sign = area > 0.0f ? 1.0f : -1.0f;
-  int edges = 0;
-  for (int i = 0; i < m; ++i) {
-    const float2 e = q[(i + 1) % m] - q[i];
-    const float len = length(e);
-    if (!(len > 0.0f)) continue;  // a repeated vertex: the other edges bound the polygon
-    n[edges] = sign * (float2)(-e.y, e.x) / len;
-    offset[edges] = dot(n[edges], q[i]);
-    ++edges;
-  }
-  return edges >= 3 ? edges : -1;
+  return out->edges;
 }
 
 // The points of the light pattern (a mask of `words` words) that caster edge (n, offset) may hold, or certainly holds
@@ -609,33 +643,34 @@ __kernel void izb_soft_test(__global const uint* sorted, __global const uint* ce
   const uint key = pixel + (i % (uint)f.samples) * 0x632be5abu, n = (uint)f.lightSamples;
   const int words = izb_mask_words((int)n);
   const float2 cs = rotations[izb_rotation_of(key)];
-  const IzbCone cone = izb_light_cone(&f, hard.origin);
+  IzbCone cone = izb_light_cone(&f, hard.origin);
   const IzbLightPlane plane = izb_light_plane(&f, hard.origin);
   uint mask[IZB_MAX_LIGHT_GRID * IZB_MAX_LIGHT_GRID / 32];
   for (int w = 0; w < words; ++w) mask[w] = n - 32u * (uint)w >= 32u ? 0u : ~0u << (n - 32u * (uint)w);
-  uint blocked = 0;
+  uint blocked = 0, coned = 0;
   for (uint e = begin; e < end && blocked < n; ++e) {
+    if (blocked != coned) cone = izb_unhidden_cone(&plane, mask, words, planePoints, cs), coned = blocked;
     const uint t = listEntries[e];
     const float4 ball = balls[t];
     if (!izb_may_block(&cone, hard.origin, ball)) continue;
     // Beside the caster's plane (the receiver's own surface, casters facing the light with the origin in front).
     if (izb_beside(&f, hard.origin, planes[t], 1e-5f * (fmax(fmax(fabs(ball.x), fabs(ball.y)), fabs(ball.z)) + ball.w)))
       continue;
-    float2 edge[4];
-    float offset[4];
-    __global const uint* table[4];
+    IzbProjection proj;
     const int edges = izb_soft_projection(&plane, izb_vertex(positions, triangles[3 * t]),
                                           izb_vertex(positions, triangles[3 * t + 1]),
-                                          izb_vertex(positions, triangles[3 * t + 2]), ball, edge, offset);
-    if (edges == 0) continue;  // no part of it lies between the origin and the light
-    const bool projected = edges > 0;
+                                          izb_vertex(positions, triangles[3 * t + 2]), &proj);
+    if (edges == IZB_HIDES_NONE) continue;
+    const bool projected = edges >= 0, masked = projected && proj.masked;
+    __global const uint* table[3];
     bool empty = false;
-    for (int c = 0; c < edges && !empty; ++c) empty = !izb_edge_masks(edge[c], offset[c], cs, words, masks, &table[c]);
+    for (int c = 0; masked && c < edges && !empty; ++c)
+      empty = !izb_edge_masks(proj.g[c], proj.h[c] / length(proj.g[c]), cs, words, masks, &table[c]);
     if (empty) continue;  // the projection misses the light
     const bool opaque = !f.alphaTested || alphaIndex[t] == ALPHA_NO_TRIANGLE;
     for (int w = 0; w < words; ++w) {
       uint test = ~mask[w];
-      if (projected) {
+      if (masked) {
         uint may = ~0u, certain = ~0u;
         for (int c = 0; c < edges; ++c) may &= table[c][w], certain &= table[c][words + w];
         test &= may;
@@ -651,10 +686,13 @@ __kernel void izb_soft_test(__global const uint* sorted, __global const uint* ce
         if (projected) {  // the point against the projection itself: clearly outside, or clearly inside an opaque one
           const float2 h = planePoints[j];
           const float2 q = (float2)(cs.x * h.x - cs.y * h.y, cs.y * h.x + cs.x * h.y);
-          float least = INFINITY;
-          for (int c = 0; c < edges; ++c) least = fmin(least, dot(edge[c], q) - offset[c]);
-          if (least < -IZB_MASK_MARGIN) continue;
-          if (opaque && least > IZB_MASK_MARGIN) {
+          bool outside = false, inside = true;
+          for (int c = 0; c < edges; ++c) {
+            const float side = dot(proj.g[c], q) - proj.h[c];
+            outside |= side<-proj.tol[c], inside &= side> proj.tol[c];
+          }
+          if (outside) continue;
+          if (opaque && inside) {
             mask[w] |= 1u << bit;
             ++blocked;
             continue;

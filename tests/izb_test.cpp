@@ -399,6 +399,48 @@ TEST_F(Izb, SoftEqualsTheReferenceTracedWithTheSameLightPoints) {
   }
 }
 
+// Casters the projection cannot take as plain triangles: zero-area ones (a repeated vertex, which no ray meets;
+// three distinct collinear vertices), a fan of slivers and walls standing on the receiver (their edges run through the
+// ray origins next to them, seen end-on: ill-conditioned lines, decided point by point), random slivers hugging the
+// ground, under a spot disk, a sphere and a sun.
+TEST_F(Izb, SoftKeepsTheRaysOnDegenerateAndContactCasters) {
+  Scene scene = test::squareOverPlane();
+  auto add = [&](std::initializer_list<glm::vec3> points) {
+    const uint32_t base = static_cast<uint32_t>(scene.positions.size());
+    for (const glm::vec3& p : points) scene.positions.push_back(p), scene.normals.push_back({0, 1, 0});
+    scene.triangles.push_back({base, base + 1, base + 2});
+    scene.objectIds.push_back(1);
+  };
+  add({{-0.5f, 1.0f, 0.0f}, {-0.5f, 1.0f, 0.0f}, {0.5f, 1.0f, 0.5f}});    // a repeated vertex
+  add({{-1.5f, 1.0f, -1.0f}, {0.0f, 1.0f, -1.0f}, {1.5f, 1.0f, -1.0f}});  // collinear
+  for (int i = 0; i < 24; ++i) {  // a fan of slivers standing on the ground around (2, 0, 2)
+    const float a = 0.2617994f * static_cast<float>(i), b = a + 0.01f;
+    add({{2.0f, 0.0f, 2.0f},
+         {2.0f + std::cos(a), 0.6f, 2.0f + std::sin(a)},
+         {2.0f + std::cos(b), 0.0f, 2.0f + std::sin(b)}});
+  }
+  add({{-3.0f, 0.0f, 1.0f}, {-1.0f, 0.0f, 1.0f}, {-2.0f, 1.5f, 1.0f}});  // walls on the ground, across each other
+  add({{-2.0f, 0.0f, 0.0f}, {-2.0f, 0.0f, 2.0f}, {-2.0f, 1.5f, 1.0f}});
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-3.0f, 3.0f), h(0.0f, 0.05f), d(-0.3f, 0.3f);
+  for (int i = 0; i < 200; ++i) {
+    const glm::vec3 c(u(rng), h(rng), u(rng));
+    add({c, c + glm::vec3(d(rng), h(rng), d(rng)), c + glm::vec3(d(rng), 0.0f, d(rng))});
+  }
+  Camera camera = test::topDown();
+  camera.width = 128, camera.height = 96;
+  Light spot = parseLight("spot:0.5,4,0.3:0,0,0:120:0.6");
+  expectSameRays(ctx(), "contact spot", scene, camera, spot, 64);
+  Light sphere = spot;
+  sphere.type = LightType::Point;
+  expectSameRays(ctx(), "contact sphere", scene, camera, sphere, 36);
+  Light sun;
+  sun.type = LightType::Directional;
+  sun.direction = glm::normalize(glm::vec3(0.6f, -1.0f, 0.2f));
+  sun.angularRadiusDeg = 6.0f;
+  expectSameRays(ctx(), "contact sun", scene, camera, sun, 64);
+}
+
 // The grid, the passes and 64 or 256 points do not change the rays: chunks and grid sizes give the same image; more
 // points follow the reference as closely.
 TEST_F(Izb, SoftChunksGridsAndPatternSizesKeepTheRays) {
