@@ -37,7 +37,9 @@ ParsedGltf parseFile(const std::vector<unsigned char>& bytes, const std::filesys
   const bool binary = hasGlbMagic(bytes) || path.extension() == ".glb" || path.extension() == ".GLB";
   const std::string_view json = binary ? parseGlb(bytes, display).json
                                        : std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-  checkGltfJson(parseJson(display, json, false, options.maxJsonValues), display);
+  // tinygltf parses the text again into its own DOM and keeps a struct per element: bounded before either exists.
+  const ParseBudget budget{options.maxParseBytes, 100, &tinygltfElementBytes, "LoadOptions::maxParseBytes"};
+  checkGltfJson(parseJson(display, json, false, options.maxJsonValues, &budget), display);
   return parseWithTinygltf(bytes, binary, path.parent_path(), reader, display, options);
 }
 

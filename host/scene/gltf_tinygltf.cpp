@@ -98,6 +98,19 @@ ParsedGltf parseWithTinygltf(const std::vector<unsigned char>& bytes, bool binar
   return parsed;
 }
 
+uint64_t tinygltfElementBytes(std::string_view array) {
+  static const std::map<std::string_view, uint64_t> bytes = {
+      {"accessors", sizeof(tinygltf::Accessor)}, {"animations", sizeof(tinygltf::Animation)},
+      {"buffers", sizeof(tinygltf::Buffer)},     {"bufferViews", sizeof(tinygltf::BufferView)},
+      {"cameras", sizeof(tinygltf::Camera)},     {"images", sizeof(tinygltf::Image)},
+      {"materials", sizeof(tinygltf::Material)}, {"meshes", sizeof(tinygltf::Mesh)},
+      {"nodes", sizeof(tinygltf::Node)},         {"samplers", sizeof(tinygltf::Sampler)},
+      {"scenes", sizeof(tinygltf::Scene)},       {"skins", sizeof(tinygltf::Skin)},
+      {"textures", sizeof(tinygltf::Texture)}};
+  const auto it = bytes.find(array);
+  return it != bytes.end() ? it->second : 32;
+}
+
 std::string decodeUri(const std::string& uri) { return tinygltf::dlib::urldecode(uri); }
 
 }  // namespace penumbra::detail

@@ -3,12 +3,13 @@
 // need), and errors turned into SceneError.
 #pragma once
 
+#include <tiny_gltf.h>
+
 #include <filesystem>
 #include <map>
 #include <string>
+#include <string_view>
 #include <vector>
-
-#include <tiny_gltf.h>
 
 #include "host/scene/contained_fs.h"
 #include "host/scene/load_options.h"
@@ -26,6 +27,10 @@ struct ParsedGltf {
 // read through `reader`, relative to `root` and contained in it. Warnings go to options.warn.
 ParsedGltf parseWithTinygltf(const std::vector<unsigned char>& bytes, bool binary, const std::filesystem::path& root,
                              FileReader& reader, const std::string& file, const LoadOptions& options);
+
+// The struct tinygltf keeps for each element of the glTF's top-level array `array` ("accessors": sizeof(Accessor));
+// 32 bytes (a string) for the others.
+uint64_t tinygltfElementBytes(std::string_view array);
 
 // A URI as tinygltf decodes buffer URIs before opening them (%XX escapes, '+' as a space), for image URIs alike.
 std::string decodeUri(const std::string& uri);

@@ -3,11 +3,12 @@
 // the consumers after us nor take quadratic time.
 #include "host/scene/json_util.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
+#include <map>
 #include <set>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "host/scene/limits.h"
 
@@ -36,8 +37,8 @@ namespace {
 // memory linear in the text (nlohmann's callback parser rescans the parent of every closed object: quadratic).
 class LimitChecker : public nlohmann::json_sax<Json> {
  public:
-  LimitChecker(const std::string& file, bool rejectDuplicates, uint64_t maxValues)
-      : file_(file), rejectDuplicates_(rejectDuplicates), maxValues_(maxValues) {}
+  LimitChecker(const std::string& file, bool rejectDuplicates, uint64_t maxValues, const ParseBudget* budget)
+      : file_(file), rejectDuplicates_(rejectDuplicates), maxValues_(maxValues), budget_(budget) {}
 
   bool null() override { return value(); }
   bool boolean(bool) override { return value(); }
@@ -53,6 +54,7 @@ class LimitChecker : public nlohmann::json_sax<Json> {
   bool key(string_t& key) override {
     if (rejectDuplicates_ && !keys_.back().insert(key).second)
       throw SceneError(fmt::format("{}: duplicate key \"{}\"", file_, key));
+    if (depth_ == 1) rootKey_ = key;
     return true;
   }
   bool end_object() override {
@@ -60,9 +62,15 @@ class LimitChecker : public nlohmann::json_sax<Json> {
     --depth_;
     return true;
   }
-  bool start_array(std::size_t) override { return open(); }
+  bool start_array(std::size_t) override {
+    const bool root = depth_ == 1 && rootIsObject_;
+    if (depth_ == 0) rootIsObject_ = false;
+    open();
+    if (root && budget_ && budget_->elementBytes) array_ = rootKey_, elementBytes_ = budget_->elementBytes(rootKey_);
+    return true;
+  }
   bool end_array() override {
-    --depth_;
+    if (--depth_ == 1) elementBytes_ = 0;
     return true;
   }
   bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception& e) override {
@@ -83,6 +91,7 @@ class LimitChecker : public nlohmann::json_sax<Json> {
       throw SceneError(fmt::format("{}: more than {} JSON values (LoadOptions::maxJsonValues)", file_, maxValues_));
     if (depth_ > kMaxJsonDepth)
       throw SceneError(fmt::format("{}: JSON nested deeper than {} levels", file_, kMaxJsonDepth));
+    if (budget_ && budget_->maxBytes > 0) spend();
     return true;
   }
   bool open() {
@@ -90,19 +99,41 @@ class LimitChecker : public nlohmann::json_sax<Json> {
     ++depth_;
     return true;
   }
+  // The estimate grows by every value and, in a root array, by each element's struct; past the budget the parse
+  // stops, naming the array with the most elements.
+  void spend() {
+    bytes_ += budget_->bytesPerValue;
+    if (depth_ == 2 && elementBytes_ > 0) {
+      bytes_ += elementBytes_;
+      const uint64_t n = ++elements_[array_];
+      if (n > largest_.second) largest_ = {array_, n};
+    }
+    if (bytes_ <= budget_->maxBytes) return;
+    const std::string largest =
+        largest_.second > 0 ? fmt::format(", {} elements of \"{}\"", largest_.second, largest_.first) : "";
+    throw SceneError(
+        fmt::format("{}: parsing it would hold more than {} MiB ({} JSON values{} so far); the limit is {}", file_,
+                    budget_->maxBytes >> 20, values_, largest, budget_->option));
+  }
 
   const std::string& file_;
   const bool rejectDuplicates_;
   const uint64_t maxValues_;
-  uint64_t values_ = 0;
+  const ParseBudget* budget_;
+  uint64_t values_ = 0, bytes_ = 0, elementBytes_ = 0;
   int depth_ = 0;
+  bool rootIsObject_ = true;  // until the root opens as something else
+  std::string rootKey_, array_;
+  std::map<std::string, uint64_t, std::less<>> elements_;
+  std::pair<std::string, uint64_t> largest_;
   std::vector<std::set<std::string, std::less<>>> keys_;  // per open object; only when rejecting duplicates
 };
 
 }  // namespace
 
-Json parseJson(const std::string& file, std::string_view text, bool rejectDuplicates, uint64_t maxValues) {
-  LimitChecker checker(file, rejectDuplicates, maxValues);
+Json parseJson(const std::string& file, std::string_view text, bool rejectDuplicates, uint64_t maxValues,
+               const ParseBudget* budget) {
+  LimitChecker checker(file, rejectDuplicates, maxValues, budget);
   Json::sax_parse(text.begin(), text.end(), &checker);  // throws SceneError on any problem
   try {
     return Json::parse(text.begin(), text.end());  // no callback: linear; the text is known to be valid

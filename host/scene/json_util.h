@@ -3,13 +3,13 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
 #include <string>
 #include <string_view>
-
-#include <glm/glm.hpp>
-#include <nlohmann/json.hpp>
 
 #include "host/scene/load_options.h"
 
@@ -23,11 +23,22 @@ std::string brief(const Json& value);  // value.dump(), cut to about 60 characte
 // Throws SceneError("FILE: POINTER: MESSAGE"); the root pointer "" is shown as "(root)".
 [[noreturn]] void failAt(const std::string& file, const std::string& pointer, const std::string& message);
 
+// What parsing a document will hold in memory, estimated by the SAX pass as it goes, so that a document past the
+// budget is refused before any DOM is built: bytesPerValue for every JSON value (a DOM's node), and elementBytes(name)
+// more for each element of the root object's array `name` (the struct a consumer keeps for it).
+struct ParseBudget {
+  uint64_t maxBytes = 0;  // 0: no budget
+  uint64_t bytesPerValue = 0;
+  std::function<uint64_t(std::string_view)> elementBytes;
+  std::string option;  // the setting that raises the budget, named in the message
+};
+
 // Parses `text`; throws SceneError naming the file and the error's position. Nesting deeper than
-// kMaxJsonDepth is refused (later consumers recurse), so are more than `maxValues` values (memory), and
-// duplicate keys when `rejectDuplicates`.
+// kMaxJsonDepth is refused (later consumers recurse), so are more than `maxValues` values (memory), a document whose
+// estimate passes `budget` (when given), and duplicate keys when `rejectDuplicates`.
 inline constexpr int kMaxJsonDepth = 64;
-Json parseJson(const std::string& file, std::string_view text, bool rejectDuplicates, uint64_t maxValues);
+Json parseJson(const std::string& file, std::string_view text, bool rejectDuplicates, uint64_t maxValues,
+               const ParseBudget* budget = nullptr);
 
 // Reads one JSON object field by field; finish() refuses every key that was never asked for, so typos
 // are never silent. Numbers must be finite; every error names the file and the field's pointer.

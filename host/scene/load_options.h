@@ -28,6 +28,9 @@ struct LoadOptions {
   uint64_t maxTriangles = uint64_t{1} << 26;   // after instances are flattened (~3 GiB of scene)
   uint64_t maxVertices = uint64_t{1} << 27;    // after instances are flattened; indices are 32-bit
   uint64_t maxJsonValues = uint64_t{1} << 24;  // per JSON document: parsed JSON takes ~100 bytes per value
+  // A glTF document's parse, estimated before it is built: ~100 bytes per JSON value (tinygltf's DOM) and tinygltf's
+  // struct per element of each top-level array (416 bytes an accessor, 456 a node, 2144 a material, ...).
+  uint64_t maxParseBytes = uint64_t{1} << 30;
   // Decoded alpha-texture bytes (one per texel) of all the textures one load keeps; more is an error naming the
   // image. Also the bound on the texels of one image decoded on the way (pixels x channels). At most 2^32 - 1.
   uint64_t maxTextureBytes = uint64_t{256} << 20;

@@ -47,6 +47,7 @@ inline LoadOptions fuzzLimits() {
   o.maxFileBytes = o.maxTotalBytes = uint64_t{1} << 24;
   o.maxTriangles = o.maxVertices = uint64_t{1} << 20;
   o.maxJsonValues = uint64_t{1} << 20;
+  o.maxParseBytes = uint64_t{1} << 27;
   o.maxTextureBytes = uint64_t{1} << 22;
   o.warn = [](const std::string&) {};
   return o;
