@@ -79,6 +79,22 @@ TEST_F(ExrErrors, GarbageEmptyAndDirectoryAreNotExr) {
   EXPECT_TRUE(startsWithPathAndSays(errorOf([&] { readExr(dir_); }), dir_, "is a directory"));
 }
 
+// Junk after the magic number is named as such, not taken for a deep image (whose flag random bytes often set); a
+// version field that says deep but whose header does not read says why.
+TEST_F(ExrErrors, JunkAfterTheMagicNumberIsNotADeepImage) {
+  const auto withHead = [&](const char* name, std::initializer_list<unsigned char> head) {
+    std::string bytes(head.begin(), head.end());
+    for (int i = 0; i < 200; ++i) bytes += static_cast<char>((i * 97 + 13) & 0xff);
+    writeText(dir_ / name, bytes);
+    return dir_ / name;
+  };
+  const fs::path junk = withHead("junk.exr", {0x76, 0x2f, 0x31, 0x01, 0xf3, 0xb9, 0xb2, 0xab});
+  EXPECT_TRUE(startsWithPathAndSays(errorOf([&] { readExr(junk); }), junk, "its version field is 0xabb2b9f3"));
+  const fs::path deep = withHead("deep.exr", {0x76, 0x2f, 0x31, 0x01, 0x02, 0x08, 0x00, 0x00});
+  const std::string message = errorOf([&] { readExrInfo(deep); });
+  EXPECT_TRUE(startsWithPathAndSays(message, deep, "cannot read EXR header")) << message;
+}
+
 TEST_F(ExrErrors, TruncatedFileIsAnErrorNotACrash) {
   Image image(64, 64);  // incompressible values, so that pixel data fill most of the file
   std::vector<float> noise(64 * 64);

@@ -112,6 +112,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadFile{R"({"models": [{"path": "/nonexistent/triangle.gltf"}]})",
                 {"/models/0/path", "file not found (looked for /nonexistent/triangle.gltf)"}},
         BadFile{R"({"models": [{"path": "file:///tmp/triangle.gltf"}]})", {"/models/0/path", "URI schemes"}},
+        BadFile{R"({"models": [{"path": "tri\u0000angle.gltf"}]})",
+                {"/models/0/path: \"tri\\0angle.gltf\": path contains a NUL byte"}},
         BadFile{R"({"models": [{"path": "nothere.glb"}]})", {"/models/0/path", "file not found"}},
         BadFile{R"({"models": [{"path": "triangle.obj"}]})", {"/models/0/path", "not a .gltf or .glb"}},
         BadFile{R"({"models": [{"path": "triangle.gltf", "translation": [1, 2]}]})",
@@ -124,9 +126,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadFile{R"({"procedural": [{"name": "boxx"}]})", {"/procedural/0", "unknown built-in scene"}},
         // Checked before any geometry is built: eight million-pole scenes (96 M triangles), a misspelled key beside
         // a large one (it used to come out after 12 M triangles were built).
-        BadFile{R"({"procedural": [)"
-                R"({"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}]})",
-                {"/procedural: the built-in scenes make 96000016 triangles, more than the limit of 67108864"}},
+        BadFile{
+            R"({"procedural": [)"
+            R"({"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}, {"name": "poles", "rows": 1000, "columns": 1000}]})",
+            {"/procedural: the built-in scenes make 96000016 triangles, more than the limit of 67108864"}},
         BadFile{R"({"procedural": [{"name": "poles", "rows": 1000, "columns": 1000}], "lihgts": []})",
                 {"/lihgts: unknown key"}},
         BadFile{R"({"procedural": [{"name": "box", "size": "big"}]})", {"/procedural/0/size: expected a number"}},

@@ -232,14 +232,24 @@ TEST_F(GltfAlpha, MalformedInputGivesOneClearError) {
     std::vector<std::string> parts;
   };
   const std::vector<Case> cases = {
-      {"missing image file", {{"images", {{{"uri", "gone.png"}}, {{"uri", "x.png"}}}}},
+      {"missing image file",
+       {{"images", {{{"uri", "gone.png"}}, {{"uri", "x.png"}}}}},
        {"image 0 \"gone.png\"", "file not found"}},
-      {"image outside the folder", {{"images", {{{"uri", "../holes.png"}}, {{"uri", "x.png"}}}}},
+      {"image outside the folder",
+       {{"images", {{{"uri", "../holes.png"}}, {{"uri", "x.png"}}}}},
        {"image 0 \"../holes.png\"", "\"..\" components are not allowed"}},
-      {"undecodable image", {{"images", {{{"uri", "quad.bin"}}, {{"uri", "x.png"}}}}},
-       {"image 0 \"quad.bin\"", "cannot decode"}},
+      {"undecodable image",
+       {{"images", {{{"uri", "quad.bin"}}, {{"uri", "x.png"}}}}},
+       {"image 0 \"quad.bin\"", "not a PNG, JPEG, BMP or GIF image (its first bytes: "}},
+      {"truncated PNG",
+       {{"images", {{{"uri", "truncated.png"}}, {{"uri", "x.png"}}}}},
+       {"image 0 \"truncated.png\"", "a PNG of 40 bytes that cannot be decoded ("}},
+      {"PNG past the decoder's size",
+       {{"images", {{{"uri", "huge.png"}}, {{"uri", "x.png"}}}}},
+       {"image 0 \"huge.png\"", "a PNG of 33554432x2 pixels: more than the decoder's 16777216 pixels a side"}},
       {"texCoord set missing",
-       {{"materials", {{{"alphaMode", "MASK"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}, {"texCoord", 2}}}}}}}}},
+       {{"materials",
+         {{{"alphaMode", "MASK"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}, {"texCoord", 2}}}}}}}}},
        {"mesh 0 primitive 0", "reads TEXCOORD_2, which the primitive does not have"}},
       {"texture index out of range",
        {{"materials", {{{"alphaMode", "MASK"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 5}}}}}}}}},
@@ -247,9 +257,18 @@ TEST_F(GltfAlpha, MalformedInputGivesOneClearError) {
       {"unknown alphaMode", {{"materials", {{{"alphaMode", "CUTOUT"}}}}}, {"/materials/0/alphaMode", "\"MASK\""}},
       {"negative cutoff", {{"materials", {{{"alphaCutoff", -1}}}}}, {"/materials/0/alphaCutoff", ">= 0"}},
       {"bad wrap mode", {{"samplers", {{{"wrapS", 1234}}}}}, {"/samplers/0/wrapS", "33071"}},
-      {"bad transform", {{"materials", {{{"alphaMode", "MASK"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"scale", {1}}}}}}}}}}}}}},
+      {"bad transform",
+       {{"materials",
+         {{{"alphaMode", "MASK"},
+           {"pbrMetallicRoughness",
+            {{"baseColorTexture", {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"scale", {1}}}}}}}}}}}}}},
        {"KHR_texture_transform/scale", "2 numbers"}},
   };
+  std::vector<unsigned char> image = png(4, 2, 4, kAlphas);
+  std::ofstream(dir_ / "truncated.png", std::ios::binary).write(reinterpret_cast<const char*>(image.data()), 40);
+  image[16] = 2, image[17] = image[18] = image[19] = 0;  // IHDR width 2^25 (its CRC no longer matters)
+  std::ofstream(dir_ / "huge.png", std::ios::binary)
+      .write(reinterpret_cast<const char*>(image.data()), static_cast<std::streamsize>(image.size()));
   for (const Case& c : cases) {
     Json doc = doc_;
     doc.merge_patch(c.patch);

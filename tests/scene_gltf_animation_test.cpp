@@ -179,6 +179,11 @@ TEST_F(GltfAnimation, MalformedAnimationsAndSkinsGiveClearErrors) {
   }
   {
     GltfBuilder b(triangle());
+    animate(b, 0, "translation", {0, 1}, {0, 0, 0, 1, std::nan(""), 1}, "VEC3", "LINEAR");
+    EXPECT_TRUE(throwsWith([&] { load(b, 0.5); }, {"animation 0 channel 0: output key 1 of 'translation' holds nan"}));
+  }
+  {
+    GltfBuilder b(triangle());
     animate(b, 0, "weights", {0, 1}, {0, 1}, "SCALAR", "LINEAR");
     EXPECT_TRUE(throwsWith([&] { load(b, 0.5); }, {"no morph targets"}));
   }

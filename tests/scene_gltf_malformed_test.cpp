@@ -47,6 +47,7 @@ INSTANTIATE_TEST_SUITE_P(
         Broken{"malformed/traversal_encoded.gltf", {"\"..\" components are not allowed"}},
         Broken{"sub/inner.gltf", {"\"..\" components are not allowed"}},
         Broken{"malformed/absolute_uri.gltf", {"/etc/passwd", "absolute paths are not allowed"}},
+        Broken{"malformed/nul_uri.gltf", {"buffer \"tri\\0angle.bin\": path contains a NUL byte"}},
         Broken{"malformed/file_uri.gltf", {"URI schemes"}},
         Broken{"malformed/missing_bin.gltf", {"nowhere.bin", "file not found"}},
         Broken{"malformed/count_overflow.gltf", {"/accessors/0/count", "18446744073709551615 is larger"}},
@@ -68,6 +69,7 @@ INSTANTIATE_TEST_SUITE_P(
         Broken{"malformed/stride_too_small.gltf", {"accessor 0: byteStride 8"}},
         Broken{"malformed/bad_mode.gltf", {"/meshes/0/primitives/0/mode"}},
         Broken{"malformed/bad_scene.gltf", {"/scene", "no element 3 in scenes"}},
+        Broken{"malformed/nodes_not_array.gltf", {"/nodes: expected an array, got \"all\""}},
         Broken{"malformed/normal_count.gltf", {"NORMAL has 2 elements but POSITION has 3"}}),
     [](const auto& test_info) {
       std::string name = fs::path(test_info.param.file).stem().string();

@@ -14,6 +14,7 @@
 #include <ImfInputFile.h>
 #include <ImfIntAttribute.h>
 #include <ImfMatrixAttribute.h>
+#include <ImfMultiPartInputFile.h>
 #include <ImfOutputFile.h>
 #include <ImfStdIO.h>
 #include <ImfStringAttribute.h>
@@ -113,13 +114,27 @@ void checkReadable(const std::filesystem::path& path) {
   errno = 0;
   std::ifstream probe(path, std::ios::binary);
   if (!probe) fail(path, fmt::format("cannot open: {}", std::strerror(errno)));
-  std::array<unsigned char, 4> magic{};
-  probe.read(reinterpret_cast<char*>(magic.data()), magic.size());
-  if (probe.gcount() != static_cast<std::streamsize>(magic.size()) || magic != kExrMagic)
+  std::array<unsigned char, 8> head{};
+  probe.read(reinterpret_cast<char*>(head.data()), head.size());
+  if (probe.gcount() < 4 || !std::equal(kExrMagic.begin(), kExrMagic.end(), head.begin()))
     fail(path, "not an OpenEXR file (bad magic number)");
+  // The version field: format version 2 and only the flags the format defines (tiled 0x200, long names 0x400,
+  // non-image 0x800, multi-part 0x1000); anything else is junk after the magic number, not a deep image.
+  const uint32_t version =
+      uint32_t{head[4]} | uint32_t{head[5]} << 8 | uint32_t{head[6]} << 16 | uint32_t{head[7]} << 24;
+  if (probe.gcount() < 8 || (version & 0xff) != 2 || (version & ~uint32_t{0x1eff}) != 0)
+    fail(path, fmt::format("not a readable OpenEXR file (its version field is {:#010x}: format 2 with flags 0x200, "
+                           "0x400, 0x800 or 0x1000 expected)",
+                           version));
   bool tiled = false, deep = false, multiPart = false;
   if (!Imf::isOpenExrFile(path.c_str(), tiled, deep, multiPart)) fail(path, "not a readable OpenEXR file");
-  if (deep) fail(path, "deep EXR images are not supported");
+  if (!deep) return;
+  try {  // a deep image only if its header reads as one
+    const Imf::MultiPartInputFile file(path.c_str());
+  } catch (const std::exception& e) {
+    fail(path, fmt::format("cannot read EXR header: {}", e.what()));
+  }
+  fail(path, "deep EXR images are not supported");
 }
 
 ExrWindow toWindow(const Imath::Box2i& box) { return {box.min.x, box.min.y, box.max.x, box.max.y}; }

@@ -42,7 +42,7 @@ bool isUnder(const fs::path& root, const fs::path& p) {
 }  // namespace
 
 fs::path resolveInside(const fs::path& root, std::string_view relative) {
-  const std::string quoted = fmt::format("\"{}\"", relative);
+  const std::string quoted = fmt::format("\"{}\"", visible(relative));
   if (relative.empty()) throw SceneError("empty path");
   if (relative.find('\0') != std::string_view::npos) throw SceneError(quoted + ": path contains a NUL byte");
   if (hasScheme(relative)) throw SceneError(quoted + ": URI schemes and drive letters are not allowed");
@@ -60,7 +60,7 @@ fs::path resolveInside(const fs::path& root, std::string_view relative) {
 }
 
 fs::path resolveSceneModel(const fs::path& folder, std::string_view path) {
-  const std::string quoted = fmt::format("\"{}\"", path);
+  const std::string quoted = fmt::format("\"{}\"", visible(path));
   if (path.empty()) throw SceneError("empty path");
   if (path.find('\0') != std::string_view::npos) throw SceneError(quoted + ": path contains a NUL byte");
   if (hasScheme(path)) throw SceneError(quoted + ": URI schemes are not allowed (give a file path)");

@@ -49,6 +49,10 @@ Sampler readSampler(const GltfContext& ctx, const std::string& what, const tinyg
   if (out.values.size() != out.times.size() * perKey)
     failGltf(ctx, fmt::format("{}: output has {} numbers; {} keys of '{}' ({} numbers each) need {}", what,
                               out.values.size(), out.times.size(), path, perKey, out.times.size() * perKey));
+  for (size_t i = 0; i < out.values.size(); ++i)  // named here, not as the world transform it would spoil
+    if (!std::isfinite(out.values[i]))
+      failGltf(ctx, fmt::format("{}: output key {} of '{}' holds {} (component {})", what, i / perKey, path,
+                                out.values[i], i % perKey));
   return out;
 }
 

@@ -3,11 +3,12 @@
 // without alpha is never decoded and the texture budget is claimed before any pixel memory is taken.
 #include "host/scene/gltf_images.h"
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <limits>
 #include <memory>
 #include <span>
-
-#include <fmt/format.h>
 
 #include "host/scene/gltf_tinygltf.h"
 
@@ -51,12 +52,48 @@ std::span<const unsigned char> encodedBytes(const GltfContext& ctx, const ImageS
   return file;
 }
 
+// The container the bytes start with (the formats stb_image decodes that glTF allows or tolerates), "" for none.
+std::string_view imageFormat(std::span<const unsigned char> b) {
+  const auto starts = [&](std::initializer_list<unsigned char> magic) {
+    return b.size() >= magic.size() && std::equal(magic.begin(), magic.end(), b.begin());
+  };
+  if (starts({0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'})) return "PNG";
+  if (starts({0xff, 0xd8, 0xff})) return "JPEG";
+  if (starts({'B', 'M'})) return "BMP";
+  if (starts({'G', 'I', 'F', '8'})) return "GIF";
+  return "";
+}
+
+// Why stb_image refused the bytes, in words that name the problem: no known container (its first bytes), a PNG whose
+// header declares more than stb_image's 2^24 pixels a side, or a known container stb_image could not read (its reason;
+// a truncated file often gives none).
+std::string undecodable(std::span<const unsigned char> b) {
+  const std::string_view format = imageFormat(b);
+  if (format.empty()) {
+    std::string first;
+    for (size_t i = 0; i < std::min<size_t>(b.size(), 8); ++i) first += fmt::format("{}{:02x}", i ? " " : "", b[i]);
+    return fmt::format("not a PNG, JPEG, BMP or GIF image (its first bytes: {})", first);
+  }
+  if (format == "PNG" && b.size() >= 24 && std::equal(b.begin() + 12, b.begin() + 16, "IHDR")) {
+    const auto be32 = [&](size_t at) {
+      return uint32_t{b[at]} << 24 | uint32_t{b[at + 1]} << 16 | uint32_t{b[at + 2]} << 8 | uint32_t{b[at + 3]};
+    };
+    const uint32_t width = be32(16), height = be32(20);
+    if (width > (1u << 24) || height > (1u << 24))
+      return fmt::format("a PNG of {}x{} pixels: more than the decoder's {} pixels a side", width, height, 1u << 24);
+  }
+  const char* reason = stbi_failure_reason();
+  return fmt::format(
+      "a {} of {} bytes that cannot be decoded ({})", format, b.size(),
+      reason && *reason && std::string_view(reason) != "unknown image type" ? reason : "truncated or corrupt");
+}
+
 }  // namespace
 
 std::string imageLabel(const GltfContext& ctx, int image) {
   const tinygltf::Image& img = ctx.model.images.at(static_cast<size_t>(image));
   const std::string name = !img.name.empty() ? img.name : img.uri.rfind("data:", 0) == 0 ? std::string() : img.uri;
-  return name.empty() ? fmt::format("image {}", image) : fmt::format("image {} \"{}\"", image, name);
+  return name.empty() ? fmt::format("image {}", image) : fmt::format("image {} \"{}\"", image, visible(name));
 }
 
 DecodedAlpha decodeImageAlpha(const GltfContext& ctx, const ImageSources& sources, int image) {
@@ -66,8 +103,7 @@ DecodedAlpha decodeImageAlpha(const GltfContext& ctx, const ImageSources& source
     failImage(ctx, image, fmt::format("{} bytes of image data", bytes.size()));
   const int size = static_cast<int>(bytes.size());
   int width = 0, height = 0, channels = 0;
-  if (!stbi_info_from_memory(bytes.data(), size, &width, &height, &channels))
-    failImage(ctx, image, fmt::format("cannot decode ({})", stbi_failure_reason()));
+  if (!stbi_info_from_memory(bytes.data(), size, &width, &height, &channels)) failImage(ctx, image, undecodable(bytes));
   DecodedAlpha out;
   out.width = static_cast<uint32_t>(width), out.height = static_cast<uint32_t>(height);
   out.hasAlpha = channels == 2 || channels == 4;  // grey + alpha, RGBA
@@ -84,7 +120,7 @@ DecodedAlpha decodeImageAlpha(const GltfContext& ctx, const ImageSources& source
   }
   const std::unique_ptr<stbi_uc, void (*)(void*)> pixels(
       stbi_load_from_memory(bytes.data(), size, &width, &height, &channels, 0), &stbi_image_free);
-  if (!pixels) failImage(ctx, image, fmt::format("cannot decode ({})", stbi_failure_reason()));
+  if (!pixels) failImage(ctx, image, undecodable(bytes));
   if (static_cast<uint32_t>(width) != out.width || static_cast<uint32_t>(height) != out.height ||
       !(channels == 2 || channels == 4))
     failImage(ctx, image, "its header and its pixels disagree");

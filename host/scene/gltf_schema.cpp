@@ -256,6 +256,11 @@ struct Checker {
         fail(pointerTo(p, "version"),
              "glTF version " + a["version"].get<std::string>() + " is not supported (2.x only)");
     });
+    // Every top-level array's own type first, so an index into one that is not an array ("nodes": "all") names it
+    // rather than the index.
+    for (const char* key : {"scenes", "nodes", "meshes", "accessors", "bufferViews", "buffers", "materials", "textures",
+                            "images", "samplers", "cameras", "skins", "animations"})
+      if (const Json* v = get(root, key, "", false)) kind(root, key, "", v->is_array(), "an array");
     id(root, "scene", "scenes", "");
     each(root, "scenes", "", [&](const Json& s, const std::string& p) { ids(s, "nodes", "nodes", p); });
     each(root, "nodes", "", [&](const Json& n, const std::string& p) { node(n, p); });

@@ -16,7 +16,7 @@ namespace penumbra::detail {
 
 std::string pointerTo(const std::string& parent, std::string_view key) {
   std::string out = parent + "/";
-  for (char c : key) out += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
+  for (char c : visible(key)) out += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
   return out;
 }
 

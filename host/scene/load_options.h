@@ -9,6 +9,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace penumbra {
 
@@ -43,6 +44,25 @@ struct LoadOptions {
   std::optional<double> time;
   std::string animation;
 };
+
+// `text` for a message: control bytes written as \0, \n, \t or \xNN, since a NUL would cut the message short where
+// it is printed as a C string (exception::what) and the others would garble the terminal.
+inline std::string visible(std::string_view text) {
+  std::string out;
+  for (char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u >= 0x20 && u != 0x7f) {
+      out += c;
+      continue;
+    }
+    static constexpr char kHex[] = "0123456789abcdef";
+    out += c == '\0'   ? std::string("\\0")
+           : c == '\n' ? std::string("\\n")
+           : c == '\t' ? std::string("\\t")
+                       : std::string{'\\', 'x', kHex[u >> 4], kHex[u & 15]};
+  }
+  return out;
+}
 
 // Sends `message` to options.warn, or to stderr when no sink is set.
 void emitWarning(const LoadOptions& options, const std::string& message);
