@@ -272,7 +272,7 @@ TEST_F(SceneFile, ModelUrisStayInsideTheModelsFolder) {
   fs::create_directories(dir_ / "models");
   fs::copy_file(test::sceneData("malformed/traversal.gltf"), dir_ / "models/traversal.gltf");
   EXPECT_TRUE(throwsWith([&] { loadSceneFile(write(R"({"models": [{"path": "models/traversal.gltf"}]})")); },
-                         {"scene.json: /models/0", "\"..\" components are not allowed"}));
+                         {"scene.json: /models/0", "its \"..\" components leave the scene's folder"}));
 }
 
 TEST_F(SceneFile, ModelErrorsNameTheEntryAndTheModel) {

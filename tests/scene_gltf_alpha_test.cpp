@@ -215,6 +215,13 @@ TEST_F(GltfAlpha, DataUriAndGlbBufferViewImages) {
       .write(reinterpret_cast<const char*>(glb.data()), static_cast<std::streamsize>(glb.size()));
   const Scene packed = loadGltf((dir_ / "quad.glb").string());
   EXPECT_EQ(packed.alphaTexels, kAlphas);
+  // A PNG declared as a JPEG (sec. 5.18) is decoded as what it is, with a warning.
+  doc_["images"][0] = {{"uri", "data:image/jpeg;base64," + base64(png(4, 2, 4, kAlphas))}, {"mimeType", "image/jpeg"}};
+  test::CapturingOptions capture;
+  EXPECT_EQ(loadGltf(write(doc_), capture.options).alphaTexels, kAlphas);
+  ASSERT_EQ(capture.warnings.size(), 1u);
+  EXPECT_NE(capture.warnings[0].find("image 0: declared image/jpeg but its bytes are PNG"), std::string::npos)
+      << capture.warnings[0];
 }
 
 TEST_F(GltfAlpha, TextureBudgetIsEnforced) {
@@ -237,7 +244,7 @@ TEST_F(GltfAlpha, MalformedInputGivesOneClearError) {
        {"image 0 \"gone.png\"", "file not found"}},
       {"image outside the folder",
        {{"images", {{{"uri", "../holes.png"}}, {{"uri", "x.png"}}}}},
-       {"image 0 \"../holes.png\"", "\"..\" components are not allowed"}},
+       {"image 0 \"../holes.png\"", "its \"..\" components leave the scene's folder"}},
       {"undecodable image",
        {{"images", {{{"uri", "quad.bin"}}, {{"uri", "x.png"}}}}},
        {"image 0 \"quad.bin\"", "not a PNG, JPEG, BMP or GIF image (its first bytes: "}},

@@ -170,7 +170,24 @@ TEST_F(GltfAnimation, MalformedAnimationsAndSkinsGiveClearErrors) {
   {
     GltfBuilder b(triangle());
     animate(b, 0, "translation", {1, 0}, {0, 0, 0, 1, 1, 1}, "VEC3", "LINEAR");
-    EXPECT_TRUE(throwsWith([&] { load(b, 0.5); }, {"animation 0 channel 0", "decreases"}));
+    EXPECT_TRUE(throwsWith([&] { load(b, 0.5); }, {"animation 0 channel 0", "does not increase"}));
+  }
+  {  // sec. 5.8: strictly increasing
+    GltfBuilder b(triangle());
+    animate(b, 0, "translation", {0, 0}, {0, 0, 0, 1, 1, 1}, "VEC3", "LINEAR");
+    EXPECT_TRUE(throwsWith([&] { load(b, 0.5); },
+                           {"animation 0 channel 0: input time 1 (0) is not finite or does not increase"}));
+  }
+  {  // the structure is checked without --time too
+    GltfBuilder b(triangle());
+    animate(b, 0, "translation", {0, 1}, {0, 0, 0, 1, 1, 1}, "VEC3", "LINEAR");
+    b.doc()["animations"][0]["channels"][0]["sampler"] = 3;
+    EXPECT_TRUE(throwsWith([&] { load(b, std::nullopt); },
+                           {"/animations/0/channels/0/sampler", "no sampler 3 in this animation (it has 1)"}));
+    b.doc()["animations"][0]["channels"][0]["sampler"] = 0;
+    b.doc()["animations"][0]["samplers"][0]["output"] = 99;
+    EXPECT_TRUE(
+        throwsWith([&] { load(b, std::nullopt); }, {"/animations/0/samplers/0/output", "no element 99 in accessors"}));
   }
   {
     GltfBuilder b(triangle());
@@ -208,6 +225,16 @@ TEST_F(GltfAnimation, MalformedAnimationsAndSkinsGiveClearErrors) {
     b.doc()["skins"] = {{{"joints", {0}}}};
     b.doc()["nodes"][0]["skin"] = 0;
     EXPECT_TRUE(throwsWith([&] { load(b, std::nullopt); }, {"vertex 1", "joint 3 out of range"}));
+  }
+  {  // sec. 3.7.3.3: weights sum to one; a vertex whose weights are all zero is refused
+    GltfBuilder b(triangle());
+    const int joints = b.addAccessor({0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, "VEC4", 5121);
+    const int weights = b.addAccessor({1, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0}, "VEC4");
+    b.doc()["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"] = joints;
+    b.doc()["meshes"][0]["primitives"][0]["attributes"]["WEIGHTS_0"] = weights;
+    b.doc()["skins"] = {{{"joints", {0}}}};
+    b.doc()["nodes"][0]["skin"] = 0;
+    EXPECT_TRUE(throwsWith([&] { load(b, std::nullopt); }, {"vertex 1: its skin weights sum to 0"}));
   }
   {
     GltfBuilder b(triangle());

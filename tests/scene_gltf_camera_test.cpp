@@ -181,7 +181,7 @@ TEST_F(GltfCameras, MalformedCamerasAreRefusedNamingTheElement) {
       {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 1}, {"aspectRatio", "wide"}}}},
        {"/cameras/0/perspective/aspectRatio", "finite number"}},
       {{{"type", "orthographic"}, {"orthographic", {{"xmag", 0}, {"ymag", 1}, {"znear", 0}, {"zfar", 1}}}},
-       {"/cameras/0/orthographic/xmag", "> 0"}},
+       {"/cameras/0/orthographic/xmag", "a finite non-zero number"}},
       {{{"type", "orthographic"}, {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0}}}},
        {"/cameras/0/orthographic/zfar", "missing"}},
       {{{"type", "orthographic"}, {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", -1}, {"zfar", 1}}}},
@@ -195,6 +195,23 @@ TEST_F(GltfCameras, MalformedCamerasAreRefusedNamingTheElement) {
     parts.push_back("bad.gltf");
     EXPECT_TRUE(throwsWith([&] { loadGltf(write(b, "bad")); }, parts)) << bad.camera.dump();
   }
+}
+
+// Sec. 5.14: a negative magnification SHOULD NOT be used but is valid (the validator accepts it): drawn unmirrored,
+// with a warning.
+TEST_F(GltfCameras, NegativeMagnificationIsDrawnUnmirroredWithAWarning) {
+  GltfBuilder b = ground();
+  const int cam = b.addCamera(
+      {{"type", "orthographic"}, {"orthographic", {{"xmag", 4}, {"ymag", -2}, {"znear", 0}, {"zfar", 50}}}});
+  b.addNode({{"translation", {0, 10, 0}}, {"camera", cam}});
+  test::CapturingOptions capture;
+  const Scene scene = loadGltf(write(b), capture.options);
+  ASSERT_EQ(scene.cameras.size(), 1u);
+  EXPECT_FLOAT_EQ(scene.cameras.front().orthoHalfHeight, 2.0f);
+  EXPECT_EQ(scene.cameras.front().width, 1440);
+  ASSERT_EQ(capture.warnings.size(), 1u);
+  EXPECT_NE(capture.warnings[0].find("camera 0: negative xmag or ymag (4, -2): drawn unmirrored"), std::string::npos)
+      << capture.warnings[0];
 }
 
 TEST_F(GltfCameras, BadCameraNodesAreRefused) {

@@ -48,7 +48,10 @@ fs::path resolveInside(const fs::path& root, std::string_view relative) {
   if (hasScheme(relative)) throw SceneError(quoted + ": URI schemes and drive letters are not allowed");
   if (relative.front() == '/' || relative.front() == '\\')
     throw SceneError(quoted + ": absolute paths are not allowed (paths are relative to the scene's folder)");
-  if (hasDotDot(relative)) throw SceneError(quoted + ": \"..\" components are not allowed");
+  // ".." is a legal URI segment: refused only where the path, read lexically, leaves the folder (then resolved, with
+  // links, and checked again below).
+  if (hasDotDot(relative) && !isUnder(root, (root / fs::path(std::string(relative))).lexically_normal()))
+    throw SceneError(quoted + ": its \"..\" components leave the scene's folder");
   std::error_code ec;
   const fs::path resolved = fs::canonical(root / fs::path(std::string(relative)), ec);
   if (ec) throw SceneError(fmt::format("{}: file not found in {}", quoted, root.string()));

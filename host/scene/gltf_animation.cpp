@@ -39,8 +39,8 @@ Sampler readSampler(const GltfContext& ctx, const std::string& what, const tinyg
   out.interpolation = interpolationOf(ctx, what, s.interpolation);
   out.times = readFloats(ctx, s.input, 1, false, "animation sampler input");
   for (size_t k = 0; k < out.times.size(); ++k)
-    if (!std::isfinite(out.times[k]) || (k > 0 && out.times[k] < out.times[k - 1]))
-      failGltf(ctx, fmt::format("{}: input time {} ({}) is not finite or decreases", what, k, out.times[k]));
+    if (!std::isfinite(out.times[k]) || (k > 0 && out.times[k] <= out.times[k - 1]))  // sec. 5.8: strictly
+      failGltf(ctx, fmt::format("{}: input time {} ({}) is not finite or does not increase", what, k, out.times[k]));
   // Rotations and weights may be normalized integers (sec. 3.11, "Animations"); translations and scales are floats.
   const bool vector = path == "translation" || path == "scale";
   const int components = path == "weights" ? 1 : width;

@@ -49,10 +49,15 @@ Camera readCamera(const GltfContext& ctx, const NodeInstance& inst, int index) {
   camera.name = !c.name.empty() ? c.name : !node.name.empty() ? node.name : fmt::format("camera {}", index);
   if (c.type == "orthographic") {
     camera.kind = ProjectionKind::kOrthographic;
-    camera.orthoHalfHeight = static_cast<float>(c.orthographic.ymag);
+    // Sec. 5.14: xmag and ymag SHOULD NOT be negative (a negative one mirrors the view); the view is drawn
+    // unmirrored, with a warning, since a shadow's visibility does not depend on the image's orientation.
+    if (c.orthographic.xmag < 0.0 || c.orthographic.ymag < 0.0)
+      emitWarning(ctx.options, fmt::format("{}: camera {}: negative xmag or ymag ({}, {}): drawn unmirrored", ctx.file,
+                                           index, c.orthographic.xmag, c.orthographic.ymag));
+    camera.orthoHalfHeight = static_cast<float>(std::abs(c.orthographic.ymag));
     camera.clipNear = static_cast<float>(c.orthographic.znear);
     camera.clipFar = static_cast<float>(c.orthographic.zfar);
-    sizeFromAspect(camera, c.orthographic.xmag / c.orthographic.ymag);
+    sizeFromAspect(camera, std::abs(c.orthographic.xmag / c.orthographic.ymag));
   } else {
     camera.fovYDeg = static_cast<float>(glm::degrees(c.perspective.yfov));
     camera.clipNear = static_cast<float>(c.perspective.znear);

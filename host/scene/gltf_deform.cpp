@@ -113,7 +113,7 @@ std::vector<SkinSet> readSkinSets(const GltfContext& ctx, const std::string& wha
 }
 
 void skinVertices(const GltfContext& ctx, const std::string& what, const tinygltf::Primitive& tp, int s,
-                  const glm::dmat4& nodeWorld, const std::map<int, glm::dmat4>& worlds, LocalPrimitive& prim) {
+                  const std::map<int, glm::dmat4>& worlds, LocalPrimitive& prim) {
   const std::vector<glm::dmat4> joints = jointMatrices(ctx, s, worlds);
   const std::vector<SkinSet> sets = readSkinSets(ctx, what, tp, accessorVertices(prim), joints.size());
   for (size_t i = 0; i < prim.positions.size(); ++i) {
@@ -125,7 +125,10 @@ void skinVertices(const GltfContext& ctx, const std::string& what, const tinyglt
         const double wt = set.weights[4 * v + static_cast<size_t>(c)];
         if (wt != 0.0) m += wt * joints[set.joints[v][c]], total += wt;
       }
-    m = total > 0.0 ? m / total : nodeWorld;
+    // Sec. 3.7.3.3: a vertex's weights sum to one; a small departure is normalised away, a zero sum has no meaning.
+    if (!(total > 0.0))
+      failGltf(ctx, fmt::format("{}: vertex {}: its skin weights sum to 0 (they must sum to 1)", what, v));
+    m /= total;
     prim.positions[i] = glm::vec3(m * glm::dvec4(glm::dvec3(prim.positions[i]), 1.0));
     if (!prim.flat) prim.normals[i] = glm::vec3(glm::inverseTranspose(glm::dmat3(m)) * glm::dvec3(prim.normals[i]));
   }
@@ -164,7 +167,7 @@ bool deformPrimitive(const GltfContext& ctx, const NodeInstance& inst, int primi
       ctx.model.meshes[static_cast<size_t>(node.mesh)].primitives[static_cast<size_t>(primitive)];
   const std::string what = fmt::format("node {} mesh {} primitive {}", inst.node, node.mesh, primitive);
   morph(ctx, what, tp, weights, prim);
-  if (node.skin >= 0) skinVertices(ctx, what, tp, node.skin, inst.world, worlds, prim);
+  if (node.skin >= 0) skinVertices(ctx, what, tp, node.skin, worlds, prim);
   if (prim.flat)  // the face normals of the moved triangles
     for (const glm::uvec3& t : prim.triangles) {
       const glm::vec3 n = faceNormal(prim.positions[t.x], prim.positions[t.y], prim.positions[t.z]);

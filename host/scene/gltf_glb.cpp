@@ -33,7 +33,8 @@ GlbChunks parseGlb(const std::vector<unsigned char>& bytes, const std::string& f
   if (const uint32_t version = readU32(bytes, 4); version != 2)
     fail(fmt::format("container version {} is not supported (2 only)", version));
   const uint64_t length = readU32(bytes, 8);
-  if (length != bytes.size()) fail(fmt::format("header says {} bytes but the file has {}", length, bytes.size()));
+  if (length > bytes.size() || length < 12)
+    fail(fmt::format("header says {} bytes but the file has {}", length, bytes.size()));
 
   GlbChunks chunks;
   bool haveJson = false;
@@ -51,6 +52,11 @@ GlbChunks parseGlb(const std::vector<unsigned char>& bytes, const std::string& f
       if (chunkLength == 0) fail("JSON chunk is empty");
       chunks.json = std::string_view(data, chunkLength);
       haveJson = true;
+      // Sec. 4.4.3.2: the JSON is UTF-8 without a byte-order mark, padded to 4 bytes with spaces (0x20).
+      if (chunks.json.substr(0, 3) == "\xef\xbb\xbf") fail("the JSON chunk starts with a byte-order mark");
+      const size_t end = chunks.json.find_last_not_of(" \t\r\n");
+      if (end != std::string_view::npos && chunks.json[end] == '\0')
+        fail("the JSON chunk is padded with 0x00 bytes; glTF pads it with spaces (0x20)");
     } else if (index == 1 && type == kChunkBin) {
       chunks.binSize = chunkLength;
     } else if (type == kChunkJson || type == kChunkBin) {
@@ -59,6 +65,7 @@ GlbChunks parseGlb(const std::vector<unsigned char>& bytes, const std::string& f
     offset += 8 + chunkLength;
   }
   if (!haveJson) fail("no JSON chunk");
+  chunks.length = length, chunks.trailing = bytes.size() - length;
   return chunks;
 }
 

@@ -102,6 +102,13 @@ DecodedAlpha decodeImageAlpha(const GltfContext& ctx, const ImageSources& source
   if (bytes.empty() || bytes.size() > static_cast<size_t>(std::numeric_limits<int>::max()))
     failImage(ctx, image, fmt::format("{} bytes of image data", bytes.size()));
   const int size = static_cast<int>(bytes.size());
+  // Sec. 5.18: mimeType names the image's format; the bytes are decoded as what they are, and a mismatch is said.
+  const tinygltf::Image& img = ctx.model.images[static_cast<size_t>(image)];
+  const std::string_view format = imageFormat(bytes);
+  const bool declaredPng = img.mimeType == "image/png", declaredJpeg = img.mimeType == "image/jpeg";
+  if ((declaredPng && format != "PNG") || (declaredJpeg && format != "JPEG"))
+    emitWarning(ctx.options, fmt::format("{}: {}: declared {} but its bytes are {}", ctx.file, imageLabel(ctx, image),
+                                         img.mimeType, format.empty() ? "no PNG or JPEG" : format));
   int width = 0, height = 0, channels = 0;
   if (!stbi_info_from_memory(bytes.data(), size, &width, &height, &channels)) failImage(ctx, image, undecodable(bytes));
   DecodedAlpha out;

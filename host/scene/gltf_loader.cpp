@@ -35,12 +35,17 @@ using PrimitiveCache = std::map<PrimitiveKey, LocalPrimitive>;
 ParsedGltf parseFile(const std::vector<unsigned char>& bytes, const std::filesystem::path& path,
                      const std::string& display, const LoadOptions& options, FileReader& reader) {
   const bool binary = hasGlbMagic(bytes) || path.extension() == ".glb" || path.extension() == ".GLB";
-  const std::string_view json = binary ? parseGlb(bytes, display).json
-                                       : std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  const GlbChunks glb = binary ? parseGlb(bytes, display) : GlbChunks{};
+  const std::string_view json =
+      binary ? glb.json : std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  if (glb.trailing > 0)
+    emitWarning(options, fmt::format("{}: GLB: {} bytes after the container's {} (its header's length) are ignored",
+                                     display, glb.trailing, glb.length));
   // tinygltf parses the text again into its own DOM and keeps a struct per element: bounded before either exists.
   const ParseBudget budget{options.maxParseBytes, 100, &tinygltfElementBytes, "LoadOptions::maxParseBytes"};
   checkGltfJson(parseJson(display, json, false, options.maxJsonValues, &budget), display);
-  return parseWithTinygltf(bytes, binary, path.parent_path(), reader, display, options);
+  return parseWithTinygltf(bytes, binary ? glb.length : bytes.size(), binary, path.parent_path(), reader, display,
+                           options);
 }
 
 // The materials the instanced meshes' primitives use (-1: some primitive has none).

@@ -3,15 +3,18 @@
 // (the glTF schema allows them); known keys must have the right type.
 #include "host/scene/gltf_schema.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <initializer_list>
 #include <numbers>
+#include <sstream>
 #include <string_view>
-
-#include <fmt/format.h>
+#include <utility>
 
 namespace penumbra::detail {
 namespace {
@@ -181,6 +184,48 @@ struct Checker {
     });
   }
 
+  // Sec. 3.6.1.1: a buffer's data URI is base64 of application/octet-stream (or application/gltf-buffer), and holds
+  // at least byteLength bytes.
+  void dataUri(const std::string& uri, uint64_t byteLength, const std::string& ptr) const {
+    const size_t comma = uri.find(',');
+    const std::string_view head = std::string_view(uri).substr(0, comma);
+    if (comma == std::string::npos ||
+        (head != "data:application/octet-stream;base64" && head != "data:application/gltf-buffer;base64"))
+      fail(ptr, fmt::format("a buffer's data URI starts \"data:application/octet-stream;base64,\" (or "
+                            "application/gltf-buffer), not \"{}\"",
+                            visible(head.substr(0, 60))));
+    const std::string_view data = std::string_view(uri).substr(comma + 1);
+    const size_t padding = data.size() - std::min(data.find_last_not_of('=') + 1, data.size());
+    for (size_t i = 0; i < data.size() - padding; ++i)
+      if (!std::isalnum(static_cast<unsigned char>(data[i])) && data[i] != '+' && data[i] != '/')
+        fail(ptr, fmt::format("its base64 holds {} at character {}", visible(data.substr(i, 1)), i));
+    if (data.size() % 4 != 0 || padding > 2)
+      fail(ptr, fmt::format("its base64 is {} characters long, not a multiple of 4 (truncated?)", data.size()));
+    const uint64_t bytes = data.size() / 4 * 3 - padding;
+    if (bytes < byteLength)
+      fail(ptr,
+           fmt::format("its base64 decodes to {} bytes, fewer than the buffer's byteLength {}", bytes, byteLength));
+  }
+
+  // glTF 2.0 sec. 5.6-5.8: an animation's structure, checked whether or not --time plays it (its keys are read then).
+  void animation(const Json& a, const std::string& p) const {
+    for (const char* key : {"channels", "samplers"}) {
+      const Json* v = get(a, key, p, true);
+      kind(a, key, p, v->is_array() && !v->empty(), "a non-empty array");
+    }
+    const size_t samplers = a["samplers"].size();
+    each(a, "samplers", p, [&](const Json& s, const std::string& sp) {
+      id(s, "input", "accessors", sp, true), id(s, "output", "accessors", sp, true), string(s, "interpolation", sp);
+    });
+    each(a, "channels", p, [&](const Json& c, const std::string& cp) {
+      const uint64_t sampler = uint(c, "sampler", cp, true);
+      if (sampler >= samplers)
+        fail(pointerTo(cp, "sampler"), fmt::format("no sampler {} in this animation (it has {})", sampler, samplers));
+      child(c, "target", cp, true,
+            [&](const Json& t, const std::string& tp) { id(t, "node", "nodes", tp), string(t, "path", tp, true); });
+    });
+  }
+
   // One of `allowed` at o[key] when present (glTF's enumerations of strings and integers).
   template <class T>
   void oneOf(const Json& o, const char* key, const std::string& ptr, std::initializer_list<T> allowed) const {
@@ -239,7 +284,11 @@ struct Checker {
         if (proj["yfov"].get<double>() >= std::numbers::pi)
           fail(pointerTo(pp, "yfov"), fmt::format("{} radians is not below pi", proj["yfov"].get<double>()));
       } else {
-        bounded(proj, "xmag", pp, true, 0.0, false), bounded(proj, "ymag", pp, true, 0.0, false);
+        for (const char* key : {"xmag", "ymag"}) {  // sec. 5.14: MUST NOT be zero, SHOULD NOT be negative
+          const Json* v = get(proj, key, pp, true);
+          kind(proj, key, pp, v->is_number() && std::isfinite(v->get<double>()) && v->get<double>() != 0.0,
+               "a finite non-zero number");
+        }
         bounded(proj, "znear", pp, true, 0.0, true), bounded(proj, "zfar", pp, true, 0.0, false);
       }
       if (proj.contains("zfar") && !(proj["zfar"].get<double>() > proj["znear"].get<double>()))
@@ -251,10 +300,29 @@ struct Checker {
   void document() const {
     object(root, "");
     child(root, "asset", "", true, [&](const Json& a, const std::string& p) {
-      string(a, "version", p, true);
+      string(a, "version", p, true), string(a, "minVersion", p);
       if (a["version"].get<std::string>().rfind("2.", 0) != 0)
         fail(pointerTo(p, "version"),
              "glTF version " + a["version"].get<std::string>() + " is not supported (2.x only)");
+      // Sec. 5.2: minVersion, when given, is at most version; a loader refuses assets whose minVersion it does not
+      // meet (this one reads 2.0).
+      if (a.contains("minVersion")) {
+        const auto parts = [&](const std::string& v, const char* key) {
+          unsigned major = 0, minor = 0;
+          char dot = 0;
+          std::istringstream in(v);
+          if (!(in >> major >> dot >> minor) || dot != '.' || !in.eof())
+            fail(pointerTo(p, key), "expected MAJOR.MINOR, got " + brief(a[key]));
+          return std::pair{major, minor};
+        };
+        const auto min = parts(a["minVersion"].get<std::string>(), "minVersion");
+        if (min > parts(a["version"].get<std::string>(), "version"))
+          fail(pointerTo(p, "minVersion"), fmt::format("{} is above version {}", a["minVersion"].get<std::string>(),
+                                                       a["version"].get<std::string>()));
+        if (min > std::pair{2u, 0u})
+          fail(pointerTo(p, "minVersion"),
+               fmt::format("the asset needs glTF {}; this loader reads 2.0", a["minVersion"].get<std::string>()));
+      }
     });
     // Every top-level array's own type first, so an index into one that is not an array ("nodes": "all") names it
     // rather than the index.
@@ -267,11 +335,18 @@ struct Checker {
     each(root, "meshes", "", [&](const Json& m, const std::string& p) { mesh(m, p); });
     each(root, "accessors", "", [&](const Json& a, const std::string& p) { accessor(a, p); });
     each(root, "bufferViews", "", [&](const Json& v, const std::string& p) {
-      id(v, "buffer", "buffers", p, true), uint(v, "byteOffset", p), uint(v, "byteStride", p), uint(v, "target", p);
+      id(v, "buffer", "buffers", p, true), uint(v, "byteOffset", p), uint(v, "target", p);
+      if (const uint64_t stride = uint(v, "byteStride", p);
+          v.contains("byteStride") && (stride < 4 || stride > 252 || stride % 4))
+        fail(pointerTo(p, "byteStride"), fmt::format("{} is not a multiple of 4 in 4..252 (sec. 5.11)", stride));
       if (uint(v, "byteLength", p, true) == 0) fail(pointerTo(p, "byteLength"), "must be at least 1");
     });
-    each(root, "buffers", "",
-         [&](const Json& b, const std::string& p) { string(b, "uri", p), uint(b, "byteLength", p, true); });
+    each(root, "buffers", "", [&](const Json& b, const std::string& p) {
+      string(b, "uri", p);
+      const uint64_t length = uint(b, "byteLength", p, true);
+      if (b.contains("uri") && b["uri"].get<std::string>().rfind("data:", 0) == 0)
+        dataUri(b["uri"].get<std::string>(), length, pointerTo(p, "uri"));
+    });
     each(root, "materials", "", [&](const Json& m, const std::string& p) { material(m, p); });
     each(root, "textures", "",
          [&](const Json& t, const std::string& p) { id(t, "sampler", "samplers", p), id(t, "source", "images", p); });
@@ -281,7 +356,7 @@ struct Checker {
     each(root, "samplers", "", [&](const Json& s, const std::string& p) { sampler(s, p); });
     each(root, "cameras", "", [&](const Json& c, const std::string& p) { camera(c, p); });
     each(root, "skins", "", [](const Json&, const std::string&) {});
-    each(root, "animations", "", [](const Json&, const std::string&) {});
+    each(root, "animations", "", [&](const Json& a, const std::string& p) { animation(a, p); });
   }
 
   // KHR_lights_punctual: tinygltf 2.7 keeps mistyped optional light properties at their defaults and reads a
@@ -309,7 +384,7 @@ struct Checker {
     const std::string type = l["type"].get<std::string>();
     if (type != "spot" && type != "directional" && type != "point")
       fail(pointerTo(p, "type"), "expected \"spot\", \"directional\" or \"point\", got " + brief(l["type"]));
-    numbers(l, "color", 3, p), number(l, "intensity", p), number(l, "range", p);
+    numbers(l, "color", 3, p), bounded(l, "intensity", p, false, 0.0, true), number(l, "range", p);
     if (l.contains("range") && !(l["range"].get<double>() > 0.0))
       fail(pointerTo(p, "range"), "must be positive (leave it out for an unlimited range)");
     if (type == "spot")

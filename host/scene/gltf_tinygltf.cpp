@@ -8,9 +8,10 @@
 #define TINYGLTF_NO_EXTERNAL_IMAGE
 #include "host/scene/gltf_tinygltf.h"
 
-#include <sstream>
-
 #include <fmt/format.h>
+
+#include <algorithm>
+#include <sstream>
 
 namespace penumbra::detail {
 namespace {
@@ -71,8 +72,9 @@ void forwardWarnings(const std::string& warn, const std::string& file, const Loa
 
 }  // namespace
 
-ParsedGltf parseWithTinygltf(const std::vector<unsigned char>& bytes, bool binary, const fs::path& root,
-                             FileReader& reader, const std::string& file, const LoadOptions& options) {
+ParsedGltf parseWithTinygltf(const std::vector<unsigned char>& bytes, size_t byteCount, bool binary,
+                             const fs::path& root, FileReader& reader, const std::string& file,
+                             const LoadOptions& options) {
   FsContext ctx{root, root.string(), &reader, {}};
   if (ctx.prefix.empty() || ctx.prefix.back() != '/') ctx.prefix += '/';
   tinygltf::TinyGLTF loader;
@@ -83,7 +85,7 @@ ParsedGltf parseWithTinygltf(const std::vector<unsigned char>& bytes, bool binar
   std::string err, warn;
   bool ok = false;
   try {
-    const auto size = static_cast<unsigned int>(bytes.size());  // callers cap files far below 4 GiB
+    const auto size = static_cast<unsigned int>(std::min(byteCount, bytes.size()));  // capped far below 4 GiB
     ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), size, root.string())
                 : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()), size,
                                              root.string());

@@ -23,10 +23,11 @@ struct ParsedGltf {
   std::map<int, std::vector<unsigned char>> dataUriImages;
 };
 
-// Parses a .gltf (binary == false) or a .glb whose container was already checked. External buffers are
-// read through `reader`, relative to `root` and contained in it. Warnings go to options.warn.
-ParsedGltf parseWithTinygltf(const std::vector<unsigned char>& bytes, bool binary, const std::filesystem::path& root,
-                             FileReader& reader, const std::string& file, const LoadOptions& options);
+// Parses the first `size` bytes: a .gltf (binary == false) or a .glb whose container was already checked. External
+// buffers are read through `reader`, relative to `root` and contained in it. Warnings go to options.warn.
+ParsedGltf parseWithTinygltf(const std::vector<unsigned char>& bytes, size_t size, bool binary,
+                             const std::filesystem::path& root, FileReader& reader, const std::string& file,
+                             const LoadOptions& options);
 
 // The struct tinygltf keeps for each element of the glTF's top-level array `array` ("accessors": sizeof(Accessor));
 // 32 bytes (a string) for the others.

@@ -70,6 +70,24 @@ def hostile_gltf():
     yield "bad-utf8.gltf", b'{"asset":{"version":"2.0","generator":"\xff\xfe"}}'
     yield "nul-uri.gltf", compact({**triangle(), "buffers": [{"byteLength": 36, "uri": "a\u0000b.bin"}]})
     yield "escape-uri.gltf", compact({**triangle(), "buffers": [{"byteLength": 36, "uri": "../../etc/passwd"}]})
+    # issue 38's verdicts by the specification, and its messages
+    tri = triangle()
+    yield "nodes-not-array.gltf", compact({**tri, "nodes": "all"})
+    yield "min-version-above.gltf", compact({**tri, "asset": {"version": "2.0", "minVersion": "2.1"}})
+    yield "byte-stride-0.gltf", compact({**tri, "bufferViews": [{"buffer": 0, "byteLength": 36, "byteStride": 0}]})
+    yield "data-uri-bad-base64.gltf", compact({**tri, "buffers": [
+        {"byteLength": 36, "uri": "data:application/octet-stream;base64,AA@A"}]})
+    yield "data-uri-text.gltf", compact({**tri, "buffers": [{"byteLength": 36, "uri": "data:text/plain;base64,AAAA"}]})
+    yield "light-negative-intensity.gltf", compact({**tri, "extensions": {"KHR_lights_punctual": {
+        "lights": [{"type": "point", "intensity": -1}]}}})
+    yield "animation-bad-sampler.gltf", compact({**tri, "animations": [{
+        "channels": [{"sampler": 3, "target": {"node": 0, "path": "translation"}}],
+        "samplers": [{"input": 0, "output": 0}]}]})
+    yield "dotdot-inside.gltf", compact({**tri, "buffers": [{"byteLength": 36, "uri": "sub/../a.bin"}]})
+    js = json.dumps(tri, separators=(",", ":")).encode()
+    yield "glb-json-bom.glb", glb(tri)[:20] + b"\xef\xbb\xbf" + glb(tri)[23:]
+    yield "glb-json-nul-padding.glb", glb(tri)[:20 + len(js)] + b"\0" * (-len(js) % 4) + glb(tri)[20 + len(js) + (-len(js) % 4):]
+    yield "glb-trailing-bytes.glb", glb(tri) + b"trailing"
 
 
 def hostile_scene_files():
