@@ -99,6 +99,13 @@ def hostile_scene_files():
                                                                                  "size": [16384, 16384]}}
     yield "builtin.json", {"builtin": [{"name": "box"}], "lights": [{"type": "point", "position": [0, 5, 0]}]}
     yield "escape.json", {"models": [{"path": "../../../etc/passwd"}]}
+    # issue 38: checked whole before any geometry, radii bounded, NULs shown
+    yield "poles-8-million.json", {"procedural": [{"name": "poles", "rows": 1000, "columns": 1000}] * 8}
+    yield "misspelled-after-poles.json", {"procedural": [{"name": "poles", "rows": 1000, "columns": 1000}],
+                                          "lightz": []}
+    yield "radius-1e300.json", {"models": [{"path": "triangle.gltf"}],
+                                "lights": [{"type": "point", "position": [0, 5, 0], "radius": 1e300}]}
+    yield "nul-path.json", {"models": [{"path": "tri\u0000angle.gltf"}]}
 
 
 CLI_SEEDS = [
@@ -106,6 +113,7 @@ CLI_SEEDS = [
     (1, "64x48"), (2, "spot:0,5,0:0,0,0:60:0.5"), (2, "dir:0.3,-1,-0.6:1"), (2, "point:0,3,0:0.2"),
     (3, "4GiB"), (3, "1.5g"), (3, "0x10"), (4, "2"), (4, "trilinear"), (4, "0.2,0.5"), (4, "-1e309"),
     (5, "box"), (5, "steps:count=4"), (5, "nope:x=1"),
+    (2, "spot:0,5,0:0,0,0:60:1e30"), (2, "point:0,5,0:1e300"), (0, "0,1,0:0,1,1e-30"), (4, "nan"),
 ]
 
 
