@@ -14,6 +14,7 @@
 #include "tools/eval/shimmer.h"
 #include "host/io/atomic_file.h"
 #include "host/io/bounded_read.h"
+#include "tools/cli/input_limits.h"
 #include "host/pipeline/renderer.h"
 #include "host/scene/light_names.h"
 #include "tools/cli/camera_path.h"

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "host/io/bounded_read.h"
+#include "tools/cli/input_limits.h"
 #include "host/io/exr.h"
 
 namespace penumbra::cli {

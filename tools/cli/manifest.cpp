@@ -16,6 +16,7 @@
 
 #include "host/cl/context.h"
 #include "host/io/bounded_read.h"
+#include "tools/cli/input_limits.h"
 #include "host/scene/load.h"
 #include "host/version.h"
 #include "tools/cli/commands.h"
