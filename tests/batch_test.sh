@@ -33,6 +33,12 @@ cat >"$s/keys.json" <<'JSON'
  "output": "k{frame}.exr"}
 JSON
 expect plan-keyframes 0 "wrote 5 jobs" -- "$bin" plan "$s/keys.json" -o "$s/keys.jsonl"
+# The docs' own usage, run in the sweep's folder: `-o` with no folder part and a scene path relative to the sweep
+# (fs::absolute("") failed: "cannot make absolute path: Invalid argument").
+mkdir -p "$s/bare/sub"
+printf '{"procedural": [{"name": "box"}]}' >"$s/bare/box.json"
+printf '{"scene": "sub/../box.json", "size": "32x24", "output": "b.exr"}' >"$s/bare/sweep.json"
+expect plan-bare-output 0 '"scene":"box.json"' -- bash -c "cd '$s/bare' && '$bin' plan sweep.json -o jobs.jsonl -q && cat jobs.jsonl"
 expect plan-keyframe-mid 0 '"time":1.25,"camera":"2,2,8:0,0.5,0:50","output":"k1.exr"' -- sed -n 2p "$s/keys.jsonl"
 expect plan-keyframe-held 0 '"time":2.0,"camera":"4,2,8:0,1,0:60","output":"k4.exr"' -- sed -n 5p "$s/keys.jsonl"
 printf '{"scene": "builtin:box", "technique": ["sm", "nope"], "output": "{technique}.exr"}' >"$s/bad-sweep.json"

@@ -85,8 +85,13 @@ std::string manifestText(const std::vector<ordered_json>& jobs, const PlanOption
 
 int run(const PlanOptions& o) {
   ordered_json sweep = readSweep(o.sweep);
-  const fs::path manifestDir = fs::path(o.output).parent_path();
-  rebaseScenes(sweep, fs::path(o.sweep).parent_path(), manifestDir);
+  // A bare file name's folder is the working directory ("": fs::absolute refuses it).
+  const auto folderOf = [](const std::string& file) {
+    const fs::path parent = fs::path(file).parent_path();
+    return parent.empty() ? fs::path(".") : parent;
+  };
+  const fs::path manifestDir = folderOf(o.output);
+  rebaseScenes(sweep, folderOf(o.sweep), manifestDir);
   std::vector<ordered_json> jobs;
   try {
     jobs = expandSweep(sweep);
