@@ -206,4 +206,21 @@ else
   echo "shimmer-chart skipped: no matplotlib"
 fi
 
+# A full disk (an output written through a link to /dev/full): that job fails with exit 75 in its record, the shard
+# stops at once with exit 75 instead of failing every job after it, and a run with space completes it.
+mkdir -p "$s/full/out"
+for i in 0 1 2 3 4; do
+  echo "{\"scene\": \"builtin:box\", \"size\": \"32x24\", \"map-size\": 64, \"png\": \"none\", \"output\": \"j$i.exr\", \"light\": \"spot:0,5,$i:0,0,0:60\"}"
+done >"$s/full/jobs.jsonl"
+ln -s /dev/full "$s/full/out/j1.exr"
+expect full-disk-stops 75 'jobs: 2 rendered, 0 skipped, 1 failed, 2 left \(the storage refused a write: .*j1.exr: .*No space left on device' \
+  -- "$bin" run "$s/full/jobs.jsonl" --out "$s/full/out"
+expect full-disk-record 0 '"exit":75' -- grep -h '"state":"failed"' "$s/full/out/penumbra-status/shard-0-of-1.jsonl"
+rm "$s/full/out/j1.exr"
+expect full-disk-rerun 0 'jobs: 3 rendered, 2 skipped, 0 failed' -- "$bin" run "$s/full/jobs.jsonl" --out "$s/full/out"
+# The status log on a full disk: exit 75 (it used to be 1, a code the docs did not list), naming the log.
+mkdir -p "$s/full/log/penumbra-status" && ln -s /dev/full "$s/full/log/penumbra-status/shard-0-of-1.jsonl"
+expect full-disk-status-log 75 'shard-0-of-1.jsonl: cannot append status records: No space left on device' \
+  -- "$bin" run "$s/full/jobs.jsonl" --out "$s/full/log"
+
 finish

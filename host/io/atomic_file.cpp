@@ -74,6 +74,8 @@ OutputTarget resolveOutputTarget(const std::filesystem::path& requested) {
   }
 }
 
+bool isStorageError(int e) { return e == ENOSPC || e == EDQUOT || e == EIO; }
+
 PendingFile::PendingFile(std::filesystem::path target)
     : target_(std::move(target)), resolved_(resolveOutputTarget(target_)) {
   if (resolved_.mode == OutputMode::kReplace) temp_ = tempPathFor(resolved_.path);
@@ -82,8 +84,9 @@ PendingFile::PendingFile(std::filesystem::path target)
   stream_.open(opened, std::ios::binary | std::ios::trunc);
   if (!stream_.is_open()) {
     const int error = errno;
-    throw std::runtime_error(fmt::format("{}: cannot {} file: {}", target_.string(),
-                                         temp_.empty() ? "open" : "create", reason(error, "unknown error")));
+    throw OutputError(fmt::format("{}: cannot {} file: {}", target_.string(), temp_.empty() ? "open" : "create",
+                                  reason(error, "unknown error")),
+                      error);
   }
 }
 
@@ -111,10 +114,13 @@ void PendingFile::finish() {
   stream_.close();
   if (error == 0) error = errno;
   if (!flushed || stream_.fail())
-    throw std::runtime_error(fmt::format("{}: write failed: {}", target_.string(), reason(error, "stream error")));
+    throw OutputError(fmt::format("{}: write failed: {}", target_.string(), reason(error, "stream error")), error);
   if (!temp_.empty()) {
-    if (!syncPath(temp_, O_RDONLY))
-      throw std::runtime_error(fmt::format("{}: cannot sync to disk: {}", target_.string(), reason(errno, "?")));
+    if (!syncPath(temp_, O_RDONLY)) {
+      const int syncError = errno;
+      throw OutputError(fmt::format("{}: cannot sync to disk: {}", target_.string(), reason(syncError, "?")),
+                        syncError);
+    }
     // A replaced file keeps its permissions (a new one gets the umask's).
     std::error_code old;
     const auto status = std::filesystem::status(resolved_.path, old);
@@ -130,7 +136,7 @@ void PendingFile::commit() {
     std::error_code error;
     std::filesystem::rename(temp_, resolved_.path, error);
     if (error)
-      throw std::runtime_error(fmt::format("{}: cannot replace file: {}", target_.string(), error.message()));
+      throw OutputError(fmt::format("{}: cannot replace file: {}", target_.string(), error.message()), error.value());
     // The rename itself on disk: best effort (some file systems refuse a directory's fsync).
     const std::filesystem::path parent = resolved_.path.has_parent_path() ? resolved_.path.parent_path() : ".";
     syncPath(parent, O_RDONLY | O_DIRECTORY);

@@ -10,10 +10,27 @@
 #include <fstream>
 #include <memory>
 #include <span>
+#include <stdexcept>
+#include <string>
 #include <string_view>
 #include <vector>
 
 namespace penumbra {
+
+// A write that the system refused: the message names the path and the reason; errorNumber() is errno (0 when none is
+// known), so callers can tell a full disk (ENOSPC, EDQUOT) or a failing device (EIO) from a bad path.
+class OutputError : public std::runtime_error {
+ public:
+  OutputError(const std::string& what, int errorNumber) : std::runtime_error(what), errorNumber_(errorNumber) {}
+  int errorNumber() const { return errorNumber_; }
+
+ private:
+  int errorNumber_;
+};
+
+// Whether errno `e` says the storage, not the job, failed: no space, a quota, an I/O error. Running again later (or
+// elsewhere) can succeed.
+bool isStorageError(int e);
 
 // How an output path is written, from what is at the path now (symlinks followed).
 enum class OutputMode {

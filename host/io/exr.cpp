@@ -279,7 +279,8 @@ void writeExr(const std::filesystem::path& path, const ImageRows& image, const E
       output.writePixels(rows);
     }
   } catch (const Iex::BaseExc& e) {  // the destructor of OutputFile has written the offset table
-    fail(path, fmt::format("cannot write EXR: {}", e.what()));
+    const int error = errno;         // the failed write's, which OpenEXR's message spells out
+    throw OutputError(fmt::format("{}: cannot write EXR: {}", path.string(), e.what()), error);
   }
   commitOrDefer(std::move(file), options.commitGroup);
 }

@@ -89,7 +89,7 @@ class PngRowWriter {
 
  private:
   [[noreturn]] void fail(const char* why) const {
-    throw std::runtime_error(fmt::format("{}: cannot write PNG: {}", target_.string(), why));
+    throw OutputError(fmt::format("{}: cannot write PNG: {}", target_.string(), why), writeErrno_);
   }
   static PngRowWriter& self(png_structp png) { return *static_cast<PngRowWriter*>(png_get_error_ptr(png)); }
   static void onError(png_structp png, png_const_charp message) {
@@ -101,6 +101,7 @@ class PngRowWriter {
     PendingFile& file = *static_cast<PngRowWriter*>(png_get_io_ptr(png))->file_;
     if (!file.write(data, size)) {
       const int error = errno;
+      static_cast<PngRowWriter*>(png_get_io_ptr(png))->writeErrno_ = error;
       char why[160];
       std::snprintf(why, sizeof(why), "write failed: %s", error != 0 ? std::strerror(error) : "stream error");
       png_error(png, why);
@@ -133,6 +134,7 @@ class PngRowWriter {
 
   std::filesystem::path target_;
   std::unique_ptr<PendingFile> file_;
+  int writeErrno_ = 0;  // errno of a failed write, for OutputError
   int width_, components_;
   Encoder png_;
   char message_[256] = "unknown libpng error";

@@ -5,14 +5,18 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <climits>
+#include <cstring>
 #include <sstream>
 #include <stdexcept>
 
+#include "host/io/atomic_file.h"
 #include "host/io/bounded_read.h"
-#include "tools/cli/input_limits.h"
 #include "host/io/exr.h"
+#include "tools/cli/commands.h"
+#include "tools/cli/input_limits.h"
 
 namespace penumbra::cli {
 namespace {
@@ -53,18 +57,31 @@ json toJson(const StatusRecord& r) {
 
 fs::path statusFolder(const fs::path& outDir) { return outDir / "penumbra-status"; }
 
+namespace {
+
+// The log cannot take a record: exit 75 when the storage is at fault (full, a quota, I/O: run again), else 74.
+[[noreturn]] void failAppend(const fs::path& path, int error) {
+  throw CommandError(isStorageError(error) ? kExitRetryable : kExitStatusLog,
+                     fmt::format("{}: cannot append status records: {}", path.string(),
+                                 error != 0 ? std::strerror(error) : "stream error"));
+}
+
+}  // namespace
+
 StatusLog::StatusLog(const fs::path& outDir, const std::string& shardLabel)
     : path_(statusFolder(outDir) / fmt::format("shard-{}.jsonl", shardLabel)), host_(hostName()) {
   std::error_code error;
   fs::create_directories(path_.parent_path(), error);
+  errno = 0;
   out_.open(path_, std::ios::app);
-  if (!out_) throw std::runtime_error(fmt::format("{}: cannot append status records", path_.string()));
+  if (!out_) failAppend(path_, errno);
 }
 
 void StatusLog::append(StatusRecord record) {
   record.host = host_, record.time = utcNow();
+  errno = 0;
   out_ << toJson(record).dump() << '\n' << std::flush;
-  if (!out_) throw std::runtime_error(fmt::format("{}: cannot append status records", path_.string()));
+  if (!out_) failAppend(path_, errno);
 }
 
 std::map<std::string, StatusRecord> latestRecords(const fs::path& outDir) {

@@ -19,6 +19,7 @@ namespace penumbra::cli {
 // running again (interrupted, or not started before --time-limit).
 inline constexpr int kExitPermanent = 65;  // EX_DATAERR
 inline constexpr int kExitRetryable = 75;  // EX_TEMPFAIL
+inline constexpr int kExitStatusLog = 74;  // EX_IOERR: the status log cannot be written (not for lack of space)
 
 inline constexpr const char* kJobIdAttribute = "penumbra:job-id";
 

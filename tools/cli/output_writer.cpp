@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "host/io/atomic_file.h"
+
 namespace penumbra::cli {
 
 OutputWriter::~OutputWriter() {
@@ -17,13 +19,15 @@ void OutputWriter::start(ImageOutputPlan plan, Image image) {
                         [plan = std::move(plan), image = std::move(image)] { writeImageOutput(plan, image); });
 }
 
-std::string OutputWriter::finish() {
+OutputWriter::Outcome OutputWriter::finish() {
   if (!pending_.valid()) return {};
   try {
     pending_.get();
     return {};
+  } catch (const OutputError& e) {
+    return {e.what(), e.errorNumber()};
   } catch (const std::exception& e) {
-    return e.what();
+    return {e.what(), 0};
   }
 }
 

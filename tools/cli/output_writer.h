@@ -20,8 +20,14 @@ class OutputWriter {
 
   // Starts writing (writeImageOutput) on a thread; the previous write must have been collected with finish().
   void start(ImageOutputPlan plan, Image image);
-  // Waits for the write in flight; its error message, "" when it succeeded (or there was none).
-  std::string finish();
+  // How the write in flight ended: its error message ("" when it succeeded, or there was none) and errno when the
+  // system refused it (OutputError), 0 otherwise.
+  struct Outcome {
+    std::string error;
+    int errorNumber = 0;
+  };
+  // Waits for the write in flight.
+  Outcome finish();
 
  private:
   std::future<void> pending_;

@@ -2,9 +2,11 @@
 // process on one OpenCL context (kernels built once), the scenes and their Renderers kept between jobs (buffers
 // reused). Outputs are written through temporary files and carry the job id; a job whose output already carries it
 // is skipped. Each outcome is a status record (job_status.h). Exit 0 all done, 65 a job failed for good, 75 stopped
-// early (SIGTERM/SIGINT, --time-limit): run again.
+// early (SIGTERM/SIGINT, --time-limit, a write the storage refused: ENOSPC, EDQUOT, EIO): run again; 74 the status
+// log cannot be written for another reason.
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -13,9 +15,8 @@
 #include <optional>
 #include <set>
 
-#include <CLI/CLI.hpp>
-
 #include "host/cl/error.h"
+#include "host/io/atomic_file.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/job_status.h"
 #include "tools/cli/output_writer.h"
@@ -51,6 +52,7 @@ struct Batch {
   OutputWriter writer;                  // the last rendered job's outputs, written while the next one renders
   std::optional<StatusRecord> writing;  // that job's record, appended once its outputs are written
   Clock::time_point writingSince;       // when that job started
+  std::string storageError;             // a write the storage refused (full, quota, I/O): the shard stops
 };
 
 // A rendered job's outputs, for the writer.
@@ -181,12 +183,15 @@ void settleWrite(Batch& batch) {
   if (!batch.writing) return;
   StatusRecord record = std::move(*batch.writing);
   batch.writing.reset();
-  if (const std::string error = batch.writer.finish(); !error.empty())
-    record.state = "failed", record.exit = kExitPermanent, record.error = record.where + ": " + error;
+  if (const OutputWriter::Outcome written = batch.writer.finish(); !written.error.empty()) {
+    record.state = "failed", record.exit = kExitPermanent, record.error = record.where + ": " + written.error;
+    // No space, a quota, an I/O error: not the job's fault, and every job after it would fail alike.
+    if (isStorageError(written.errorNumber)) record.exit = kExitRetryable, batch.storageError = written.error;
+  }
   finishJob(batch, std::move(record), batch.writingSince);
 }
 
-enum class Stop { None, Signal, TimeLimit, Failures };
+enum class Stop { None, Signal, TimeLimit, Failures, Storage };
 
 // Runs the jobs until done, a stop signal, the deadline or too many failures; counts the jobs left. Job k renders
 // while job k-1's outputs are written.
@@ -198,6 +203,7 @@ Stop renderJobs(Batch& batch, const std::vector<const ManifestJob*>& jobs, const
     if (stop.requested()) return Stop::Signal;
     if (batch.timeLimit > 0 && elapsed + batch.longestJob > batch.timeLimit) return Stop::TimeLimit;
     if (batch.options.maxFailures > 0 && batch.failed >= batch.options.maxFailures) return Stop::Failures;
+    if (!batch.storageError.empty()) return Stop::Storage;
     const Clock::time_point since = Clock::now();
     std::optional<Rendered> rendered;
     StatusRecord record = runJob(batch, *jobs[i], rendered);
@@ -216,7 +222,7 @@ Stop renderJobs(Batch& batch, const std::vector<const ManifestJob*>& jobs, const
 Stop runJobs(Batch& batch, const std::vector<const ManifestJob*>& jobs, const StopSignals& stop, size_t& left) {
   const Stop result = renderJobs(batch, jobs, stop, left);
   settleWrite(batch);
-  return result;
+  return result == Stop::None && !batch.storageError.empty() ? Stop::Storage : result;
 }
 
 int run(const RunOptions& o) {
@@ -237,11 +243,13 @@ int run(const RunOptions& o) {
   const std::string why = stop == Stop::Signal      ? fmt::format(", {} left ({})", left, signals.name())
                           : stop == Stop::TimeLimit ? fmt::format(", {} left (--time-limit {})", left, o.timeLimit)
                           : stop == Stop::Failures  ? fmt::format(", {} left (--max-failures {})", left, o.maxFailures)
-                                                    : "";
+                          : stop == Stop::Storage
+                              ? fmt::format(", {} left (the storage refused a write: {})", left, batch.storageError)
+                              : "";
   if (!o.quiet || stop != Stop::None || batch.failed)
     fmt::print(stderr, "penumbra run: shard {}: {} jobs: {} rendered, {} skipped, {} failed{}\n", shard.label(),
                mine.size(), batch.rendered, batch.skipped, batch.failed, why);
-  if (stop == Stop::Signal || stop == Stop::TimeLimit) return kExitRetryable;
+  if (stop == Stop::Signal || stop == Stop::TimeLimit || stop == Stop::Storage) return kExitRetryable;
   return batch.failed ? kExitPermanent : 0;
 }
 
