@@ -81,7 +81,7 @@ for i in 0 1 2; do
   expect "run-shard-$i" 0 "shard $i-of-3: 2 jobs: 2 rendered, 0 skipped, 0 failed" -- env SLURM_ARRAY_TASK_ID=$i \
     SLURM_ARRAY_TASK_COUNT=3 "$bin" run "$s/jobs.jsonl" --out "$s/out" --shard auto
 done
-expect status-done 0 "6 jobs: 6 done, 0 failed, 0 missing" -- "$bin" status "$s/jobs.jsonl" --out "$s/out"
+expect status-done 0 "6 jobs: 6 done, 0 stale, 0 failed, 0 missing" -- "$bin" status "$s/jobs.jsonl" --out "$s/out"
 expect status-json 0 '"done": 6' -- "$bin" status "$s/jobs.jsonl" --out "$s/out" --json
 expect records 0 '^6$' -- bash -c "cat '$s'/out/penumbra-status/shard-*-of-3.jsonl | grep -c '\"state\":\"done\"'"
 expect record-fields 0 '"exit":0.*"host":".+".*"seconds":' -- head -n 1 "$s/out/penumbra-status/shard-0-of-3.jsonl"
@@ -104,8 +104,19 @@ expect no-skip 0 "1 jobs: 1 rendered" -- "$bin" run "$s/jobs.jsonl" --out "$s/ou
 sed 's/"map-size":64/"map-size":128/' "$s/jobs.jsonl" | sed 's/"id":"[0-9a-f]*",//' >"$s/changed.jsonl"
 expect changed-job-renders 0 "6 jobs: 6 rendered, 0 skipped" -- "$bin" run "$s/changed.jsonl" --out "$s/out"
 sed 's/"id":"[0-9a-f]\{4\}/"id":"0000/' "$s/jobs.jsonl" | head -n 1 >"$s/stale.jsonl"
+# status checks the ids as the jobs are now, not as the manifest says: a stale line (exit 65, plan again), outputs
+# that another job made (the changed map size above rendered over them: exit 75, run again).
+printf '{"device":"torn","exit":0,"id":"ab' >>"$s/out/penumbra-status/shard-0-of-1.jsonl"  # a crash mid-append
 expect stale-id 65 "stale.jsonl:1: id 0000.* in the manifest, .* for the job now: .*plan again" -- \
   "$bin" run "$s/stale.jsonl" --out "$s/out"
+expect torn-record-stands-alone 0 '^stale.jsonl:1 65$' -- python3 -c \
+  "import json,sys; r=json.loads(open(sys.argv[1]).read().splitlines()[-1]); print(r['where'].split('/')[-1], r['exit'])" \
+  "$s/out/penumbra-status/shard-0-of-1.jsonl"
+expect status-stale-line 65 "1 jobs: 0 done, 1 stale, 0 failed, 0 missing" -- "$bin" status "$s/stale.jsonl" --out "$s/out"
+expect status-stale-line-says 65 "stale +.*stale.jsonl:1: id 0000.* plan again" -- "$bin" status "$s/stale.jsonl" --out "$s/out"
+expect status-stale-outputs 75 "6 jobs: 0 done, 6 stale, 0 failed, 0 missing" -- "$bin" status "$s/jobs.jsonl" --out "$s/out"
+expect status-stale-output-says 75 "stale +.*jobs.jsonl:1: sm/frame00.exr was made by job [0-9a-f]{16}, not this job's" -- \
+  "$bin" status "$s/jobs.jsonl" --out "$s/out"
 
 # Malformed manifests and lines: each bad line fails alone, named by its line; the good ones render.
 expect manifest-missing 66 "nope.jsonl: cannot read the manifest" -- "$bin" run "$s/nope.jsonl" --out "$s/bad"
@@ -148,7 +159,7 @@ expect bad-missing-scene 0 "bad.jsonl:14: .*missing.gltf" -- echo "$out"
 # A preview named like another job's EXR would turn that EXR into a PNG: refused when the manifest is read.
 expect bad-duplicate-key 0 'bad.jsonl:16: duplicate key "technique"' -- echo "$out"
 expect bad-preview-over-output 0 "bad.jsonl:15: preview .*/bad/good.exr is line 1's output good.exr" -- echo "$out"
-expect status-failed 65 "15 jobs: 1 done, 14 failed, 0 missing" -- "$bin" status "$s/bad.jsonl" --out "$s/bad"
+expect status-failed 65 "15 jobs: 1 done, 0 stale, 14 failed, 0 missing" -- "$bin" status "$s/bad.jsonl" --out "$s/bad"
 expect max-failures 65 "2 failed, [0-9]+ left \(--max-failures 2\)" -- "$bin" run "$s/bad.jsonl" --out "$s/bad2" --max-failures 2
 # --only-failed: the missing scene appears (a copy of a glTF with a camera), only its job runs again.
 cp "$(dirname "$0")/data/scenes/triangle.bin" "$s/triangle.bin"
@@ -161,7 +172,7 @@ printf '{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "n
   {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]}' >"$s/missing.gltf"
 expect only-failed 65 "14 jobs: 1 rendered, 0 skipped, 13 failed" -- "$bin" run "$s/bad.jsonl" --out "$s/bad" --only-failed
 expect only-failed-done 0 "wrote|" -- "$exr_equal" "$s/bad/missing.exr" "$s/bad/missing.exr"
-expect status-missing 75 "6 jobs: 0 done, 0 failed, 6 missing" -- "$bin" status "$s/jobs.jsonl" --out "$s/empty-out"
+expect status-missing 75 "6 jobs: 0 done, 0 stale, 0 failed, 6 missing" -- "$bin" status "$s/jobs.jsonl" --out "$s/empty-out"
 
 # SIGTERM mid-run: the current job finishes, nothing partial is left under a final name, exit 75; a rerun completes.
 for i in $(seq 0 23); do
@@ -177,7 +188,7 @@ expect sigterm-summary 0 "rendered, 0 skipped, 0 failed, [0-9]+ left \(SIGTERM\)
 expect sigterm-no-temp 0 '^0$' -- bash -c "find '$s/term' -name '*.tmp-*' | wc -l"
 expect sigterm-outputs-whole 0 '' -- bash -c "for f in '$s'/term/seq/*.exr; do grep -aq penumbra:job-id \"\$f\" || exit 1; \
   '$exr_equal' \"\$f\" \"\$f\" visibility.Y >/dev/null || exit 1; done"
-expect sigterm-status 75 "24 jobs: [0-9]+ done, 0 failed, [0-9]+ missing" -- "$bin" status "$s/long.jsonl" --out "$s/term"
+expect sigterm-status 75 "24 jobs: [0-9]+ done, 0 stale, 0 failed, [0-9]+ missing" -- "$bin" status "$s/long.jsonl" --out "$s/term"
 : >"$s/term/seq/23.exr.tmp-0123456789abcdef"  # what a SIGKILL while writing leaves; a stranger's file stays
 : >"$s/term/seq/notes.tmp-1"
 expect sigterm-rerun 0 "24 jobs: [0-9]+ rendered, [1-9][0-9]* skipped, 0 failed" -- "$bin" run "$s/long.jsonl" --out "$s/term"

@@ -91,7 +91,7 @@ submit() {  # submit MANIFEST OUT [sbatch options]: the array job's id
     "$s/shard.sh" "$manifest" "$out"
 }
 expect sbatch-wait 0 '^[0-9]+$' -- timeout 120 bash -c "$(declare -f submit); s='$s' submit '$s/jobs.jsonl' '$s/out' --wait"
-expect slurm-status 0 "8 jobs: 8 done, 0 failed, 0 missing" -- "$bin" status "$s/jobs.jsonl" --out "$s/out"
+expect slurm-status 0 "8 jobs: 8 done, 0 stale, 0 failed, 0 missing" -- "$bin" status "$s/jobs.jsonl" --out "$s/out"
 expect slurm-shard-files 0 '^4$' -- bash -c "ls '$s'/out/penumbra-status/shard-?-of-4.jsonl | wc -l"
 expect slurm-hosts 0 "\"host\":\"$host\"" -- cat "$s/out/penumbra-status/shard-0-of-4.jsonl"
 expect slurm-outputs 0 '^8$' -- bash -c "ls '$s'/out/f0?.exr | wc -l"
@@ -111,8 +111,8 @@ for _ in $(seq 1 300); do [ -z "$(squeue -h -j "$job" 2>/dev/null)" ] && break; 
 expect scancel-gone 0 '^$' -- squeue -h -j "$job"
 expect scancel-sigterm 0 "left \(SIGTERM\)" -- cat "$s"/jobs/"$job"_*.out
 expect scancel-no-partial 0 '^0$' -- bash -c "find '$s/cancel' -name '*.tmp-*' | wc -l"
-expect scancel-missing 75 "80 jobs: [0-9]+ done, 0 failed, [1-9][0-9]* missing" -- "$bin" status "$s/long.jsonl" --out "$s/cancel"
+expect scancel-missing 75 "80 jobs: [0-9]+ done, 0 stale, 0 failed, [1-9][0-9]* missing" -- "$bin" status "$s/long.jsonl" --out "$s/cancel"
 expect scancel-resubmit 0 '^[0-9]+$' -- timeout 150 bash -c "$(declare -f submit); s='$s' submit '$s/long.jsonl' '$s/cancel' --wait"
-expect scancel-complete 0 "80 jobs: 80 done, 0 failed, 0 missing" -- "$bin" status "$s/long.jsonl" --out "$s/cancel"
+expect scancel-complete 0 "80 jobs: 80 done, 0 stale, 0 failed, 0 missing" -- "$bin" status "$s/long.jsonl" --out "$s/cancel"
 
 finish

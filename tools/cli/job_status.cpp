@@ -9,6 +9,7 @@
 #include <chrono>
 #include <climits>
 #include <cstring>
+#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
@@ -72,8 +73,15 @@ StatusLog::StatusLog(const fs::path& outDir, const std::string& shardLabel)
     : path_(statusFolder(outDir) / fmt::format("shard-{}.jsonl", shardLabel)), host_(hostName()) {
   std::error_code error;
   fs::create_directories(path_.parent_path(), error);
+  // A record torn by a crash mid-append ends without a newline: the next record starts on a line of its own.
+  bool torn = false;
+  if (std::ifstream last(path_, std::ios::binary | std::ios::ate); last && last.tellg() > 0) {
+    last.seekg(-1, std::ios::end);
+    torn = last.get() != '\n';
+  }
   errno = 0;
   out_.open(path_, std::ios::app);
+  if (torn) out_ << '\n' << std::flush;
   if (!out_) failAppend(path_, errno);
 }
 
@@ -91,14 +99,19 @@ std::map<std::string, StatusRecord> latestRecords(const fs::path& outDir) {
     if (entry.path().extension() != ".jsonl") continue;
     std::istringstream in(readBoundedFile(entry.path(), kMaxStatusLogBytes, "the status log"));
     for (std::string line; std::getline(in, line);) {
-      try {
-        const StatusRecord record = fromJson(json::parse(line));
-        for (const std::string& key : {record.id, record.where}) {
-          if (key.empty()) continue;
-          auto [it, fresh] = latest.emplace(key, record);
-          if (!fresh && it->second.time <= record.time) it->second = record;
+      // A line cut short by a kill is not a record; one that a record was appended to without a newline (logs
+      // written before the writer ended torn lines) still holds that record after the fragment.
+      for (size_t start = 0; start != std::string::npos; start = line.find("{\"", start + 1)) {
+        try {
+          const StatusRecord record = fromJson(json::parse(std::string_view(line).substr(start)));
+          for (const std::string& key : {record.id, record.where}) {
+            if (key.empty()) continue;
+            auto [it, fresh] = latest.emplace(key, record);
+            if (!fresh && it->second.time <= record.time) it->second = record;
+          }
+          break;
+        } catch (const json::exception&) {
         }
-      } catch (const json::exception&) {  // a line cut short by a kill: not a record
       }
     }
   }

@@ -1,6 +1,8 @@
-// `penumbra status jobs.jsonl --out DIR [--json]`: each job done (its output carries its id), failed (a bad line, or
-// its latest status record a failure) or missing; a summary, the failed and missing jobs, and the exit code: 0
-// everything done, 65 a job failed, 75 only missing ones (run again).
+// `penumbra status jobs.jsonl --out DIR [--json]`: each job done (its output carries the id the job has now: its
+// scene's files and options as they are, hashed as `run` does), stale (the manifest's id is not the job's now: plan
+// again; or its output was made by another job or an older state of it), failed (a bad line, or its latest status
+// record a failure) or missing; a summary, the jobs not done, and the exit code: 0 everything done, 65 a job failed
+// or its manifest line is stale, 75 only missing jobs or stale outputs (run again).
 #include <fmt/format.h>
 
 #include <iostream>
@@ -25,28 +27,38 @@ struct StatusOptions {
 
 struct JobState {
   const ManifestJob* job;
-  std::string id, state, error;  // state: done, failed, missing
+  std::string id, state, error;  // state: done, stale, failed, missing
   const StatusRecord* record = nullptr;
+  bool replan = false;  // stale because the manifest's id is not the job's now
 };
-
-// A line without an id gets the one `run` would compute (its scene loaded for the digest).
-std::string currentId(const ManifestJob& job, SceneCache& scenes) {
-  if (!job.id.empty()) return job.id;
-  return jobId(job, scenes.digest(job.options.view));
-}
 
 JobState stateOf(const ManifestJob& job, const std::map<std::string, StatusRecord>& records, SceneCache& scenes,
                  const fs::path& out) {
   JobState s{&job, job.id, "failed", job.error};
   if (!job.error.empty()) return s;
   try {
-    s.id = currentId(job, scenes);
+    s.id = jobId(job, scenes.digest(job.options.view));  // as `run` computes it: the scene's files as they are now
   } catch (const std::exception& e) {
     return s.error = job.where + ": " + e.what(), s;
   }
   s.record = findRecord(records, s.id, job.where);
-  if (outputJobId(out / job.output) == s.id) return s.state = "done", s;
+  if (!job.id.empty() && job.id != s.id) {
+    s.state = "stale", s.replan = true;
+    s.error = fmt::format(
+        "{}: id {} in the manifest, {} for the job now: its scene's files or penumbra's version "
+        "changed since it was planned (run penumbra plan again)",
+        job.where, job.id, s.id);
+    return s;
+  }
+  const std::string made = outputJobId(out / job.output);
+  if (made == s.id) return s.state = "done", s;
   if (s.record && s.record->state == "failed") return s.error = s.record->error, s;
+  if (!made.empty()) {
+    s.state = "stale";
+    s.error = fmt::format("{}: {} was made by job {}, not this job's {} (run again to render it)", job.where,
+                          job.output, made, s.id);
+    return s;
+  }
   s.state = "missing";
   return s;
 }
@@ -59,10 +71,10 @@ json toJson(const JobState& s) {
 }
 
 void printText(const StatusOptions& o, const std::vector<JobState>& states, const std::map<std::string, size_t>& n) {
-  fmt::print("{}: {} jobs: {} done, {} failed, {} missing\n", o.manifest, states.size(), n.at("done"), n.at("failed"),
-             n.at("missing"));
+  fmt::print("{}: {} jobs: {} done, {} stale, {} failed, {} missing\n", o.manifest, states.size(), n.at("done"),
+             n.at("stale"), n.at("failed"), n.at("missing"));
   for (const JobState& s : states) {
-    if (s.state == "failed") fmt::print("  failed  {}\n", s.error);
+    if (s.state == "failed" || s.state == "stale") fmt::print("  {:<7} {}\n", s.state, s.error);
     if (s.state == "missing") fmt::print("  missing {} ({})\n", s.job->where, s.job->output);
   }
 }
@@ -72,29 +84,31 @@ int run(const StatusOptions& o) {
   const std::map<std::string, StatusRecord> records = latestRecords(o.out);
   SceneCache scenes;
   std::vector<JobState> states;
-  std::map<std::string, size_t> counts{{"done", 0}, {"failed", 0}, {"missing", 0}};
+  std::map<std::string, size_t> counts{{"done", 0}, {"stale", 0}, {"failed", 0}, {"missing", 0}};
+  bool replan = false;
   for (const ManifestJob& job : jobs) {
     states.push_back(stateOf(job, records, scenes, o.out));
     ++counts[states.back().state];
+    replan |= states.back().replan;
   }
   if (o.json) {
-    json report = {{"manifest", o.manifest},     {"out", o.out},
-                   {"jobs", states.size()},      {"done", counts["done"]},
-                   {"failed", counts["failed"]}, {"missing", counts["missing"]},
-                   {"states", json::array()}};
+    json report = {{"manifest", o.manifest},       {"out", o.out},
+                   {"jobs", states.size()},        {"done", counts["done"]},
+                   {"stale", counts["stale"]},     {"failed", counts["failed"]},
+                   {"missing", counts["missing"]}, {"states", json::array()}};
     for (const JobState& s : states) report["states"].push_back(toJson(s));
     std::cout << report.dump(2) << "\n";
   } else {
     printText(o, states, counts);
   }
-  if (counts["failed"]) return kExitPermanent;
-  return counts["missing"] ? kExitRetryable : 0;
+  if (counts["failed"] || replan) return kExitPermanent;
+  return counts["missing"] || counts["stale"] ? kExitRetryable : 0;
 }
 
 }  // namespace
 
 Command addStatusCommand(CLI::App& app) {
-  CLI::App* sub = app.add_subcommand("status", "Which jobs of a manifest are done, failed or missing");
+  CLI::App* sub = app.add_subcommand("status", "Which jobs of a manifest are done, stale, failed or missing");
   auto o = std::make_shared<StatusOptions>();
   sub->add_option("manifest", o->manifest, "Manifest (JSON Lines)")->required();
   sub->add_option("--out", o->out, "The folder `penumbra run --out` wrote to")->required();
