@@ -67,6 +67,14 @@ for variant in slurm k8s aws; do
 done
 expect shard-slurm-one-based 0 "^$s/jobs.jsonl:2 sm/frame01.exr" -- env SLURM_ARRAY_TASK_ID=2 SLURM_ARRAY_TASK_MIN=1 \
   SLURM_ARRAY_TASK_COUNT=5 "$bin" run "$s/jobs.jsonl" --out "$s/dry" --shard auto --dry-run
+# A resubmission of chosen indices (`sbatch --array=1,3` of an array 0-3): with --shard-count the task id is the shard
+# index (task 3 runs shard 3 of 4, not 1 of 2); without it, the rebased index past the count says what to add.
+expect shard-slurm-chosen 0 "shard 3-of-4: 1 jobs" -- env SLURM_ARRAY_TASK_ID=3 SLURM_ARRAY_TASK_MIN=1 \
+  SLURM_ARRAY_TASK_STEP=2 SLURM_ARRAY_TASK_COUNT=2 "$bin" run "$s/jobs.jsonl" --out "$s/chosen" --shard auto \
+  --shard-count 4
+expect shard-slurm-chosen-needs-count 2 "SLURM_ARRAY_TASK_ID 3 is shard 2 of this array's 2 tasks .*--shard-count N" -- \
+  env SLURM_ARRAY_TASK_ID=3 SLURM_ARRAY_TASK_MIN=1 SLURM_ARRAY_TASK_COUNT=2 "$bin" run "$s/jobs.jsonl" \
+  --out "$s/chosen" --shard auto
 expect shard-mod 0 "^$s/jobs.jsonl:2 sm/frame01.exr.$s/jobs.jsonl:5 pcf/frame01.exr$" -- bash -c \
   "'$bin' run '$s/jobs.jsonl' --out '$s/dry' --shard 1/3 --dry-run | paste -sd' '"
 expect shard-none 2 "no array index in the environment" -- env -u SLURM_ARRAY_TASK_ID "$bin" run "$s/jobs.jsonl" \

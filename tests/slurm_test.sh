@@ -98,6 +98,18 @@ expect slurm-outputs 0 '^8$' -- bash -c "ls '$s'/out/f0?.exr | wc -l"
 expect slurm-resubmit 0 '^[0-9]+$' -- timeout 120 bash -c "$(declare -f submit); s='$s' submit '$s/jobs.jsonl' '$s/out' --wait"
 expect slurm-resubmit-skipped 0 '^8$' -- bash -c "cat '$s'/out/penumbra-status/*.jsonl | grep -c '\"state\":\"skipped\"'"
 
+# A resubmission of chosen indices (`--array=1,3` of the array 0-3) with --shard-count 4: tasks 1 and 3 run shards 1
+# and 3 of 4 (without the count, task 3 was shard 1 of 2, or refused).
+cat >"$s/shard4.sh" <<SH
+#!/usr/bin/env bash
+exec "$bin" run "\$1" --out "\$2" --shard auto --shard-count 4
+SH
+chmod +x "$s/shard4.sh"
+expect slurm-chosen-indices 0 '^[0-9]+$' -- timeout 120 sbatch --parsable --wait --array=1,3 --job-name=penumbra \
+  --output="$s/jobs/%A_%a.out" --chdir="$s" "$s/shard4.sh" "$s/jobs.jsonl" "$s/chosen"
+expect slurm-chosen-shards 0 '^shard-1-of-4.jsonl shard-3-of-4.jsonl$' -- bash -c "ls '$s/chosen/penumbra-status' | paste -sd' '"
+expect slurm-chosen-outputs 0 '^f01.exr f03.exr f05.exr f07.exr$' -- bash -c "cd '$s/chosen' && ls *.exr | paste -sd' '"
+
 # Cancel a running array (heavier frames: each shard runs for seconds, 20 jobs of ~0.2 s on the 2-core CI machine;
 # 10 jobs at 128x96 and 512^2 took half a second a shard, so a shard could finish between its first output and the
 # scancel, and no shard was left to say it was stopped), then resubmit to completion.
@@ -114,5 +126,16 @@ expect scancel-no-partial 0 '^0$' -- bash -c "find '$s/cancel' -name '*.tmp-*' |
 expect scancel-missing 75 "80 jobs: [0-9]+ done, 0 stale, 0 failed, [1-9][0-9]* missing" -- "$bin" status "$s/long.jsonl" --out "$s/cancel"
 expect scancel-resubmit 0 '^[0-9]+$' -- timeout 150 bash -c "$(declare -f submit); s='$s' submit '$s/long.jsonl' '$s/cancel' --wait"
 expect scancel-complete 0 "80 jobs: 80 done, 0 stale, 0 failed, 0 missing" -- "$bin" status "$s/long.jsonl" --out "$s/cancel"
+
+# The signal `sbatch --signal=B:TERM@...` sends before a time limit goes to the batch shell only: `exec` in the
+# script (shard.sh, docs/batch.md's --wrap) makes penumbra that shell, so it stops early (exit 75) instead of being
+# killed at the limit. `scancel --batch --signal=TERM` delivers the same signal the same way.
+job=$(submit "$s/long.jsonl" "$s/batchsig")
+for _ in $(seq 1 600); do compgen -G "$s/batchsig/c*.exr" >/dev/null && break; sleep 0.1; done
+scancel --batch --signal=TERM "$job"
+for _ in $(seq 1 900); do [ -z "$(squeue -h -j "$job" 2>/dev/null)" ] && break; sleep 0.2; done
+expect batch-signal-reaches-penumbra 0 "left \(SIGTERM\)" -- cat "$s"/jobs/"$job"_*.out
+expect batch-signal-resubmit 0 '^[0-9]+$' -- timeout 150 bash -c "$(declare -f submit); s='$s' submit '$s/long.jsonl' '$s/batchsig' --wait"
+expect batch-signal-complete 0 "80 jobs: 80 done, 0 stale, 0 failed, 0 missing" -- "$bin" status "$s/long.jsonl" --out "$s/batchsig"
 
 finish

@@ -1,5 +1,6 @@
-// Shards from the command line or the scheduler's environment; Slurm's index is made 0-based with
-// SLURM_ARRAY_TASK_MIN and _STEP, so `--array=1-8` and `--array=0-14:2` shard like `--array=0-7`.
+// Shards from the command line or the scheduler's environment. Without --shard-count, Slurm's index is made 0-based
+// with SLURM_ARRAY_TASK_MIN and _STEP, so `--array=1-8` and `--array=0-14:2` shard like `--array=0-7`; with it, the
+// task id is the shard index (a resubmission of chosen indices runs those shards).
 #include "tools/cli/shard.h"
 
 #include <fmt/format.h>
@@ -30,12 +31,23 @@ size_t envNumber(const EnvLookup& env, const char* name, std::optional<size_t> f
 
 Shard fromEnvironment(std::optional<size_t> count, const EnvLookup& env) {
   if (env("SLURM_ARRAY_TASK_ID") != nullptr) {
-    const size_t id = envNumber(env, "SLURM_ARRAY_TASK_ID"), min = envNumber(env, "SLURM_ARRAY_TASK_MIN", 0);
-    const size_t step = envNumber(env, "SLURM_ARRAY_TASK_STEP", 1);
+    const size_t id = envNumber(env, "SLURM_ARRAY_TASK_ID");
+    // With --shard-count N the task id is the shard index itself, so a resubmission of chosen indices
+    // (`--array=1,3` of an array 0-3) runs exactly those shards.
+    if (count) return {id, *count};
+    const size_t min = envNumber(env, "SLURM_ARRAY_TASK_MIN", 0), step = envNumber(env, "SLURM_ARRAY_TASK_STEP", 1);
     if (id < min || step == 0 || (id - min) % step != 0)
-      throw std::invalid_argument(
-          fmt::format("--shard auto: SLURM_ARRAY_TASK_ID {} is not on the array MIN {} + k * STEP {}", id, min, step));
-    return {(id - min) / step, count ? *count : envNumber(env, "SLURM_ARRAY_TASK_COUNT")};
+      throw std::invalid_argument(fmt::format(
+          "--shard auto: SLURM_ARRAY_TASK_ID {} is not on the array MIN {} + k * STEP {} (resubmitting chosen "
+          "indices of an earlier array? give --shard-count N, its size: the task id is then the shard index)",
+          id, min, step));
+    const Shard shard{(id - min) / step, envNumber(env, "SLURM_ARRAY_TASK_COUNT")};
+    if (shard.index >= shard.count)
+      throw std::invalid_argument(fmt::format(
+          "--shard auto: SLURM_ARRAY_TASK_ID {} is shard {} of this array's {} tasks (resubmitting chosen indices of "
+          "an earlier array? give --shard-count N, its size: the task id is then the shard index)",
+          id, shard.index, shard.count));
+    return shard;
   }
   for (const char* name : {"JOB_COMPLETION_INDEX", "AWS_BATCH_JOB_ARRAY_INDEX"}) {
     if (env(name) == nullptr) continue;
