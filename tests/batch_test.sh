@@ -126,6 +126,23 @@ expect status-stale-outputs 75 "6 jobs: 0 done, 6 stale, 0 failed, 0 missing" --
 expect status-stale-output-says 75 "stale +.*jobs.jsonl:1: sm/frame00.exr was made by job [0-9a-f]{16}, not this job's" -- \
   "$bin" status "$s/jobs.jsonl" --out "$s/out"
 
+# --dry-run checks every job as run would before rendering (scene found and parsed, id current, size, camera,
+# technique) and exits 65 naming each bad line; it used to list them all as runnable and exit 0.
+cat >"$s/dry.jsonl" <<'JSONL'
+{"scene": "builtin:box", "size": "32x24", "output": "ok.exr"}
+{"scene": "missing.json", "size": "32x24", "output": "a.exr"}
+{"scene": "builtin:box", "size": "99999x24", "output": "b.exr"}
+{"scene": "builtin:box", "size": "32x24", "camera": "nan,0,0:0,0,0", "output": "c.exr"}
+{"scene": "builtin:nope", "size": "32x24", "output": "e.exr"}
+JSONL
+expect dry-run-validates 65 'dry.jsonl:1 ok.exr' -- "$bin" run "$s/dry.jsonl" --out "$s/dry-out" --dry-run
+expect dry-run-names-each 65 '4 of 5 jobs would fail' -- "$bin" run "$s/dry.jsonl" --out "$s/dry-out" --dry-run
+expect dry-run-size 65 'dry.jsonl:3 refused: size "99999x24": width 99999 is outside 1..8192' -- \
+  "$bin" run "$s/dry.jsonl" --out "$s/dry-out" --dry-run
+expect dry-run-scene 65 'dry.jsonl:2 refused: .*missing.json: file not found' -- \
+  "$bin" run "$s/dry.jsonl" --out "$s/dry-out" --dry-run
+expect dry-run-stale 65 'stale.jsonl:1 refused: id 0000.* plan again' -- "$bin" run "$s/stale.jsonl" --out "$s/dry-out" --dry-run
+
 # Malformed manifests and lines: each bad line fails alone, named by its line; the good ones render.
 expect manifest-missing 66 "nope.jsonl: cannot read the manifest" -- "$bin" run "$s/nope.jsonl" --out "$s/bad"
 : >"$s/empty.jsonl"

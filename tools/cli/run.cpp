@@ -225,15 +225,45 @@ Stop runJobs(Batch& batch, const std::vector<const ManifestJob*>& jobs, const St
   return result == Stop::None && !batch.storageError.empty() ? Stop::Storage : result;
 }
 
+// What `run` checks of a job before it needs a device, for --dry-run: its line, its scene (found and parsed), its id
+// against the one it has now, its output path and its frame (size, camera, light, technique); "" when it would run.
+std::string checkJob(SceneCache& scenes, const ManifestJob& job) {
+  if (!job.error.empty()) return job.error;
+  try {
+    const std::string id = jobId(job, scenes.digest(job.options.view));
+    if (!job.id.empty() && job.id != id)
+      return fmt::format(
+          "{}: id {} in the manifest, {} for the job now: its scene's files or penumbra's version "
+          "changed since it was planned (run penumbra plan again)",
+          job.where, job.id, id);
+    planImageOutput(job.options.output);
+    SceneCache::Entry& scene = scenes.get(job.options.view);
+    planFrame(job.options, chooseTechnique(job.options), scene.scene);
+    return {};
+  } catch (const std::exception& e) {
+    return job.where + ": " + e.what();
+  }
+}
+
 int run(const RunOptions& o) {
   const Shard shard = parseShard(o.shard, o.shardCount, [](const char* name) { return std::getenv(name); });
   const double timeLimit = o.timeLimit.empty() ? 0 : parseDuration(o.timeLimit);  // usage errors before any work
   const std::vector<ManifestJob> jobs = readManifest(o.manifest, o.out);
   const std::vector<const ManifestJob*> mine = shardJobs(jobs, shard, o);
-  if (o.dryRun) {
-    for (const ManifestJob* job : mine)
-      fmt::print("{} {}\n", job->where, job->error.empty() ? job->output : job->error);
-    return 0;
+  if (o.dryRun) {  // every job checked as run would before rendering; the bad ones named, exit 65
+    SceneCache scenes;
+    size_t bad = 0;
+    for (const ManifestJob* job : mine) {
+      const std::string error = checkJob(scenes, *job);
+      const std::string_view why =
+          std::string_view(error).substr(error.rfind(job->where + ": ", 0) == 0 ? job->where.size() + 2 : 0);
+      fmt::print("{} {}\n", job->where, error.empty() ? job->output : fmt::format("refused: {}", why));
+      bad += !error.empty();
+    }
+    if (bad > 0)
+      fmt::print(stderr, "penumbra run --dry-run: shard {}: {} of {} jobs would fail\n", shard.label(), bad,
+                 mine.size());
+    return bad > 0 ? kExitPermanent : 0;
   }
   removeStaleTemporaries(mine);
   const StopSignals signals;
@@ -280,7 +310,9 @@ Command addRunCommand(CLI::App& app) {
   sub->add_option("--device", o->device, "OpenCL device: auto, cpu, gpu, a name substring, or P:D")
       ->envname("PENUMBRA_DEVICE");
   sub->add_flag("--dry-run", o->dryRun,
-                "Print the shard's jobs (manifest:line output), in the order it takes them, and render nothing");
+                "Check the shard's jobs as run would (scene, id, size, camera, technique) and print them "
+                "(manifest:line output, or 'refused: why'), in the order it takes them; render nothing; exit 65 when "
+                "a job would fail");
   sub->add_flag("-q,--quiet", o->quiet, "No summary line unless jobs failed or were left");
   return {sub, [o] { return run(*o); }};
 }
