@@ -108,6 +108,8 @@ expect compression-bad 2 "--exr-compression: EXR compression 'dwaa': use none, r
 sed 's/"png":"none"/"png":"none","exr-compression":"none"/' "$s/jobs.jsonl" >"$s/none.jsonl"
 expect compression-keeps-id 0 "6 jobs: 0 rendered, 6 skipped" -- "$bin" run "$s/none.jsonl" --out "$s/out"
 expect rerun-skips 0 "6 jobs: 0 rendered, 6 skipped" -- "$bin" run "$s/jobs.jsonl" --out "$s/out"
+expect run-progress 0 'shard 0-of-1: 6/6 jobs \(0 failed\), [0-9.]+ jobs/s, about 0 s left' -- "$bin" run "$s/jobs.jsonl" --out "$s/out"
+expect run-quiet-no-progress 0 '^$' -- "$bin" run "$s/jobs.jsonl" --out "$s/out" -q
 expect no-skip 0 "1 jobs: 1 rendered" -- "$bin" run "$s/jobs.jsonl" --out "$s/out" --shard 5/6 --no-skip-existing
 sed 's/"map-size":64/"map-size":128/' "$s/jobs.jsonl" | sed 's/"id":"[0-9a-f]*",//' >"$s/changed.jsonl"
 expect changed-job-renders 0 "6 jobs: 6 rendered, 0 skipped" -- "$bin" run "$s/changed.jsonl" --out "$s/out"

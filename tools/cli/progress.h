@@ -1,5 +1,5 @@
-// Progress on stderr for long commands (`bench`): a redrawn bar when stderr is a terminal, else one plain line per
-// announced item so logs stay readable.
+// Progress on stderr for long commands (`bench`, `run`): a redrawn bar when stderr is a terminal, else plain lines
+// (one per announced item) so logs stay readable.
 #pragma once
 
 #include <fmt/format.h>
@@ -8,14 +8,17 @@
 #include <algorithm>
 #include <cstdio>
 #include <string>
+#include <utility>
 
 namespace penumbra::cli {
 
 class Progress {
  public:
-  Progress(size_t total, bool enabled) : total_(std::max<size_t>(total, 1)), enabled_(enabled) {
+  Progress(size_t total, bool enabled, std::string prefix = "bench")
+      : total_(std::max<size_t>(total, 1)), enabled_(enabled), prefix_(std::move(prefix)) {
     terminal_ = enabled && isatty(fileno(stderr)) != 0;
   }
+  bool terminal() const { return terminal_; }
   ~Progress() { finish(); }
   Progress(const Progress&) = delete;
   Progress& operator=(const Progress&) = delete;
@@ -24,7 +27,12 @@ class Progress {
   void announce(const std::string& what) {
     label_ = what;
     if (enabled_ && !terminal_)
-      fmt::print(stderr, "bench: {} ({}% done)\n", what, std::min(done_, total_) * 100 / total_);
+      fmt::print(stderr, "{}: {} ({}% done)\n", prefix_, what, std::min(done_, total_) * 100 / total_);
+    draw();
+  }
+  // `done` units finished, described by `what` (terminal mode redraws the bar; plain mode prints nothing).
+  void update(size_t done, const std::string& what) {
+    done_ = done, label_ = what;
     draw();
   }
   // One unit of work done (terminal mode redraws the bar).
@@ -42,7 +50,7 @@ class Progress {
     if (!terminal_) return;
     constexpr size_t kWidth = 30;
     const size_t filled = std::min(done_, total_) * kWidth / total_;
-    fmt::print(stderr, "\r[{}{}] {:>3}% {:<50.50}", std::string(filled, '#'), std::string(kWidth - filled, '.'),
+    fmt::print(stderr, "\r[{}{}] {:>3}% {:<60.60}", std::string(filled, '#'), std::string(kWidth - filled, '.'),
                std::min(done_, total_) * 100 / total_, label_);
     std::fflush(stderr);
     drawn_ = true;
@@ -50,7 +58,7 @@ class Progress {
 
   size_t total_, done_ = 0;
   bool enabled_, terminal_ = false, drawn_ = false;
-  std::string label_;
+  std::string prefix_, label_;
 };
 
 }  // namespace penumbra::cli

@@ -20,6 +20,7 @@
 #include "tools/cli/commands.h"
 #include "tools/cli/job_status.h"
 #include "tools/cli/output_writer.h"
+#include "tools/cli/progress.h"
 #include "tools/cli/scene_cache.h"
 #include "tools/cli/shard.h"
 #include "tools/cli/stop_signal.h"
@@ -39,8 +40,13 @@ struct RunOptions {
 
 // What one process does: the device opened at the first render, the scenes kept, the tallies.
 struct Batch {
-  Batch(const RunOptions& o, const Shard& shard, double limit)
-      : options(o), log(o.out, shard.label()), timeLimit(limit) {}
+  Batch(const RunOptions& o, const Shard& shard, double limit, size_t jobs)
+      : options(o),
+        log(o.out, shard.label()),
+        timeLimit(limit),
+        total(jobs),
+        label(shard.label()),
+        progress(jobs, !o.quiet, "penumbra run") {}
   const RunOptions& options;
   StatusLog log;
   SceneCache scenes;
@@ -53,7 +59,31 @@ struct Batch {
   std::optional<StatusRecord> writing;  // that job's record, appended once its outputs are written
   Clock::time_point writingSince;       // when that job started
   std::string storageError;             // a write the storage refused (full, quota, I/O): the shard stops
+  size_t total;                         // the shard's jobs
+  std::string label;                    // the shard's
+  Progress progress;                    // a bar on a terminal, else a line every 5 % or 30 s
+  Clock::time_point started = Clock::now(), lastLine = Clock::now();
+  size_t lastLineDone = 0;
 };
+
+// Jobs done of the shard's, failures, the rate and the time left at it: redrawn on a terminal, else a line at every
+// 5 % and at least every 30 s while jobs finish.
+void reportProgress(Batch& batch) {
+  const size_t done = batch.rendered + batch.skipped + batch.failed;
+  const Clock::time_point now = Clock::now();
+  const double elapsed = std::chrono::duration<double>(now - batch.started).count();
+  const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0;
+  const double left = rate > 0 ? static_cast<double>(batch.total - std::min(done, batch.total)) / rate : 0;
+  const std::string what = fmt::format("{}/{} jobs ({} failed), {:.2f} jobs/s, about {:.0f} s left", done, batch.total,
+                                       batch.failed, rate, std::ceil(left));
+  if (batch.progress.terminal()) return batch.progress.update(done, what);
+  if (batch.options.quiet) return;
+  const size_t step = std::max<size_t>(batch.total / 20, 1);
+  if (done == batch.total || done >= batch.lastLineDone + step || now - batch.lastLine >= std::chrono::seconds(30)) {
+    fmt::print(stderr, "penumbra run: shard {}: {}\n", batch.label, what);
+    batch.lastLine = now, batch.lastLineDone = done;
+  }
+}
 
 // A rendered job's outputs, for the writer.
 struct Rendered {
@@ -174,8 +204,12 @@ void finishJob(Batch& batch, StatusRecord record, Clock::time_point since) {
   record.device = batch.device;
   if (record.state == "done") batch.longestJob = std::max(batch.longestJob, record.seconds);
   (record.state == "done" ? batch.rendered : record.state == "skipped" ? batch.skipped : batch.failed)++;
-  if (!record.error.empty()) fmt::print(stderr, "penumbra: {}\n", record.error);
+  if (!record.error.empty()) {
+    batch.progress.finish();  // the message on its own line, not inside the bar
+    fmt::print(stderr, "penumbra: {}\n", record.error);
+  }
   batch.log.append(std::move(record));
+  reportProgress(batch);
 }
 
 // The write in flight, waited for and recorded (a failed write fails its job).
@@ -267,9 +301,10 @@ int run(const RunOptions& o) {
   }
   removeStaleTemporaries(mine);
   const StopSignals signals;
-  Batch batch(o, shard, timeLimit);
+  Batch batch(o, shard, timeLimit, mine.size());
   size_t left = 0;
   const Stop stop = runJobs(batch, mine, signals, left);
+  batch.progress.finish();
   const std::string why = stop == Stop::Signal      ? fmt::format(", {} left ({})", left, signals.name())
                           : stop == Stop::TimeLimit ? fmt::format(", {} left (--time-limit {})", left, o.timeLimit)
                           : stop == Stop::Failures  ? fmt::format(", {} left (--max-failures {})", left, o.maxFailures)
