@@ -128,6 +128,15 @@ expect status-stale-outputs 75 "6 jobs: 0 done, 6 stale, 0 failed, 0 missing" --
 expect status-stale-output-says 75 "stale +.*jobs.jsonl:1: sm/frame00.exr was made by job [0-9a-f]{16}, not this job's" -- \
   "$bin" status "$s/jobs.jsonl" --out "$s/out"
 
+# A frame's warnings name their job and stay in its record.
+echo '{"scene": "builtin:box", "size": "32x24", "png": "none", "camera": "0,50,0:0,100,0:45", "output": "w.exr"}' \
+  >"$s/warn.jsonl"
+expect warning-names-job 0 'penumbra: warning: .*warn.jsonl:1: the frame sees no surface' -- \
+  "$bin" run "$s/warn.jsonl" --out "$s/warn-out"
+expect warning-in-record 0 '"warnings":\["the frame sees no surface' -- cat "$s/warn-out/penumbra-status/shard-0-of-1.jsonl"
+expect status-csv 0 '^1,w.exr,[0-9a-f]{16},done,,[0-9.]+,[0-9.]+,.*,"the frame sees no surface' -- bash -c \
+  "'$bin' status '$s/warn.jsonl' --out '$s/warn-out' --csv '$s/warn.csv' >/dev/null && tail -n 1 '$s/warn.csv'"
+
 # --dry-run checks every job as run would before rendering (scene found and parsed, id current, size, camera,
 # technique) and exits 65 naming each bad line; it used to list them all as runnable and exit 0.
 cat >"$s/dry.jsonl" <<'JSONL'

@@ -43,6 +43,7 @@ StatusRecord fromJson(const json& j) {
   r.exit = j.value("exit", 0), r.seconds = j.value("seconds", 0.0), r.deviceMs = j.value("device_ms", 0.0),
   r.device = j.value("device", "");
   r.host = j.value("host", ""), r.time = j.value("time", ""), r.error = j.value("error", "");
+  r.warnings = j.value("warnings", std::vector<std::string>{});
   return r;
 }
 
@@ -53,6 +54,7 @@ json toJson(const StatusRecord& r) {
             {"seconds", r.seconds}, {"device", r.device}, {"host", r.host},     {"time", r.time}};
   if (r.deviceMs > 0) j["device_ms"] = r.deviceMs;
   if (!r.error.empty()) j["error"] = r.error;
+  if (!r.warnings.empty()) j["warnings"] = r.warnings;
   return j;
 }
 

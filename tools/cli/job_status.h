@@ -30,6 +30,7 @@ struct StatusRecord {
   double seconds = 0;   // wall time: start to outputs written
   double deviceMs = 0;  // a rendered job's device time (the sum of its passes' profiling events), as bench's
   std::string device, host, time, error;  // time: UTC, ISO 8601 with milliseconds
+  std::vector<std::string> warnings;      // the frame's own (a frame that sees nothing, a light inside the scene, ...)
 };
 
 nlohmann::json toJson(const StatusRecord& record);

@@ -40,10 +40,11 @@ FramePlan planFrame(const RenderOptions& options, const TechniqueChoice& techniq
 }
 
 RenderResult renderFrame(Renderer& renderer, const RenderOptions& options, const Scene& scene, const FramePlan& plan,
-                         FrameDownload download) {
+                         FrameDownload download, bool printWarnings) {
   renderer.setMemoryLimit(plan.memoryLimit);
   RenderResult result = renderer.render(plan.camera, plan.frame, download);
-  for (const std::string& warning : result.warnings) fmt::print(stderr, "penumbra: warning: {}\n", warning);
+  if (printWarnings)
+    for (const std::string& warning : result.warnings) fmt::print(stderr, "penumbra: warning: {}\n", warning);
   result.preview = {};  // for the library's callers (a deferred frame's readers keep their own reference)
   result.image.attributes()["penumbra:scene"] = sceneProvenance(options.view);
   recordMaterials(scene, result.image);

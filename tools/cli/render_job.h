@@ -45,9 +45,10 @@ struct FramePlan {
 FramePlan planFrame(const RenderOptions& options, const TechniqueChoice& technique, const Scene& scene);
 
 // Renders the plan under its memory limit, prints the frame's warnings (a frame that sees nothing, ...) on stderr
-// and records the scene's provenance and materials in the image's header. `download`: as Renderer::render's
-// (Deferred for a frame written once and dropped).
+// unless the caller reports them itself (`printWarnings` false: `run` names their job), and records the scene's
+// provenance and materials in the image's header. `download`: as Renderer::render's (Deferred for a frame written
+// once and dropped).
 RenderResult renderFrame(Renderer& renderer, const RenderOptions& options, const Scene& scene, const FramePlan& plan,
-                         FrameDownload download = FrameDownload::Image);
+                         FrameDownload download = FrameDownload::Image, bool printWarnings = true);
 
 }  // namespace penumbra::cli

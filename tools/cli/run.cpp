@@ -186,7 +186,11 @@ StatusRecord runJob(Batch& batch, const ManifestJob& job, std::optional<Rendered
       batch.ctx = std::make_unique<Context>(batch.options.device);
       batch.device = batch.ctx->info().name;
     }
-    RenderResult result = renderFrame(batch.scenes.renderer(scene, *batch.ctx), job.options, scene.scene, plan);
+    RenderResult result = renderFrame(batch.scenes.renderer(scene, *batch.ctx), job.options, scene.scene, plan,
+                                      FrameDownload::Image, false);
+    for (const std::string& warning : result.warnings)  // named by their job, and kept in its record
+      fmt::print(stderr, "penumbra: warning: {}: {}\n", job.where, warning);
+    record.warnings = std::move(result.warnings);
     result.image.attributes()[kJobIdAttribute] = id;
     for (const PassTime& pass : result.passes) record.deviceMs += pass.ms;
     rendered = Rendered{std::move(output), std::move(result.image)};

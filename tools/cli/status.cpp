@@ -5,14 +5,15 @@
 // or its manifest line is stale, 75 only missing jobs or stale outputs (run again).
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <iostream>
 #include <memory>
 
-#include <CLI/CLI.hpp>
-
+#include "host/io/atomic_file.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/job_status.h"
 #include "tools/cli/scene_cache.h"
+#include "tools/eval/bench_report.h"
 
 namespace penumbra::cli {
 namespace {
@@ -21,7 +22,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 struct StatusOptions {
-  std::string manifest, out;
+  std::string manifest, out, csv;
   bool json = false;
 };
 
@@ -70,6 +71,22 @@ json toJson(const JobState& s) {
   return j;
 }
 
+// One row per job, for a spreadsheet: its line, output, id, state, error and its latest record's numbers.
+std::string csvText(const std::vector<JobState>& states) {
+  std::string text = "line,output,id,state,error,seconds,device_ms,device,host,time,warnings\n";
+  for (const JobState& s : states) {
+    const StatusRecord* r = s.record;
+    std::string warnings;
+    if (r)
+      for (const std::string& w : r->warnings) warnings += (warnings.empty() ? "" : "; ") + w;
+    text += fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", s.job->line, csvField(s.job->output), s.id, s.state,
+                        csvField(s.error), r ? fmt::format("{:.3f}", r->seconds) : "",
+                        r && r->deviceMs > 0 ? fmt::format("{:.3f}", r->deviceMs) : "", csvField(r ? r->device : ""),
+                        csvField(r ? r->host : ""), r ? r->time : "", csvField(warnings));
+  }
+  return text;
+}
+
 void printText(const StatusOptions& o, const std::vector<JobState>& states, const std::map<std::string, size_t>& n) {
   fmt::print("{}: {} jobs: {} done, {} stale, {} failed, {} missing\n", o.manifest, states.size(), n.at("done"),
              n.at("stale"), n.at("failed"), n.at("missing"));
@@ -101,6 +118,7 @@ int run(const StatusOptions& o) {
   } else {
     printText(o, states, counts);
   }
+  if (!o.csv.empty()) writeFileAtomically(o.csv, csvText(states));  // throws naming the file
   if (counts["failed"] || replan) return kExitPermanent;
   return counts["missing"] || counts["stale"] ? kExitRetryable : 0;
 }
@@ -113,6 +131,8 @@ Command addStatusCommand(CLI::App& app) {
   sub->add_option("manifest", o->manifest, "Manifest (JSON Lines)")->required();
   sub->add_option("--out", o->out, "The folder `penumbra run --out` wrote to")->required();
   sub->add_flag("--json", o->json, "Every job's state as JSON on stdout");
+  sub->add_option("--csv", o->csv,
+                  "Also write one row per job (line, output, id, state, error, its record's times) here");
   return {sub, [o] { return run(*o); }};
 }
 
