@@ -112,7 +112,8 @@ expect run-progress 0 'shard 0-of-1: 6/6 jobs \(0 failed\), [0-9.]+ jobs/s, abou
 expect run-quiet-no-progress 0 '^$' -- "$bin" run "$s/jobs.jsonl" --out "$s/out" -q
 expect no-skip 0 "1 jobs: 1 rendered" -- "$bin" run "$s/jobs.jsonl" --out "$s/out" --shard 5/6 --no-skip-existing
 sed 's/"map-size":64/"map-size":128/' "$s/jobs.jsonl" | sed 's/"id":"[0-9a-f]*",//' >"$s/changed.jsonl"
-expect changed-job-renders 0 "6 jobs: 6 rendered, 0 skipped" -- "$bin" run "$s/changed.jsonl" --out "$s/out"
+# Another manifest (a changed copy) writes over the outputs only with --force.
+expect changed-job-renders 0 "6 jobs: 6 rendered, 0 skipped" -- "$bin" run "$s/changed.jsonl" --out "$s/out" --force
 sed 's/"id":"[0-9a-f]\{4\}/"id":"0000/' "$s/jobs.jsonl" | head -n 1 >"$s/stale.jsonl"
 # status checks the ids as the jobs are now, not as the manifest says: a stale line (exit 65, plan again), outputs
 # that another job made (the changed map size above rendered over them: exit 75, run again).
@@ -125,8 +126,49 @@ expect torn-record-stands-alone 0 '^stale.jsonl:1 65$' -- python3 -c \
 expect status-stale-line 65 "1 jobs: 0 done, 1 stale, 0 failed, 0 missing" -- "$bin" status "$s/stale.jsonl" --out "$s/out"
 expect status-stale-line-says 65 "stale +.*stale.jsonl:1: id 0000.* plan again" -- "$bin" status "$s/stale.jsonl" --out "$s/out"
 expect status-stale-outputs 75 "6 jobs: 0 done, 6 stale, 0 failed, 0 missing" -- "$bin" status "$s/jobs.jsonl" --out "$s/out"
-expect status-stale-output-says 75 "stale +.*jobs.jsonl:1: sm/frame00.exr was made by job [0-9a-f]{16}, not this job's" -- \
+expect status-stale-output-says 75 "stale +.*jobs.jsonl:1: sm/frame00.exr was made by job [0-9a-f]{16} of another manifest" -- \
   "$bin" status "$s/jobs.jsonl" --out "$s/out"
+
+# Overlapping runs on one --out (the same manifest started three times at once): per-output claims let each job be
+# rendered once, none fails, no run deletes another's temporaries.
+for i in $(seq 0 11); do
+  printf '{"scene": "builtin:box", "technique": "pcss", "size": "96x72", "map-size": 512, "png": "none", "camera": "%s,3,6:0,0,0:50", "output": "c%02d.exr"}\n' "$i" "$i"
+done >"$s/overlap.jsonl"
+"$bin" run "$s/overlap.jsonl" --out "$s/overlap" -q & p1=$!
+"$bin" run "$s/overlap.jsonl" --out "$s/overlap" -q & p2=$!
+"$bin" run "$s/overlap.jsonl" --out "$s/overlap" -q
+wait $p1 $p2
+expect overlap-rendered-once 0 '^12$' -- bash -c "cat '$s'/overlap/penumbra-status/*.jsonl | grep -c '\"state\":\"done\"'"
+expect overlap-no-failure 1 '^0$' -- bash -c "cat '$s'/overlap/penumbra-status/*.jsonl | grep -c '\"state\":\"failed\"'"
+expect overlap-status 0 "12 jobs: 12 done" -- "$bin" status "$s/overlap.jsonl" --out "$s/overlap"
+expect overlap-claims-released 0 '^0$' -- bash -c "ls '$s/overlap/penumbra-status/claims' | wc -l"
+# Another manifest's job is not written over its output without --force (the message names both jobs).
+echo '{"scene": "builtin:box", "technique": "sm", "size": "32x24", "png": "none", "output": "c03.exr"}' >"$s/other.jsonl"
+expect other-manifest-refused 65 "c03.exr was made by job [0-9a-f]{16} \(.*overlap.jsonl:4\); this is job [0-9a-f]{16} \(.*other.jsonl:1\): --force replaces it" \
+  -- "$bin" run "$s/other.jsonl" --out "$s/overlap"
+expect other-manifest-force 0 "1 rendered" -- "$bin" run "$s/other.jsonl" --out "$s/overlap" --force
+expect other-manifest-status 75 "c03.exr was made by job [0-9a-f]{16} of another manifest \(.*other.jsonl:1\)" -- \
+  "$bin" status "$s/overlap.jsonl" --out "$s/overlap"
+# Claims: a dead process's on this host is taken over (its temporary removed); another host's holds within the lease
+# (the job left to it) and is taken over past it.
+claim() {  # claim OUTPUT: the claim file of an output (64-bit FNV-1a of its path)
+  python3 -c "import sys; h=0xcbf29ce484222325
+for c in sys.argv[1].encode(): h=((h^c)*0x100000001b3)&0xffffffffffffffff
+print('$s/overlap/penumbra-status/claims/%016x.claim' % h)" "$1"
+}
+mkdir -p "$s/overlap/penumbra-status/claims"
+echo "{\"host\": \"$(hostname)\", \"pid\": 999999999, \"start\": 1, \"job\": \"x:1\", \"time\": \"t\"}" >"$(claim c05.exr)"
+rm "$s/overlap/c05.exr" && touch "$s/overlap/c05.exr.tmp-0123abcd"
+expect claim-dead-owner 0 "2 rendered" -- "$bin" run "$s/overlap.jsonl" --out "$s/overlap" --force
+expect claim-dead-temporary 1 '' -- bash -c "ls '$s/overlap' | grep tmp"
+echo '{"host": "elsewhere", "pid": 1, "start": 1, "job": "y:1", "time": "t"}' >"$(claim c06.exr)"
+rm "$s/overlap/c06.exr"
+expect claim-other-host-holds 0 "0 rendered, 11 skipped, 0 failed, 1 claimed by other runs" -- \
+  "$bin" run "$s/overlap.jsonl" --out "$s/overlap" --force
+expect claim-other-host-named 0 "overlap.jsonl:7: claimed by elsewhere pid 1 since t \(its job y:1\)" -- \
+  "$bin" run "$s/overlap.jsonl" --out "$s/overlap" --force
+touch -d '2 hours ago' "$(claim c06.exr)"
+expect claim-lease-passed 0 "1 rendered" -- "$bin" run "$s/overlap.jsonl" --out "$s/overlap" --force --claim-lease 1h
 
 # A frame's warnings name their job and stay in its record.
 echo '{"scene": "builtin:box", "size": "32x24", "png": "none", "camera": "0,50,0:0,100,0:45", "output": "w.exr"}' \

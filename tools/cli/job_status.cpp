@@ -25,12 +25,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string hostName() {
-  char name[HOST_NAME_MAX + 1] = {};
-  if (gethostname(name, sizeof name - 1) != 0) return "unknown";
-  return name;
-}
-
 std::string utcNow() {
   const auto now = std::chrono::system_clock::now();
   const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(now.time_since_epoch()).count() % 1000;
@@ -59,6 +53,12 @@ json toJson(const StatusRecord& r) {
 }
 
 fs::path statusFolder(const fs::path& outDir) { return outDir / "penumbra-status"; }
+
+std::string hostName() {
+  char name[HOST_NAME_MAX + 1] = {};
+  if (gethostname(name, sizeof name - 1) != 0) return "unknown";
+  return name;
+}
 
 namespace {
 
@@ -127,16 +127,21 @@ const StatusRecord* findRecord(const std::map<std::string, StatusRecord>& record
   return it == records.end() ? nullptr : &it->second;
 }
 
-std::string outputJobId(const fs::path& exr) {
+OutputOrigin outputOrigin(const fs::path& exr) {
   std::error_code error;
   if (!fs::is_regular_file(exr, error)) return {};
   try {
     const ExrInfo info = readExrInfo(exr);
-    const auto it = info.attributes.find(kJobIdAttribute);
-    return it == info.attributes.end() ? std::string() : it->second;
+    const auto attribute = [&](const char* name) {
+      const auto it = info.attributes.find(name);
+      return it == info.attributes.end() ? std::string() : it->second;
+    };
+    return {attribute(kJobIdAttribute), attribute(kJobWhereAttribute)};
   } catch (const std::exception&) {
     return {};
   }
 }
+
+std::string outputJobId(const fs::path& exr) { return outputOrigin(exr).id; }
 
 }  // namespace penumbra::cli

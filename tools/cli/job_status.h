@@ -22,6 +22,9 @@ inline constexpr int kExitRetryable = 75;  // EX_TEMPFAIL
 inline constexpr int kExitStatusLog = 74;  // EX_IOERR: the status log cannot be written (not for lack of space)
 
 inline constexpr const char* kJobIdAttribute = "penumbra:job-id";
+// The manifest line that made an output (its absolute path, ":LINE"): another manifest's output is not replaced
+// without --force.
+inline constexpr const char* kJobWhereAttribute = "penumbra:job";
 
 struct StatusRecord {
   std::string id, where, output;
@@ -59,5 +62,15 @@ const StatusRecord* findRecord(const std::map<std::string, StatusRecord>& record
 
 // The job id in `exr`'s header, "" when the file is missing or is not a readable EXR.
 std::string outputJobId(const std::filesystem::path& exr);
+
+// Who made an output: its job id and manifest line (kJobWhereAttribute), each "" when the header lacks it or the
+// file is missing or unreadable.
+struct OutputOrigin {
+  std::string id, job;
+};
+OutputOrigin outputOrigin(const std::filesystem::path& exr);
+
+// This machine's name (status records, claims).
+std::string hostName();
 
 }  // namespace penumbra::cli

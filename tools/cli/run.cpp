@@ -17,6 +17,7 @@
 
 #include "host/cl/error.h"
 #include "host/io/atomic_file.h"
+#include "tools/cli/claim.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/job_status.h"
 #include "tools/cli/output_writer.h"
@@ -32,10 +33,12 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 struct RunOptions {
-  std::string manifest, out, shard, device, timeLimit;
+  std::string manifest, out, shard, device, timeLimit, claimLease = "6h";
   std::optional<size_t> shardCount;
-  bool skipExisting = true, onlyFailed = false, quiet = false, dryRun = false;
+  bool skipExisting = true, onlyFailed = false, quiet = false, dryRun = false, force = false;
   size_t maxFailures = 0;  // 0: no limit
+  double leaseSeconds = 0;   // claimLease, parsed
+  std::string manifestPath;  // the manifest's absolute path: outputs name the line that made them
 };
 
 // What one process does: the device opened at the first render, the scenes kept, the tallies.
@@ -53,10 +56,11 @@ struct Batch {
   std::unique_ptr<Context> ctx;
   std::string device;    // the context's device name, once opened
   double timeLimit = 0;  // seconds, 0: none
-  size_t rendered = 0, skipped = 0, failed = 0;
+  size_t rendered = 0, skipped = 0, failed = 0, claimed = 0;  // claimed: left to the live run that holds them
   double longestJob = 0;                // seconds: the estimate --time-limit plans with
   OutputWriter writer;                  // the last rendered job's outputs, written while the next one renders
   std::optional<StatusRecord> writing;  // that job's record, appended once its outputs are written
+  std::optional<Claim> writingClaim;    // and its claim, released once they are
   Clock::time_point writingSince;       // when that job started
   std::string storageError;             // a write the storage refused (full, quota, I/O): the shard stops
   size_t total;                         // the shard's jobs
@@ -89,14 +93,15 @@ void reportProgress(Batch& batch) {
 struct Rendered {
   ImageOutputPlan output;
   Image image;
+  std::optional<Claim> claim;
 };
 
 // "90", "90s", "15m", "2h", "1:30:00" (H:MM:SS) or "30:00" (M:SS): seconds.
-double parseDuration(const std::string& text) {
+double parseDuration(const std::string& text, const char* option = "--time-limit") {
   double total = 0;
   size_t pos = 0;
   const auto fail = [&] {
-    return std::invalid_argument(fmt::format("--time-limit {}: use 90s, 15m, 2h or H:MM:SS", text));
+    return std::invalid_argument(fmt::format("{} {}: use 90s, 15m, 2h or H:MM:SS", option, text));
   };
   try {
     if (text.find(':') != std::string::npos) {  // [H:]M:SS, every field a non-negative number, M and S below 60
@@ -147,10 +152,11 @@ std::vector<const ManifestJob*> shardJobs(const std::vector<ManifestJob>& jobs, 
 
 // Temporary files ("<name>.tmp-<hex>", PendingFile) that a run killed while writing left beside the shard's outputs:
 // one scan per output folder, whatever the number of jobs; other shards' files are never touched.
-void removeStaleTemporaries(const std::vector<const ManifestJob*>& jobs) {
+void removeStaleTemporaries(const std::vector<const ManifestJob*>& jobs, const RunOptions& o) {
   std::map<fs::path, std::set<std::string>> outputs;  // folder -> names of the shard's outputs there
   for (const ManifestJob* job : jobs) {
     if (!job->error.empty()) continue;
+    if (claimIsLive(o.out, job->output, o.leaseSeconds)) continue;  // its owner runs: the temporaries are its own
     const ImageOutputPlan plan = planImageOutput(job->options.output);
     for (const std::optional<fs::path>& path : {plan.exr, plan.png})
       if (path) outputs[path->parent_path()].insert(path->filename().string());
@@ -179,7 +185,23 @@ StatusRecord runJob(Batch& batch, const ManifestJob& job, std::optional<Rendered
           job.id, id));
     record.id = id, record.state = "done", record.exit = 0;
     ImageOutputPlan output = planImageOutput(job.options.output);
-    if (batch.options.skipExisting && outputJobId(*output.exr) == id) return record.state = "skipped", record;
+    const std::string where = fmt::format("{}:{}", batch.options.manifestPath, job.line);
+    const OutputOrigin origin = outputOrigin(*output.exr);
+    if (batch.options.skipExisting && origin.id == id) return record.state = "skipped", record;
+    // Another manifest's line made it (not an older plan of this one): replaced only with --force.
+    if (!batch.options.force && !origin.job.empty() && origin.job != where)
+      throw std::runtime_error(fmt::format("{} was made by job {} ({}); this is job {} ({}): --force replaces it",
+                                           job.output, origin.id, origin.job, id, where));
+    ClaimOwner holder;
+    std::optional<Claim> claim = Claim::take(batch.options.out, job.output, where, batch.options.leaseSeconds, holder);
+    if (!claim) {  // a live run renders it: left to that run
+      record.state = "claimed";
+      record.error = fmt::format("{}: claimed by {} pid {} since {} (its job {})", job.where, holder.host, holder.pid,
+                                 holder.time, holder.job);
+      return record;
+    }
+    if (batch.options.skipExisting && outputJobId(*output.exr) == id)  // finished while we looked
+      return record.state = "skipped", record;
     SceneCache::Entry& scene = batch.scenes.get(job.options.view);
     const FramePlan plan = planFrame(job.options, chooseTechnique(job.options), scene.scene);
     if (!batch.ctx) {
@@ -192,8 +214,9 @@ StatusRecord runJob(Batch& batch, const ManifestJob& job, std::optional<Rendered
       fmt::print(stderr, "penumbra: warning: {}: {}\n", job.where, warning);
     record.warnings = std::move(result.warnings);
     result.image.attributes()[kJobIdAttribute] = id;
+    result.image.attributes()[kJobWhereAttribute] = where;
     for (const PassTime& pass : result.passes) record.deviceMs += pass.ms;
-    rendered = Rendered{std::move(output), std::move(result.image)};
+    rendered = Rendered{std::move(output), std::move(result.image), std::move(claim)};
   } catch (const NoDeviceError&) {
     throw;  // no job can run: the whole run stops (exit 69)
   } catch (const std::exception& e) {
@@ -207,8 +230,13 @@ void finishJob(Batch& batch, StatusRecord record, Clock::time_point since) {
   record.seconds = std::chrono::duration<double>(Clock::now() - since).count();
   record.device = batch.device;
   if (record.state == "done") batch.longestJob = std::max(batch.longestJob, record.seconds);
-  (record.state == "done" ? batch.rendered : record.state == "skipped" ? batch.skipped : batch.failed)++;
-  if (!record.error.empty()) {
+  (record.state == "done"      ? batch.rendered
+   : record.state == "skipped" ? batch.skipped
+   : record.state == "claimed" ? batch.claimed
+                               : batch.failed)++;
+  if (record.state == "claimed") {
+    if (!batch.options.quiet) fmt::print(stderr, "penumbra: {}\n", record.error);
+  } else if (!record.error.empty()) {
     batch.progress.finish();  // the message on its own line, not inside the bar
     fmt::print(stderr, "penumbra: {}\n", record.error);
   }
@@ -221,6 +249,8 @@ void settleWrite(Batch& batch) {
   if (!batch.writing) return;
   StatusRecord record = std::move(*batch.writing);
   batch.writing.reset();
+  const std::optional<Claim> claim = std::move(batch.writingClaim);  // released when this returns
+  batch.writingClaim.reset();
   if (const OutputWriter::Outcome written = batch.writer.finish(); !written.error.empty()) {
     record.state = "failed", record.exit = kExitPermanent, record.error = record.where + ": " + written.error;
     // No space, a quota, an I/O error: not the job's fault, and every job after it would fail alike.
@@ -252,6 +282,7 @@ Stop renderJobs(Batch& batch, const std::vector<const ManifestJob*>& jobs, const
     settleWrite(batch);
     batch.writer.start(std::move(rendered->output), std::move(rendered->image));
     batch.writing = std::move(record), batch.writingSince = since;
+    batch.writingClaim = std::move(rendered->claim);
   }
   left = 0;
   return Stop::None;
@@ -283,9 +314,11 @@ std::string checkJob(SceneCache& scenes, const ManifestJob& job) {
   }
 }
 
-int run(const RunOptions& o) {
+int run(RunOptions o) {
   const Shard shard = parseShard(o.shard, o.shardCount, [](const char* name) { return std::getenv(name); });
   const double timeLimit = o.timeLimit.empty() ? 0 : parseDuration(o.timeLimit);  // usage errors before any work
+  o.leaseSeconds = parseDuration(o.claimLease, "--claim-lease");
+  o.manifestPath = fs::absolute(o.manifest).lexically_normal().string();
   const std::vector<ManifestJob> jobs = readManifest(o.manifest, o.out);
   const std::vector<const ManifestJob*> mine = shardJobs(jobs, shard, o);
   if (o.dryRun) {  // every job checked as run would before rendering; the bad ones named, exit 65
@@ -303,7 +336,7 @@ int run(const RunOptions& o) {
                  mine.size());
     return bad > 0 ? kExitPermanent : 0;
   }
-  removeStaleTemporaries(mine);
+  removeStaleTemporaries(mine, o);
   const StopSignals signals;
   Batch batch(o, shard, timeLimit, mine.size());
   size_t left = 0;
@@ -316,8 +349,9 @@ int run(const RunOptions& o) {
                               ? fmt::format(", {} left (the storage refused a write: {})", left, batch.storageError)
                               : "";
   if (!o.quiet || stop != Stop::None || batch.failed)
-    fmt::print(stderr, "penumbra run: shard {}: {} jobs: {} rendered, {} skipped, {} failed{}\n", shard.label(),
-               mine.size(), batch.rendered, batch.skipped, batch.failed, why);
+    fmt::print(stderr, "penumbra run: shard {}: {} jobs: {} rendered, {} skipped, {} failed{}{}\n", shard.label(),
+               mine.size(), batch.rendered, batch.skipped, batch.failed,
+               batch.claimed ? fmt::format(", {} claimed by other runs", batch.claimed) : "", why);
   if (stop == Stop::Signal || stop == Stop::TimeLimit || stop == Stop::Storage) return kExitRetryable;
   return batch.failed ? kExitPermanent : 0;
 }
@@ -353,6 +387,11 @@ Command addRunCommand(CLI::App& app) {
                 "(manifest:line output, or 'refused: why'), in the order it takes them; render nothing; exit 65 when "
                 "a job would fail");
   sub->add_flag("-q,--quiet", o->quiet, "No summary line unless jobs failed or were left");
+  sub->add_flag("--force", o->force, "Replace an output that another manifest's job made (refused otherwise)");
+  sub->add_option("--claim-lease", o->claimLease,
+                  "How long another host's claim on a job holds (90s, 15m, 2h, H:MM:SS); this host's hold while "
+                  "their process runs")
+      ->capture_default_str();
   return {sub, [o] { return run(*o); }};
 }
 

@@ -34,7 +34,7 @@ struct JobState {
 };
 
 JobState stateOf(const ManifestJob& job, const std::map<std::string, StatusRecord>& records, SceneCache& scenes,
-                 const fs::path& out) {
+                 const fs::path& out, const std::string& manifestPath) {
   JobState s{&job, job.id, "failed", job.error};
   if (!job.error.empty()) return s;
   try {
@@ -51,13 +51,19 @@ JobState stateOf(const ManifestJob& job, const std::map<std::string, StatusRecor
         job.where, job.id, s.id);
     return s;
   }
-  const std::string made = outputJobId(out / job.output);
-  if (made == s.id) return s.state = "done", s;
+  const OutputOrigin made = outputOrigin(out / job.output);
+  if (made.id == s.id) return s.state = "done", s;
   if (s.record && s.record->state == "failed") return s.error = s.record->error, s;
-  if (!made.empty()) {
+  if (!made.id.empty()) {
     s.state = "stale";
-    s.error = fmt::format("{}: {} was made by job {}, not this job's {} (run again to render it)", job.where,
-                          job.output, made, s.id);
+    const std::string where = fmt::format("{}:{}", manifestPath, job.line);
+    s.error = !made.job.empty() && made.job != where
+                  ? fmt::format(
+                        "{}: {} was made by job {} of another manifest ({}), not this job's {} (run "
+                        "--force replaces it)",
+                        job.where, job.output, made.id, made.job, s.id)
+                  : fmt::format("{}: {} was made by job {}, not this job's {} (run again to render it)", job.where,
+                                job.output, made.id, s.id);
     return s;
   }
   s.state = "missing";
@@ -100,11 +106,12 @@ int run(const StatusOptions& o) {
   const std::vector<ManifestJob> jobs = readManifest(o.manifest, o.out);
   const std::map<std::string, StatusRecord> records = latestRecords(o.out);
   SceneCache scenes;
+  const std::string manifestPath = fs::absolute(o.manifest).lexically_normal().string();
   std::vector<JobState> states;
   std::map<std::string, size_t> counts{{"done", 0}, {"stale", 0}, {"failed", 0}, {"missing", 0}};
   bool replan = false;
   for (const ManifestJob& job : jobs) {
-    states.push_back(stateOf(job, records, scenes, o.out));
+    states.push_back(stateOf(job, records, scenes, o.out, manifestPath));
     ++counts[states.back().state];
     replan |= states.back().replan;
   }
