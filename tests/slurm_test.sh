@@ -107,7 +107,7 @@ SH
 chmod +x "$s/shard4.sh"
 expect slurm-chosen-indices 0 '^[0-9]+$' -- timeout 120 sbatch --parsable --wait --array=1,3 --job-name=penumbra \
   --output="$s/jobs/%A_%a.out" --chdir="$s" "$s/shard4.sh" "$s/jobs.jsonl" "$s/chosen"
-expect slurm-chosen-shards 0 '^shard-1-of-4.jsonl shard-3-of-4.jsonl$' -- bash -c "ls '$s/chosen/penumbra-status' | paste -sd' '"
+expect slurm-chosen-shards 0 '^shard-1-of-4.jsonl shard-3-of-4.jsonl$' -- bash -c "cd '$s/chosen/penumbra-status' && ls *.jsonl | paste -sd' '"
 expect slurm-chosen-outputs 0 '^f01.exr f03.exr f05.exr f07.exr$' -- bash -c "cd '$s/chosen' && ls *.exr | paste -sd' '"
 
 # Cancel a running array (heavier frames: each shard runs for seconds, 20 jobs of ~0.2 s on the 2-core CI machine;
