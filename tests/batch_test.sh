@@ -167,6 +167,10 @@ expect claim-other-host-holds 0 "0 rendered, 11 skipped, 0 failed, 1 claimed by 
   "$bin" run "$s/overlap.jsonl" --out "$s/overlap" --force
 expect claim-other-host-named 0 "overlap.jsonl:7: claimed by elsewhere pid 1 since t \(its job y:1\)" -- \
   "$bin" run "$s/overlap.jsonl" --out "$s/overlap" --force
+expect status-running 75 "12 jobs: 11 done, 0 stale, 0 failed, 0 missing, 1 running" -- \
+  "$bin" status "$s/overlap.jsonl" --out "$s/overlap"
+expect status-running-says 75 "running +.*overlap.jsonl:7: being rendered by elsewhere pid 1 since t" -- \
+  "$bin" status "$s/overlap.jsonl" --out "$s/overlap"
 touch -d '2 hours ago' "$(claim c06.exr)"
 expect claim-lease-passed 0 "1 rendered" -- "$bin" run "$s/overlap.jsonl" --out "$s/overlap" --force --claim-lease 1h
 

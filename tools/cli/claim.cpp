@@ -140,10 +140,11 @@ Claim::~Claim() {
   if (!path_.empty()) unlink(path_.c_str());
 }
 
-bool claimIsLive(const fs::path& outDir, const std::string& output, double leaseSeconds) {
+std::optional<ClaimOwner> liveClaim(const fs::path& outDir, const std::string& output, double leaseSeconds) {
   const fs::path path = claimPath(outDir, output);
-  const std::optional<ClaimOwner> owner = readClaim(path);
-  return owner && live(*owner, path, leaseSeconds);
+  std::optional<ClaimOwner> owner = readClaim(path);
+  if (owner && !live(*owner, path, leaseSeconds)) owner.reset();
+  return owner;
 }
 
 }  // namespace penumbra::cli

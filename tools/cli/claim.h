@@ -36,8 +36,15 @@ class Claim {
   std::filesystem::path path_;  // empty once moved from
 };
 
-// Whether someone's claim on `output` is live now (for stale temporaries: only those of unclaimed or stale outputs
-// are removed).
-bool claimIsLive(const std::filesystem::path& outDir, const std::string& output, double leaseSeconds);
+// The owner of a live claim on `output` now, if any (for stale temporaries: only those of unclaimed or stale outputs
+// are removed; for `status`: a job being rendered).
+std::optional<ClaimOwner> liveClaim(const std::filesystem::path& outDir, const std::string& output,
+                                    double leaseSeconds);
+inline bool claimIsLive(const std::filesystem::path& outDir, const std::string& output, double leaseSeconds) {
+  return liveClaim(outDir, output, leaseSeconds).has_value();
+}
+
+// The lease `run` gives another host's claim unless --claim-lease says otherwise (seconds).
+inline constexpr double kDefaultClaimLeaseSeconds = 6 * 3600;
 
 }  // namespace penumbra::cli

@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "host/io/atomic_file.h"
+#include "tools/cli/claim.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/job_status.h"
 #include "tools/cli/scene_cache.h"
@@ -66,6 +67,11 @@ JobState stateOf(const ManifestJob& job, const std::map<std::string, StatusRecor
                                 job.output, made.id, s.id);
     return s;
   }
+  if (const std::optional<ClaimOwner> owner = liveClaim(out, job.output, kDefaultClaimLeaseSeconds)) {
+    s.state = "running";  // a live run holds its claim
+    s.error = fmt::format("{}: being rendered by {} pid {} since {}", job.where, owner->host, owner->pid, owner->time);
+    return s;
+  }
   s.state = "missing";
   return s;
 }
@@ -94,10 +100,11 @@ std::string csvText(const std::vector<JobState>& states) {
 }
 
 void printText(const StatusOptions& o, const std::vector<JobState>& states, const std::map<std::string, size_t>& n) {
-  fmt::print("{}: {} jobs: {} done, {} stale, {} failed, {} missing\n", o.manifest, states.size(), n.at("done"),
-             n.at("stale"), n.at("failed"), n.at("missing"));
+  fmt::print("{}: {} jobs: {} done, {} stale, {} failed, {} missing{}\n", o.manifest, states.size(), n.at("done"),
+             n.at("stale"), n.at("failed"), n.at("missing"),
+             n.at("running") ? fmt::format(", {} running", n.at("running")) : "");
   for (const JobState& s : states) {
-    if (s.state == "failed" || s.state == "stale") fmt::print("  {:<7} {}\n", s.state, s.error);
+    if (s.state == "failed" || s.state == "stale" || s.state == "running") fmt::print("  {:<7} {}\n", s.state, s.error);
     if (s.state == "missing") fmt::print("  missing {} ({})\n", s.job->where, s.job->output);
   }
 }
@@ -108,7 +115,7 @@ int run(const StatusOptions& o) {
   SceneCache scenes;
   const std::string manifestPath = fs::absolute(o.manifest).lexically_normal().string();
   std::vector<JobState> states;
-  std::map<std::string, size_t> counts{{"done", 0}, {"stale", 0}, {"failed", 0}, {"missing", 0}};
+  std::map<std::string, size_t> counts{{"done", 0}, {"stale", 0}, {"failed", 0}, {"missing", 0}, {"running", 0}};
   bool replan = false;
   for (const ManifestJob& job : jobs) {
     states.push_back(stateOf(job, records, scenes, o.out, manifestPath));
@@ -119,7 +126,8 @@ int run(const StatusOptions& o) {
     json report = {{"manifest", o.manifest},       {"out", o.out},
                    {"jobs", states.size()},        {"done", counts["done"]},
                    {"stale", counts["stale"]},     {"failed", counts["failed"]},
-                   {"missing", counts["missing"]}, {"states", json::array()}};
+                   {"missing", counts["missing"]}, {"running", counts["running"]},
+                   {"states", json::array()}};
     for (const JobState& s : states) report["states"].push_back(toJson(s));
     std::cout << report.dump(2) << "\n";
   } else {
@@ -127,7 +135,7 @@ int run(const StatusOptions& o) {
   }
   if (!o.csv.empty()) writeFileAtomically(o.csv, csvText(states));  // throws naming the file
   if (counts["failed"] || replan) return kExitPermanent;
-  return counts["missing"] || counts["stale"] ? kExitRetryable : 0;
+  return counts["missing"] || counts["stale"] || counts["running"] ? kExitRetryable : 0;
 }
 
 }  // namespace
