@@ -557,6 +557,7 @@ static IzbRay izb_light_ray(const IzbFrame* f, const IzbLightPlane* p, float2 di
 typedef struct {
   float2 g[3];
   float h[3], tol[3];
+  float offset[3];  // h[i] / |g[i]|: the line's offset across the unit disk, for the masks
   int edges, masked;
 } IzbProjection;
 
@@ -599,7 +600,7 @@ static int izb_soft_projection(const IzbLightPlane* p, float3 a, float3 b, float
     if (h + glen < -err) continue;  // the whole disk lies inside this edge
     if (h - glen > err) return IZB_HIDES_NONE;
     const int k = out->edges++;
-    out->g[k] = g, out->h[k] = h, out->tol[k] = fmax(err, IZB_MASK_MARGIN * glen);
+    out->g[k] = g, out->h[k] = h, out->tol[k] = fmax(err, IZB_MASK_MARGIN * glen), out->offset[k] = h / glen;
     out->masked &= conditioned;
   }
   return out->edges;
@@ -665,7 +666,7 @@ __kernel void izb_soft_test(__global const uint* sorted, __global const uint* ce
     __global const uint* table[3];
     bool empty = false;
     for (int c = 0; masked && c < edges && !empty; ++c)
-      empty = !izb_edge_masks(proj.g[c], proj.h[c] / length(proj.g[c]), cs, words, masks, &table[c]);
+      empty = !izb_edge_masks(proj.g[c], proj.offset[c], cs, words, masks, &table[c]);
     if (empty) continue;  // the projection misses the light
     const bool opaque = !f.alphaTested || alphaIndex[t] == ALPHA_NO_TRIANGLE;
     for (int w = 0; w < words; ++w) {

@@ -4,12 +4,13 @@
 
 #include <cstdint>
 #include <functional>
-#include <glm/glm.hpp>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
 #include <string>
 #include <string_view>
+
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
 
 #include "host/scene/load_options.h"
 

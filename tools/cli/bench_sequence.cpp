@@ -8,16 +8,16 @@
 #include <filesystem>
 #include <sstream>
 
-#include "tools/eval/bench_report.h"
-#include "tools/eval/bench_stats.h"
 #include "host/eval/metrics.h"
-#include "tools/eval/shimmer.h"
 #include "host/io/atomic_file.h"
 #include "host/io/bounded_read.h"
-#include "tools/cli/input_limits.h"
 #include "host/pipeline/renderer.h"
 #include "host/scene/light_names.h"
 #include "tools/cli/camera_path.h"
+#include "tools/cli/input_limits.h"
+#include "tools/eval/bench_report.h"
+#include "tools/eval/bench_stats.h"
+#include "tools/eval/shimmer.h"
 #include "tools/reference/reference.h"
 
 namespace penumbra::cli {

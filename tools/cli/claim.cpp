@@ -13,11 +13,11 @@
 #include <chrono>
 #include <cstring>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
 
-#include <nlohmann/json.hpp>
-
+#include "host/cl/context.h"
 #include "tools/cli/job_status.h"
 
 namespace penumbra::cli {
@@ -27,11 +27,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 // 64-bit FNV-1a of the output path: the claim's file name (stable across runs and machines).
-std::string claimName(const std::string& output) {
-  uint64_t h = 0xcbf29ce484222325ull;
-  for (unsigned char c : output) h = (h ^ c) * 0x100000001b3ull;
-  return fmt::format("{:016x}.claim", h);
-}
+std::string claimName(const std::string& output) { return fmt::format("{:016x}.claim", fnv1a64(output)); }
 
 fs::path claimPath(const fs::path& outDir, const std::string& output) {
   return statusFolder(outDir) / "claims" / claimName(output);

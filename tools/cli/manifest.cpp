@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <cerrno>
 #include <cstring>
 #include <map>
@@ -12,14 +13,12 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <CLI/CLI.hpp>
-
 #include "host/cl/context.h"
 #include "host/io/bounded_read.h"
-#include "tools/cli/input_limits.h"
 #include "host/scene/load.h"
 #include "host/version.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/input_limits.h"
 
 namespace penumbra::cli {
 namespace {
@@ -215,6 +214,14 @@ HashedScene loadHashedScene(const ViewOptions& view) {
 
 std::string jobId(const ManifestJob& job, const std::string& digest) {
   return fmt::format("{:016x}", fnv1a64(job.key + "\n" + digest + "\n" + std::string(version())));
+}
+
+std::string staleIdReason(const ManifestJob& job, const std::string& id) {
+  if (job.id.empty() || job.id == id) return {};
+  return fmt::format(
+      "id {} in the manifest, {} for the job now: its scene's files or penumbra's version changed since it was "
+      "planned (run penumbra plan again)",
+      job.id, id);
 }
 
 }  // namespace penumbra::cli

@@ -52,4 +52,8 @@ HashedScene loadHashedScene(const ViewOptions& view);
 // 16 hex digits: the job's key, the scene digest and penumbra's version, hashed.
 std::string jobId(const ManifestJob& job, const std::string& digest);
 
+// Why the line's id is stale against `id`, the one the job has now ("" when they agree or the line has none): run
+// refuses such a line, dry runs and status report it.
+std::string staleIdReason(const ManifestJob& job, const std::string& id);
+
 }  // namespace penumbra::cli

@@ -11,8 +11,8 @@
 
 #include "host/io/atomic_file.h"
 #include "host/io/bounded_read.h"
-#include "tools/cli/input_limits.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/input_limits.h"
 #include "tools/cli/scene_cache.h"
 #include "tools/cli/sweep_plan.h"
 

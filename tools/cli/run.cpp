@@ -6,7 +6,6 @@
 // log cannot be written for another reason.
 #include <fmt/format.h>
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,6 +13,8 @@
 #include <memory>
 #include <optional>
 #include <set>
+
+#include <CLI/CLI.hpp>
 
 #include "host/cl/error.h"
 #include "host/io/atomic_file.h"
@@ -33,7 +34,7 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 struct RunOptions {
-  std::string manifest, out, shard, device, timeLimit, claimLease = "6h";
+  std::string manifest, out, shard, device, timeLimit, claimLease;  // claimLease "": kDefaultClaimLeaseSeconds
   std::optional<size_t> shardCount;
   bool skipExisting = true, onlyFailed = false, quiet = false, dryRun = false, force = false;
   size_t maxFailures = 0;  // 0: no limit
@@ -178,11 +179,7 @@ StatusRecord runJob(Batch& batch, const ManifestJob& job, std::optional<Rendered
   if (!job.error.empty()) return record.error = job.error, record;
   try {
     const std::string id = jobId(job, batch.scenes.digest(job.options.view));
-    if (!job.id.empty() && job.id != id)
-      throw std::runtime_error(fmt::format(
-          "id {} in the manifest, {} for the job now: its scene's files or penumbra's version changed since it was "
-          "planned (run penumbra plan again)",
-          job.id, id));
+    if (const std::string stale = staleIdReason(job, id); !stale.empty()) throw std::runtime_error(stale);
     record.id = id, record.state = "done", record.exit = 0;
     ImageOutputPlan output = planImageOutput(job.options.output);
     const std::string where = fmt::format("{}:{}", batch.options.manifestPath, job.line);
@@ -300,11 +297,7 @@ std::string checkJob(SceneCache& scenes, const ManifestJob& job) {
   if (!job.error.empty()) return job.error;
   try {
     const std::string id = jobId(job, scenes.digest(job.options.view));
-    if (!job.id.empty() && job.id != id)
-      return fmt::format(
-          "{}: id {} in the manifest, {} for the job now: its scene's files or penumbra's version "
-          "changed since it was planned (run penumbra plan again)",
-          job.where, job.id, id);
+    if (const std::string stale = staleIdReason(job, id); !stale.empty()) return job.where + ": " + stale;
     planImageOutput(job.options.output);
     SceneCache::Entry& scene = scenes.get(job.options.view);
     planFrame(job.options, chooseTechnique(job.options), scene.scene);
@@ -317,7 +310,7 @@ std::string checkJob(SceneCache& scenes, const ManifestJob& job) {
 int run(RunOptions o) {
   const Shard shard = parseShard(o.shard, o.shardCount, [](const char* name) { return std::getenv(name); });
   const double timeLimit = o.timeLimit.empty() ? 0 : parseDuration(o.timeLimit);  // usage errors before any work
-  o.leaseSeconds = parseDuration(o.claimLease, "--claim-lease");
+  o.leaseSeconds = o.claimLease.empty() ? kDefaultClaimLeaseSeconds : parseDuration(o.claimLease, "--claim-lease");
   o.manifestPath = fs::absolute(o.manifest).lexically_normal().string();
   const std::vector<ManifestJob> jobs = readManifest(o.manifest, o.out);
   const std::vector<const ManifestJob*> mine = shardJobs(jobs, shard, o);
@@ -389,9 +382,9 @@ Command addRunCommand(CLI::App& app) {
   sub->add_flag("-q,--quiet", o->quiet, "No summary line unless jobs failed or were left");
   sub->add_flag("--force", o->force, "Replace an output that another manifest's job made (refused otherwise)");
   sub->add_option("--claim-lease", o->claimLease,
-                  "How long another host's claim on a job holds (90s, 15m, 2h, H:MM:SS); this host's hold while "
-                  "their process runs")
-      ->capture_default_str();
+                  fmt::format("How long another host's claim on a job holds (90s, 15m, 2h, H:MM:SS; default {}h); "
+                              "this host's hold while their process runs",
+                              kDefaultClaimLeaseSeconds / 3600));
   return {sub, [o] { return run(*o); }};
 }
 

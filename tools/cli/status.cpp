@@ -44,12 +44,8 @@ JobState stateOf(const ManifestJob& job, const std::map<std::string, StatusRecor
     return s.error = job.where + ": " + e.what(), s;
   }
   s.record = findRecord(records, s.id, job.where);
-  if (!job.id.empty() && job.id != s.id) {
-    s.state = "stale", s.replan = true;
-    s.error = fmt::format(
-        "{}: id {} in the manifest, {} for the job now: its scene's files or penumbra's version "
-        "changed since it was planned (run penumbra plan again)",
-        job.where, job.id, s.id);
+  if (const std::string stale = staleIdReason(job, s.id); !stale.empty()) {
+    s.state = "stale", s.replan = true, s.error = job.where + ": " + stale;
     return s;
   }
   const OutputOrigin made = outputOrigin(out / job.output);
