@@ -2,8 +2,9 @@
 # `penumbra run --shard auto` under a real Slurm (Debian's slurm-wlm and munge): starts munged, slurmctld and slurmd
 # on this host (no systemd; key, config, state and logs in SCRATCH, ports from the pid), submits an array of 4 shards,
 # 2 at a time, checks `penumbra status` and the outputs, resubmits (everything skipped), cancels a running array with
-# scancel (no partial output, the shard exits 75) and resubmits to completion, then stops the daemons it started by
-# their pids. Usage: slurm_test.sh PENUMBRA SCRATCH. Exit 77 (skipped) only when Slurm or munge is not installed.
+# scancel (no partial output, the shard exits 75) and resubmits to completion, lets a time limit send the early
+# signal (exit 75) and resubmits to completion, then stops the daemons it started by their pids.
+# Usage: slurm_test.sh PENUMBRA SCRATCH. Exit 77 (skipped) only when Slurm or munge is not installed.
 set -u
 bin=$(realpath "$1")
 s=$2
@@ -137,5 +138,29 @@ for _ in $(seq 1 900); do [ -z "$(squeue -h -j "$job" 2>/dev/null)" ] && break; 
 expect batch-signal-reaches-penumbra 0 "left \(SIGTERM\)" -- cat "$s"/jobs/"$job"_*.out
 expect batch-signal-resubmit 0 '^[0-9]+$' -- timeout 150 bash -c "$(declare -f submit); s='$s' submit '$s/long.jsonl' '$s/batchsig' --wait"
 expect batch-signal-complete 0 "80 jobs: 80 done, 0 stale, 0 failed, 0 missing" -- "$bin" status "$s/long.jsonl" --out "$s/batchsig"
+
+# A time limit that triggers the early signal, submitted as docs/batch.md does (`--time`, `--signal=B:TERM@...`, a
+# `--wrap` that execs penumbra). slurmctld tests time limits every 30 s (its PERIODIC_TIMEOUT) and sends the warning
+# signal at the first test inside the lead time, so a one-minute limit with the signal asked 60 s ahead reaches
+# penumbra within 30 s of the start, long before the limit's kill (60-90 s, then KillWait). The manifest holds about a
+# minute of frames on the 2-core CI machine (280 of ~0.22 s), so the shard is still working when the signal comes:
+# it finishes the frame in hand and exits 75 (FAILED, not TIMEOUT), and a resubmission renders the rest.
+for i in $(seq 0 279); do
+  printf '{"scene": "builtin:box", "technique": "pcss", "size": "640x480", "map-size": 4096, "png": "none", "camera": "%s,3,6:0,0,0:50", "output": "t%03d.exr"}\n' "$((i % 20 - 10))" "$i"
+done >"$s/timed.jsonl"
+timed() {  # timed MINUTES: a job limited to MINUTES with the signal asked 60 s before its end; the job's id
+  sbatch --parsable --time="$1" --signal=B:TERM@60 --job-name=penumbra --output="$s/jobs/timed-%j.out" --chdir="$s" \
+    "${@:2}" --wrap "exec '$bin' run '$s/timed.jsonl' --out '$s/timed'"
+}
+job=$(timed 1)
+for _ in $(seq 1 900); do [ -z "$(squeue -h -j "$job" 2>/dev/null)" ] && break; sleep 0.2; done
+expect timelimit-signal 0 "left \(SIGTERM\)" -- cat "$s/jobs/timed-$job.out"
+expect timelimit-exit-75 0 "JobState=FAILED .*ExitCode=75:0" -- bash -c "scontrol show job '$job' | tr -s ' \n' ' '"
+expect timelimit-missing 75 "280 jobs: [0-9]+ done, 0 stale, 0 failed, [1-9][0-9]* missing" -- \
+  "$bin" status "$s/timed.jsonl" --out "$s/timed"
+expect timelimit-no-partial 0 '^0$' -- bash -c "find '$s/timed' -name '*.tmp-*' | wc -l"
+expect timelimit-resubmit 0 '^[0-9]+$' -- timeout 300 bash -c "$(declare -f timed); s='$s' bin='$bin' timed 5 --wait"
+expect timelimit-complete 0 "280 jobs: 280 done, 0 stale, 0 failed, 0 missing" -- \
+  "$bin" status "$s/timed.jsonl" --out "$s/timed"
 
 finish
