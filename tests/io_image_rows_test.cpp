@@ -91,6 +91,14 @@ TEST(ImageRows, NamesReadsAndRefusals) {
   rows.read("depth.Z", 1, 2, band);
   EXPECT_EQ(band, (std::vector<float>{120, 121, 122, 123, 124, 125}));
 
+  // A held channel's rows in place (what writeExr hands OpenEXR without a copy); none for a deferred one.
+  const std::span<const float> held = rows.stored("R", 1, 2);
+  EXPECT_EQ(held.data(), image.find("R")->data.data() + 3);
+  EXPECT_EQ(std::vector<float>(held.begin(), held.end()), (std::vector<float>{3, 4, 5, 6, 7, 8}));
+  EXPECT_TRUE(rows.stored("depth.Z", 0, 2).empty());
+  EXPECT_TRUE(rows.stored("G", 0, 2).empty());
+  EXPECT_THROW(rows.stored("R", 3, 2), std::out_of_range);
+
   std::vector<float> none;
   rows.read("R", 4, 0, none);  // an empty band at the end is fine
   EXPECT_THROW(rows.read("R", 3, 2, band), std::out_of_range);
@@ -131,9 +139,16 @@ TEST(ImageRowsFiles, ExrWrittenInBandsEqualsTheWholeImage) {
     Deferred deferred = deferAll(image);
     options.bandBytes = 1;  // one 16-row block a band
     writeExr(folder / "bands.exr", ImageRows(deferred.header, deferred.channels), options);
+    writeExr(folder / "held-bands.exr", image, options);  // the image's own rows, a band at a time
 
     const Image whole = readExr(folder / "whole.exr"), bands = readExr(folder / "bands.exr");
     expectSameChannels(whole, bands);
+    expectSameChannels(whole, readExr(folder / "held-bands.exr"));
+    for (const char* name : {"R", "P.X", "depth.Z"})  // bit for bit (NaN included)
+      EXPECT_EQ(std::memcmp(whole.find(name)->data.data(), image.find(name)->data.data(),
+                            image.pixelCount() * sizeof(float)),
+                0)
+          << name;
     EXPECT_EQ(bands.attributes().at("penumbra:technique"), "sm");
     EXPECT_EQ(bands.numbers().at("penumbra:number"), 2.5);
     // Every row read once, in order, in bands of 16 rows (the last one shorter).

@@ -250,8 +250,10 @@ void writeExr(const std::filesystem::path& path, const ImageRows& image, const E
   // Whole ZIP blocks (16 rows) of every channel: the band is all the pixel memory a write needs.
   const int band = std::min(bandRows(image.width(), names.size(), options.bandBytes), image.height());
   const size_t bandValues = width * static_cast<size_t>(band);
-  std::vector<std::vector<float>> floats(names.size(), std::vector<float>(bandValues));
-  // OutputFile converts nothing: a HALF channel needs a HALF slice, so those are converted here.
+  // A FLOAT channel the image holds is written from its own rows; a deferred one is read into a band here (allocated
+  // only for such channels: fresh pages cost a fault each, as much as the copy). OutputFile converts nothing: a HALF
+  // channel needs a HALF slice, so those are converted here.
+  std::vector<std::vector<float>> floats(names.size());
   std::vector<std::vector<half>> halves(names.size());
   auto file = std::make_unique<PendingFile>(path);
   try {
@@ -263,11 +265,16 @@ void writeExr(const std::filesystem::path& path, const ImageRows& image, const E
       const size_t n = width * static_cast<size_t>(rows);
       Imf::FrameBuffer frame;
       for (size_t c = 0; c < names.size(); ++c) {
-        image.read(names[c], first, rows, std::span<float>(floats[c].data(), n));
+        std::span<const float> values = image.stored(names[c], first, rows);
+        if (values.empty()) {
+          floats[c].resize(bandValues);
+          image.read(names[c], first, rows, std::span<float>(floats[c].data(), n));
+          values = std::span<const float>(floats[c].data(), n);
+        }
         const bool isHalf = options.halfChannels.count(names[c]) != 0;
-        const void* pixels = floats[c].data();
+        const void* pixels = values.data();
         if (isHalf) {
-          halves[c].assign(floats[c].begin(), floats[c].begin() + static_cast<std::ptrdiff_t>(n));
+          halves[c].assign(values.begin(), values.end());
           pixels = halves[c].data();
         }
         const size_t pixelSize = isHalf ? sizeof(half) : sizeof(float);

@@ -29,17 +29,30 @@ bool ImageRows::has(std::string_view name) const {
   return std::find(names_.begin(), names_.end(), name) != names_.end();
 }
 
-void ImageRows::read(std::string_view name, int first, int count, std::span<float> out) const {
+void ImageRows::checkRows(int first, int count) const {
   if (first < 0 || count < 0 || first > height() - count)
     throw std::out_of_range(
         fmt::format("{}: rows {}..{} of a {}-row image", displayName(image_), first, first + count, height()));
+}
+
+std::span<const float> ImageRows::stored(std::string_view name, int first, int count) const {
+  checkRows(first, count);
+  const ImageChannel* channel = image_.find(name);
+  if (!channel) return {};
+  const size_t width = static_cast<size_t>(image_.width());
+  return std::span<const float>(channel->data).subspan(width * static_cast<size_t>(first),
+                                                       width * static_cast<size_t>(count));
+}
+
+void ImageRows::read(std::string_view name, int first, int count, std::span<float> out) const {
+  checkRows(first, count);
   const size_t width = static_cast<size_t>(image_.width());
   if (out.size() != width * static_cast<size_t>(count))
     throw std::out_of_range(
         fmt::format("{}: {} values for {} rows of {}", displayName(image_), out.size(), count, image_.width()));
-  if (const ImageChannel* channel = image_.find(name)) {
-    const auto begin = channel->data.begin() + static_cast<std::ptrdiff_t>(width * static_cast<size_t>(first));
-    std::copy(begin, begin + static_cast<std::ptrdiff_t>(out.size()), out.begin());
+  if (image_.find(name)) {
+    const std::span<const float> rows = stored(name, first, count);
+    std::copy(rows.begin(), rows.end(), out.begin());
     return;
   }
   for (const DeferredChannel& channel : deferred_)

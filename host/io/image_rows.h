@@ -39,8 +39,13 @@ class ImageRows {
   // the image, the channel and the channels it has when `name` is absent, and std::out_of_range for rows outside the
   // image or an `out` of another size.
   void read(std::string_view name, int first, int count, std::span<float> out) const;
+  // Rows [first, first + count) of a channel the image holds, in place (no copy); empty for a deferred channel, which
+  // only read() can produce. Range checks as read()'s.
+  std::span<const float> stored(std::string_view name, int first, int count) const;
 
  private:
+  void checkRows(int first, int count) const;  // throws std::out_of_range for rows outside the image
+
   const Image& image_;
   std::span<const DeferredChannel> deferred_;
   std::vector<std::string> names_;
