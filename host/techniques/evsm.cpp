@@ -30,7 +30,7 @@ MomentTechniqueSpec evsmSpec(bool four) {
 
 TechniqueInfo evsmTechnique(bool four) {
   std::vector<ParamSpec> params = momentMapParams(evsmParams(four));
-  if (!four) positiveWarpBlurMax(params);
+  four ? blurredPenumbraMapSize(params) : positiveWarpBlurMax(params);
   return {four ? "evsm4" : "evsm2",
           four ? "Exponential VSM with positive and negative warps (minimum of the two bounds)"
                : "Exponential VSM with the positive warp",

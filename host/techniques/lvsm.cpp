@@ -296,8 +296,9 @@ std::vector<ParamSpec> lvsmParams() {
 }  // namespace
 
 TechniqueInfo lvsmTechnique() {
-  return {"lvsm", "Layered variance shadow maps: the depth range split into warped VSM layers (Lloyd-placed)",
-          filteredMomentParams(lvsmParams()),
+  std::vector<ParamSpec> params = filteredMomentParams(lvsmParams());
+  blurredPenumbraMapSize(params);
+  return {"lvsm", "Layered variance shadow maps: the depth range split into warped VSM layers (Lloyd-placed)", params,
           makeTechnique<LayeredVsm>};
 }
 

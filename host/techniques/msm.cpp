@@ -33,7 +33,9 @@ TechniqueInfo msmTechnique() {
        "MSM moment bias alpha: moments move towards (1/2, 1/2, 1/2, 1/2) by this share (at least 1e-3 with fp16 "
        "moment storage)"},
       bleedingParam()};
-  return {"msm", "Moment shadow maps: four moments and the Hamburger lower bound", momentMapParams(extra),
+  std::vector<ParamSpec> params = momentMapParams(extra);
+  blurredPenumbraMapSize(params);
+  return {"msm", "Moment shadow maps: four moments and the Hamburger lower bound", params,
           momentTechniqueFactory(msmSpec())};
 }
 

@@ -133,6 +133,7 @@ class SummedAreaVsm final : public TechniqueOf<SavsmSettings> {
 
 TechniqueInfo savsmTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
+  blurredPenumbraMapSize(params);
   const std::vector<ParamSpec> chebyshev = chebyshevParams();
   params.insert(params.end(), chebyshev.begin(), chebyshev.end());
   params.push_back(filterBiasParam());

@@ -30,6 +30,8 @@ constexpr double kShortPenumbraTexels = 3.0;
 constexpr double kPenumbraMaxTexels = 16.0;
 constexpr double kShortPenumbraMaxTexels = 4.0;
 constexpr double kDetailTexels = 2.0;
+constexpr double kPenumbraQuantile = 0.1;
+constexpr double kBlurredPenumbraQuantile = 0.2;
 }  // namespace
 
 std::vector<ParamSpec> shadowMapParams() {
@@ -45,7 +47,7 @@ std::vector<ParamSpec> shadowMapParams() {
       {"map-size-penumbra", kPenumbraTexels, 0, 64,
        "--map-size auto, area lights: the penumbra half-width that --map-size-penumbra-quantile of the shadowed pixels "
        "reach spans at least this many texels (measured on a 512^2 probe of the light's view; 0: off)"},
-      {"map-size-penumbra-quantile", 0.1, 0.01, 1,
+      {"map-size-penumbra-quantile", kPenumbraQuantile, 0.01, 1,
        "--map-size auto: the share of the shadowed pixels whose penumbra may be narrower than --map-size-penumbra"},
       {"map-size-penumbra-max", kPenumbraMaxTexels, 0, 256,
        "--map-size auto, area lights: the pixels' need is capped where the median penumbra half-width would span more "
@@ -76,6 +78,10 @@ void unscaledNormalOffset(std::vector<ParamSpec>& params) {
 void shortPenumbraMapSize(std::vector<ParamSpec>& params) {
   paramNamed(params, "map-size-penumbra").defaultValue = kShortPenumbraTexels;
   paramNamed(params, "map-size-penumbra-max").defaultValue = kShortPenumbraMaxTexels;
+}
+
+void blurredPenumbraMapSize(std::vector<ParamSpec>& params) {
+  paramNamed(params, "map-size-penumbra-quantile").defaultValue = kBlurredPenumbraQuantile;
 }
 
 void fixMapSize(std::vector<ParamSpec>& params, const std::string& why) {

@@ -37,6 +37,13 @@ void unscaledNormalOffset(std::vector<ParamSpec>& params);
 // of a filter's 6 (its edge is placed within a third of the half-width, and more texels only widen the penumbra beyond
 // what it draws), and caps the pixels' need where the median half-width would span 4 texels instead of 16.
 void shortPenumbraMapSize(std::vector<ParamSpec>& params);
+// For a technique that blurs its moments with one radius per frame (vsm, evsm4, msm, lvsm; savsm's SAT): --map-size
+// auto's penumbra need is read at the narrowest fifth of the shadowed pixels instead of the narrowest tenth. Such a map
+// draws every penumbra with one kernel, so the narrowest tenth (contact lines, where the bias decides) buys it little:
+// on scenes/default.json at 640x360 it drew 3840^2 for MAE 3-4 % below the fifth's ~1900^2 at 2.2-6x the time, while
+// builtin:cards (alpha holes: every penumbra narrow) and builtin:staircase draw the same size either way
+// (docs/techniques/moments.md, "Map size").
+void blurredPenumbraMapSize(std::vector<ParamSpec>& params);
 // For techniques whose map-size is not one uniform map's (per split, or warped): no auto and its settings; `why`
 // goes into the help.
 void fixMapSize(std::vector<ParamSpec>& params, const std::string& why);

@@ -18,8 +18,10 @@ MomentTechniqueSpec vsmSpec() {
 }  // namespace
 
 TechniqueInfo vsmTechnique() {
-  return {"vsm", "Variance shadow maps: filtered depth moments and the one-tailed Chebyshev bound",
-          momentMapParams(chebyshevParams()), momentTechniqueFactory(vsmSpec())};
+  std::vector<ParamSpec> params = momentMapParams(chebyshevParams());
+  blurredPenumbraMapSize(params);
+  return {"vsm", "Variance shadow maps: filtered depth moments and the one-tailed Chebyshev bound", params,
+          momentTechniqueFactory(vsmSpec())};
 }
 
 }  // namespace penumbra
