@@ -587,16 +587,26 @@ TEST_F(PenumbraWidthTest, AutoIsTheRadiusDefaultOfEveryFixedKernel) {
   params.set("blur-radius", "0");
   EXPECT_FALSE(AutoRadius::from(params, "blur-radius").automatic);
   EXPECT_EQ(AutoRadius::from(params, "blur-radius").radius, 0);  // 0 stays off, not auto
-  EXPECT_EQ(momentBlurReach(MomentFilter::from(params)), 0.0f);
+  EXPECT_EQ(momentBlurReach(MomentFilter::from(params, 2048)), 0.0f);
   params.set("blur-radius", "auto");
-  const AutoRadius blur = AutoRadius::from(params, "blur-radius");
+  const AutoRadius blur = MomentFilter::from(params, 2048).blur;
   EXPECT_TRUE(blur.automatic);
   EXPECT_EQ(blur.limit(), 16);  // the map's margin before it is measured
   // The Gaussian of the largest radius reaches 3 sigma: sigma^2 = r (r + 1) / 3.
-  EXPECT_EQ(momentBlurReach(MomentFilter::from(params)), std::ceil(3.0f * std::sqrt(16.0f * 17.0f / 3.0f)));
+  EXPECT_EQ(momentBlurReach(MomentFilter::from(params, 2048)), std::ceil(3.0f * std::sqrt(16.0f * 17.0f / 3.0f)));
   EXPECT_THROW(params.set("blur-radius", "-1"), std::invalid_argument);  // auto's value is not a radius
-  EXPECT_EQ(Params(findTechnique("esm").params).getInt("blur-radius-max"), 2);
-  EXPECT_EQ(Params(findTechnique("evsm2").params).getInt("blur-radius-max"), 2);
+  // blur-radius-max auto: a 128th of the map's side, at least 16 (the same reach in the scene at every size).
+  EXPECT_TRUE(params.isAuto("blur-radius-max"));
+  for (const auto& [side, max] : {std::pair{256, 16}, {2048, 16}, {2176, 17}, {4096, 32}, {8192, 64}})
+    EXPECT_EQ(MomentFilter::from(params, side).blur.limit(), max) << side;
+  params.set("blur-radius-max", "16");
+  EXPECT_EQ(MomentFilter::from(params, 4096).blur.limit(), 16);  // a number is kept at every size
+  EXPECT_THROW(params.set("blur-radius-max", "-1"), std::invalid_argument);
+  for (const char* name : {"esm", "evsm2"}) {  // a fixed 2 at every size
+    const Params positive(findTechnique(name).params);
+    EXPECT_EQ(positive.getInt("blur-radius-max"), 2) << name;
+    EXPECT_EQ(MomentFilter::from(positive, 4096).blur.limit(), 2) << name;
+  }
   for (const char* name : {"pcf", "pssm"}) {
     Params pcf(findTechnique(name).params);
     EXPECT_TRUE(AutoRadius::from(pcf, "pcf-radius").automatic) << name;

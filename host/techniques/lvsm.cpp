@@ -38,7 +38,7 @@ struct LvsmSettings {
   static LvsmSettings from(const Params& params, int mapSize) {
     LvsmSettings s;
     s.map = MapSettings::from(params, mapSize);
-    s.filter = MomentFilter::from(params);
+    s.filter = MomentFilter::from(params, s.map.size);
     s.chebyshev = Chebyshev::from(params);
     s.layers = params.getInt("lvsm-layers");
     s.placement = static_cast<Placement>(params.getInt("lvsm-placement"));

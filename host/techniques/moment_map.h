@@ -51,7 +51,7 @@ struct MomentFilter {
   BlurFilter filter = BlurFilter::Gaussian;
   bool trilinear = false;  // moment-filtering trilinear
   float filterBias = 0;
-  static MomentFilter from(const Params& params);
+  static MomentFilter from(const Params& params, int mapSize);  // mapSize: the map's side (blur-radius-max auto's)
   bool operator==(const MomentFilter&) const = default;
 };
 

@@ -17,7 +17,8 @@ struct PsvsmSettings {
   MomentStorage storage = MomentStorage::Float32;
   Chebyshev chebyshev;
   static PsvsmSettings from(const Params& params, int mapSize) {
-    return {MapSettings::from(params, mapSize), SplitSettings::from(params), MomentFilter::from(params),
+    const MapSettings map = MapSettings::from(params, mapSize);
+    return {map, SplitSettings::from(params), MomentFilter::from(params, map.size),
             momentStorage(params), Chebyshev::from(params)};
   }
   bool operator==(const PsvsmSettings&) const = default;
