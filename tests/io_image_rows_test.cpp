@@ -145,9 +145,9 @@ TEST(ImageRowsFiles, ExrWrittenInBandsEqualsTheWholeImage) {
     expectSameChannels(whole, bands);
     expectSameChannels(whole, readExr(folder / "held-bands.exr"));
     for (const char* name : {"R", "P.X", "depth.Z"})  // bit for bit (NaN included)
-      EXPECT_EQ(std::memcmp(whole.find(name)->data.data(), image.find(name)->data.data(),
-                            image.pixelCount() * sizeof(float)),
-                0)
+      EXPECT_EQ(
+          std::memcmp(whole.find(name)->data.data(), image.find(name)->data.data(), image.pixelCount() * sizeof(float)),
+          0)
           << name;
     EXPECT_EQ(bands.attributes().at("penumbra:technique"), "sm");
     EXPECT_EQ(bands.numbers().at("penumbra:number"), 2.5);

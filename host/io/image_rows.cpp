@@ -40,8 +40,8 @@ std::span<const float> ImageRows::stored(std::string_view name, int first, int c
   const ImageChannel* channel = image_.find(name);
   if (!channel) return {};
   const size_t width = static_cast<size_t>(image_.width());
-  return std::span<const float>(channel->data).subspan(width * static_cast<size_t>(first),
-                                                       width * static_cast<size_t>(count));
+  return std::span<const float>(channel->data)
+      .subspan(width * static_cast<size_t>(first), width * static_cast<size_t>(count));
 }
 
 void ImageRows::read(std::string_view name, int first, int count, std::span<float> out) const {

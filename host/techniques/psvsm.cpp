@@ -18,8 +18,8 @@ struct PsvsmSettings {
   Chebyshev chebyshev;
   static PsvsmSettings from(const Params& params, int mapSize) {
     const MapSettings map = MapSettings::from(params, mapSize);
-    return {map, SplitSettings::from(params), MomentFilter::from(params, map.size),
-            momentStorage(params), Chebyshev::from(params)};
+    return {map, SplitSettings::from(params), MomentFilter::from(params, map.size), momentStorage(params),
+            Chebyshev::from(params)};
   }
   bool operator==(const PsvsmSettings&) const = default;
 };
