@@ -11,7 +11,6 @@ extern "C" {
 pn_status pn_context_create(const char* device_spec, pn_context** context) {
   return guard([&] {
     require(context, "pn_context_create", "context");
-    *context = nullptr;
     auto created = std::make_unique<pn_context>();
     created->context = std::make_unique<penumbra::Context>(device_spec != nullptr ? device_spec : "");
     *context = created.release();
@@ -22,7 +21,6 @@ pn_status pn_context_create_from_cl(cl_context cl_ctx, cl_device_id device, cl_c
                                     pn_context** context) {
   return guard([&] {
     require(context, "pn_context_create_from_cl", "context");
-    *context = nullptr;
     auto created = std::make_unique<pn_context>();
     created->context = std::make_unique<penumbra::Context>(cl_ctx, device, queue);
     *context = created.release();

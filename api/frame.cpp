@@ -30,7 +30,6 @@ const char* pn_frame_channel_name(const pn_frame* frame, size_t index) {
 pn_status pn_frame_channel(const pn_frame* frame, const char* name, const float** data) {
   return guard([&] {
     require(data, "pn_frame_channel", "data");
-    *data = nullptr;
     const pn_frame& f = *require(frame, "pn_frame_channel", "frame");
     const penumbra::ImageChannel* channel = f.image.find(require(name, "pn_frame_channel", "name"));
     if (channel == nullptr)
@@ -50,7 +49,6 @@ const char* pn_frame_light_layer(const pn_frame* frame, size_t index) {
 pn_status pn_frame_visibility_buffer(const pn_frame* frame, size_t index, cl_mem* buffer) {
   return guard([&] {
     require(buffer, "pn_frame_visibility_buffer", "buffer");
-    *buffer = nullptr;
     const pn_frame& f = *require(frame, "pn_frame_visibility_buffer", "frame");
     if (index >= f.visibility.size())
       throw std::out_of_range(
@@ -62,7 +60,6 @@ pn_status pn_frame_visibility_buffer(const pn_frame* frame, size_t index, cl_mem
 pn_status pn_frame_device_buffer(const pn_frame* frame, pn_frame_output output, cl_mem* buffer) {
   return guard([&] {
     require(buffer, "pn_frame_device_buffer", "buffer");
-    *buffer = nullptr;
     const pn_frame& f = *require(frame, "pn_frame_device_buffer", "frame");
     switch (output) {
       case PN_FRAME_PREVIEW:

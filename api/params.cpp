@@ -66,7 +66,6 @@ pn_status pn_technique_param(const char* technique, size_t index, pn_param_info*
 pn_status pn_params_create(const char* technique, pn_params** params) {
   return guard([&] {
     require(params, "pn_params_create", "params");
-    *params = nullptr;
     auto created = std::make_unique<pn_params>();
     created->technique = &penumbra::findTechnique(require(technique, "pn_params_create", "technique"));
     created->params = penumbra::Params(created->technique->params);

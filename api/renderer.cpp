@@ -90,7 +90,6 @@ extern "C" {
 pn_status pn_renderer_create(pn_context* context, pn_scene* scene, pn_renderer** renderer) {
   return guard([&] {
     require(renderer, "pn_renderer_create", "renderer");
-    *renderer = nullptr;
     require(context, "pn_renderer_create", "context");
     require(scene, "pn_renderer_create", "scene");
     auto created = std::make_unique<pn_renderer>();
@@ -116,7 +115,6 @@ pn_status pn_renderer_render(pn_renderer* renderer, const pn_camera* camera, con
                              size_t light_count, const pn_params* params, pn_frame** frame) {
   return guard([&] {
     require(frame, "pn_renderer_render", "frame");
-    *frame = nullptr;
     pn_renderer& r = *require(renderer, "pn_renderer_render", "renderer");
     const penumbra::Scene& scene = r.scene->scene;
     // No camera: pn_scene_default_camera's (the scene's first, else the framing view).

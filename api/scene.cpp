@@ -81,7 +81,6 @@ void pn_scene_load_options_init(pn_scene_load_options* options) {
 pn_status pn_scene_load(const char* spec, const pn_scene_load_options* options, pn_scene** scene) {
   return guard([&] {
     require(scene, "pn_scene_load", "scene");
-    *scene = nullptr;
     require(spec, "pn_scene_load", "spec");
     penumbra::LoadOptions load;
     if (options != nullptr && options->has_time != 0) load.time = options->time;
@@ -101,7 +100,6 @@ pn_status pn_scene_create(const pn_mesh* meshes, size_t mesh_count, const pn_lig
                           pn_scene** scene) {
   return guard([&] {
     require(scene, "pn_scene_create", "scene");
-    *scene = nullptr;
     if (mesh_count > 0) require(meshes, "pn_scene_create", "meshes");
     if (light_count > 0) require(lights, "pn_scene_create", "lights");
     std::vector<penumbra::MeshInput> inputs;

@@ -19,7 +19,6 @@ class StageCall {
  public:
   StageCall(pn_context* context, const char* function, cl_uint waitCount, const cl_event* waitList, cl_event* event)
       : function_(function), waitCount_(waitCount), waitList_(waitList), event_(event) {
-    if (event_ != nullptr) *event_ = nullptr;
     context_ = require(context, function, "context");
     if ((waitCount == 0) != (waitList == nullptr))
       throw std::invalid_argument(fmt::format("{}: a wait list of {} events {}", function, waitCount,
@@ -64,12 +63,14 @@ class StageCall {
       clCheck(clEnqueueBarrierWithWaitList(queue, waitCount_, waitList_, nullptr), "clEnqueueBarrierWithWaitList", {},
               function_);
     stage();
+    cl_event marker = nullptr;  // the caller's event only once the call has succeeded (a failed one writes none)
     if (event_ != nullptr)
-      clCheck(clEnqueueMarkerWithWaitList(queue, 0, nullptr, event_), "clEnqueueMarkerWithWaitList", {}, function_);
+      clCheck(clEnqueueMarkerWithWaitList(queue, 0, nullptr, &marker), "clEnqueueMarkerWithWaitList", {}, function_);
     if (const cl_int err = clFlush(queue); err != CL_SUCCESS) {
-      if (event_ != nullptr) clReleaseEvent(*event_), *event_ = nullptr;  // a failed call hands out no event
+      if (marker != nullptr) clReleaseEvent(marker);
       throw ClError(err, "clFlush", {}, function_);
     }
+    if (event_ != nullptr) *event_ = marker;
   }
 
   const char* function() const { return function_; }
@@ -82,6 +83,14 @@ class StageCall {
   cl_event* event_;
   std::unique_lock<std::mutex> lock_;
 };
+
+// Throws std::invalid_argument unless the image has texels: a stage of a 0-wide or 0-high image is a caller's error, as
+// a 0-wide camera is (api/convert.cpp).
+inline void requireTexels(uint32_t width, uint32_t height, const char* function) {
+  if (width == 0 || height == 0)
+    throw std::invalid_argument(
+        fmt::format("{}: image {}x{} has no texels (width and height must be at least 1)", function, width, height));
+}
 
 // Throws std::invalid_argument unless `value` is one of the enum's `count` values 0..count-1.
 template <class Enum>

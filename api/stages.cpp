@@ -6,6 +6,7 @@
 using penumbra::api::checkEnum;
 using penumbra::api::guard;
 using penumbra::api::require;
+using penumbra::api::requireTexels;
 using penumbra::api::StageCall;
 
 namespace {
@@ -48,6 +49,7 @@ penumbra::BlurConfig blurConfig(const pn_blur_config* c, const char* function) {
 penumbra::ImageShape imageShape(const pn_image_shape* s, const char* function) {
   require(s, function, "shape");
   const penumbra::ImageShape shape{s->width, s->height, s->channels};
+  requireTexels(shape.width, shape.height, function);
   penumbra::checkShape(shape, function);
   return shape;
 }
@@ -64,8 +66,20 @@ void pn_moments_config_init(pn_moments_config* config) {
 }
 
 uint32_t pn_moment_channels(pn_moment_kind kind) {
-  if (kind == PN_MOMENTS_ESM) return 1u;
-  return kind == PN_MOMENTS_EVSM4 || kind == PN_MOMENTS_MSM ? 4u : 2u;
+  switch (kind) {
+    case PN_MOMENTS_ESM:
+      return 1u;
+    case PN_MOMENTS_VSM:
+    case PN_MOMENTS_EVSM2:
+    case PN_MOMENTS_LVSM:
+      return 2u;
+    case PN_MOMENTS_EVSM4:
+    case PN_MOMENTS_MSM:
+      return 4u;
+    case PN_MOMENT_KIND_MAX_ENUM:
+      break;
+  }
+  return 0u;  // not a kind
 }
 
 pn_status pn_moments(pn_context* context, cl_mem depth, uint32_t width, uint32_t height,
@@ -73,6 +87,7 @@ pn_status pn_moments(pn_context* context, cl_mem depth, uint32_t width, uint32_t
                      const cl_event* event_wait_list, cl_event* event) {
   return guard([&] {
     StageCall call(context, "pn_moments", num_events_in_wait_list, event_wait_list, event);
+    requireTexels(width, height, call.function());
     const penumbra::MomentsConfig moments = momentsConfig(config, call.function());
     const auto in = call.buffer<float>(depth, "depth");
     if (moments.storage == penumbra::MomentStorage::Float16) {
@@ -113,6 +128,7 @@ pn_status pn_blur_moments(pn_context* context, cl_mem depth, uint32_t width, uin
     const penumbra::MomentsConfig m = momentsConfig(moments, call.function());
     const penumbra::BlurConfig b = blurConfig(blur, call.function());
     const penumbra::ImageShape shape{width, height, penumbra::momentChannels(m.kind)};
+    requireTexels(width, height, call.function());
     penumbra::checkShape(shape, call.function());
     const auto in = call.buffer<float>(depth, "depth");
     auto temp =
@@ -134,6 +150,7 @@ pn_status pn_blur_moments_scratch(pn_context* context, uint32_t width, uint32_t 
     const penumbra::MomentsConfig m = momentsConfig(moments, "pn_blur_moments_scratch");
     const penumbra::BlurConfig b = blurConfig(blur, "pn_blur_moments_scratch");
     const penumbra::ImageShape shape{width, height, penumbra::momentChannels(m.kind)};
+    requireTexels(width, height, "pn_blur_moments_scratch");
     penumbra::checkShape(shape, "pn_blur_moments_scratch");
     *require(floats, "pn_blur_moments_scratch", "floats") =
         penumbra::blurMomentsScratch(*c.context, shape, b, m.storage, m.kind);

@@ -8,6 +8,7 @@
 using penumbra::api::checkEnum;
 using penumbra::api::guard;
 using penumbra::api::require;
+using penumbra::api::requireTexels;
 using penumbra::api::StageCall;
 
 static_assert(sizeof(pn_lloyd_stats) == sizeof(LloydStats) &&
@@ -62,6 +63,7 @@ pn_status pn_sat(pn_context* context, cl_mem image, const pn_image_shape* shape,
     const pn_image_shape& s = *require(shape, call.function(), "shape");
     const pn_sat_config& c = *require(config, call.function(), "config");
     checkEnum(c.precision, 4, call.function(), "SAT precision");
+    requireTexels(s.width, s.height, call.function());
     const penumbra::ImageShape imageShape{s.width, s.height, s.channels};
     const penumbra::SatConfig sat = satConfig(c, call.function());
     switch (c.precision) {
@@ -93,6 +95,7 @@ pn_status pn_sat_fraction_bits(pn_sat_precision precision, double max_box_texels
 pn_status pn_pyramid_layout(uint32_t width, uint32_t height, uint32_t first_level, pn_pyramid_level* levels,
                             size_t capacity, size_t* level_count, size_t* texels) {
   return guard([&] {
+    requireTexels(width, height, "pn_pyramid_layout");
     if (capacity > 0) require(levels, "pn_pyramid_layout", "levels");
     const penumbra::PyramidLayout layout = penumbra::pyramidLayout(width, height, first_level);
     for (size_t i = 0; i < layout.levels.size() && i < capacity; ++i) {
@@ -111,6 +114,7 @@ pn_status pn_moment_mips(pn_context* context, cl_mem base, const pn_image_shape*
     StageCall call(context, "pn_moment_mips", num_events_in_wait_list, event_wait_list, event);
     const pn_image_shape& s = *require(shape, call.function(), "shape");
     checkEnum(storage, 2, call.function(), "moment storage");
+    requireTexels(s.width, s.height, call.function());
     const penumbra::ImageShape imageShape{s.width, s.height, s.channels};
     if (storage == PN_STORAGE_FLOAT16) {
       const auto in = call.buffer<cl_half>(base, "base");
@@ -128,6 +132,7 @@ pn_status pn_minmax_pyramid(pn_context* context, cl_mem depth, uint32_t width, u
                             cl_uint num_events_in_wait_list, const cl_event* event_wait_list, cl_event* event) {
   return guard([&] {
     StageCall call(context, "pn_minmax_pyramid", num_events_in_wait_list, event_wait_list, event);
+    requireTexels(width, height, call.function());
     const auto in = call.buffer<float>(depth, "depth");
     auto target = call.buffer<cl_float2>(out, "out");
     call.run([&] { penumbra::computeMinMaxPyramid(call.ctx(), in, width, height, target); });

@@ -83,7 +83,9 @@ PN_API pn_status pn_renderer_release(pn_renderer* renderer);
  *  - `lights`, `light_count`: the frame's lights, each with its own technique or `params`; NULL and 0 for the
  *    scene's lights, else the framing light, all shadowed by `params` (as the CLI does without --light).
  *  - `params`: the technique of the lights that name none; may be NULL only when every light names one.
- *  A point light is refused (PN_ERROR_INVALID_ARGUMENT) before any work. */
+ *  A point light is shadowed as the six faces of a cube around it, with every technique
+ *  (docs/techniques/point-lights.md); a light its technique cannot shadow is refused (PN_ERROR_INVALID_ARGUMENT)
+ *  before any work. */
 PN_API pn_status pn_renderer_render(pn_renderer* renderer, const pn_camera* camera, const pn_frame_light* lights,
                                     size_t light_count, const pn_params* params, pn_frame** frame);
 

@@ -31,7 +31,7 @@ typedef struct pn_camera {
 typedef enum pn_light_type {
   PN_LIGHT_SPOT = 0,        /**< A spot at `position` aiming at `target`; `radius` > 0: a disk area light. */
   PN_LIGHT_DIRECTIONAL = 1, /**< Light travelling along `direction`; `angular_radius_deg` > 0: a sun disk. */
-  PN_LIGHT_POINT = 2,       /**< A point at `position` (`radius` > 0: a sphere); no technique renders one yet. */
+  PN_LIGHT_POINT = 2,       /**< A point at `position` (`radius` > 0: a sphere), shadowed as six cube faces. */
   PN_LIGHT_TYPE_MAX_ENUM = 0x7FFFFFFF /**< Not a value: makes the type as wide as int, so that any int a C caller passes
                                          is one of its values (and refused). */
 } pn_light_type;
@@ -45,7 +45,7 @@ typedef struct pn_light {
   float fov_deg;            /**< Spot: full cone angle, degrees, in (0, 180). */
   float radius;             /**< Spot: disk radius; point: sphere radius; 0: a point source. */
   float inner_fov_deg;      /**< Spot: full angle of the fully lit inner cone (glTF); negative: none. */
-  float range;              /**< Spot and point: glTF range (not used yet); 0: unlimited. */
+  float range;              /**< Spot and point: glTF range (the preview fades out towards it); 0: unlimited. */
   float direction[3];       /**< Directional: the unit direction the light travels. */
   float angular_radius_deg; /**< Directional: angular radius of the sun disk, degrees, in [0, 45). */
 } pn_light;

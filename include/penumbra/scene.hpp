@@ -81,7 +81,7 @@ struct Light {
   float fovDeg;                    ///< Spot: full cone angle, degrees.
   float radius;                    ///< Spot: disk radius; point: sphere radius; 0: a point source.
   float innerFovDeg;               ///< Spot: fully lit inner cone (glTF), degrees; negative: none.
-  float range;                     ///< glTF range (not used yet); 0: unlimited.
+  float range;                     ///< glTF range (the preview fades out towards it); 0: unlimited.
   std::array<float, 3> direction;  ///< Directional: the direction the light travels.
   float angularRadiusDeg;          ///< Directional: sun disk angular radius, degrees.
 

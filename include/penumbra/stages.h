@@ -67,7 +67,7 @@ typedef struct pn_moments_config {
 
 /** VSM, depth [0, 1], EVSM exponents 40 and 5, ESM's 80, fp32, no layers. */
 PN_API void pn_moments_config_init(pn_moments_config* config);
-/** Floats (or halves) per texel of one plane of `kind`: 1 (ESM), 2 or 4. */
+/** Floats (or halves) per texel of one plane of `kind`: 1 (ESM), 2 or 4; 0 for a value that is not a pn_moment_kind. */
 PN_API uint32_t pn_moment_channels(pn_moment_kind kind);
 
 /** Moments of `depth` (width * height floats of light depth; NaN and infinities count as the far value) into `out`

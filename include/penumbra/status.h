@@ -23,7 +23,9 @@
 extern "C" {
 #endif
 
-/** What a call returned. Every failure also sets the calling thread's message (pn_last_error_message()). */
+/** What a call returned. Every failure also sets the calling thread's message (pn_last_error_message()) and writes
+ *  nothing through the call's out-parameters: a handle, pointer or value the caller passed in stays as it was (a live
+ *  handle is neither overwritten nor leaked). */
 typedef enum pn_status {
   PN_SUCCESS = 0,                 /**< The call did what it says. */
   PN_ERROR_INVALID_ARGUMENT = 1,  /**< A bad value, size, name, handle or buffer; no kernel was enqueued. */

@@ -248,6 +248,55 @@ TEST(ApiRenderer, ErrorsSayWhatIsWrong) {
   pn_context_release(ctx);
 }
 
+// A call that fails writes nothing through its out-parameters: a live handle the caller passed in is neither
+// overwritten (and so leaked) nor released, and stays usable.
+TEST(ApiRenderer, AFailingCallLeavesTheCallersHandlesAsTheyWere) {
+  pn_context* ctx = nullptr;
+  PN_ASSERT_OK(pn_context_create(nullptr, &ctx));
+  pn_context* kept = ctx;
+  EXPECT_EQ(pn_context_create("no-such-device-anywhere", &ctx), PN_ERROR_NO_DEVICE);
+  EXPECT_EQ(ctx, kept);
+  EXPECT_NE(std::string(pn_context_device_name(ctx)), "");
+  Rendered r;
+  pn_frame* frame = renderBox(ctx, "pcf", r);
+  ASSERT_NE(frame, nullptr);
+
+  pn_params* params = r.params;
+  EXPECT_EQ(pn_params_create("no-such-technique", &params), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(params, r.params);
+  pn_scene* scene = r.scene;
+  EXPECT_EQ(pn_scene_load("no/such/model.glb", nullptr, &scene), PN_ERROR_SCENE);
+  EXPECT_EQ(scene, r.scene);
+  pn_mesh mesh;  // a triangle without indices: refused
+  pn_mesh_init(&mesh);
+  mesh.triangle_count = 1;
+  EXPECT_EQ(pn_scene_create(&mesh, 1, nullptr, 0, &scene), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(scene, r.scene);
+  pn_renderer* renderer = r.renderer;
+  EXPECT_EQ(pn_renderer_create(ctx, nullptr, &renderer), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(renderer, r.renderer);
+  pn_frame* held = frame;
+  pn_light a;
+  PN_ASSERT_OK(pn_light_parse("spot:0,5,0:0,0,0:40", &a));
+  const pn_frame_light twins[] = {{&a, nullptr}, {&a, nullptr}};
+  EXPECT_EQ(pn_renderer_render(r.renderer, nullptr, twins, 2, r.params, &held), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(held, frame);
+  const float* data = nullptr;
+  PN_ASSERT_OK(pn_frame_channel(frame, "visibility.Y", &data));
+  const float* before = data;
+  EXPECT_EQ(pn_frame_channel(frame, "visibility.Nope.Y", &data), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(data, before);
+  cl_mem buffer = reinterpret_cast<cl_mem>(&buffer);  // a value the call must not touch (never used as a cl_mem)
+  const cl_mem sentinel = buffer;
+  EXPECT_EQ(pn_frame_visibility_buffer(frame, 9, &buffer), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(buffer, sentinel);
+  EXPECT_EQ(pn_frame_device_buffer(frame, static_cast<pn_frame_output>(7), &buffer), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(buffer, sentinel);
+  EXPECT_EQ(pn_frame_width(held), kWidth);  // every handle still alive and usable
+  pn_frame_release(frame);
+  pn_context_release(ctx);
+}
+
 // A scene file light's own technique applies through the library as through the CLI: its technique's defaults, the
 // call's explicitly set parameters that it has, then its own "params". Equal bit for bit to passing the lights with
 // those params by hand; a bad technique is an invalid argument naming the file and the light.

@@ -338,6 +338,7 @@ TEST_F(ApiStages, SubBuffersAndBadBuffers) {
 
   CallerCl other;
   cl_mem foreign = other.buffer<float>(n), small = cl().buffer<float>(n / 2);
+  done = nullptr;
   EXPECT_EQ(pn_blur(ctx(), foreign, out, nullptr, &s, &config, 0, nullptr, &done), PN_ERROR_INVALID_ARGUMENT);
   EXPECT_STREQ(pn_last_error_message(), "pn_blur: in belongs to another OpenCL context than the pn_context's");
   EXPECT_EQ(done, nullptr);
@@ -351,6 +352,55 @@ TEST_F(ApiStages, SubBuffersAndBadBuffers) {
   clFinish(cl().queue);
   EXPECT_EQ(settled(parent, parent0), parent0);
   for (cl_mem m : {parent, out, foreign, small}) clReleaseMemObject(m);
+}
+
+// A stage of an image without texels is refused by name, as a camera without pixels is, before anything is enqueued;
+// an int that is no moment kind has no channels; a failing call leaves the caller's event variable as it was.
+TEST_F(ApiStages, EmptyImagesAndUnknownKindsAreRefused) {
+  EXPECT_EQ(pn_moment_channels(PN_MOMENTS_VSM), 2u);
+  EXPECT_EQ(pn_moment_channels(PN_MOMENTS_EVSM2), 2u);
+  EXPECT_EQ(pn_moment_channels(PN_MOMENTS_EVSM4), 4u);
+  EXPECT_EQ(pn_moment_channels(PN_MOMENTS_LVSM), 2u);
+  EXPECT_EQ(pn_moment_channels(PN_MOMENTS_MSM), 4u);
+  EXPECT_EQ(pn_moment_channels(PN_MOMENTS_ESM), 1u);
+  for (int notAKind : {-1, 6, 99, 0x7FFFFFFF})
+    EXPECT_EQ(pn_moment_channels(static_cast<pn_moment_kind>(notAKind)), 0u) << notAKind;
+
+  cl_mem in = cl().buffer<float>(64), out = cl().buffer<float>(256);
+  cl_int err = CL_SUCCESS;
+  cl_event kept = clCreateUserEvent(cl().context, &err);  // the caller's own: a failing call must not overwrite it
+  ASSERT_EQ(err, CL_SUCCESS);
+  cl_event event = kept;
+  const auto refused = [&](pn_status status, const std::string& text) {
+    EXPECT_EQ(status, PN_ERROR_INVALID_ARGUMENT) << text;
+    EXPECT_NE(std::string(pn_last_error_message()).find(text), std::string::npos) << pn_last_error_message();
+    EXPECT_EQ(event, kept) << text;
+  };
+  const pn_moments_config moments = momentsOf(PN_MOMENTS_VSM);
+  refused(pn_moments(ctx(), in, 0, 8, &moments, out, 0, nullptr, &event), "pn_moments: image 0x8 has no texels");
+  refused(pn_moments(ctx(), in, 8, 0, &moments, out, 0, nullptr, &event), "pn_moments: image 8x0 has no texels");
+  pn_blur_config blur;
+  pn_blur_config_init(&blur);
+  const pn_image_shape empty{0, 4, 1}, flat{4, 0, 1};
+  refused(pn_blur(ctx(), in, out, nullptr, &empty, &blur, 0, nullptr, &event), "pn_blur: image 0x4 has no texels");
+  refused(pn_blur_moments(ctx(), in, 0, 4, &moments, &blur, out, nullptr, 0, nullptr, &event),
+          "pn_blur_moments: image 0x4 has no texels");
+  size_t floats = 7;
+  EXPECT_EQ(pn_blur_moments_scratch(ctx(), 4, 0, &moments, &blur, &floats), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(floats, 7u);
+  pn_sat_config sat;
+  pn_sat_config_init(&sat);
+  refused(pn_sat(ctx(), in, &flat, &sat, out, nullptr, 0, nullptr, &event), "pn_sat: image 4x0 has no texels");
+  refused(pn_moment_mips(ctx(), in, &empty, PN_STORAGE_FLOAT32, out, 0, nullptr, &event),
+          "pn_moment_mips: image 0x4 has no texels");
+  refused(pn_minmax_pyramid(ctx(), in, 0, 0, out, 0, nullptr, &event), "pn_minmax_pyramid: image 0x0 has no texels");
+  size_t levels = 5, texels = 9;
+  EXPECT_EQ(pn_pyramid_layout(0, 4, 0, nullptr, 0, &levels, &texels), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(levels, 5u);
+  EXPECT_EQ(texels, 9u);
+  EXPECT_EQ(event, kept);
+  clReleaseEvent(kept);
+  for (cl_mem m : {in, out}) clReleaseMemObject(m);
 }
 
 }  // namespace stages_test
