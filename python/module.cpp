@@ -5,6 +5,10 @@
 
 #include <pybind11/stl.h>
 
+#include <memory>
+#include <optional>
+#include <string>
+
 #include <penumbra/penumbra.hpp>
 
 namespace py = pybind11;
@@ -79,8 +83,34 @@ void vec3(py::class_<Struct>& c, const char* name, std::array<float, 3> Struct::
 
 void bindContext(py::module_& m) {
   py::class_<Context>(m, "Context", "An OpenCL device, context and in-order queue with penumbra's kernels.")
-      .def(py::init<const std::string&>(), py::arg("device") = "",
-           "Opens a device: '' for PENUMBRA_DEVICE, 'auto', 'cpu', 'gpu', a name substring or 'P:D'.")
+      .def(py::init([](const std::string& device, std::optional<std::string> cacheDir, uint64_t localMemLimit,
+                       std::optional<std::string> layouts, std::optional<py::function> log) {
+             ContextOptions options;
+             options.device = device, options.cacheDir = std::move(cacheDir);
+             options.localMemLimit = localMemLimit, options.layouts = std::move(layouts);
+             if (log) {
+               // Called from the library's threads with the GIL released; freed with the context, under the GIL.
+               std::shared_ptr<py::function> held(new py::function(std::move(*log)), [](py::function* f) {
+                 py::gil_scoped_acquire gil;
+                 delete f;
+               });
+               options.log = [held](const std::string& message) {
+                 py::gil_scoped_acquire gil;
+                 (*held)(message);
+               };
+             }
+             return Context(options);
+           }),
+           py::arg("device") = "", py::kw_only(), py::arg("cache_dir") = py::none(), py::arg("local_mem_limit") = 0,
+           py::arg("layouts") = py::none(), py::arg("log") = py::none(),
+           "Opens a device: '' for PENUMBRA_DEVICE, 'auto', 'cpu', 'gpu', a name substring or 'P:D'. cache_dir: a "
+           "folder for compiled programs ('' none; None: PENUMBRA_CACHE_DIR); local_mem_limit: bytes of local memory "
+           "the kernels plan with (0: the device's); layouts: 'gpu', 'nvidia' or '' (None: PENUMBRA_LAYOUTS); log: "
+           "called with a message for each program built or loaded from the cache.")
+      .def("prebuild", &Context::prebuild, py::arg("names"),
+           "Builds now the programs of the named techniques ('pcss', ...) and stages ('moments', 'blur', 'sat', "
+           "'pyramid', 'reduce'), or 'all', so that later calls do not (pn_context_prebuild).",
+           py::call_guard<py::gil_scoped_release>())
       .def_static(
           "from_cl",
           [](uintptr_t context, uintptr_t device, uintptr_t queue) {

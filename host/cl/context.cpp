@@ -1,4 +1,5 @@
-// Context: device, queue, and the program cache (memory, then optional disk cache in PENUMBRA_CACHE_DIR).
+// Context: device, queue, and the program cache (memory, then an optional disk cache: ContextOptions::cacheDir or
+// PENUMBRA_CACHE_DIR).
 #include "host/cl/context.h"
 
 #include <fmt/format.h>
@@ -39,10 +40,9 @@ std::string readFile(const fs::path& path) {
   return text.str();
 }
 
-// Where a binary for this key lives, or empty when the disk cache is off.
-fs::path cachePath(const DeviceInfo& info, uint64_t sourceHash, const std::string& options) {
-  const char* dir = std::getenv("PENUMBRA_CACHE_DIR");
-  if (dir == nullptr || *dir == '\0') return {};
+// Where a binary for this key lives in `dir`, or empty when the disk cache is off (`dir` empty).
+fs::path cachePath(const std::string& dir, const DeviceInfo& info, uint64_t sourceHash, const std::string& options) {
+  if (dir.empty()) return {};
   std::string key =
       fmt::format("{}|{}|{}|{}|{}", info.platformName, info.name, info.driverVersion, info.deviceVersion, options);
   return fs::path(dir) / fmt::format("{:016x}-{:016x}.bin", sourceHash, fnv1a64(key));
@@ -56,7 +56,18 @@ std::string buildLog(const cl::Program& program, const cl::Device& device) {
 
 }  // namespace
 
-Context::Context(const std::string& deviceSpec) : Context(selectDevice(deviceSpec)) {}
+Context::Context(const std::string& deviceSpec, const ContextOptions& options)
+    : Context(selectDevice(deviceSpec), options) {}
+
+void Context::configure(const ContextOptions& options) {
+  applyDeviceOverrides(info_, options.device);
+  if (options.cacheDir) {
+    cacheDir_ = *options.cacheDir;
+  } else if (const char* dir = std::getenv("PENUMBRA_CACHE_DIR"); dir != nullptr) {
+    cacheDir_ = dir;
+  }
+  log_ = options.log;
+}
 
 void Context::retire(cl::Buffer memory) {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -67,7 +78,9 @@ Context::~Context() {
   if (ownsQueue_ && queue_() != nullptr) clFinish(queue_());  // errors ignored: nothing left to report them to
 }
 
-Context::Context(DeviceInfo device) : info_(std::move(device)), device_(info_.device, true) {
+Context::Context(DeviceInfo device, const ContextOptions& options)
+    : info_(std::move(device)), device_(info_.device, true) {
+  configure(options);
   cl_int err = CL_SUCCESS;
   context_ = cl::Context(device_, nullptr, nullptr, nullptr, &err);
   clCheck(err, "clCreateContext", {}, "runtime");
@@ -118,9 +131,10 @@ bool isTransientBuildFailure(std::string_view log) {
   return !log.empty() && log.find("error") == std::string_view::npos;
 }
 
-Context::Context(cl_context context, cl_device_id device, cl_command_queue queue) {
+Context::Context(cl_context context, cl_device_id device, cl_command_queue queue, const ContextOptions& options) {
   checkCallerObjects(context, device, queue);
   info_ = describeDevice(device);
+  configure(options);
   device_ = cl::Device(device, true);  // each cl:: wrapper holds one retain and releases it when destroyed
   context_ = cl::Context(context, true);
   queue_ = cl::CommandQueue(queue, true);
@@ -181,16 +195,24 @@ cl::Program Context::compileWithRetry(const std::string& sourceName, const std::
 cl::Program Context::buildProgram(const std::string& sourceName, const std::string& source, const std::string& options,
                                   uint64_t sourceHash) {
   cl_int err = CL_SUCCESS;
-  const fs::path cached = cachePath(info_, sourceHash, options);
+  const fs::path cached = cachePath(cacheDir_, info_, sourceHash, options);
   if (!cached.empty() && fs::is_regular_file(cached)) {
     std::string bytes = readFile(cached);
     cl::Program::Binaries binaries{std::vector<unsigned char>(bytes.begin(), bytes.end())};
     cl::Program program(context_, {device_}, binaries, nullptr, &err);
-    if (err == CL_SUCCESS && program.build({device_}, options.c_str()) == CL_SUCCESS) return program;
+    if (err == CL_SUCCESS && program.build({device_}, options.c_str()) == CL_SUCCESS) {
+      ++programsLoaded_;
+      log(fmt::format("loaded {} from the cache ({})", sourceName, options));
+      return program;
+    }
     // A stale or foreign binary: fall through and rebuild from source.
   }
+  const auto start = std::chrono::steady_clock::now();
   cl::Program program = compileWithRetry(sourceName, source, options);
   ++programsBuilt_;
+  log(fmt::format("built {} in {:.0f} ms ({})", sourceName,
+                  std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(),
+                  options));
   if (!cached.empty()) {
     std::vector<std::vector<unsigned char>> binaries;
     if (program.getInfo(CL_PROGRAM_BINARIES, &binaries) == CL_SUCCESS && binaries.size() == 1 && !binaries[0].empty()) {

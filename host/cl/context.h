@@ -5,9 +5,11 @@
 
 #include <CL/opencl.hpp>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -17,16 +19,26 @@
 
 namespace penumbra {
 
+// What a program sets of a context instead of the environment (the library's pn_context_options); unset fields keep
+// the environment's (PENUMBRA_CACHE_DIR, PENUMBRA_LOCAL_MEM_LIMIT, PENUMBRA_LAYOUTS), as the command line reads them.
+struct ContextOptions {
+  std::optional<std::string> cacheDir;  // compiled programs kept on disk there; "": no disk cache
+  DeviceOverrides device;
+  // Told of every program built (its source, the time the build took) or loaded from the disk cache, on the thread
+  // that asked for it and under the context's program lock: it must not call back into the context.
+  std::function<void(const std::string&)> log;
+};
+
 class Context {
  public:
   // Opens the device chosen by `deviceSpec` (see selectDevice). Throws NoDeviceError / ClError.
-  explicit Context(const std::string& deviceSpec = {});
-  explicit Context(DeviceInfo device);
+  explicit Context(const std::string& deviceSpec = {}, const ContextOptions& options = {});
+  explicit Context(DeviceInfo device, const ContextOptions& options = {});
   // Works on the caller's objects (the public API's interop, issue 17): no context or queue of its own. Keeps one
   // retain on each for its lifetime and releases only that; never finishes the queue. The queue must be in-order
   // (the stages rely on it) and belong to `context` and `device`: throws std::invalid_argument otherwise. Without
   // CL_QUEUE_PROFILING_ENABLE on the queue, pass times read 0 (Profiler::resolve).
-  Context(cl_context context, cl_device_id device, cl_command_queue queue);
+  Context(cl_context context, cl_device_id device, cl_command_queue queue, const ContextOptions& options = {});
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;
   // Waits for every command enqueued on its own queue (a caller's queue is left alone): a stage that throws leaves
@@ -41,7 +53,7 @@ class Context {
   cl::CommandQueue& queue() { return queue_; }
 
   // The program built from the embedded source `sourceName` (see embedded_sources.h) with `options`,
-  // built once per (source text hash, options) and kept. With PENUMBRA_CACHE_DIR set, binaries are also
+  // built once per (source text hash, options) and kept. With a cache folder (cacheDir()), binaries are also
   // stored on disk, keyed by the source hash, options, platform, device and driver version.
   // Throws BuildError with the build log on failure.
   const cl::Program& program(const std::string& sourceName, const std::string& options = {});
@@ -54,6 +66,8 @@ class Context {
   std::string buildOptions(const std::string& options) const;
 
   size_t programsBuilt() const { return programsBuilt_; }  // compiled here, not loaded from a cache
+  size_t programsLoaded() const { return programsLoaded_; }  // loaded from the disk cache
+  const std::string& cacheDir() const { return cacheDir_; }  // "" when there is no disk cache
   bool ownsQueue() const { return ownsQueue_; }             // false: the caller's queue (the interop constructor)
   void finish();
 
@@ -73,6 +87,10 @@ class Context {
   cl::Program compileWithRetry(const std::string& sourceName, const std::string& source, const std::string& options);
   cl::Program buildProgram(const std::string& sourceName, const std::string& source, const std::string& options,
                            uint64_t sourceHash);
+  void configure(const ContextOptions& options);  // the constructors' common part: cache folder and log
+  void log(const std::string& message) const {
+    if (log_) log_(message);
+  }
 
   DeviceInfo info_;
   cl::Device device_;
@@ -81,7 +99,9 @@ class Context {
   std::mutex mutex_;
   std::map<std::tuple<std::string, std::string>, std::unique_ptr<cl::Program>> programs_;
   SourceTables sources_;  // addSources()
-  size_t programsBuilt_ = 0;
+  size_t programsBuilt_ = 0, programsLoaded_ = 0;
+  std::string cacheDir_;
+  std::function<void(const std::string&)> log_;
   bool ownsQueue_ = true;
   class Profiler* profiler_ = nullptr;
   std::vector<cl::Buffer> retired_;  // retire()

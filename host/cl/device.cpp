@@ -170,6 +170,20 @@ void applyDeviceOverrides(DeviceInfo& info) {
   }
 }
 
+void applyDeviceOverrides(DeviceInfo& info, const DeviceOverrides& overrides) {
+  if (overrides.localMemLimit) {
+    if (*overrides.localMemLimit == 0) throw std::invalid_argument("local memory limit: 0 bytes (at least 1)");
+    info.localMemBytes = std::min<uint64_t>(info.deviceLocalMemBytes, *overrides.localMemLimit);
+  }
+  if (overrides.layouts) {
+    const std::string layouts = lower(*overrides.layouts);
+    if (!layouts.empty() && layouts != "gpu" && layouts != "nvidia")
+      throw std::invalid_argument(
+          fmt::format("work-group layouts '{}': expected gpu, nvidia, or none for the device's own", layouts));
+    info.layouts = layouts;
+  }
+}
+
 bool DeviceInfo::isSimulator() const { return contains(platformName, "oclgrind") || contains(name, "oclgrind"); }
 
 DeviceInfo selectDevice(const std::string& requested) {

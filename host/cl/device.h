@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <nlohmann/json_fwd.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,15 @@ struct DeviceInfo {
 // caps localMemBytes (every plan then tiles as for a device of that much local memory, and a launch above it fails
 // as it would there) and PENUMBRA_LAYOUTS=gpu|nvidia sets `layouts`. Throws std::invalid_argument on a bad value.
 void applyDeviceOverrides(DeviceInfo& info);
+
+// The same overrides given by a program instead of the environment (the library's pn_context_options): unset fields
+// leave what the environment set. localMemLimit > 0 caps localMemBytes at the device's; layouts is "" (the device's
+// own table), "gpu" or "nvidia". Throws std::invalid_argument on a bad value.
+struct DeviceOverrides {
+  std::optional<uint64_t> localMemLimit;
+  std::optional<std::string> layouts;
+};
+void applyDeviceOverrides(DeviceInfo& info, const DeviceOverrides& overrides);
 
 // Every device of every platform, platforms sorted by name. Empty when there is no ICD or no platform.
 std::vector<DeviceInfo> listDevices();

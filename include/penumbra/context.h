@@ -30,6 +30,48 @@ PN_API pn_status pn_context_create(const char* device_spec, pn_context** context
 PN_API pn_status pn_context_create_from_cl(cl_context cl_ctx, cl_device_id device, cl_command_queue queue,
                                            pn_context** context);
 
+/** A message from the library about a context's work (a program built, with the time it took, or loaded from the
+ *  disk cache) and the caller's `user_data`. Called on the thread of the call that caused it, holding the context's
+ *  lock: it must not call into the same context. */
+typedef void (*pn_log_callback)(const char* message, void* user_data);
+
+/** A context's settings beyond the OpenCL objects; pn_context_options_init() gives the defaults, which read the
+ *  environment as the command line does. `size` is sizeof(pn_context_options) as the caller compiled it: fields a
+ *  later version adds go after these, and a call reads only the fields that lie within `size`. */
+typedef struct pn_context_options {
+  size_t size;              /**< sizeof(pn_context_options), set by pn_context_options_init(). */
+  const char* device;       /**< Own contexts: pn_context_create()'s device_spec (NULL: PENUMBRA_DEVICE, else auto). */
+  const char* cache_dir;    /**< Folder for compiled programs on disk; NULL: PENUMBRA_CACHE_DIR; "": no disk cache. */
+  uint64_t local_mem_limit; /**< Bytes of local memory the kernels plan with (at most the device's); 0:
+                                 PENUMBRA_LOCAL_MEM_LIMIT, else the device's. */
+  const char* layouts;      /**< Work-group layouts: "gpu", "nvidia", or "" (the device's own table); NULL:
+                                 PENUMBRA_LAYOUTS. */
+  pn_log_callback log;      /**< NULL: no messages. */
+  void* log_user_data;      /**< Passed to `log`. */
+  void (*log_release)(void* log_user_data); /**< Called with `log_user_data` once the context is freed, or when its
+                                                 creation fails; NULL: nothing to release. */
+} pn_context_options;
+
+/** The defaults: size set, every other field NULL or 0 (the environment's settings, no messages). */
+PN_API void pn_context_options_init(pn_context_options* options);
+
+/** pn_context_create() with `options` (NULL: the defaults). PN_ERROR_INVALID_ARGUMENT for a `size` smaller than the
+ *  first version's or a bad layouts name. */
+PN_API pn_status pn_context_create_with_options(const pn_context_options* options, pn_context** context);
+
+/** pn_context_create_from_cl() with `options` (NULL: the defaults; `device` must be NULL: the caller's device is
+ *  the one). */
+PN_API pn_status pn_context_create_from_cl_with_options(cl_context cl_ctx, cl_device_id device, cl_command_queue queue,
+                                                        const pn_context_options* options, pn_context** context);
+
+/** Builds, or loads from the disk cache, the programs the named items run at their defaults, so that later calls do
+ *  not build them (a build takes 0.1-0.5 s a program): `names` holds `count` of "sm", "pcss", ... (every technique),
+ *  "moments", "blur", "sat", "pyramid", "reduce" (the stages) or "all". Each item runs once on a small input on the
+ *  context's queue (a technique a 32x24 frame of builtin:box under its area light) and the call waits for those
+ *  commands alone. Settings away from the defaults (another storage, filter, pattern) may still build a program on
+ *  first use. PN_ERROR_INVALID_ARGUMENT naming an unknown item, before any work. */
+PN_API pn_status pn_context_prebuild(pn_context* context, const char* const* names, size_t count);
+
 /** Adds a reference. PN_ERROR_INVALID_ARGUMENT for NULL. */
 PN_API pn_status pn_context_retain(pn_context* context);
 /** Drops a reference; at 0 frees the context, releasing its retains of the OpenCL objects. NULL is a no-op. */

@@ -4,6 +4,7 @@
 #include <penumbra/penumbra.h>
 
 #include <chrono>
+#include <filesystem>
 #include <string>
 #include <thread>
 #include <vector>
@@ -37,7 +38,7 @@ TEST(ApiContext, RefusesAnOutOfOrderQueue) {
   const cl_uint context0 = references(cl.context), queue0 = references(cl.queue);
   pn_context* ctx = reinterpret_cast<pn_context*>(1);
   EXPECT_EQ(pn_context_create_from_cl(cl.context, cl.device, cl.queue, &ctx), PN_ERROR_INVALID_ARGUMENT);
-  EXPECT_EQ(ctx, nullptr);
+  EXPECT_EQ(ctx, reinterpret_cast<pn_context*>(1));  // a failing call writes nothing through its out-parameter
   EXPECT_NE(std::string(pn_last_error_message()).find("in-order queue"), std::string::npos) << pn_last_error_message();
   EXPECT_EQ(settled(cl.context, context0), context0);
   EXPECT_EQ(settled(cl.queue, queue0), queue0);
@@ -141,6 +142,116 @@ TEST(ApiContext, ErrorsAreStatusCodesWithAThreadLocalMessage) {
   EXPECT_EQ(pn_last_error_message(), here);  // the other thread's failure did not touch this one's
   EXPECT_EQ(pn_last_cl_error(), CL_SUCCESS);
   EXPECT_STREQ(pn_version(), PN_VERSION_STRING);
+}
+
+// Options instead of the environment, and programs built before the calls that use them: pn_context_prebuild builds
+// (or loads from the options' cache folder) what a technique runs, so a frame after it builds nothing; the log names
+// each program; a second context on the same folder loads them all; the caller's log data is released once.
+struct LogSink {
+  std::vector<std::string> messages;
+  int released = 0;
+  size_t count(const std::string& word) const {
+    size_t n = 0;
+    for (const std::string& m : messages) n += m.rfind(word, 0) == 0;
+    return n;
+  }
+};
+
+pn_context_options logged(LogSink& sink, const char* cacheDir) {
+  pn_context_options o;
+  pn_context_options_init(&o);
+  EXPECT_EQ(o.size, sizeof(pn_context_options));
+  o.cache_dir = cacheDir;
+  o.log = [](const char* message, void* user) { static_cast<LogSink*>(user)->messages.push_back(message); };
+  o.log_user_data = &sink;
+  o.log_release = [](void* user) { ++static_cast<LogSink*>(user)->released; };
+  return o;
+}
+
+// builtin:box at 48x32 through `technique`: 0 on success.
+pn_status renderBox(pn_context* ctx, const char* technique) {
+  pn_scene* scene = nullptr;
+  pn_params* params = nullptr;
+  pn_renderer* renderer = nullptr;
+  pn_frame* frame = nullptr;
+  pn_status status = pn_scene_load("builtin:box", nullptr, &scene);
+  if (status == PN_SUCCESS) status = pn_params_create(technique, &params);
+  if (status == PN_SUCCESS) status = pn_renderer_create(ctx, scene, &renderer);
+  pn_camera camera;
+  if (status == PN_SUCCESS) status = pn_scene_default_camera(scene, &camera);
+  camera.width = 48, camera.height = 32;
+  if (status == PN_SUCCESS) status = pn_renderer_render(renderer, &camera, nullptr, 0, params, &frame);
+  pn_frame_release(frame);
+  pn_renderer_release(renderer);
+  pn_params_release(params);
+  pn_scene_release(scene);
+  return status;
+}
+
+TEST(ApiContext, OptionsPrebuildAndTheLog) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "penumbra-api-prebuild";
+  const std::string folder = dir.string();  // options.cache_dir points into it
+  std::filesystem::remove_all(dir);
+  LogSink first;
+  {
+    const pn_context_options options = logged(first, folder.c_str());
+    pn_context* ctx = nullptr;
+    PN_ASSERT_OK(pn_context_create_with_options(&options, &ctx));
+    const char* names[] = {"pcss", "moments"};
+    PN_ASSERT_OK(pn_context_prebuild(ctx, names, 2));
+    EXPECT_GT(first.count("built kernels/pcss.cl in "), 0u);
+    EXPECT_GT(first.count("built kernels/moments.cl in "), 0u);
+    EXPECT_EQ(first.count("loaded "), 0u);  // a new cache folder
+    EXPECT_FALSE(std::filesystem::is_empty(dir));
+    const size_t before = first.messages.size();
+    PN_ASSERT_OK(renderBox(ctx, "pcss"));  // another frame size: nothing left to build
+    EXPECT_EQ(first.messages.size(), before)
+        << "built after prebuild: " << (first.messages.size() > before ? first.messages[before] : "");
+    const char* unknown[] = {"pcss", "no-such-stage"};
+    EXPECT_EQ(pn_context_prebuild(ctx, unknown, 2), PN_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(pn_last_error_message()).find("unknown item \"no-such-stage\" (known: "), std::string::npos)
+        << pn_last_error_message();
+    const char* none[] = {nullptr};
+    EXPECT_EQ(pn_context_prebuild(ctx, none, 1), PN_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(first.released, 0);
+    PN_ASSERT_OK(pn_context_release(ctx));
+    EXPECT_EQ(first.released, 1);  // with the context
+  }
+  LogSink second;  // the same folder: every program loaded, none built
+  {
+    const pn_context_options options = logged(second, folder.c_str());
+    pn_context* ctx = nullptr;
+    PN_ASSERT_OK(pn_context_create_with_options(&options, &ctx));
+    const char* names[] = {"pcss"};
+    PN_ASSERT_OK(pn_context_prebuild(ctx, names, 1));
+    EXPECT_GT(second.count("loaded kernels/pcss.cl from the cache"), 0u);
+    EXPECT_EQ(second.count("built "), 0u);
+    pn_context_release(ctx);
+  }
+  std::filesystem::remove_all(dir);
+
+  LogSink failed;
+  pn_context_options options = logged(failed, "");
+  options.layouts = "amd";
+  pn_context* ctx = nullptr;
+  EXPECT_EQ(pn_context_create_with_options(&options, &ctx), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pn_last_error_message()).find("work-group layouts 'amd': expected gpu, nvidia"),
+            std::string::npos)
+      << pn_last_error_message();
+  EXPECT_EQ(ctx, nullptr);
+  EXPECT_EQ(failed.released, 1);  // released with the failed call
+  options.layouts = "gpu", options.local_mem_limit = 16384, options.log = nullptr, options.log_release = nullptr;
+  PN_ASSERT_OK(pn_context_create_with_options(&options, &ctx));  // the GPU plans within 16 KiB, as CI's local-mem runs
+  PN_ASSERT_OK(renderBox(ctx, "vsm"));
+  pn_context_release(ctx);
+  ctx = nullptr;
+  options.size = sizeof(size_t);
+  EXPECT_EQ(pn_context_create_with_options(&options, &ctx), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pn_last_error_message()).find("call pn_context_options_init"), std::string::npos);
+  pn_context_options_init(&options);
+  options.device = "no-such-device-anywhere";
+  EXPECT_EQ(pn_context_create_with_options(&options, &ctx), PN_ERROR_NO_DEVICE);
+  EXPECT_EQ(ctx, nullptr);
 }
 
 }  // namespace context_test

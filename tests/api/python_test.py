@@ -130,6 +130,23 @@ class Module(unittest.TestCase):
         light = penumbra.Light.parse("point:0,5,0")  # six cube faces
         self.assertIn("visibility.Y", self.renderer.render("sm", lights=[light]).channel_names)
 
+    def test_context_options_prebuild_and_log(self):
+        # Options instead of the environment; prebuild builds what a technique runs, so a frame after it builds
+        # nothing; the log (a Python callable, called with the GIL taken) names each program.
+        cache = os.path.join(SCRATCH, "prebuild-cache")
+        messages = []
+        context = penumbra.Context(cache_dir=cache, log=messages.append)
+        context.prebuild(["sm"])
+        self.assertTrue(any(m.startswith("built kernels/") for m in messages), messages)
+        built = len(messages)
+        penumbra.Renderer(context, self.scene).render("sm", camera=self.camera(24, 16))
+        self.assertEqual(len(messages), built, messages[built:])
+        self.assertTrue(os.listdir(cache))
+        with self.assertRaisesRegex(ValueError, r'unknown item "nope" \(known: '):
+            context.prebuild(["nope"])
+        with self.assertRaisesRegex(ValueError, r"work-group layouts 'amd'"):
+            penumbra.Context(layouts="amd")
+
     def test_a_context_on_existing_opencl_handles(self):
         # The integer handles pyopencl's int_ptr would give; here those of another context's objects.
         shared = penumbra.Context.from_cl(self.context.cl_context, self.context.cl_device, self.context.cl_queue)
