@@ -2,6 +2,7 @@
 CLI's, channels as read-only numpy views that keep their frame alive, the GIL released while rendering, penumbra's
 errors as Python exceptions with the library's messages, and the stages on numpy arrays against numpy references."""
 import os
+import shutil
 import subprocess
 import threading
 import time
@@ -134,6 +135,7 @@ class Module(unittest.TestCase):
         # Options instead of the environment; prebuild builds what a technique runs, so a frame after it builds
         # nothing; the log (a Python callable, called with the GIL taken) names each program.
         cache = os.path.join(SCRATCH, "prebuild-cache")
+        shutil.rmtree(cache, ignore_errors=True)  # a new folder: every program built, none loaded
         messages = []
         context = penumbra.Context(cache_dir=cache, log=messages.append)
         context.prebuild(["sm"])
