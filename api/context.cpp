@@ -2,7 +2,6 @@
 // constructor: retained while the context lives, never finished).
 #include <fmt/format.h>
 
-#include <cstddef>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -17,23 +16,12 @@ using penumbra::api::require;
 
 namespace {
 
-// Whether the caller's struct, of the size it says, holds `field` (fields a later version adds lie beyond).
-template <size_t Offset, class Field>
-bool holds(const pn_context_options& options) {
-  return options.size >= Offset + sizeof(Field);
-}
-#define HOLDS_FIELD(options, field) \
-  holds<offsetof(pn_context_options, field), decltype(pn_context_options::field)>(options)
-
 // The options as the core takes them, and the device spec; NULL options: the defaults.
 penumbra::ContextOptions contextOptions(const pn_context_options* options, const char* function, std::string* device) {
   penumbra::ContextOptions out;
   if (options == nullptr) return out;
-  const pn_context_options& o = *options;
-  if (!HOLDS_FIELD(o, log_release))
-    throw std::invalid_argument(fmt::format(
-        "{}: options.size {} is smaller than the first pn_context_options ({} bytes): call pn_context_options_init",
-        function, o.size, sizeof(pn_context_options)));
+  const pn_context_options& o =
+      penumbra::api::requireSized(options, sizeof(pn_context_options), function, "options", "pn_context_options_init");
   if (o.log != nullptr) {
     // The caller's data lives while the function does (the context's, or this call's when it fails): the last copy
     // to go releases it.

@@ -34,6 +34,20 @@ T* require(T* pointer, const char* function, const char* name) {
   return pointer;
 }
 
+// A settings struct the caller filled after its *_init function: its `size` (sizeof the struct as the caller compiled
+// it) must hold every field of the struct's first version, `firstSize` bytes; fields a later version adds lie beyond
+// and are read only when `size` holds them. Throws std::invalid_argument naming the struct and its init function.
+template <class Struct>
+const Struct& requireSized(const Struct* settings, size_t firstSize, const char* function, const char* name,
+                           const char* init) {
+  require(settings, function, name);
+  if (settings->size < firstSize)
+    throw std::invalid_argument(std::string(function) + ": " + name + "->size " + std::to_string(settings->size) +
+                                " is smaller than its first version's " + std::to_string(firstSize) + " bytes (call " +
+                                init + " first)");
+  return *settings;
+}
+
 template <class Handle>
 pn_status retainHandle(Handle* handle, const char* function) noexcept {
   if (handle == nullptr) return fail(PN_ERROR_INVALID_ARGUMENT, (std::string(function) + ": NULL handle").c_str());

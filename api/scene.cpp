@@ -29,6 +29,8 @@ void checkIndex(size_t index, size_t count, const char* function, const char* wh
 // A pn_mesh as the scene layer's MeshInput (spans over the caller's arrays, read during pn_scene_create only).
 penumbra::MeshInput meshInput(const pn_mesh& mesh, size_t index) {
   const std::string what = fmt::format("pn_scene_create: meshes[{}]", index);
+  penumbra::api::requireSized(&mesh, sizeof(pn_mesh), "pn_scene_create", fmt::format("meshes[{}]", index).c_str(),
+                              "pn_mesh_init");
   if (mesh.vertex_count > SIZE_MAX / 3 || mesh.triangle_count > SIZE_MAX / 3)
     throw std::invalid_argument(what + ": vertex or triangle count overflows");
   if (mesh.vertex_count > 0) require(mesh.positions, what.c_str(), "positions");
@@ -75,7 +77,7 @@ pn_status pn_light_parse(const char* spec, pn_light* light) {
 }
 
 void pn_scene_load_options_init(pn_scene_load_options* options) {
-  if (options != nullptr) *options = pn_scene_load_options{0, 0.0, nullptr};
+  if (options != nullptr) *options = pn_scene_load_options{sizeof(pn_scene_load_options), 0, 0.0, nullptr};
 }
 
 pn_status pn_scene_load(const char* spec, const pn_scene_load_options* options, pn_scene** scene) {
@@ -83,6 +85,9 @@ pn_status pn_scene_load(const char* spec, const pn_scene_load_options* options, 
     require(scene, "pn_scene_load", "scene");
     require(spec, "pn_scene_load", "spec");
     penumbra::LoadOptions load;
+    if (options != nullptr)
+      penumbra::api::requireSized(options, sizeof(pn_scene_load_options), "pn_scene_load", "options",
+                                  "pn_scene_load_options_init");
     if (options != nullptr && options->has_time != 0) load.time = options->time;
     if (options != nullptr && options->animation != nullptr) load.animation = options->animation;
     auto loaded = std::make_unique<pn_scene>();
@@ -93,7 +98,7 @@ pn_status pn_scene_load(const char* spec, const pn_scene_load_options* options, 
 }
 
 void pn_mesh_init(pn_mesh* mesh) {
-  if (mesh != nullptr) *mesh = pn_mesh{nullptr, 0, nullptr, nullptr, 0, nullptr, nullptr, 1};
+  if (mesh != nullptr) *mesh = pn_mesh{sizeof(pn_mesh), nullptr, 0, nullptr, nullptr, 0, nullptr, nullptr, 1};
 }
 
 pn_status pn_scene_create(const pn_mesh* meshes, size_t mesh_count, const pn_light* lights, size_t light_count,

@@ -6,13 +6,14 @@
 using penumbra::api::checkEnum;
 using penumbra::api::guard;
 using penumbra::api::require;
+using penumbra::api::requireSized;
 using penumbra::api::requireTexels;
 using penumbra::api::StageCall;
 
 namespace {
 
 penumbra::MomentsConfig momentsConfig(const pn_moments_config* c, const char* function) {
-  require(c, function, "config");
+  requireSized(c, sizeof(pn_moments_config), function, "config", "pn_moments_config_init");
   checkEnum(c->kind, 6, function, "moment kind");
   checkEnum(c->storage, 2, function, "moment storage");
   penumbra::MomentsConfig config;
@@ -33,7 +34,7 @@ penumbra::MomentsConfig momentsConfig(const pn_moments_config* c, const char* fu
 }
 
 penumbra::BlurConfig blurConfig(const pn_blur_config* c, const char* function) {
-  require(c, function, "blur config");
+  requireSized(c, sizeof(pn_blur_config), function, "blur config", "pn_blur_config_init");
   checkEnum(c->filter, 2, function, "blur filter");
   checkEnum(c->method, 3, function, "blur method");
   penumbra::BlurConfig config;
@@ -61,8 +62,13 @@ extern "C" {
 void pn_moments_config_init(pn_moments_config* config) {
   if (config == nullptr) return;
   const penumbra::MomentsConfig d;
-  *config = pn_moments_config{PN_MOMENTS_VSM,     d.depthNear, d.depthFar, d.evsmPositive, d.evsmNegative,
-                              PN_STORAGE_FLOAT32, nullptr,     0,          d.esmExponent};
+  *config = pn_moments_config{};
+  config->size = sizeof(pn_moments_config);
+  config->kind = PN_MOMENTS_VSM;
+  config->depth_near = d.depthNear, config->depth_far = d.depthFar;
+  config->evsm_positive = d.evsmPositive, config->evsm_negative = d.evsmNegative;
+  config->storage = PN_STORAGE_FLOAT32;
+  config->esm_exponent = d.esmExponent;
 }
 
 uint32_t pn_moment_channels(pn_moment_kind kind) {
@@ -103,7 +109,7 @@ pn_status pn_moments(pn_context* context, cl_mem depth, uint32_t width, uint32_t
 void pn_blur_config_init(pn_blur_config* config) {
   if (config == nullptr) return;
   const penumbra::BlurConfig d;
-  *config = pn_blur_config{PN_BLUR_GAUSSIAN, d.sigma, d.radius, PN_BLUR_AUTO};
+  *config = pn_blur_config{sizeof(pn_blur_config), PN_BLUR_GAUSSIAN, d.sigma, d.radius, PN_BLUR_AUTO};
 }
 
 pn_status pn_blur(pn_context* context, cl_mem in, cl_mem out, cl_mem scratch, const pn_image_shape* shape,

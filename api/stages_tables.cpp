@@ -8,6 +8,7 @@
 using penumbra::api::checkEnum;
 using penumbra::api::guard;
 using penumbra::api::require;
+using penumbra::api::requireSized;
 using penumbra::api::requireTexels;
 using penumbra::api::StageCall;
 
@@ -52,7 +53,8 @@ extern "C" {
 void pn_sat_config_init(pn_sat_config* config) {
   if (config == nullptr) return;
   const penumbra::SatConfig d;
-  *config = pn_sat_config{PN_SAT_FLOAT32, PN_SAT_AUTO, d.fractionBits, d.zeroMean ? 1 : 0, 0, {0, 0, 0, 0}};
+  *config = pn_sat_config{sizeof(pn_sat_config), PN_SAT_FLOAT32, PN_SAT_AUTO, d.fractionBits, d.zeroMean ? 1 : 0, 0,
+                          {0, 0, 0, 0}};
 }
 
 pn_status pn_sat(pn_context* context, cl_mem image, const pn_image_shape* shape, const pn_sat_config* config,
@@ -61,7 +63,8 @@ pn_status pn_sat(pn_context* context, cl_mem image, const pn_image_shape* shape,
   return guard([&] {
     StageCall call(context, "pn_sat", num_events_in_wait_list, event_wait_list, event);
     const pn_image_shape& s = *require(shape, call.function(), "shape");
-    const pn_sat_config& c = *require(config, call.function(), "config");
+    const pn_sat_config& c =
+        requireSized(config, sizeof(pn_sat_config), call.function(), "config", "pn_sat_config_init");
     checkEnum(c.precision, 4, call.function(), "SAT precision");
     requireTexels(s.width, s.height, call.function());
     const penumbra::ImageShape imageShape{s.width, s.height, s.channels};

@@ -52,6 +52,8 @@ typedef struct pn_light {
 
 /** How a scene is loaded (pn_scene_load_options_init() gives the defaults). */
 typedef struct pn_scene_load_options {
+  size_t size; /**< sizeof(pn_scene_load_options) as the caller compiled it (set by pn_scene_load_options_init()):
+                  fields a later version adds go after these and are read only when `size` holds them. */
   int has_time;          /**< Non-zero: evaluate glTF animations at `time`; 0: the file's static pose. */
   double time;           /**< Seconds (with `has_time`). */
   const char* animation; /**< With `has_time`: the one animation to play, by index or name; NULL or "": all. */
@@ -60,6 +62,8 @@ typedef struct pn_scene_load_options {
 /** One mesh of the caller's own geometry (pn_scene_create); pn_mesh_init() gives the defaults. The arrays are
  *  read during the call only. */
 typedef struct pn_mesh {
+  size_t size;             /**< sizeof(pn_mesh) as the caller compiled it (set by pn_mesh_init()): fields a later
+                               version adds go after these and are read only when `size` holds them. */
   const float* positions;  /**< x, y, z per vertex. */
   size_t vertex_count;     /**< Vertices in `positions` (and `normals`). */
   const float* normals;    /**< x, y, z per vertex, or NULL: the area-weighted normals of the triangles. */

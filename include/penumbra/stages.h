@@ -54,6 +54,8 @@ typedef struct pn_lvsm_layer {
 
 /** The moments stage's settings (pn_moments_config_init() gives the defaults). */
 typedef struct pn_moments_config {
+  size_t size; /**< sizeof(pn_moments_config) as the caller compiled it (set by pn_moments_config_init()): fields a
+                  later version adds go after these and are read only when `size` holds them. */
   pn_moment_kind kind;         /**< Encoding. */
   float depth_near;            /**< Light depth mapped to 0. */
   float depth_far;             /**< Light depth mapped to 1 (> depth_near). */
@@ -96,6 +98,8 @@ typedef enum pn_blur_method {
 
 /** The blur's settings (pn_blur_config_init() gives the defaults). */
 typedef struct pn_blur_config {
+  size_t size; /**< sizeof(pn_blur_config) as the caller compiled it (set by pn_blur_config_init()): fields a later
+                   version adds go after these and are read only when `size` holds them. */
   pn_blur_filter filter; /**< Gaussian or box. */
   float sigma;           /**< Gaussian: standard deviation in texels (> 0). */
   int radius;            /**< Box: half-width in texels (>= 0). */
@@ -145,6 +149,8 @@ typedef enum pn_sat_algorithm {
 
 /** The SAT's settings (pn_sat_config_init() gives the defaults). */
 typedef struct pn_sat_config {
+  size_t size; /**< sizeof(pn_sat_config) as the caller compiled it (set by pn_sat_config_init()): fields a later
+                   version adds go after these and are read only when `size` holds them. */
   pn_sat_precision precision; /**< Element type of the table. */
   pn_sat_algorithm algorithm; /**< Scan. */
   int fraction_bits;          /**< Fixed point: fraction bits; -1 for 16 (fixed32) or 32 (fixed64). */

@@ -58,15 +58,15 @@ struct MomentsConfig {
   /// As the C API takes it; its layers point into this config.
   pn_moments_config toC() const {
     static_assert(sizeof(LvsmLayer) == sizeof(pn_lvsm_layer), "LvsmLayer mirrors pn_lvsm_layer");
-    return {static_cast<pn_moment_kind>(kind),
-            depthNear,
-            depthFar,
-            evsmPositive,
-            evsmNegative,
-            static_cast<pn_moment_storage>(storage),
-            reinterpret_cast<const pn_lvsm_layer*>(layers.data()),
-            layers.size(),
-            esmExponent};
+    pn_moments_config c;
+    pn_moments_config_init(&c);
+    c.kind = static_cast<pn_moment_kind>(kind);
+    c.depth_near = depthNear, c.depth_far = depthFar;
+    c.evsm_positive = evsmPositive, c.evsm_negative = evsmNegative;
+    c.storage = static_cast<pn_moment_storage>(storage);
+    c.layers = reinterpret_cast<const pn_lvsm_layer*>(layers.data()), c.layer_count = layers.size();
+    c.esm_exponent = esmExponent;
+    return c;
   }
 };
 
@@ -83,7 +83,11 @@ struct BlurConfig {
   BlurMethod method = BlurMethod::Auto;      ///< How it runs.
   /// As the C API takes it.
   pn_blur_config toC() const {
-    return {static_cast<pn_blur_filter>(filter), sigma, radius, static_cast<pn_blur_method>(method)};
+    pn_blur_config c;
+    pn_blur_config_init(&c);
+    c.filter = static_cast<pn_blur_filter>(filter), c.sigma = sigma, c.radius = radius;
+    c.method = static_cast<pn_blur_method>(method);
+    return c;
   }
 };
 
@@ -106,12 +110,10 @@ struct SatConfig {
   std::optional<std::array<float, 4>> offset;      ///< fp32: subtract this instead of the mean.
   /// As the C API takes it.
   pn_sat_config toC() const {
-    pn_sat_config c{static_cast<pn_sat_precision>(precision),
-                    static_cast<pn_sat_algorithm>(algorithm),
-                    fractionBits,
-                    zeroMean ? 1 : 0,
-                    offset ? 1 : 0,
-                    {0, 0, 0, 0}};
+    pn_sat_config c;
+    pn_sat_config_init(&c);
+    c.precision = static_cast<pn_sat_precision>(precision), c.algorithm = static_cast<pn_sat_algorithm>(algorithm);
+    c.fraction_bits = fractionBits, c.zero_mean = zeroMean ? 1 : 0, c.has_offset = offset ? 1 : 0;
     if (offset)
       for (int i = 0; i < 4; ++i) c.offset[i] = (*offset)[i];
     return c;

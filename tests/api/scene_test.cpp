@@ -92,6 +92,18 @@ TEST(ApiScene, BadArraysAreRefusedByName) {
   missing.positions = nullptr;
   EXPECT_EQ(pn_scene_create(&missing, 1, nullptr, 0, &scene), PN_ERROR_INVALID_ARGUMENT);
   EXPECT_EQ(pn_scene_create(nullptr, 2, nullptr, 0, &scene), PN_ERROR_INVALID_ARGUMENT);
+  pn_mesh unsized = mesh(kCard);  // a struct filled without pn_mesh_init
+  unsized.size = 0;
+  EXPECT_EQ(pn_scene_create(&unsized, 1, nullptr, 0, &scene), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pn_last_error_message()).find("pn_scene_create: meshes[0]->size 0 is smaller"),
+            std::string::npos)
+      << pn_last_error_message();
+  pn_scene_load_options options;
+  pn_scene_load_options_init(&options);
+  EXPECT_EQ(options.size, sizeof(pn_scene_load_options));
+  options.size = 1;
+  EXPECT_EQ(pn_scene_load("builtin:box", &options, &scene), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pn_last_error_message()).find("(call pn_scene_load_options_init first)"), std::string::npos);
   EXPECT_EQ(scene, nullptr);
   PN_ASSERT_OK(pn_scene_create(nullptr, 0, nullptr, 0, &scene));  // empty: a frame sees nothing
   EXPECT_EQ(pn_scene_triangle_count(scene), 0u);

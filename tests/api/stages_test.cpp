@@ -394,6 +394,26 @@ TEST_F(ApiStages, EmptyImagesAndUnknownKindsAreRefused) {
   refused(pn_moment_mips(ctx(), in, &empty, PN_STORAGE_FLOAT32, out, 0, nullptr, &event),
           "pn_moment_mips: image 0x4 has no texels");
   refused(pn_minmax_pyramid(ctx(), in, 0, 0, out, 0, nullptr, &event), "pn_minmax_pyramid: image 0x0 has no texels");
+  // Settings structs carry their size: one smaller than the first version's is refused (a caller that skipped the
+  // init function, or a struct from before its fields), a larger one (a newer caller's) is read up to what we know.
+  pn_moments_config small = moments;
+  small.size = sizeof(size_t);
+  refused(pn_moments(ctx(), in, 8, 8, &small, out, 0, nullptr, &event),
+          "pn_moments: config->size 8 is smaller than its first version's");
+  EXPECT_NE(std::string(pn_last_error_message()).find("(call pn_moments_config_init first)"), std::string::npos);
+  pn_blur_config oldBlur = blur;
+  oldBlur.size = 0;
+  const pn_image_shape square{8, 8, 1};
+  refused(pn_blur(ctx(), in, out, nullptr, &square, &oldBlur, 0, nullptr, &event), "blur config->size 0 is smaller");
+  pn_sat_config oldSat = sat;
+  oldSat.size = sizeof(pn_sat_config) - 1;
+  refused(pn_sat(ctx(), in, &square, &oldSat, out, nullptr, 0, nullptr, &event), "pn_sat: config->size");
+  pn_moments_config newer = moments;
+  newer.size = sizeof(pn_moments_config) + 64;
+  cl_event done = nullptr;
+  PN_ASSERT_OK(pn_moments(ctx(), in, 8, 8, &newer, out, 0, nullptr, &done));
+  complete(done);
+
   size_t levels = 5, texels = 9;
   EXPECT_EQ(pn_pyramid_layout(0, 4, 0, nullptr, 0, &levels, &texels), PN_ERROR_INVALID_ARGUMENT);
   EXPECT_EQ(levels, 5u);
