@@ -1,12 +1,15 @@
 // Status names, the thread-local error state and the exception-to-status mapping of the C API.
 #include <new>
+#include <set>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "api/guard.h"
 #include "host/cl/error.h"
 #include "host/pipeline/memory_plan.h"
 #include "host/scene/load_options.h"
+#include "host/techniques/technique.h"
 #include "host/version.h"
 
 namespace penumbra::api {
@@ -16,11 +19,38 @@ namespace {
 thread_local std::string lastMessage;
 thread_local cl_int lastClError = CL_SUCCESS;
 
+// The core's messages name a technique's parameters as the command line spells them ("--pcf-radius: -3 is outside
+// [0, 16]"); a library caller sets them by name (pn_params_set(params, "pcf-radius", ...)), so the message does too.
+std::string libraryTerms(std::string_view message) {
+  static const std::set<std::string, std::less<>> names = [] {
+    std::set<std::string, std::less<>> all;
+    for (const TechniqueInfo& technique : techniques())
+      for (const ParamSpec& spec : technique.params) all.insert(spec.name);
+    return all;
+  }();
+  std::string out;
+  size_t i = 0;
+  while (i < message.size()) {
+    const size_t dashes = message.find("--", i);
+    if (dashes == std::string_view::npos) break;
+    size_t end = dashes + 2;
+    while (end < message.size() && (std::islower(static_cast<unsigned char>(message[end])) ||
+                                    std::isdigit(static_cast<unsigned char>(message[end])) || message[end] == '-'))
+      ++end;
+    const bool parameter = names.count(message.substr(dashes + 2, end - dashes - 2)) != 0;
+    out.append(message.substr(i, dashes - i));
+    out.append(message.substr(parameter ? dashes + 2 : dashes, end - (parameter ? dashes + 2 : dashes)));
+    i = end;
+  }
+  out.append(message.substr(i));
+  return out;
+}
+
 }  // namespace
 
 pn_status fail(pn_status status, const char* message, cl_int clError) noexcept {
   try {
-    lastMessage = message;
+    lastMessage = libraryTerms(message);
   } catch (...) {
     lastMessage.clear();  // out of memory for the message itself: the status still says what happened
   }
