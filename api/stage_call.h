@@ -8,6 +8,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "api/guard.h"
 #include "api/handles.h"
@@ -49,6 +50,41 @@ class StageCall {
     return Buffer<T>::over(cl::Buffer(mem, true), bytes / sizeof(T), owner);
   }
 
+  // A stage's input: the caller's buffer as buffer() takes it, or a cl_image2d of width x height texels of `channels`
+  // T values each (CL_FLOAT images for float, CL_HALF_FLOAT for cl_half; CL_R, CL_RG or CL_RGBA), copied once into a
+  // temporary buffer after the wait list's barrier (run()), since the stages' kernels read buffers.
+  template <class T>
+  Buffer<T> input(cl_mem mem, const char* what, uint32_t width, uint32_t height, uint32_t channels) {
+    if (mem == nullptr) throw std::invalid_argument(fmt::format("{}: {} is NULL", function_, what));
+    cl_mem_object_type type = 0;
+    const cl_int err = clGetMemObjectInfo(mem, CL_MEM_TYPE, sizeof(type), &type, nullptr);
+    if (err != CL_SUCCESS || type != CL_MEM_OBJECT_IMAGE2D) return buffer<T>(mem, what);
+    cl_context owner = nullptr;
+    clCheck(clGetMemObjectInfo(mem, CL_MEM_CONTEXT, sizeof(owner), &owner, nullptr), "clGetMemObjectInfo", {}, "api");
+    if (owner != context_->context->context()())
+      throw std::invalid_argument(
+          fmt::format("{}: {} belongs to another OpenCL context than the pn_context's", function_, what));
+    cl_image_format format{};
+    size_t w = 0, h = 0;
+    clCheck(clGetImageInfo(mem, CL_IMAGE_FORMAT, sizeof(format), &format, nullptr), "clGetImageInfo", {}, "api");
+    clCheck(clGetImageInfo(mem, CL_IMAGE_WIDTH, sizeof(w), &w, nullptr), "clGetImageInfo", {}, "api");
+    clCheck(clGetImageInfo(mem, CL_IMAGE_HEIGHT, sizeof(h), &h, nullptr), "clGetImageInfo", {}, "api");
+    const cl_channel_type wantedType = sizeof(T) == sizeof(float) ? CL_FLOAT : CL_HALF_FLOAT;
+    const cl_channel_order wantedOrder = channels == 1 ? CL_R : channels == 2 ? CL_RG : CL_RGBA;
+    if (format.image_channel_data_type != wantedType || format.image_channel_order != wantedOrder)
+      throw std::invalid_argument(fmt::format("{}: {} is an image of another format than {} {} channel{}", function_,
+                                              what, channels, sizeof(T) == sizeof(float) ? "float" : "half",
+                                              channels == 1 ? "" : "s"));
+    if (w != width || h != height)
+      throw std::invalid_argument(
+          fmt::format("{}: {} is a {}x{} image for a {}x{} stage", function_, what, w, h, width, height));
+    Buffer<T> copy(ctx(), size_t(width) * height * channels);
+    const cl_mem target = copy.get()();
+    clRetainMemObject(mem);  // held until the copy is enqueued (the caller may release it once the call returns)
+    copies_.push_back({mem, target, width, height});
+    return copy;
+  }
+
   // The caller's scratch buffer, or (NULL) a temporary of `count` elements, freed once the stage's commands are done.
   template <class T>
   Buffer<T> scratch(cl_mem mem, size_t count, const char* what) {
@@ -62,6 +98,11 @@ class StageCall {
     if (waitCount_ > 0)
       clCheck(clEnqueueBarrierWithWaitList(queue, waitCount_, waitList_, nullptr), "clEnqueueBarrierWithWaitList", {},
               function_);
+    for (const ImageCopy& c : copies_) {
+      const size_t origin[3] = {0, 0, 0}, region[3] = {c.width, c.height, 1};
+      clCheck(clEnqueueCopyImageToBuffer(queue, c.image, c.buffer, origin, region, 0, 0, nullptr, nullptr),
+              "clEnqueueCopyImageToBuffer", {}, function_);
+    }
     stage();
     cl_event marker = nullptr;  // the caller's event only once the call has succeeded (a failed one writes none)
     if (event_ != nullptr)
@@ -75,7 +116,18 @@ class StageCall {
 
   const char* function() const { return function_; }
 
+  ~StageCall() {
+    for (const ImageCopy& c : copies_) clReleaseMemObject(c.image);  // the copy, once enqueued, holds its own
+  }
+  StageCall(const StageCall&) = delete;
+  StageCall& operator=(const StageCall&) = delete;
+
  private:
+  struct ImageCopy {
+    cl_mem image, buffer;
+    size_t width, height;
+  };
+  std::vector<ImageCopy> copies_;  // input(): images copied into temporaries after the barrier
   const char* function_;
   pn_context* context_ = nullptr;
   cl_uint waitCount_;

@@ -95,7 +95,7 @@ pn_status pn_moments(pn_context* context, cl_mem depth, uint32_t width, uint32_t
     StageCall call(context, "pn_moments", num_events_in_wait_list, event_wait_list, event);
     requireTexels(width, height, call.function());
     const penumbra::MomentsConfig moments = momentsConfig(config, call.function());
-    const auto in = call.buffer<float>(depth, "depth");
+    const auto in = call.input<float>(depth, "depth", width, height, 1);
     if (moments.storage == penumbra::MomentStorage::Float16) {
       auto target = call.buffer<cl_half>(out, "out");
       call.run([&] { penumbra::computeMoments(call.ctx(), in, width, height, moments, target); });
@@ -119,7 +119,7 @@ pn_status pn_blur(pn_context* context, cl_mem in, cl_mem out, cl_mem scratch, co
     StageCall call(context, "pn_blur", num_events_in_wait_list, event_wait_list, event);
     const penumbra::ImageShape s = imageShape(shape, call.function());
     const penumbra::BlurConfig blur = blurConfig(config, call.function());
-    const auto source = call.buffer<float>(in, "in");
+    const auto source = call.input<float>(in, "in", s.width, s.height, s.channels);
     auto target = call.buffer<float>(out, "out");
     auto temp = call.scratch<float>(scratch, s.count(), "scratch");
     call.run([&] { penumbra::blur(call.ctx(), source, target, temp, s, blur); });
@@ -136,7 +136,7 @@ pn_status pn_blur_moments(pn_context* context, cl_mem depth, uint32_t width, uin
     const penumbra::ImageShape shape{width, height, penumbra::momentChannels(m.kind)};
     requireTexels(width, height, call.function());
     penumbra::checkShape(shape, call.function());
-    const auto in = call.buffer<float>(depth, "depth");
+    const auto in = call.input<float>(depth, "depth", width, height, 1);
     auto temp =
         call.scratch<float>(scratch, penumbra::blurMomentsScratch(call.ctx(), shape, b, m.storage, m.kind), "scratch");
     if (m.storage == penumbra::MomentStorage::Float16) {

@@ -34,7 +34,7 @@ penumbra::SatConfig satConfig(const pn_sat_config& c, const char* function) {
 template <class T>
 void satOf(StageCall& call, cl_mem image, const penumbra::ImageShape& shape, const penumbra::SatConfig& config,
            cl_mem table, cl_mem offset) {
-  const auto in = call.buffer<float>(image, "image");
+  const auto in = call.input<float>(image, "image", shape.width, shape.height, shape.channels);
   auto out = call.buffer<T>(table, "table");
   auto mean = call.scratch<float>(offset, 4, "offset");
   penumbra::checkBufferSize(mean.size(), 4, call.function(), "offset");
@@ -120,11 +120,11 @@ pn_status pn_moment_mips(pn_context* context, cl_mem base, const pn_image_shape*
     requireTexels(s.width, s.height, call.function());
     const penumbra::ImageShape imageShape{s.width, s.height, s.channels};
     if (storage == PN_STORAGE_FLOAT16) {
-      const auto in = call.buffer<cl_half>(base, "base");
+      const auto in = call.input<cl_half>(base, "base", s.width, s.height, s.channels);
       auto out = call.buffer<cl_half>(mips, "mips");
       call.run([&] { penumbra::computeMomentMips(call.ctx(), in, imageShape, out); });
     } else {
-      const auto in = call.buffer<float>(base, "base");
+      const auto in = call.input<float>(base, "base", s.width, s.height, s.channels);
       auto out = call.buffer<float>(mips, "mips");
       call.run([&] { penumbra::computeMomentMips(call.ctx(), in, imageShape, out); });
     }
@@ -136,7 +136,7 @@ pn_status pn_minmax_pyramid(pn_context* context, cl_mem depth, uint32_t width, u
   return guard([&] {
     StageCall call(context, "pn_minmax_pyramid", num_events_in_wait_list, event_wait_list, event);
     requireTexels(width, height, call.function());
-    const auto in = call.buffer<float>(depth, "depth");
+    const auto in = call.input<float>(depth, "depth", width, height, 1);
     auto target = call.buffer<cl_float2>(out, "out");
     call.run([&] { penumbra::computeMinMaxPyramid(call.ctx(), in, width, height, target); });
   });

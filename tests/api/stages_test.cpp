@@ -5,6 +5,8 @@
 #include <penumbra/penumbra.h>
 
 #include <cmath>
+#include <cstring>
+#include <string>
 #include <vector>
 
 #include "tests/api/caller_cl.h"
@@ -123,6 +125,56 @@ TEST_F(ApiStages, MomentsOnTheCallersBuffers) {
     clReleaseMemObject(in);
     clReleaseMemObject(out);
   }
+}
+
+// An input given as a cl_image2d (what an engine's depth attachment often is) is copied once into a temporary after
+// the wait list's barrier: the same bits as from a buffer, the image's content as it is when the caller's events
+// complete (written on another queue while the stage waits), its reference count as it was; another format or size
+// is refused by name.
+TEST_F(ApiStages, ImageInputsAreCopiedAfterTheWaitList) {
+  cl_bool images = CL_FALSE;
+  clGetDeviceInfo(cl().device, CL_DEVICE_IMAGE_SUPPORT, sizeof(images), &images, nullptr);
+  if (!images) GTEST_SKIP() << "the device has no image support";
+  const std::vector<float> depth = randomDepthMap(kW, kH, 17), first(depth.size(), 5.0f);
+  cl_int err = CL_SUCCESS;
+  const cl_image_format r32f{CL_R, CL_FLOAT};
+  cl_image_desc desc{};
+  desc.image_type = CL_MEM_OBJECT_IMAGE2D, desc.image_width = kW, desc.image_height = kH;
+  cl_mem image = clCreateImage(cl().context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, &r32f, &desc,
+                               const_cast<float*>(first.data()), &err);
+  ASSERT_EQ(err, CL_SUCCESS);
+  const cl_uint image0 = references(image);
+  const pn_moments_config vsm = momentsOf(PN_MOMENTS_VSM);
+  const size_t count = depth.size() * 2;
+  cl_mem fromImage = cl().buffer<float>(count, nullptr, kPoison),
+         fromBuffer = cl().buffer<float>(count, nullptr, kPoison);
+  cl_event gate = clCreateUserEvent(cl().context, &err), done = nullptr;
+  PN_ASSERT_OK(pn_moments(ctx(), image, kW, kH, &vsm, fromImage, 1, &gate, &done));
+  // The caller writes the depth it means while the stage waits for the gate, on a queue of its own.
+  cl_command_queue other = clCreateCommandQueue(cl().context, cl().device, 0, &err);
+  const size_t origin[3] = {0, 0, 0}, region[3] = {kW, kH, 1};
+  ASSERT_EQ(clEnqueueWriteImage(other, image, CL_TRUE, origin, region, 0, 0, depth.data(), 0, nullptr, nullptr),
+            CL_SUCCESS);
+  clReleaseCommandQueue(other);
+  clSetUserEventStatus(gate, CL_COMPLETE);
+  complete(done);
+  cl_mem in = cl().buffer(depth);
+  PN_ASSERT_OK(pn_moments(ctx(), in, kW, kH, &vsm, fromBuffer, 0, nullptr, &done));
+  complete(done);
+  const std::vector<float> a = cl().read<float>(fromImage, count), b = cl().read<float>(fromBuffer, count);
+  EXPECT_EQ(std::memcmp(a.data(), b.data(), count * sizeof(float)), 0);
+  EXPECT_EQ(settled(image, image0), image0);
+
+  const pn_image_shape two{kW, kH, 2};
+  pn_blur_config blur;
+  pn_blur_config_init(&blur);
+  EXPECT_EQ(pn_blur(ctx(), image, fromImage, nullptr, &two, &blur, 0, nullptr, nullptr), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_STREQ(pn_last_error_message(), "pn_blur: in is an image of another format than 2 float channels");
+  EXPECT_EQ(pn_minmax_pyramid(ctx(), image, kW + 1, kH, fromImage, 0, nullptr, nullptr), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pn_last_error_message()).find("is a 37x23 image for a 38x23 stage"), std::string::npos)
+      << pn_last_error_message();
+  clReleaseEvent(gate);
+  for (cl_mem m : {image, fromImage, fromBuffer, in}) clReleaseMemObject(m);
 }
 
 TEST_F(ApiStages, HalfMomentsAndTheFusedBlur) {
