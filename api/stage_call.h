@@ -13,6 +13,8 @@
 #include "api/guard.h"
 #include "api/handles.h"
 #include "host/cl/error.h"
+#include "host/stages/image_shape.h"
+#include "penumbra/stages.h"
 
 namespace penumbra::api {
 
@@ -40,13 +42,9 @@ class StageCall {
     clCheck(err, "clGetMemObjectInfo", {}, "api");
     if (type != CL_MEM_OBJECT_BUFFER)
       throw std::invalid_argument(fmt::format("{}: {} is an image, not a buffer", function_, what));
-    cl_context owner = nullptr;
+    const cl_context owner = requireOwned(mem, what);
     size_t bytes = 0;
-    clCheck(clGetMemObjectInfo(mem, CL_MEM_CONTEXT, sizeof(owner), &owner, nullptr), "clGetMemObjectInfo", {}, "api");
     clCheck(clGetMemObjectInfo(mem, CL_MEM_SIZE, sizeof(bytes), &bytes, nullptr), "clGetMemObjectInfo", {}, "api");
-    if (owner != context_->context->context()())
-      throw std::invalid_argument(
-          fmt::format("{}: {} belongs to another OpenCL context than the pn_context's", function_, what));
     return Buffer<T>::over(cl::Buffer(mem, true), bytes / sizeof(T), owner);
   }
 
@@ -59,11 +57,7 @@ class StageCall {
     cl_mem_object_type type = 0;
     const cl_int err = clGetMemObjectInfo(mem, CL_MEM_TYPE, sizeof(type), &type, nullptr);
     if (err != CL_SUCCESS || type != CL_MEM_OBJECT_IMAGE2D) return buffer<T>(mem, what);
-    cl_context owner = nullptr;
-    clCheck(clGetMemObjectInfo(mem, CL_MEM_CONTEXT, sizeof(owner), &owner, nullptr), "clGetMemObjectInfo", {}, "api");
-    if (owner != context_->context->context()())
-      throw std::invalid_argument(
-          fmt::format("{}: {} belongs to another OpenCL context than the pn_context's", function_, what));
+    requireOwned(mem, what);
     cl_image_format format{};
     size_t w = 0, h = 0;
     clCheck(clGetImageInfo(mem, CL_IMAGE_FORMAT, sizeof(format), &format, nullptr), "clGetImageInfo", {}, "api");
@@ -123,6 +117,16 @@ class StageCall {
   StageCall& operator=(const StageCall&) = delete;
 
  private:
+  // The context `mem` belongs to, which must be the pn_context's.
+  cl_context requireOwned(cl_mem mem, const char* what) const {
+    cl_context owner = nullptr;
+    clCheck(clGetMemObjectInfo(mem, CL_MEM_CONTEXT, sizeof(owner), &owner, nullptr), "clGetMemObjectInfo", {}, "api");
+    if (owner != context_->context->context()())
+      throw std::invalid_argument(
+          fmt::format("{}: {} belongs to another OpenCL context than the pn_context's", function_, what));
+    return owner;
+  }
+
   struct ImageCopy {
     cl_mem image, buffer;
     size_t width, height;
@@ -142,6 +146,13 @@ inline void requireTexels(uint32_t width, uint32_t height, const char* function)
   if (width == 0 || height == 0)
     throw std::invalid_argument(
         fmt::format("{}: image {}x{} has no texels (width and height must be at least 1)", function, width, height));
+}
+
+// The caller's pn_image_shape (not NULL, with texels) as the core's ImageShape.
+inline ImageShape stageShape(const pn_image_shape* shape, const char* function) {
+  require(shape, function, "shape");
+  requireTexels(shape->width, shape->height, function);
+  return {shape->width, shape->height, shape->channels};
 }
 
 // Throws std::invalid_argument unless `value` is one of the enum's `count` values 0..count-1.

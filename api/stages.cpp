@@ -9,6 +9,7 @@ using penumbra::api::require;
 using penumbra::api::requireSized;
 using penumbra::api::requireTexels;
 using penumbra::api::StageCall;
+using penumbra::api::stageShape;
 
 namespace {
 
@@ -48,9 +49,15 @@ penumbra::BlurConfig blurConfig(const pn_blur_config* c, const char* function) {
 }
 
 penumbra::ImageShape imageShape(const pn_image_shape* s, const char* function) {
-  require(s, function, "shape");
-  const penumbra::ImageShape shape{s->width, s->height, s->channels};
-  requireTexels(shape.width, shape.height, function);
+  const penumbra::ImageShape shape = stageShape(s, function);
+  penumbra::checkShape(shape, function);
+  return shape;
+}
+
+// The moments of a width x height depth map: one plane of `kind`'s channels, with texels.
+penumbra::ImageShape momentShape(uint32_t width, uint32_t height, penumbra::MomentKind kind, const char* function) {
+  const penumbra::ImageShape shape{width, height, penumbra::momentChannels(kind)};
+  requireTexels(width, height, function);
   penumbra::checkShape(shape, function);
   return shape;
 }
@@ -133,9 +140,7 @@ pn_status pn_blur_moments(pn_context* context, cl_mem depth, uint32_t width, uin
     StageCall call(context, "pn_blur_moments", num_events_in_wait_list, event_wait_list, event);
     const penumbra::MomentsConfig m = momentsConfig(moments, call.function());
     const penumbra::BlurConfig b = blurConfig(blur, call.function());
-    const penumbra::ImageShape shape{width, height, penumbra::momentChannels(m.kind)};
-    requireTexels(width, height, call.function());
-    penumbra::checkShape(shape, call.function());
+    const penumbra::ImageShape shape = momentShape(width, height, m.kind, call.function());
     const auto in = call.input<float>(depth, "depth", width, height, 1);
     auto temp =
         call.scratch<float>(scratch, penumbra::blurMomentsScratch(call.ctx(), shape, b, m.storage, m.kind), "scratch");
@@ -155,9 +160,7 @@ pn_status pn_blur_moments_scratch(pn_context* context, uint32_t width, uint32_t 
     pn_context& c = *require(context, "pn_blur_moments_scratch", "context");
     const penumbra::MomentsConfig m = momentsConfig(moments, "pn_blur_moments_scratch");
     const penumbra::BlurConfig b = blurConfig(blur, "pn_blur_moments_scratch");
-    const penumbra::ImageShape shape{width, height, penumbra::momentChannels(m.kind)};
-    requireTexels(width, height, "pn_blur_moments_scratch");
-    penumbra::checkShape(shape, "pn_blur_moments_scratch");
+    const penumbra::ImageShape shape = momentShape(width, height, m.kind, "pn_blur_moments_scratch");
     *require(floats, "pn_blur_moments_scratch", "floats") =
         penumbra::blurMomentsScratch(*c.context, shape, b, m.storage, m.kind);
   });

@@ -11,6 +11,7 @@ using penumbra::api::require;
 using penumbra::api::requireSized;
 using penumbra::api::requireTexels;
 using penumbra::api::StageCall;
+using penumbra::api::stageShape;
 
 static_assert(sizeof(pn_lloyd_stats) == sizeof(LloydStats) &&
                   offsetof(pn_lloyd_stats, samples) == offsetof(LloydStats, samples),
@@ -62,12 +63,10 @@ pn_status pn_sat(pn_context* context, cl_mem image, const pn_image_shape* shape,
                  cl_event* event) {
   return guard([&] {
     StageCall call(context, "pn_sat", num_events_in_wait_list, event_wait_list, event);
-    const pn_image_shape& s = *require(shape, call.function(), "shape");
+    const penumbra::ImageShape imageShape = stageShape(shape, call.function());
     const pn_sat_config& c =
         requireSized(config, sizeof(pn_sat_config), call.function(), "config", "pn_sat_config_init");
     checkEnum(c.precision, 4, call.function(), "SAT precision");
-    requireTexels(s.width, s.height, call.function());
-    const penumbra::ImageShape imageShape{s.width, s.height, s.channels};
     const penumbra::SatConfig sat = satConfig(c, call.function());
     switch (c.precision) {
       case PN_SAT_FLOAT32:
@@ -115,18 +114,16 @@ pn_status pn_moment_mips(pn_context* context, cl_mem base, const pn_image_shape*
                          cl_event* event) {
   return guard([&] {
     StageCall call(context, "pn_moment_mips", num_events_in_wait_list, event_wait_list, event);
-    const pn_image_shape& s = *require(shape, call.function(), "shape");
+    const penumbra::ImageShape s = stageShape(shape, call.function());
     checkEnum(storage, 2, call.function(), "moment storage");
-    requireTexels(s.width, s.height, call.function());
-    const penumbra::ImageShape imageShape{s.width, s.height, s.channels};
     if (storage == PN_STORAGE_FLOAT16) {
       const auto in = call.input<cl_half>(base, "base", s.width, s.height, s.channels);
       auto out = call.buffer<cl_half>(mips, "mips");
-      call.run([&] { penumbra::computeMomentMips(call.ctx(), in, imageShape, out); });
+      call.run([&] { penumbra::computeMomentMips(call.ctx(), in, s, out); });
     } else {
       const auto in = call.input<float>(base, "base", s.width, s.height, s.channels);
       auto out = call.buffer<float>(mips, "mips");
-      call.run([&] { penumbra::computeMomentMips(call.ctx(), in, imageShape, out); });
+      call.run([&] { penumbra::computeMomentMips(call.ctx(), in, s, out); });
     }
   });
 }

@@ -44,6 +44,17 @@ class GltfAnimation : public ::testing::Test {
     a["channels"].push_back({{"sampler", a["samplers"].size() - 1}, {"target", {{"node", node}, {"path", path}}}});
   }
 
+  // Skins mesh 0's primitive (node 0) with four joints and weights per vertex (unsigned-byte joints) and skin 0 of
+  // the nodes `joints`.
+  static void skin(GltfBuilder& b, const std::vector<double>& joints, const std::vector<double>& weights,
+                   const Json& jointNodes) {
+    const int jointAccessor = b.addAccessor(joints, "VEC4", 5121), weightAccessor = b.addAccessor(weights, "VEC4");
+    b.doc()["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"] = jointAccessor;
+    b.doc()["meshes"][0]["primitives"][0]["attributes"]["WEIGHTS_0"] = weightAccessor;
+    b.doc()["skins"] = {{{"joints", jointNodes}}};
+    b.doc()["nodes"][0]["skin"] = 0;
+  }
+
   Scene load(const GltfBuilder& b, std::optional<double> time, const std::string& animation = "") {
     test::CapturingOptions capture;
     capture.options.time = time;
@@ -133,12 +144,7 @@ TEST_F(GltfAnimation, SkinsMoveVerticesByTheirJointsAndIgnoreTheSkinnedNodesTran
   const int root = b.addNode({{"name", "root"}, {"children", {2}}});
   b.addNode({{"name", "tip"}, {"translation", {0, 0, 0}}}, false);
   // Vertex 0 on the root joint, vertices 1 and 2 half on each.
-  const int joints = b.addAccessor({0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0}, "VEC4", 5121);
-  const int weights = b.addAccessor({1, 0, 0, 0, 0.5, 0.5, 0, 0, 0.5, 0.5, 0, 0}, "VEC4");
-  b.doc()["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"] = joints;
-  b.doc()["meshes"][0]["primitives"][0]["attributes"]["WEIGHTS_0"] = weights;
-  b.doc()["skins"] = {{{"joints", {root, 2}}}};
-  b.doc()["nodes"][0]["skin"] = 0;
+  skin(b, {0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0}, {1, 0, 0, 0, 0.5, 0.5, 0, 0, 0.5, 0.5, 0, 0}, {root, 2});
   b.doc()["nodes"][0]["translation"] = {100, 100, 100};  // must not apply (sec. 3.7.3.3)
   expectNear(load(b, std::nullopt).positions[1], {1, 0, 0}, "bind pose");
   animate(b, 2, "translation", {0, 1}, {0, 0, 0, 0, 4, 0}, "VEC3", "LINEAR");
@@ -218,22 +224,12 @@ TEST_F(GltfAnimation, MalformedAnimationsAndSkinsGiveClearErrors) {
   }
   {
     GltfBuilder b(triangle());
-    const int joints = b.addAccessor({0, 0, 0, 0, 3, 0, 0, 0, 0, 0, 0, 0}, "VEC4", 5121);
-    const int weights = b.addAccessor({1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0}, "VEC4");
-    b.doc()["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"] = joints;
-    b.doc()["meshes"][0]["primitives"][0]["attributes"]["WEIGHTS_0"] = weights;
-    b.doc()["skins"] = {{{"joints", {0}}}};
-    b.doc()["nodes"][0]["skin"] = 0;
+    skin(b, {0, 0, 0, 0, 3, 0, 0, 0, 0, 0, 0, 0}, {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0}, {0});
     EXPECT_TRUE(throwsWith([&] { load(b, std::nullopt); }, {"vertex 1", "joint 3 out of range"}));
   }
   {  // sec. 3.7.3.3: weights sum to one; a vertex whose weights are all zero is refused
     GltfBuilder b(triangle());
-    const int joints = b.addAccessor({0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, "VEC4", 5121);
-    const int weights = b.addAccessor({1, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0}, "VEC4");
-    b.doc()["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"] = joints;
-    b.doc()["meshes"][0]["primitives"][0]["attributes"]["WEIGHTS_0"] = weights;
-    b.doc()["skins"] = {{{"joints", {0}}}};
-    b.doc()["nodes"][0]["skin"] = 0;
+    skin(b, {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, {1, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0}, {0});
     EXPECT_TRUE(throwsWith([&] { load(b, std::nullopt); }, {"vertex 1: its skin weights sum to 0"}));
   }
   {

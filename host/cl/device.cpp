@@ -155,19 +155,26 @@ std::vector<DeviceInfo> listDevices() {
   return devices;
 }
 
+namespace {
+bool isLayoutsName(const std::string& layouts) { return layouts == "gpu" || layouts == "nvidia"; }
+}  // namespace
+
+// The environment's overrides, each checked with the variable's name, applied as a program's are.
 void applyDeviceOverrides(DeviceInfo& info) {
+  DeviceOverrides overrides;
   if (const char* limit = std::getenv("PENUMBRA_LOCAL_MEM_LIMIT"); limit != nullptr && *limit != '\0') {
     char* end = nullptr;
     const unsigned long long bytes = std::strtoull(limit, &end, 10);
     if (*end != '\0' || bytes == 0 || !std::isdigit(static_cast<unsigned char>(*limit)))
       throw std::invalid_argument(fmt::format("PENUMBRA_LOCAL_MEM_LIMIT '{}': expected a byte count", limit));
-    info.localMemBytes = std::min<uint64_t>(info.deviceLocalMemBytes, bytes);
+    overrides.localMemLimit = bytes;
   }
   if (const char* layouts = std::getenv("PENUMBRA_LAYOUTS"); layouts != nullptr && *layouts != '\0') {
-    info.layouts = lower(layouts);
-    if (info.layouts != "gpu" && info.layouts != "nvidia")
+    if (!isLayoutsName(lower(layouts)))
       throw std::invalid_argument(fmt::format("PENUMBRA_LAYOUTS '{}': expected gpu or nvidia", layouts));
+    overrides.layouts = layouts;
   }
+  applyDeviceOverrides(info, overrides);
 }
 
 void applyDeviceOverrides(DeviceInfo& info, const DeviceOverrides& overrides) {
@@ -177,7 +184,7 @@ void applyDeviceOverrides(DeviceInfo& info, const DeviceOverrides& overrides) {
   }
   if (overrides.layouts) {
     const std::string layouts = lower(*overrides.layouts);
-    if (!layouts.empty() && layouts != "gpu" && layouts != "nvidia")
+    if (!layouts.empty() && !isLayoutsName(layouts))
       throw std::invalid_argument(
           fmt::format("work-group layouts '{}': expected gpu, nvidia, or none for the device's own", layouts));
     info.layouts = layouts;

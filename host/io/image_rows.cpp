@@ -35,13 +35,16 @@ void ImageRows::checkRows(int first, int count) const {
         fmt::format("{}: rows {}..{} of a {}-row image", displayName(image_), first, first + count, height()));
 }
 
+std::span<const float> ImageRows::rowsOf(const ImageChannel& channel, int first, int count) const {
+  const size_t width = static_cast<size_t>(image_.width());
+  return std::span<const float>(channel.data)
+      .subspan(width * static_cast<size_t>(first), width * static_cast<size_t>(count));
+}
+
 std::span<const float> ImageRows::stored(std::string_view name, int first, int count) const {
   checkRows(first, count);
   const ImageChannel* channel = image_.find(name);
-  if (!channel) return {};
-  const size_t width = static_cast<size_t>(image_.width());
-  return std::span<const float>(channel->data)
-      .subspan(width * static_cast<size_t>(first), width * static_cast<size_t>(count));
+  return channel != nullptr ? rowsOf(*channel, first, count) : std::span<const float>{};
 }
 
 void ImageRows::read(std::string_view name, int first, int count, std::span<float> out) const {
@@ -50,8 +53,8 @@ void ImageRows::read(std::string_view name, int first, int count, std::span<floa
   if (out.size() != width * static_cast<size_t>(count))
     throw std::out_of_range(
         fmt::format("{}: {} values for {} rows of {}", displayName(image_), out.size(), count, image_.width()));
-  if (image_.find(name)) {
-    const std::span<const float> rows = stored(name, first, count);
+  if (const ImageChannel* channel = image_.find(name)) {
+    const std::span<const float> rows = rowsOf(*channel, first, count);
     std::copy(rows.begin(), rows.end(), out.begin());
     return;
   }

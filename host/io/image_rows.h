@@ -45,6 +45,7 @@ class ImageRows {
 
  private:
   void checkRows(int first, int count) const;  // throws std::out_of_range for rows outside the image
+  std::span<const float> rowsOf(const ImageChannel& channel, int first, int count) const;  // rows checked
 
   const Image& image_;
   std::span<const DeferredChannel> deferred_;
