@@ -55,6 +55,34 @@ __kernel void moments_msm(__global const float* depth, __global Stored4* out, Mo
   PN_STORE(4, out, texel, moments_encode(depth[texel], p, MOMENTS_KIND_MSM));
 }
 
+// Moments of factor x factor blocks (fp32): output texel (x, y) of ceil(width / factor) x ceil(height / factor) is
+// the mean of the encoded moments of map texels [x f, x f + f) x [y f, y f + f), those beyond the map counting as
+// empty (the far value, as the filters' borders do). The encodings are linear in what they average, so a box over
+// whole blocks of this grid has the moments of the same box over the map. p.width, p.height: the map's size.
+#define MOMENTS_REDUCED(name, kind, channels, swizzle)                                                         \
+  __kernel void name(__global const float* depth, __global PN_VEC(float, channels) * out, MomentsParams p,     \
+                     uint factor) {                                                                           \
+    const uint x = get_global_id(0), y = get_global_id(1);                                                     \
+    const uint outWidth = (p.width + factor - 1u) / factor, outHeight = (p.height + factor - 1u) / factor;     \
+    if (x >= outWidth || y >= outHeight) return;                                                               \
+    float4 sum = (float4)(0.0f);                                                                               \
+    for (uint j = 0; j < factor; ++j) {                                                                        \
+      const uint sy = y * factor + j;                                                                          \
+      for (uint i = 0; i < factor; ++i) {                                                                      \
+        const uint sx = x * factor + i;                                                                        \
+        const float d = sx < p.width && sy < p.height ? depth[(size_t)sy * p.width + sx] : INFINITY;           \
+        sum += moments_encode(d, p, kind);                                                                     \
+      }                                                                                                        \
+    }                                                                                                          \
+    out[(size_t)y * outWidth + x] = (sum / (float)(factor * factor))swizzle;                                   \
+  }
+
+MOMENTS_REDUCED(moments_vsm_reduced, MOMENTS_KIND_VSM, 2, .xy)
+MOMENTS_REDUCED(moments_esm_reduced, MOMENTS_KIND_ESM, 1, .x)
+MOMENTS_REDUCED(moments_evsm2_reduced, MOMENTS_KIND_EVSM2, 2, .xy)
+MOMENTS_REDUCED(moments_evsm4_reduced, MOMENTS_KIND_EVSM4, 4, )
+MOMENTS_REDUCED(moments_msm_reduced, MOMENTS_KIND_MSM, 4, )
+
 // 16-bit unorm storage of moments in [0, 1] (LVSM layers, Lauritzen & McCool 2008, sec. 5): texel value
 // round-to-nearest-even(clamp(x, 0, 1) * 65535); NaN stores 0. Writes out[outOffset + i] for i < count.
 __kernel void moments_pack_unorm16(__global const float* in, __global ushort* out, uint count, uint outOffset) {

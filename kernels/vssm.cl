@@ -19,11 +19,12 @@ inline float vssm_occluder(float2 e, float t, float minVariance) {
 // disk light reaches a receiver through a disk, and the square's corners are most of VSSM's error against PCSS's
 // Poisson disk (docs/techniques/vssm.md). The disk of half-width w is K horizontal strips of equal height, each one
 // SAT box whose half-width gives it the disk's area over its rows (so the strips cover pi w^2, as the disk does);
-// K = min(diskStrips, ceil(2 w)): at most one strip per texel row, one area-matched box for a kernel under a texel.
+// K = min(diskStrips, ceil(2 w / satReduce)): at most one strip per row of the SAT's texels (blocks), one area-matched
+// box for a kernel under one.
 // diskStrips = 0 keeps the paper's square. Moments are the strips' area-weighted means; a "non-planarity" kernel
 // subdivides every strip into the same accumulator (Algorithm 2's sums are sums over areas).
 inline uint vssm_strip_count(const VssmMaps* m, float w) {
-  return m->p.diskStrips == 0u ? 0u : clamp((uint)ceil(2.0f * w), 1u, m->p.diskStrips);
+  return m->p.diskStrips == 0u ? 0u : clamp((uint)ceil(2.0f * w / (float)m->p.satReduce), 1u, m->p.diskStrips);
 }
 
 // The integral of the half chord sqrt(w^2 - y^2) from 0 to y (y within [-w, w]).

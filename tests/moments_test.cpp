@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -117,6 +118,70 @@ std::string caseName(const ::testing::TestParamInfo<Case>& info) {
 
 INSTANTIATE_TEST_SUITE_P(Moments, MomentsTest, ::testing::ValuesIn(cases()), caseName);
 
+// The reference of computeMomentsReduced: each block's mean of the per-texel reference moments, texels beyond the map
+// as an empty texel's (+inf depth).
+std::vector<double> blockMeans(const std::vector<float>& depth, uint32_t width, uint32_t height,
+                               const MomentsConfig& cfg, uint32_t factor) {
+  const std::vector<double> texel = ref::moments(depth, cfg);
+  const std::vector<double> empty = ref::moments({std::numeric_limits<float>::infinity()}, cfg);
+  const size_t channels = momentChannels(cfg.kind);
+  const uint32_t outWidth = reducedExtent(width, factor), outHeight = reducedExtent(height, factor);
+  std::vector<double> out(size_t(outWidth) * outHeight * channels, 0.0);
+  for (uint32_t y = 0; y < outHeight; ++y)
+    for (uint32_t x = 0; x < outWidth; ++x)
+      for (uint32_t j = y * factor; j < (y + 1) * factor; ++j)
+        for (uint32_t i = x * factor; i < (x + 1) * factor; ++i)
+          for (size_t c = 0; c < channels; ++c) {
+            const double v = i < width && j < height ? texel[(size_t(j) * width + i) * channels + c] : empty[c];
+            out[(size_t(y) * outWidth + x) * channels + c] += v / double(factor * factor);
+          }
+  return out;
+}
+
+struct ReducedCase {
+  MomentKind kind;
+  uint32_t width, height, factor;
+};
+
+class MomentsReducedTest : public ClTestWithParam<ReducedCase> {};
+
+// Block means of every linear encoding, on blocks that tile the map and on sizes the factor does not divide (the
+// last blocks reach past the map), 1 x 1 maps and factor 1 (the plain stage's result).
+TEST_P(MomentsReducedTest, MatchesBlockMeansOfTheReference) {
+  const ReducedCase c = GetParam();
+  const MomentsConfig cfg = config(c.kind);
+  const std::vector<float> depth = randomDepth(size_t(c.width) * c.height, c.width * 17 + c.factor);
+  const size_t outTexels = size_t(reducedExtent(c.width, c.factor)) * reducedExtent(c.height, c.factor);
+  Buffer<float> depthBuffer(ctx(), std::span<const float>(depth));
+  Buffer<float> out(ctx(), outTexels * momentChannels(c.kind));
+  out.fill(ctx(), kPoison);
+  computeMomentsReduced(ctx(), depthBuffer, c.width, c.height, cfg, c.factor, out);
+  const std::vector<float> actual = out.download(ctx());
+  const std::vector<double> expected = blockMeans(depth, c.width, c.height, cfg, c.factor);
+  // A mean of factor^2 texels adds at most factor^2 fp32 roundings of its partial sums: 64 x 6e-8 relative at 8 x 8.
+  Tolerance tol = tolerance(c.kind);
+  tol.rel += 4e-6;
+  tol.abs = std::max(tol.abs, 1e-6);
+  EXPECT_TRUE(test::allNear(std::span<const float>(actual), std::span<const double>(expected), tol));
+}
+
+std::vector<ReducedCase> reducedCases() {
+  std::vector<ReducedCase> out;
+  for (MomentKind kind : {MomentKind::Vsm, MomentKind::Evsm2, MomentKind::Evsm4, MomentKind::Msm, MomentKind::Esm})
+    for (auto [w, h, f] :
+         {std::tuple{64u, 32u, 2u}, {97u, 61u, 4u}, {97u, 61u, 3u}, {1u, 1u, 4u}, {50u, 7u, 8u}, {13u, 7u, 1u}})
+      out.push_back({kind, w, h, f});
+  return out;
+}
+
+std::string reducedName(const ::testing::TestParamInfo<ReducedCase>& info) {
+  static const char* const kNames[] = {"Vsm", "Evsm2", "Evsm4", "Lvsm", "Msm", "Esm"};
+  return fmt::format("{}_{}x{}_by{}", kNames[int(info.param.kind)], info.param.width, info.param.height,
+                     info.param.factor);
+}
+
+INSTANTIATE_TEST_SUITE_P(Moments, MomentsReducedTest, ::testing::ValuesIn(reducedCases()), reducedName);
+
 TEST(MomentsConfig, ClampsExponentsToStorage) {
   EXPECT_EQ(evsmClampExponent(100.0f, MomentStorage::Float32), 42.0f);
   EXPECT_EQ(evsmClampExponent(100.0f, MomentStorage::Float16), 5.54f);
@@ -139,6 +204,19 @@ TEST_F(MomentsKernels, RejectsBadConfiguration) {
   bad.layers = {{0.5f, 0.5f}};
   EXPECT_THROW(computeMoments(ctx(), depth, 2, 2, bad, out), std::invalid_argument);
   EXPECT_THROW(computeMoments(ctx(), depth, 4, 4, config(MomentKind::Vsm), out), std::invalid_argument);
+  // Reduced: factors outside 1..64, LVSM, half storage, ESM in log space, an output too small for the blocks.
+  const MomentsConfig vsm = config(MomentKind::Vsm);
+  EXPECT_THROW(computeMomentsReduced(ctx(), depth, 2, 2, vsm, 0, out), std::invalid_argument);
+  EXPECT_THROW(computeMomentsReduced(ctx(), depth, 2, 2, vsm, kMaxMomentsReduction + 1, out), std::invalid_argument);
+  EXPECT_THROW(computeMomentsReduced(ctx(), depth, 2, 2, config(MomentKind::Lvsm), 2, out), std::invalid_argument);
+  MomentsConfig half = vsm;
+  half.storage = MomentStorage::Float16;
+  EXPECT_THROW(computeMomentsReduced(ctx(), depth, 2, 2, half, 2, out), std::invalid_argument);
+  MomentsConfig logEsm = config(MomentKind::Esm);
+  logEsm.esmExponent = 200.0f;
+  EXPECT_THROW(computeMomentsReduced(ctx(), depth, 2, 2, logEsm, 2, out), std::invalid_argument);
+  Buffer<float> small(ctx(), 1);
+  EXPECT_THROW(computeMomentsReduced(ctx(), depth, 2, 2, vsm, 1, small), std::invalid_argument);
 }
 
 TEST_F(MomentsKernels, MsmDecodeInvertsEncode) {

@@ -67,6 +67,8 @@ case "$suite" in
     # izb's conservative draw in the CPU coarse layout, its sub-pixel samples and its passes (chunks) over the cells.
     render "cpu-izb-samples-chunks" PENUMBRA_LAYOUTS= -- -t izb --izb-samples 8 --izb-chunk 4096 \
       --light spot:-2,5,-1:0,0,0:60
+    # vssm's moments and SAT over 3 x 3 blocks, which do not tile the 64^2 map (the last blocks reach past it).
+    render "vssm-sat-reduce3" -- -t vssm --vssm-sat-reduce 3
     # izb under the box's disk light: caster lists, bitmask lookups and exact rays, over two passes.
     render "izb-soft" -- -t izb --izb-light-samples 16 --izb-chunk 1024
     for kib in 32 16; do

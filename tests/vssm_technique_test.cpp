@@ -102,12 +102,9 @@ Values bruteForcePcss(const std::string& pattern = "grid") {
 // The paper's square kernels and L7's search kernel by default; strips > 0: disk kernels; search "adaptive": the
 // search kernel narrowed by its nearest texel.
 Values vssmAt512(const std::string& scheme = "mixed", const std::string& strips = "0",
-                 const std::string& search = "full") {
-  return {{"map-size", "512"},
-          {"vssm-max-radius", "64"},
-          {"vssm-subdivision", scheme},
-          {"vssm-disk-strips", strips},
-          {"vssm-search", search}};
+                 const std::string& search = "full", const std::string& satReduce = "1") {
+  return {{"map-size", "512"},          {"vssm-max-radius", "64"}, {"vssm-subdivision", scheme},
+          {"vssm-disk-strips", strips}, {"vssm-search", search},   {"vssm-sat-reduce", satReduce}};
 }
 
 // Pixels of a surface facing the light (cos > 0.1): back faces are dark by N.L whatever the technique says,
@@ -133,10 +130,14 @@ constexpr double kPlanarMaxTol = 0.15;   // worst pixel
 TEST_F(VssmTechnique, PlanarOccluderOverPlanarReceiverMatchesBruteForcePcss) {
   const Scene scene = squareOverPlane();
   const Camera cam = camera({0, 7, 5}, {0, 0, 0}, 160, 120);
-  for (const auto& [kernel, pattern, strips] : {std::tuple{"square", "grid", "0"}, {"disk", "poisson", "8"}})
+  // The SAT over 2 x 2 blocks (--vssm-sat-reduce) too: the wide kernels read block means.
+  for (const auto& [kernel, pattern, strips, reduce] : {std::tuple{"square", "grid", "0", "1"},
+                                                        {"disk", "poisson", "8", "1"},
+                                                        {"disk over 2x2 blocks", "poisson", "8", "2"}})
     for (const char* spec : {"spot:0,4,0:0,0,0:120:0.3", "spot:0.5,5,0.3:0,0,0:100:0.6", "dir:0.2,-1,0.1:3"}) {
       const Light light = parseLight(spec);
-      const RenderResult vssm = renderWith(ctx(), scene, cam, light, "vssm", vssmAt512("mixed", strips));
+      const RenderResult vssm =
+          renderWith(ctx(), scene, cam, light, "vssm", vssmAt512("mixed", strips, "full", reduce));
       const RenderResult pcss = renderWith(ctx(), scene, cam, light, "pcss", bruteForcePcss(pattern));
       const auto &a = channel(vssm, "A"), &py = channel(vssm, "P.Y"), &path = channel(vssm, "path.Z");
       const ErrorStats e = compare(vssm, pcss, [&](size_t i) { return a[i] > 0 && py[i] < 0.5f; });

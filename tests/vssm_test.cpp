@@ -42,6 +42,7 @@ struct Case {
   int diskStrips = 0;  // beyond the paper: disk kernels of at most this many strips
   double stacked = 0.1;  // beyond the paper: the stacked-blocker PCF fallback's threshold (the default; 0 = never)
   int narrowings = 2;    // beyond the paper: search-kernel narrowings (vssm-search adaptive, the default; 0 = full)
+  int satReduce = 1;     // beyond the paper: the moments' SAT over blocks of satReduce^2 texels
 };
 
 std::string caseName(const ::testing::TestParamInfo<Case>& p) { return p.param.name; }
@@ -105,6 +106,7 @@ ref::VssmSettings settingsFor(const Case& c) {
   s.diskStrips = c.diskStrips;
   s.stackedSpread = c.stacked, s.stackedTaps = 8;
   s.searchNarrowings = c.narrowings;
+  s.satReduce = c.satReduce;
   s.litVariance = 2.5e-5, s.contactDepth = 0.02 * (c.zFar - c.zNear), s.maxRadius = 24, s.minVariance = 1e-6;
   return s;
 }
@@ -130,7 +132,8 @@ KernelOut runKernel(Context& ctx, const Case& c, const std::vector<float>& map, 
   Buffer<float> depth(ctx, std::span<const float>(map));
   Buffer<LightViewGpu> lvBuffer(ctx, std::span<const LightViewGpu>(&lv, 1), CL_MEM_READ_ONLY);
   VssmMaps maps;
-  maps.build(ctx, depth, c.width, c.height, c.zNear, c.zFar, {c.sat, float(s.maxRadius), uint32_t(s.levels)});
+  maps.build(ctx, depth, c.width, c.height, c.zNear, c.zFar,
+             {c.sat, float(s.maxRadius), uint32_t(s.levels), uint32_t(s.satReduce)});
   VssmParams p{};
   p.depthNear = maps.depthNear(), p.depthInvRange = maps.depthInvRange();
   p.litVariance = float(s.litVariance), p.contactDepth = float(s.contactDepth), p.maxRadius = float(s.maxRadius);
@@ -142,6 +145,7 @@ KernelOut runKernel(Context& ctx, const Case& c, const std::vector<float>& map, 
   p.diskStrips = uint32_t(s.diskStrips);
   p.stackedSpread = float(s.stackedSpread), p.stackedTaps = uint32_t(s.stackedTaps);
   p.searchNarrowings = uint32_t(s.searchNarrowings);
+  p.satReduce = maps.satReduce();
   std::vector<cl_float4> rx(receivers.size());
   std::vector<float> slopes(receivers.size());
   for (size_t i = 0; i < receivers.size(); ++i) {
@@ -235,7 +239,19 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"mixed_no_stacked_fallback", 61, 37, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 0,
              0.0},
         Case{"mixed_full_search", 61, 37, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 0, 0.1, 0},
-        Case{"disk8_full_search", 61, 37, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 8, 0.1, 0}),
+        Case{"disk8_full_search", 61, 37, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 8, 0.1, 0},
+        // The SAT over blocks: 2 and 4 (vssm-sat-reduce auto's), 3 on sizes it does not divide, fixed32's bits.
+        Case{"reduce2_disk8_mixed_61x37", 61, 37, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 8,
+             0.1, 2, 2},
+        Case{"reduce4_mixed_64x64", 64, 64, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 0, 0.1, 2,
+             4},
+        Case{"reduce3_disk8_uniform_50x47", 50, 47, 2.0f, 12.0f, kU, kU, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 8,
+             0.1, 2, 3},
+        Case{"reduce2_disk8_fixed32", 48, 48, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed32, true, 0.05f, 2e-2, 8, 0.1, 2,
+             2},
+        Case{"reduce4_disk8_directional", 50, 50, 5.0f, 25.0f, kU, kA, VssmSatMode::Fixed64, false, 0.05f, kVisTol, 8,
+             0.1, 2, 4},
+        Case{"reduce2_mixed_1x1", 1, 1, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed64, true, 0.05f, kVisTol, 8, 0.1, 2, 2}),
     caseName);
 
 TEST(VssmQuadTree, ChildAndNextLinksWalkTheTreeDepthFirst) {

@@ -164,6 +164,34 @@ cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t widt
   return launchMoments(ctx, depth, width, height, config, out);
 }
 
+uint32_t reducedExtent(uint32_t extent, uint32_t factor) {
+  if (factor == 0) throw std::invalid_argument("moments: a reduction factor of 0");
+  return extent / factor + (extent % factor != 0 ? 1 : 0);
+}
+
+cl::Event computeMomentsReduced(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
+                                const MomentsConfig& config, uint32_t factor, Buffer<float>& out) {
+  if (factor < 1 || factor > kMaxMomentsReduction)
+    throw std::invalid_argument(
+        fmt::format("moments: reduction factor {} outside 1..{}", factor, kMaxMomentsReduction));
+  if (config.kind == MomentKind::Lvsm)
+    throw std::invalid_argument("moments: LVSM layers are not reduced (one plane per layer)");
+  if (config.storage != MomentStorage::Float32) throw std::invalid_argument("moments: reduced moments are fp32");
+  const MomentsParams params = momentsParams(config, width, height);
+  if (config.kind == MomentKind::Esm && params.esmLogSpace != 0)
+    throw std::invalid_argument(
+        fmt::format("moments: ESM with exponent {} is filtered in log space, which a block mean does not reduce",
+                    params.expPositive));
+  const uint32_t outWidth = reducedExtent(width, factor), outHeight = reducedExtent(height, factor);
+  const size_t texels = size_t(width) * height, outTexels = size_t(outWidth) * outHeight;
+  checkBufferSize(depth.size(), texels, "moments", "depth");
+  checkBufferSize(out.size(), outTexels * momentChannels(config.kind), "moments", "output");
+  Kernel kernel(ctx, "kernels/moments.cl", fmt::format("{}_reduced", entryPoint(config.kind)), "moments");
+  // Floor: read each depth texel once, write each block's moments once.
+  const uint64_t bytes = texels * sizeof(float) + outTexels * momentChannels(config.kind) * sizeof(float);
+  return kernel.args(depth, out, params, factor).moves(bytes).launch(Range(outWidth, outHeight), Range(16, 8));
+}
+
 cl::Event packMomentsUnorm16(Context& ctx, const Buffer<float>& in, size_t count, Buffer<cl_ushort>& out,
                              size_t outOffset) {
   checkBufferSize(in.size(), count, "moments", "unorm16 input");

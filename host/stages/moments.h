@@ -79,6 +79,17 @@ cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t widt
 cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
                          const MomentsConfig& config, Buffer<cl_half>& out);
 
+// The moments of factor x factor blocks of the map (fp32): texel (x, y) of a ceil(width / factor) x
+// ceil(height / factor) grid is the mean of the moments of map texels [x f, x f + f) x [y f, y f + f), those beyond the
+// map counting as empty. The encodings are linear in what is averaged, so a box of whole blocks of this grid has the
+// moments of that box of the map: a summed-area table of it answers the wide boxes of a filter at 1/f^2 of the
+// texels (vssm's --vssm-sat-reduce). Any kind but LVSM (one plane per layer) and ESM filtered in log space (its stored
+// d is not averaged linearly); factor 1..kMaxMomentsReduction. Launch named "moments/moments_<kind>_reduced".
+inline constexpr uint32_t kMaxMomentsReduction = 64;
+uint32_t reducedExtent(uint32_t extent, uint32_t factor);  // ceil(extent / factor)
+cl::Event computeMomentsReduced(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
+                                const MomentsConfig& config, uint32_t factor, Buffer<float>& out);
+
 // 16-bit unorm storage for moments in [0, 1] (LVSM layers): out[outOffset + i] = round(clamp(in[i], 0, 1)
 // * 65535) (to nearest even; NaN -> 0) for i < count; read back as value / 65535. Launch named
 // "moments/moments_pack_unorm16".

@@ -8,12 +8,14 @@
 #include "host/techniques/registry.h"
 #include "host/techniques/shadow_map.h"
 #include "host/techniques/vssm_maps.h"
+#include "host/views/light_fit.h"
 #include "kernels/shared/id_buffer.h"
 
 namespace penumbra {
 namespace {
 
 enum Subdivision { kNone = 0, kUniform = 1, kAdaptive = 2, kMixed = 3 };
+constexpr uint32_t kMaxAutoSatReduce = 8;
 constexpr uint32_t kSearchNarrowings = 2;  // vssm-search adaptive: as pcss's PCSS_ADAPTIVE_STEPS
 
 struct VssmTechniqueSettings {
@@ -30,13 +32,14 @@ class VarianceSoftShadows final : public TechniqueOf<VssmTechniqueSettings> {
   using TechniqueOf::TechniqueOf;
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
-    const VssmMapConfig& config = settings_.vssm.maps;
+    VssmMapConfig config = settings_.vssm.maps;
     renderShadowMap(frame, settings_.map, map_, config.maxRadius, MapNear::Fitted);
     const LightViewGpu& lv = map_.view.gpu;
     const auto width = static_cast<uint32_t>(lv.width), height = static_cast<uint32_t>(lv.height);
     // The HSM first: its top is the nearest caster drawn, which the moments are normalised from.
     const cl_float2 drawn = maps_.buildHsm(frame.ctx, map_.targets.depth, width, height);
     tightenMapNear(frame, settings_.map, map_, drawn.s[0]);
+    if (settings_.vssm.satReduceAuto) config.satReduce = autoSatReduce(frame);
     maps_.buildMoments(frame.ctx, map_.targets.depth, width, height, lv.zNear, lv.zFar, config);
     const VssmParams shade = vssmParams(settings_.vssm, maps_, frame.scene.bounds().radius());
     const GBuffer& g = frame.gbuffer;
@@ -66,6 +69,22 @@ class VarianceSoftShadows final : public TechniqueOf<VssmTechniqueSettings> {
   }
 
  private:
+  // --vssm-sat-reduce auto: the largest power of two up to kMaxAutoSatReduce at which the penumbra half-width that
+  // vssm-sat-quantile of the shadowed pixels reach spans vssm-sat-penumbra SAT texels; recorded in the header.
+  uint32_t autoSatReduce(ShadowFrame& frame) const {
+    const VssmSettings& s = settings_.vssm;
+    const PenumbraWidth width = measurePenumbraWidth(frame.ctx, frame.gbuffer, map_.targets.depth, map_.gpu,
+                                                     settings_.map.receiverBias(), s.satQuantile);
+    uint32_t reduce = 1;
+    while (reduce < kMaxAutoSatReduce && width.halfWidth >= 2.0 * reduce * s.satPenumbra) reduce *= 2;
+    frame.attributes["penumbra:vssm-sat-reduce"] =
+        width.pixels == 0
+            ? fmt::format("auto {} (no shadowed pixel measured)", reduce)
+            : fmt::format("auto {} (quantile {} of {} shadowed pixels: penumbra half-width {:.3g} texels)", reduce,
+                          s.satQuantile, width.pixels, width.halfWidth);
+    return reduce;
+  }
+
   ShadowMap map_;
   VssmMaps maps_;
   Buffer<cl_float4> debug_;
@@ -90,6 +109,10 @@ VssmSettings VssmSettings::from(const Params& params) {
   s.stackedSpread = static_cast<float>(params.get("vssm-stacked"));
   s.stackedTaps = static_cast<uint32_t>(params.getInt("vssm-stacked-taps"));
   s.searchNarrowings = params.getInt("vssm-search") == kSearchAdaptive ? kSearchNarrowings : 0;
+  s.satReduceAuto = params.isAuto("vssm-sat-reduce");
+  s.maps.satReduce = s.satReduceAuto ? 1 : static_cast<uint32_t>(params.getInt("vssm-sat-reduce"));
+  s.satPenumbra = params.get("vssm-sat-penumbra");
+  s.satQuantile = params.get("vssm-sat-quantile");
   return s;
 }
 
@@ -119,11 +142,12 @@ VssmParams vssmParams(const VssmSettings& settings, const VssmMaps& maps, float 
   p.stackedSpread = settings.stackedSpread;
   p.stackedTaps = settings.stackedTaps;
   p.searchNarrowings = settings.searchNarrowings;
+  p.satReduce = maps.satReduce();
   return p;
 }
 
 std::vector<ParamSpec> vssmParamSpecs() {
-  return {
+  std::vector<ParamSpec> specs = {
       {"vssm-subdivision",
        kMixed,
        0,
@@ -159,6 +183,20 @@ std::vector<ParamSpec> vssmParamSpecs() {
       {"vssm-stacked-taps", 8, 1, 32, "Stacked-blocker kernels: taps x taps jittered cells"},
       {"vssm-sat", 0, 0, 3, "SAT storage of the moments", {"fixed64", "fixed32", "fp32", "fp64"}},
   };
+  ParamSpec reduce{"vssm-sat-reduce", 0, 1, 16,
+                   "Beyond the paper: the moments and their SAT over blocks of N x N map texels (wide kernels read "
+                   "block means; the HSM, contact and leaf PCF keep the map); 1 = the paper's; auto: the largest power "
+                   "of two up to 8 at which the narrow end of the penumbrae (--vssm-sat-quantile) spans "
+                   "--vssm-sat-penumbra blocks"};
+  reduce.autoName = "auto";
+  reduce.autoValue = 0;
+  specs.push_back(std::move(reduce));
+  specs.push_back({"vssm-sat-penumbra", 6, 1, 1024,
+                   "--vssm-sat-reduce auto: SAT texels across the penumbra half-width --vssm-sat-quantile reaches"});
+  specs.push_back(
+      {"vssm-sat-quantile", 0.2, 0.01, 1,
+       "--vssm-sat-reduce auto: the share of the shadowed pixels whose penumbra may span fewer SAT texels"});
+  return specs;
 }
 
 TechniqueInfo vssmTechnique() {

@@ -12,12 +12,12 @@ namespace penumbra {
 
 // vssm-subdivision, vssm-m, vssm-n, vssm-levels, vssm-leaf-taps, vssm-lit-threshold, vssm-contact,
 // vssm-max-radius, vssm-p-guard, vssm-min-variance, vssm-disk-strips, vssm-search, vssm-stacked, vssm-stacked-taps,
-// vssm-sat (the shadow-map parameters come on top).
+// vssm-sat, vssm-sat-reduce, vssm-sat-penumbra, vssm-sat-quantile (the shadow-map parameters come on top).
 std::vector<ParamSpec> vssmParamSpecs();
 
 // vssmParamSpecs() as parsed.
 struct VssmSettings {
-  VssmMapConfig maps;  // vssm-sat, vssm-max-radius, vssm-levels
+  VssmMapConfig maps;   // vssm-sat, vssm-max-radius, vssm-levels, vssm-sat-reduce (1 under auto)
   int subdivision = 3;  // vssm-subdivision: none, uniform, adaptive, mixed
   uint32_t searchDivisions = 0, shadeDivisions = 0;  // vssm-m, vssm-n
   uint32_t leafTaps = 0, diskStrips = 0;
@@ -26,6 +26,9 @@ struct VssmSettings {
   float stackedSpread = 0;   // vssm-stacked
   uint32_t stackedTaps = 0;  // vssm-stacked-taps
   uint32_t searchNarrowings = 0;  // vssm-search: 0 full, 2 adaptive
+  bool satReduceAuto = false;     // vssm-sat-reduce auto (maps.satReduce is then chosen per frame)
+  double satPenumbra = 0;         // vssm-sat-penumbra: SAT texels across the narrow end of the penumbrae under auto
+  double satQuantile = 0;         // vssm-sat-quantile: that narrow end
   static VssmSettings from(const Params& params);
   bool operator==(const VssmSettings&) const = default;
 };

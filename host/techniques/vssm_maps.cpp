@@ -18,7 +18,8 @@ namespace penumbra {
 namespace {
 
 // Fraction bits of a fixed-point table: every box the shading kernel reads sums (z, z^2) in [0, 1] over at most
-// the whole map (fixed64) or a (2 maxRadius + 2)^2 box (fixed32: the corners of the widest kernel).
+// the whole table (fixed64) or a (2 maxRadius + 2)^2 box (fixed32: the corners of the widest kernel; maxRadius in
+// the table's texels).
 int fractionBits(VssmSatMode mode, uint32_t width, uint32_t height, float maxRadius) {
   const double texels = double(width) * height;
   if (mode == VssmSatMode::Fixed64) return satFractionBits(SAT_MODE_FIXED64, texels, 1.0);
@@ -75,9 +76,13 @@ cl_float2 VssmMaps::buildHsm(Context& ctx, const Buffer<float>& depth, uint32_t 
 void VssmMaps::buildMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height, float zNear,
                             float zFar, const VssmMapConfig& config) {
   // Plan: sizes, link table.
-  const ImageShape shape{width, height, 2};
-  checkShape(shape, "vssm");
-  checkBufferSize(depth.size(), shape.texels(), "vssm", "depth");
+  checkShape({width, height, 1}, "vssm");
+  checkBufferSize(depth.size(), size_t{width} * height, "vssm", "depth");
+  if (config.satReduce < 1 || config.satReduce > kMaxMomentsReduction)
+    throw std::invalid_argument(
+        fmt::format("vssm: SAT reduction {} outside 1..{}", config.satReduce, kMaxMomentsReduction));
+  satReduce_ = config.satReduce;
+  const ImageShape shape{reducedExtent(width, satReduce_), reducedExtent(height, satReduce_), 2};
   if (moments_.size() != shape.count()) moments_.allocate(ctx, shape.count());
   if (satOffset_.empty()) satOffset_.allocate(ctx, 4);
   if (treeHeight_ != config.treeHeight || nodes_.empty()) {
@@ -88,16 +93,20 @@ void VssmMaps::buildMoments(Context& ctx, const Buffer<float>& depth, uint32_t w
   }
   zNear_ = zNear;
   invRange_ = 1.0f / (zFar - zNear);
-  desc_.width = width;
-  desc_.height = height;
-  const int bits = fractionBits(config.sat, width, height, config.maxRadius);
+  desc_.width = shape.width;
+  desc_.height = shape.height;
+  const int bits =
+      fractionBits(config.sat, shape.width, shape.height, config.maxRadius / static_cast<float>(satReduce_));
 
   // Record: L2 moments, L3 SAT.
   MomentsConfig moments;
   moments.kind = MomentKind::Vsm;
   moments.depthNear = zNear;
   moments.depthFar = zFar;
-  computeMoments(ctx, depth, width, height, moments, moments_);
+  if (satReduce_ == 1)
+    computeMoments(ctx, depth, width, height, moments, moments_);
+  else
+    computeMomentsReduced(ctx, depth, width, height, moments, satReduce_, moments_);
   switch (config.sat) {
     case VssmSatMode::Fixed64:
       buildSat<uint64_t>(ctx, bits);

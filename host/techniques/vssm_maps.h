@@ -30,6 +30,9 @@ struct VssmMapConfig {
   VssmSatMode sat = VssmSatMode::Fixed64;
   float maxRadius = 128.0f;  // texels: the widest box looked up, which bounds fixed32's fraction bits
   uint32_t treeHeight = 3;   // H of the adaptive subdivision, 1..VSSM_MAX_LEVELS
+  // Beyond the paper: the moments and their SAT over blocks of satReduce x satReduce texels
+  // (computeMomentsReduced), 1..kMaxMomentsReduction; 1 = one SAT texel per map texel (the paper's).
+  uint32_t satReduce = 1;
   bool operator==(const VssmMapConfig&) const = default;
 };
 
@@ -47,7 +50,8 @@ class VssmMaps {
   // Returns the drawn depth range (min, max over the map; +INFINITY where nothing is drawn), waiting for it: what
   // MapNear::Drawn would have reduced the map for.
   cl_float2 buildHsm(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height);
-  // "moments/moments_vsm" over [zNear, zFar] and the "sat/..." passes of the same map, and the quad-tree's links.
+  // "moments/moments_vsm" over [zNear, zFar] (moments_vsm_reduced with a satReduce above 1: the SAT then has
+  // ceil(width / satReduce) x ceil(height / satReduce) texels) and the "sat/..." passes, and the quad-tree's links.
   // Throws std::runtime_error for fp64 on a device without it.
   void buildMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height, float zNear, float zFar,
                     const VssmMapConfig& config);
@@ -59,6 +63,7 @@ class VssmMaps {
   const Buffer<PyramidLevel>& levels() const { return hsm_.levels(); }
   const Buffer<VssmNode>& nodes() const { return nodes_; }
   uint32_t levelCount() const { return hsm_.count(); }
+  uint32_t satReduce() const { return satReduce_; }
   uint32_t nodeCount() const { return nodeCount_; }
   float depthNear() const { return zNear_; }
   float depthInvRange() const { return invRange_; }
@@ -74,7 +79,7 @@ class VssmMaps {
   SatTableDesc desc_{};
   MinMaxLevels hsm_;
   Buffer<VssmNode> nodes_;
-  uint32_t nodeCount_ = 0, treeHeight_ = 0;
+  uint32_t nodeCount_ = 0, treeHeight_ = 0, satReduce_ = 1;
   float zNear_ = 0.0f, invRange_ = 1.0f;
 };
 

@@ -54,7 +54,8 @@ typedef struct VssmParams {
                          // the jittered taps of a stacked-blocker search or penumbra kernel (0: never)
   uint stackedTaps;      // the fallback's jittered taps per side
   uint searchNarrowings;  // beyond the paper: narrowings of the search kernel by its nearest texel (0: L7's kernel)
-  uint pad1, pad2;
+  uint satReduce;         // beyond the paper: map texels per SAT texel along each side (1: the paper's, one per texel)
+  uint pad;
 } VssmParams;
 
 #if PENUMBRA_HOST

@@ -35,13 +35,17 @@ typedef struct VssmReceiver {
   uint seed;        // pixel index: jitter of the contact PCF
 } VssmReceiver;
 
-// Mean (E(x), E(x^2)) over [lo, hi] (texels). Texels outside the map hold no occluder: normalised depth 1, as
-// sc_fetch's +INFINITY is for the PCF taps, so a kernel that leaves the map is not darkened by its inside part.
+// Mean (E(x), E(x^2)) over [lo, hi] (map texels). Texels outside the map hold no occluder: normalised depth 1, as
+// sc_fetch's +INFINITY is for the PCF taps, so a kernel that leaves the map is not darkened by its inside part. The
+// SAT may hold blocks of satReduce^2 texels (moments_vsm_reduced): the box is then read in block units, exact for
+// boxes of whole blocks and the block means' bilinear integral between them.
 inline float2 vssm_box_moments(const VssmMaps* m, float2 lo, float2 hi) {
-  const float2 size = (float2)((float)m->desc.width, (float)m->desc.height);
+  const float2 size = (float2)((float)m->lv->width, (float)m->lv->height);
   const float2 a = clamp(lo, (float2)(0.0f), size), b = clamp(hi, a, size);
   const float inside = (b.x - a.x) * (b.y - a.y), area = (hi.x - lo.x) * (hi.y - lo.y);
-  float2 sum = inside > 0.0f ? sat_box_sum(m->sat, m->desc, m->satOffset, a, b) : (float2)(0.0f);
+  const float block = (float)m->p.satReduce;
+  float2 sum = (float2)(0.0f);
+  if (inside > 0.0f) sum = sat_box_sum(m->sat, m->desc, m->satOffset, a / block, b / block) * (block * block);
   return (sum + (float2)(area - inside)) / area;
 }
 
@@ -49,8 +53,8 @@ inline float2 vssm_box_moments(const VssmMaps* m, float2 lo, float2 hi) {
 // then normalised as the moments are: the normalisation never decreases, so it maps the raw range onto the range of
 // the normalised texels exactly); background, NaN and parts outside the map count as depth 1.
 inline float2 vssm_hsm_range(const VssmMaps* m, float2 lo, float2 hi) {
-  const float2 raw = pyramid_depth_range_of(m->depth, m->hsm, m->levels, m->p.pyramidLevels, m->desc.width,
-                                            m->desc.height, lo, hi, INFINITY);
+  const float2 raw = pyramid_depth_range_of(m->depth, m->hsm, m->levels, m->p.pyramidLevels, m->lv->width,
+                                            m->lv->height, lo, hi, INFINITY);
   return (float2)(moments_normalize(raw.x, m->p.depthNear, m->p.depthInvRange),
                   moments_normalize(raw.y, m->p.depthNear, m->p.depthInvRange));
 }

@@ -52,16 +52,24 @@ VssmReference::VssmReference(const std::vector<float>& depth, uint32_t width, ui
                              const VssmSettings& settings)
     : depth_(depth), width_(width), height_(height), light_(light), settings_(settings) {
   std::vector<float> normalized(depth.size());
-  for (int c = 0; c < 2; ++c) sat_[c].assign(size_t(width + 1) * (height + 1), 0.0);
   for (uint32_t y = 0; y < height; ++y)
-    for (uint32_t x = 0; x < width; ++x) {
-      const double z = normalizeDepth(depth[y * width + x], light.zNear, light.zFar);
-      normalized[y * width + x] = static_cast<float>(z);
-      const double value[2] = {z, z * z};
+    for (uint32_t x = 0; x < width; ++x)
+      normalized[y * width + x] = static_cast<float>(normalizeDepth(depth[y * width + x], light.zNear, light.zFar));
+  const uint32_t f = static_cast<uint32_t>(settings.satReduce);
+  satWidth_ = (width + f - 1) / f, satHeight_ = (height + f - 1) / f;
+  const size_t pitch = satWidth_ + 1;
+  for (int c = 0; c < 2; ++c) sat_[c].assign(pitch * (satHeight_ + 1), 0.0);
+  for (uint32_t y = 0; y < satHeight_; ++y)
+    for (uint32_t x = 0; x < satWidth_; ++x) {
+      double value[2] = {0, 0};
+      for (uint32_t j = y * f; j < (y + 1) * f; ++j)
+        for (uint32_t i = x * f; i < (x + 1) * f; ++i) {
+          const double z = i < width && j < height ? normalized[j * width + i] : 1.0;
+          value[0] += z / (f * f), value[1] += z * z / (f * f);
+        }
       for (int c = 0; c < 2; ++c) {
         std::vector<double>& s = sat_[c];
-        s[(y + 1) * (width + 1) + x + 1] =
-            value[c] + s[y * (width + 1) + x + 1] + s[(y + 1) * (width + 1) + x] - s[y * (width + 1) + x];
+        s[(y + 1) * pitch + x + 1] = value[c] + s[y * pitch + x + 1] + s[(y + 1) * pitch + x] - s[y * pitch + x];
       }
     }
   hsm_ = minMaxPyramid(normalized, width, height);
@@ -71,12 +79,13 @@ VssmReference::VssmReference(const std::vector<float>& depth, uint32_t width, ui
   }
 }
 
-// The integral of channel c over [0, u] x [0, v]: bilinear between the integer corners of the prefix sums.
+// The integral of channel c over [0, u] x [0, v] (block units): bilinear between the integer corners of the prefix
+// sums.
 double VssmReference::corner(double u, double v, int c) const {
-  const int i = std::min(int(std::floor(u)), int(width_)), j = std::min(int(std::floor(v)), int(height_));
+  const int i = std::min(int(std::floor(u)), int(satWidth_)), j = std::min(int(std::floor(v)), int(satHeight_));
   const double fu = u - i, fv = v - j;
-  const int i1 = std::min(i + 1, int(width_)), j1 = std::min(j + 1, int(height_));
-  auto s = [&](int a, int b) { return sat_[c][size_t(b) * (width_ + 1) + a]; };
+  const int i1 = std::min(i + 1, int(satWidth_)), j1 = std::min(j + 1, int(satHeight_));
+  auto s = [&](int a, int b) { return sat_[c][size_t(b) * (satWidth_ + 1) + a]; };
   return (1 - fv) * ((1 - fu) * s(i, j) + fu * s(i1, j)) + fv * ((1 - fu) * s(i, j1) + fu * s(i1, j1));
 }
 
@@ -85,9 +94,13 @@ std::pair<double, double> VssmReference::boxMoments(double lx, double ly, double
   const double ax = std::clamp(lx, 0.0, double(width_)), bx = std::clamp(hx, ax, double(width_));
   const double ay = std::clamp(ly, 0.0, double(height_)), by = std::clamp(hy, ay, double(height_));
   const double area = (hx - lx) * (hy - ly), outside = area - (bx - ax) * (by - ay);
+  const double f = settings_.satReduce;
   double sum[2];
   for (int c = 0; c < 2; ++c)
-    sum[c] = corner(bx, by, c) - corner(ax, by, c) - corner(bx, ay, c) + corner(ax, ay, c) + outside;
+    sum[c] = (corner(bx / f, by / f, c) - corner(ax / f, by / f, c) - corner(bx / f, ay / f, c) +
+              corner(ax / f, ay / f, c)) *
+                 f * f +
+             outside;
   return {sum[0] / area, sum[1] / area};
 }
 
@@ -185,11 +198,11 @@ void VssmReference::adaptive(const Rx& r, double lx, double ly, double sx, doubl
 }
 
 // The disk of half-width w as K equal-height strips, each the rectangle with the disk's area over its rows:
-// half-width = (integral of sqrt(w^2 - y^2) over the rows) / (row height); K = min(diskStrips, ceil(2w)).
+// half-width = (integral of sqrt(w^2 - y^2) over the rows) / (row height); K = min(diskStrips, ceil(2w / satReduce)).
 std::vector<std::pair<std::array<double, 2>, std::array<double, 2>>> VssmReference::kernelBoxes(const Rx& r,
                                                                                                 double w) const {
   if (settings_.diskStrips == 0) return {{{r.u - w, r.v - w}, {r.u + w, r.v + w}}};
-  const int k = std::clamp(int(std::ceil(2 * w)), 1, settings_.diskStrips);
+  const int k = std::clamp(int(std::ceil(2 * w / settings_.satReduce)), 1, settings_.diskStrips);
   auto integral = [w](double y) {
     y = std::clamp(y, -w, w);
     return 0.5 * (y * std::sqrt(std::max(w * w - y * y, 0.0)) + w * w * std::asin(std::clamp(y / w, -1.0, 1.0)));

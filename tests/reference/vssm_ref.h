@@ -1,7 +1,7 @@
 // Double-precision reference of VSSM's per-pixel algorithm (Yang et al. 2010, Algorithms 1 and 2), written from
-// the paper independently of kernels/vssm.cl: box moments from a double SAT, the HSM from ref::minMaxPyramid,
-// eq. 4/5 blocker depths, uniform subdivision and adaptive subdivision as a recursive quad-tree walk (the kernel
-// walks the same tree by Child/Next links), PCF leaves and the 3x3 jittered contact PCF.
+// the paper independently of kernels/vssm.cl: box moments from a double SAT (of block means where satReduce > 1), the
+// HSM from ref::minMaxPyramid, eq. 4/5 blocker depths, uniform subdivision and adaptive subdivision as a recursive
+// quad-tree walk (the kernel walks the same tree by Child/Next links), PCF leaves and the 3x3 jittered contact PCF.
 #pragma once
 
 #include <array>
@@ -31,6 +31,7 @@ struct VssmSettings {
   double stackedSpread = 0;   // beyond the paper: the stacked-blocker PCF fallback's threshold (0: never)
   int stackedTaps = 8;        // its jittered taps per side
   int searchNarrowings = 0;   // beyond the paper: narrowings of the search kernel by its nearest texel
+  int satReduce = 1;          // beyond the paper: the moments' table over blocks of satReduce^2 texels
 };
 
 struct VssmReceiverIn {
@@ -81,7 +82,9 @@ class VssmReference {
   uint32_t width_, height_;
   VssmLight light_;
   VssmSettings settings_;
-  std::vector<double> sat_[2];  // (width + 1) x (height + 1) prefix sums of z and z^2
+  // (satWidth + 1) x (satHeight + 1) prefix sums of the blocks' mean z and z^2 (texels beyond the map: z = 1)
+  std::vector<double> sat_[2];
+  uint32_t satWidth_, satHeight_;
   std::vector<std::vector<std::pair<float, float>>> hsm_;
   std::vector<std::pair<uint32_t, uint32_t>> hsmSizes_;
 };
