@@ -7,9 +7,10 @@
 
 #include <memory>
 #include <optional>
+#include <penumbra/penumbra.hpp>
 #include <string>
 
-#include <penumbra/penumbra.hpp>
+#include "python/arrays.h"
 
 namespace py = pybind11;
 
@@ -54,17 +55,27 @@ void translate(const Errors& errors, const Error& e) {
 void bindErrors(py::module_& m) {
   static Errors errors;  // the module's own types, alive as long as the module
   py::object runtime = py::reinterpret_borrow<py::object>(PyExc_RuntimeError);
-  auto make = [&](const char* name, py::object base) {
+  auto make = [&](const char* name, py::object base, const char* doc) {
     py::object type = py::reinterpret_steal<py::object>(
-        PyErr_NewException((std::string("penumbra.") + name).c_str(), base.ptr(), nullptr));
+        PyErr_NewExceptionWithDoc((std::string("penumbra.") + name).c_str(), doc, base.ptr(), nullptr));
     m.attr(name) = type;
     return type;
   };
-  errors.base = make("Error", runtime);
-  errors.opencl = make("OpenCLError", errors.base);
-  errors.build = make("BuildError", errors.base);
-  errors.noDevice = make("NoDeviceError", errors.base);
-  errors.scene = make("SceneError", errors.base);
+  errors.base =
+      make("Error", runtime,
+           "A failure of penumbra's (bad arguments raise ValueError, exhausted memory MemoryError); `code` is "
+           "the OpenCL error code where OpenCL reported one, else 0.");
+  errors.opencl = make("OpenCLError", errors.base,
+                       "An OpenCL call failed: the message names the error (CL_INVALID_WORK_GROUP_SIZE, ...), the "
+                       "kernel and the stage; `code` is its value.");
+  errors.build =
+      make("BuildError", errors.base, "A kernel did not compile for the device; the message has the build log.");
+  errors.noDevice = make("NoDeviceError", errors.base,
+                         "No OpenCL device matches the request (no platform, or none of the kind or name asked for).");
+  errors.scene =
+      make("SceneError", errors.base,
+           "A scene could not be loaded: a malformed or unreadable glTF or scene file, out-of-range indices, "
+           "non-finite vertices, an empty scene.");
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -113,13 +124,24 @@ void bindContext(py::module_& m) {
            py::call_guard<py::gil_scoped_release>())
       .def_static(
           "from_cl",
-          [](uintptr_t context, uintptr_t device, uintptr_t queue) {
-            return Context(reinterpret_cast<cl_context>(context), reinterpret_cast<cl_device_id>(device),
-                           reinterpret_cast<cl_command_queue>(queue));
+          [](const py::object& context, const py::object& device, const py::object& queue) {
+            return Context(reinterpret_cast<cl_context>(clHandle(context, "from_cl: context")),
+                           reinterpret_cast<cl_device_id>(clHandle(device, "from_cl: device")),
+                           reinterpret_cast<cl_command_queue>(clHandle(queue, "from_cl: queue")));
           },
           py::arg("context"), py::arg("device"), py::arg("queue"),
-          "A context on the caller's OpenCL objects, given as integer handles (pyopencl's int_ptr): retained while "
-          "it lives, never finished.")
+          "A context on the caller's OpenCL objects: pyopencl's Context, Device and CommandQueue, or integer handles "
+          "(cl_context, cl_device_id, an in-order cl_command_queue): retained while it lives, never finished.")
+      .def_static(
+          "from_queue",
+          [](const py::object& queue) {
+            return Context(reinterpret_cast<cl_context>(clHandle(queue.attr("context"), "from_queue: context")),
+                           reinterpret_cast<cl_device_id>(clHandle(queue.attr("device"), "from_queue: device")),
+                           reinterpret_cast<cl_command_queue>(clHandle(queue, "from_queue: queue")));
+          },
+          py::arg("queue"),
+          "A context on a pyopencl.CommandQueue (in order) and its context and device: penumbra's commands go into "
+          "that queue, after the caller's, and stages take and give pyopencl arrays on it in place.")
       .def_property_readonly("device_name", &Context::deviceName)
       .def_property_readonly("cl_context", [](const Context& c) { return reinterpret_cast<uintptr_t>(c.clContext()); })
       .def_property_readonly("cl_device", [](const Context& c) { return reinterpret_cast<uintptr_t>(c.clDevice()); })
@@ -141,7 +163,7 @@ void bindCameraAndLight(py::module_& m) {
   vec3(camera, "target", &Camera::target, "The point it looks at.");
   vec3(camera, "up", &Camera::up, "Preferred up direction.");
 
-  py::enum_<LightType>(m, "LightType")
+  py::enum_<LightType>(m, "LightType", "What a Light is: SPOT (a cone with a disk), DIRECTIONAL (a sun) or POINT.")
       .value("SPOT", LightType::Spot)
       .value("DIRECTIONAL", LightType::Directional)
       .value("POINT", LightType::Point);

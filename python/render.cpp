@@ -4,10 +4,10 @@
 #include <pybind11/stl.h>
 
 #include <map>
+#include <penumbra/penumbra.hpp>
 #include <string>
 
-#include <penumbra/penumbra.hpp>
-
+#include "python/arrays.h"
 #include "python/module.h"
 
 namespace py = pybind11;
@@ -73,6 +73,30 @@ Frame render(Renderer& renderer, const std::string& technique, const py::dict& p
   return renderer.render(camera, frameLights, &fallback);
 }
 
+pn_frame_output frameOutput(const std::string& output) {
+  static const std::map<std::string, pn_frame_output> kOutputs = {{"preview", PN_FRAME_PREVIEW},
+                                                                  {"position", PN_FRAME_POSITION},
+                                                                  {"normal", PN_FRAME_NORMAL},
+                                                                  {"depth", PN_FRAME_DEPTH}};
+  auto it = kOutputs.find(output);
+  if (it == kOutputs.end())
+    throw py::value_error("device_buffer: \"" + output + "\" is none of preview, position, normal, depth");
+  return it->second;
+}
+
+// A pyopencl array over a frame's cl_mem (retained by pyopencl, so it outlives the frame), on `queue`, whose context
+// must be the buffer's.
+py::object deviceArray(cl_mem mem, const py::object& queue, std::vector<py::ssize_t> dims) {
+  cl_context owner = nullptr;
+  clGetMemObjectInfo(mem, CL_MEM_CONTEXT, sizeof(owner), &owner, nullptr);
+  if (clHandle(queue.attr("context"), "queue") != reinterpret_cast<uintptr_t>(owner))
+    throw py::value_error("the queue's context is not the frame's (penumbra.Context.from_queue renders on its queue)");
+  const py::module_ cl = py::module_::import("pyopencl");
+  const py::object buffer = cl.attr("Buffer").attr("from_int_ptr")(reinterpret_cast<uintptr_t>(mem), true);
+  return py::module_::import("pyopencl.array")
+      .attr("Array")(queue, py::cast(dims), py::dtype("float32"), py::arg("data") = buffer);
+}
+
 }  // namespace
 
 void bindRender(py::module_& m) {
@@ -106,18 +130,30 @@ void bindRender(py::module_& m) {
       .def(
           "device_buffer",
           [](const Frame& f, const std::string& output) {
-            static const std::map<std::string, pn_frame_output> kOutputs = {{"preview", PN_FRAME_PREVIEW},
-                                                                            {"position", PN_FRAME_POSITION},
-                                                                            {"normal", PN_FRAME_NORMAL},
-                                                                            {"depth", PN_FRAME_DEPTH}};
-            auto it = kOutputs.find(output);
-            if (it == kOutputs.end())
-              throw py::value_error("device_buffer: \"" + output + "\" is none of preview, position, normal, depth");
-            return reinterpret_cast<uintptr_t>(f.deviceBuffer(it->second));
+            return reinterpret_cast<uintptr_t>(f.deviceBuffer(frameOutput(output)));
           },
           py::arg("output"),
           "The preview (float4 RGBA), position, normal (float4) or depth (float) cl_mem as an integer handle, rows "
           "bottom-up, owned by the frame.")
+      .def(
+          "visibility_array",
+          [](const Frame& f, const py::object& queue, size_t light) {
+            return deviceArray(f.visibilityBuffer(light), queue, {f.height(), f.width()});
+          },
+          py::arg("queue"), py::arg("light") = 0,
+          "The light's visibility as a (height, width) float32 pyopencl array on `queue` (rows bottom-up), in place: "
+          "the frame's own buffer, kept alive by the array.")
+      .def(
+          "device_array",
+          [](const Frame& f, const std::string& output, const py::object& queue) {
+            const pn_frame_output which = frameOutput(output);
+            std::vector<py::ssize_t> dims = {f.height(), f.width()};
+            if (which != PN_FRAME_DEPTH) dims.push_back(4);
+            return deviceArray(f.deviceBuffer(which), queue, dims);
+          },
+          py::arg("output"), py::arg("queue"),
+          "The preview, position, normal ((height, width, 4) float32) or depth ((height, width)) as a pyopencl array "
+          "on `queue` (rows bottom-up), in place: the frame's own buffer, kept alive by the array.")
       .def("save_exr", &Frame::saveExr, py::arg("path"));
 
   py::class_<Renderer>(m, "Renderer", "Draws frames of one scene on one context.")

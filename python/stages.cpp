@@ -1,7 +1,8 @@
-// The Python module's filtering stages on numpy arrays: each uploads its input into a buffer of the context (straight
-// from the array's memory when it already is C-contiguous of the right type), runs the stage through the C++ API with
-// the GIL released, and reads the result into a new array. Images are (height, width) or (height, width, channels).
-// This file: moments and blur; tables.cpp: SAT, pyramids, Lloyd statistics.
+// The Python module's filtering stages on numpy or pyopencl arrays (python/arrays.h): numpy inputs are uploaded into a
+// buffer of the context (straight from the array's memory when it already is C-contiguous of the right type) and the
+// result read into a new numpy array; pyopencl arrays are used in place and the result is a new pyopencl array on the
+// input's queue, chained by events. The stage runs through the C++ API with the GIL released. Images are (height,
+// width) or (height, width, channels). This file: moments and blur; tables.cpp: SAT, pyramids, Lloyd statistics.
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
@@ -15,34 +16,28 @@ namespace py = pybind11;
 namespace penumbra::python {
 namespace {
 
-template <class T>
-py::array_t<T> imageLike(const ImageShape& shape, bool planar = false) {
-  if (shape.channels == 1 && !planar) return py::array_t<T>({shape.height, shape.width});
-  return py::array_t<T>({shape.height, shape.width, shape.channels});
-}
-
-// Moments (or blurred moments) of a depth map, as float32 or, for half storage, numpy float16 (the same bits).
-py::array runMoments(const Context& ctx, const Array<float>& depth, const MomentsConfig& config, bool blurred,
-                     const BlurConfig& blur) {
-  const ImageShape shape = shapeOf(depth, "moments");
+// Moments (or blurred moments) of a depth map, as float32 or, for half storage, float16 (the same bits).
+py::object runMoments(const Context& ctx, const py::object& depth, const MomentsConfig& config, bool blurred,
+                      const BlurConfig& blur) {
+  const char* stage = blurred ? "blur_moments" : "moments";
+  const ArrayIn in(ctx, depth, "float32", stage, "depth");
+  const ImageShape shape = shapeOf(in.shape(), stage);
   const bool half = config.storage == MomentStorage::Float16;
-  const size_t channels = pn_moment_channels(static_cast<pn_moment_kind>(config.kind));
-  const size_t planes = config.kind == MomentKind::Lvsm ? config.layers.size() : 1;
-  const size_t texels = size_t(shape.width) * shape.height, bytes = planes * texels * channels * (half ? 2 : 4);
-  std::vector<size_t> dims = {size_t(shape.height), size_t(shape.width), channels};
-  if (config.kind == MomentKind::Lvsm) dims.insert(dims.begin(), planes);
-  py::array out(py::dtype(half ? "float16" : "float32"), dims);
-  const float* in = depth.data();
-  void* result = out.mutable_data();
-  py::gil_scoped_release release;
-  DeviceBuffer source(ctx, texels * sizeof(float), in), target(ctx, bytes);
+  const py::ssize_t channels = pn_moment_channels(static_cast<pn_moment_kind>(config.kind));
+  std::vector<py::ssize_t> dims = {shape.height, shape.width, channels};
+  if (config.kind == MomentKind::Lvsm) dims.insert(dims.begin(), py::ssize_t(config.layers.size()));
+  ArrayOut out(ctx, in, dims, half ? "float16" : "float32");
   cl_event done = nullptr;
-  if (blurred)
-    blurMoments(ctx, source.get(), shape.width, shape.height, config, blur, target.get(), {}, &done);
-  else
-    moments(ctx, source.get(), shape.width, shape.height, config, target.get(), {}, &done);
-  download(ctx, target, done, result, bytes);
-  return out;
+  {
+    py::gil_scoped_release release;
+    if (blurred)
+      blurMoments(ctx, in.mem(), shape.width, shape.height, config, blur, out.mem(), in.waits(), &done);
+    else
+      moments(ctx, in.mem(), shape.width, shape.height, config, out.mem(), in.waits(), &done);
+  }
+  py::object result = out.finish(done);
+  clReleaseEvent(done);
+  return result;
 }
 
 MomentsConfig momentsConfig(const std::string& kind, float depthNear, float depthFar, float evsmPositive,
@@ -83,20 +78,20 @@ BlurConfig blurConfig(const std::string& filter, float sigma, int radius, const 
   return config;
 }
 
-py::array blurImage(const Context& ctx, const Array<float>& image, const std::string& filter, float sigma, int radius,
-                    const std::string& method) {
+py::object blurImage(const Context& ctx, const py::object& image, const std::string& filter, float sigma, int radius,
+                     const std::string& method) {
   const BlurConfig config = blurConfig(filter, sigma, radius, method);
-  const ImageShape shape = shapeOf(image, "blur");
-  const size_t bytes = size_t(shape.width) * shape.height * shape.channels * sizeof(float);
-  py::array_t<float> out = imageLike<float>(shape, image.ndim() == 3);
-  const float* in = image.data();
-  float* result = out.mutable_data();
-  py::gil_scoped_release release;
-  DeviceBuffer source(ctx, bytes, in), target(ctx, bytes);
+  const ArrayIn in(ctx, image, "float32", "blur", "image");
+  const ImageShape shape = shapeOf(in.shape(), "blur");
+  ArrayOut out(ctx, in, in.shape(), "float32");
   cl_event done = nullptr;
-  blur(ctx, source.get(), target.get(), shape, config, {}, &done);
-  download(ctx, target, done, result, bytes);
-  return out;
+  {
+    py::gil_scoped_release release;
+    blur(ctx, in.mem(), out.mem(), shape, config, in.waits(), &done);
+  }
+  py::object result = out.finish(done);
+  clReleaseEvent(done);
+  return result;
 }
 
 }  // namespace
@@ -105,7 +100,7 @@ void bindStages(py::module_& m) {
   using namespace py::literals;
   m.def(
       "moments",
-      [](const Context& ctx, const Array<float>& depth, const std::string& kind, float depthNear, float depthFar,
+      [](const Context& ctx, const py::object& depth, const std::string& kind, float depthNear, float depthFar,
          float evsmPositive, float evsmNegative, const std::string& storage,
          const std::vector<std::pair<float, float>>& layers, float esmExponent) {
         const MomentsConfig config =
@@ -119,7 +114,7 @@ void bindStages(py::module_& m) {
       "storage returns the half bits as numpy float16. esm: e^(c (z - 1)) for esm_exponent c in [1, 80], else z.");
   m.def(
       "blur_moments",
-      [](const Context& ctx, const Array<float>& depth, const std::string& kind, float depthNear, float depthFar,
+      [](const Context& ctx, const py::object& depth, const std::string& kind, float depthNear, float depthFar,
          const std::string& storage, const std::string& filter, float sigma, int radius, const std::string& method,
          float esmExponent) {
         const MomentsConfig config = momentsConfig(kind, depthNear, depthFar, 40.0f, 5.0f, esmExponent, storage, {});

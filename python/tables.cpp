@@ -1,5 +1,5 @@
-// The Python module's summed-area tables, pyramids and Lloyd statistics on numpy arrays (see stages.cpp). Pyramid
-// levels come back as views into one array holding the whole chain.
+// The Python module's summed-area tables, pyramids and Lloyd statistics on numpy or pyopencl arrays (see stages.cpp).
+// Pyramid levels come back as views into one array holding the whole chain.
 #include <pybind11/stl.h>
 
 #include "python/arrays.h"
@@ -35,93 +35,84 @@ SatConfig satConfig(const std::string& precision, const std::string& algorithm, 
   return config;
 }
 
-py::tuple satTable(const Context& ctx, const Array<float>& image, const SatConfig& config) {
-  const ImageShape shape = shapeOf(image, "sat");
+py::tuple satTable(const Context& ctx, const py::object& image, const SatConfig& config) {
+  const ArrayIn in(ctx, image, "float32", "sat", "image");
+  const ImageShape shape = shapeOf(in.shape(), "sat");
   const char* dtypes[] = {"float32", "uint32", "uint64", "float64"};
-  py::array table(py::dtype(dtypes[static_cast<int>(config.precision)]),
-                  std::vector<py::ssize_t>(image.shape(), image.shape() + image.ndim()));
-  py::array_t<float> offset(4);
-  const size_t count = size_t(shape.width) * shape.height * shape.channels;
-  const float* in = image.data();
-  void* tableOut = table.mutable_data();
-  float* offsetOut = offset.mutable_data();
-  const size_t tableBytes = count * table.itemsize();
+  ArrayOut table(ctx, in, in.shape(), dtypes[static_cast<int>(config.precision)]), offset(ctx, in, {4}, "float32");
+  cl_event done = nullptr;
   {
     py::gil_scoped_release release;
-    DeviceBuffer source(ctx, count * sizeof(float), in), target(ctx, tableBytes), mean(ctx, 4 * sizeof(float));
-    cl_event done = nullptr;
-    sat(ctx, source.get(), shape, config, target.get(), mean.get(), {}, &done);
-    clRetainEvent(done);  // one wait per read
-    download(ctx, target, done, tableOut, tableBytes);
-    download(ctx, mean, done, offsetOut, 4 * sizeof(float));
+    sat(ctx, in.mem(), shape, config, table.mem(), offset.mem(), in.waits(), &done);
   }
-  return py::make_tuple(table, offset);
+  py::tuple result = py::make_tuple(table.finish(done), offset.finish(done));
+  clReleaseEvent(done);
+  return result;
 }
 
-// Views of each level of `chain` (a whole pyramid: texels x channels elements), shaped like images.
-py::list levelViews(const py::array& chain, const PyramidLayout& layout, size_t channels) {
+// Views of each level of `chain` (a whole pyramid: texels x channels elements; numpy or pyopencl), shaped like images.
+py::list levelViews(const py::object& chain, const PyramidLayout& layout, size_t channels) {
   py::list out;
-  py::object flat = chain.attr("reshape")(-1);
   for (const pn_pyramid_level& level : layout.levels) {
     const size_t first = size_t(level.offset) * channels, last = first + size_t(level.width) * level.height * channels;
-    py::object view = flat[py::slice(first, last, 1)];
+    py::object view = chain[py::slice(first, last, 1)];
     out.append(channels == 1 ? view.attr("reshape")(level.height, level.width)
                              : view.attr("reshape")(level.height, level.width, channels));
   }
   return out;
 }
 
-py::list mips(const Context& ctx, const py::array& image, const std::string& storage) {
+py::list mips(const Context& ctx, const py::object& image, const std::string& storage) {
   if (storage != "float32" && storage != "float16")
     throw py::value_error("moment_mips: storage '" + storage + "' is not float32 or float16");
-  const py::array base = contiguous(image, storage.c_str());
-  const ImageShape shape = shapeOf(base, "moment_mips");
+  const ArrayIn in(ctx, image, storage.c_str(), "moment_mips", "image");
+  const ImageShape shape = shapeOf(in.shape(), "moment_mips");
   const PyramidLayout layout = pyramidLayout(shape.width, shape.height, 1);
-  py::array chain(base.dtype(), std::vector<size_t>{layout.texels * shape.channels});
+  ArrayOut chain(ctx, in, {py::ssize_t(layout.texels * shape.channels)}, storage.c_str());
   const MomentStorage s = storage == "float16" ? MomentStorage::Float16 : MomentStorage::Float32;
-  const size_t inBytes = size_t(base.nbytes()), outBytes = size_t(chain.nbytes());
-  const void* in = base.data();
-  void* result = chain.mutable_data();
+  cl_event done = nullptr;
   {
     py::gil_scoped_release release;
-    DeviceBuffer source(ctx, inBytes, in), target(ctx, outBytes);
-    cl_event done = nullptr;
-    momentMips(ctx, source.get(), shape, s, target.get(), {}, &done);
-    download(ctx, target, done, result, outBytes);
+    momentMips(ctx, in.mem(), shape, s, chain.mem(), in.waits(), &done);
   }
-  return levelViews(chain, layout, shape.channels);
+  const py::object result = chain.finish(done);
+  clReleaseEvent(done);
+  return levelViews(result, layout, shape.channels);
 }
 
-py::list minMax(const Context& ctx, const Array<float>& depth) {
-  const ImageShape shape = shapeOf(depth, "minmax_pyramid");
+py::list minMax(const Context& ctx, const py::object& depth) {
+  const ArrayIn in(ctx, depth, "float32", "minmax_pyramid", "depth");
+  const ImageShape shape = shapeOf(in.shape(), "minmax_pyramid");
+  if (shape.channels != 1) throw py::value_error("minmax_pyramid: the depth map is (height, width)");
   const PyramidLayout layout = pyramidLayout(shape.width, shape.height, 0);
-  py::array_t<float> chain(layout.texels * 2);
-  const float* in = depth.data();
-  float* result = chain.mutable_data();
+  ArrayOut chain(ctx, in, {py::ssize_t(layout.texels * 2)}, "float32");
+  cl_event done = nullptr;
   {
     py::gil_scoped_release release;
-    DeviceBuffer source(ctx, size_t(depth.nbytes()), in), target(ctx, layout.texels * 2 * sizeof(float));
-    cl_event done = nullptr;
-    minMaxPyramid(ctx, source.get(), shape.width, shape.height, target.get(), {}, &done);
-    download(ctx, target, done, result, layout.texels * 2 * sizeof(float));
+    minMaxPyramid(ctx, in.mem(), shape.width, shape.height, chain.mem(), in.waits(), &done);
   }
-  return levelViews(chain, layout, 2);
+  const py::object result = chain.finish(done);
+  clReleaseEvent(done);
+  return levelViews(result, layout, 2);
 }
 
-py::dict lloyd(const Context& ctx, const Array<float>& x, const Array<float>& w, const Array<float>& boundaries) {
-  if (x.ndim() != 1 || w.ndim() != 1 || boundaries.ndim() != 1 || x.size() != w.size())
+// The statistics are one value per cluster: numpy arrays whichever the inputs (read when the stage completes).
+py::dict lloyd(const Context& ctx, const py::object& xs, const py::object& ws, const py::object& bounds) {
+  const ArrayIn x(ctx, xs, "float32", "lloyd_stats", "x"), w(ctx, ws, "float32", "lloyd_stats", "w");
+  const ArrayIn boundaries(ctx, bounds, "float32", "lloyd_stats", "boundaries");
+  if (x.shape().size() != 1 || w.shape().size() != 1 || boundaries.shape().size() != 1 || x.shape() != w.shape())
     throw py::value_error("lloyd_stats: x and w are 1-D arrays of one length, boundaries a 1-D array");
-  const uint32_t clusters = static_cast<uint32_t>(boundaries.size() + 1);
+  const uint32_t clusters = static_cast<uint32_t>(boundaries.shape()[0] + 1);
+  std::vector<cl_event> waits = x.waits();
+  waits.insert(waits.end(), w.waits().begin(), w.waits().end());
+  waits.insert(waits.end(), boundaries.waits().begin(), boundaries.waits().end());
   std::vector<LloydStats> stats(clusters);
-  const float *xs = x.data(), *ws = w.data(), *bs = boundaries.data();
-  const size_t count = size_t(x.size()), bounds = size_t(boundaries.size());
   {
     py::gil_scoped_release release;
-    DeviceBuffer xb(ctx, count * sizeof(float), xs), wb(ctx, count * sizeof(float), ws);
-    DeviceBuffer bb(ctx, bounds * sizeof(float), bounds > 0 ? bs : nullptr), out(ctx, clusters * sizeof(LloydStats));
+    DeviceBuffer out(ctx, clusters * sizeof(LloydStats));
     cl_event done = nullptr;
-    lloydStats(ctx, xb.get(), wb.get(), count, bb.get(), clusters, out.get(), {}, &done);
-    download(ctx, out, done, stats.data(), clusters * sizeof(LloydStats));
+    lloydStats(ctx, x.mem(), w.mem(), size_t(x.shape()[0]), boundaries.mem(), clusters, out.get(), waits, &done);
+    download(ctx, out.get(), done, stats.data(), clusters * sizeof(LloydStats));
   }
   py::array_t<float> sumW(clusters), sumWX(clusters), sumWX2(clusters);
   py::array_t<uint32_t> samples(clusters);
@@ -140,7 +131,7 @@ void bindTables(py::module_& m) {
   using namespace py::literals;
   m.def(
       "sat",
-      [](const Context& ctx, const Array<float>& image, const std::string& precision, const std::string& algorithm,
+      [](const Context& ctx, const py::object& image, const std::string& precision, const std::string& algorithm,
          int fractionBits, bool zeroMean, const std::optional<std::array<float, 4>>& offset) {
         return satTable(ctx, image, satConfig(precision, algorithm, fractionBits, zeroMean, offset));
       },

@@ -18,6 +18,7 @@ PACKAGES=(
   oclgrind  # a second OpenCL implementation that checks every access: the oclgrind tests (tests/oclgrind_test.sh)
   python3-matplotlib  # tools/chart.py: the speed-vs-error charts (scripts/charts.sh)
   pybind11-dev python3-dev python3-numpy  # the Python module (python/, PENUMBRA_BUILD_PYTHON)
+  python3-pyopencl  # the Python module's pyopencl interop, tested by api-python (the module itself never imports it)
   doxygen  # the API reference of include/penumbra/ (target penumbra_api_docs, test api-docs)
   slurm-wlm munge  # the slurm test: a real Slurm (slurmctld, slurmd) and munge started on this host
 )

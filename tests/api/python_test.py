@@ -1,6 +1,7 @@
 """The installed Python module (ctest api-python, after api-install): frames bit for bit equal to the installed
 CLI's, channels as read-only numpy views that keep their frame alive, the GIL released while rendering, penumbra's
-errors as Python exceptions with the library's messages, and the stages on numpy arrays against numpy references."""
+errors as Python exceptions with the library's messages, the stages on numpy arrays against numpy references, and
+pyopencl's contexts, queues and arrays used in place."""
 import os
 import shutil
 import subprocess
@@ -215,6 +216,103 @@ class Module(unittest.TestCase):
 
         with self.assertRaisesRegex(ValueError, "filter 'median' is not gaussian or box"):
             penumbra.blur(self.context, image, filter="median")
+
+
+class PyOpenCL(unittest.TestCase):
+    """pyopencl's own objects: a penumbra.Context on a pyopencl queue, the stages on pyopencl arrays in place (results
+    on the same queue, ordered by events, equal to the numpy path's), a frame's buffers as pyopencl arrays."""
+
+    @classmethod
+    def setUpClass(cls):
+        import pyopencl
+        import pyopencl.array
+        cls.cl = pyopencl
+        penumbra_device = penumbra.Context().device_name  # the device the suite runs on (PENUMBRA_DEVICE)
+        device = next(d for p in pyopencl.get_platforms() for d in p.get_devices() if d.name == penumbra_device)
+        cls.queue = pyopencl.CommandQueue(pyopencl.Context([device]))
+        cls.context = penumbra.Context.from_queue(cls.queue)
+        cls.host = penumbra.Context()  # the numpy path, on a context of its own
+
+    def device(self, array):
+        return self.cl.array.to_device(self.queue, array)
+
+    def test_a_context_on_pyopencl_objects(self):
+        self.assertEqual(self.context.cl_queue, self.queue.int_ptr)
+        self.assertEqual(self.context.cl_context, self.queue.context.int_ptr)
+        shared = penumbra.Context.from_cl(self.queue.context, self.queue.device, self.queue)
+        self.assertEqual(shared.cl_queue, self.queue.int_ptr)
+        with self.assertRaisesRegex(TypeError, "from_cl: device: an integer handle or a pyopencl object"):
+            penumbra.Context.from_cl(self.queue.context, "cpu", self.queue)
+
+    def test_stages_on_pyopencl_arrays_in_place(self):
+        rng = np.random.default_rng(11)
+        image = rng.random((23, 37), dtype=np.float32)
+        depth = rng.uniform(2, 10, (23, 37)).astype(np.float32)
+        blurred = penumbra.blur(self.context, self.device(image), filter="box", radius=3)
+        self.assertIsInstance(blurred, self.cl.array.Array)
+        self.assertEqual(blurred.queue, self.queue)
+        self.assertTrue(blurred.events)  # the stage's event: pyopencl's own operations wait for it
+        np.testing.assert_array_equal(blurred.get(), penumbra.blur(self.host, image, filter="box", radius=3))
+
+        # Chained on the device, no host copy between: moments, then a blur of them.
+        moments = penumbra.moments(self.context, self.device(depth), kind="vsm", depth_near=2, depth_far=10)
+        self.assertEqual(moments.shape, (23, 37, 2))
+        chained = penumbra.blur(self.context, moments, filter="gaussian", sigma=1.5, radius=3)
+        host_moments = penumbra.moments(self.host, depth, kind="vsm", depth_near=2, depth_far=10)
+        np.testing.assert_array_equal(chained.get(), penumbra.blur(self.host, host_moments, sigma=1.5, radius=3))
+        half = penumbra.moments(self.context, self.device(depth), kind="vsm", depth_near=2, depth_far=10,
+                                storage="float16")
+        self.assertEqual(half.dtype, np.float16)
+        np.testing.assert_array_equal(half.get(), penumbra.moments(self.host, depth, kind="vsm", depth_near=2,
+                                                                   depth_far=10, storage="float16"))
+
+        table, offset = penumbra.sat(self.context, self.device(image), precision="fixed64")
+        host_table, host_offset = penumbra.sat(self.host, image, precision="fixed64")
+        self.assertEqual(table.dtype, np.uint64)
+        np.testing.assert_array_equal(table.get(), host_table)
+        np.testing.assert_array_equal(offset.get(), host_offset)
+
+        levels = penumbra.minmax_pyramid(self.context, self.device(depth))
+        host_levels = penumbra.minmax_pyramid(self.host, depth)
+        self.assertEqual([level.shape for level in levels], [level.shape for level in host_levels])
+        for level, host_level in zip(levels, host_levels):
+            np.testing.assert_array_equal(level.get(), host_level)
+        mips = penumbra.moment_mips(self.context, self.device(host_moments))
+        for level, host_level in zip(mips, penumbra.moment_mips(self.host, host_moments)):
+            np.testing.assert_array_equal(level.get(), host_level)
+
+        x, w = rng.random(3000, dtype=np.float32), rng.random(3000, dtype=np.float32)
+        bounds = np.array([0.25, 0.5], np.float32)
+        stats = penumbra.lloyd_stats(self.context, self.device(x), self.device(w), self.device(bounds))
+        host_stats = penumbra.lloyd_stats(self.host, x, w, bounds)
+        for key in ("sum_w", "sum_wx", "sum_wx2", "samples"):
+            np.testing.assert_array_equal(stats[key], host_stats[key])
+
+    def test_pyopencl_arrays_penumbra_cannot_use_in_place(self):
+        image = np.ones((8, 8), np.float32)
+        with self.assertRaisesRegex(ValueError, "blur: image is a pyopencl array of float64, not float32"):
+            penumbra.blur(self.context, self.device(image.astype(np.float64)))
+        with self.assertRaisesRegex(ValueError, "blur: image is a pyopencl view at an offset"):
+            penumbra.blur(self.context, self.device(image)[2:])
+        other = self.cl.CommandQueue(self.cl.Context([self.queue.device]))
+        with self.assertRaisesRegex(ValueError, "another cl_context than the penumbra.Context's"):
+            penumbra.blur(self.context, self.cl.array.to_device(other, image))
+
+    def test_frame_buffers_as_pyopencl_arrays(self):
+        scene = penumbra.Scene("builtin:box")
+        camera = scene.default_camera()
+        camera.width, camera.height = 40, 30
+        frame = penumbra.Renderer(self.context, scene).render("sm", camera=camera)
+        visibility = frame.visibility_array(self.queue)
+        depth = frame.device_array("depth", self.queue)
+        expected = np.flipud(np.array(frame["visibility.Y"]))  # device rows are bottom-up
+        self.assertEqual((visibility.shape, depth.shape), ((30, 40), (30, 40)))
+        self.assertEqual(frame.device_array("normal", self.queue).shape, (30, 40, 4))
+        del frame
+        np.testing.assert_array_equal(visibility.get(), expected)  # the array keeps the buffer
+        with self.assertRaisesRegex(ValueError, "the queue's context is not the frame's"):
+            other = self.cl.CommandQueue(self.cl.Context([self.queue.device]))
+            penumbra.Renderer(self.host, scene).render("sm", camera=camera).visibility_array(other)
 
 
 if __name__ == "__main__":
