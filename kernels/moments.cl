@@ -77,7 +77,46 @@ __kernel void moments_msm(__global const float* depth, __global Stored4* out, Mo
     out[(size_t)y * outWidth + x] = (sum / (float)(factor * factor))swizzle;                                   \
   }
 
-MOMENTS_REDUCED(moments_vsm_reduced, MOMENTS_KIND_VSM, 2, .xy)
+// VSM's (vssm's SAT over blocks), with the blocks inside the map read as float2 / float4 rows: contiguous loads of
+// whole blocks, which PoCL runs 2-3x faster than the texel loop (default.json's 4096^2 map in 4 x 4 blocks: 12 ms ->
+// 6 ms); the texel loop is kept for blocks that reach past the map and for other factors.
+inline float4 moments_vsm_normalize4(float4 d, MomentsParams p) {
+  return select((float4)(1.0f), clamp((d - p.depthNear) * p.depthInvRange, 0.0f, 1.0f), isfinite(d));
+}
+
+__kernel void moments_vsm_reduced(__global const float* depth, __global float2* out, MomentsParams p, uint factor) {
+  const uint x = get_global_id(0), y = get_global_id(1);
+  const uint outWidth = (p.width + factor - 1u) / factor, outHeight = (p.height + factor - 1u) / factor;
+  if (x >= outWidth || y >= outHeight) return;
+  float2 sum = (float2)(0.0f);
+  const bool inside = (x + 1u) * factor <= p.width && (y + 1u) * factor <= p.height;
+  if (inside && (factor == 2u || factor % 4u == 0u)) {
+    for (uint j = 0; j < factor; ++j) {
+      __global const float* row = depth + (size_t)(y * factor + j) * p.width + x * factor;
+      if (factor == 2u) {
+        const float2 d = vload2(0, row);
+        const float2 z = select((float2)(1.0f), clamp((d - p.depthNear) * p.depthInvRange, 0.0f, 1.0f), isfinite(d));
+        sum += (float2)(z.x + z.y, dot(z, z));
+        continue;
+      }
+      for (uint i = 0; i < factor; i += 4u) {
+        const float4 z = moments_vsm_normalize4(vload4(0, row + i), p);
+        sum += (float2)(z.x + z.y + z.z + z.w, dot(z, z));
+      }
+    }
+  } else {
+    for (uint j = 0; j < factor; ++j) {
+      const uint sy = y * factor + j;
+      for (uint i = 0; i < factor; ++i) {
+        const uint sx = x * factor + i;
+        const float d = sx < p.width && sy < p.height ? depth[(size_t)sy * p.width + sx] : INFINITY;
+        sum += moments_encode(d, p, MOMENTS_KIND_VSM).xy;
+      }
+    }
+  }
+  out[(size_t)y * outWidth + x] = sum / (float)(factor * factor);
+}
+
 MOMENTS_REDUCED(moments_esm_reduced, MOMENTS_KIND_ESM, 1, .x)
 MOMENTS_REDUCED(moments_evsm2_reduced, MOMENTS_KIND_EVSM2, 2, .xy)
 MOMENTS_REDUCED(moments_evsm4_reduced, MOMENTS_KIND_EVSM4, 4, )

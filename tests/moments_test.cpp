@@ -168,8 +168,13 @@ TEST_P(MomentsReducedTest, MatchesBlockMeansOfTheReference) {
 std::vector<ReducedCase> reducedCases() {
   std::vector<ReducedCase> out;
   for (MomentKind kind : {MomentKind::Vsm, MomentKind::Evsm2, MomentKind::Evsm4, MomentKind::Msm, MomentKind::Esm})
-    for (auto [w, h, f] :
-         {std::tuple{64u, 32u, 2u}, {97u, 61u, 4u}, {97u, 61u, 3u}, {1u, 1u, 4u}, {50u, 7u, 8u}, {13u, 7u, 1u}})
+    for (auto [w, h, f] : {std::tuple{64u, 32u, 2u},
+                           {97u, 61u, 4u},
+                           {97u, 61u, 3u},
+                           {1u, 1u, 4u},
+                           {50u, 7u, 8u},
+                           {64u, 48u, 8u},
+                           {13u, 7u, 1u}})
       out.push_back({kind, w, h, f});
   return out;
 }

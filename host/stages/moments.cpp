@@ -189,7 +189,7 @@ cl::Event computeMomentsReduced(Context& ctx, const Buffer<float>& depth, uint32
   Kernel kernel(ctx, "kernels/moments.cl", fmt::format("{}_reduced", entryPoint(config.kind)), "moments");
   // Floor: read each depth texel once, write each block's moments once.
   const uint64_t bytes = texels * sizeof(float) + outTexels * momentChannels(config.kind) * sizeof(float);
-  return kernel.args(depth, out, params, factor).moves(bytes).launch(Range(outWidth, outHeight), Range(16, 8));
+  return kernel.args(depth, out, params, factor).moves(bytes).launch(Range(outWidth, outHeight), Range(128, 1));
 }
 
 cl::Event packMomentsUnorm16(Context& ctx, const Buffer<float>& in, size_t count, Buffer<cl_ushort>& out,
