@@ -3,8 +3,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cstring>
 #include <stdexcept>
 
+#include "api/guard.h"
 #include "host/scene/limits.h"
 
 namespace penumbra::api {
@@ -13,10 +16,19 @@ namespace {
 void toC(const glm::vec3& v, float out[3]) { out[0] = v.x, out[1] = v.y, out[2] = v.z; }
 glm::vec3 fromC(const float v[3]) { return {v[0], v[1], v[2]}; }
 
+// Copies `value` into the caller's struct, keeping its size and writing no byte past it.
+template <class Struct>
+void fillSized(Struct value, Struct* out, const char* function, const char* name, const char* init) {
+  requireSized(out, sizeof(Struct), function, name, init);
+  value.size = out->size;
+  std::memcpy(static_cast<void*>(out), &value, std::min(out->size, sizeof(Struct)));
+}
+
 }  // namespace
 
 pn_camera toC(const Camera& camera) {
   pn_camera c;
+  c.size = sizeof(pn_camera);
   toC(camera.eye, c.eye);
   toC(camera.target, c.target);
   toC(camera.up, c.up);
@@ -30,7 +42,12 @@ pn_camera toC(const Camera& camera) {
   return c;
 }
 
-Camera fromC(const pn_camera& c) {
+void fill(const Camera& camera, pn_camera* out, const char* function, const char* name) {
+  fillSized(toC(camera), out, function, name, "pn_camera_init");
+}
+
+Camera fromC(const pn_camera& c, const char* function, const char* name) {
+  requireSized(&c, sizeof(pn_camera), function, name, "pn_camera_init");
   if (c.width < 1 || c.height < 1 || c.width > kMaxImageSide || c.height > kMaxImageSide)
     throw std::invalid_argument(
         fmt::format("camera: size {}x{} outside 1..{} (the rasterizer's limit)", c.width, c.height, kMaxImageSide));
@@ -50,6 +67,7 @@ Camera fromC(const pn_camera& c) {
 
 pn_light toC(const Light& light) {
   pn_light l;
+  l.size = sizeof(pn_light);
   l.type = light.type == LightType::Spot          ? PN_LIGHT_SPOT
            : light.type == LightType::Directional ? PN_LIGHT_DIRECTIONAL
                                                   : PN_LIGHT_POINT;
@@ -65,7 +83,12 @@ pn_light toC(const Light& light) {
   return l;
 }
 
-Light fromC(const pn_light& l) {
+void fill(const Light& light, pn_light* out, const char* function, const char* name) {
+  fillSized(toC(light), out, function, name, "pn_light_init");
+}
+
+Light fromC(const pn_light& l, const char* function, const char* name) {
+  requireSized(&l, sizeof(pn_light), function, name, "pn_light_init");
   Light light;
   switch (l.type) {
     case PN_LIGHT_SPOT:

@@ -49,7 +49,9 @@ std::vector<penumbra::FrameLight> frameLights(const pn_scene& sceneHandle, const
   for (size_t i = 0; i < count; ++i) {
     const pn_params* own = lights[i].params;
     const penumbra::TechniqueInfo& technique = techniqueOf(own, params, i);
-    penumbra::Light light = penumbra::api::fromC(*require(lights[i].light, "pn_renderer_render", "lights[i].light"));
+    const std::string name = fmt::format("lights[{}].light", i);
+    penumbra::Light light = penumbra::api::fromC(*require(lights[i].light, "pn_renderer_render", name.c_str()),
+                                                 "pn_renderer_render", name.c_str());
     if (penumbra::channelSafeName(light.name) != light.name)
       throw std::invalid_argument(fmt::format(
           "pn_renderer_render: light {} name \"{}\" is not channel-safe (ASCII letters, digits, '_', '-', at most {})",
@@ -118,7 +120,7 @@ pn_status pn_renderer_render(pn_renderer* renderer, const pn_camera* camera, con
     pn_renderer& r = *require(renderer, "pn_renderer_render", "renderer");
     const penumbra::Scene& scene = r.scene->scene;
     // No camera: pn_scene_default_camera's (the scene's first, else the framing view).
-    const penumbra::Camera cam = camera != nullptr       ? penumbra::api::fromC(*camera)
+    const penumbra::Camera cam = camera != nullptr       ? penumbra::api::fromC(*camera, "pn_renderer_render", "camera")
                                  : scene.cameras.empty() ? penumbra::framingCamera(scene.bounds())
                                                          : scene.cameras.front();
     const std::vector<penumbra::FrameLight> frameLights = ::frameLights(*r.scene, lights, light_count, params);

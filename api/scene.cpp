@@ -56,7 +56,8 @@ void pn_camera_init(pn_camera* camera) {
 pn_status pn_camera_parse(const char* spec, pn_camera* camera) {
   return guard([&] {
     require(camera, "pn_camera_parse", "camera");
-    *camera = penumbra::api::toC(penumbra::parseCamera(require(spec, "pn_camera_parse", "spec")));
+    penumbra::api::fill(penumbra::parseCamera(require(spec, "pn_camera_parse", "spec")), camera, "pn_camera_parse",
+                        "camera");
   });
 }
 
@@ -71,7 +72,8 @@ void pn_light_init(pn_light* light) {
 pn_status pn_light_parse(const char* spec, pn_light* light) {
   return guard([&] {
     require(light, "pn_light_parse", "light");
-    *light = penumbra::api::toC(penumbra::parseLight(require(spec, "pn_light_parse", "spec")));
+    penumbra::api::fill(penumbra::parseLight(require(spec, "pn_light_parse", "spec")), light, "pn_light_parse",
+                        "light");
     light->name = nullptr;  // a parsed light is unnamed
   });
 }
@@ -110,7 +112,8 @@ pn_status pn_scene_create(const pn_mesh* meshes, size_t mesh_count, const pn_lig
     std::vector<penumbra::MeshInput> inputs;
     for (size_t i = 0; i < mesh_count; ++i) inputs.push_back(meshInput(meshes[i], i));
     std::vector<penumbra::Light> sceneLights;
-    for (size_t i = 0; i < light_count; ++i) sceneLights.push_back(penumbra::api::fromC(lights[i]));
+    for (size_t i = 0; i < light_count; ++i)
+      sceneLights.push_back(penumbra::api::fromC(lights[i], "pn_scene_create", fmt::format("lights[{}]", i).c_str()));
     auto created = std::make_unique<pn_scene>();
     created->scene = penumbra::meshScene(inputs, std::move(sceneLights));
     created->spec = fmt::format("meshes ({} meshes, {} triangles)", mesh_count, created->scene.triangleCount());
@@ -139,7 +142,7 @@ pn_status pn_scene_camera(const pn_scene* scene, size_t index, pn_camera* camera
   return guard([&] {
     const auto& cameras = sceneArg(scene, "pn_scene_camera").scene.cameras;
     checkIndex(index, cameras.size(), "pn_scene_camera", "camera");
-    *require(camera, "pn_scene_camera", "camera") = penumbra::api::toC(cameras[index]);
+    penumbra::api::fill(cameras[index], camera, "pn_scene_camera", "camera");
   });
 }
 
@@ -147,7 +150,8 @@ pn_status pn_scene_default_camera(const pn_scene* scene, pn_camera* camera) {
   return guard([&] {
     const penumbra::Scene& s = sceneArg(scene, "pn_scene_default_camera").scene;
     require(camera, "pn_scene_default_camera", "camera");
-    *camera = penumbra::api::toC(s.cameras.empty() ? penumbra::framingCamera(s.bounds()) : s.cameras.front());
+    penumbra::api::fill(s.cameras.empty() ? penumbra::framingCamera(s.bounds()) : s.cameras.front(), camera,
+                        "pn_scene_default_camera", "camera");
   });
 }
 
@@ -157,7 +161,7 @@ pn_status pn_scene_light(const pn_scene* scene, size_t index, pn_light* light) {
   return guard([&] {
     const auto& lights = sceneArg(scene, "pn_scene_light").scene.lights;
     checkIndex(index, lights.size(), "pn_scene_light", "light");
-    *require(light, "pn_scene_light", "light") = penumbra::api::toC(lights[index]);
+    penumbra::api::fill(lights[index], light, "pn_scene_light", "light");
   });
 }
 
@@ -165,7 +169,7 @@ pn_status pn_scene_framing_light(const pn_scene* scene, pn_light* light) {
   return guard([&] {
     const penumbra::Scene& s = sceneArg(scene, "pn_scene_framing_light").scene;
     require(light, "pn_scene_framing_light", "light");
-    *light = penumbra::api::toC(penumbra::framingLight(s.bounds()));
+    penumbra::api::fill(penumbra::framingLight(s.bounds()), light, "pn_scene_framing_light", "light");
     light->name = nullptr;
   });
 }

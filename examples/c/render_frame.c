@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   pn_frame* frame = NULL;
   pn_camera camera;
   int width = 0, height = 0;
+  pn_camera_init(&camera); /* its size: every call that fills or reads a camera needs it */
   if (argc != 6 || sscanf(argv[2], "%dx%d", &width, &height) != 2) {
     fprintf(stderr, "usage: render_frame_c SCENE WxH TECHNIQUE out.exr out.blur\n");
     return 2;

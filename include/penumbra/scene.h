@@ -12,9 +12,12 @@
 extern "C" {
 #endif
 
-/** A camera, Y up, right-handed, looking from `eye` to `target`. Plain data: fill it with pn_camera_init() or
- *  pn_camera_parse(), or take one from a scene. */
+/** A camera, Y up, right-handed, looking from `eye` to `target`. Plain data: pn_camera_init() it first (which sets
+ *  `size`), then set fields, parse (pn_camera_parse()) or take one from a scene (pn_scene_camera()). */
 typedef struct pn_camera {
+  size_t size; /**< sizeof(pn_camera) as the caller compiled it (set by pn_camera_init()): every call that reads or
+                  fills a camera requires it; fields a later version adds go after these and are read and written
+                  only where `size` holds them. */
   float eye[3];            /**< Position. */
   float target[3];         /**< The point it looks at (not `eye`). */
   float up[3];             /**< Preferred up direction (replaced when parallel to the view). */
@@ -36,8 +39,12 @@ typedef enum pn_light_type {
                                          is one of its values (and refused). */
 } pn_light_type;
 
-/** A light. Plain data: fill it with pn_light_init() or pn_light_parse(), or take one from a scene. */
+/** A light. Plain data: pn_light_init() it first (which sets `size`), then set fields, parse (pn_light_parse()) or
+ *  take one from a scene (pn_scene_light()). */
 typedef struct pn_light {
+  size_t size; /**< sizeof(pn_light) as the caller compiled it (set by pn_light_init()): every call that reads or fills
+                  a light requires it; fields a later version adds go after these and are read and written only where
+                  `size` holds them. */
   pn_light_type type;       /**< Spot, directional or point. */
   const char* name;         /**< Its name (NULL or "": unnamed, layer "light"). A scene's: valid while it lives. */
   float position[3];        /**< Spot and point: position. */
@@ -78,15 +85,18 @@ typedef struct pn_mesh {
  *  pn_context; immutable, so any number of threads may read it. */
 typedef struct pn_scene pn_scene;
 
-/** The defaults: eye (0, 1, 5), target the origin, up +Y, perspective with a 45 degree fov, 1280x720. */
+/** The defaults: eye (0, 1, 5), target the origin, up +Y, perspective with a 45 degree fov, 1280x720; `size` is
+ *  sizeof(pn_camera). */
 PN_API void pn_camera_init(pn_camera* camera);
-/** Parses "EX,EY,EZ:TX,TY,TZ[:FOVY_DEG]" (the CLI's --camera) into `camera` (the size stays the default). */
+/** Parses "EX,EY,EZ:TX,TY,TZ[:FOVY_DEG]" (the CLI's --camera) into `camera`, which pn_camera_init() prepared (its
+ *  `size` is kept; the image size becomes the default). */
 PN_API pn_status pn_camera_parse(const char* spec, pn_camera* camera);
 
-/** The defaults: an unnamed spot at (0, 10, 0) aiming at the origin with a 60 degree cone. */
+/** The defaults: an unnamed spot at (0, 10, 0) aiming at the origin with a 60 degree cone; `size` is
+ *  sizeof(pn_light). */
 PN_API void pn_light_init(pn_light* light);
 /** Parses "spot:PX,PY,PZ:TX,TY,TZ:FOV[:RADIUS]", "dir:DX,DY,DZ[:ANGLE]" or "point:PX,PY,PZ[:RADIUS]" (the CLI's
- *  --light) into an unnamed light. */
+ *  --light) into an unnamed light, which pn_light_init() prepared (its `size` is kept). */
 PN_API pn_status pn_light_parse(const char* spec, pn_light* light);
 
 /** No animation time, every animation. */
@@ -115,7 +125,8 @@ PN_API size_t pn_scene_triangle_count(const pn_scene* scene);
 PN_API pn_status pn_scene_bounds(const pn_scene* scene, float min[3], float max[3]);
 /** Cameras the scene names (a scene file's, a built-in scene's, a glTF file's in node order). */
 PN_API size_t pn_scene_camera_count(const pn_scene* scene);
-/** Camera `index` (< pn_scene_camera_count()). */
+/** Camera `index` (< pn_scene_camera_count()), into `camera` as pn_camera_init() prepared it (every call that fills
+ *  a camera or a light keeps its `size` and writes only what it holds). */
 PN_API pn_status pn_scene_camera(const pn_scene* scene, size_t index, pn_camera* camera);
 /** The camera a frame uses by default, as the CLI does: the scene's first, else a view framing the scene. */
 PN_API pn_status pn_scene_default_camera(const pn_scene* scene, pn_camera* camera);

@@ -47,12 +47,14 @@ struct Camera {
   /// "EX,EY,EZ:TX,TY,TZ[:FOVY_DEG]", the CLI's --camera.
   static Camera parse(const std::string& spec) {
     pn_camera c;
+    pn_camera_init(&c);  // its size; the call fills the rest
     detail::check(pn_camera_parse(spec.c_str(), &c));
     return Camera(c);
   }
   /// As the C API takes it.
   pn_camera toC() const {
     pn_camera c;
+    pn_camera_init(&c);  // its size, and the defaults of fields set below
     for (int i = 0; i < 3; ++i) c.eye[i] = eye[i], c.target[i] = target[i], c.up[i] = up[i];
     c.orthographic = orthographic ? 1 : 0;
     c.fov_y_deg = fovYDeg, c.ortho_half_height = orthoHalfHeight;
@@ -102,12 +104,14 @@ struct Light {
   /// "spot:P:T:FOV[:RADIUS]", "dir:D[:ANGLE]" or "point:P[:RADIUS]", the CLI's --light.
   static Light parse(const std::string& spec) {
     pn_light l;
+    pn_light_init(&l);  // its size; the call fills the rest
     detail::check(pn_light_parse(spec.c_str(), &l));
     return Light(l);
   }
   /// As the C API takes it; its name points into this Light.
   pn_light toC() const {
     pn_light l;
+    pn_light_init(&l);  // its size, and the defaults of fields set below
     l.type = static_cast<pn_light_type>(type);
     l.name = name.c_str();
     for (int i = 0; i < 3; ++i) l.position[i] = position[i], l.target[i] = target[i], l.direction[i] = direction[i];
@@ -169,6 +173,7 @@ class Scene {
     std::vector<Camera> out;
     for (size_t i = 0; i < pn_scene_camera_count(get()); ++i) {
       pn_camera c;
+      pn_camera_init(&c);  // its size; the call fills the rest
       detail::check(pn_scene_camera(get(), i, &c));
       out.emplace_back(c);
     }
@@ -177,6 +182,7 @@ class Scene {
   /// The camera a frame uses by default: the scene's first, else a framing view.
   Camera defaultCamera() const {
     pn_camera c;
+    pn_camera_init(&c);  // its size; the call fills the rest
     detail::check(pn_scene_default_camera(get(), &c));
     return Camera(c);
   }
@@ -185,6 +191,7 @@ class Scene {
     std::vector<Light> out;
     for (size_t i = 0; i < pn_scene_light_count(get()); ++i) {
       pn_light l;
+      pn_light_init(&l);  // its size; the call fills the rest
       detail::check(pn_scene_light(get(), i, &l));
       out.emplace_back(l);
     }
@@ -193,6 +200,7 @@ class Scene {
   /// The light a frame uses when the scene has none.
   Light framingLight() const {
     pn_light l;
+    pn_light_init(&l);  // its size; the call fills the rest
     detail::check(pn_scene_framing_light(get(), &l));
     return Light(l);
   }

@@ -178,6 +178,7 @@ pn_status renderBox(pn_context* ctx, const char* technique) {
   if (status == PN_SUCCESS) status = pn_params_create(technique, &params);
   if (status == PN_SUCCESS) status = pn_renderer_create(ctx, scene, &renderer);
   pn_camera camera;
+  pn_camera_init(&camera);
   if (status == PN_SUCCESS) status = pn_scene_default_camera(scene, &camera);
   camera.width = 48, camera.height = 32;
   if (status == PN_SUCCESS) status = pn_renderer_render(renderer, &camera, nullptr, 0, params, &frame);

@@ -33,6 +33,7 @@ pn_frame* renderBox(pn_context* ctx, const char* technique, Rendered& r) {
   EXPECT_EQ(pn_params_create(technique, &r.params), PN_SUCCESS);
   EXPECT_EQ(pn_renderer_create(ctx, r.scene, &r.renderer), PN_SUCCESS) << pn_last_error_message();
   pn_camera camera;
+  pn_camera_init(&camera);
   EXPECT_EQ(pn_scene_default_camera(r.scene, &camera), PN_SUCCESS);
   camera.width = kWidth, camera.height = kHeight;
   pn_frame* frame = nullptr;
@@ -171,6 +172,8 @@ TEST(ApiRenderer, LightsTechniquesAndSnapshots) {
   const std::vector<float> before = channel(first, "visibility.Y");
 
   pn_light key, sun;
+  pn_light_init(&key);
+  pn_light_init(&sun);
   PN_ASSERT_OK(pn_light_parse("spot:2,6,1:0,0,0:50:0.3", &key));
   PN_ASSERT_OK(pn_light_parse("dir:-0.3,-1,0.2:2", &sun));
   key.name = "Key", sun.name = "Sun";
@@ -179,6 +182,7 @@ TEST(ApiRenderer, LightsTechniquesAndSnapshots) {
   PN_ASSERT_OK(pn_params_set(pcss, "pcss-filter-taps", "16"));
   const pn_frame_light lights[] = {{&key, nullptr}, {&sun, pcss}};
   pn_camera camera;
+  pn_camera_init(&camera);
   PN_ASSERT_OK(pn_camera_parse("6,5,8:0,0,0:40", &camera));
   camera.width = 40, camera.height = 30;
   pn_frame* second = nullptr;
@@ -226,6 +230,9 @@ TEST(ApiRenderer, ErrorsSayWhatIsWrong) {
   EXPECT_STREQ(pn_last_error_message(), "\"pcss-filter-taps\" is not a parameter of technique 'pcf'");
 
   pn_light point, a, b;
+  pn_light_init(&point);
+  pn_light_init(&a);
+  pn_light_init(&b);
   PN_ASSERT_OK(pn_light_parse("point:0,5,0", &point));
   pn_frame* none = nullptr;
   const pn_frame_light points[] = {{&point, nullptr}};  // a point light renders as six cube faces
@@ -244,11 +251,25 @@ TEST(ApiRenderer, ErrorsSayWhatIsWrong) {
   EXPECT_EQ(pn_renderer_render(r.renderer, nullptr, twins, 1, nullptr, &none), PN_ERROR_INVALID_ARGUMENT);
   EXPECT_STREQ(pn_last_error_message(), "pn_renderer_render: light 0 has no params and the call gives none");
   EXPECT_EQ(none, nullptr);
+  pn_light unsized = a;  // a light or camera pn_*_init did not prepare
+  unsized.size = 0;
+  const pn_frame_light unprepared[] = {{&unsized, nullptr}};
+  EXPECT_EQ(pn_renderer_render(r.renderer, nullptr, unprepared, 1, r.params, &none), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pn_last_error_message()).find("pn_renderer_render: lights[0].light->size 0 is smaller"),
+            std::string::npos)
+      << pn_last_error_message();
+  pn_camera unsizedCamera;
+  pn_camera_init(&unsizedCamera);
+  unsizedCamera.size = sizeof(pn_camera) - 1;
+  EXPECT_EQ(pn_renderer_render(r.renderer, &unsizedCamera, nullptr, 0, r.params, &none), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pn_last_error_message()).find("pn_renderer_render: camera->size"), std::string::npos);
+  EXPECT_EQ(none, nullptr);
 
   pn_scene* scene = nullptr;
   EXPECT_EQ(pn_scene_load("no/such/model.glb", nullptr, &scene), PN_ERROR_SCENE);
   EXPECT_NE(std::string(pn_last_error_message()).find("no/such/model.glb"), std::string::npos);
   pn_camera camera;
+  pn_camera_init(&camera);
   EXPECT_EQ(pn_camera_parse("1,2,3:1,2,3", &camera), PN_ERROR_INVALID_ARGUMENT);
   EXPECT_EQ(pn_frame_save_exr(frame, "/no/such/dir/x.exr"), PN_ERROR_RUNTIME);
   EXPECT_NE(std::string(pn_last_error_message()).find("/no/such/dir/x.exr"), std::string::npos);
@@ -285,6 +306,7 @@ TEST(ApiRenderer, AFailingCallLeavesTheCallersHandlesAsTheyWere) {
   EXPECT_EQ(renderer, r.renderer);
   pn_frame* held = frame;
   pn_light a;
+  pn_light_init(&a);
   PN_ASSERT_OK(pn_light_parse("spot:0,5,0:0,0,0:40", &a));
   const pn_frame_light twins[] = {{&a, nullptr}, {&a, nullptr}};
   EXPECT_EQ(pn_renderer_render(r.renderer, nullptr, twins, 2, r.params, &held), PN_ERROR_INVALID_ARGUMENT);
@@ -326,6 +348,7 @@ TEST(ApiRenderer, SceneLightsKeepTheirOwnTechniques) {
   PN_ASSERT_OK(pn_params_set(r.params, "map-size", "256"));  // inherited by Key's pcss
   PN_ASSERT_OK(pn_renderer_create(ctx, r.scene, &r.renderer));
   pn_camera camera;
+  pn_camera_init(&camera);
   PN_ASSERT_OK(pn_scene_default_camera(r.scene, &camera));
   camera.width = kWidth, camera.height = kHeight;
   pn_frame* own = nullptr;
@@ -333,6 +356,8 @@ TEST(ApiRenderer, SceneLightsKeepTheirOwnTechniques) {
   EXPECT_NE(std::string(pn_frame_attribute(own, "penumbra:light-techniques")).find("Key=pcss"), std::string::npos);
 
   pn_light key, sunLight;
+  pn_light_init(&key);
+  pn_light_init(&sunLight);
   PN_ASSERT_OK(pn_scene_light(r.scene, 0, &key));
   PN_ASSERT_OK(pn_scene_light(r.scene, 1, &sunLight));
   pn_params* pcss = nullptr;

@@ -3,9 +3,11 @@
 // the card's transform moves the shadow, the scene's own lights are the default ones, and bad arrays are refused
 // with the mesh and the element named.
 #include <penumbra/penumbra.h>
-#include <penumbra/penumbra.hpp>
 
 #include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <penumbra/penumbra.hpp>
 #include <string>
 #include <vector>
 
@@ -107,6 +109,56 @@ TEST(ApiScene, BadArraysAreRefusedByName) {
   EXPECT_EQ(scene, nullptr);
   PN_ASSERT_OK(pn_scene_create(nullptr, 0, nullptr, 0, &scene));  // empty: a frame sees nothing
   EXPECT_EQ(pn_scene_triangle_count(scene), 0u);
+  pn_scene_release(scene);
+}
+
+// Cameras and lights carry their size like the settings structs: every call that reads or fills one refuses a struct
+// pn_*_init did not prepare (and leaves it untouched), and a caller compiled against a later, larger struct keeps its
+// own size and the fields past ours.
+TEST(ApiScene, CamerasAndLightsCarryTheirSize) {
+  pn_camera camera;
+  pn_camera_init(&camera);
+  EXPECT_EQ(camera.size, sizeof(pn_camera));
+  pn_light light;
+  pn_light_init(&light);
+  EXPECT_EQ(light.size, sizeof(pn_light));
+  pn_scene* scene = nullptr;
+  PN_ASSERT_OK(pn_scene_load("builtin:box", nullptr, &scene));
+
+  pn_camera unsized = camera;
+  unsized.size = 0, unsized.width = 7;
+  EXPECT_EQ(pn_scene_default_camera(scene, &unsized), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pn_last_error_message())
+                .find("pn_scene_default_camera: camera->size 0 is smaller than its first version's"),
+            std::string::npos)
+      << pn_last_error_message();
+  EXPECT_NE(std::string(pn_last_error_message()).find("(call pn_camera_init first)"), std::string::npos);
+  EXPECT_EQ(unsized.width, 7);  // untouched
+  EXPECT_EQ(pn_camera_parse("0,1,5:0,0,0", &unsized), PN_ERROR_INVALID_ARGUMENT);
+  pn_light unsizedLight = light;
+  unsizedLight.size = 4;
+  EXPECT_EQ(pn_light_parse("dir:0,-1,0", &unsizedLight), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(pn_scene_framing_light(scene, &unsizedLight), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(pn_scene_light(scene, 0, &unsizedLight), PN_ERROR_INVALID_ARGUMENT);
+  pn_scene* lit = nullptr;
+  EXPECT_EQ(pn_scene_create(nullptr, 0, &unsizedLight, 1, &lit), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pn_last_error_message()).find("pn_scene_create: lights[0]->size 4 is smaller"),
+            std::string::npos)
+      << pn_last_error_message();
+  EXPECT_EQ(lit, nullptr);
+
+  // A later version's caller: its struct is longer, and nothing of it past ours is written.
+  struct LaterCamera {
+    pn_camera camera;
+    float addedField;
+  } later;
+  pn_camera_init(&later.camera);
+  later.camera.size = sizeof(LaterCamera), later.addedField = 42.0f;
+  PN_ASSERT_OK(pn_scene_default_camera(scene, &later.camera));
+  EXPECT_EQ(later.camera.size, sizeof(LaterCamera));
+  EXPECT_EQ(later.addedField, 42.0f);
+  PN_ASSERT_OK(pn_scene_default_camera(scene, &camera));
+  EXPECT_EQ(std::memcmp(&later.camera.eye, &camera.eye, sizeof(pn_camera) - offsetof(pn_camera, eye)), 0);
   pn_scene_release(scene);
 }
 
