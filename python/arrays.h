@@ -92,15 +92,24 @@ class ArrayIn {
 };
 
 // A result of `dims` elements of `dtype`, where the input `like` lives: a new pyopencl array on its queue, written in
-// place, or a device buffer read into a new numpy array when the stage's event completes.
+// place, or a device buffer read into a new numpy array when the stage's event completes. `into` (not None): the
+// caller's own memory to write instead, a pyopencl array of that shape and dtype (as ArrayIn takes them) or a
+// pyopencl Buffer of at least that many bytes on the context's cl_context (a pyopencl input's queue then carries it);
+// the stage waits for the array's pending events too (waits()). `stage` names it in errors.
 class ArrayOut {
  public:
-  ArrayOut(const Context& ctx, const ArrayIn& like, const std::vector<pybind11::ssize_t>& dims, const char* dtype);
+  ArrayOut(const Context& ctx, const ArrayIn& like, const std::vector<pybind11::ssize_t>& dims, const char* dtype,
+           const pybind11::handle& into = pybind11::none(), const char* stage = "");
   cl_mem mem() const { return device_ ? deviceMem_ : buffer_.get(); }
   size_t bytes() const { return bytes_; }
+  // The stage's wait list: the input's pending events and those of the caller's array written into.
+  std::vector<cl_event> waits(const ArrayIn& in) const;
   // The array, once the stage has enqueued with `event` (retained here as needed; the caller keeps its reference):
   // numpy arrays are read (waiting for it), pyopencl arrays get it among their events.
   pybind11::object finish(cl_event event);
+  ArrayOut(const ArrayOut&) = delete;
+  ArrayOut& operator=(const ArrayOut&) = delete;
+  ~ArrayOut();
 
  private:
   const Context& ctx_;
@@ -109,6 +118,7 @@ class ArrayOut {
   cl_mem deviceMem_ = nullptr;
   DeviceBuffer buffer_;
   size_t bytes_ = 0;
+  std::vector<cl_event> waits_;
 };
 
 }  // namespace penumbra::python

@@ -18,7 +18,7 @@ namespace {
 
 // Moments (or blurred moments) of a depth map, as float32 or, for half storage, float16 (the same bits).
 py::object runMoments(const Context& ctx, const py::object& depth, const MomentsConfig& config, bool blurred,
-                      const BlurConfig& blur) {
+                      const BlurConfig& blur, const py::object& into) {
   const char* stage = blurred ? "blur_moments" : "moments";
   const ArrayIn in(ctx, depth, "float32", stage, "depth");
   const ImageShape shape = shapeOf(in.shape(), stage);
@@ -26,14 +26,15 @@ py::object runMoments(const Context& ctx, const py::object& depth, const Moments
   const py::ssize_t channels = pn_moment_channels(static_cast<pn_moment_kind>(config.kind));
   std::vector<py::ssize_t> dims = {shape.height, shape.width, channels};
   if (config.kind == MomentKind::Lvsm) dims.insert(dims.begin(), py::ssize_t(config.layers.size()));
-  ArrayOut out(ctx, in, dims, half ? "float16" : "float32");
+  ArrayOut out(ctx, in, dims, half ? "float16" : "float32", into, stage);
+  const std::vector<cl_event> waits = out.waits(in);
   cl_event done = nullptr;
   {
     py::gil_scoped_release release;
     if (blurred)
-      blurMoments(ctx, in.mem(), shape.width, shape.height, config, blur, out.mem(), in.waits(), &done);
+      blurMoments(ctx, in.mem(), shape.width, shape.height, config, blur, out.mem(), waits, &done);
     else
-      moments(ctx, in.mem(), shape.width, shape.height, config, out.mem(), in.waits(), &done);
+      moments(ctx, in.mem(), shape.width, shape.height, config, out.mem(), waits, &done);
   }
   py::object result = out.finish(done);
   clReleaseEvent(done);
@@ -79,15 +80,16 @@ BlurConfig blurConfig(const std::string& filter, float sigma, int radius, const 
 }
 
 py::object blurImage(const Context& ctx, const py::object& image, const std::string& filter, float sigma, int radius,
-                     const std::string& method) {
+                     const std::string& method, const py::object& into) {
   const BlurConfig config = blurConfig(filter, sigma, radius, method);
   const ArrayIn in(ctx, image, "float32", "blur", "image");
   const ImageShape shape = shapeOf(in.shape(), "blur");
-  ArrayOut out(ctx, in, in.shape(), "float32");
+  ArrayOut out(ctx, in, in.shape(), "float32", into, "blur");
+  const std::vector<cl_event> waits = out.waits(in);
   cl_event done = nullptr;
   {
     py::gil_scoped_release release;
-    blur(ctx, in.mem(), out.mem(), shape, config, in.waits(), &done);
+    blur(ctx, in.mem(), out.mem(), shape, config, waits, &done);
   }
   py::object result = out.finish(done);
   clReleaseEvent(done);
@@ -102,31 +104,35 @@ void bindStages(py::module_& m) {
       "moments",
       [](const Context& ctx, const py::object& depth, const std::string& kind, float depthNear, float depthFar,
          float evsmPositive, float evsmNegative, const std::string& storage,
-         const std::vector<std::pair<float, float>>& layers, float esmExponent) {
+         const std::vector<std::pair<float, float>>& layers, float esmExponent, const py::object& out) {
         const MomentsConfig config =
             momentsConfig(kind, depthNear, depthFar, evsmPositive, evsmNegative, esmExponent, storage, layers);
-        return runMoments(ctx, depth, config, false, {});
+        return runMoments(ctx, depth, config, false, {}, out);
       },
       "context"_a, "depth"_a, "kind"_a = "vsm", "depth_near"_a = 0.0f, "depth_far"_a = 1.0f, "evsm_positive"_a = 40.0f,
       "evsm_negative"_a = 5.0f, "storage"_a = "float32", "layers"_a = std::vector<std::pair<float, float>>{},
-      "esm_exponent"_a = 80.0f,
+      "esm_exponent"_a = 80.0f, "out"_a = py::none(),
       "Moments of a (height, width) depth map: (height, width, channels), LVSM (layers, height, width, 2); float16 "
-      "storage returns the half bits as numpy float16. esm: e^(c (z - 1)) for esm_exponent c in [1, 80], else z.");
+      "storage returns the half bits as numpy float16. esm: e^(c (z - 1)) for esm_exponent c in [1, 80], else z. out: "
+      "a pyopencl array or Buffer to write instead of a new array.");
   m.def(
       "blur_moments",
       [](const Context& ctx, const py::object& depth, const std::string& kind, float depthNear, float depthFar,
          const std::string& storage, const std::string& filter, float sigma, int radius, const std::string& method,
-         float esmExponent) {
+         float esmExponent, const py::object& out) {
         const MomentsConfig config = momentsConfig(kind, depthNear, depthFar, 40.0f, 5.0f, esmExponent, storage, {});
         const BlurConfig blur = blurConfig(filter, sigma, radius, method);
-        return runMoments(ctx, depth, config, true, blur);
+        return runMoments(ctx, depth, config, true, blur, out);
       },
       "context"_a, "depth"_a, "kind"_a = "vsm", "depth_near"_a = 0.0f, "depth_far"_a = 1.0f, "storage"_a = "float32",
       "filter"_a = "gaussian", "sigma"_a = 1.0f, "radius"_a = 1, "method"_a = "auto", "esm_exponent"_a = 80.0f,
+      "out"_a = py::none(),
       "The moments of a depth map blurred in one stage (equal to moments then blur; esm outside exponents [1, 80]: "
       "blurred in log space).");
   m.def("blur", &blurImage, "context"_a, "image"_a, "filter"_a = "gaussian", "sigma"_a = 1.0f, "radius"_a = 1,
-        "method"_a = "auto", "Separable Gaussian or box blur with clamp-to-edge; the same shape back.");
+        "method"_a = "auto", "out"_a = py::none(),
+        "Separable Gaussian or box blur with clamp-to-edge; the same shape back (into `out`, a pyopencl array or "
+        "Buffer, when given).");
 }
 
 }  // namespace penumbra::python

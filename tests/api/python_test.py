@@ -288,6 +288,36 @@ class PyOpenCL(unittest.TestCase):
         for key in ("sum_w", "sum_wx", "sum_wx2", "samples"):
             np.testing.assert_array_equal(stats[key], host_stats[key])
 
+    def test_results_into_the_callers_arrays_and_buffers(self):
+        rng = np.random.default_rng(12)
+        image = rng.random((19, 33), dtype=np.float32)
+        expected = penumbra.blur(self.host, image, filter="box", radius=2)
+        target = self.cl.array.empty(self.queue, (19, 33), np.float32)
+        result = penumbra.blur(self.context, self.device(image), filter="box", radius=2, out=target)
+        self.assertIs(result, target)
+        np.testing.assert_array_equal(target.get(), expected)
+        # A raw Buffer: written in place, returned as an array over it; as an input, wrapped without a copy.
+        buffer = self.cl.Buffer(self.queue.context, self.cl.mem_flags.READ_WRITE, size=image.nbytes)
+        over = penumbra.blur(self.context, self.device(image), filter="box", radius=2, out=buffer)
+        self.assertEqual(over.base_data.int_ptr, buffer.int_ptr)
+        np.testing.assert_array_equal(over.get(), expected)
+        wrapped = self.cl.array.Array(self.queue, image.shape, np.float32, data=buffer)
+        np.testing.assert_array_equal(penumbra.blur(self.context, wrapped, filter="box", radius=2).get(),
+                                      penumbra.blur(self.host, expected, filter="box", radius=2))
+        moments = self.cl.array.empty(self.queue, (19, 33, 2), np.float32)
+        penumbra.moments(self.context, self.device(image + 2), kind="vsm", depth_near=2, depth_far=3, out=moments)
+        np.testing.assert_array_equal(moments.get(), penumbra.moments(self.host, image + 2, kind="vsm",
+                                                                      depth_near=2, depth_far=3))
+        with self.assertRaisesRegex(ValueError, r"blur: out has the shape \(33, 19\), not \(19, 33\)"):
+            penumbra.blur(self.context, self.device(image), out=self.cl.array.empty(self.queue, (33, 19), np.float32))
+        small = self.cl.Buffer(self.queue.context, self.cl.mem_flags.READ_WRITE, size=16)
+        with self.assertRaisesRegex(ValueError, "blur: out is a pyopencl Buffer of 16 bytes; the result takes 2508"):
+            penumbra.blur(self.context, self.device(image), out=small)
+        with self.assertRaisesRegex(ValueError, "which needs a pyopencl array as the input"):
+            penumbra.blur(self.context, image, out=buffer)
+        with self.assertRaisesRegex(TypeError, "blur: out: a pyopencl array or Buffer, not"):
+            penumbra.blur(self.context, self.device(image), out=np.empty((19, 33), np.float32))
+
     def test_pyopencl_arrays_penumbra_cannot_use_in_place(self):
         image = np.ones((8, 8), np.float32)
         with self.assertRaisesRegex(ValueError, "blur: image is a pyopencl array of float64, not float32"):
