@@ -59,22 +59,28 @@ __kernel void moments_msm(__global const float* depth, __global Stored4* out, Mo
 // the mean of the encoded moments of map texels [x f, x f + f) x [y f, y f + f), those beyond the map counting as
 // empty (the far value, as the filters' borders do). The encodings are linear in what they average, so a box over
 // whole blocks of this grid has the moments of the same box over the map. p.width, p.height: the map's size.
-#define MOMENTS_REDUCED(name, kind, channels, swizzle)                                                         \
-  __kernel void name(__global const float* depth, __global PN_VEC(float, channels) * out, MomentsParams p,     \
-                     uint factor) {                                                                           \
-    const uint x = get_global_id(0), y = get_global_id(1);                                                     \
-    const uint outWidth = (p.width + factor - 1u) / factor, outHeight = (p.height + factor - 1u) / factor;     \
-    if (x >= outWidth || y >= outHeight) return;                                                               \
-    float4 sum = (float4)(0.0f);                                                                               \
-    for (uint j = 0; j < factor; ++j) {                                                                        \
-      const uint sy = y * factor + j;                                                                          \
-      for (uint i = 0; i < factor; ++i) {                                                                      \
-        const uint sx = x * factor + i;                                                                        \
-        const float d = sx < p.width && sy < p.height ? depth[(size_t)sy * p.width + sx] : INFINITY;           \
-        sum += moments_encode(d, p, kind);                                                                     \
-      }                                                                                                        \
-    }                                                                                                          \
-    out[(size_t)y * outWidth + x] = (sum / (float)(factor * factor))swizzle;                                   \
+// moments_block_sum: the sum over block (x, y), texel by texel.
+inline float4 moments_block_sum(__global const float* depth, MomentsParams p, int kind, uint factor, uint x, uint y) {
+  float4 sum = (float4)(0.0f);
+  for (uint j = 0; j < factor; ++j) {
+    const uint sy = y * factor + j;
+    for (uint i = 0; i < factor; ++i) {
+      const uint sx = x * factor + i;
+      const float d = sx < p.width && sy < p.height ? depth[(size_t)sy * p.width + sx] : INFINITY;
+      sum += moments_encode(d, p, kind);
+    }
+  }
+  return sum;
+}
+
+#define MOMENTS_REDUCED(name, kind, channels, swizzle)                                                              \
+  __kernel void name(__global const float* depth, __global PN_VEC(float, channels) * out, MomentsParams p,          \
+                     uint factor) {                                                                                \
+    const uint x = get_global_id(0), y = get_global_id(1);                                                          \
+    const uint outWidth = (p.width + factor - 1u) / factor, outHeight = (p.height + factor - 1u) / factor;          \
+    if (x >= outWidth || y >= outHeight) return;                                                                    \
+    const float4 sum = moments_block_sum(depth, p, kind, factor, x, y);                                             \
+    out[(size_t)y * outWidth + x] = (sum / (float)(factor * factor))swizzle;                                        \
   }
 
 // VSM's (vssm's SAT over blocks), with the blocks inside the map read as float2 / float4 rows: contiguous loads of
@@ -105,14 +111,7 @@ __kernel void moments_vsm_reduced(__global const float* depth, __global float2* 
       }
     }
   } else {
-    for (uint j = 0; j < factor; ++j) {
-      const uint sy = y * factor + j;
-      for (uint i = 0; i < factor; ++i) {
-        const uint sx = x * factor + i;
-        const float d = sx < p.width && sy < p.height ? depth[(size_t)sy * p.width + sx] : INFINITY;
-        sum += moments_encode(d, p, MOMENTS_KIND_VSM).xy;
-      }
-    }
+    sum = moments_block_sum(depth, p, MOMENTS_KIND_VSM, factor, x, y).xy;
   }
   out[(size_t)y * outWidth + x] = sum / (float)(factor * factor);
 }

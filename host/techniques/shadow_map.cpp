@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 #include <string>
 
@@ -130,16 +131,24 @@ AutoRadius AutoRadius::from(const Params& params, const std::string& name) {
   return r;
 }
 
+int chooseFromPenumbra(ShadowFrame& frame, const Buffer<float>& depth, const Buffer<LightViewGpu>& view,
+                       const ReceiverBias& bias, double quantile, const std::string& name,
+                       const std::function<int(double halfWidth)>& choose) {
+  const PenumbraWidth width = measurePenumbraWidth(frame.ctx, frame.gbuffer, depth, view, bias, quantile);
+  const int value = choose(width.halfWidth);
+  frame.attributes["penumbra:" + name] =
+      width.pixels == 0 ? fmt::format("auto {} (no shadowed pixel measured)", value)
+                        : fmt::format("auto {} (quantile {} of {} shadowed pixels: penumbra half-width {:.3g} texels)",
+                                      value, quantile, width.pixels, width.halfWidth);
+  return value;
+}
+
 int resolveAutoRadius(ShadowFrame& frame, const Buffer<float>& depth, const Buffer<LightViewGpu>& view,
                       const ReceiverBias& bias, const AutoRadius& wanted) {
   if (!wanted.automatic) return wanted.radius;
-  const PenumbraWidth width = measurePenumbraWidth(frame.ctx, frame.gbuffer, depth, view, bias, wanted.quantile);
-  const int radius = std::min(static_cast<int>(std::floor(width.halfWidth)), wanted.max);
-  frame.attributes["penumbra:" + wanted.name] =
-      width.pixels == 0 ? fmt::format("auto {} (no shadowed pixel measured)", radius)
-                        : fmt::format("auto {} (quantile {} of {} shadowed pixels: penumbra half-width {:.3g} texels)",
-                                      radius, wanted.quantile, width.pixels, width.halfWidth);
-  return radius;
+  return chooseFromPenumbra(frame, depth, view, bias, wanted.quantile, wanted.name, [&](double halfWidth) {
+    return std::min(static_cast<int>(std::floor(halfWidth)), wanted.max);
+  });
 }
 
 ParamSpec receiverPlaneParam() {

@@ -2,6 +2,7 @@
 // their casters, its linear depth rasterized by our rasterizer, and the shared bias parameters.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -100,6 +101,13 @@ struct AutoRadius {
   int limit() const { return automatic ? max : radius; }  // the most it can be: the map's margin before it is measured
   bool operator==(const AutoRadius&) const = default;
 };
+
+// A setting chosen per frame from the penumbrae: `choose` of the penumbra half-width (texels of `depth`) that
+// `quantile` of the camera's shadowed pixels reach (host/views/light_fit.h measurePenumbraWidth; 0 when none is
+// measured), recorded with the measurement in the header's "penumbra:NAME".
+int chooseFromPenumbra(ShadowFrame& frame, const Buffer<float>& depth, const Buffer<LightViewGpu>& view,
+                       const ReceiverBias& bias, double quantile, const std::string& name,
+                       const std::function<int(double halfWidth)>& choose);
 
 // The half-width for this frame: the fixed radius, or under auto measured on `depth` / `view` with `bias` and recorded
 // in the header's "penumbra:NAME" (a point light's cube faces each measure their own: host/pipeline/point_light.cpp

@@ -8,14 +8,13 @@
 #include "host/techniques/registry.h"
 #include "host/techniques/shadow_map.h"
 #include "host/techniques/vssm_maps.h"
-#include "host/views/light_fit.h"
 #include "kernels/shared/id_buffer.h"
 
 namespace penumbra {
 namespace {
 
 enum Subdivision { kNone = 0, kUniform = 1, kAdaptive = 2, kMixed = 3 };
-constexpr uint32_t kMaxAutoSatReduce = 8;
+constexpr int kMaxAutoSatReduce = 8;
 constexpr uint32_t kSearchNarrowings = 2;  // vssm-search adaptive: as pcss's PCSS_ADAPTIVE_STEPS
 
 struct VssmTechniqueSettings {
@@ -72,17 +71,14 @@ class VarianceSoftShadows final : public TechniqueOf<VssmTechniqueSettings> {
   // --vssm-sat-reduce auto: the largest power of two up to kMaxAutoSatReduce at which the penumbra half-width that
   // vssm-sat-quantile of the shadowed pixels reach spans vssm-sat-penumbra SAT texels; recorded in the header.
   uint32_t autoSatReduce(ShadowFrame& frame) const {
-    const VssmSettings& s = settings_.vssm;
-    const PenumbraWidth width = measurePenumbraWidth(frame.ctx, frame.gbuffer, map_.targets.depth, map_.gpu,
-                                                     settings_.map.receiverBias(), s.satQuantile);
-    uint32_t reduce = 1;
-    while (reduce < kMaxAutoSatReduce && width.halfWidth >= 2.0 * reduce * s.satPenumbra) reduce *= 2;
-    frame.attributes["penumbra:vssm-sat-reduce"] =
-        width.pixels == 0
-            ? fmt::format("auto {} (no shadowed pixel measured)", reduce)
-            : fmt::format("auto {} (quantile {} of {} shadowed pixels: penumbra half-width {:.3g} texels)", reduce,
-                          s.satQuantile, width.pixels, width.halfWidth);
-    return reduce;
+    const double blocksAcross = settings_.vssm.satPenumbra;
+    auto largestReduce = [blocksAcross](double halfWidth) {
+      int reduce = 1;
+      while (reduce < kMaxAutoSatReduce && halfWidth >= 2.0 * reduce * blocksAcross) reduce *= 2;
+      return reduce;
+    };
+    return static_cast<uint32_t>(chooseFromPenumbra(frame, map_.targets.depth, map_.gpu, settings_.map.receiverBias(),
+                                                    settings_.vssm.satQuantile, "vssm-sat-reduce", largestReduce));
   }
 
   ShadowMap map_;
