@@ -49,6 +49,26 @@ inline void download(const Context& ctx, cl_mem buffer, cl_event event, void* ou
   if (err != CL_SUCCESS) throw Error(PN_ERROR_OPENCL, "clEnqueueReadBuffer failed (" + std::to_string(err) + ")", err);
 }
 
+// The event of one stage call: `enqueue(cl_event*)` runs with the GIL released and leaves the stage's event there;
+// released with the holder (also when reading a result throws).
+class StageEvent {
+ public:
+  template <class Enqueue>
+  explicit StageEvent(Enqueue&& enqueue) {
+    pybind11::gil_scoped_release release;
+    enqueue(&event_);
+  }
+  StageEvent(const StageEvent&) = delete;
+  StageEvent& operator=(const StageEvent&) = delete;
+  ~StageEvent() {
+    if (event_ != nullptr) clReleaseEvent(event_);
+  }
+  cl_event get() const { return event_; }
+
+ private:
+  cl_event event_ = nullptr;
+};
+
 // (height, width) is one channel, (height, width, channels) several.
 ImageShape shapeOf(const std::vector<pybind11::ssize_t>& dims, const char* stage);
 inline ImageShape shapeOf(const pybind11::array& image, const char* stage) {

@@ -92,6 +92,16 @@ void vec3(py::class_<Struct>& c, const char* name, std::array<float, 3> Struct::
       [member](Struct& s, const std::array<float, 3>& v) { s.*member = v; }, doc);
 }
 
+// A Context on the caller's objects, each an integer handle or a pyopencl object; `function` names them in errors.
+Context contextOn(const py::handle& context, const py::handle& device, const py::handle& queue, const char* function) {
+  auto handle = [function](const py::handle& object, const char* name) {
+    return clHandle(object, (std::string(function) + ": " + name).c_str());
+  };
+  return Context(reinterpret_cast<cl_context>(handle(context, "context")),
+                 reinterpret_cast<cl_device_id>(handle(device, "device")),
+                 reinterpret_cast<cl_command_queue>(handle(queue, "queue")));
+}
+
 void bindContext(py::module_& m) {
   py::class_<Context>(m, "Context", "An OpenCL device, context and in-order queue with penumbra's kernels.")
       .def(py::init([](const std::string& device, std::optional<std::string> cacheDir, uint64_t localMemLimit,
@@ -125,9 +135,7 @@ void bindContext(py::module_& m) {
       .def_static(
           "from_cl",
           [](const py::object& context, const py::object& device, const py::object& queue) {
-            return Context(reinterpret_cast<cl_context>(clHandle(context, "from_cl: context")),
-                           reinterpret_cast<cl_device_id>(clHandle(device, "from_cl: device")),
-                           reinterpret_cast<cl_command_queue>(clHandle(queue, "from_cl: queue")));
+            return contextOn(context, device, queue, "from_cl");
           },
           py::arg("context"), py::arg("device"), py::arg("queue"),
           "A context on the caller's OpenCL objects: pyopencl's Context, Device and CommandQueue, or integer handles "
@@ -135,9 +143,7 @@ void bindContext(py::module_& m) {
       .def_static(
           "from_queue",
           [](const py::object& queue) {
-            return Context(reinterpret_cast<cl_context>(clHandle(queue.attr("context"), "from_queue: context")),
-                           reinterpret_cast<cl_device_id>(clHandle(queue.attr("device"), "from_queue: device")),
-                           reinterpret_cast<cl_command_queue>(clHandle(queue, "from_queue: queue")));
+            return contextOn(queue.attr("context"), queue.attr("device"), queue, "from_queue");
           },
           py::arg("queue"),
           "A context on a pyopencl.CommandQueue (in order) and its context and device: penumbra's commands go into "

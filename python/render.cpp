@@ -73,14 +73,14 @@ Frame render(Renderer& renderer, const std::string& technique, const py::dict& p
   return renderer.render(camera, frameLights, &fallback);
 }
 
-pn_frame_output frameOutput(const std::string& output) {
+pn_frame_output frameOutput(const std::string& output, const char* function) {
   static const std::map<std::string, pn_frame_output> kOutputs = {{"preview", PN_FRAME_PREVIEW},
                                                                   {"position", PN_FRAME_POSITION},
                                                                   {"normal", PN_FRAME_NORMAL},
                                                                   {"depth", PN_FRAME_DEPTH}};
   auto it = kOutputs.find(output);
   if (it == kOutputs.end())
-    throw py::value_error("device_buffer: \"" + output + "\" is none of preview, position, normal, depth");
+    throw py::value_error(std::string(function) + ": \"" + output + "\" is none of preview, position, normal, depth");
   return it->second;
 }
 
@@ -130,7 +130,7 @@ void bindRender(py::module_& m) {
       .def(
           "device_buffer",
           [](const Frame& f, const std::string& output) {
-            return reinterpret_cast<uintptr_t>(f.deviceBuffer(frameOutput(output)));
+            return reinterpret_cast<uintptr_t>(f.deviceBuffer(frameOutput(output, "device_buffer")));
           },
           py::arg("output"),
           "The preview (float4 RGBA), position, normal (float4) or depth (float) cl_mem as an integer handle, rows "
@@ -146,7 +146,7 @@ void bindRender(py::module_& m) {
       .def(
           "device_array",
           [](const Frame& f, const std::string& output, const py::object& queue) {
-            const pn_frame_output which = frameOutput(output);
+            const pn_frame_output which = frameOutput(output, "device_array");
             std::vector<py::ssize_t> dims = {f.height(), f.width()};
             if (which != PN_FRAME_DEPTH) dims.push_back(4);
             return deviceArray(f.deviceBuffer(which), queue, dims);

@@ -28,17 +28,13 @@ py::object runMoments(const Context& ctx, const py::object& depth, const Moments
   if (config.kind == MomentKind::Lvsm) dims.insert(dims.begin(), py::ssize_t(config.layers.size()));
   ArrayOut out(ctx, in, dims, half ? "float16" : "float32", into, stage);
   const std::vector<cl_event> waits = out.waits(in);
-  cl_event done = nullptr;
-  {
-    py::gil_scoped_release release;
+  const StageEvent done([&](cl_event* event) {
     if (blurred)
-      blurMoments(ctx, in.mem(), shape.width, shape.height, config, blur, out.mem(), waits, &done);
+      blurMoments(ctx, in.mem(), shape.width, shape.height, config, blur, out.mem(), waits, event);
     else
-      moments(ctx, in.mem(), shape.width, shape.height, config, out.mem(), waits, &done);
-  }
-  py::object result = out.finish(done);
-  clReleaseEvent(done);
-  return result;
+      moments(ctx, in.mem(), shape.width, shape.height, config, out.mem(), waits, event);
+  });
+  return out.finish(done.get());
 }
 
 MomentsConfig momentsConfig(const std::string& kind, float depthNear, float depthFar, float evsmPositive,
@@ -86,14 +82,8 @@ py::object blurImage(const Context& ctx, const py::object& image, const std::str
   const ImageShape shape = shapeOf(in.shape(), "blur");
   ArrayOut out(ctx, in, in.shape(), "float32", into, "blur");
   const std::vector<cl_event> waits = out.waits(in);
-  cl_event done = nullptr;
-  {
-    py::gil_scoped_release release;
-    blur(ctx, in.mem(), out.mem(), shape, config, waits, &done);
-  }
-  py::object result = out.finish(done);
-  clReleaseEvent(done);
-  return result;
+  const StageEvent done([&](cl_event* event) { blur(ctx, in.mem(), out.mem(), shape, config, waits, event); });
+  return out.finish(done.get());
 }
 
 }  // namespace

@@ -40,14 +40,9 @@ py::tuple satTable(const Context& ctx, const py::object& image, const SatConfig&
   const ImageShape shape = shapeOf(in.shape(), "sat");
   const char* dtypes[] = {"float32", "uint32", "uint64", "float64"};
   ArrayOut table(ctx, in, in.shape(), dtypes[static_cast<int>(config.precision)]), offset(ctx, in, {4}, "float32");
-  cl_event done = nullptr;
-  {
-    py::gil_scoped_release release;
-    sat(ctx, in.mem(), shape, config, table.mem(), offset.mem(), in.waits(), &done);
-  }
-  py::tuple result = py::make_tuple(table.finish(done), offset.finish(done));
-  clReleaseEvent(done);
-  return result;
+  const StageEvent done(
+      [&](cl_event* event) { sat(ctx, in.mem(), shape, config, table.mem(), offset.mem(), in.waits(), event); });
+  return py::make_tuple(table.finish(done.get()), offset.finish(done.get()));
 }
 
 // Views of each level of `chain` (a whole pyramid: texels x channels elements; numpy or pyopencl), shaped like images.
@@ -70,14 +65,8 @@ py::list mips(const Context& ctx, const py::object& image, const std::string& st
   const PyramidLayout layout = pyramidLayout(shape.width, shape.height, 1);
   ArrayOut chain(ctx, in, {py::ssize_t(layout.texels * shape.channels)}, storage.c_str());
   const MomentStorage s = storage == "float16" ? MomentStorage::Float16 : MomentStorage::Float32;
-  cl_event done = nullptr;
-  {
-    py::gil_scoped_release release;
-    momentMips(ctx, in.mem(), shape, s, chain.mem(), in.waits(), &done);
-  }
-  const py::object result = chain.finish(done);
-  clReleaseEvent(done);
-  return levelViews(result, layout, shape.channels);
+  const StageEvent done([&](cl_event* event) { momentMips(ctx, in.mem(), shape, s, chain.mem(), in.waits(), event); });
+  return levelViews(chain.finish(done.get()), layout, shape.channels);
 }
 
 py::list minMax(const Context& ctx, const py::object& depth) {
@@ -86,14 +75,10 @@ py::list minMax(const Context& ctx, const py::object& depth) {
   if (shape.channels != 1) throw py::value_error("minmax_pyramid: the depth map is (height, width)");
   const PyramidLayout layout = pyramidLayout(shape.width, shape.height, 0);
   ArrayOut chain(ctx, in, {py::ssize_t(layout.texels * 2)}, "float32");
-  cl_event done = nullptr;
-  {
-    py::gil_scoped_release release;
-    minMaxPyramid(ctx, in.mem(), shape.width, shape.height, chain.mem(), in.waits(), &done);
-  }
-  const py::object result = chain.finish(done);
-  clReleaseEvent(done);
-  return levelViews(result, layout, 2);
+  const StageEvent done([&](cl_event* event) {
+    minMaxPyramid(ctx, in.mem(), shape.width, shape.height, chain.mem(), in.waits(), event);
+  });
+  return levelViews(chain.finish(done.get()), layout, 2);
 }
 
 // The statistics are one value per cluster: numpy arrays whichever the inputs (read when the stage completes).
