@@ -4,10 +4,10 @@
 #   ../shared/gpu/pack.sh .gpu build/tests/penumbra_tests [build/tools/penumbra]                         (tests)
 # then, there: scripts/gpu-check.sh OUTDIR [tests|bench|all] (default all). Registers NVIDIA's OpenCL driver for
 # this command only and selects it (PENUMBRA_DEVICE=NVIDIA); `tests` lists the devices and runs the kernel and
-# technique tests on the GPU, `bench` the Google Benchmark targets (JSON + console tables under OUTDIR) and, when
-# the CLI was packed, `penumbra bench` of every technique at 1920x1080. Each step has its own time limit, so one
-# slow step cannot eat a session's device time. (penumbra_tests and penumbra link Embree, ~44 MB: the two packs
-# keep each call under the device tool's 64 MiB.)
+# technique tests on the GPU (after `penumbra selftest --full` when the CLI was packed), `bench` the Google Benchmark
+# targets (JSON + console tables under OUTDIR) and, when the CLI was packed, `penumbra bench` of every technique at
+# 1920x1080. Each step has its own time limit, so one slow step cannot eat a session's device time. (penumbra_tests
+# and penumbra link Embree, ~44 MB: the two packs keep each call under the device tool's 64 MiB.)
 set -uo pipefail
 out=${1:-out/gpu}
 what=${2:-all}
@@ -27,6 +27,9 @@ run() {  # run SECONDS NAME COMMAND...: stdout+stderr into OUTDIR/NAME.txt, the 
 
 if [[ $what == tests || $what == all ]]; then
   [[ -x $bin/penumbra ]] && run 30 devices "$bin/penumbra" devices
+  # The installed tool's own checks first (docs/portability.md): every stage, the rasterizer and every technique
+  # against the references, with the device report (driver, layouts chosen) in selftest.json.
+  [[ -x $bin/penumbra ]] && run 120 selftest "$bin/penumbra" selftest --full --json "$out/selftest.json"
   [[ -x $bin/penumbra_tests ]] && run 240 tests "$bin/penumbra_tests" --gtest_brief=1 \
     "--gtest_filter=Runtime*:*Techniques*:LightFit*:Raster*:Sat*:Blur*:Pyramid*:Reduce*:Moments*:*Vssm*:*Lvsm*:*Pssm*:Params*"
 fi

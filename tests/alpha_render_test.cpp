@@ -1,24 +1,24 @@
 // Alpha-tested casters and receivers end to end on builtin:cards (one 2x2 card with 3x3 round holes 1.5 above a
 // ground): sm, pcf, pcss and vsm against the Embree reference, which sees through the same holes
 // (tools/reference/alpha_filter.h), beside the same card made opaque; and the camera G-buffer against double-precision
-// primary rays with the same masks (tests/reference/camera_rays_ref.h) and against Embree's primary hits.
+// primary rays with the same masks (tools/selftest/reference/camera_rays_ref.h) and against Embree's primary hits.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "host/eval/metrics.h"
 #include "host/scene/procedural.h"
+#include "host/views/raster_scene.h"
 #include "host/views/views.h"
 #include "raster/rasterizer.h"
-#include "tests/reference/camera_rays_ref.h"
 #include "tests/support/cl_test.h"
 #include "tests/support/render.h"
 #include "tools/reference/reference.h"
-#include "host/views/raster_scene.h"
+#include "tools/selftest/reference/camera_rays_ref.h"
 
 namespace penumbra {
 namespace alpha_render_test {

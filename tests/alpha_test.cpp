@@ -1,18 +1,20 @@
 // The shared alpha sampler (kernels/shared/alpha.h, compiled here as C++: the same source the fine stage and the
-// Embree filters run) against the double-precision reference (tests/reference/alpha_ref.h): every wrap mode pair,
-// NEAREST and LINEAR, KHR_texture_transform, edge texels, texture-less materials, NaN, infinite and huge coordinates.
+// Embree filters run) against the double-precision reference (tools/selftest/reference/alpha_ref.h): every wrap mode
+// pair, NEAREST and LINEAR, KHR_texture_transform, edge texels, texture-less materials, NaN, infinite and huge
+// coordinates.
+#include "kernels/shared/alpha.h"
+
+#include <gtest/gtest.h>
+
 #include <cmath>
+#include <glm/gtc/constants.hpp>
 #include <limits>
 #include <random>
 #include <utility>
 #include <vector>
 
-#include <glm/gtc/constants.hpp>
-#include <gtest/gtest.h>
-
 #include "host/scene/material.h"
-#include "kernels/shared/alpha.h"
-#include "tests/reference/alpha_ref.h"
+#include "tools/selftest/reference/alpha_ref.h"
 
 namespace penumbra {
 namespace alpha_test {

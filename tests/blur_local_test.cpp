@@ -13,9 +13,9 @@
 #include "host/cl/buffer.h"
 #include "host/stages/blur.h"
 #include "kernels/shared/blur.h"
-#include "tests/reference/blur_ref.h"
 #include "tests/support/cl_test.h"
 #include "tests/support/compare.h"
+#include "tools/selftest/reference/blur_ref.h"
 
 namespace penumbra {
 namespace blur_local_test {

@@ -1,23 +1,23 @@
 // glTF cameras through the whole pipeline: the rasterized G-buffer against primary rays traced independently
-// (tests/reference/camera_rays_ref.h) for a perspective and an orthographic camera, and full sm / pcss renders
+// (tools/selftest/reference/camera_rays_ref.h) for a perspective and an orthographic camera, and full sm / pcss renders
 // seen by an orthographic glTF camera against the Embree reference.
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "host/eval/metrics.h"
-#include "host/views/views.h"
 #include "host/scene/gltf_loader.h"
+#include "host/views/raster_scene.h"
+#include "host/views/views.h"
 #include "raster/rasterizer.h"
-#include "tests/reference/camera_rays_ref.h"
 #include "tests/support/cl_test.h"
 #include "tests/support/gltf_builder.h"
 #include "tests/support/render.h"
-#include "tools/reference/reference.h"
 #include "tests/support/temp_dir.h"
-#include "host/views/raster_scene.h"
+#include "tools/reference/reference.h"
+#include "tools/selftest/reference/camera_rays_ref.h"
 
 namespace penumbra {
 namespace camera_render_test {

@@ -413,4 +413,22 @@ expect point-light-gltf-camera-compare 0 'off' -- \
   "$bin" compare "$scratch/cam-bulb.exr" "$scratch/cam-bulb-ref.exr" --max-off 0.01
 expect point-light-bad-radius 2 "radius: -1 is negative" -- "$bin" render builtin:box --light point:0,4,0:-1 -o "$scratch/x.exr"
 
+# selftest (docs/portability.md): the lists, a run with its JSON report, bad arguments, and no device.
+expect selftest-list 0 'technique/izb_square_disk' -- "$bin" selftest --list
+expect selftest-list-full 0 'sat/Fp32_Hensley_50x40_c2_nonfinite' -- "$bin" selftest --full --list
+expect selftest-run 0 '4 of 4 checks passed' -- "$bin" selftest \
+  --filter 'sat/Fixed32_Lines,raster/cube_classify,moments/Msm_97x61' --json "$scratch/selftest/report.json"
+expect selftest-json 0 'ok' -- python3 -c "
+import json, sys
+r = json.load(open('$scratch/selftest/report.json'))
+assert r['passed'] == 4 and r['failed'] == 0 and len(r['checks']) == 4, r
+assert all(c['status'] == 'pass' and c['tolerance'] is not None for c in r['checks']), r['checks']
+d = r['device']
+assert d['name'] and d['driver_version'] and d['opencl_c_version'] and 'sat' in d['work_group_layouts'], d
+print('ok')"
+expect selftest-no-match 2 "no check matches 'nothing-like-this'" -- "$bin" selftest --filter nothing-like-this
+expect selftest-quick-and-full 2 'excludes' -- "$bin" selftest --quick --full
+expect selftest-json-directory 1 "$scratch" -- "$bin" selftest --filter raster/cube_classify --json "$scratch"
+expect selftest-no-device 69 "no OpenCL" -- env OCL_ICD_VENDORS="$empty_vendors" "$bin" selftest
+
 finish

@@ -1,8 +1,10 @@
 // The cube faces of point lights (kernels/shared/cube.h, kernels/cube.cl, host/views/cube.h): the face rule on the
-// host and on the device against its definition (tests/reference/cube_ref.h) for adversarial directions (axes,
+// host and on the device against its definition (tools/selftest/reference/cube_ref.h) for adversarial directions (axes,
 // diagonals and other exact ties, signed zeros, NaN, infinities, subnormals) and random ones; every direction lies in
 // its face's square; each face spot's light eye is the face's frame; the face G-buffer and the copy against
 // references.
+#include "host/views/cube.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,10 +14,9 @@
 #include <random>
 #include <vector>
 
-#include "host/views/cube.h"
 #include "host/views/light_fit.h"
-#include "tests/reference/cube_ref.h"
 #include "tests/support/cl_test.h"
+#include "tools/selftest/reference/cube_ref.h"
 
 namespace penumbra {
 namespace cube_test {
@@ -23,33 +24,8 @@ namespace cube_test {
 constexpr float kNan = std::numeric_limits<float>::quiet_NaN();
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-// Directions where the rule's order matters: exact ties between two or three axes, signed zeros, the zero vector,
-// neighbours of ties one ulp apart, infinities, NaN in each component, subnormal and huge magnitudes.
-std::vector<glm::vec3> adversarialDirections() {
-  std::vector<glm::vec3> d;
-  const float one = 1.0f, next = std::nextafter(1.0f, 2.0f), tiny = std::numeric_limits<float>::denorm_min();
-  const float values[] = {0.0f, -0.0f, one, -one, next, -next, 3.0f, tiny, -tiny, 1e38f, -1e38f, kInf, -kInf, kNan};
-  for (float x : values)
-    for (float y : values)
-      for (float z : values) d.push_back({x, y, z});
-  return d;
-}
-
-std::vector<glm::vec3> randomDirections(size_t count, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<float> normal(0.0f, 1.0f);
-  std::uniform_int_distribution<int> pick(0, 3);
-  std::vector<glm::vec3> d;
-  for (size_t i = 0; i < count; ++i) {
-    glm::vec3 v(normal(rng), normal(rng), normal(rng));
-    // Every few, two or three components of equal magnitude (a direction on a face edge or corner).
-    const int tie = pick(rng);
-    if (tie == 1) v.y = std::copysign(v.x, v.y);
-    if (tie == 2) v.z = std::copysign(v.y, v.z), v.x = std::copysign(v.y, v.x);
-    d.push_back(v * std::exp2(static_cast<float>(static_cast<int>(i % 41) - 20)));  // magnitudes 2^-20 .. 2^20
-  }
-  return d;
-}
+using ref::adversarialDirections;
+using ref::randomDirections;
 
 TEST(CubeFaceRule, MatchesItsDefinitionOnTheHost) {
   std::vector<glm::vec3> all = adversarialDirections();
@@ -117,15 +93,7 @@ TEST(CubeFaceRule, EachFaceSpotsLightEyeIsTheFacesFrame) {
 
 class CubeKernels : public test::ClTest {};
 
-// Positions light + d (w = 1) for `directions`, every 7th one background (w = 0).
-std::vector<cl_float4> positionsAround(const glm::vec3& light, const std::vector<glm::vec3>& directions) {
-  std::vector<cl_float4> p;
-  for (size_t i = 0; i < directions.size(); ++i) {
-    const glm::vec3 q = light + directions[i];
-    p.push_back({{q.x, q.y, q.z, i % 7 == 3 ? 0.0f : 1.0f}});
-  }
-  return p;
-}
+using ref::positionsAround;
 
 TEST_F(CubeKernels, ClassifyAgreesWithTheDefinitionOnTheDevice) {
   for (const glm::vec3 light : {glm::vec3(0.0f), glm::vec3(0.75f, -2.5f, 10.0f)}) {

@@ -22,8 +22,8 @@
 #include "host/scene/light.h"
 #include "host/techniques/technique.h"
 #include "host/version.h"
-#include "tests/support/analytic_scenes.h"
 #include "tests/support/cl_test.h"
+#include "tools/selftest/reference/analytic_scenes.h"
 
 namespace penumbra {
 namespace frame_image_test {

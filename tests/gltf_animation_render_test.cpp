@@ -1,19 +1,19 @@
 // An animated glTF node through the renderer: a small card flies over a ground square, and at two --time values
 // its hard shadow (sm and pcss under a sun straight down) falls where the card is at that time, matching the Embree
 // reference of the same pose.
+#include <gtest/gtest.h>
+
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "host/eval/metrics.h"
 #include "host/scene/gltf_loader.h"
-#include "tests/support/analytic_scenes.h"
 #include "tests/support/cl_test.h"
 #include "tests/support/gltf_builder.h"
 #include "tests/support/render.h"
 #include "tests/support/temp_dir.h"
 #include "tools/reference/reference.h"
+#include "tools/selftest/reference/analytic_scenes.h"
 
 namespace penumbra {
 namespace gltf_animation_render_test {

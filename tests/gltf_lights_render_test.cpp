@@ -2,16 +2,16 @@
 // like the same spot given on the command line; a generated file with a camera and a point light (a sphere light
 // by its extras) renders with the file's camera and light alone and matches the reference; the preview falls off
 // between a glTF spot's inner and outer cone as KHR_lights_punctual prescribes.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <stdexcept>
-#include <unistd.h>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include "host/eval/metrics.h"
 #include "host/pipeline/renderer.h"
@@ -20,12 +20,12 @@
 #include "host/techniques/registry.h"
 #include "host/techniques/technique.h"
 #include "scene_test_util.h"
-#include "tests/support/analytic_scenes.h"
 #include "tests/support/cl_test.h"
 #include "tests/support/gltf_builder.h"
 #include "tests/support/render.h"
 #include "tests/support/temp_dir.h"
 #include "tools/reference/reference.h"
+#include "tools/selftest/reference/analytic_scenes.h"
 
 namespace penumbra {
 namespace gltf_lights_render_test {

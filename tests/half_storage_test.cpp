@@ -18,9 +18,9 @@
 #include "host/stages/blur.h"
 #include "host/stages/moments.h"
 #include "host/stages/pyramid.h"
-#include "tests/reference/pyramid_ref.h"
 #include "tests/support/cl_test.h"
 #include "tests/support/random_images.h"
+#include "tools/selftest/reference/pyramid_ref.h"
 
 namespace penumbra {
 namespace half_storage_test {
@@ -44,14 +44,7 @@ std::vector<cl_half> rounded(const std::vector<float>& values) {
   return out;
 }
 
-// Light depths over [1.5, 9.5] (the range is [2, 9]) with background (+inf) and NaN texels.
-std::vector<float> depthWithHoles(uint32_t width, uint32_t height, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> dist(1.5f, 9.5f);
-  std::vector<float> depth(size_t(width) * height);
-  for (size_t i = 0; i < depth.size(); ++i) depth[i] = i % 11 == 3 ? INFINITY : i % 17 == 5 ? std::nanf("") : dist(rng);
-  return depth;
-}
+using ref::depthWithHoles;
 
 MomentsConfig halfConfig(MomentKind kind) {
   MomentsConfig config;

@@ -6,9 +6,9 @@
 
 #include "host/pipeline/renderer.h"
 #include "host/scene/procedural.h"
-#include "tests/support/analytic_scenes.h"
 #include "tests/support/cl_test.h"
 #include "tests/support/render.h"
+#include "tools/selftest/reference/analytic_scenes.h"
 
 namespace penumbra {
 namespace id_buffer_test {

@@ -19,11 +19,11 @@
 #include "host/views/raster_scene.h"
 #include "host/views/views.h"
 #include "raster/rasterizer.h"
-#include "tests/support/analytic_scenes.h"
 #include "tests/support/cl_test.h"
 #include "tests/support/render.h"
 #include "tools/reference/reference.h"
 #include "tools/reference/tracer.h"
+#include "tools/selftest/reference/analytic_scenes.h"
 
 namespace penumbra {
 namespace izb_test {

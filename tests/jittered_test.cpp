@@ -12,10 +12,10 @@
 #include "host/pipeline/renderer.h"
 #include "host/scene/procedural.h"
 #include "host/techniques/registry.h"
-#include "tests/support/analytic_scenes.h"
 #include "tests/support/cl_test.h"
 #include "tests/support/render.h"
 #include "tools/reference/reference.h"
+#include "tools/selftest/reference/analytic_scenes.h"
 
 namespace penumbra {
 namespace jittered_test {

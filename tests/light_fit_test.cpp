@@ -13,8 +13,8 @@
 #include "host/views/raster_scene.h"
 #include "host/views/views.h"
 #include "raster/rasterizer.h"
-#include "tests/support/analytic_scenes.h"
 #include "tests/support/cl_test.h"
+#include "tools/selftest/reference/analytic_scenes.h"
 
 namespace penumbra {
 namespace light_fit_test {

@@ -30,8 +30,8 @@
 #include "host/techniques/technique.h"
 #include "host/views/light_fit.h"
 #include "host/views/views.h"
-#include "tests/support/analytic_scenes.h"
 #include "tests/support/cl_test.h"
+#include "tools/selftest/reference/analytic_scenes.h"
 
 namespace penumbra {
 namespace map_size_test {

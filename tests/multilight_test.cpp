@@ -2,20 +2,20 @@
 // preview sums the lights' direct terms over one ambient term, the reference traces every light into the same
 // layers, each light may have its own technique, same-named lights get distinct layers, and a point light among them
 // (six cube faces) gets its layer like any other.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <stdexcept>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "host/eval/metrics.h"
 #include "host/pipeline/renderer.h"
 #include "host/scene/light_names.h"
 #include "host/techniques/registry.h"
 #include "scene_test_util.h"
-#include "tests/support/analytic_scenes.h"
 #include "tests/support/cl_test.h"
 #include "tools/reference/reference.h"
+#include "tools/selftest/reference/analytic_scenes.h"
 
 namespace penumbra {
 namespace multilight_test {

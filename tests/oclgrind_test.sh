@@ -5,7 +5,7 @@
 # NVIDIA's and the CPU ones in `layouts`), and the local-memory plans meet a small device (16 KiB as well).
 # Defects of Oclgrind 21.10 worked around: docs/portability.md.
 # Usage: oclgrind_test.sh SUITE PENUMBRA PENUMBRA_TESTS OCLGRIND_ICD_LIBRARY SCRATCH_DIR
-#   SUITE: techniques-1 | techniques-2 (every other technique each) | layouts | kernels
+#   SUITE: techniques-1 | techniques-2 (every other technique each) | layouts | kernels | selftest
 set -u
 suite=$1 bin=$2 tests=$3 icd=$4 scratch=$5
 rm -rf "$scratch" && mkdir -p "$scratch/vendors"
@@ -78,6 +78,12 @@ case "$suite" in
       render "local${kib}k-msm-box31" "$local_env" -- -t msm --blur-filter box --blur-radius 31
       render "local${kib}k-evsm4-box32" "$local_env" -- -t evsm4 --blur-filter box --blur-radius 32
     done
+    ;;
+  selftest)
+    # `penumbra selftest --quick` with every access checked: a case or two of every stage, the rasterizer and VSSM's
+    # kernel against the references (about 3 min; its techniques, minutes each here, are what techniques-1/-2 render).
+    check selftest "$bin" selftest --quick --filter moments/,blur/,sat/,pyramid/,reduce/,raster/,vssm/ \
+      --json "$scratch/selftest.json"
     ;;
   kernels)
     check kernels "$tests" --gtest_brief=1 "--gtest_filter=${PENUMBRA_OCLGRIND_FILTER:?}"

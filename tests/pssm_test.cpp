@@ -10,13 +10,13 @@
 #include <sstream>
 
 #include "host/pipeline/renderer.h"
-#include "host/views/splits.h"
 #include "host/scene/procedural.h"
 #include "host/techniques/technique.h"
-#include "tests/support/analytic_scenes.h"
+#include "host/views/splits.h"
 #include "tests/support/cl_test.h"
 #include "tests/support/render.h"
 #include "tools/reference/reference.h"
+#include "tools/selftest/reference/analytic_scenes.h"
 
 namespace penumbra {
 namespace pssm_test {
@@ -100,13 +100,12 @@ TEST_P(PssmTechniques, HardEdgeOfASquareOccluderLandsOnTheRightPixels) {
   // Spot light at y = 4: the occluder's edge |x| = 1 at y = 2 falls on |x| = 2 on the ground (as Techniques).
   // psvsm at its default bilinear lookups (--moment-filtering trilinear widens the edge by the pixel's footprint, up
   // to 8 texels on the far ground).
-  const bool moments = GetParam().technique == "psvsm";
   const std::map<std::string, std::string> values = with({{"map-size", "1024"}});
   const RenderResult result =
       renderWith(ctx(), test::squareOverPlane(), test::topDown(), test::pointAbove(), GetParam().technique, values);
-  // Band: pcf's 0.08 plus psvsm's blur (Gaussian 3 sigma of split 0 + a bilinear texel); tolerance as Techniques.
-  const float band = moments ? 0.12f : 0.08f, tolerance = moments ? 1e-3f : 1e-6f;
-  const test::HardEdgeCount count = test::checkHardEdge(result.image, band, tolerance);
+  // pssm's margin is pcf's; psvsm's the moment techniques' (its blur of split 0 + a bilinear texel).
+  const test::HardEdgeMargin margin = test::hardEdgeMargin(GetParam().technique);
+  const test::HardEdgeCount count = test::checkHardEdge(result.image, margin.band, margin.tolerance);
   EXPECT_GT(count.shadowed, 2000);
   EXPECT_GT(count.lit, 5000);
   EXPECT_EQ(count.wrong, 0);

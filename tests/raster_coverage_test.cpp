@@ -4,11 +4,11 @@
 // need the guard band, all compared exactly with the reference.
 #include <gtest/gtest.h>
 
+#include "host/views/raster_scene.h"
 #include "raster/rasterizer.h"
 #include "tests/raster_support.h"
-#include "tests/reference/raster_ref.h"
 #include "tests/support/cl_test.h"
-#include "host/views/raster_scene.h"
+#include "tools/selftest/reference/raster_ref.h"
 
 namespace penumbra::test {
 namespace raster_coverage_test {

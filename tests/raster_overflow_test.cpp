@@ -1,17 +1,17 @@
 // Bounded memory and hostile input: tiny queue capacities force the grow-and-retry path (results identical to a
 // run that never overflowed), the hard maximum gives a clean error, and degenerate, NaN and infinite vertices,
 // everything in one tile and many tiny triangles neither crash nor write out of bounds.
-#include <string>
-
 #include <gtest/gtest.h>
+
+#include <string>
 
 #include "host/cl/error.h"
 #include "host/cl/profiler.h"
+#include "host/views/raster_scene.h"
 #include "raster/rasterizer.h"
 #include "tests/raster_support.h"
-#include "tests/reference/raster_ref.h"
 #include "tests/support/cl_test.h"
-#include "host/views/raster_scene.h"
+#include "tools/selftest/reference/raster_ref.h"
 
 namespace penumbra::test {
 namespace raster_overflow_test {

@@ -3,11 +3,11 @@
 // own -z_eye at every pixel, and the refusals (other depth modes, the G-buffer, singular matrices).
 #include <gtest/gtest.h>
 
+#include "host/views/raster_scene.h"
 #include "raster/rasterizer.h"
 #include "tests/raster_support.h"
-#include "tests/reference/raster_ref.h"
 #include "tests/support/cl_test.h"
-#include "host/views/raster_scene.h"
+#include "tools/selftest/reference/raster_ref.h"
 
 namespace penumbra::test {
 namespace raster_projective_test {

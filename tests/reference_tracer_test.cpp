@@ -12,11 +12,11 @@
 #include "host/pipeline/renderer.h"
 #include "host/scene/procedural.h"
 #include "host/techniques/technique.h"
-#include "tests/support/analytic_scenes.h"
 #include "tests/support/cl_test.h"
 #include "tests/support/render.h"
 #include "tools/reference/light_samples.h"
 #include "tools/reference/reference.h"
+#include "tools/selftest/reference/analytic_scenes.h"
 
 namespace penumbra::reference {
 namespace reference_tracer_test {

@@ -126,8 +126,8 @@ TEST(RuntimeSources, ResolvesIncludesFromTheEmbeddedTable) {
   EXPECT_THROW(resolveKernelSource("kernels/does_not_exist.cl"), std::runtime_error);
 }
 
-// The probe kernels (tests/kernels/) are a table the tests add to their contexts: the library ships none of them, they
-// resolve the library's includes, and no name may be embedded twice.
+// The probe kernels (tools/selftest/kernels/) are a table the tests add to their contexts: the library ships none of
+// them, they resolve the library's includes, and no name may be embedded twice.
 TEST(RuntimeSources, ProbeKernelsAreATableOfTheTestsNotOfTheLibrary) {
   for (const EmbeddedSource& source : embeddedSources()) {
     EXPECT_FALSE(source.name.starts_with("tests/")) << source.name;
@@ -135,8 +135,8 @@ TEST(RuntimeSources, ProbeKernelsAreATableOfTheTestsNotOfTheLibrary) {
                               "shadow_depth_slope_test"})
       EXPECT_EQ(source.text.find(probe), std::string_view::npos) << source.name << " holds the probe " << probe;
   }
-  EXPECT_THROW(resolveKernelSource("tests/kernels/vssm_probe.cl"), std::runtime_error);  // not the library's
-  const std::string probe = resolveKernelSource("tests/kernels/vssm_probe.cl", {probeKernelSources()});
+  EXPECT_THROW(resolveKernelSource("tools/selftest/kernels/vssm_probe.cl"), std::runtime_error);  // not the library's
+  const std::string probe = resolveKernelSource("tools/selftest/kernels/vssm_probe.cl", {probeKernelSources()});
   EXPECT_NE(probe.find("vssm_visibility_receivers"), std::string::npos);
   EXPECT_NE(probe.find("vssm_pixel"), std::string::npos);  // kernels/vssm.cl, from the library's table
   const EmbeddedSource twice[] = {{"kernels/fill.cl", "__kernel void shadowing() {}"}};
@@ -177,9 +177,9 @@ TEST(RuntimeSources, KernelDirMissingFileNamesTheFolderAndTheFile) {
 class Runtime : public ClTest {};
 
 TEST_F(Runtime, ProbeKernelsBuildOnlyInContextsTheyWereAddedTo) {
-  Kernel(ctx(), "tests/kernels/runtime_probe.cl", "fill_local_test", "test");  // the fixture added them
+  Kernel(ctx(), "tools/selftest/kernels/runtime_probe.cl", "fill_local_test", "test");  // the fixture added them
   Context bare;
-  EXPECT_THROW(Kernel(bare, "tests/kernels/runtime_probe.cl", "fill_local_test", "test"), std::runtime_error);
+  EXPECT_THROW(Kernel(bare, "tools/selftest/kernels/runtime_probe.cl", "fill_local_test", "test"), std::runtime_error);
   EXPECT_THROW(ctx().addSources(probeKernelSources()), std::logic_error);  // once per context
 }
 
@@ -297,7 +297,7 @@ TEST_F(Runtime, LaunchChecksWorkGroupAndLocalMemoryLimits) {
     EXPECT_EQ(e.kernel(), "fill_float");
     EXPECT_EQ(e.stage(), "test");
   }
-  Kernel local(ctx(), "tests/kernels/runtime_probe.cl", "fill_local_test", "test");
+  Kernel local(ctx(), "tools/selftest/kernels/runtime_probe.cl", "fill_local_test", "test");
   local.args(out, 16u, LocalMem{static_cast<size_t>(ctx().info().localMemBytes) + 4});
   try {
     local.launch(16, 16);

@@ -34,7 +34,7 @@ class ShadowSlope : public test::ClTest {
     Buffer<LightViewGpu> gpu(ctx(), std::span<const LightViewGpu>(&lv.gpu, 1), CL_MEM_READ_ONLY);
     Buffer<float> out(ctx(), points.size());
     out.fill(ctx(), test::kPoison);
-    Kernel kernel(ctx(), "tests/kernels/shadow_probe.cl", "shadow_depth_slope_test", "test");
+    Kernel kernel(ctx(), "tools/selftest/kernels/shadow_probe.cl", "shadow_depth_slope_test", "test");
     kernel.args(pb, nb, static_cast<uint32_t>(points.size()), gpu, out).launch(points.size(), 64);
     return out.download(ctx());
   }

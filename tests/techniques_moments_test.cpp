@@ -17,13 +17,13 @@
 #include <glm/glm.hpp>
 
 #include "host/pipeline/renderer.h"
-#include "host/views/views.h"
 #include "host/scene/procedural.h"
 #include "host/scene/procedural_mesh.h"
 #include "host/techniques/technique.h"
-#include "tests/reference/box_pcf_ref.h"
+#include "host/views/views.h"
 #include "tests/support/cl_test.h"
 #include "tests/support/render.h"
+#include "tools/selftest/reference/box_pcf_ref.h"
 
 namespace penumbra {
 namespace techniques_moments_test {

@@ -8,9 +8,9 @@
 #include <cstdio>
 
 #include "host/scene/procedural.h"
-#include "tests/support/analytic_scenes.h"
 #include "tests/support/cl_test.h"
 #include "tests/support/render.h"
+#include "tools/selftest/reference/analytic_scenes.h"
 
 namespace penumbra {
 namespace techniques_pcf_test {

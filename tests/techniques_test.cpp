@@ -8,9 +8,9 @@
 #include "host/pipeline/renderer.h"
 #include "host/scene/procedural.h"
 #include "host/techniques/technique.h"
-#include "tests/support/analytic_scenes.h"
 #include "tests/support/cl_test.h"
 #include "tests/support/render.h"
+#include "tools/selftest/reference/analytic_scenes.h"
 
 namespace penumbra {
 namespace techniques_test {
@@ -20,29 +20,14 @@ using test::pointAbove;
 using test::squareOverPlane;
 using test::topDown;
 
-// Away from the shadow's edge by `band` world units, visibility must be within `tolerance` of 0 or 1.
-struct EdgeExpectation {
-  float band, tolerance;
-};
-EdgeExpectation edgeExpectation(const std::string& technique) {
-  // ~6 texels of 0.014 on the ground at map size 1024: covers the PCF/PCSS filter widths and the bias.
-  if (technique == "sm" || technique == "pcf" || technique == "pcss" || technique == "fvsm") return {0.08f, 1e-6f};
-  // izb is exact: only a pixel centre within rounding of the edge itself may land on either side.
-  if (technique == "izb") return {1e-3f, 0.0f};
-  // Moment techniques blur their moments (Gaussian taps reach 5 texels, plus the bilinear texel): 9 texels;
-  // their umbra is only nearly 0 (Chebyshev with the minimum variance: ~1e-6; MSM's moment bias) and their
-  // lit side nearly 1 where the Gaussian's far tail still sees the occluder.
-  return {0.12f, 1e-3f};
-}
-
 class Techniques : public ClTest, public ::testing::WithParamInterface<std::string> {};
 
 TEST_P(Techniques, HardEdgeOfASquareOccluderLandsOnTheRightPixels) {
   // The light at y = 4 projects the occluder's edge |x| = 1 at y = 2 to |x| = 2 on the ground.
   RenderResult result =
       renderWith(ctx(), squareOverPlane(), topDown(), pointAbove(), GetParam(), {{"map-size", "1024"}});
-  const EdgeExpectation expect = edgeExpectation(GetParam());
-  const test::HardEdgeCount count = test::checkHardEdge(result.image, expect.band, expect.tolerance);
+  const test::HardEdgeMargin margin = test::hardEdgeMargin(GetParam());
+  const test::HardEdgeCount count = test::checkHardEdge(result.image, margin.band, margin.tolerance);
   EXPECT_GT(count.shadowed, 2000);
   EXPECT_GT(count.lit, 5000);
   EXPECT_EQ(count.wrong, 0) << GetParam() << ": pixels away from the shadow edge with the wrong visibility";

@@ -20,9 +20,9 @@
 #include "host/scene/procedural.h"
 #include "host/techniques/technique.h"
 #include "kernels/shared/vssm.h"
-#include "tests/support/analytic_scenes.h"
 #include "tests/support/cl_test.h"
 #include "tests/support/render.h"
+#include "tools/selftest/reference/analytic_scenes.h"
 
 namespace penumbra {
 namespace vssm_technique_test {
@@ -241,8 +241,8 @@ TEST_F(VssmTechnique, HardEdgeUnderAPointLightLandsOnTheRightPixels) {
   // A point light at y = 4 projects the occluder's edge |x| = 1 at y = 2 to |x| = 2 on the ground.
   const RenderResult r = renderWith(ctx(), squareOverPlane(), camera({0, 7, 5}, {0, 0, 0}, 160, 120),
                                     parseLight("spot:0,4,0:0,0,0:120"), "vssm", {{"map-size", "1024"}});
-  constexpr float kEdgeBand = 0.08f;  // world units on the ground: ~6 texels, covers the 0.5-texel kernels and bias
-  const test::HardEdgeCount count = test::checkHardEdge(r.image, kEdgeBand, 1e-6f);
+  const test::HardEdgeMargin margin = test::hardEdgeMargin("vssm");
+  const test::HardEdgeCount count = test::checkHardEdge(r.image, margin.band, margin.tolerance);
   EXPECT_GT(count.shadowed, 2000);
   EXPECT_GT(count.lit, 5000);
   EXPECT_EQ(count.wrong, 0) << "pixels away from the shadow edge with the wrong visibility";

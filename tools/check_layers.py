@@ -9,7 +9,8 @@ import sys
 # Lowest first. The rasterizer sits on the runtime alone (it takes plain arrays, raster/geometry.h), beside the scene
 # and the I/O it may not include; the filtering stages on the runtime and the scene; the views on the rasterizer
 # and the scene (host/views/raster_scene.h is where they meet); techniques compose views and stages; the Renderer
-# and the metrics use techniques; the public API, the Python module and the tools sit on top.
+# and the metrics use techniques; the public API, the Python module and the tools sit on top, the selftest's checks and
+# references (tools/selftest/) below the other tools, which may use them (sat_precision, the benchmarks).
 RANKS = {
     'kernels': 0,
     'host/cl': 1, 'host': 1,
@@ -19,6 +20,7 @@ RANKS = {
     'host/techniques': 5,
     'host/pipeline': 6, 'host/eval': 6,
     'include/penumbra': 7,
+    'tools/selftest': 7.5,
     'api': 8, 'python': 8, 'tools/reference': 8, 'tools/bench': 8, 'tools/eval': 8, 'tools/cli': 9,
 }
 SOURCES = ('.h', '.hpp', '.cpp', '.c', '.cl', '.h.in')

@@ -58,7 +58,8 @@ class Context {
   // Throws BuildError with the build log on failure.
   const cl::Program& program(const std::string& sourceName, const std::string& options = {});
   // Sources this context's programs may also be built from, searched after the library's table: the tests' and
-  // benchmarks' probe kernels (tests/kernels/). Throws std::logic_error for a name already known.
+  // benchmarks' probe kernels (tools/selftest/kernels/, the selftest's too). Throws std::logic_error for a name already
+  // known.
   void addSources(std::span<const EmbeddedSource> table);
 
   // Options every program gets: -cl-std=CL1.2, feature macros

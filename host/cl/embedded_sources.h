@@ -19,7 +19,7 @@ struct EmbeddedSource {
 std::span<const EmbeddedSource> embeddedSources();
 
 // More tables a Context builds from after the library's (Context::addSources): the probe kernels the tests and
-// benchmarks compile beside the library's (tests/kernels/), which the library does not ship.
+// benchmarks compile beside the library's (tools/selftest/kernels/), which the library does not ship.
 using SourceTables = std::vector<std::span<const EmbeddedSource>>;
 
 // Throws std::logic_error when a name of `table` is already in the library's table or in `tables`.

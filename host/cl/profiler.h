@@ -25,6 +25,8 @@ class Profiler {
   std::vector<PassTime> resolve() const;
   double totalMs() const;
   void clear() { events_.clear(); }
+  // Appends `other`'s events (an inner ProfilerScope's).
+  void absorb(const Profiler& other) { events_.insert(events_.end(), other.events_.begin(), other.events_.end()); }
   bool empty() const { return events_.empty(); }
 
  private:
@@ -36,17 +38,26 @@ class Profiler {
   std::vector<Entry> events_;
 };
 
-// Attaches a profiler to a context for the lifetime of the scope (also when an exception leaves it).
+// Attaches a profiler to a context for the lifetime of the scope (also when an exception leaves it). Scopes nest: the
+// profiler attached before is attached again at the end and also receives the inner scope's events, so a caller timing
+// a whole step (`penumbra selftest` around a Renderer, which times its own frame) sees every launch of it.
 template <class Ctx>
 class ProfilerScope {
  public:
-  ProfilerScope(Ctx& ctx, Profiler& profiler) : ctx_(ctx) { ctx_.setProfiler(&profiler); }
-  ~ProfilerScope() { ctx_.setProfiler(nullptr); }
+  ProfilerScope(Ctx& ctx, Profiler& profiler) : ctx_(ctx), profiler_(profiler), previous_(ctx.profiler()) {
+    ctx_.setProfiler(&profiler);
+  }
+  ~ProfilerScope() {
+    ctx_.setProfiler(previous_);
+    if (previous_ != nullptr) previous_->absorb(profiler_);
+  }
   ProfilerScope(const ProfilerScope&) = delete;
   ProfilerScope& operator=(const ProfilerScope&) = delete;
 
  private:
   Ctx& ctx_;
+  Profiler& profiler_;
+  Profiler* previous_;
 };
 
 }  // namespace penumbra

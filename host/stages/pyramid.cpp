@@ -36,6 +36,19 @@ const PyramidTuning kGpuTuning{{16, 8, 4}, 48 * 1024, 32, 32, 1};
 const PyramidTuning kCpuTuning{{64, 32, 16, 8}, 256 * 1024, 1, 1, 4};
 const PyramidTuning& tuning(const DeviceInfo& info) { return info.cpuLayouts() ? kCpuTuning : kGpuTuning; }
 
+}  // namespace
+
+std::string describePyramidTuning(const DeviceInfo& device) {
+  const PyramidTuning& t = tuning(device);
+  std::string tiles;
+  for (uint32_t edge : t.tiles) tiles += fmt::format("{}{}", tiles.empty() ? "" : "/", edge);
+  return fmt::format("{} (tiles {}, {} KiB per group, {}x{} work-items, {} groups per compute unit)",
+                     device.cpuLayouts() ? "cpu" : "gpu", tiles, t.localBytes / 1024, t.groupX, t.groupY,
+                     t.groupsPerUnit);
+}
+
+namespace {
+
 uint64_t texels(const PyramidLevel& l) { return uint64_t{l.width} * l.height; }
 
 // Halo of every level of a pass along one axis (PyramidBatch::haloX): level j + 1 of a tile reads level j

@@ -23,6 +23,7 @@
 
 #include <CL/opencl.hpp>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "host/cl/buffer.h"
@@ -61,6 +62,10 @@ struct PyramidPass {
   uint32_t groupsX = 0, groupsY = 0;
   uint64_t evenBytes = 0, oddBytes = 0;  // the two local buffers (level parity within the pass)
 };
+
+// The batched schedule's row for `device` in words (tile edges, local memory per group, work-items per group, groups
+// per compute unit): what `penumbra selftest` reports of the per-device table.
+std::string describePyramidTuning(const DeviceInfo& device);
 
 // The passes for a width x height base and texels of `texelBytes` bytes, under `localBytes` of local memory
 // per work-group, over the tile edges `tiles` (largest first), preferring the largest tile that still

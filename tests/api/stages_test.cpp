@@ -1,6 +1,6 @@
 // The C API's filtering stages on the caller's own buffers, context and queue: results against the double-precision
-// references of tests/reference/ (the same tolerances as the stage tests, with their reasons), events in and out, and
-// the caller's reference counts where they began once the caller has finished its queue.
+// references of tools/selftest/reference/ (the same tolerances as the stage tests, with their reasons), events in and
+// out, and the caller's reference counts where they began once the caller has finished its queue.
 #include <Imath/half.h>
 #include <penumbra/penumbra.h>
 
@@ -10,13 +10,13 @@
 #include <vector>
 
 #include "tests/api/caller_cl.h"
-#include "tests/reference/blur_ref.h"
-#include "tests/reference/moments_ref.h"
-#include "tests/reference/pyramid_ref.h"
-#include "tests/reference/reduce_ref.h"
-#include "tests/reference/sat_ref.h"
 #include "tests/support/compare.h"
 #include "tests/support/random_images.h"
+#include "tools/selftest/reference/blur_ref.h"
+#include "tools/selftest/reference/moments_ref.h"
+#include "tools/selftest/reference/pyramid_ref.h"
+#include "tools/selftest/reference/reduce_ref.h"
+#include "tools/selftest/reference/sat_ref.h"
 
 namespace penumbra::test {
 namespace stages_test {

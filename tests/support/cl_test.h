@@ -2,14 +2,15 @@
 // static initialiser), on the device named by PENUMBRA_DEVICE (ctest sets "cpu", i.e. PoCL).
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <memory>
 
-#include <gtest/gtest.h>
-
 #include "host/cl/context.h"
-#include "tests/kernels/probes.h"
+#include "tools/selftest/kernels/probes.h"
+#include "tools/selftest/reference/inputs.h"
 
 namespace penumbra::test {
 
@@ -41,8 +42,7 @@ inline std::unique_ptr<Context> smallGpuContext(const Context& like, uint64_t lo
   return ctx;
 }
 
-// A value no kernel writes by accident: outputs are filled with it before a launch, so an unwritten
-// element shows up as a mismatch instead of a stale correct value.
-inline constexpr float kPoison = -1234567.0f;
+// Outputs are filled with it before a launch (tools/selftest/reference/inputs.h).
+using ref::kPoison;
 
 }  // namespace penumbra::test

@@ -1,6 +1,6 @@
 // Regenerates the table of docs/sat-precision.md: for each SAT storage mode (host/stages/sat.h), image size and
 // box width, the largest error of box means read through sat_box_mean against a double-precision table
-// (tests/reference/sat_ref.h). Prints the markdown table on stdout; 4096^2 takes about a minute on PoCL.
+// (tools/selftest/reference/sat_ref.h). Prints the markdown table on stdout; 4096^2 takes about a minute on PoCL.
 // Usage: sat_precision [--device SPEC] (default: PENUMBRA_DEVICE, else auto).
 #include <fmt/format.h>
 
@@ -13,12 +13,12 @@
 #include <string>
 #include <vector>
 
-#include "tests/kernels/probes.h"
 #include "host/cl/buffer.h"
 #include "host/cl/context.h"
 #include "host/cl/kernel.h"
 #include "host/stages/sat.h"
-#include "tests/reference/sat_ref.h"
+#include "tools/selftest/kernels/probes.h"
+#include "tools/selftest/reference/sat_ref.h"
 
 namespace penumbra {
 namespace {
@@ -50,7 +50,7 @@ double worstBoxMeanError(Context& ctx, const std::vector<float>& image, const Im
   Buffer<cl_float4> boxBuffer(ctx, boxes.size());
   boxBuffer.upload(ctx, std::span<const cl_float4>(reinterpret_cast<const cl_float4*>(boxes.data()), boxes.size()));
   Buffer<float> sums(ctx, boxes.size() * 2), means(ctx, boxes.size() * 2);
-  Kernel(ctx, "tests/kernels/sat_probe.cl", "sat_test_box", "sat", satBuildOptions(desc))
+  Kernel(ctx, "tools/selftest/kernels/sat_probe.cl", "sat_test_box", "sat", satBuildOptions(desc))
       .args(table, desc, offset, boxBuffer, uint32_t(boxes.size()), sums, means)
       .launch(boxes.size(), 64);
   const std::vector<float> got = means.download(ctx);

@@ -36,6 +36,7 @@ Command addCompareCommand(CLI::App& app);
 Command addBenchCommand(CLI::App& app);
 Command addPlanCommand(CLI::App& app);
 Command addRunCommand(CLI::App& app);
+Command addSelftestCommand(CLI::App& app);
 Command addStatusCommand(CLI::App& app);
 
 }  // namespace penumbra::cli

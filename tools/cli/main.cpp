@@ -29,8 +29,9 @@ std::string unknownSubcommand(int argc, char** argv, const std::vector<penumbra:
 // The registry: one line per command.
 std::vector<penumbra::cli::Command> registerCommands(CLI::App& app) {
   using namespace penumbra::cli;
-  return {addDevicesCommand(app), addRenderCommand(app), addReferenceCommand(app), addCompareCommand(app),
-          addBenchCommand(app),   addPlanCommand(app),   addRunCommand(app),       addStatusCommand(app)};
+  return {addDevicesCommand(app), addRenderCommand(app), addReferenceCommand(app),
+          addCompareCommand(app), addBenchCommand(app),  addPlanCommand(app),
+          addRunCommand(app),     addStatusCommand(app), addSelftestCommand(app)};
 }
 
 }  // namespace
