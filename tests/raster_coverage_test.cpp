@@ -25,84 +25,23 @@ class RasterCoverageTest : public ClTest {
   RasterStats lastStats;
 };
 
-// World = window pixels: for power-of-two sizes x_win = x exactly for dyadic x, so snapping is exact and tests can
-// place vertices on pixel centres (i + 0.5) and edges through them.
-RasterView pixelView(int w, int h) {
-  RasterView v;
-  v.projection = glm::ortho(0.0f, float(w), 0.0f, float(h), -1.0f, 1.0f);
-  v.width = w, v.height = h;
-  return v;
-}
-
-// Pixel centres inside a convex counter-clockwise polygon of exactly representable window positions, with the same
-// top-left rule: the set a watertight fan or mesh over that polygon must cover exactly once.
-size_t samplesInside(const std::vector<glm::dvec2>& polygon, int w, int h) {
-  size_t count = 0;
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      bool inside = true;
-      for (size_t k = 0; k < polygon.size() && inside; ++k) {
-        const glm::dvec2 a = polygon[k] * 256.0, b = polygon[(k + 1) % polygon.size()] * 256.0;
-        const double e = (b.x - a.x) * (y * 256.0 + 128 - a.y) - (b.y - a.y) * (x * 256.0 + 128 - a.x);
-        const bool owned = b.y < a.y || (b.y == a.y && b.x < a.x);
-        inside = e > 0 || (e == 0 && owned);
-      }
-      count += inside;
-    }
-  return count;
-}
-
-size_t coveredPixels(const RasterOutput& out) {
-  size_t n = 0;
-  for (uint32_t id : out.ids) n += id != kNoTriangle;
-  return n;
-}
-
+// The watertightness helpers (pixelView, samplesInside, coveredPixels, worstCoverage, halvesPartition, fanScene) are
+// tools/selftest/reference/raster_compare.h's, which `penumbra selftest` runs too.
 void expectSingleCoverage(const RefRasterizer& ref) {
-  int worst = 0;
-  for (int c : ref.result().coverage) worst = std::max(worst, c);
-  EXPECT_LE(worst, 1) << "a pixel centre is covered by two triangles of a mesh";
+  EXPECT_LE(worstCoverage(ref), 1) << "a pixel centre is covered by two triangles of a mesh";
 }
 
 // Draws the even and the odd triangles separately: the two coverages must be disjoint and add up to the whole.
 void expectHalvesPartition(Context& ctx, const Scene& scene, const RasterView& view, const RasterOutput& whole) {
-  Scene halves[2] = {scene, scene};
-  for (int h = 0; h < 2; ++h) {
-    halves[h].triangles.clear();
-    halves[h].objectIds.clear();
-    for (size_t t = h; t < scene.triangles.size(); t += 2) halves[h].triangles.push_back(scene.triangles[t]);
-    halves[h].objectIds.assign(halves[h].triangles.size(), 0);
-  }
-  Rasterizer raster(ctx);
-  uploadScene(raster, halves[0]);
-  const RasterOutput even = drawPoisoned(ctx, raster, view);
-  uploadScene(raster, halves[1]);
-  const RasterOutput odd = drawPoisoned(ctx, raster, view);
-  size_t both = 0, differ = 0;
-  for (size_t i = 0; i < whole.ids.size(); ++i) {
-    const bool a = even.ids[i] != kNoTriangle, b = odd.ids[i] != kNoTriangle;
-    both += a && b;
-    differ += (a || b) != (whole.ids[i] != kNoTriangle);
-  }
-  EXPECT_EQ(both, 0u) << "pixels covered by both halves";
-  EXPECT_EQ(differ, 0u) << "pixels where the halves' union differs from the whole";
+  const HalvesPartition p = halvesPartition(ctx, scene, view, whole);
+  EXPECT_EQ(p.both, 0u) << "pixels covered by both halves";
+  EXPECT_EQ(p.differ, 0u) << "pixels where the halves' union differs from the whole";
 }
 
 TEST_F(RasterCoverageTest, FanAroundPixelCentreCoversItsPolygonOnce) {
   // 48 spokes from a pixel centre; rim points on the 1/256 grid, several exactly on pixel centres.
-  const glm::vec2 c(31.5f, 30.5f);
-  std::vector<glm::vec3> p{{c, 0}};
   std::vector<glm::dvec2> rim;
-  const int spokes = 48;
-  for (int k = 0; k < spokes; ++k) {
-    const float a = 2 * glm::pi<float>() * k / spokes;
-    const glm::vec2 q = glm::round((c + 24.0f * glm::vec2(std::cos(a), std::sin(a))) * 256.0f) / 256.0f;
-    p.emplace_back(q, 0);
-    rim.emplace_back(q);
-  }
-  std::vector<glm::uvec3> t;
-  for (int k = 0; k < spokes; ++k) t.emplace_back(0, 1 + k, 1 + (k + 1) % spokes);
-  const Scene scene = makeScene(p, t);
+  const Scene scene = fanScene({31.5f, 30.5f}, 24.0f, 48, rim);
   const RasterView view = pixelView(64, 64);
   const RasterOutput out = draw(scene, view);
   const RefRasterizer ref(scene, view);
@@ -114,19 +53,8 @@ TEST_F(RasterCoverageTest, FanAroundPixelCentreCoversItsPolygonOnce) {
 
 TEST_F(RasterCoverageTest, SliverPinwheelHasNoCracks) {
   // 720 wedges a fraction of a pixel wide at the centre: slivers sharing every edge.
-  const glm::vec2 c(40.0f + 37 / 256.0f, 33.0f + 91 / 256.0f);
-  std::vector<glm::vec3> p{{c, 0}};
   std::vector<glm::dvec2> rim;
-  const int spokes = 720;
-  for (int k = 0; k < spokes; ++k) {
-    const float a = 2 * glm::pi<float>() * k / spokes;
-    const glm::vec2 q = glm::round((c + 30.0f * glm::vec2(std::cos(a), std::sin(a))) * 256.0f) / 256.0f;
-    p.emplace_back(q, 0);
-    rim.emplace_back(q);
-  }
-  std::vector<glm::uvec3> t;
-  for (int k = 0; k < spokes; ++k) t.emplace_back(0, 1 + k, 1 + (k + 1) % spokes);
-  const Scene scene = makeScene(p, t);
+  const Scene scene = pinwheelScene(rim);
   const RasterView view = pixelView(128, 64);
   const RasterOutput out = draw(scene, view);
   const RefRasterizer ref(scene, view);
@@ -180,12 +108,9 @@ TEST_F(RasterCoverageTest, RandomSliversMatchReference) {
 TEST_F(RasterCoverageTest, GroundPlaneThroughNearPlaneHasNoCracks) {
   // A floor that extends behind the camera: many triangles cross the near plane and are cut into two; the floor
   // covers everything below the horizon, with no crack along the cuts.
-  const Scene scene = gridScene(24, 24, {-60, -60}, {60, 60}, 0.0f, 0.0f, 1);
-  Scene floor = scene;
-  for (glm::vec3& q : floor.positions) q = glm::vec3(q.x, 0.0f, -q.y);  // counter-clockwise seen from above
+  const Scene floor = nearPlaneFloor();
   for (bool cull : {false, true}) {
-    RasterView view = perspectiveView(101, 67, {0.3f, 1.0f, 0.2f}, {0.5f, 0.6f, -5.0f}, 70.0f, 0.25f, 100.0f);
-    view.cullBackFaces = cull;
+    const RasterView view = nearPlaneFloorView(cull);
     const RasterOutput out = draw(floor, view);
     const RefRasterizer ref(floor, view);
     expectSingleCoverage(ref);

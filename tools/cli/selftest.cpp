@@ -46,11 +46,11 @@ int runSelftest(const SelftestOptions& o) {
              checks.size(), ctx.info().name, ctx.info().platformName, ctx.info().driverVersion);
   const auto start = std::chrono::steady_clock::now();
   std::vector<selftest::Row> rows;
-  size_t passed = 0, skipped = 0;
+  size_t passed = 0, skipped = 0, errors = 0;
   for (const selftest::Check& check : checks) {
     rows.push_back(selftest::run(ctx, check));
     const selftest::Row& r = rows.back();
-    passed += r.status == "pass", skipped += r.status == "skipped";
+    passed += r.status == "pass", skipped += r.status == "skipped", errors += r.status == "error";
     fmt::print("[{:>4}/{}] {:<9} {:<40} {:<7} {:<30} {:>9.3f} ms\n", rows.size(), checks.size(), r.stage, r.name,
                r.status, errorText(r), r.deviceMs);
     if (r.status != "pass" && !r.message.empty()) fmt::print("           {}\n", r.message);
@@ -58,8 +58,8 @@ int runSelftest(const SelftestOptions& o) {
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const size_t failed = rows.size() - passed - skipped;
-  fmt::print("selftest: {} of {} checks passed, {} skipped, {} failed on {} ({:.1f} s)\n", passed, rows.size(), skipped,
-             failed, ctx.info().name, seconds);
+  fmt::print("selftest: {} of {} checks passed, {} skipped, {} failed{} on {} ({:.1f} s)\n", passed, rows.size(),
+             skipped, failed, errors != 0 ? fmt::format(" ({} of them errors)", errors) : "", ctx.info().name, seconds);
   if (!o.json.empty()) {
     nlohmann::json list = nlohmann::json::array();
     for (const selftest::Row& r : rows) list.push_back(selftest::toJson(r));
@@ -67,7 +67,7 @@ int runSelftest(const SelftestOptions& o) {
                                    {"filter", o.filter},    {"device", selftest::deviceReport(ctx)},
                                    {"seconds", seconds},    {"passed", passed},
                                    {"skipped", skipped},    {"failed", failed},
-                                   {"checks", list}};
+                                   {"errors", errors},      {"checks", list}};
     const std::filesystem::path path = o.json;
     if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
     writeFileAtomically(path, report.dump(2) + "\n");  // throws naming the file (a full disk, a refused path)

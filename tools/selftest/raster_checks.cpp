@@ -1,10 +1,12 @@
 // The rasterizer's checks against the naive reference rasterizer (tools/selftest/reference/raster_ref.h): random
-// soups in every depth mode, perspective and orthographic, on viewports that are not multiples of a tile; alpha-tested
-// soups; the camera G-buffer against the analytic ray hits; a point light's six cube faces (90-degree views in
-// distance depth) and the device's cube-face rule.
+// soups in every depth mode, perspective and orthographic, on viewports that are not multiples of a tile; soups through
+// general projective (LiSPSM-like) matrices; watertight meshes (slivers, near-plane cuts); alpha-tested soups; the
+// camera G-buffer against the analytic ray hits; a point light's six cube faces (90-degree views in distance depth) and
+// the device's cube-face rule.
 #include <fmt/format.h>
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <optional>
 #include <vector>
 
 #include "host/cl/buffer.h"
@@ -19,6 +21,7 @@ namespace penumbra::selftest {
 namespace {
 
 using test::RasterComparison;
+using test::RasterOutput;
 
 // The depth margin of a mode in ulps of the reference value (raster_compare.h: kViewZRel, kDistanceRel, kNdcAbs).
 double depthUlps(DepthMode mode) {
@@ -105,6 +108,55 @@ Measured cubeClassify(Context& ctx) {
   return m;
 }
 
+// A watertight mesh: every covered pixel centre covered once (the reference's count and the device's against the exact
+// polygon), and its even and odd triangles drawn apart partition the whole draw.
+void addWatertight(Measured& m, Context& ctx, const Scene& scene, const RasterView& view, const RasterOutput& out,
+                   const test::RefRasterizer& reference, std::optional<size_t> expectedCovered) {
+  std::string problems;
+  if (test::worstCoverage(reference) > 1) problems += "\n  a pixel centre covered by two triangles of the mesh";
+  if (expectedCovered && test::coveredPixels(out) != *expectedCovered)
+    problems += fmt::format("\n  {} pixels covered, the polygon holds {}", test::coveredPixels(out), *expectedCovered);
+  const test::HalvesPartition p = test::halvesPartition(ctx, scene, view, out);
+  if (p.both != 0 || p.differ != 0)
+    problems += fmt::format("\n  halves: {} pixels covered by both, {} differ from the whole", p.both, p.differ);
+  if (!problems.empty()) m.comparison.mismatches += 1, m.comparison.report += problems;
+}
+
+// 720 slivers sharing every edge around one point.
+Measured pinwheel(Context& ctx) {
+  std::vector<glm::dvec2> rim;
+  const Scene scene = test::pinwheelScene(rim);
+  const RasterView view = test::pixelView(128, 64);
+  Rasterizer raster(ctx);
+  uploadScene(raster, scene);
+  const RasterOutput out = test::drawPoisoned(ctx, raster, view);
+  const test::RefRasterizer reference(scene, view);
+  Measured m;
+  add(m, test::compareWithReference(out, reference, view, 1.0), 0, view.depthMode, "pinwheel");
+  addWatertight(m, ctx, scene, view, out, reference, test::samplesInside(rim, 128, 64));
+  return m;
+}
+
+// A floor cut by the near plane, with and without back-face culling: no crack along the cuts.
+Measured nearPlaneFloor(Context& ctx) {
+  const Scene floor = test::nearPlaneFloor();
+  Rasterizer raster(ctx);
+  uploadScene(raster, floor);
+  Measured m;
+  for (bool cull : {false, true}) {
+    const RasterView view = test::nearPlaneFloorView(cull);
+    const RasterOutput out = test::drawPoisoned(ctx, raster, view);
+    const test::RefRasterizer reference(floor, view);
+    add(m, test::compareWithReference(out, reference, view, 100.0), 2, view.depthMode, cull ? "culled" : "both sides");
+    if (raster.stats().trianglesSetUp != reference.drawnTriangles())
+      m.comparison.mismatches += 1,
+          m.comparison.report += fmt::format("\n  {} triangles set up, the reference draws {}",
+                                             raster.stats().trianglesSetUp, reference.drawnTriangles());
+    if (!cull) addWatertight(m, ctx, floor, view, out, reference, std::nullopt);
+  }
+  return m;
+}
+
 Measured gbuffer(Context& ctx, const RasterView& view, size_t minCovered) {
   const test::GBufferComparison g = test::compareGBuffer(ctx, test::twoSpheres(), view);
   Measured m;
@@ -121,8 +173,18 @@ Measured gbuffer(Context& ctx, const RasterView& view, size_t minCovered) {
 void addRasterChecks(std::vector<Check>& out) {
   for (const test::SoupCase& c : test::soupCases())
     out.push_back({"raster", "soup_" + c.name(), c.quick, [c](Context& ctx) { return soup(ctx, c); }});
+  for (const test::ProjectiveCase& c : test::projectiveCases())
+    out.push_back({"raster", "projective_" + c.name(), c.quick, [c](Context& ctx) {
+                     Measured m =
+                         drawAndCompare(ctx, test::projectiveSoup(c), test::projectiveView(c), c.name(), false);
+                     if (m.comparison.count <= test::projectiveMinCovered(c))
+                       m.comparison.mismatches += 1, m.comparison.report += "\n  the soup missed the view";
+                     return m;
+                   }});
   for (const test::MaskedCase& c : test::maskedCases())
     out.push_back({"raster", "alpha_" + c.name(), c.quick, [c](Context& ctx) { return masked(ctx, c); }});
+  out.push_back({"raster", "watertight_pinwheel", true, pinwheel});
+  out.push_back({"raster", "watertight_near_plane_floor", false, nearPlaneFloor});
   out.push_back({"raster", "gbuffer_perspective", true, [](Context& ctx) {
                    return gbuffer(ctx, test::gbufferPerspectiveView(), test::kGBufferPerspectiveCovered);
                  }});

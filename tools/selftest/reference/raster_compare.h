@@ -6,9 +6,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 #include <random>
@@ -422,5 +424,150 @@ inline RasterView gbufferOrthoScissorView() {
   return view;
 }
 inline constexpr size_t kGBufferPerspectiveCovered = 2000, kGBufferOrthoCovered = 1500;  // at least
+
+// General projective light matrices (raster/rasterizer.h: any invertible matrix for linear view depth, as a LiSPSM
+// warp needs): random soups through a LiSPSM-like warp and a tilted perspective.
+// LiSPSM-like: x_c, y_c and w_c from eye x and y only (w_c from the y axis, perpendicular to the view axis z),
+// z_c from z and y. Rows over eye (x, y, z, 1); glm is column-major, so m[column][row].
+inline glm::mat4 warpLike() {
+  glm::mat4 m(0.0f);
+  m[0][0] = 0.5f, m[1][0] = 0.1f;                   // x_c = 0.5 x + 0.1 y
+  m[1][1] = 1.2f, m[3][1] = 0.3f;                   // y_c = 1.2 y + 0.3
+  m[2][2] = 0.2f, m[1][2] = 0.05f, m[3][2] = 1.0f;  // z_c = 0.2 z + 0.05 y + 1
+  m[1][3] = 0.3f, m[3][3] = 2.5f;                   // w_c = 0.3 y + 2.5
+  return m;
+}
+
+// A perspective whose w also leans on x and y (a projective tilt after glm::perspective's).
+inline glm::mat4 tiltedPerspective(float aspect) {
+  glm::mat4 tilt(1.0f);
+  tilt[0][3] = 0.05f, tilt[1][3] = 0.04f;
+  return glm::perspective(glm::radians(50.0f), aspect, 0.5f, 20.0f) * tilt;
+}
+
+struct ProjectiveCase {
+  int width, height;
+  bool tilted;  // tiltedPerspective, else warpLike
+  bool quick = false;
+  std::string name() const { return fmt::format("{}x{}_{}", width, height, tilted ? "Tilted" : "WarpLike"); }
+};
+inline std::vector<ProjectiveCase> projectiveCases() {
+  return {ProjectiveCase{37, 19, false}, ProjectiveCase{131, 97, false, true}, ProjectiveCase{256, 61, true},
+          ProjectiveCase{97, 131, true, true}};
+}
+inline Scene projectiveSoup(const ProjectiveCase& c) { return triangleSoup(400, 4321 + c.width, 1.8f, 0.4f); }
+inline RasterView projectiveView(const ProjectiveCase& c) {
+  RasterView view;
+  view.view = glm::lookAt(glm::vec3(0.5f, 1.0f, 6.0f), glm::vec3(0.0f), glm::vec3(0, 1, 0));
+  view.projection = c.tilted ? tiltedPerspective(float(c.width) / float(c.height)) : warpLike();
+  view.width = c.width, view.height = c.height, view.depthMode = DepthMode::kViewZ;
+  return view;
+}
+// The soup must fill a twentieth of the view at least: otherwise the matrices missed it.
+inline size_t projectiveMinCovered(const ProjectiveCase& c) { return static_cast<size_t>(c.width) * c.height / 20; }
+
+// Watertightness (the top-left rule and the clipping paths): meshes sharing edges must cover every pixel centre of
+// their union exactly once.
+
+// World = window pixels: for power-of-two sizes x_win = x exactly for dyadic x, so snapping is exact and checks can
+// place vertices on pixel centres (i + 0.5) and edges through them.
+inline RasterView pixelView(int w, int h) {
+  RasterView v;
+  v.projection = glm::ortho(0.0f, float(w), 0.0f, float(h), -1.0f, 1.0f);
+  v.width = w, v.height = h;
+  return v;
+}
+
+// Pixel centres inside a convex counter-clockwise polygon of exactly representable window positions, with the same
+// top-left rule: the set a watertight fan or mesh over that polygon must cover exactly once.
+inline size_t samplesInside(const std::vector<glm::dvec2>& polygon, int w, int h) {
+  size_t count = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      bool inside = true;
+      for (size_t k = 0; k < polygon.size() && inside; ++k) {
+        const glm::dvec2 a = polygon[k] * 256.0, b = polygon[(k + 1) % polygon.size()] * 256.0;
+        const double e = (b.x - a.x) * (y * 256.0 + 128 - a.y) - (b.y - a.y) * (x * 256.0 + 128 - a.x);
+        const bool owned = b.y < a.y || (b.y == a.y && b.x < a.x);
+        inside = e > 0 || (e == 0 && owned);
+      }
+      count += inside;
+    }
+  return count;
+}
+
+inline size_t coveredPixels(const RasterOutput& out) {
+  size_t n = 0;
+  for (uint32_t id : out.ids) n += id != kNoTriangle;
+  return n;
+}
+
+// The most triangles of the reference's draw covering one pixel centre (1 for a watertight mesh).
+inline int worstCoverage(const RefRasterizer& ref) {
+  int worst = 0;
+  for (int c : ref.result().coverage) worst = std::max(worst, c);
+  return worst;
+}
+
+// Draws the even and the odd triangles separately: pixels both halves cover, and pixels where their union differs
+// from the whole draw (both 0 for a watertight rasterizer).
+struct HalvesPartition {
+  size_t both = 0, differ = 0;
+};
+inline HalvesPartition halvesPartition(Context& ctx, const Scene& scene, const RasterView& view,
+                                       const RasterOutput& whole) {
+  Scene halves[2] = {scene, scene};
+  for (int h = 0; h < 2; ++h) {
+    halves[h].triangles.clear();
+    halves[h].objectIds.clear();
+    for (size_t t = h; t < scene.triangles.size(); t += 2) halves[h].triangles.push_back(scene.triangles[t]);
+    halves[h].objectIds.assign(halves[h].triangles.size(), 0);
+  }
+  Rasterizer raster(ctx);
+  uploadScene(raster, halves[0]);
+  const RasterOutput even = drawPoisoned(ctx, raster, view);
+  uploadScene(raster, halves[1]);
+  const RasterOutput odd = drawPoisoned(ctx, raster, view);
+  HalvesPartition p;
+  for (size_t i = 0; i < whole.ids.size(); ++i) {
+    const bool a = even.ids[i] != kNoTriangle, b = odd.ids[i] != kNoTriangle;
+    p.both += a && b;
+    p.differ += (a || b) != (whole.ids[i] != kNoTriangle);
+  }
+  return p;
+}
+
+// `spokes` triangles from `centre` to a rim of radius `radius` whose points are rounded to the 1/256 grid (the
+// polygon the fan must cover, into `rim`).
+inline Scene fanScene(glm::vec2 centre, float radius, int spokes, std::vector<glm::dvec2>& rim) {
+  std::vector<glm::vec3> p{{centre, 0}};
+  rim.clear();
+  for (int k = 0; k < spokes; ++k) {
+    const float a = 2 * glm::pi<float>() * k / spokes;
+    const glm::vec2 q = glm::round((centre + radius * glm::vec2(std::cos(a), std::sin(a))) * 256.0f) / 256.0f;
+    p.emplace_back(q, 0);
+    rim.emplace_back(q);
+  }
+  std::vector<glm::uvec3> t;
+  for (int k = 0; k < spokes; ++k) t.emplace_back(0, 1 + k, 1 + (k + 1) % spokes);
+  return makeScene(p, t);
+}
+
+// 720 wedges a fraction of a pixel wide at the centre: slivers sharing every edge, in pixelView(128, 64).
+inline Scene pinwheelScene(std::vector<glm::dvec2>& rim) {
+  return fanScene({40.0f + 37 / 256.0f, 33.0f + 91 / 256.0f}, 30.0f, 720, rim);
+}
+
+// A floor reaching far behind the camera of nearPlaneFloorView: many triangles cross the near plane and are cut in two.
+inline Scene nearPlaneFloor() {
+  Scene floor = gridScene(24, 24, {-60, -60}, {60, 60}, 0.0f, 0.0f, 1);
+  for (glm::vec3& q : floor.positions) q = glm::vec3(q.x, 0.0f, -q.y);  // counter-clockwise seen from above
+  return floor;
+}
+inline RasterView nearPlaneFloorView(bool cullBackFaces) {
+  RasterView view = perspectiveView(101, 67, {0.3f, 1.0f, 0.2f}, {0.5f, 0.6f, -5.0f}, 70.0f, 0.25f, 100.0f);
+  view.cullBackFaces = cullBackFaces;
+  return view;
+}
 
 }  // namespace penumbra::test
