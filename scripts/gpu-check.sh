@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # Runs penumbra on the lent NVIDIA machine from a packed build (docs/gpu.md). Here:
 #   ../shared/gpu/pack.sh .gpu build/tools/raster_bench build/tools/stages_bench build/tools/vssm_bench   (bench)
-#   ../shared/gpu/pack.sh .gpu build/tests/penumbra_tests [build/tools/penumbra]                         (tests)
+#   ../shared/gpu/pack.sh .gpu build/tools/penumbra                                       (the selftest alone, ~9 MB)
+#   ../shared/gpu/pack.sh .gpu build/tests/penumbra_tests build/tools/penumbra \
+#     /usr/lib/x86_64-linux-gnu/libembree3.so.3                                                               (tests)
 # then, there: scripts/gpu-check.sh OUTDIR [tests|bench|all] (default all). Registers NVIDIA's OpenCL driver for
 # this command only and selects it (PENUMBRA_DEVICE=NVIDIA); `tests` lists the devices and runs the kernel and
 # technique tests on the GPU (after `penumbra selftest --full` when the CLI was packed), `bench` the Google Benchmark
 # targets (JSON + console tables under OUTDIR) and, when the CLI was packed, `penumbra bench` of every technique at
 # 1920x1080. Each step has its own time limit, so one slow step cannot eat a session's device time. (penumbra_tests
-# and penumbra link Embree, ~44 MB: the two packs keep each call under the device tool's 64 MiB.)
+# and penumbra load Embree, ~42 MB, only to trace references: penumbra alone packs into ~9 MB.)
 set -uo pipefail
 out=${1:-out/gpu}
 what=${2:-all}
@@ -15,6 +17,8 @@ mkdir -p "$out" /tmp/vendors
 echo /usr/lib/libnvidia-opencl.so.1 >/tmp/vendors/nvidia.icd
 export OCL_ICD_VENDORS=/tmp/vendors LD_LIBRARY_PATH=.gpu/lib PENUMBRA_DEVICE=NVIDIA
 bin=.gpu/bin
+# Embree, where it was packed beside the tests (docs/gpu.md): the reference tracer loads it at run time.
+if [[ -f $bin/libembree3.so.3 ]]; then export PENUMBRA_EMBREE_LIBRARY=$PWD/$bin/libembree3.so.3; fi
 
 run() {  # run SECONDS NAME COMMAND...: stdout+stderr into OUTDIR/NAME.txt, the tail on the console
   local limit=$1 name=$2

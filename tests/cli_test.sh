@@ -430,5 +430,10 @@ expect selftest-no-match 2 "no check matches 'nothing-like-this'" -- "$bin" self
 expect selftest-quick-and-full 2 'excludes' -- "$bin" selftest --quick --full
 expect selftest-json-directory 1 "$scratch" -- "$bin" selftest --filter raster/cube_classify --json "$scratch"
 expect selftest-no-device 69 "no OpenCL" -- env OCL_ICD_VENDORS="$empty_vendors" "$bin" selftest
+# Embree is loaded only by the tracer: without it `reference` says so, and the selftest and renders run.
+expect no-embree-reference 1 "Embree 3 is not installed.*libembree3-3" -- \
+  env PENUMBRA_EMBREE_LIBRARY=/nonexistent/libembree3.so "$bin" reference builtin:box --size 32x24 --spp 4 -o "$scratch/no-embree.exr"
+expect no-embree-selftest 0 "2 of 2 checks passed" -- env PENUMBRA_EMBREE_LIBRARY=/nonexistent/libembree3.so \
+  "$bin" selftest --filter technique/izb_square
 
 finish

@@ -4,6 +4,8 @@
 
 #include <stdexcept>
 
+#include "tools/reference/embree_api.h"
+
 namespace penumbra::reference {
 
 AlphaFilter::AlphaFilter(RTCDevice device, const Scene& scene) {
@@ -12,7 +14,7 @@ AlphaFilter::AlphaFilter(RTCDevice device, const Scene& scene) {
   bool alpha = false, sided = false;
   for (uint32_t id : scene.materialIds)
     alpha = alpha || scene.materials[id].mayDiscard(), sided = sided || !scene.materials[id].doubleSided;
-  if (alpha && !rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED))
+  if (alpha && !embree().rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED))
     throw std::runtime_error(
         "reference: this Embree build has no filter functions, which the scene's alpha-tested materials need");
   const size_t n = scene.triangles.size();
@@ -33,9 +35,9 @@ AlphaFilter::AlphaFilter(RTCDevice device, const Scene& scene) {
 
 void AlphaFilter::attach(RTCGeometry geometry) const {
   if (alphaMaterial_.empty() && singleSidedNormal_.empty()) return;
-  rtcSetGeometryUserData(geometry, const_cast<AlphaFilter*>(this));  // the filters only read it
-  if (!alphaMaterial_.empty()) rtcSetGeometryOccludedFilterFunction(geometry, &AlphaFilter::occludedFilter);
-  rtcSetGeometryIntersectFilterFunction(geometry, &AlphaFilter::intersectFilter);
+  embree().rtcSetGeometryUserData(geometry, const_cast<AlphaFilter*>(this));  // the filters only read it
+  if (!alphaMaterial_.empty()) embree().rtcSetGeometryOccludedFilterFunction(geometry, &AlphaFilter::occludedFilter);
+  embree().rtcSetGeometryIntersectFilterFunction(geometry, &AlphaFilter::intersectFilter);
 }
 
 bool AlphaFilter::passes(uint32_t t, float u, float v) const {

@@ -3,7 +3,6 @@
 // them in streams with rtcOccluded1M and reduce the replicates to a mean and its standard error.
 #include "tools/reference/tracer.h"
 
-#include <embree3/rtcore.h>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -19,6 +18,7 @@
 
 #include "host/techniques/izb_pattern.h"
 #include "tools/reference/alpha_filter.h"
+#include "tools/reference/embree_api.h"
 #include "tools/reference/light_samples.h"
 
 namespace penumbra::reference {
@@ -75,12 +75,12 @@ struct ShadowTracer::Impl {
 };
 
 void ShadowTracer::Impl::build(const Scene& source) {
-  RTCGeometry mesh = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  RTCGeometry mesh = embree().rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   check("rtcNewGeometry");
-  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                               3 * sizeof(float), source.positions.size()));
-  auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                 3 * sizeof(unsigned), source.triangles.size()));
+  auto* vertices = static_cast<float*>(embree().rtcSetNewGeometryBuffer(
+      mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), source.positions.size()));
+  auto* indices = static_cast<unsigned*>(embree().rtcSetNewGeometryBuffer(
+      mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), source.triangles.size()));
   check("rtcSetNewGeometryBuffer");
   for (size_t i = 0; i < source.positions.size(); ++i)
     for (int c = 0; c < 3; ++c) vertices[3 * i + c] = source.positions[i][c];
@@ -88,36 +88,36 @@ void ShadowTracer::Impl::build(const Scene& source) {
     for (int c = 0; c < 3; ++c) indices[3 * i + c] = source.triangles[i][c];
   alpha = std::make_unique<AlphaFilter>(device, source);
   alpha->attach(mesh);
-  rtcCommitGeometry(mesh);
-  rtcAttachGeometry(scene, mesh);
-  rtcReleaseGeometry(mesh);
+  embree().rtcCommitGeometry(mesh);
+  embree().rtcAttachGeometry(scene, mesh);
+  embree().rtcReleaseGeometry(mesh);
   // Robust traversal: watertight, so shadow rays through shared edges of a closed mesh cannot slip through.
-  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
-  rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
-  rtcCommitScene(scene);
+  embree().rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+  embree().rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+  embree().rtcCommitScene(scene);
   check("building the BVH");
 }
 
 ShadowTracer::ShadowTracer(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   const Clock::time_point start = Clock::now();
-  impl_->device = rtcNewDevice(nullptr);
+  impl_->device = embree().rtcNewDevice(nullptr);
   if (impl_->device == nullptr)
-    throw std::runtime_error(
-        fmt::format("reference: rtcNewDevice failed (error {})", static_cast<int>(rtcGetDeviceError(nullptr))));
-  rtcSetDeviceErrorFunction(impl_->device, &Impl::onError, impl_.get());
-  impl_->scene = rtcNewScene(impl_->device);
+    throw std::runtime_error(fmt::format("reference: rtcNewDevice failed (error {})",
+                                         static_cast<int>(embree().rtcGetDeviceError(nullptr))));
+  embree().rtcSetDeviceErrorFunction(impl_->device, &Impl::onError, impl_.get());
+  impl_->scene = embree().rtcNewScene(impl_->device);
   impl_->check("rtcNewScene");
   if (!scene.triangles.empty())
     impl_->build(scene);
   else
-    rtcCommitScene(impl_->scene);
+    embree().rtcCommitScene(impl_->scene);
   impl_->sceneRadius = scene.triangles.empty() ? 0.0f : scene.bounds().radius();
   impl_->buildSeconds = secondsSince(start);
 }
 
 ShadowTracer::~ShadowTracer() {
-  if (impl_->scene != nullptr) rtcReleaseScene(impl_->scene);
-  if (impl_->device != nullptr) rtcReleaseDevice(impl_->device);
+  if (impl_->scene != nullptr) embree().rtcReleaseScene(impl_->scene);
+  if (impl_->device != nullptr) embree().rtcReleaseDevice(impl_->device);
 }
 
 double ShadowTracer::buildSeconds() const { return impl_->buildSeconds; }
@@ -183,7 +183,7 @@ class ChunkTracer {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // one point's rays share an origin and a small light
-    rtcOccluded1M(scene_, &context, rays_.data(), static_cast<unsigned>(rays_.size()), sizeof(RTCRay));
+    embree().rtcOccluded1M(scene_, &context, rays_.data(), static_cast<unsigned>(rays_.size()), sizeof(RTCRay));
     for (size_t k = 0; k < rays_.size(); ++k) counts_[tags_[k]] += rays_[k].tfar >= 0.0f;  // occluded: -inf
     rays_.clear();
     tags_.clear();
@@ -266,7 +266,7 @@ std::vector<uint32_t> ShadowTracer::firstHits(std::span<const glm::vec3> origins
     RTCRayHit rh{};
     rh.ray = RTCRay{o.x, o.y, o.z, 0.0f, d.x, d.y, d.z, 0.0f, std::numeric_limits<float>::infinity(), 0xffffffffu, 0u, 0u};
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(impl_->scene, &context, &rh);
+    embree().rtcIntersect1(impl_->scene, &context, &rh);
     if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) hits[i] = rh.hit.primID;
   }
   impl_->check("tracing primary rays");
