@@ -430,6 +430,22 @@ expect selftest-no-match 2 "no check matches 'nothing-like-this'" -- "$bin" self
 expect selftest-quick-and-full 2 'excludes' -- "$bin" selftest --quick --full
 expect selftest-json-directory 1 "$scratch" -- "$bin" selftest --filter raster/cube_classify --json "$scratch"
 expect selftest-no-device 69 "no OpenCL" -- env OCL_ICD_VENDORS="$empty_vendors" "$bin" selftest
+# A kernel that does not build is an error row with its compiler's log, never a crash (PENUMBRA_KERNEL_DIR: a copy of
+# the kernel sources with sat.cl broken); the other checks still run.
+src=$(cd "$(dirname "$0")/.." && pwd)
+mkdir -p "$scratch/broken/tools/selftest"
+cp -r "$src/kernels" "$src/raster" "$scratch/broken/" && cp -r "$src/tools/selftest/kernels" "$scratch/broken/tools/selftest/"
+echo "this is not OpenCL C;" >>"$scratch/broken/kernels/sat.cl"
+expect selftest-build-error 1 '2 of 3 checks passed, 0 skipped, 1 failed \(1 of them errors\)' -- \
+  env PENUMBRA_KERNEL_DIR="$scratch/broken" "$bin" selftest --filter sat/Fp32_Lines_97x61,moments/Vsm_97x61 \
+  --json "$scratch/broken.json"
+expect selftest-build-log 0 'ok' -- python3 -c "
+import json
+rows = {c['case']: c for c in json.load(open('$scratch/broken.json'))['checks']}
+sat = rows['Fp32_Lines_97x61_c2']
+assert sat['status'] == 'error' and 'sat.cl' in sat['build_log'] and 'kernels/sat.cl' in sat['message'], sat
+assert rows['Vsm_97x61']['status'] == 'pass', rows
+print('ok')"
 # Embree is loaded only by the tracer: without it `reference` says so, and the selftest and renders run.
 expect no-embree-reference 1 "Embree 3 is not installed.*libembree3-3" -- \
   env PENUMBRA_EMBREE_LIBRARY=/nonexistent/libembree3.so "$bin" reference builtin:box --size 32x24 --spp 4 -o "$scratch/no-embree.exr"
