@@ -10,7 +10,6 @@
 #include <cstdio>
 #include <functional>
 #include <memory>
-#include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -24,6 +23,7 @@
 #include "host/stages/pyramid.h"
 #include "host/stages/reduce.h"
 #include "host/stages/sat.h"
+#include "tools/selftest/reference/inputs.h"
 
 #if __has_include(<boost/compute/algorithm/inclusive_scan.hpp>)
 #define PENUMBRA_BENCH_BOOST_COMPUTE 1
@@ -101,14 +101,6 @@ void add(Setup& setup, const std::string& name, uint32_t size, double floorBytes
       ->Unit(benchmark::kMicrosecond);
 }
 
-std::vector<float> randomData(size_t count, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  std::vector<float> out(count);
-  for (float& v : out) v = unit(rng);
-  return out;
-}
-
 template <class T>
 void addSat(Setup& s, const std::string& name, uint32_t size, SatConfig config, bool wallClock = false) {
   const double texels = double(size) * size;
@@ -116,7 +108,8 @@ void addSat(Setup& s, const std::string& name, uint32_t size, SatConfig config, 
       s, name, size, texels * (8 + 2 * sizeof(T)),
       [&s, config](uint32_t n) {
         const ImageShape shape{n, n, 2};
-        auto image = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(shape.count(), n)));
+        auto image =
+            std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(ref::randomUnitImage(shape.count(), n)));
         auto table = std::make_shared<Buffer<T>>(s.ctx, shape.count());
         auto offset = std::make_shared<Buffer<float>>(s.ctx, 4);
         return std::function<void()>(
@@ -129,7 +122,7 @@ void addSat(Setup& s, const std::string& name, uint32_t size, SatConfig config, 
 template <class T>
 void addFusedBlur(Setup& s, const std::string& name, uint32_t size, double floorBytes) {
   add(s, name, size, floorBytes, [&s](uint32_t n) {
-    auto depth = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(size_t(n) * n, 1)));
+    auto depth = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(ref::randomUnitImage(size_t(n) * n, 1)));
     auto out = std::make_shared<Buffer<T>>(s.ctx, size_t(n) * n * 2);
     auto scratch = std::make_shared<Buffer<float>>(s.ctx, size_t(n) * n * 2);
     BlurConfig config;
@@ -146,14 +139,16 @@ void registerAll(Setup& s) {
   for (uint32_t size : {2048u, 4096u}) {
     const double texels = double(size) * size;
     add(s, "moments_vsm", size, texels * 12, [&s](uint32_t n) {
-      auto depth = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(size_t(n) * n, 1)));
+      auto depth =
+          std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(ref::randomUnitImage(size_t(n) * n, 1)));
       auto out = std::make_shared<Buffer<float>>(s.ctx, size_t(n) * n * 2);
       return std::function<void()>([&s, depth, out, n] { computeMoments(s.ctx, *depth, n, n, {}, *out); });
     });
     for (float sigma : {2.0f, 8.0f, 16.0f}) {
       add(s, fmt::format("blur_gauss_sigma{}", sigma), size, texels * 16, [&s, sigma](uint32_t n) {
         const ImageShape shape{n, n, 2};
-        auto in = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(shape.count(), 2)));
+        auto in =
+            std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(ref::randomUnitImage(shape.count(), 2)));
         auto out = std::make_shared<Buffer<float>>(s.ctx, shape.count());
         auto scratch = std::make_shared<Buffer<float>>(s.ctx, shape.count());
         BlurConfig config;
@@ -193,7 +188,7 @@ void registerAll(Setup& s) {
           // Its own context and queue on our device: Boost.Compute on a wrapped foreign queue hung on PoCL.
           const bc::device device(s.ctx.device()(), true);
           auto queue = std::make_shared<bc::command_queue>(bc::context(device), device);
-          const std::vector<float> host = randomData(size_t(n) * n * 2, 3);
+          const std::vector<float> host = ref::randomUnitImage(size_t(n) * n * 2, 3);
           auto data = std::make_shared<bc::vector<float>>(host.begin(), host.end(), *queue);
           auto out = std::make_shared<bc::vector<float>>(data->size(), queue->get_context());
           return std::function<void()>([queue, data, out] {
@@ -205,7 +200,8 @@ void registerAll(Setup& s) {
 #endif
     add(s, "pyramid_mips_float2", size, texels * (8 + 8.0 / 3), [&s](uint32_t n) {
       const ImageShape shape{n, n, 2};
-      auto base = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(shape.count(), 4)));
+      auto base =
+          std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(ref::randomUnitImage(shape.count(), 4)));
       auto mips = std::make_shared<Buffer<float>>(s.ctx, pyramidLayout(n, n, 1).texels * 2);
       return std::function<void()>([&s, base, mips, shape] { computeMomentMips(s.ctx, *base, shape, *mips); });
     });
@@ -217,14 +213,15 @@ void registerAll(Setup& s) {
       return std::function<void()>([&s, base, mips, shape] { computeMomentMips(s.ctx, *base, shape, *mips); });
     });
     add(s, "pyramid_minmax", size, texels * (4 + 8 * 4.0 / 3), [&s](uint32_t n) {
-      auto depth = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(size_t(n) * n, 5)));
+      auto depth =
+          std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(ref::randomUnitImage(size_t(n) * n, 5)));
       auto out = std::make_shared<Buffer<cl_float2>>(s.ctx, pyramidLayout(n, n, 0).texels);
       return std::function<void()>([&s, depth, out, n] { computeMinMaxPyramid(s.ctx, *depth, n, n, *out); });
     });
     add(s, "reduce_lloyd_k4", size, texels * 8, [&s](uint32_t n) {
       const size_t count = size_t(n) * n;
-      auto x = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(count, 6)));
-      auto w = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(randomData(count, 7)));
+      auto x = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(ref::randomUnitImage(count, 6)));
+      auto w = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(ref::randomUnitImage(count, 7)));
       const std::vector<float> splits{0.25f, 0.5f, 0.75f};
       auto boundaries = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(splits));
       auto out = std::make_shared<Buffer<LloydStats>>(s.ctx, 4);
