@@ -83,7 +83,8 @@ Command addSelftestCommand(CLI::App& app) {
   auto o = std::make_shared<SelftestOptions>();
   sub->add_option("--device", o->device, "OpenCL device (auto, cpu, gpu, a name, or P:D; default PENUMBRA_DEVICE)");
   auto* quick = sub->add_flag("--quick", o->quick, "One or two cases per stage and technique (the default)");
-  sub->add_flag("--full", o->full, "Every case the test suite's kernel tests cover")->excludes(quick);
+  sub->add_flag("--full", o->full, "Every case in which the test suite holds a device's output to a reference")
+      ->excludes(quick);
   sub->add_option("--filter", o->filter, "Only the checks whose STAGE/CASE contains this text (several: a,b,...)");
   sub->add_option("--json", o->json, "Also write the rows and the device report as JSON here");
   sub->add_flag("--list", o->list, "List the checks that would run, and exit");
