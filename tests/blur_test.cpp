@@ -35,10 +35,6 @@ using Input = ref::BlurInput;
 
 using Case = ref::BlurCase;
 
-std::vector<double> makeInput(const ImageShape& shape, Input kind, unsigned seed) {
-  return ref::blurImage(shape, kind, seed);
-}
-
 std::vector<float> run(test::ClTest& fixture, Context& ctx, const std::vector<double>& image, const ImageShape& shape,
                        const BlurConfig& config) {
   (void)fixture;
@@ -57,31 +53,27 @@ TEST_P(BlurTest, MatchesReference) {
   EXPECT_TRUE(test::passes(selftest::checkBlur(ctx(), GetParam(), BlurLayout::Auto).comparison));
 }
 
-BlurConfig gaussian(float sigma, float scale = 1.0f, BlurMethod method = BlurMethod::Auto) {
-  return {BlurFilter::Gaussian, sigma, 0, scale, method};
-}
-BlurConfig box(int radius, BlurMethod method = BlurMethod::Auto) {
-  return {BlurFilter::Box, 0.0f, radius, 1.0f, method};
-}
+using ref::boxBlur;
+using ref::gaussianBlur;
 
 INSTANTIATE_TEST_SUITE_P(Blur, BlurTest, ::testing::ValuesIn(ref::blurCases()),
                          [](const ::testing::TestParamInfo<Case>& p) { return p.param.name; });
 
 TEST(BlurPlan, BoxesMatchGaussianVariance) {
   for (float sigma : {11.0f, 14.0f, 25.0f, 80.0f}) {
-    const BlurPlan plan = planBlur(gaussian(sigma));
+    const BlurPlan plan = planBlur(gaussianBlur(sigma));
     ASSERT_FALSE(plan.direct);
     double variance = 0.0;
     for (int r : plan.boxRadii) variance += ((2.0 * r + 1) * (2.0 * r + 1) - 1.0) / 12.0;
     // Odd widths move the variance in steps of ~2 * width / 12: within one box width of sigma^2.
     EXPECT_NEAR(variance, double(sigma) * sigma, 2.0 * sigma) << "sigma " << sigma;
   }
-  EXPECT_TRUE(planBlur(gaussian(10.0f)).direct);
-  EXPECT_EQ(planBlur(gaussian(2.0f, 1.5f)).radius, 9);
-  EXPECT_EQ(planBlur(box(4)).weights.size(), 9u);
-  EXPECT_THROW(planBlur(gaussian(-1.0f)), std::invalid_argument);
-  EXPECT_THROW(planBlur(box(200, BlurMethod::Direct)), std::invalid_argument);
-  EXPECT_THROW(planBlur(gaussian(1.0f, std::nanf(""))), std::invalid_argument);
+  EXPECT_TRUE(planBlur(gaussianBlur(10.0f)).direct);
+  EXPECT_EQ(planBlur(gaussianBlur(2.0f, 1.5f)).radius, 9);
+  EXPECT_EQ(planBlur(boxBlur(4)).weights.size(), 9u);
+  EXPECT_THROW(planBlur(gaussianBlur(-1.0f)), std::invalid_argument);
+  EXPECT_THROW(planBlur(boxBlur(200, BlurMethod::Direct)), std::invalid_argument);
+  EXPECT_THROW(planBlur(gaussianBlur(1.0f, std::nanf(""))), std::invalid_argument);
 }
 
 class BlurKernels : public test::ClTest {};
@@ -90,8 +82,8 @@ TEST_F(BlurKernels, BoxesApproximateTheGaussian) {
   // Away from the borders only: clamping after every box is not clamping the Gaussian once.
   constexpr int kSigma = 12, kMargin = 4 * kSigma;
   const ImageShape shape{2 * kMargin + 37, 2 * kMargin + 23, 1};
-  const std::vector<double> image = makeInput(shape, Input::Random, 5);
-  const std::vector<float> actual = run(*this, ctx(), image, shape, gaussian(float(kSigma)));
+  const std::vector<double> image = ref::blurImage(shape, Input::Random, 5);
+  const std::vector<float> actual = run(*this, ctx(), image, shape, gaussianBlur(float(kSigma)));
   const std::vector<double> exact = ref::convolveSeparable(image, shape, ref::gaussianTaps(kSigma));
   std::vector<float> inner;
   std::vector<double> innerExact;
@@ -106,9 +98,9 @@ TEST_F(BlurKernels, BoxesApproximateTheGaussian) {
 
 TEST_F(BlurKernels, InPlaceMatchesOutOfPlace) {
   const ImageShape shape{45, 29, 2};
-  const std::vector<double> image = makeInput(shape, Input::Random, 9);
+  const std::vector<double> image = ref::blurImage(shape, Input::Random, 9);
   const std::vector<float> input(image.begin(), image.end());
-  for (const BlurConfig& config : {gaussian(3.0f), gaussian(15.0f)}) {
+  for (const BlurConfig& config : {gaussianBlur(3.0f), gaussianBlur(15.0f)}) {
     Buffer<float> buffer(ctx(), std::span<const float>(input)), scratch(ctx(), shape.count());
     blur(ctx(), buffer, buffer, scratch, shape, config);
     const std::vector<float> inPlace = buffer.download(ctx());
@@ -128,7 +120,7 @@ TEST_F(BlurKernels, FusedMomentsEqualMomentsThenBlur) {
       depth[i] = i % 11 == 3 ? INFINITY : i % 17 == 5 ? std::nanf("") : depthDist(rng);
     const Buffer<float> depthBuffer(ctx(), std::span<const float>(depth));
     for (MomentKind kind : {MomentKind::Vsm, MomentKind::Evsm2, MomentKind::Evsm4, MomentKind::Msm})
-      for (BlurConfig config : {gaussian(2.0f), box(3), gaussian(15.0f)})
+      for (BlurConfig config : {gaussianBlur(2.0f), boxBlur(3), gaussianBlur(15.0f)})
         for (BlurLayout layout : {BlurLayout::Tiles, BlurLayout::Runs}) {
           config.layout = layout;
           MomentsConfig moments;
@@ -152,7 +144,7 @@ TEST_F(BlurKernels, FusedMomentsEqualMomentsThenBlur) {
   layered.kind = MomentKind::Lvsm;
   layered.layers = {{0.0f, 1.0f}};
   Buffer<float> depth(ctx(), 4), out(ctx(), 8), scratch(ctx(), 8);
-  EXPECT_THROW(blurMoments(ctx(), depth, layered, out, scratch, 2, 2, gaussian(1.0f)), std::invalid_argument);
+  EXPECT_THROW(blurMoments(ctx(), depth, layered, out, scratch, 2, 2, gaussianBlur(1.0f)), std::invalid_argument);
 }
 
 // ESM's filtered depth against the double reference in log space and linearly: the cases, the run and the margin
@@ -167,20 +159,25 @@ TEST_F(BlurKernels, EsmBlursInLogSpace) {
   esm.kind = MomentKind::Esm;
   esm.esmExponent = 200.0f;
   Buffer<float> depth(ctx(), 4), out(ctx(), 4), scratch(ctx(), 4);
-  EXPECT_THROW(blurMoments(ctx(), depth, esm, out, scratch, 2, 2, gaussian(15.0f)), std::invalid_argument);
+  EXPECT_THROW(blurMoments(ctx(), depth, esm, out, scratch, 2, 2, gaussianBlur(15.0f)), std::invalid_argument);
 }
 
 // Tiles and runs on the same input: odd, prime and thin sizes (rows shorter than a run, widths that are not a
 // multiple of it, radii beyond the image), 1, 2 and 4 channels, radius 0 to 100.
 TEST_F(BlurKernels, LayoutsAgree) {
   const std::pair<uint32_t, uint32_t> sizes[] = {{1, 1}, {97, 61}, {5, 131}, {523, 3}, {37, 29}};
-  const BlurConfig configs[] = {
-      gaussian(0.0f), gaussian(1.0f), box(1), gaussian(2.0f), box(13), gaussian(10.7f), box(100, BlurMethod::Direct)};
+  const BlurConfig configs[] = {gaussianBlur(0.0f),
+                                gaussianBlur(1.0f),
+                                boxBlur(1),
+                                gaussianBlur(2.0f),
+                                boxBlur(13),
+                                gaussianBlur(10.7f),
+                                boxBlur(100, BlurMethod::Direct)};
   for (const auto& [width, height] : sizes)
     for (uint32_t channels : {1u, 2u, 4u})
       for (BlurConfig config : configs) {
         const ImageShape shape{width, height, channels};
-        const std::vector<double> image = makeInput(shape, Input::Random, width + height + channels);
+        const std::vector<double> image = ref::blurImage(shape, Input::Random, width + height + channels);
         config.method = BlurMethod::Direct;  // the direct layouts (running-sum plans: RunsLayoutBoxesMatchRunningSums)
         config.layout = BlurLayout::Tiles;
         const std::vector<float> tiles = run(*this, ctx(), image, shape, config);
@@ -214,9 +211,10 @@ TEST(BlurLayoutChoice, RunsOnCpusWithEnoughLocalMemory) {
 TEST_F(BlurKernels, RunsLayoutBoxesMatchRunningSums) {
   for (const auto& [width, height] : {std::pair<uint32_t, uint32_t>{97, 61}, {1, 1}, {300, 2}})
     for (uint32_t channels : {1u, 2u, 4u})
-      for (BlurConfig config : {gaussian(16.0f, 1.0f, BlurMethod::RunningSums), box(20, BlurMethod::RunningSums)}) {
+      for (BlurConfig config :
+           {gaussianBlur(16.0f, 1.0f, BlurMethod::RunningSums), boxBlur(20, BlurMethod::RunningSums)}) {
         const ImageShape shape{width, height, channels};
-        const std::vector<double> image = makeInput(shape, Input::Random, width * 3 + channels);
+        const std::vector<double> image = ref::blurImage(shape, Input::Random, width * 3 + channels);
         config.layout = BlurLayout::Tiles;
         const std::vector<float> sums = run(*this, ctx(), image, shape, config);
         config.layout = BlurLayout::Runs;
@@ -242,7 +240,7 @@ TEST_F(BlurKernels, HalfMomentsLayoutsAgree) {
       const ImageShape shape{width, height, momentChannels(kind)};
       std::vector<cl_half> results[2];
       for (BlurLayout layout : {BlurLayout::Tiles, BlurLayout::Runs}) {
-        BlurConfig config = gaussian(2.0f);
+        BlurConfig config = gaussianBlur(2.0f);
         config.layout = layout;
         Buffer<cl_half> out(ctx(), shape.count());
         Buffer<float> scratch(ctx(), blurMomentsScratch(ctx(), shape, config, MomentStorage::Float16, moments.kind));
@@ -258,8 +256,8 @@ TEST_F(BlurKernels, HalfMomentsLayoutsAgree) {
 
 TEST_F(BlurKernels, RejectsSmallBuffers) {
   Buffer<float> small(ctx(), 10), big(ctx(), 100);
-  EXPECT_THROW(blur(ctx(), small, big, big, {5, 5, 1}, gaussian(1.0f)), std::invalid_argument);
-  EXPECT_THROW(blur(ctx(), big, big, big, {5, 5, 3}, gaussian(1.0f)), std::invalid_argument);
+  EXPECT_THROW(blur(ctx(), small, big, big, {5, 5, 1}, gaussianBlur(1.0f)), std::invalid_argument);
+  EXPECT_THROW(blur(ctx(), big, big, big, {5, 5, 3}, gaussianBlur(1.0f)), std::invalid_argument);
 }
 
 }  // namespace blur_test

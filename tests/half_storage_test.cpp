@@ -26,7 +26,7 @@ namespace penumbra {
 namespace half_storage_test {
 using test::kPoison;
 
-constexpr cl_half kHalfPoison = 0xFBFF;  // -65504, the most negative finite half: no stage writes it here
+using ref::kHalfPoison;
 
 // The IEEE binary16 bits of `v` rounded to nearest even, as vstore_half_rte writes them.
 cl_half toHalf(float v) { return Imath::half(v).bits(); }

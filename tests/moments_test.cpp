@@ -25,7 +25,6 @@ namespace penumbra {
 namespace moments_test {
 using test::ClTestWithParam;
 
-MomentsConfig config(MomentKind kind) { return ref::momentsCaseConfig(kind); }
 using Case = ref::MomentsCase;
 
 class MomentsTest : public ClTestWithParam<Case> {};
@@ -68,22 +67,23 @@ class MomentsKernels : public test::ClTest {};
 
 TEST_F(MomentsKernels, RejectsBadConfiguration) {
   Buffer<float> depth(ctx(), 4), out(ctx(), 64);
-  MomentsConfig bad = config(MomentKind::Vsm);
+  MomentsConfig bad = ref::momentsCaseConfig(MomentKind::Vsm);
   bad.depthFar = bad.depthNear;
   EXPECT_THROW(computeMoments(ctx(), depth, 2, 2, bad, out), std::invalid_argument);
-  bad = config(MomentKind::Lvsm);
+  bad = ref::momentsCaseConfig(MomentKind::Lvsm);
   bad.layers = {{0.5f, 0.5f}};
   EXPECT_THROW(computeMoments(ctx(), depth, 2, 2, bad, out), std::invalid_argument);
-  EXPECT_THROW(computeMoments(ctx(), depth, 4, 4, config(MomentKind::Vsm), out), std::invalid_argument);
+  EXPECT_THROW(computeMoments(ctx(), depth, 4, 4, ref::momentsCaseConfig(MomentKind::Vsm), out), std::invalid_argument);
   // Reduced: factors outside 1..64, LVSM, half storage, ESM in log space, an output too small for the blocks.
-  const MomentsConfig vsm = config(MomentKind::Vsm);
+  const MomentsConfig vsm = ref::momentsCaseConfig(MomentKind::Vsm);
   EXPECT_THROW(computeMomentsReduced(ctx(), depth, 2, 2, vsm, 0, out), std::invalid_argument);
   EXPECT_THROW(computeMomentsReduced(ctx(), depth, 2, 2, vsm, kMaxMomentsReduction + 1, out), std::invalid_argument);
-  EXPECT_THROW(computeMomentsReduced(ctx(), depth, 2, 2, config(MomentKind::Lvsm), 2, out), std::invalid_argument);
+  EXPECT_THROW(computeMomentsReduced(ctx(), depth, 2, 2, ref::momentsCaseConfig(MomentKind::Lvsm), 2, out),
+               std::invalid_argument);
   MomentsConfig half = vsm;
   half.storage = MomentStorage::Float16;
   EXPECT_THROW(computeMomentsReduced(ctx(), depth, 2, 2, half, 2, out), std::invalid_argument);
-  MomentsConfig logEsm = config(MomentKind::Esm);
+  MomentsConfig logEsm = ref::momentsCaseConfig(MomentKind::Esm);
   logEsm.esmExponent = 200.0f;
   EXPECT_THROW(computeMomentsReduced(ctx(), depth, 2, 2, logEsm, 2, out), std::invalid_argument);
   Buffer<float> small(ctx(), 1);

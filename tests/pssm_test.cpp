@@ -106,8 +106,8 @@ TEST_P(PssmTechniques, HardEdgeOfASquareOccluderLandsOnTheRightPixels) {
   // pssm's margin is pcf's; psvsm's the moment techniques' (its blur of split 0 + a bilinear texel).
   const test::HardEdgeMargin margin = test::hardEdgeMargin(GetParam().technique);
   const test::HardEdgeCount count = test::checkHardEdge(result.image, margin.band, margin.tolerance);
-  EXPECT_GT(count.shadowed, 2000);
-  EXPECT_GT(count.lit, 5000);
+  EXPECT_GT(count.shadowed, test::kHardEdgeMinShadowed);
+  EXPECT_GT(count.lit, test::kHardEdgeMinLit);
   EXPECT_EQ(count.wrong, 0);
   EXPECT_NE(result.image.attributes().at("penumbra:pssm-distances"), "");
 }

@@ -29,21 +29,7 @@ namespace penumbra {
 namespace sat_test {
 using test::Tolerance;
 
-using ref::kSatMeanRelTol;
-double tableTolerance(const ImageShape& s, double epsilon, double magnitude) {
-  return ref::satTableTolerance(s, epsilon, magnitude);
-}
-
-using Input = ref::SatInput;
-
 using Case = ref::SatCase;
-
-std::vector<float> makeImage(const ImageShape& shape, Input kind, unsigned seed) {
-  return ref::satImage(shape, kind, seed);
-}
-double magnitude(const std::vector<float>& image, const std::array<double, 4>& offset, uint32_t channels) {
-  return ref::satMagnitude(image, offset, channels);
-}
 
 // The check is `penumbra selftest`'s (tools/selftest/stage_checks.h): fixed point exact, floating point within
 // ref::satTableTolerance, the zero-mean offset within ref::kSatMeanRelTol; what does not apply to the device is
@@ -105,7 +91,7 @@ class SatKernels : public test::ClTest {};
 
 TEST_F(SatKernels, ExplicitOffsetIsUsed) {
   const ImageShape shape{40, 33, 2};
-  const std::vector<float> image = makeImage(shape, Input::Random, 3);
+  const std::vector<float> image = ref::satImage(shape, ref::SatInput::Random, 3);
   Buffer<float> in(ctx(), std::span<const float>(image)), offset(ctx(), 4);
   Buffer<float> table(ctx(), shape.count());
   SatConfig config;
@@ -114,7 +100,7 @@ TEST_F(SatKernels, ExplicitOffsetIsUsed) {
   EXPECT_EQ(offset.download(ctx()), (std::vector<float>{0.5f, 0.25f, 0.0f, 0.0f}));
   const std::vector<double> expected = ref::satDouble(image, shape, {0.5, 0.25, 0.0, 0.0});
   const std::vector<float> actual = table.download(ctx());
-  const Tolerance tol{tableTolerance(shape, FLT_EPSILON, magnitude(image, {0.5, 0.25, 0, 0}, 2)), 0.0};
+  const Tolerance tol{ref::satTableTolerance(shape, FLT_EPSILON, ref::satMagnitude(image, {0.5, 0.25, 0, 0}, 2)), 0.0};
   EXPECT_TRUE(test::allNear(std::span<const float>(actual), std::span<const double>(expected), tol));
 }
 

@@ -28,8 +28,8 @@ TEST_P(Techniques, HardEdgeOfASquareOccluderLandsOnTheRightPixels) {
       renderWith(ctx(), squareOverPlane(), topDown(), pointAbove(), GetParam(), {{"map-size", "1024"}});
   const test::HardEdgeMargin margin = test::hardEdgeMargin(GetParam());
   const test::HardEdgeCount count = test::checkHardEdge(result.image, margin.band, margin.tolerance);
-  EXPECT_GT(count.shadowed, 2000);
-  EXPECT_GT(count.lit, 5000);
+  EXPECT_GT(count.shadowed, test::kHardEdgeMinShadowed);
+  EXPECT_GT(count.lit, test::kHardEdgeMinLit);
   EXPECT_EQ(count.wrong, 0) << GetParam() << ": pixels away from the shadow edge with the wrong visibility";
 }
 

@@ -243,8 +243,8 @@ TEST_F(VssmTechnique, HardEdgeUnderAPointLightLandsOnTheRightPixels) {
                                     parseLight("spot:0,4,0:0,0,0:120"), "vssm", {{"map-size", "1024"}});
   const test::HardEdgeMargin margin = test::hardEdgeMargin("vssm");
   const test::HardEdgeCount count = test::checkHardEdge(r.image, margin.band, margin.tolerance);
-  EXPECT_GT(count.shadowed, 2000);
-  EXPECT_GT(count.lit, 5000);
+  EXPECT_GT(count.shadowed, test::kHardEdgeMinShadowed);
+  EXPECT_GT(count.lit, test::kHardEdgeMinLit);
   EXPECT_EQ(count.wrong, 0) << "pixels away from the shadow edge with the wrong visibility";
 }
 

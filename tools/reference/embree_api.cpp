@@ -5,8 +5,6 @@
 
 #include <cstdlib>
 #include <iterator>
-#include <memory>
-#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -43,27 +41,8 @@ EmbreeApi load() {
                     "libembree3-3)",
                     reasons));
   EmbreeApi api{};
-#define PENUMBRA_EMBREE_RESOLVE(name) resolve(library, #name, api.name)
-  PENUMBRA_EMBREE_RESOLVE(rtcNewDevice);
-  PENUMBRA_EMBREE_RESOLVE(rtcReleaseDevice);
-  PENUMBRA_EMBREE_RESOLVE(rtcGetDeviceError);
-  PENUMBRA_EMBREE_RESOLVE(rtcGetDeviceProperty);
-  PENUMBRA_EMBREE_RESOLVE(rtcSetDeviceErrorFunction);
-  PENUMBRA_EMBREE_RESOLVE(rtcNewScene);
-  PENUMBRA_EMBREE_RESOLVE(rtcReleaseScene);
-  PENUMBRA_EMBREE_RESOLVE(rtcSetSceneFlags);
-  PENUMBRA_EMBREE_RESOLVE(rtcSetSceneBuildQuality);
-  PENUMBRA_EMBREE_RESOLVE(rtcCommitScene);
-  PENUMBRA_EMBREE_RESOLVE(rtcNewGeometry);
-  PENUMBRA_EMBREE_RESOLVE(rtcReleaseGeometry);
-  PENUMBRA_EMBREE_RESOLVE(rtcSetNewGeometryBuffer);
-  PENUMBRA_EMBREE_RESOLVE(rtcSetGeometryUserData);
-  PENUMBRA_EMBREE_RESOLVE(rtcSetGeometryOccludedFilterFunction);
-  PENUMBRA_EMBREE_RESOLVE(rtcSetGeometryIntersectFilterFunction);
-  PENUMBRA_EMBREE_RESOLVE(rtcCommitGeometry);
-  PENUMBRA_EMBREE_RESOLVE(rtcAttachGeometry);
-  PENUMBRA_EMBREE_RESOLVE(rtcOccluded1M);
-  PENUMBRA_EMBREE_RESOLVE(rtcIntersect1);
+#define PENUMBRA_EMBREE_RESOLVE(name) resolve(library, #name, api.name);
+  PENUMBRA_EMBREE_FUNCTIONS(PENUMBRA_EMBREE_RESOLVE)
 #undef PENUMBRA_EMBREE_RESOLVE
   return api;
 }
@@ -71,12 +50,10 @@ EmbreeApi load() {
 }  // namespace
 
 const EmbreeApi& embree() {
-  // A failed load is not cached: the next tracer retries (and reports) again.
-  static std::mutex mutex;
-  static std::unique_ptr<EmbreeApi> api;
-  std::lock_guard<std::mutex> lock(mutex);
-  if (!api) api = std::make_unique<EmbreeApi>(load());
-  return *api;
+  // A static's initialisation is thread-safe, costs a guard check once done (the tracer calls this per ray and per
+  // stream), and is tried again on the next call when it throws: a failed load is reported again, never cached.
+  static const EmbreeApi api = load();
+  return api;
 }
 
 }  // namespace penumbra::reference

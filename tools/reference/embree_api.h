@@ -8,32 +8,41 @@
 
 namespace penumbra::reference {
 
+// The entry points, listed once: the struct's members and the loader's lookups both expand this list, so none can be
+// left unresolved.
+// clang-format off
+#define PENUMBRA_EMBREE_FUNCTIONS(X) \
+  X(rtcNewDevice) \
+  X(rtcReleaseDevice) \
+  X(rtcGetDeviceError) \
+  X(rtcGetDeviceProperty) \
+  X(rtcSetDeviceErrorFunction) \
+  X(rtcNewScene) \
+  X(rtcReleaseScene) \
+  X(rtcSetSceneFlags) \
+  X(rtcSetSceneBuildQuality) \
+  X(rtcCommitScene) \
+  X(rtcNewGeometry) \
+  X(rtcReleaseGeometry) \
+  X(rtcSetNewGeometryBuffer) \
+  X(rtcSetGeometryUserData) \
+  X(rtcSetGeometryOccludedFilterFunction) \
+  X(rtcSetGeometryIntersectFilterFunction) \
+  X(rtcCommitGeometry) \
+  X(rtcAttachGeometry) \
+  X(rtcOccluded1M) \
+  X(rtcIntersect1)
+// clang-format on
+
 struct EmbreeApi {
-  decltype(&::rtcNewDevice) rtcNewDevice;
-  decltype(&::rtcReleaseDevice) rtcReleaseDevice;
-  decltype(&::rtcGetDeviceError) rtcGetDeviceError;
-  decltype(&::rtcGetDeviceProperty) rtcGetDeviceProperty;
-  decltype(&::rtcSetDeviceErrorFunction) rtcSetDeviceErrorFunction;
-  decltype(&::rtcNewScene) rtcNewScene;
-  decltype(&::rtcReleaseScene) rtcReleaseScene;
-  decltype(&::rtcSetSceneFlags) rtcSetSceneFlags;
-  decltype(&::rtcSetSceneBuildQuality) rtcSetSceneBuildQuality;
-  decltype(&::rtcCommitScene) rtcCommitScene;
-  decltype(&::rtcNewGeometry) rtcNewGeometry;
-  decltype(&::rtcReleaseGeometry) rtcReleaseGeometry;
-  decltype(&::rtcSetNewGeometryBuffer) rtcSetNewGeometryBuffer;
-  decltype(&::rtcSetGeometryUserData) rtcSetGeometryUserData;
-  decltype(&::rtcSetGeometryOccludedFilterFunction) rtcSetGeometryOccludedFilterFunction;
-  decltype(&::rtcSetGeometryIntersectFilterFunction) rtcSetGeometryIntersectFilterFunction;
-  decltype(&::rtcCommitGeometry) rtcCommitGeometry;
-  decltype(&::rtcAttachGeometry) rtcAttachGeometry;
-  decltype(&::rtcOccluded1M) rtcOccluded1M;
-  decltype(&::rtcIntersect1) rtcIntersect1;
+#define PENUMBRA_EMBREE_MEMBER(name) decltype(&::name) name;
+  PENUMBRA_EMBREE_FUNCTIONS(PENUMBRA_EMBREE_MEMBER)
+#undef PENUMBRA_EMBREE_MEMBER
 };
 
-// Loads Embree on first use (thread-safe) and keeps it loaded: PENUMBRA_EMBREE_LIBRARY (a path, or a name the loader
-// searches) when set, else libembree3.so.3. Throws std::runtime_error naming the library and the loader's reason when
-// it is missing or lacks an entry point.
+// Loads Embree on first use (thread-safe; a failed load is tried again on the next call) and keeps it loaded:
+// PENUMBRA_EMBREE_LIBRARY (a path, or a name the loader searches) when set, else libembree3.so.3. Throws
+// std::runtime_error naming the library and the loader's reason when it is missing or lacks an entry point.
 const EmbreeApi& embree();
 
 }  // namespace penumbra::reference

@@ -1,6 +1,5 @@
 #include "tools/selftest/blur_checks.h"
 
-#include <Imath/half.h>
 #include <fmt/format.h>
 
 #include <cmath>
@@ -13,15 +12,13 @@
 #include "tools/selftest/reference/inputs.h"
 #include "tools/selftest/reference/moments_ref.h"
 #include "tools/selftest/selftest.h"
+#include "tools/selftest/stage_checks.h"
 
 namespace penumbra::selftest {
 namespace {
 
 constexpr float kDepthNear = 2.0f, kDepthFar = 9.0f;  // the depths of ref::depthWithHoles reach past both
 const std::pair<uint32_t, uint32_t> kSizes[] = {{67, 41}, {1, 1}, {130, 3}};
-
-BlurConfig gaussian(float sigma) { return {BlurFilter::Gaussian, sigma, 0, 1.0f, BlurMethod::Auto}; }
-BlurConfig box(int radius) { return {BlurFilter::Box, 0.0f, radius, 1.0f, BlurMethod::Auto}; }
 
 std::string configName(const BlurConfig& config) {
   const BlurPlan plan = planBlur(config);
@@ -34,16 +31,6 @@ std::string configName(const BlurConfig& config) {
                   : "_running");
 }
 
-// The runs layout stages whole lines in local memory: only where the device has it (blur.cpp's own rule).
-void requireLayout(const Context& ctx, const ImageShape& shape, const BlurConfig& config) {
-  if (config.layout != BlurLayout::Runs || !planBlur(config).direct) return;
-  DeviceInfo asCpu = ctx.info();
-  asCpu.type = CL_DEVICE_TYPE_CPU, asCpu.layouts.clear();
-  if (resolveBlurLayout(BlurLayout::Auto, asCpu, shape, planBlur(config).radius) != BlurLayout::Runs)
-    throw NotApplicable(
-        fmt::format("the runs layout's lines do not fit {} bytes of local memory", ctx.info().localMemBytes));
-}
-
 }  // namespace
 
 std::string EsmBlurCase::name() const {
@@ -54,7 +41,8 @@ std::vector<EsmBlurCase> esmBlurCases() {
   std::vector<EsmBlurCase> out;
   for (const auto& [width, height] : kSizes)
     for (float c : {0.0f, 0.5f, 20.0f, 80.0f, 81.0f, 1000.0f})
-      for (const BlurConfig& config : {gaussian(2.0f), box(2), gaussian(5.0f), gaussian(15.0f)}) {
+      for (const BlurConfig& config :
+           {ref::gaussianBlur(2.0f), ref::boxBlur(2), ref::gaussianBlur(5.0f), ref::gaussianBlur(15.0f)}) {
         if (esmLogSpace(c) && !planBlur(config).direct) continue;  // refused (tests/blur_test.cpp)
         const bool quick = width == 67 && config.sigma == 2.0f && config.filter == BlurFilter::Gaussian &&
                            (c == 80.0f || c == 1000.0f);
@@ -104,7 +92,7 @@ std::vector<MomentBlurCase> momentBlurCases() {
   std::vector<MomentBlurCase> out;
   for (const auto& [width, height] : kSizes)
     for (MomentKind kind : {MomentKind::Vsm, MomentKind::Evsm2, MomentKind::Evsm4, MomentKind::Msm})
-      for (BlurConfig config : {gaussian(2.0f), box(3), gaussian(15.0f)})
+      for (BlurConfig config : {ref::gaussianBlur(2.0f), ref::boxBlur(3), ref::gaussianBlur(15.0f)})
         for (BlurLayout layout : {BlurLayout::Tiles, BlurLayout::Runs}) {
           if (layout == BlurLayout::Runs && !planBlur(config).direct) continue;  // one running-sum plan
           config.layout = layout;
@@ -120,7 +108,7 @@ std::vector<MomentBlurCase> momentBlurCases() {
 
 ref::Comparison momentBlur(Context& ctx, const MomentBlurCase& c) {
   const ImageShape shape{c.width, c.height, momentChannels(c.kind)};
-  requireLayout(ctx, shape, c.config);
+  requireLayoutFits(ctx, shape, c.config);
   const std::vector<float> depth = ref::depthWithHoles(c.width, c.height, 17 + c.width);
   const Buffer<float> depthBuffer(ctx, std::span<const float>(depth));
   MomentsConfig moments;
@@ -144,13 +132,9 @@ ref::Comparison momentBlur(Context& ctx, const MomentBlurCase& c) {
     got = out.download(ctx);
   } else {
     Buffer<cl_half> out(ctx, shape.count());
-    out.fill(ctx, cl_half(0xFBFF));
+    out.fill(ctx, ref::kHalfPoison);
     blurMoments(ctx, depthBuffer, moments, out, scratch, c.width, c.height, c.config);
-    for (cl_half bits : out.download(ctx)) {
-      Imath::half h;
-      h.setBits(bits);
-      got.push_back(float(h));
-    }
+    got = ref::fromHalf(out.download(ctx));
     tol = ref::halfStorageTolerance(tol);
   }
   return ref::compare(std::span<const float>(got), std::span<const double>(expected), tol,

@@ -11,6 +11,10 @@
 
 namespace penumbra::selftest {
 
+// The runs layout stages whole lines in local memory: NotApplicable for a direct plan in `config.layout` Runs whose
+// lines do not fit the device's.
+void requireLayoutFits(const Context& ctx, const ImageShape& shape, const BlurConfig& config);
+
 // Every encoding in fp32 or half storage (half: within the fp32 margin plus half a half-ulp).
 Measured checkMoments(Context& ctx, const ref::MomentsCase& c, MomentStorage storage);
 Measured checkMomentsReduced(Context& ctx, const ref::MomentsReducedCase& c);  // block means

@@ -21,9 +21,8 @@ namespace penumbra::selftest {
 namespace {
 
 // As Techniques.HardEdge...: a 1024 map over the 10x10 ground (0.014 per texel), and at least its counts of pixels
-// checked on either side of the edge in the 160x120 view of test::topDown() (fewer: the view is not what it assumes).
+// checked on either side of the edge (test::kHardEdgeMinShadowed, kHardEdgeMinLit).
 const test::Values kHardValues = {{"map-size", "1024"}};
-constexpr int kMinShadowed = 2000, kMinLit = 5000;
 
 constexpr float kOccluderY = 2.0f, kOccluderHalf = 1.0f;  // test::squareOverPlane()'s square: |x|, |z| < 1 at y = 2
 
@@ -67,8 +66,8 @@ Measured hardEdge(Context& ctx, const std::string& technique) {
     const bool inside = std::max(std::abs(px[i]), std::abs(pz[i])) < 2.0f;  // the edge of checkHardEdge
     c.report += fmt::format("\n  {}: visibility {} vs expected {}", where(r.image, i), vis[i], inside ? 0 : 1);
   }
-  requireAtLeast(c, "shadowed", count.shadowed, kMinShadowed);
-  requireAtLeast(c, "lit", count.lit, kMinLit);
+  requireAtLeast(c, "shadowed", count.shadowed, test::kHardEdgeMinShadowed);
+  requireAtLeast(c, "lit", count.lit, test::kHardEdgeMinLit);
   requireSane(r.image, c);
   return {c, "visibility"};
 }

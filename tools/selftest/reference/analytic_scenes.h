@@ -57,6 +57,9 @@ inline Light pointAbove() { return parseLight("spot:0,4,0:0,0,0:120"); }
 // The hard shadow of squareOverPlane() under pointAbove() checked on a render (P.*, A, visibility.Y): ground
 // pixels farther than `band` world units from the edge |x|, |z| = 2 must be within `tolerance` of 0 inside it
 // and 1 outside; the occluder's own pixels are skipped.
+// What topDown()'s view of the ground holds beyond the bands: fewer pixels checked on either side than these means the
+// render did not come out as the check assumes.
+inline constexpr int kHardEdgeMinShadowed = 2000, kHardEdgeMinLit = 5000;
 struct HardEdgeCount {
   int shadowed = 0, lit = 0, wrong = 0;
   float worstError = 0.0f;              // the largest |visibility - expected| among the pixels checked (NaN: infinite)

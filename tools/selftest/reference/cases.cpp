@@ -53,34 +53,28 @@ std::vector<MomentsReducedCase> momentsReducedCases() {
   return out;
 }
 
-namespace {
-
-BlurConfig gaussian(float sigma, float scale = 1.0f, BlurMethod method = BlurMethod::Auto) {
+BlurConfig gaussianBlur(float sigma, float scale, BlurMethod method) {
   return {BlurFilter::Gaussian, sigma, 0, scale, method};
 }
-BlurConfig box(int radius, BlurMethod method = BlurMethod::Auto) {
-  return {BlurFilter::Box, 0.0f, radius, 1.0f, method};
-}
-
-}  // namespace
+BlurConfig boxBlur(int radius, BlurMethod method) { return {BlurFilter::Box, 0.0f, radius, 1.0f, method}; }
 
 std::vector<BlurCase> blurCases() {
   return {
-      {"Gauss1p5_97x61_c1", 97, 61, 1, gaussian(1.5f)},
-      {"Gauss1p5_97x61_c2", 97, 61, 2, gaussian(1.5f), BlurInput::Random, true},
-      {"Gauss1p5_97x61_c4", 97, 61, 4, gaussian(1.5f)},
-      {"Gauss10_97x61_c2", 97, 61, 2, gaussian(10.0f)},
-      {"Gauss2_scale2_3x200_c2", 3, 200, 2, gaussian(2.0f, 2.0f)},
-      {"Gauss0_identity_5x4_c1", 5, 4, 1, gaussian(0.0f)},
-      {"Gauss14_boxes_97x61_c1", 97, 61, 1, gaussian(14.0f), BlurInput::Random, true},
-      {"Gauss40_boxes_300x2_c2", 300, 2, 2, gaussian(40.0f)},
-      {"Box3_1x1_c2", 1, 1, 2, box(3)},
-      {"Box7_256x3_c1", 256, 3, 1, box(7)},
-      {"Box40_running_97x61_c2", 97, 61, 2, box(40)},
-      {"Box5_running_130x70_c4", 130, 70, 4, box(5, BlurMethod::RunningSums)},
-      {"Box100_direct_40x9_c1", 40, 9, 1, box(100, BlurMethod::Direct)},
-      {"Box33_constant_61x67_c4", 61, 67, 4, box(33), BlurInput::Constant},
-      {"Gauss2_hugerange_50x37_c1", 50, 37, 1, gaussian(2.0f), BlurInput::HugeRange},
+      {"Gauss1p5_97x61_c1", 97, 61, 1, gaussianBlur(1.5f)},
+      {"Gauss1p5_97x61_c2", 97, 61, 2, gaussianBlur(1.5f), BlurInput::Random, true},
+      {"Gauss1p5_97x61_c4", 97, 61, 4, gaussianBlur(1.5f)},
+      {"Gauss10_97x61_c2", 97, 61, 2, gaussianBlur(10.0f)},
+      {"Gauss2_scale2_3x200_c2", 3, 200, 2, gaussianBlur(2.0f, 2.0f)},
+      {"Gauss0_identity_5x4_c1", 5, 4, 1, gaussianBlur(0.0f)},
+      {"Gauss14_boxes_97x61_c1", 97, 61, 1, gaussianBlur(14.0f), BlurInput::Random, true},
+      {"Gauss40_boxes_300x2_c2", 300, 2, 2, gaussianBlur(40.0f)},
+      {"Box3_1x1_c2", 1, 1, 2, boxBlur(3)},
+      {"Box7_256x3_c1", 256, 3, 1, boxBlur(7)},
+      {"Box40_running_97x61_c2", 97, 61, 2, boxBlur(40)},
+      {"Box5_running_130x70_c4", 130, 70, 4, boxBlur(5, BlurMethod::RunningSums)},
+      {"Box100_direct_40x9_c1", 40, 9, 1, boxBlur(100, BlurMethod::Direct)},
+      {"Box33_constant_61x67_c4", 61, 67, 4, boxBlur(33), BlurInput::Constant},
+      {"Gauss2_hugerange_50x37_c1", 50, 37, 1, gaussianBlur(2.0f), BlurInput::HugeRange},
   };
 }
 

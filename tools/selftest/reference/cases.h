@@ -39,6 +39,10 @@ struct MomentsReducedCase {
 };
 std::vector<MomentsReducedCase> momentsReducedCases();
 
+// Blur settings: a Gaussian of standard deviation `sigma` (times `scale`), a box of 2 `radius` + 1 taps.
+BlurConfig gaussianBlur(float sigma, float scale = 1.0f, BlurMethod method = BlurMethod::Auto);
+BlurConfig boxBlur(int radius, BlurMethod method = BlurMethod::Auto);
+
 // The blur stage: Gaussian and box, direct and running sums, 1/2/4 channels, radii beyond the image.
 struct BlurCase {
   std::string name;

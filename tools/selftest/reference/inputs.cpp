@@ -1,10 +1,23 @@
 #include "tools/selftest/reference/inputs.h"
 
+#include <Imath/half.h>
+
 #include <cmath>
 #include <limits>
 #include <random>
 
 namespace penumbra::ref {
+
+std::vector<float> fromHalf(const std::vector<cl_half>& bits) {
+  std::vector<float> out;
+  out.reserve(bits.size());
+  for (cl_half b : bits) {
+    Imath::half h;
+    h.setBits(b);
+    out.push_back(float(h));
+  }
+  return out;
+}
 
 std::vector<float> randomUnitImage(size_t count, uint32_t seed) {
   std::mt19937 rng(seed);

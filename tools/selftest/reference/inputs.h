@@ -4,6 +4,8 @@
 // use; the real-valued draws are libstdc++'s, the same on every build of penumbra).
 #pragma once
 
+#include <CL/cl_platform.h>
+
 #include <cstdint>
 #include <vector>
 
@@ -14,6 +16,11 @@ namespace penumbra::ref {
 // A value no kernel writes by accident: outputs are filled with it before a launch, so that an element left unwritten
 // shows up as a mismatch instead of a stale correct value.
 inline constexpr float kPoison = -1234567.0f;
+// Its half-storage counterpart: -65504, the most negative finite half, which no stage writes.
+inline constexpr cl_half kHalfPoison = 0xFBFF;
+
+// IEEE binary16 values (half moments as a stage stores them) as floats.
+std::vector<float> fromHalf(const std::vector<cl_half>& bits);
 
 // `count` floats uniform in [0, 1).
 std::vector<float> randomUnitImage(size_t count, uint32_t seed);
