@@ -86,7 +86,7 @@ void place(const Where& where, const glm::dmat4& world, Light& light) {
     where.fail("the light is too far from the origin for a float target one metre along its axis");
 }
 
-Light readLight(const GltfContext& ctx, const NodeInstance& inst, int index) {
+Light readGltfLight(const GltfContext& ctx, const NodeInstance& inst, int index) {
   const tinygltf::Light& src = ctx.model.lights[static_cast<size_t>(index)];
   const tinygltf::Node& node = ctx.model.nodes[static_cast<size_t>(inst.node)];
   const Where where{
@@ -117,7 +117,7 @@ std::vector<Light> readLights(const GltfContext& ctx, const std::vector<NodeInst
     if (*index < 0 || static_cast<size_t>(*index) >= ctx.model.lights.size())
       failGltf(ctx, fmt::format("node {}: light {} does not exist (the file has {})", inst.node, *index,
                                 ctx.model.lights.size()));
-    lights.push_back(readLight(ctx, inst, *index));
+    lights.push_back(readGltfLight(ctx, inst, *index));
   }
   nameLights(lights);
   return lights;

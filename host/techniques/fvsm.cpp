@@ -298,8 +298,13 @@ TechniqueInfo fvsmTechnique() {
   params.push_back({"fvsm-budget", 64.0 * (1 << 20), 4096, 4.0 * (1u << 30),
                     "Texels drawn per frame at most (8 bytes each on the device); within it the tiles that serve the "
                     "most undersampled pixels are refined first, and the header counts the pixels left coarser"});
-  return {"fvsm", "Fitted virtual shadow maps: quadtree tiles drawn only where the receivers need them", params,
-          makeTechnique<FittedVirtualShadowMap>};
+  return {"fvsm",
+          "Fitted virtual shadow maps: quadtree tiles drawn only where the receivers need them",
+          params,
+          makeTechnique<FittedVirtualShadowMap>,
+          /*pointLightRefusal=*/{},
+          "it draws quadtree tiles of the light's view at the resolution each region of receivers asks for: a draw of "
+          "the scene per tile, not one map"};
 }
 
 }  // namespace penumbra

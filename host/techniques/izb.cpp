@@ -339,7 +339,11 @@ TechniqueInfo izbTechnique() {
   };
   return {"izb",
           "Exact hard shadows: irregular z-buffer, each G-buffer sample tested against the triangles over its cell",
-          params, makeTechnique<IrregularZBuffer>};
+          params,
+          makeTechnique<IrregularZBuffer>,
+          /*pointLightRefusal=*/{},
+          "it tests each pixel's light samples against the scene's triangles themselves, exactly; a depth map has "
+          "already lost what it needs"};
 }
 
 }  // namespace penumbra

@@ -424,7 +424,11 @@ TechniqueInfo jitteredTechnique() {
   return {"jittered",
           "Confidence-based jittered shadow maps: Halton-jittered passes of sm's map accumulated by confidence "
           "(simple/adapted/optimal) with a device-counted stopping rule",
-          params, makeTechnique<Jittered>};
+          params,
+          makeTechnique<Jittered>,
+          /*pointLightRefusal=*/{},
+          "it accumulates passes of maps drawn with sub-texel jitter until each pixel's confidence suffices (Luksch "
+          "sec. 5): each pass is a draw of the scene, not one map"};
 }
 
 }  // namespace penumbra

@@ -81,8 +81,10 @@ TechniqueInfo pssmTechnique() {
   params.push_back(idBufferParam());
   for (const ParamSpec& spec : splitParams()) params.push_back(spec);
   for (const ParamSpec& spec : warpParams()) params.push_back(spec);
-  return {"pssm", "Parallel-split shadow maps, hard or PCF per split (uniform/log/practical/auto splits)", params,
-          makeTechnique<ParallelSplit>};
+  TechniqueInfo info{"pssm", "Parallel-split shadow maps, hard or PCF per split (uniform/log/practical/auto splits)",
+                     params, makeTechnique<ParallelSplit>};
+  info.callerMapRefusal = splitsCallerMapRefusal();
+  return info;
 }
 
 }  // namespace penumbra

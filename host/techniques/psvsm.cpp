@@ -141,8 +141,11 @@ TechniqueInfo psvsmTechnique() {
   // casters and holes (builtin:poles MAE 0.0120 vs 0.0059, builtin:cards 0.0197 vs 0.0022 at 480x270) while gaining
   // 20-55 % on box, stacked-planes and staircase: docs/techniques/pssm.md ("Bilinear lookups by default").
   for (const ParamSpec& spec : splitParams()) params.push_back(spec);
-  return {"psvsm", "Parallel-split variance shadow maps: VSM per split, blur scaled by zoom, optional mipmaps", params,
-          makeTechnique<ParallelSplitVariance>};
+  TechniqueInfo info{"psvsm",
+                     "Parallel-split variance shadow maps: VSM per split, blur scaled by zoom, optional mipmaps",
+                     params, makeTechnique<ParallelSplitVariance>};
+  info.callerMapRefusal = splitsCallerMapRefusal();
+  return info;
 }
 
 }  // namespace penumbra

@@ -191,8 +191,11 @@ namespace {
 void publishView(ShadowFrame& frame, const MapSettings& settings, ShadowMap& map) {
   const LightViewGpu& gpu = map.view.gpu;
   frame.attributes["penumbra:light-fit"] = fmt::format(
-      "{} {}x{} texel {:.4g}{} depth {:.6g}..{:.6g}", settings.fit.fitReceivers ? "receivers" : "scene", gpu.width,
-      gpu.height, gpu.texelScale, gpu.kind == LIGHT_KIND_SPOT ? "/depth" : "", gpu.zNear, gpu.zFar);
+      "{} {}x{} texel {:.4g}{} depth {:.6g}..{:.6g}",
+      frame.callerMap != nullptr  ? "caller"
+      : settings.fit.fitReceivers ? "receivers"
+                                  : "scene",
+      gpu.width, gpu.height, gpu.texelScale, gpu.kind == LIGHT_KIND_SPOT ? "/depth" : "", gpu.zNear, gpu.zFar);
   if (map.gpu.empty()) map.gpu.allocate(frame.ctx, 1, CL_MEM_READ_ONLY);
   map.gpu.upload(frame.ctx, std::span<const LightViewGpu>(&map.view.gpu, 1));
 }
@@ -206,9 +209,19 @@ void tightenNear(LightViewGpu& gpu, float drawnMin) {
 
 void renderShadowMap(ShadowFrame& frame, const MapSettings& settings, ShadowMap& map, float reachTexels, MapNear near) {
   const int size = settings.size;
-  const float margin = reachTexels + settings.normalOffset + 1.0f;
-  map.view = fitWarpedLightView(frame, settings.fit, size, margin);
-  frame.raster.draw(map.view.raster, map.targets);
+  if (frame.callerMap != nullptr) {  // the caller's map: its view, its texels; no triangle ids (no ID buffer)
+    map.view = frame.callerMap->view;
+    if (map.view.gpu.width != size || map.view.gpu.height != size)
+      throw std::logic_error(fmt::format("renderShadowMap: the caller's {}x{} map for a technique of {}^2",
+                                         map.view.gpu.width, map.view.gpu.height, size));
+    map.targets.depth.allocate(frame.ctx, static_cast<size_t>(size) * size);
+    map.targets.triangleId.allocate(frame.ctx, 1);  // an argument the kernels read only with an ID buffer
+    frame.callerMap->writeDepth(map.targets.depth);
+  } else {
+    const float margin = reachTexels + settings.normalOffset + 1.0f;
+    map.view = fitWarpedLightView(frame, settings.fit, size, margin);
+    frame.raster.draw(map.view.raster, map.targets);
+  }
   if (near == MapNear::Drawn)
     tightenNear(map.view.gpu, reduceDepthRange(frame.ctx, map.targets.depth, static_cast<size_t>(size) * size).min);
   publishView(frame, settings, map);

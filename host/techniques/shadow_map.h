@@ -70,7 +70,8 @@ enum class MapNear { Drawn, Fitted };
 // Fits the light's view (per --fit: the whole scene, or the visible receivers with a margin around them of
 // `reachTexels`, the farthest any of the technique's taps reaches from a receiver's texel, plus the normal offset and
 // one texel for bilinear taps), rasterizes it, and with MapNear::Drawn tightens view.gpu.zNear to the nearest caster
-// actually drawn, so depth ranges (moment normalisation, blocker search) start where the occluders do.
+// actually drawn, so depth ranges (moment normalisation, blocker search) start where the occluders do. With the
+// caller's map (frame.callerMap) its view and texels instead of the fit and the draw; zNear is tightened the same way.
 void renderShadowMap(ShadowFrame& frame, const MapSettings& settings, ShadowMap& map, float reachTexels,
                      MapNear near = MapNear::Drawn);
 // MapNear::Drawn's tightening after the fact, from a minimum a technique drawn with MapNear::Fitted computes anyway

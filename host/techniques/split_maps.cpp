@@ -65,6 +65,11 @@ float autoFactor(const SplitFit& fit, float near, float far, float rho, std::str
 
 }  // namespace
 
+std::string splitsCallerMapRefusal() {
+  return "it draws one map per split of the camera's depth range, each cropped to its slice of the view frustum "
+         "(Zhang et al. 2006); a caller's single map has no splits";
+}
+
 std::vector<ParamSpec> splitParams() {
   return {
       {"pssm-splits", 0, 0, PSSM_MAX_SPLITS,

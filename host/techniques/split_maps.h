@@ -17,6 +17,8 @@ namespace penumbra {
 
 // pssm-splits, pssm-scheme, pssm-lambda, pssm-max-splits, pssm-rho, pssm-snap, pssm-blend, pssm-split-bias.
 std::vector<ParamSpec> splitParams();
+// TechniqueInfo::callerMapRefusal of the split techniques (pssm, psvsm).
+std::string splitsCallerMapRefusal();
 
 // splitParams() as parsed.
 struct SplitSettings {

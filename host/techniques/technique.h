@@ -12,12 +12,21 @@
 #include "host/cl/buffer.h"
 #include "host/cl/context.h"
 #include "host/io/image.h"
-#include "host/views/light_fit.h"
 #include "host/scene/scene.h"
 #include "host/techniques/params.h"
+#include "host/views/light_fit.h"
+#include "host/views/views.h"
 #include "raster/rasterizer.h"
 
 namespace penumbra {
+
+// A light's depth map drawn by the caller (pn_shade, host/pipeline/caller_shade.h): renderShadowMap takes its view and
+// its texels instead of fitting and rasterizing the scene.
+struct CallerMap {
+  LightView view;  // the caller's matrices as a map's view (view.raster is not drawn)
+  // Writes the map, view.gpu.width^2 linear light depths (+INFINITY where empty, rows from the bottom), into `depth`.
+  std::function<void(Buffer<float>& depth)> writeDepth;
+};
 
 // What a technique gets for one frame: the device, the rasterizer holding the scene, the light, the
 // camera's G-buffer (world positions and normals per pixel) and the light-space box of the receivers it
@@ -35,6 +44,9 @@ struct ShadowFrame {
   // A cube face's point light (host/pipeline/point_light.h; `light` is then the face's square spot light), else null:
   // for techniques that sample the light's own shape (izb's sphere).
   const Light* pointLight = nullptr;
+  // The caller's map (pn_shade), else null: the scene is then a stand-in of no triangles whose bounds are the caller's
+  // scene's, and the rasterizer holds nothing.
+  const CallerMap* callerMap = nullptr;
 };
 
 class Technique {
@@ -82,6 +94,9 @@ struct TechniqueInfo {
   // Point lights: empty when the technique shadows them, as six cube faces that it renders as spot lights
   // (host/pipeline/point_light.h); otherwise why six spot faces cannot work for it (the refusal's reason).
   std::string pointLightRefusal = {};
+  // Empty when the technique shades from one light depth map the caller drew (pn_shade: ShadowFrame::callerMap);
+  // otherwise why it cannot (it draws maps of its own choosing, or none).
+  std::string callerMapRefusal = {};
 
   bool hasParam(const std::string& param) const;  // a parameter of that name (without dashes)
   bool shadowsPointLights() const { return pointLightRefusal.empty(); }
