@@ -3,6 +3,7 @@
 #pragma once
 
 #include <atomic>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -12,6 +13,7 @@
 #include "host/cl/context.h"
 #include "host/cl/profiler.h"
 #include "host/io/image.h"
+#include "host/pipeline/caller_shade.h"
 #include "host/pipeline/renderer.h"
 #include "host/scene/scene.h"
 #include "host/techniques/technique.h"
@@ -44,6 +46,13 @@ struct pn_renderer : pn_handle_base {
   pn_scene* scene = nullptr;      // retained: and to the Scene
   std::unique_ptr<penumbra::Renderer> renderer;
   ~pn_renderer();
+};
+
+struct pn_shader : pn_handle_base {
+  pn_context* context = nullptr;  // retained: the CallerShader keeps a reference to the Context
+  std::unique_ptr<penumbra::CallerShader> shader;
+  std::map<std::string, std::string> attributes;  // the last successful pn_shade's (pn_shader_attribute)
+  ~pn_shader();
 };
 
 struct pn_frame : pn_handle_base {

@@ -88,6 +88,14 @@ class StageCall {
   // Enqueues the barrier, runs `stage` (which enqueues the kernels), then the marker for the caller's event; flushes.
   template <class Stage>
   void run(Stage&& stage) {
+    begin();
+    stage();
+    finish();
+  }
+
+  // run()'s halves, for a stage that checks its inputs between the call's start and its first command: the barrier on
+  // the wait list and the images' copies; then the marker for the caller's event and the flush.
+  void begin() {
     cl_command_queue queue = ctx().queue()();
     if (waitCount_ > 0)
       clCheck(clEnqueueBarrierWithWaitList(queue, waitCount_, waitList_, nullptr), "clEnqueueBarrierWithWaitList", {},
@@ -97,7 +105,10 @@ class StageCall {
       clCheck(clEnqueueCopyImageToBuffer(queue, c.image, c.buffer, origin, region, 0, 0, nullptr, nullptr),
               "clEnqueueCopyImageToBuffer", {}, function_);
     }
-    stage();
+  }
+
+  void finish() {
+    cl_command_queue queue = ctx().queue()();
     cl_event marker = nullptr;  // the caller's event only once the call has succeeded (a failed one writes none)
     if (event_ != nullptr)
       clCheck(clEnqueueMarkerWithWaitList(queue, 0, nullptr, &marker), "clEnqueueMarkerWithWaitList", {}, function_);

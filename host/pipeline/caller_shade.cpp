@@ -210,7 +210,8 @@ std::map<std::string, std::string> CallerShader::shade(const TechniqueInfo& tech
                                                        const Light& light, const CallerLightMap& map,
                                                        const CallerGBuffer& gbuffer,
                                                        const std::optional<Bounds>& sceneBounds,
-                                                       CallerImage& visibility) {
+                                                       CallerImage& visibility,
+                                                       const std::function<void()>& beforeCommands) {
   // Everything is checked before the first command.
   if (!technique.callerMapRefusal.empty())
     throw std::invalid_argument(
@@ -273,6 +274,7 @@ std::map<std::string, std::string> CallerShader::shade(const TechniqueInfo& tech
     technique_ = technique.create(shadeParams, map.size);
     info_ = &technique;
   }
+  if (beforeCommands) beforeCommands();
 
   // The map's texels, converted when the technique asks for them (renderShadowMap).
   callerMap.writeDepth = [&](Buffer<float>& depth) {

@@ -6,6 +6,7 @@
 // fits that choose a radius or an exponent read a few bytes back, as in a frame of the Renderer.
 #pragma once
 
+#include <functional>
 #include <glm/glm.hpp>
 #include <map>
 #include <memory>
@@ -81,11 +82,13 @@ class CallerShader {
   // (gbuffer.width x gbuffer.height floats at its place). `light` gives the type (Spot or Directional) and the size
   // (radius; angularRadiusDeg); its position and direction are the map's view's. `sceneBounds` (the scene's box) scale
   // the thresholds of vssm and savsm as a Renderer's scene does; without it, the light's frustum between the map's near
-  // and far planes stands in. Throws std::invalid_argument naming what cannot work before any command is enqueued.
+  // and far planes stands in. Throws std::invalid_argument naming what cannot work before any command is enqueued;
+  // then runs `beforeCommands` (may be empty: the C API's barrier on the caller's wait list) and enqueues.
   // Returns the provenance a Renderer's frame records for the light ("penumbra:light-fit", "penumbra:pcf-radius", ...).
   std::map<std::string, std::string> shade(const TechniqueInfo& technique, const Params& params, const Light& light,
                                            const CallerLightMap& map, const CallerGBuffer& gbuffer,
-                                           const std::optional<Bounds>& sceneBounds, CallerImage& visibility);
+                                           const std::optional<Bounds>& sceneBounds, CallerImage& visibility,
+                                           const std::function<void()>& beforeCommands = {});
 
  private:
   Context& ctx_;
