@@ -218,4 +218,5 @@ PYBIND11_MODULE(penumbra, m) {
   penumbra::python::bindRender(m);
   penumbra::python::bindStages(m);
   penumbra::python::bindTables(m);
+  penumbra::python::bindShade(m);
 }

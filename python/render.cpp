@@ -25,11 +25,15 @@ std::string paramText(const py::handle& value) {
   return text;
 }
 
+}  // namespace
+
 Params makeParams(const std::string& technique, const py::dict& values) {
   Params params(technique);
   for (const auto& [name, value] : values) params.set(name.cast<std::string>(), paramText(value));
   return params;
 }
+
+namespace {
 
 // A read-only numpy view of one channel, owned by `frame` (the Python object, kept alive as the array's base).
 py::array channelArray(const py::object& frame, const std::string& name) {

@@ -1,5 +1,6 @@
 // penumbra's C++ API, all of it (C++17, header-only over the C API in penumbra/penumbra.h): penumbra::Context,
-// Scene, Camera, Light, Params, Renderer, Frame, the stages on cl_mem buffers, and penumbra::Error for failures.
+// Scene, Camera, Light, Params, Renderer, Frame, Shader (techniques on the caller's map and G-buffer), the stages on
+// cl_mem buffers, and penumbra::Error for failures.
 #pragma once
 
 /// @file
@@ -10,4 +11,5 @@
 #include "penumbra/penumbra.h"
 #include "penumbra/renderer.hpp"
 #include "penumbra/scene.hpp"
+#include "penumbra/shade.hpp"
 #include "penumbra/stages.hpp"

@@ -116,5 +116,60 @@ TEST(ApiCpp, AFramesBufferFeedsAStage) {
   clReleaseMemObject(table);
 }
 
+// penumbra::Shader on a frame's G-buffer and a map of the caller's: a map with nothing drawn lights every pixel, one
+// drawn at its near plane in front of everything the light sees shadows every pixel inside its frustum.
+TEST(ApiCpp, AShaderShadesFromTheCallersMap) {
+  CallerCl cl;
+  Context ctx(cl.context, cl.device, cl.queue);
+  Scene scene("builtin:box");
+  Renderer renderer(ctx, scene);
+  Camera camera = scene.defaultCamera();
+  camera.width = 40, camera.height = 30;
+  const Frame frame = renderer.render(camera, Params("sm"));
+  constexpr uint32_t kSize = 64;
+  const size_t n = 40 * 30;
+  ShadeDesc desc;
+  pn_shade_desc c;
+  pn_shade_desc_init(&c);
+  EXPECT_EQ(std::memcmp(static_cast<const pn_shade_desc*>(&desc), &c, sizeof(c)), 0);
+  // A sun straight down over the box: an orthographic map 40 units wide from y = 20 down to y = -20.
+  const float view[16] = {1, 0, 0, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 0, -20, 1};  // eye (0, 20, 0) looking down -y
+  const float projection[16] = {0.05f, 0, 0, 0, 0, 0.05f, 0, 0, 0, 0, -0.05f, 0, 0, 0, -1, 1};  // glm::ortho, 0..40
+  std::memcpy(desc.light_view, view, sizeof(view));
+  std::memcpy(desc.light_projection, projection, sizeof(projection));
+  desc.light_type = PN_LIGHT_DIRECTIONAL;
+  desc.light_map_size = kSize;
+  desc.width = 40, desc.height = 30;
+  desc.positions.memory = frame.deviceBuffer(PN_FRAME_POSITION);
+  cl_mem out = cl.buffer<float>(n, nullptr, NAN);
+  desc.visibility.memory = out;
+  const Shader shader(ctx);
+  const Params sm("sm");
+  for (const float texel : {1.0f, 0.0f}) {  // cleared (empty), then everything at the near plane
+    cl_mem map = cl.buffer<float>(size_t(kSize) * kSize, nullptr, texel);
+    desc.light_depth.memory = map;
+    cl_event done = nullptr;
+    shader.shade(sm, desc, {}, &done);
+    ASSERT_EQ(clWaitForEvents(1, &done), CL_SUCCESS);
+    clReleaseEvent(done);
+    const std::vector<float> got = cl.read<float>(out, n);
+    const float* seen = frame.channel("A");  // rows top-down; `got`'s from the bottom
+    size_t wrong = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const bool background = seen[(29 - i / 40) * 40 + i % 40] == 0.0f;
+      wrong += got[i] != (texel == 1.0f || background ? 1.0f : 0.0f);
+    }
+    EXPECT_EQ(wrong, 0u) << "map texels " << texel;
+    clReleaseMemObject(map);
+  }
+  EXPECT_EQ(shader.attribute("penumbra:light-fit").value_or("").rfind("caller 64x64", 0), 0u);
+  EXPECT_FALSE(shader.attribute("no such attribute").has_value());
+  std::string reason;
+  EXPECT_TRUE(takesCallerMap("vssm", &reason));
+  EXPECT_FALSE(takesCallerMap("jittered", &reason));
+  EXPECT_NE(reason.find("jitter"), std::string::npos);
+  clReleaseMemObject(out);
+}
+
 }  // namespace cpp_api_test
 }  // namespace penumbra::test

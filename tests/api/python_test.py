@@ -1,7 +1,7 @@
 """The installed Python module (ctest api-python, after api-install): frames bit for bit equal to the installed
 CLI's, channels as read-only numpy views that keep their frame alive, the GIL released while rendering, penumbra's
-errors as Python exceptions with the library's messages, the stages on numpy arrays against numpy references, and
-pyopencl's contexts, queues and arrays used in place."""
+errors as Python exceptions with the library's messages, the stages on numpy arrays against numpy references,
+pyopencl's contexts, queues and arrays used in place, and a Shader on the caller's own map and a frame's G-buffer."""
 import os
 import shutil
 import subprocess
@@ -343,6 +343,42 @@ class PyOpenCL(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "the queue's context is not the frame's"):
             other = self.cl.CommandQueue(self.cl.Context([self.queue.device]))
             penumbra.Renderer(self.host, scene).render("sm", camera=camera).visibility_array(other)
+
+    def test_a_shader_on_the_callers_map_and_a_frames_buffers(self):
+        scene = penumbra.Scene("builtin:box")
+        camera = scene.default_camera()
+        camera.width, camera.height = 40, 30
+        frame = penumbra.Renderer(self.context, scene).render("sm", camera=camera)
+        positions = frame.device_array("position", self.queue)
+        normals = frame.device_array("normal", self.queue)
+        # A sun straight down: eye (0, 20, 0) looking along -y, an orthographic window 40 wide and 40 deep.
+        view = np.array([[1, 0, 0, 0], [0, 0, -1, 0], [0, 1, 0, -20], [0, 0, 0, 1]], np.float32)
+        projection = np.array([[0.05, 0, 0, 0], [0, 0.05, 0, 0], [0, 0, -0.05, -1], [0, 0, 0, 1]], np.float32)
+        shader = penumbra.Shader(self.context)
+        seen = np.flipud(np.array(frame["A"])) > 0  # device rows are bottom-up
+        for texel in (1.0, 0.0):  # nothing drawn (the cleared value), then everything at the near plane
+            light_map = np.full((64, 64), texel, np.float32)
+            common = dict(light_view=view, light_projection=projection, light_type="directional")
+            on_device = shader.shade("sm", light_map=self.device(light_map), positions=positions, normals=normals,
+                                     **common)
+            self.assertIsInstance(on_device, self.cl.array.Array)
+            on_host = penumbra.Shader(self.host).shade("sm", light_map=light_map, positions=positions.get(),
+                                                       normals=normals.get(), **common)
+            self.assertIsInstance(on_host, np.ndarray)
+            np.testing.assert_array_equal(on_device.get(), on_host)
+            np.testing.assert_array_equal(on_host, np.where(seen & (texel == 0.0), 0.0, 1.0))
+            # Rows from the top: the same image, flipped in and out.
+            flipped = penumbra.Shader(self.host).shade("sm", light_map=np.flipud(light_map),
+                                                       positions=np.flipud(positions.get()), top_down=True, **common)
+            np.testing.assert_array_equal(np.flipud(flipped), on_host)
+        self.assertTrue(shader.attribute("penumbra:light-fit").startswith("caller 64x64"))
+        self.assertIsNone(shader.attribute("no such attribute"))
+        self.assertEqual(penumbra.takes_caller_map("pcss"), (True, ""))
+        self.assertFalse(penumbra.takes_caller_map("izb")[0])
+        with self.assertRaisesRegex(ValueError, "technique izb cannot shade from a caller's map"):
+            shader.shade("izb", light_map=light_map, positions=positions, **common)
+        with self.assertRaisesRegex(ValueError, "normals has the shape"):
+            shader.shade("sm", light_map=light_map, positions=positions, normals=light_map, **common)
 
 
 if __name__ == "__main__":
