@@ -4,7 +4,8 @@
 # pkg-config packages, the CLI, the Python module) and that every place reports one version, then builds examples/
 # out of tree against the prefix alone (C++ through find_package, shared and static; C through pkg-config), runs
 # them and the Python example, and checks each frame's visibility against the installed CLI's render of the same
-# frame, bit for bit, and their stage outputs against each other.
+# frame, bit for bit, and their stage outputs against each other; the engine-style example (its own OpenCL context,
+# kernels, map and G-buffer, shaded by pn_shade) checks itself against the Renderer.
 # Usage: install_test.sh BUILD_DIR SOURCE_DIR SCRATCH VERSION EXR_CHANNEL_EQUAL PYTHON PYTHON_DIR
 set -euo pipefail
 build=$1 source=$2 scratch=$3 version=$4 exr_equal=$5 python=${6:-} python_dir=${7:-}
@@ -55,6 +56,10 @@ done
 echo "== examples/c through pkg-config"
 make -s -C "$scratch" -f "$source/examples/c/Makefile" SRC_DIR="$source/examples/c" > "$scratch/c.log"
 "$scratch/render_frame_c" "${frame[@]}" "$scratch/c.exr" "$scratch/c.blur" | tee "$scratch/c.out"
+
+echo "== examples/c/engine_shade.c: pcss and vssm on the program's own map and G-buffer, against the Renderer"
+"$scratch/engine_shade_c" | tee "$scratch/engine.out" || fail "engine_shade_c: pn_shade disagrees with the Renderer"
+[ "$(grep -c ': agrees$' "$scratch/engine.out")" = 2 ] || fail "engine_shade_c did not check both techniques"
 
 outputs=(cpp-shared cpp-static c)
 if [ -n "$python" ]; then
