@@ -264,7 +264,8 @@ int main(void) {
          kMapSize, kMapSize, kWidth, kHeight, pn_shader_attribute(shader, "penumbra:light-fit"));
 
   /* penumbra's own Renderer on the same scene, camera and light. */
-  const float ground[12] = {-5, 0, -5, 5, 0, -5, 5, 0, 5, -5, 0, 5}, square[12] = {-1, 2, -1, 1, 2, -1, 1, 2, 1, -1, 2, 1};
+  const float ground[12] = {-5, 0, -5, 5, 0, -5, 5, 0, 5, -5, 0, 5};
+  const float square[12] = {-1, 2, -1, 1, 2, -1, 1, 2, 1, -1, 2, 1};
   const uint32_t quad[6] = {0, 2, 1, 0, 3, 2};
   pn_mesh meshes[2];
   for (int i = 0; i < 2; ++i) {
