@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "host/cl/context.h"
 #include "host/cl/profiler.h"
 #include "host/io/image.h"
+#include "host/io/image_rows.h"
 #include "host/pipeline/caller_shade.h"
 #include "host/pipeline/renderer.h"
 #include "host/scene/scene.h"
@@ -56,11 +58,20 @@ struct pn_shader : pn_handle_base {
 };
 
 struct pn_frame : pn_handle_base {
-  penumbra::Image image;
+  penumbra::Image image;  // its channels (all of them, or none with channels on request) and its header
   std::vector<std::string> layers;                  // per light
   std::vector<penumbra::Buffer<float>> visibility;  // per light: the frame's own device copy, rows bottom-up
   // The frame's own device copies of the G-buffer and the preview (pn_frame_device_buffer), rows bottom-up.
   penumbra::Buffer<cl_float4> preview, position, normal;
   penumbra::Buffer<float> depth;
-  std::vector<penumbra::PassTime> passes;
+  mutable std::vector<penumbra::PassTime> passes;  // resolved from `pending` when first asked for (on request)
+  // PN_FRAME_CHANNELS_ON_REQUEST: the channels' readers over the buffers above and the context (retained) whose queue
+  // and lock they use; the channels read so far (rows top-down) and the frame's events until the pass times are
+  // resolved. `onRequest` guards them and `passes`: a frame is shared between threads.
+  pn_context* context = nullptr;
+  std::vector<penumbra::DeferredChannel> deferred;
+  mutable std::mutex onRequest;
+  mutable std::map<std::string, std::vector<float>> fetched;
+  mutable std::optional<penumbra::Profiler> pending;
+  ~pn_frame();
 };

@@ -9,12 +9,16 @@
 #include "api/convert.h"
 #include "api/guard.h"
 #include "api/handles.h"
+#include "api/stage_call.h"
+#include "host/pipeline/frame_image.h"
 #include "host/pipeline/frame_lights.h"
 #include "host/scene/framing.h"
 #include "host/scene/light_names.h"
 
+using penumbra::api::checkEnum;
 using penumbra::api::guard;
 using penumbra::api::require;
+using penumbra::api::StageCall;
 
 pn_renderer::~pn_renderer() {
   renderer.reset();  // before the context and scene it refers to
@@ -72,17 +76,94 @@ penumbra::Buffer<T> copyOf(penumbra::Context& ctx, const penumbra::Buffer<T>& so
   return copy;
 }
 
-// The frame's own copies of each light's visibility and of the G-buffer, complete when this returns: the renderer
-// overwrites its buffers with the next frame, and a frame is a snapshot. Waits on its own copies only.
-void copyDeviceOutputs(penumbra::Context& ctx, const penumbra::Renderer& renderer, size_t lights, pn_frame& frame) {
-  for (size_t i = 0; i < lights; ++i) frame.visibility.push_back(copyOf(ctx, renderer.visibility(i)));
+// The frame's own copies of the G-buffer and of each light's visibility, or the caller's buffer for a light's
+// (`outputs`: none, or one per light, NULL entries the frame's own); the renderer overwrites its buffers with the next
+// frame, and a frame is a snapshot. Enqueued only.
+void copyDeviceOutputs(penumbra::Context& ctx, const penumbra::Renderer& renderer, size_t lights,
+                       const std::vector<penumbra::Buffer<float>>& outputs, pn_frame& frame) {
+  for (size_t i = 0; i < lights; ++i) {
+    if (i < outputs.size() && !outputs[i].empty()) {
+      frame.visibility.push_back(outputs[i]);
+      frame.visibility.back().copyFrom(ctx, renderer.visibility(i));
+    } else {
+      frame.visibility.push_back(copyOf(ctx, renderer.visibility(i)));
+    }
+  }
   const penumbra::GBuffer& gbuffer = renderer.gbuffer();
   frame.position = copyOf(ctx, gbuffer.position);
   frame.normal = copyOf(ctx, gbuffer.normal);
   frame.depth = copyOf(ctx, gbuffer.depth);
+}
+
+// Waits for everything enqueued so far on the context's queue by waiting on a marker (never clFinish).
+void waitForFrame(penumbra::Context& ctx) {
   cl::Event done;
   penumbra::clCheck(ctx.queue().enqueueMarkerWithWaitList(nullptr, &done), "clEnqueueMarkerWithWaitList", {}, "api");
   penumbra::clCheck(done.wait(), "clWaitForEvents", {}, "api");
+}
+
+// The caller's visibility outputs (pn_render_options::visibility) as buffers of at least `pixels` floats, checked
+// before any work; an empty list when none is given.
+std::vector<penumbra::Buffer<float>> visibilityOutputs(StageCall& call, const pn_render_options& o, size_t lights,
+                                                       size_t pixels) {
+  std::vector<penumbra::Buffer<float>> outputs;
+  if (o.visibility_count == 0) return outputs;
+  require(o.visibility, "pn_renderer_enqueue", "options->visibility");
+  if (o.visibility_count != lights)
+    throw std::invalid_argument(fmt::format("pn_renderer_enqueue: options->visibility has {} entries for {} lights",
+                                            o.visibility_count, lights));
+  for (size_t i = 0; i < lights; ++i) {
+    if (o.visibility[i] == nullptr) {
+      outputs.emplace_back();
+      continue;
+    }
+    const std::string what = fmt::format("options->visibility[{}]", i);
+    penumbra::Buffer<float> out = call.buffer<float>(o.visibility[i], what.c_str());
+    if (out.size() < pixels)
+      throw std::invalid_argument(
+          fmt::format("pn_renderer_enqueue: {} holds {} floats; the frame has {} pixels", what, out.size(), pixels));
+    outputs.push_back(penumbra::Buffer<float>::over(out.get(), pixels, call.ctx().context()()));
+  }
+  return outputs;
+}
+
+// One frame of `r` into a new pn_frame: rendered, its device outputs copied, and its host channels either downloaded
+// (ALL) or left to be read on request. Holds nothing but what the caller's lock (the StageCall's or its own) covers.
+std::unique_ptr<pn_frame> renderFrame(pn_renderer& r, const penumbra::Camera& cam,
+                                      const std::vector<penumbra::FrameLight>& frameLights, pn_frame_channels channels,
+                                      const std::vector<penumbra::Buffer<float>>& outputs) {
+  auto created = std::make_unique<pn_frame>();
+  penumbra::Context& ctx = *r.context->context;
+  const bool onRequest = channels == PN_FRAME_CHANNELS_ON_REQUEST;
+  penumbra::RenderResult result = r.renderer->render(
+      cam, frameLights, onRequest ? penumbra::FrameDownload::OnRequest : penumbra::FrameDownload::Image);
+  copyDeviceOutputs(ctx, *r.renderer, frameLights.size(), outputs, *created);
+  created->preview = std::move(result.preview);  // the frame's own: a new buffer every render
+  result.image.attributes()["penumbra:scene"] = r.scene->spec;
+  created->image = std::move(result.image);
+  for (const penumbra::FrameLight& l : frameLights) created->layers.push_back(penumbra::lightLayer(l.light));
+  if (onRequest) {
+    penumbra::GBuffer copies;
+    copies.width = cam.width, copies.height = cam.height;
+    copies.position = created->position, copies.normal = created->normal, copies.depth = created->depth;
+    std::vector<penumbra::LightVisibility> layers;
+    for (size_t i = 0; i < frameLights.size(); ++i) layers.push_back({&frameLights[i].light, &created->visibility[i]});
+    created->deferred = penumbra::frameChannels(ctx, copies, layers, created->preview);
+    penumbra::api::retainHandle(r.context, "pn_renderer_enqueue");
+    created->context = r.context;
+    created->pending = std::move(result.profile);
+  } else {
+    created->passes = std::move(result.passes);
+  }
+  return created;
+}
+
+// The frame's camera: the given one, else pn_scene_default_camera's (the scene's first, else the framing view).
+penumbra::Camera frameCamera(const pn_renderer& r, const pn_camera* camera, const char* function) {
+  const penumbra::Scene& scene = r.scene->scene;
+  return camera != nullptr       ? penumbra::api::fromC(*camera, function, "camera")
+         : scene.cameras.empty() ? penumbra::framingCamera(scene.bounds())
+                                 : scene.cameras.front();
 }
 
 }  // namespace
@@ -118,24 +199,46 @@ pn_status pn_renderer_render(pn_renderer* renderer, const pn_camera* camera, con
   return guard([&] {
     require(frame, "pn_renderer_render", "frame");
     pn_renderer& r = *require(renderer, "pn_renderer_render", "renderer");
-    const penumbra::Scene& scene = r.scene->scene;
-    // No camera: pn_scene_default_camera's (the scene's first, else the framing view).
-    const penumbra::Camera cam = camera != nullptr       ? penumbra::api::fromC(*camera, "pn_renderer_render", "camera")
-                                 : scene.cameras.empty() ? penumbra::framingCamera(scene.bounds())
-                                                         : scene.cameras.front();
+    const penumbra::Camera cam = frameCamera(r, camera, "pn_renderer_render");
     const std::vector<penumbra::FrameLight> frameLights = ::frameLights(*r.scene, lights, light_count, params);
     // Renderer::render checks every light against its technique before any work.
-
-    auto created = std::make_unique<pn_frame>();
-    penumbra::Context& ctx = *r.context->context;
     std::lock_guard lock(r.context->mutex);
-    penumbra::RenderResult result = r.renderer->render(cam, frameLights);
-    copyDeviceOutputs(ctx, *r.renderer, frameLights.size(), *created);
-    created->preview = std::move(result.preview);  // the frame's own: a new buffer every render
-    result.image.attributes()["penumbra:scene"] = r.scene->spec;
-    created->image = std::move(result.image);
-    created->passes = std::move(result.passes);
-    for (const penumbra::FrameLight& l : frameLights) created->layers.push_back(penumbra::lightLayer(l.light));
+    std::unique_ptr<pn_frame> created = renderFrame(r, cam, frameLights, PN_FRAME_CHANNELS_ALL, {});
+    waitForFrame(*r.context->context);  // the device copies complete when this returns
+    *frame = created.release();
+  });
+}
+
+void pn_render_options_init(pn_render_options* options) {
+  if (options == nullptr) return;
+  *options = pn_render_options{};
+  options->size = sizeof(pn_render_options);
+  options->channels = PN_FRAME_CHANNELS_ON_REQUEST;
+}
+
+pn_status pn_renderer_enqueue(pn_renderer* renderer, const pn_camera* camera, const pn_frame_light* lights,
+                              size_t light_count, const pn_params* params, const pn_render_options* options,
+                              cl_uint num_events_in_wait_list, const cl_event* event_wait_list, cl_event* event,
+                              pn_frame** frame) {
+  return guard([&] {
+    constexpr const char* kFunction = "pn_renderer_enqueue";
+    require(frame, kFunction, "frame");
+    pn_renderer& r = *require(renderer, kFunction, "renderer");
+    pn_render_options defaults;
+    pn_render_options_init(&defaults);
+    const pn_render_options& o = options != nullptr
+                                     ? penumbra::api::requireSized(options, sizeof(pn_render_options), kFunction,
+                                                                   "options", "pn_render_options_init")
+                                     : defaults;
+    checkEnum(o.channels, 2, kFunction, "options->channels");
+    const penumbra::Camera cam = frameCamera(r, camera, kFunction);
+    const std::vector<penumbra::FrameLight> frameLights = ::frameLights(*r.scene, lights, light_count, params);
+    StageCall call(r.context, kFunction, num_events_in_wait_list, event_wait_list, event);
+    const std::vector<penumbra::Buffer<float>> outputs =
+        visibilityOutputs(call, o, frameLights.size(), static_cast<size_t>(cam.width) * cam.height);
+    call.begin();
+    std::unique_ptr<pn_frame> created = renderFrame(r, cam, frameLights, o.channels, outputs);
+    call.finish();
     *frame = created.release();
   });
 }

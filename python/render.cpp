@@ -68,13 +68,18 @@ FrameLight frameLight(const py::handle& item) {
 }
 
 Frame render(Renderer& renderer, const std::string& technique, const py::dict& params,
-             const std::optional<Camera>& camera, const std::optional<py::list>& lights) {
+             const std::optional<Camera>& camera, const std::optional<py::list>& lights, const std::string& channels) {
+  if (channels != "all" && channels != "on_request")
+    throw py::value_error("render: channels '" + channels + "' is not all or on_request");
   const Params fallback = makeParams(technique, params);
   std::vector<FrameLight> frameLights;
   if (lights)
     for (const py::handle& item : *lights) frameLights.push_back(frameLight(item));
   py::gil_scoped_release release;  // no Python object is touched from here on
-  return renderer.render(camera, frameLights, &fallback);
+  if (channels == "all") return renderer.render(camera, frameLights, &fallback);
+  RenderOptions options;
+  options.channels = FrameChannels::OnRequest;
+  return renderer.enqueue(camera, frameLights, &fallback, options);
 }
 
 pn_frame_output frameOutput(const std::string& output, const char* function) {
@@ -163,10 +168,11 @@ void bindRender(py::module_& m) {
   py::class_<Renderer>(m, "Renderer", "Draws frames of one scene on one context.")
       .def(py::init<const Context&, const Scene&>(), py::arg("context"), py::arg("scene"))
       .def("render", &render, py::arg("technique") = "pcss", py::arg("params") = py::dict(),
-           py::arg("camera") = std::nullopt, py::arg("lights") = std::nullopt,
+           py::arg("camera") = std::nullopt, py::arg("lights") = std::nullopt, py::arg("channels") = "all",
            "Renders a frame, releasing the GIL. No camera: the scene's default; no lights: the scene's (else the "
            "framing light). Lights: Light objects (shadowed by technique/params) or (Light, technique, params) "
-           "tuples.");
+           "tuples. channels: 'all' (every channel downloaded before it returns) or 'on_request' (nothing waited "
+           "for: each channel read from the device when first indexed; no debug channels).");
 }
 
 }  // namespace penumbra::python

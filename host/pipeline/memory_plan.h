@@ -44,6 +44,10 @@ struct MemoryPlan {
 enum class FrameDownload {
   Image,     // downloaded whole into RenderResult::image
   Deferred,  // left on the device and read in bands by the writer (RenderResult::deferred): for a frame written once
+  // Like Deferred, and nothing waited for once the frame is enqueued: no empty-frame check, no debug channels, the
+  // pass times left to resolve (RenderResult::profile); the G-buffer's ids kept for the next frame. The library's
+  // frames whose host channels are read on request (pn_renderer_enqueue).
+  OnRequest,
 };
 
 // One light of a frame as the plan sees it (the renderer's FrameLight without the light's geometry).

@@ -153,24 +153,32 @@ RenderResult Renderer::render(const Camera& camera, const std::vector<FrameLight
     if (download == FrameDownload::Image) {
       result.image = frameImage(ctx_, gbuffer_, layers, camera, bounds, &result.preview);
     } else {
-      gbuffer_.triangleId = {};  // shading and the outputs need neither
-      gbuffer_.objectId = {};
+      if (download == FrameDownload::Deferred) {
+        gbuffer_.triangleId = {};  // shading and the outputs need neither
+        gbuffer_.objectId = {};
+      }
       result.preview = shadeFrame(ctx_, gbuffer_, layers, camera, bounds);
       result.image = frameHeader(ctx_, layers, camera, bounds, gbuffer_.width, gbuffer_.height);
       result.deferred = frameChannels(ctx_, gbuffer_, layers, result.preview);
     }
-    addDebugChannels(lights[0].light, slots_[0], result.image);  // the first light's only
+    if (download != FrameDownload::OnRequest)
+      addDebugChannels(lights[0].light, slots_[0], result.image);  // the first light's only
   });
-  const std::optional<std::string> warning = download == FrameDownload::Image
-                                                 ? emptyFrameWarning(scene_, camera, result.image.require("A").data)
-                                                 : emptyFrameWarning(scene_, camera, seesSurface(ctx_, gbuffer_));
-  if (warning) result.warnings.push_back(*warning);
+  if (download != FrameDownload::OnRequest) {  // reading the frame back waits for it
+    const std::optional<std::string> warning = download == FrameDownload::Image
+                                                   ? emptyFrameWarning(scene_, camera, result.image.require("A").data)
+                                                   : emptyFrameWarning(scene_, camera, seesSurface(ctx_, gbuffer_));
+    if (warning) result.warnings.push_back(*warning);
+  }
   for (const FrameLight& light : lights)
     if (const std::optional<std::string> reach = lightReachWarning(scene_, light.light))
       result.warnings.push_back(*reach);
   result.image.flipRows();  // the rasterizer's row 0 is the bottom row (frameChannels' readers flip their own)
   recordTechniques(lights, lightAttributes, result.image);
-  result.passes = profiler.resolve();
+  if (download == FrameDownload::OnRequest)
+    result.profile = profiler;
+  else
+    result.passes = profiler.resolve();
   return result;
 }
 

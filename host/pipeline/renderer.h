@@ -40,7 +40,8 @@ struct RenderResult {
   // FrameDownload::Deferred: every other channel, read on demand from the device (rows top-down); write the frame
   // through ImageRows(image, deferred). They read the renderer's buffers, so only until its next render().
   std::vector<DeferredChannel> deferred;
-  std::vector<PassTime> passes;       // device time per named pass, in recording order
+  std::vector<PassTime> passes;       // device time per named pass, in recording order (not with OnRequest)
+  Profiler profile;                   // FrameDownload::OnRequest: the frame's events, resolved when asked
   Buffer<cl_float4> preview;          // the shaded preview on the device (R, G, B, A per pixel), rows bottom-up
   std::vector<std::string> warnings;  // e.g. a frame that sees no surface (frame_check.h); the caller prints them
 };

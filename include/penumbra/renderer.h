@@ -89,6 +89,47 @@ PN_API pn_status pn_renderer_release(pn_renderer* renderer);
 PN_API pn_status pn_renderer_render(pn_renderer* renderer, const pn_camera* camera, const pn_frame_light* lights,
                                     size_t light_count, const pn_params* params, pn_frame** frame);
 
+/** How a frame's host channels are made (pn_render_options). */
+typedef enum pn_frame_channels {
+  /** Every channel, the technique's debug channels included, downloaded before the render call returns. */
+  PN_FRAME_CHANNELS_ALL = 0,
+  /** None downloaded by the render: pn_frame_channel reads the channel it is asked for from the frame's device buffers
+   *  the first time (waiting for them), and keeps it; no debug channels. */
+  PN_FRAME_CHANNELS_ON_REQUEST = 1,
+  PN_FRAME_CHANNELS_MAX_ENUM = 0x7FFFFFFF /**< Not a value: makes the type as wide as int, so that any int a C caller
+                                             passes is one of its values (and refused). */
+} pn_frame_channels;
+
+/** pn_renderer_enqueue's settings; pn_render_options_init() gives the defaults. */
+typedef struct pn_render_options {
+  size_t size; /**< sizeof(pn_render_options) as the caller compiled it (set by pn_render_options_init()): fields a
+                    later version adds go after these and are read only when `size` holds them. */
+  pn_frame_channels channels; /**< PN_FRAME_CHANNELS_ON_REQUEST (the default) or PN_FRAME_CHANNELS_ALL. */
+  /** NULL, or one entry per light of the call: a buffer of the context's cl_context of at least width x height
+   *  floats that the light's visibility (rows bottom-up) is written into instead of a buffer of the frame's (NULL
+   *  entries: the frame's own). pn_frame_visibility_buffer then gives that buffer, which the frame retains; its
+   *  channels on request read it, so write it only once they are read. */
+  const cl_mem* visibility;
+  size_t visibility_count; /**< Entries in `visibility` (0, or the call's light count). */
+} pn_render_options;
+
+/** The defaults: channels on request, visibility into the frame's own buffers. */
+PN_API void pn_render_options_init(pn_render_options* options);
+
+/** pn_renderer_render without waiting for the frame: enqueues a barrier on the wait list, then the frame, on the
+ *  context's queue, and returns `frame` and `event` (may be NULL; completes when the frame's device buffers and the
+ *  caller's visibility buffers are written). `options` (NULL: the defaults) chooses the host channels and the
+ *  outputs. The renderer reads back what its fits measure while it records the frame (the visible receivers' box the
+ *  light's map is fitted to, the map size under map-size auto, auto radii and exponents): the call waits on the host
+ *  for the commands before each such read, the wait list's included, so the wait list's events must complete without
+ *  the caller's further action (user events the caller sets only after the call would never let it return). It waits
+ *  for nothing after the last fit: the shading, the copies into the outputs, the channels (on request) and the pass
+ *  times (resolved when first asked for) are not waited for. */
+PN_API pn_status pn_renderer_enqueue(pn_renderer* renderer, const pn_camera* camera, const pn_frame_light* lights,
+                                     size_t light_count, const pn_params* params, const pn_render_options* options,
+                                     cl_uint num_events_in_wait_list, const cl_event* event_wait_list, cl_event* event,
+                                     pn_frame** frame);
+
 /** Adds a reference. */
 PN_API pn_status pn_frame_retain(pn_frame* frame);
 /** Drops a reference; frees at 0, releasing the device buffers it holds. NULL is a no-op. */
@@ -103,7 +144,8 @@ PN_API size_t pn_frame_channel_count(const pn_frame* frame);
 /** Name of channel `index`; NULL past the end. */
 PN_API const char* pn_frame_channel_name(const pn_frame* frame, size_t index);
 /** The channel called `name`: width * height floats, row 0 the top row, valid while the frame lives. A missing
- *  channel is PN_ERROR_INVALID_ARGUMENT listing those the frame has. */
+ *  channel is PN_ERROR_INVALID_ARGUMENT listing those the frame has. A frame whose channels come on request reads the
+ *  channel from its device buffers the first time (a blocking read on the context's queue, under its lock). */
 PN_API pn_status pn_frame_channel(const pn_frame* frame, const char* name, const float** data);
 /** The frame's lights, in the order they were given. */
 PN_API size_t pn_frame_light_count(const pn_frame* frame);
@@ -130,7 +172,8 @@ typedef enum pn_frame_output {
 PN_API pn_status pn_frame_device_buffer(const pn_frame* frame, pn_frame_output output, cl_mem* buffer);
 /** A provenance attribute ("penumbra:technique", "penumbra:version", "penumbra:light", ...); NULL when absent. */
 PN_API const char* pn_frame_attribute(const pn_frame* frame, const char* name);
-/** Named passes with device times, in recording order. */
+/** Named passes with device times, in recording order (a frame of pn_renderer_enqueue: resolved at the first call,
+ *  which waits for the frame). */
 PN_API size_t pn_frame_pass_count(const pn_frame* frame);
 /** Pass `index`: its name ("shade/pcss_visibility") and summed device time (0 without queue profiling). */
 PN_API pn_status pn_frame_pass(const pn_frame* frame, size_t index, const char** name, double* milliseconds);

@@ -145,6 +145,24 @@ class Frame {
   detail::Handle<pn_frame, pn_frame_retain, pn_frame_release> handle_;
 };
 
+/// How a frame's host channels are made (pn_frame_channels).
+enum class FrameChannels { All = PN_FRAME_CHANNELS_ALL, OnRequest = PN_FRAME_CHANNELS_ON_REQUEST };
+
+/// Renderer::enqueue's settings (pn_render_options; the same defaults).
+struct RenderOptions {
+  FrameChannels channels = FrameChannels::OnRequest;  ///< All at once, or each read when first asked for.
+  std::vector<cl_mem> visibility;  ///< Empty, or one buffer per light (nullptr: the frame's own) to write into.
+  /// As the C API takes it; its visibility points into these options.
+  pn_render_options toC() const {
+    pn_render_options o;
+    pn_render_options_init(&o);
+    o.channels = static_cast<pn_frame_channels>(channels);
+    o.visibility = visibility.empty() ? nullptr : visibility.data();
+    o.visibility_count = visibility.size();
+    return o;
+  }
+};
+
 /// Draws frames of one scene on one context (pn_renderer); keeps both alive.
 class Renderer {
  public:
@@ -170,19 +188,43 @@ class Renderer {
   Frame render(const std::optional<Camera>& camera, const std::vector<FrameLight>& lights,
                const Params* params = nullptr) {
     const pn_camera c = camera ? camera->toC() : pn_camera{};
-    std::vector<pn_light> cLights;
-    std::vector<pn_frame_light> frameLights;
-    cLights.reserve(lights.size());
-    for (const FrameLight& l : lights) cLights.push_back(l.light.toC());
-    for (size_t i = 0; i < lights.size(); ++i)
-      frameLights.push_back({&cLights[i], lights[i].params ? lights[i].params->get() : nullptr});
-    return renderC(camera ? &c : nullptr, frameLights.empty() ? nullptr : frameLights.data(), frameLights.size(),
-                   params != nullptr ? params->get() : nullptr);
+    const CFrameLights cLights(lights);
+    return renderC(camera ? &c : nullptr, cLights.data(), cLights.size(), params != nullptr ? params->get() : nullptr);
+  }
+  /// render()'s general form without waiting for the frame (pn_renderer_enqueue): after `waitFor`, with `event` (may
+  /// be null) completing when the frame's device buffers and `options.visibility` are written.
+  Frame enqueue(const std::optional<Camera>& camera, const std::vector<FrameLight>& lights, const Params* params,
+                const RenderOptions& options, const std::vector<cl_event>& waitFor = {}, cl_event* event = nullptr) {
+    const pn_camera c = camera ? camera->toC() : pn_camera{};
+    const CFrameLights cLights(lights);
+    const pn_render_options o = options.toC();
+    pn_frame* frame = nullptr;
+    detail::check(pn_renderer_enqueue(
+        get(), camera ? &c : nullptr, cLights.data(), cLights.size(), params != nullptr ? params->get() : nullptr, &o,
+        static_cast<cl_uint>(waitFor.size()), waitFor.empty() ? nullptr : waitFor.data(), event, &frame));
+    return Frame(frame);
   }
   /// The C handle (not retained for the caller).
   pn_renderer* get() const noexcept { return handle_.get(); }
 
  private:
+  // A frame's lights as the C API takes them (pointing into this object).
+  class CFrameLights {
+   public:
+    explicit CFrameLights(const std::vector<FrameLight>& lights) {
+      lights_.reserve(lights.size());
+      for (const FrameLight& l : lights) lights_.push_back(l.light.toC());
+      for (size_t i = 0; i < lights.size(); ++i)
+        frame_.push_back({&lights_[i], lights[i].params ? lights[i].params->get() : nullptr});
+    }
+    const pn_frame_light* data() const { return frame_.empty() ? nullptr : frame_.data(); }
+    size_t size() const { return frame_.size(); }
+
+   private:
+    std::vector<pn_light> lights_;
+    std::vector<pn_frame_light> frame_;
+  };
+
   Frame renderC(const pn_camera* camera, const pn_frame_light* lights, size_t count, const pn_params* params) {
     pn_frame* frame = nullptr;
     detail::check(pn_renderer_render(get(), camera, lights, count, params, &frame));

@@ -171,5 +171,38 @@ TEST(ApiCpp, AShaderShadesFromTheCallersMap) {
   clReleaseMemObject(out);
 }
 
+// Renderer::enqueue: the visibility into the caller's buffer after its event, channels on request, the same bits as
+// render(); RenderOptions' defaults are pn_render_options_init's.
+TEST(ApiCpp, AnEnqueuedFrameEqualsARenderedOne) {
+  CallerCl cl;
+  Context ctx(cl.context, cl.device, cl.queue);
+  Scene scene("builtin:box");
+  Renderer renderer(ctx, scene);
+  Camera camera = scene.defaultCamera();
+  camera.width = 40, camera.height = 30;
+  const Params params("pcf");
+  const Frame rendered = renderer.render(camera, params);
+  pn_render_options c;
+  pn_render_options_init(&c);
+  const pn_render_options defaults = RenderOptions{}.toC();
+  EXPECT_EQ(defaults.channels, c.channels);
+  EXPECT_EQ(defaults.visibility_count, c.visibility_count);
+  RenderOptions options;
+  cl_mem out = cl.buffer<float>(40 * 30);
+  options.visibility = {out};
+  cl_event done = nullptr;
+  const Frame enqueued =
+      renderer.enqueue(camera, {{scene.lights().front(), std::nullopt}}, &params, options, {}, &done);
+  ASSERT_EQ(clWaitForEvents(1, &done), CL_SUCCESS);
+  clReleaseEvent(done);
+  EXPECT_EQ(enqueued.visibilityBuffer(), out);
+  const std::vector<float> got = cl.read<float>(out, 40 * 30);
+  const float* want = rendered.channel("visibility.Y");  // rows top-down
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) ASSERT_EQ(got[y * 40 + x], want[(29 - y) * 40 + x]) << x << "," << y;
+  EXPECT_EQ(std::memcmp(enqueued.channel("N.Y"), rendered.channel("N.Y"), 40 * 30 * sizeof(float)), 0);
+  clReleaseMemObject(out);
+}
+
 }  // namespace cpp_api_test
 }  // namespace penumbra::test

@@ -55,6 +55,15 @@ class Module(unittest.TestCase):
         self.assertEqual(frame.attribute("penumbra:technique"), "pcss")
         self.assertEqual(frame.attribute("penumbra:version"), penumbra.__version__)
 
+    def test_channels_on_request_equal_the_downloaded_ones(self):
+        frame = self.renderer.render("pcf", camera=self.camera(40, 30))
+        later = self.renderer.render("pcf", camera=self.camera(40, 30), channels="on_request")
+        for name in ("visibility.Y", "R", "P.X", "depth.Z"):
+            np.testing.assert_array_equal(later[name], frame[name])
+        self.assertLess(len(later.channel_names), len(frame.channel_names))  # no debug channels
+        with self.assertRaisesRegex(ValueError, "channels 'some' is not all or on_request"):
+            self.renderer.render("pcf", channels="some")
+
     def test_channels_are_read_only_views_that_keep_the_frame(self):
         frame = self.renderer.render("sm", camera=self.camera(40, 30))
         visibility = frame["visibility.Y"]

@@ -3,6 +3,7 @@
 // context, the caller's reference counts where they began, and errors that say what is wrong.
 #include <penumbra/penumbra.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -417,6 +418,125 @@ TEST(ApiRenderer, TechniquesAndTheirParameters) {
   EXPECT_EQ(pn_params_get(params, "lvsm-splits", &value), PN_ERROR_INVALID_ARGUMENT);
   EXPECT_STREQ(pn_last_error_message(), "\"lvsm-splits\" is a text parameter (pn_params_describe shows its value)");
   pn_params_release(params);
+}
+
+// pn_renderer_enqueue: after the caller's event, a frame whose visibility goes into the caller's buffer and whose host
+// channels come on request equals pn_renderer_render's frame bit for bit (channels, device outputs), without the
+// technique's debug channels; its event completes the caller's buffer; its pass times resolve when asked; the frame
+// keeps the caller's buffer and gives it back; bad options are refused before any work and write no event.
+TEST(ApiRenderer, EnqueuedFramesChainEventsAndReadChannelsOnRequest) {
+  CallerCl cl;
+  pn_context* ctx = nullptr;
+  PN_ASSERT_OK(pn_context_create_from_cl(cl.context, cl.device, cl.queue, &ctx));
+  Rendered r;
+  pn_frame* synchronous = renderBox(ctx, "pcss", r);
+  ASSERT_NE(synchronous, nullptr);
+  pn_camera camera;
+  pn_camera_init(&camera);
+  PN_ASSERT_OK(pn_scene_default_camera(r.scene, &camera));
+  camera.width = kWidth, camera.height = kHeight;
+  const size_t pixels = size_t(kWidth) * kHeight;
+
+  // The caller's own command first: a write of its output buffer whose event the frame waits for.
+  cl_mem out = cl.buffer<float>(pixels);
+  const std::vector<float> poison(pixels, NAN);
+  cl_event written = nullptr;
+  ASSERT_EQ(clEnqueueWriteBuffer(cl.queue, out, CL_FALSE, 0, pixels * 4, poison.data(), 0, nullptr, &written),
+            CL_SUCCESS);
+  ASSERT_EQ(clWaitForEvents(1, &written), CL_SUCCESS);
+  const cl_uint outReferences = settled(out, 1);  // PoCL drops the write's reference a moment after it completes
+  pn_render_options options;
+  pn_render_options_init(&options);
+  EXPECT_EQ(options.channels, PN_FRAME_CHANNELS_ON_REQUEST);
+  options.visibility = &out;
+  options.visibility_count = 1;
+  pn_frame* frame = nullptr;
+  cl_event done = nullptr;
+  PN_ASSERT_OK(pn_renderer_enqueue(r.renderer, &camera, nullptr, 0, r.params, &options, 1, &written, &done, &frame));
+  ASSERT_NE(done, nullptr);
+  ASSERT_EQ(clWaitForEvents(1, &done), CL_SUCCESS);
+  EXPECT_TRUE(sameBits(cl.read<float>(out, pixels), flipped(channel(synchronous, "visibility.Y"))));
+  cl_mem given = nullptr;
+  PN_ASSERT_OK(pn_frame_visibility_buffer(frame, 0, &given));
+  EXPECT_EQ(given, out);
+  EXPECT_GT(references(out), outReferences);  // the frame (and its channels' readers) keep it
+
+  // The channels on request: each the synchronous frame's, bit for bit; the debug channels are the difference.
+  EXPECT_EQ(pn_frame_width(frame), kWidth);
+  EXPECT_EQ(pn_frame_height(frame), kHeight);
+  std::vector<std::string> names;
+  for (size_t i = 0; i < pn_frame_channel_count(frame); ++i) names.push_back(pn_frame_channel_name(frame, i));
+  ASSERT_FALSE(names.empty());
+  for (const std::string& name : names)
+    EXPECT_TRUE(sameBits(channel(frame, name.c_str()), channel(synchronous, name.c_str()))) << name;
+  EXPECT_LT(names.size(), pn_frame_channel_count(synchronous));
+  const float* again = nullptr;
+  const float* first = nullptr;
+  PN_ASSERT_OK(pn_frame_channel(frame, "R", &first));
+  PN_ASSERT_OK(pn_frame_channel(frame, "R", &again));
+  EXPECT_EQ(first, again);  // read once, kept
+  cl_mem position = nullptr, theirs = nullptr;
+  PN_ASSERT_OK(pn_frame_device_buffer(frame, PN_FRAME_POSITION, &position));
+  PN_ASSERT_OK(pn_frame_device_buffer(synchronous, PN_FRAME_POSITION, &theirs));
+  EXPECT_EQ(cl.read<cl_float4>(position, pixels).back().s[0], cl.read<cl_float4>(theirs, pixels).back().s[0]);
+  ASSERT_EQ(pn_frame_pass_count(frame), pn_frame_pass_count(synchronous));  // the same passes, resolved now
+  for (size_t i = 0; i < pn_frame_pass_count(frame); ++i) {
+    const char* enqueued = nullptr;
+    const char* rendered = nullptr;
+    PN_ASSERT_OK(pn_frame_pass(frame, i, &enqueued, nullptr));
+    PN_ASSERT_OK(pn_frame_pass(synchronous, i, &rendered, nullptr));
+    EXPECT_STREQ(enqueued, rendered);
+  }
+  const std::string exr = (std::filesystem::temp_directory_path() / "penumbra-enqueued.exr").string();
+  PN_ASSERT_OK(pn_frame_save_exr(frame, exr.c_str()));
+  EXPECT_GT(std::filesystem::file_size(exr), 1000u);
+  std::filesystem::remove(exr);
+
+  // Every channel at once through pn_renderer_enqueue: the synchronous frame's, debug channels included.
+  options.channels = PN_FRAME_CHANNELS_ALL;
+  options.visibility = nullptr, options.visibility_count = 0;
+  pn_frame* all = nullptr;
+  PN_ASSERT_OK(pn_renderer_enqueue(r.renderer, &camera, nullptr, 0, r.params, &options, 0, nullptr, nullptr, &all));
+  EXPECT_EQ(pn_frame_channel_count(all), pn_frame_channel_count(synchronous));
+  EXPECT_TRUE(sameBits(channel(all, "visibility.Y"), channel(synchronous, "visibility.Y")));
+
+  // Refusals: nothing enqueued, no event written.
+  CallerCl other;
+  cl_mem foreign = other.buffer<float>(pixels), small = cl.buffer<float>(pixels - 1);
+  auto refused = [&](const pn_render_options& o, const char* words) {
+    cl_event event = reinterpret_cast<cl_event>(0x1);
+    pn_frame* none = nullptr;
+    EXPECT_EQ(pn_renderer_enqueue(r.renderer, &camera, nullptr, 0, r.params, &o, 0, nullptr, &event, &none),
+              PN_ERROR_INVALID_ARGUMENT)
+        << words;
+    EXPECT_NE(std::string(pn_last_error_message()).find(words), std::string::npos) << pn_last_error_message();
+    EXPECT_EQ(event, reinterpret_cast<cl_event>(0x1));
+    EXPECT_EQ(none, nullptr);
+  };
+  pn_render_options bad;
+  pn_render_options_init(&bad);
+  bad.size = 4;
+  refused(bad, "pn_render_options_init");
+  pn_render_options_init(&bad);
+  bad.channels = static_cast<pn_frame_channels>(7);
+  refused(bad, "options->channels 7");
+  pn_render_options_init(&bad);
+  const cl_mem two[2] = {out, out};
+  bad.visibility = two, bad.visibility_count = 2;
+  refused(bad, "2 entries for 1 lights");
+  bad.visibility = &small, bad.visibility_count = 1;
+  refused(bad, "holds 3071 floats");
+  bad.visibility = &foreign;
+  refused(bad, "another OpenCL context");
+
+  pn_frame_release(all);
+  pn_frame_release(frame);
+  EXPECT_EQ(settled(out, outReferences), outReferences);
+  pn_frame_release(synchronous);
+  clReleaseEvent(done);
+  clReleaseEvent(written);
+  for (cl_mem m : {out, foreign, small}) clReleaseMemObject(m);
+  pn_context_release(ctx);
 }
 
 }  // namespace renderer_test
