@@ -29,22 +29,6 @@ namespace {
 
 constexpr char kShade[] = "pn_shade";
 
-// The caller's image: a buffer in place, or a cl_image2d copied into one after the wait list (its rows then packed);
-// nothing when `memory` is NULL.
-std::optional<penumbra::CallerImage> callerImage(StageCall& call, const pn_device_image& image, const std::string& what,
-                                                 uint32_t width, uint32_t height, uint32_t channels) {
-  if (image.memory == nullptr) return std::nullopt;
-  cl_mem_object_type type = 0;
-  const bool isImage = clGetMemObjectInfo(image.memory, CL_MEM_TYPE, sizeof(type), &type, nullptr) == CL_SUCCESS &&
-                       type == CL_MEM_OBJECT_IMAGE2D;
-  penumbra::CallerImage out;
-  out.buffer = call.input<float>(image.memory, what.c_str(), width, height, channels);
-  out.offsetBytes = isImage ? 0 : image.offset;
-  out.rowPitchBytes = isImage ? 0 : image.row_pitch;
-  out.topDown = image.top_down != 0;
-  return out;
-}
-
 penumbra::NdcDepth ndcDepth(pn_ndc_depth ndc, const char* what) {
   checkEnum(ndc, 2, kShade, what);
   return ndc == PN_NDC_DEPTH_ZERO_TO_ONE ? penumbra::NdcDepth::ZeroToOne : penumbra::NdcDepth::MinusOneToOne;
@@ -137,7 +121,7 @@ pn_status pn_shade(pn_shader* shader, const pn_params* params, const pn_shade_de
 
     penumbra::CallerLightMap map;
     const std::optional<penumbra::CallerImage> depth =
-        callerImage(call, d.light_depth, "desc->light_depth", d.light_map_size, d.light_map_size, 1);
+        call.image(d.light_depth, "desc->light_depth", d.light_map_size, d.light_map_size, 1);
     if (!depth) throw std::invalid_argument("pn_shade: desc->light_depth.memory is NULL");
     map.depth = *depth;
     map.size = static_cast<int>(d.light_map_size);
@@ -151,15 +135,15 @@ pn_status pn_shade(pn_shader* shader, const pn_params* params, const pn_shade_de
     penumbra::CallerGBuffer g;
     g.width = static_cast<int>(d.width), g.height = static_cast<int>(d.height);
     requirePixels(d.width, d.height, "desc->width x height");
-    g.positions = callerImage(call, d.positions, "desc->positions", d.width, d.height, 4);
-    g.depth = callerImage(call, d.depth, "desc->depth", d.width, d.height, 1);
+    g.positions = call.image(d.positions, "desc->positions", d.width, d.height, 4);
+    g.depth = call.image(d.depth, "desc->depth", d.width, d.height, 1);
     g.inverseViewProjection = glm::make_mat4(d.camera_inverse_view_projection);
     g.ndc = ndcDepth(d.camera_ndc_depth, "desc->camera_ndc_depth");
     g.clearDepth = d.camera_clear_depth;
     if (g.depth && !(d.camera_clear_depth == 0.0f || d.camera_clear_depth == 1.0f))
       throw std::invalid_argument(
           fmt::format("pn_shade: desc->camera_clear_depth {} is neither 1 nor 0 (reversed Z)", d.camera_clear_depth));
-    g.normals = callerImage(call, d.normals, "desc->normals", d.width, d.height, 4);
+    g.normals = call.image(d.normals, "desc->normals", d.width, d.height, 4);
 
     require(d.visibility.memory, kShade, "desc->visibility.memory");
     penumbra::CallerImage visibility;

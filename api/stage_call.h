@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "api/guard.h"
 #include "api/handles.h"
 #include "host/cl/error.h"
+#include "host/stages/image_layout.h"
 #include "host/stages/image_shape.h"
 #include "penumbra/stages.h"
 
@@ -77,6 +79,26 @@ class StageCall {
     clRetainMemObject(mem);  // held until the copy is enqueued (the caller may release it once the call returns)
     copies_.push_back({mem, target, width, height});
     return copy;
+  }
+
+  // The caller's image (penumbra/stages.h pn_device_image) of width x height texels of `channels` floats: a buffer in
+  // place with its offset, pitch and row order, or a cl_image2d copied into a buffer after the wait list (input(): its
+  // rows then packed); nothing when `image.memory` is NULL. The layout is checked by its user (imageLayout).
+  std::optional<CallerImage> image(const pn_device_image& image, const std::string& what, uint32_t width,
+                                   uint32_t height, uint32_t channels) {
+    if (image.memory == nullptr) return std::nullopt;
+    cl_mem_object_type type = 0;
+    const bool isImage = clGetMemObjectInfo(image.memory, CL_MEM_TYPE, sizeof(type), &type, nullptr) == CL_SUCCESS &&
+                         type == CL_MEM_OBJECT_IMAGE2D;
+    if (isImage && channels == 3)
+      throw std::invalid_argument(
+          fmt::format("{}: {} is an image, whose texels have 1, 2 or 4 channels, not 3", function_, what));
+    CallerImage out;
+    out.buffer = input<float>(image.memory, what.c_str(), width, height, channels);
+    out.offsetBytes = isImage ? 0 : image.offset;
+    out.rowPitchBytes = isImage ? 0 : image.row_pitch;
+    out.topDown = image.top_down != 0;
+    return out;
   }
 
   // The caller's scratch buffer, or (NULL) a temporary of `count` elements, freed once the stage's commands are done.

@@ -166,4 +166,30 @@ pn_status pn_blur_moments_scratch(pn_context* context, uint32_t width, uint32_t 
   });
 }
 
+pn_status pn_image_copy(pn_context* context, const pn_device_image* src, const pn_device_image* dst, uint32_t width,
+                        uint32_t height, uint32_t texel_floats, cl_uint num_events_in_wait_list,
+                        const cl_event* event_wait_list, cl_event* event) {
+  return guard([&] {
+    constexpr const char* kFunction = "pn_image_copy";
+    require(src, kFunction, "src");
+    require(dst, kFunction, "dst");
+    requireTexels(width, height, kFunction);
+    if (texel_floats < 1 || texel_floats > 4)
+      throw std::invalid_argument(fmt::format("{}: texel_floats {} is not 1..4", kFunction, texel_floats));
+    StageCall call(context, kFunction, num_events_in_wait_list, event_wait_list, event);
+    const std::optional<penumbra::CallerImage> from = call.image(*src, "src", width, height, texel_floats);
+    require(from ? &*from : nullptr, kFunction, "src->memory");
+    require(dst->memory, kFunction, "dst->memory");
+    penumbra::CallerImage to;
+    to.buffer = call.buffer<float>(dst->memory, "dst");
+    to.offsetBytes = dst->offset, to.rowPitchBytes = dst->row_pitch, to.topDown = dst->top_down != 0;
+    const int w = static_cast<int>(width), h = static_cast<int>(height), c = static_cast<int>(texel_floats);
+    const CallerImageGpu fromLayout = penumbra::imageLayout(*from, w, h, c, std::string(kFunction) + ": src");
+    const CallerImageGpu toLayout = penumbra::imageLayout(to, w, h, c, std::string(kFunction) + ": dst");
+    if (from->buffer.get()() == to.buffer.get()())
+      throw std::invalid_argument(fmt::format("{}: src and dst are one buffer (copy through a second one)", kFunction));
+    call.run([&] { penumbra::copyImage(call.ctx(), *from, fromLayout, to, toLayout); });
+  });
+}
+
 }  // extern "C"

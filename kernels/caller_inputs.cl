@@ -1,7 +1,8 @@
 // The caller's light depth map and camera G-buffer (pn_shade, host/pipeline/caller_shade.h) in the layouts the
 // techniques read, and their visibility back into the caller's image: a shadow map of linear light depth, +INFINITY
-// where empty; G-buffer positions (w = 1 covered, 0 background) and unit normals, rows from the bottom. Each kernel
-// reads the caller's texels where kernels/shared/caller_inputs.h says they lie (offset, row pitch, row order).
+// where empty; G-buffer positions (w = 1 covered, 0 background) and unit normals, rows from the bottom; and plain
+// copies between layouts. Each kernel finds the caller's texels where kernels/shared/caller_inputs.h says they lie
+// (offset, row pitch, row order).
 #include "kernels/shared/caller_inputs.h"
 
 // One light-map texel per work-item: linear light depth, +INFINITY where the caller's map is empty.
@@ -96,9 +97,12 @@ __kernel void caller_normals(__global const float* src, CallerImageGpu image, __
                        1.0f);
 }
 
-// The technique's visibility (rows from the bottom, packed) into the caller's image.
-__kernel void caller_store(__global const float* visibility, CallerImageGpu image, __global float* dst) {
+// Texels from one layout into another (the same width, height and channels): a stage's input packed from the caller's
+// layout, a result unpacked into it (host/stages/image_layout.h copyImage).
+__kernel void caller_copy(__global const float* src, CallerImageGpu from, __global float* dst, CallerImageGpu to) {
   const uint i = get_global_id(0);
-  if (i >= image.width * image.height) return;
-  dst[caller_index(image, i % image.width, i / image.width)] = visibility[i];
+  if (i >= from.width * from.height) return;
+  const uint x = i % from.width, y = i / from.width;
+  const uint a = caller_index(from, x, y), b = caller_index(to, x, y);
+  for (uint c = 0; c < from.channels; ++c) dst[b + c] = src[a + c];
 }

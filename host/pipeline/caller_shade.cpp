@@ -27,36 +27,6 @@ constexpr size_t kGroup = 64;
 constexpr char kSource[] = "kernels/caller_inputs.cl";
 constexpr char kStage[] = "caller";
 
-// Where `image`'s width x height texels of `channels` floats lie, checked against its buffer's size.
-CallerImageGpu layoutOf(const CallerImage& image, int width, int height, int channels, const std::string& what) {
-  const size_t texelBytes = sizeof(float) * static_cast<size_t>(channels);
-  const size_t rowBytes = texelBytes * static_cast<size_t>(width);
-  const size_t pitch = image.rowPitchBytes == 0 ? rowBytes : image.rowPitchBytes;
-  if (image.offsetBytes % sizeof(float) != 0 || pitch % sizeof(float) != 0)
-    throw std::invalid_argument(fmt::format("{}: offset {} and row pitch {} must be multiples of 4 bytes", what,
-                                            image.offsetBytes, image.rowPitchBytes));
-  if (pitch < rowBytes)
-    throw std::invalid_argument(fmt::format("{}: row pitch {} bytes is shorter than a row of {} texels of {} bytes",
-                                            what, pitch, width, texelBytes));
-  const size_t bufferBytes = image.buffer.bytes();
-  const size_t endBytes = image.offsetBytes + pitch * (static_cast<size_t>(height) - 1) + rowBytes;
-  if (endBytes > bufferBytes)
-    throw std::invalid_argument(
-        fmt::format("{}: {}x{} texels of {} bytes at offset {} with row pitch {} end at byte "
-                    "{}, past the buffer's {} bytes",
-                    what, width, height, texelBytes, image.offsetBytes, pitch, endBytes, bufferBytes));
-  if (endBytes / sizeof(float) > std::numeric_limits<uint32_t>::max())
-    throw std::invalid_argument(fmt::format("{}: texels past the first 16 GiB of a buffer are not addressed", what));
-  CallerImageGpu gpu{};
-  gpu.offset = static_cast<uint32_t>(image.offsetBytes / sizeof(float));
-  gpu.rowPitch = static_cast<uint32_t>(pitch / sizeof(float));
-  gpu.width = static_cast<uint32_t>(width);
-  gpu.height = static_cast<uint32_t>(height);
-  gpu.channels = static_cast<uint32_t>(channels);
-  gpu.topDown = image.topDown ? 1 : 0;
-  return gpu;
-}
-
 bool finite(const glm::mat4& m) {
   for (int c = 0; c < 4; ++c)
     for (int r = 0; r < 4; ++r)
@@ -243,14 +213,15 @@ std::map<std::string, std::string> CallerShader::shade(const TechniqueInfo& tech
     throw std::invalid_argument(
         "G-buffer: give either world positions or a depth buffer with the inverse "
         "view-projection, not both or neither");
-  const CallerImageGpu mapLayout = layoutOf(map.depth, map.size, map.size, 1, "light map");
+  const CallerImageGpu mapLayout = imageLayout(map.depth, map.size, map.size, 1, "light map");
   const CallerImageGpu positionLayout =
-      gbuffer.positions ? layoutOf(*gbuffer.positions, gbuffer.width, gbuffer.height, 4, "G-buffer positions")
-                        : layoutOf(*gbuffer.depth, gbuffer.width, gbuffer.height, 1, "G-buffer depth");
+      gbuffer.positions ? imageLayout(*gbuffer.positions, gbuffer.width, gbuffer.height, 4, "G-buffer positions")
+                        : imageLayout(*gbuffer.depth, gbuffer.width, gbuffer.height, 1, "G-buffer depth");
   const std::optional<CallerImageGpu> normalLayout =
-      gbuffer.normals ? std::optional(layoutOf(*gbuffer.normals, gbuffer.width, gbuffer.height, 4, "G-buffer normals"))
-                      : std::nullopt;
-  const CallerImageGpu visibilityLayout = layoutOf(visibility, gbuffer.width, gbuffer.height, 1, "visibility");
+      gbuffer.normals
+          ? std::optional(imageLayout(*gbuffer.normals, gbuffer.width, gbuffer.height, 4, "G-buffer normals"))
+          : std::nullopt;
+  const CallerImageGpu visibilityLayout = imageLayout(visibility, gbuffer.width, gbuffer.height, 1, "visibility");
   CallerMap callerMap{callerView(light, map), {}};
   const CallerDepthGpu mapDepth = depthReading(map.projection, map.storage, map.ndc, "light map").gpu;
   std::optional<CallerDepthGpu> cameraDepth;
@@ -331,16 +302,15 @@ std::map<std::string, std::string> CallerShader::shade(const TechniqueInfo& tech
   frame.callerMap = &callerMap;
 
   // Visibility straight into the caller's buffer when it is packed rows from the bottom, else through ours.
-  const bool direct =
-      visibilityLayout.offset == 0 && visibilityLayout.rowPitch == visibilityLayout.width && !visibility.topDown;
-  if (direct) {
+  if (packedBottomUp(visibilityLayout)) {
     Buffer<float> out = Buffer<float>::over(visibility.buffer.get(), pixels, ctx_.context()());
     technique_->render(frame, out);
   } else {
     visibility_.allocate(ctx_, pixels);
     technique_->render(frame, visibility_);
-    Kernel kernel(ctx_, kSource, "caller_store", kStage);
-    kernel.args(visibility_, visibilityLayout, visibility.buffer).moves(pixels * 8).launch(pixels, kGroup);
+    const CallerImage own{visibility_};
+    copyImage(ctx_, own, imageLayout(own, gbuffer.width, gbuffer.height, 1, "visibility"), visibility,
+              visibilityLayout);
   }
   return std::move(frame.attributes);
 }

@@ -16,6 +16,7 @@
 #include "host/cl/buffer.h"
 #include "host/cl/context.h"
 #include "host/scene/scene.h"
+#include "host/stages/image_layout.h"
 #include "host/techniques/technique.h"
 #include "raster/rasterizer.h"
 
@@ -31,14 +32,6 @@ enum class DepthStorage {
 enum class NdcDepth {
   MinusOneToOne,  // OpenGL: d = z_ndc / 2 + 1/2
   ZeroToOne,      // Direct3D, Vulkan, OpenGL with glClipControl: d = z_ndc (reversed Z included)
-};
-
-// One of the caller's images: float texels in `buffer` (the caller's memory, wrapped for the call) starting
-// `offsetBytes` in, rows `rowPitchBytes` apart (0: packed), the first row in memory the bottom one unless `topDown`.
-struct CallerImage {
-  Buffer<float> buffer;
-  size_t offsetBytes = 0, rowPitchBytes = 0;
-  bool topDown = false;
 };
 
 // The light's depth map as the caller drew it: square, with the light's view and projection (world -> light eye ->

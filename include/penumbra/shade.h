@@ -8,6 +8,7 @@
 #include "penumbra/context.h"
 #include "penumbra/renderer.h"
 #include "penumbra/scene.h"
+#include "penumbra/stages.h"
 
 /** @file
  *  pn_shade: techniques on the caller's light depth map and G-buffer. */
@@ -32,20 +33,8 @@ typedef enum pn_ndc_depth {
                                         is one of its values (and refused). */
 } pn_ndc_depth;
 
-/** One of the caller's float images. Texel (x, y), y counted from the bottom row, lies at byte
- *  offset + row * row_pitch + x * texel size of `memory`, row = top_down ? height - 1 - y : y. */
-typedef struct pn_device_image {
-  /** A buffer of the pn_context's cl_context, or a cl_image2d of CL_R (depth) or CL_RGBA (positions, normals)
-   *  CL_FLOAT texels of the image's size, copied once into a buffer of penumbra's after the wait list (the image's
-   *  own rows: offset and row_pitch are then ignored); NULL: not given. Retained for the call only. */
-  cl_mem memory;
-  size_t offset;    /**< Bytes before the first row in memory; a multiple of 4. */
-  size_t row_pitch; /**< Bytes from one row in memory to the next, a multiple of 4; 0: rows packed. */
-  int top_down;     /**< Non-zero: the first row in memory is the image's top row (Direct3D, Vulkan, image files);
-                         0: its bottom row (OpenGL, OpenCL images, penumbra's own buffers). */
-} pn_device_image;
-
-/** What pn_shade reads and writes; pn_shade_desc_init() fills the defaults. Matrices are 16 floats in OpenGL's
+/** What pn_shade reads and writes (its images: pn_device_image, penumbra/stages.h); pn_shade_desc_init() fills the
+ *  defaults. Matrices are 16 floats in OpenGL's
  *  column-major order (glm's memory layout; m[12], m[13], m[14] the translation), for column vectors. */
 typedef struct pn_shade_desc {
   size_t size; /**< sizeof(pn_shade_desc) as the caller compiled it (set by pn_shade_desc_init()): fields a later

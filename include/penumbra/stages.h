@@ -214,6 +214,30 @@ PN_API pn_status pn_lloyd_stats_reduce(pn_context* context, cl_mem x, cl_mem w, 
                                        uint32_t clusters, cl_mem out, cl_uint num_events_in_wait_list,
                                        const cl_event* event_wait_list, cl_event* event);
 
+/** One of the caller's float images. Texel (x, y), y counted from the bottom row, lies at byte
+ *  offset + row * row_pitch + x * texel size of `memory`, row = top_down ? height - 1 - y : y. */
+typedef struct pn_device_image {
+  /** A buffer of the pn_context's cl_context, or (where a call reads the image) a cl_image2d of CL_FLOAT texels of
+   *  the image's size and channels (CL_R, CL_RG or CL_RGBA; pn_shade: CL_R depth, CL_RGBA positions and normals),
+   *  copied once into a buffer of penumbra's after the wait list (the image's own rows: offset and row_pitch are
+   *  then ignored); NULL: not given. Retained for the call only. */
+  cl_mem memory;
+  size_t offset;    /**< Bytes before the first row in memory; a multiple of 4. */
+  size_t row_pitch; /**< Bytes from one row in memory to the next, a multiple of 4; 0: rows packed. */
+  int top_down;     /**< Non-zero: the first row in memory is the image's top row (Direct3D, Vulkan, image files);
+                         0: its bottom row (OpenGL, OpenCL images, penumbra's own buffers). */
+} pn_device_image;
+
+/** Copies width x height texels of `texel_floats` four-byte words each (1 to 4: floats, or pairs of halves) from
+ *  `src`'s layout into `dst`'s (a buffer): the stages read and write packed rows from the bottom at offset 0 (a
+ *  pn_device_image of zeros), so an engine's image at an offset, with a row pitch or rows from the top (or a
+ *  cl_image2d) is packed into a buffer before a stage and a stage's result unpacked into the engine's layout after it,
+ *  chained by events. One pass on the device (8 bytes per word), after a barrier on the wait list. The images may not
+ *  overlap. */
+PN_API pn_status pn_image_copy(pn_context* context, const pn_device_image* src, const pn_device_image* dst,
+                               uint32_t width, uint32_t height, uint32_t texel_floats, cl_uint num_events_in_wait_list,
+                               const cl_event* event_wait_list, cl_event* event);
+
 #ifdef __cplusplus
 }
 #endif

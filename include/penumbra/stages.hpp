@@ -13,7 +13,7 @@
 #include "penumbra/stages.h"
 
 /// @file
-/// penumbra::moments, blur, blurMoments, sat, momentMips, minMaxPyramid, lloydStats.
+/// penumbra::moments, blur, blurMoments, sat, momentMips, minMaxPyramid, lloydStats, imageCopy.
 
 namespace penumbra {
 inline namespace v0 {
@@ -220,6 +220,15 @@ inline void lloydStats(const Context& context, cl_mem x, cl_mem w, size_t count,
                        cl_mem out, const std::vector<cl_event>& waitFor = {}, cl_event* event = nullptr) {
   detail::check(pn_lloyd_stats_reduce(context.get(), x, w, count, boundaries, clusters, out, detail::waitCount(waitFor),
                                       detail::waitList(waitFor), event));
+}
+
+/// Copies width x height texels of `texelFloats` four-byte words from `src`'s layout (offset, row pitch, row order;
+/// or a cl_image2d) into `dst`'s: an engine's image packed for a stage, or a stage's result unpacked (pn_image_copy).
+inline void imageCopy(const Context& context, const pn_device_image& src, const pn_device_image& dst, uint32_t width,
+                      uint32_t height, uint32_t texelFloats, const std::vector<cl_event>& waitFor = {},
+                      cl_event* event = nullptr) {
+  detail::check(pn_image_copy(context.get(), &src, &dst, width, height, texelFloats, detail::waitCount(waitFor),
+                              detail::waitList(waitFor), event));
 }
 
 }  // namespace v0

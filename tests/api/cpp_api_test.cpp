@@ -108,6 +108,13 @@ TEST(ApiCpp, AFramesBufferFeedsAStage) {
   sat(ctx, frame.visibilityBuffer(), {40, 30, 1}, config, table, nullptr, {}, &done);
   ASSERT_EQ(clWaitForEvents(1, &done), CL_SUCCESS);
   clReleaseEvent(done);
+  // The same visibility unpacked with rows from the top by imageCopy: the host channel's order.
+  cl_mem topDown = cl.buffer<float>(n);
+  imageCopy(ctx, {frame.visibilityBuffer(), 0, 0, 0}, {topDown, 0, 0, 1}, 40, 30, 1, {}, &done);
+  ASSERT_EQ(clWaitForEvents(1, &done), CL_SUCCESS);
+  clReleaseEvent(done);
+  EXPECT_EQ(std::memcmp(cl.read<float>(topDown, n).data(), frame.channel("visibility.Y"), n * sizeof(float)), 0);
+  clReleaseMemObject(topDown);
   const std::vector<uint64_t> got = cl.read<uint64_t>(table, n);
   const float* visibility = frame.channel("visibility.Y");
   double sum = 0;

@@ -177,6 +177,78 @@ TEST_F(ApiStages, ImageInputsAreCopiedAfterTheWaitList) {
   for (cl_mem m : {image, fromImage, fromBuffer, in}) clReleaseMemObject(m);
 }
 
+// pn_image_copy: an engine's two-channel image at an offset, with a row pitch and rows from the top, packed for a
+// blur, and the blur's result unpacked into the same kind of layout: the packed path's values, moved where the layouts
+// say and nowhere else; a cl_image2d source packs like a buffer; bad layouts are refused by name.
+TEST_F(ApiStages, ImageCopyPacksAndUnpacksTheCallersLayouts) {
+  const std::vector<float> packed = randomUnitImage(size_t(kW) * kH * 2, 31);
+  const size_t offset = 3, pitch = kW * 2 + 5;  // floats
+  std::vector<float> engine(offset + pitch * kH, -9.0f);
+  for (uint32_t y = 0; y < kH; ++y)
+    std::memcpy(&engine[offset + (kH - 1 - y) * pitch], &packed[size_t(y) * kW * 2], kW * 2 * sizeof(float));
+  cl_mem theirs = cl().buffer(engine), in = cl().buffer<float>(packed.size(), nullptr, kPoison),
+         out = cl().buffer<float>(packed.size(), nullptr, kPoison),
+         back = cl().buffer<float>(engine.size(), nullptr, -9.0f), reference = cl().buffer(packed),
+         referenceOut = cl().buffer<float>(packed.size(), nullptr, kPoison);
+  const pn_device_image engineLayout{theirs, offset * 4, pitch * 4, 1}, packedIn{in, 0, 0, 0}, packedOut{out, 0, 0, 0},
+      backLayout{back, offset * 4, pitch * 4, 1};
+  const pn_image_shape shape{kW, kH, 2};
+  pn_blur_config blur;
+  pn_blur_config_init(&blur);
+  blur.sigma = 1.5f;
+  cl_event packedEvent = nullptr, blurred = nullptr, unpacked = nullptr;
+  PN_ASSERT_OK(pn_image_copy(ctx(), &engineLayout, &packedIn, kW, kH, 2, 0, nullptr, &packedEvent));
+  PN_ASSERT_OK(pn_blur(ctx(), in, out, nullptr, &shape, &blur, 1, &packedEvent, &blurred));
+  PN_ASSERT_OK(pn_image_copy(ctx(), &packedOut, &backLayout, kW, kH, 2, 1, &blurred, &unpacked));
+  complete(unpacked);
+  EXPECT_EQ(cl().read<float>(in, packed.size()), packed);
+  cl_event done = nullptr;
+  PN_ASSERT_OK(pn_blur(ctx(), reference, referenceOut, nullptr, &shape, &blur, 0, nullptr, &done));
+  complete(done);
+  const std::vector<float> want = cl().read<float>(referenceOut, packed.size());
+  std::vector<float> expected(engine.size(), -9.0f);
+  for (uint32_t y = 0; y < kH; ++y)
+    std::memcpy(&expected[offset + (kH - 1 - y) * pitch], &want[size_t(y) * kW * 2], kW * 2 * sizeof(float));
+  EXPECT_EQ(cl().read<float>(back, engine.size()), expected);
+  for (cl_event e : {packedEvent, blurred}) clReleaseEvent(e);
+
+  cl_bool images = CL_FALSE;
+  clGetDeviceInfo(cl().device, CL_DEVICE_IMAGE_SUPPORT, sizeof(images), &images, nullptr);
+  if (images) {
+    cl_int err = CL_SUCCESS;
+    const cl_image_format rgba32f{CL_RGBA, CL_FLOAT};
+    cl_image_desc desc{};
+    desc.image_type = CL_MEM_OBJECT_IMAGE2D, desc.image_width = kW, desc.image_height = kH;
+    const std::vector<float> texels = randomUnitImage(size_t(kW) * kH * 4, 32);
+    cl_mem image = clCreateImage(cl().context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, &rgba32f, &desc,
+                                 const_cast<float*>(texels.data()), &err);
+    ASSERT_EQ(err, CL_SUCCESS);
+    cl_mem four = cl().buffer<float>(texels.size(), nullptr, kPoison);
+    const pn_device_image fromImage{image, 0, 0, 0}, packedFour{four, 0, 0, 0};
+    PN_ASSERT_OK(pn_image_copy(ctx(), &fromImage, &packedFour, kW, kH, 4, 0, nullptr, &done));
+    complete(done);
+    EXPECT_EQ(cl().read<float>(four, texels.size()), texels);
+    EXPECT_EQ(pn_image_copy(ctx(), &fromImage, &packedFour, kW, kH, 3, 0, nullptr, nullptr), PN_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(pn_last_error_message()).find("1, 2 or 4 channels, not 3"), std::string::npos);
+    clReleaseMemObject(four);
+    clReleaseMemObject(image);
+  }
+
+  auto refused = [&](const pn_device_image& from, const pn_device_image& to, uint32_t floats, const char* words) {
+    cl_event event = reinterpret_cast<cl_event>(0x1);
+    EXPECT_EQ(pn_image_copy(ctx(), &from, &to, kW, kH, floats, 0, nullptr, &event), PN_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(pn_last_error_message()).find(words), std::string::npos) << pn_last_error_message();
+    EXPECT_EQ(event, reinterpret_cast<cl_event>(0x1));
+  };
+  refused(engineLayout, packedIn, 5, "texel_floats 5 is not 1..4");
+  refused(engineLayout, {in, 4, 0, 0}, 2, "pn_image_copy: dst: 37x23 texels of 8 bytes at offset 4");
+  refused(engineLayout, {in, 0, kW * 8 - 4, 0}, 2, "shorter than a row");
+  refused({theirs, 2, pitch * 4, 1}, packedIn, 2, "multiples of 4 bytes");
+  refused(engineLayout, {theirs, 0, 0, 0}, 2, "src and dst are one buffer");
+  refused({nullptr, 0, 0, 0}, packedIn, 2, "src->memory is NULL");
+  for (cl_mem m : {theirs, in, out, back, reference, referenceOut}) clReleaseMemObject(m);
+}
+
 TEST_F(ApiStages, HalfMomentsAndTheFusedBlur) {
   const std::vector<float> depth = randomDepthMap(kW, kH, 8);
   pn_moments_config config = momentsOf(PN_MOMENTS_VSM);
