@@ -54,7 +54,7 @@ typedef struct pn_shade_desc {
   /** Light eye -> clip: a perspective projection (w_c = -k z_eye; off-centre frusta are fine) for a spot light, an
    *  orthographic one for a directional light, with square texels and a finite far plane; no warps (LiSPSM). A
    *  window value at or beyond the far plane's (the cleared value) is empty, as are linear values not below the far
-   *  plane, and NaN. */
+   *  plane and values that are not finite; a window value in front of the near plane reads as the near plane. */
   float light_projection[16];
   /** The light-eye depth of the projection's near plane as the caller built it (0 with light_depth_far 0: both
    *  recovered from the projection, to float round-off); the moment techniques normalise depths by this range. */

@@ -21,7 +21,8 @@ typedef struct CallerImageGpu {
 #define CALLER_DEPTH_WINDOW 1  // a depth buffer's window value d in [0, 1], d = z_ndc (ZeroToOne) or z_ndc / 2 + 1/2
 
 // How a depth image's values read. A window value is empty (nothing drawn there: the cleared value) where it lies at
-// or beyond the far plane's, (d - farWindow) * farSign >= 0, or is NaN; a linear value where it is not below zFar.
+// or beyond the far plane's, (d - farWindow) * farSign >= 0; a linear value where it is not below zFar; any value that
+// is not finite (NaN, either infinity).
 typedef struct CallerDepthGpu {
   int storage;       // CALLER_DEPTH_*
   int ndcZeroToOne;  // 1: z_ndc = d (Direct3D, Vulkan, reversed Z); 0: z_ndc = 2 d - 1 (OpenGL)
@@ -50,14 +51,15 @@ inline float caller_ndc(CallerDepthGpu depth, float d) { return depth.ndcZeroToO
 
 // Whether a depth value is empty (see CallerDepthGpu).
 inline int caller_empty(CallerDepthGpu depth, float v) {
-  if (isnan(v)) return 1;
+  if (!isfinite(v)) return 1;
   return depth.storage == CALLER_DEPTH_LINEAR ? !(v < depth.zFar) : (v - depth.farWindow) * depth.farSign >= 0.0f;
 }
 
-// The linear eye depth -z_eye of a value that is not empty.
+// The linear eye depth -z_eye of a value that is not empty; a window value in front of the near plane's (outside
+// [0, 1], which no depth buffer holds) reads as the near plane.
 inline float caller_eye_depth(CallerDepthGpu depth, float v) {
   if (depth.storage == CALLER_DEPTH_LINEAR) return v;
-  const float ndc = caller_ndc(depth, v);
+  const float ndc = caller_ndc(depth, clamp(v, 0.0f, 1.0f));
   return -(depth.p23 - ndc * depth.p33) / (ndc * depth.p32 - depth.p22);
 }
 #endif
