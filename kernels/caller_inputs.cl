@@ -15,10 +15,15 @@ __kernel void caller_light_depth(__global const float* src, CallerImageGpu image
   map[i] = caller_empty(depth, v) ? INFINITY : caller_eye_depth(depth, v);
 }
 
-// Row-major 4x4 matrix (rows) times (p, 1), divided by w.
-inline float3 caller_unproject(float4 r0, float4 r1, float4 r2, float4 r3, float3 ndc) {
-  const float4 p = (float4)(ndc, 1.0f);
-  return (float3)(dot(r0, p), dot(r1, p), dot(r2, p)) / dot(r3, p);
+// Whether x, y and z are finite.
+inline int caller_finite3(float3 p) { return isfinite(p.x) && isfinite(p.y) && isfinite(p.z); }
+
+// Row-major 4x4 matrix (rows) times (x, y, z, 1), divided by w. Scalars in, not vectors assembled from smaller ones:
+// Oclgrind's uninitialised-value check crashes on those shuffles.
+inline float3 caller_unproject(float4 r0, float4 r1, float4 r2, float4 r3, float x, float y, float z) {
+  const float4 p = (float4)(x, y, z, 1.0f);
+  const float w = dot(r3, p);
+  return (float3)(dot(r0, p) / w, dot(r1, p) / w, dot(r2, p) / w);
 }
 
 // G-buffer positions from the caller's camera depth and inverse view-projection (rows r0..r3): the point at the
@@ -33,9 +38,10 @@ __kernel void caller_positions_from_depth(__global const float* src, CallerImage
     position[i] = (float4)(0.0f);
     return;
   }
-  const float2 ndc = ((float2)(x, y) + 0.5f) / (float2)(image.width, image.height) * 2.0f - 1.0f;
-  const float3 p = caller_unproject(r0, r1, r2, r3, (float3)(ndc, caller_ndc(depth, d)));
-  position[i] = all(isfinite(p)) ? (float4)(p, 1.0f) : (float4)(0.0f);
+  const float ndcX = ((float)x + 0.5f) / (float)image.width * 2.0f - 1.0f;
+  const float ndcY = ((float)y + 0.5f) / (float)image.height * 2.0f - 1.0f;
+  const float3 p = caller_unproject(r0, r1, r2, r3, ndcX, ndcY, caller_ndc(depth, d));
+  position[i] = caller_finite3(p) ? (float4)(p.x, p.y, p.z, 1.0f) : (float4)(0.0f);
 }
 
 // G-buffer positions from the caller's world positions (xyz; w = 0 marks background, as penumbra's own G-buffer).
@@ -43,7 +49,7 @@ __kernel void caller_positions(__global const float* src, CallerImageGpu image, 
   const uint i = get_global_id(0);
   if (i >= image.width * image.height) return;
   const float4 p = vload4(0, src + caller_index(image, i % image.width, i / image.width));
-  position[i] = p.w != 0.0f && all(isfinite(p.xyz)) ? (float4)(p.xyz, 1.0f) : (float4)(0.0f);
+  position[i] = p.w != 0.0f && caller_finite3(p.xyz) ? (float4)(p.xyz, 1.0f) : (float4)(0.0f);
 }
 
 // The step from pixel (x, y)'s position to a covered neighbour's along one axis (dx, dy): the shorter of the two

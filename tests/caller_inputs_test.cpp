@@ -130,6 +130,51 @@ TEST_F(CallerInputs, PositionsFromDepthAndNormalsFromPositions) {
   }
 }
 
+TEST_F(CallerInputs, PositionsAndNormalsOfTheCallers) {
+  // 3x2 pixels, rows from the top at a pitch: covered, background (w = 0), non-finite (background), covered ...;
+  // normals non-unit (normalised), zero and NaN (the fallback from the neighbours' positions: the plane y = 0's).
+  const int w = 3, h = 2;
+  const std::vector<glm::vec4> positions = {{0, 0, 0, 1}, {1, 0, 0, 0},   {2, 0, 0, 1},
+                                            {0, 0, 1, 1}, {NAN, 0, 1, 1}, {2, 0, 1, 7}};
+  const std::vector<glm::vec4> normals = {{0, 3, 0, 0}, {0, 0, 0, 0},   {0, 0, 0, 0},
+                                          {1, 1, 0, 9}, {NAN, 0, 0, 0}, {0, 0, 0, 0}};
+  const size_t pitch = w * 4 + 2, offset = 1;  // floats
+  std::vector<float> positionRows(offset + pitch * h, kPoison), normalRows(offset + pitch * h, kPoison);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 4; ++c) {  // memory row 0 is the image's top row (y = 1)
+        positionRows[offset + (h - 1 - y) * pitch + x * 4 + c] = positions[size_t(y) * w + x][c];
+        normalRows[offset + (h - 1 - y) * pitch + x * 4 + c] = normals[size_t(y) * w + x][c];
+      }
+  Buffer<float> positionSrc(ctx(), std::span<const float>(positionRows)),
+      normalSrc(ctx(), std::span<const float>(normalRows));
+  Buffer<cl_float4> position(ctx(), size_t(w) * h), normal(ctx(), size_t(w) * h);
+  position.fill(ctx(), cl_float4{{kPoison, kPoison, kPoison, kPoison}});
+  normal.fill(ctx(), cl_float4{{kPoison, kPoison, kPoison, kPoison}});
+  const CallerImage positionImage{positionSrc, offset * 4, pitch * 4, true},
+      normalImage{normalSrc, offset * 4, pitch * 4, true};
+  Kernel(ctx(), "kernels/caller_inputs.cl", "caller_positions", "test")
+      .args(positionSrc, imageLayout(positionImage, w, h, 4, "positions"), position)
+      .launch(size_t(w) * h, 64);
+  Kernel(ctx(), "kernels/caller_inputs.cl", "caller_normals", "test")
+      .args(normalSrc, imageLayout(normalImage, w, h, 4, "normals"), position, normal)
+      .launch(size_t(w) * h, 64);
+  const std::vector<cl_float4> p = position.download(ctx()), n = normal.download(ctx());
+  const float wOf[] = {1, 0, 1, 1, 0, 1};  // covered (w = 1), background (w = 0)
+  for (size_t i = 0; i < p.size(); ++i) {
+    EXPECT_EQ(p[i].s[3], wOf[i]) << i;
+    if (wOf[i] == 1) {
+      EXPECT_EQ(glm::vec3(p[i].s[0], p[i].s[1], p[i].s[2]), glm::vec3(positions[i])) << i;
+    }
+  }
+  const float r = 1.0f / std::sqrt(2.0f);
+  const glm::vec3 want[] = {{0, 1, 0}, {0, 1, 0}, {0, 1, 0}, {r, r, 0}, {0, 1, 0}, {0, 1, 0}};
+  for (size_t i = 0; i < n.size(); ++i) {
+    EXPECT_NEAR(glm::length(glm::vec3(n[i].s[0], n[i].s[1], n[i].s[2]) - want[i]), 0.0f, 1e-6f) << i;
+    EXPECT_EQ(n[i].s[3], 1.0f) << i;
+  }
+}
+
 TEST_F(CallerInputs, CopiesBetweenLayouts) {
   for (const auto& [w, h, channels] : {std::array<int, 3>{1, 1, 1}, {5, 3, 2}, {7, 9, 4}, {64, 2, 3}}) {
     std::vector<float> packed(size_t(w) * h * channels);
