@@ -133,34 +133,20 @@ void bindShade(py::module_& m) {
       "Shades techniques from the caller's own light depth map and camera G-buffer on one context, "
       "keeping a technique's buffers across calls while its parameters and the map size stay the same.")
       .def(py::init<const Context&>(), "context"_a)
-      .def(
-          "shade",
-          [](const PyShader& self, const std::string& technique, const py::dict& params, const py::object& lightMap,
-             const py::object& lightView, const py::object& lightProjection, const std::string& lightType,
-             float lightRadius, float lightAngularRadiusDeg, const std::string& depthStorage,
-             const std::string& lightNdc, float depthNear, float depthFar, const py::object& positions,
-             const py::object& depth, const py::object& inverseViewProjection, const std::string& cameraNdc,
-             float clearDepth, const py::object& normals,
-             const std::optional<std::pair<std::array<float, 3>, std::array<float, 3>>>& sceneBounds, bool topDown,
-             const py::object& out) {
-            return shade(self, technique, params, lightMap, lightView, lightProjection, lightType, lightRadius,
-                         lightAngularRadiusDeg, depthStorage, lightNdc, depthNear, depthFar, positions, depth,
-                         inverseViewProjection, cameraNdc, clearDepth, normals, sceneBounds, topDown, out);
-          },
-          "technique"_a, "params"_a = py::dict(), py::kw_only(), "light_map"_a, "light_view"_a, "light_projection"_a,
-          "light_type"_a = "spot", "light_radius"_a = 0.0f, "light_angular_radius_deg"_a = 0.0f,
-          "depth_storage"_a = "window", "light_ndc"_a = "minus_one_to_one", "depth_near"_a = 0.0f, "depth_far"_a = 0.0f,
-          "positions"_a = py::none(), "depth"_a = py::none(), "inverse_view_projection"_a = py::none(),
-          "camera_ndc"_a = "minus_one_to_one", "clear_depth"_a = 1.0f, "normals"_a = py::none(),
-          "scene_bounds"_a = py::none(), "top_down"_a = false, "out"_a = py::none(),
-          "Visibility (height, width) of the light whose (size, size) depth map is light_map (light_view and "
-          "light_projection: 4x4, [row, column], column vectors; depth_storage window or linear; light_ndc "
-          "minus_one_to_one or zero_to_one) at the G-buffer's pixels: positions (height, width, 4), w = 0 for "
-          "background, or depth (height, width) with inverse_view_projection, camera_ndc and clear_depth; normals "
-          "(height, width, 4) optional. scene_bounds: ((min x, y, z), (max x, y, z)). top_down: every image's first "
-          "row is its top row. pyopencl arrays are used in place and the result is a pyopencl array carrying the "
-          "call's event (or out=, a pyopencl array or Buffer); numpy arrays give a numpy array. penumbra/shade.h "
-          "documents each input.")
+      .def("shade", &shade, "technique"_a, "params"_a = py::dict(), py::kw_only(), "light_map"_a, "light_view"_a,
+           "light_projection"_a, "light_type"_a = "spot", "light_radius"_a = 0.0f, "light_angular_radius_deg"_a = 0.0f,
+           "depth_storage"_a = "window", "light_ndc"_a = "minus_one_to_one", "depth_near"_a = 0.0f,
+           "depth_far"_a = 0.0f, "positions"_a = py::none(), "depth"_a = py::none(),
+           "inverse_view_projection"_a = py::none(), "camera_ndc"_a = "minus_one_to_one", "clear_depth"_a = 1.0f,
+           "normals"_a = py::none(), "scene_bounds"_a = py::none(), "top_down"_a = false, "out"_a = py::none(),
+           "Visibility (height, width) of the light whose (size, size) depth map is light_map (light_view and "
+           "light_projection: 4x4, [row, column], column vectors; depth_storage window or linear; light_ndc "
+           "minus_one_to_one or zero_to_one) at the G-buffer's pixels: positions (height, width, 4), w = 0 for "
+           "background, or depth (height, width) with inverse_view_projection, camera_ndc and clear_depth; normals "
+           "(height, width, 4) optional. scene_bounds: ((min x, y, z), (max x, y, z)). top_down: every image's first "
+           "row is its top row. pyopencl arrays are used in place and the result is a pyopencl array carrying the "
+           "call's event (or out=, a pyopencl array or Buffer); numpy arrays give a numpy array. penumbra/shade.h "
+           "documents each input.")
       .def(
           "attribute", [](const PyShader& self, const std::string& name) { return self.shader.attribute(name); },
           "name"_a,

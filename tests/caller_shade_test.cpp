@@ -146,6 +146,23 @@ class CallerShade : public test::ClTest {
     return out.download(ctx());
   }
 
+  // pcss at fixed settings on the Renderer's map and G-buffer for `light` (prepared): what the variants compare with.
+  struct PcssBaseline {
+    const TechniqueInfo& pcss = findTechnique("pcss");
+    Params params{fixedParams(pcss)};
+    CallerLightMap map;
+    CallerGBuffer gbuffer;
+    std::vector<float> visibility;
+  };
+  PcssBaseline pcssBaseline(CallerShader& shader, const Staged& s, const Light& light) {
+    prepare(s, light);
+    PcssBaseline b;
+    b.map = linearMap(ctx(), map_);
+    b.gbuffer = positionsAndNormals(ctx(), gbuffer_);
+    b.visibility = shade(shader, b.pcss, b.params, light, b.map, b.gbuffer, s.scene.bounds());
+    return b;
+  }
+
   std::unique_ptr<Rasterizer> raster_;
   DrawnMap map_;
   GBuffer gbuffer_;
@@ -204,13 +221,8 @@ std::vector<float> pitched(const std::vector<float>& packed, int width, int heig
 TEST_F(CallerShade, DepthConventionsAndLayoutsGiveTheLinearMapsVisibility) {
   const Staged s = staircase();
   const Light spot = areaLights(s.scene)[0];
-  prepare(s, spot);
-  const TechniqueInfo& pcss = findTechnique("pcss");
-  const Params params = fixedParams(pcss);
   CallerShader shader(ctx());
-  const CallerLightMap linear = linearMap(ctx(), map_);
-  const CallerGBuffer g = positionsAndNormals(ctx(), gbuffer_);
-  const std::vector<float> want = shade(shader, pcss, params, spot, linear, g, s.scene.bounds());
+  const PcssBaseline base = pcssBaseline(shader, s, spot);
   const std::vector<float> depths = map_.targets.depth.download(ctx());
 
   struct Case {
@@ -221,25 +233,26 @@ TEST_F(CallerShade, DepthConventionsAndLayoutsGiveTheLinearMapsVisibility) {
   for (const Case c :
        {Case{"OpenGL window depth", NdcDepth::MinusOneToOne, false},
         Case{"zero-to-one window depth", NdcDepth::ZeroToOne, false}, Case{"reversed Z", NdcDepth::ZeroToOne, true}}) {
-    CallerLightMap map = linear;
+    CallerLightMap map = base.map;
     map.storage = DepthStorage::Window;
     map.ndc = c.ndc;
     if (c.ndc == NdcDepth::ZeroToOne) {  // the OpenGL projection's z row remapped to [0, 1], then reversed
       for (int col = 0; col < 4; ++col)
-        map.projection[col][2] = 0.5f * (linear.projection[col][2] + linear.projection[col][3]);
+        map.projection[col][2] = 0.5f * (base.map.projection[col][2] + base.map.projection[col][3]);
       if (c.reversed)
-        for (int col = 0; col < 4; ++col) map.projection[col][2] = linear.projection[col][3] - map.projection[col][2];
+        for (int col = 0; col < 4; ++col) map.projection[col][2] = base.map.projection[col][3] - map.projection[col][2];
     }
     const std::vector<float> window = windowDepths(depths, map.projection, c.ndc, c.reversed ? 0.0f : 1.0f);
     Buffer<float> texels(ctx(), std::span<const float>(window));
     map.depth.buffer = Buffer<float>::over(texels.get(), texels.size(), ctx().context()());
-    const Difference d = difference(shade(shader, pcss, params, spot, map, g, s.scene.bounds()), want);
+    const Difference d =
+        difference(shade(shader, base.pcss, base.params, spot, map, base.gbuffer, s.scene.bounds()), base.visibility);
     // A window value holds the depth to its float resolution (measured: at most 4.8e-7 apart in visibility).
     EXPECT_LE(d.max, 1e-5f) << c.name;
   }
 
   // Every image padded, pitched and top-down: the same visibility, written where the layout says and nowhere else.
-  const int w = g.width, h = g.height;
+  const int w = base.gbuffer.width, h = base.gbuffer.height;
   const std::vector<float> mapRows = pitched(depths, kMapSize, kMapSize, 1, 13, kMapSize + 5, true);
   const std::vector<float> positionRows =
       pitched(floats(ctx(), gbuffer_.position).download(ctx()), w, h, 4, 8, size_t(w) * 4 + 12, true);
@@ -248,10 +261,10 @@ TEST_F(CallerShade, DepthConventionsAndLayoutsGiveTheLinearMapsVisibility) {
   Buffer<float> mapBuffer(ctx(), std::span<const float>(mapRows));
   Buffer<float> positionBuffer(ctx(), std::span<const float>(positionRows));
   Buffer<float> normalBuffer(ctx(), std::span<const float>(normalRows));
-  CallerLightMap map = linear;
+  CallerLightMap map = base.map;
   map.depth = {Buffer<float>::over(mapBuffer.get(), mapBuffer.size(), ctx().context()()), 13 * 4, (kMapSize + 5) * 4,
                true};
-  CallerGBuffer pitchedG = g;
+  CallerGBuffer pitchedG = base.gbuffer;
   pitchedG.positions = CallerImage{Buffer<float>::over(positionBuffer.get(), positionBuffer.size(), ctx().context()()),
                                    8 * 4, (size_t(w) * 4 + 12) * 4, true};
   pitchedG.normals = CallerImage{Buffer<float>::over(normalBuffer.get(), normalBuffer.size(), ctx().context()()), 4 * 4,
@@ -261,29 +274,24 @@ TEST_F(CallerShade, DepthConventionsAndLayoutsGiveTheLinearMapsVisibility) {
   out.fill(ctx(), -7.0f);
   CallerImage visibility{Buffer<float>::over(out.get(), out.size(), ctx().context()()), outOffset * 4, outPitch * 4,
                          true};
-  shader.shade(pcss, params, spot, map, pitchedG, s.scene.bounds(), visibility);
-  EXPECT_EQ(out.download(ctx()), pitched(want, w, h, 1, outOffset, outPitch, true));
+  shader.shade(base.pcss, base.params, spot, map, pitchedG, s.scene.bounds(), visibility);
+  EXPECT_EQ(out.download(ctx()), pitched(base.visibility, w, h, 1, outOffset, outPitch, true));
 }
 
 TEST_F(CallerShade, AGBufferFromDepthAndNormalsFromPositionsComeClose) {
   const Staged s = staircase();
   for (const Light& light : areaLights(s.scene)) {
-    prepare(s, light);
-    const TechniqueInfo& pcss = findTechnique("pcss");
-    const Params params = fixedParams(pcss);
     CallerShader shader(ctx());
-    const CallerLightMap map = linearMap(ctx(), map_);
-    const CallerGBuffer given = positionsAndNormals(ctx(), gbuffer_);
-    const std::vector<float> want = shade(shader, pcss, params, light, map, given, s.scene.bounds());
+    const PcssBaseline base = pcssBaseline(shader, s, light);
 
     // Normals from the positions' neighbours: the staircase's faces are flat, so only pixels at edges differ.
-    CallerGBuffer derived = given;
+    CallerGBuffer derived = base.gbuffer;
     derived.normals.reset();
     const Difference fromPositions =
-        difference(shade(shader, pcss, params, light, map, derived, s.scene.bounds()), want);
+        difference(shade(shader, base.pcss, base.params, light, base.map, derived, s.scene.bounds()), base.visibility);
     // Measured: mean 2.8e-4 and 2.4e-4, 27 and 6 pixels of 24,000 off by more than 0.1 (stair edges).
     EXPECT_LE(fromPositions.mean, 1e-3) << light.describe();
-    EXPECT_LE(fromPositions.above, want.size() / 200) << light.describe();
+    EXPECT_LE(fromPositions.above, base.visibility.size() / 200) << light.describe();
 
     // Positions from a depth buffer and the inverse view-projection (OpenGL convention, cleared to 1).
     const RasterView view = cameraView(s.camera, s.scene.bounds());
@@ -291,11 +299,12 @@ TEST_F(CallerShade, AGBufferFromDepthAndNormalsFromPositionsComeClose) {
         windowDepths(gbuffer_.depth.download(ctx()), view.projection, NdcDepth::MinusOneToOne, 1.0f);
     Buffer<float> depthBuffer(ctx(), std::span<const float>(depth));
     CallerGBuffer fromDepth;
-    fromDepth.width = given.width, fromDepth.height = given.height;
+    fromDepth.width = base.gbuffer.width, fromDepth.height = base.gbuffer.height;
     fromDepth.depth = CallerImage{Buffer<float>::over(depthBuffer.get(), depthBuffer.size(), ctx().context()())};
     fromDepth.inverseViewProjection = glm::inverse(view.projection * view.view);
-    fromDepth.normals = given.normals;
-    const Difference d = difference(shade(shader, pcss, params, light, map, fromDepth, s.scene.bounds()), want);
+    fromDepth.normals = base.gbuffer.normals;
+    const Difference d = difference(shade(shader, base.pcss, base.params, light, base.map, fromDepth, s.scene.bounds()),
+                                    base.visibility);
     // Measured: mean 1.5e-5 and 4.7e-5, at most 0.028 apart (a position off by the depth buffer's resolution).
     EXPECT_LE(d.mean, 2e-4) << light.describe();
     EXPECT_LE(d.max, 0.1f) << light.describe();

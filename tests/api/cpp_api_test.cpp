@@ -89,13 +89,22 @@ TEST(ApiCpp, HandlesRetainOnCopyAndReleaseOnDestruction) {
 }
 
 // The frame's device buffer straight into a stage, on the caller's queue, with the caller waiting on the event.
-TEST(ApiCpp, AFramesBufferFeedsAStage) {
+// builtin:box on the caller's OpenCL objects, its default camera at 40x30.
+class ApiCppBox : public ::testing::Test {
+ protected:
+  static Camera smallCamera(const Scene& scene) {
+    Camera camera = scene.defaultCamera();
+    camera.width = 40, camera.height = 30;
+    return camera;
+  }
   CallerCl cl;
-  Context ctx(cl.context, cl.device, cl.queue);
-  Scene scene("builtin:box");
-  Renderer renderer(ctx, scene);
-  Camera camera = scene.defaultCamera();
-  camera.width = 40, camera.height = 30;
+  Context ctx{cl.context, cl.device, cl.queue};
+  Scene scene{"builtin:box"};
+  Renderer renderer{ctx, scene};
+  Camera camera = smallCamera(scene);
+};
+
+TEST_F(ApiCppBox, AFramesBufferFeedsAStage) {
   Params params("pcf");
   params.set("pcf-radius", 1);
   EXPECT_EQ(params.value("pcf-radius"), 1.0);
@@ -125,13 +134,7 @@ TEST(ApiCpp, AFramesBufferFeedsAStage) {
 
 // penumbra::Shader on a frame's G-buffer and a map of the caller's: a map with nothing drawn lights every pixel, one
 // drawn at its near plane in front of everything the light sees shadows every pixel inside its frustum.
-TEST(ApiCpp, AShaderShadesFromTheCallersMap) {
-  CallerCl cl;
-  Context ctx(cl.context, cl.device, cl.queue);
-  Scene scene("builtin:box");
-  Renderer renderer(ctx, scene);
-  Camera camera = scene.defaultCamera();
-  camera.width = 40, camera.height = 30;
+TEST_F(ApiCppBox, AShaderShadesFromTheCallersMap) {
   const Frame frame = renderer.render(camera, Params("sm"));
   constexpr uint32_t kSize = 64;
   const size_t n = 40 * 30;
@@ -180,13 +183,7 @@ TEST(ApiCpp, AShaderShadesFromTheCallersMap) {
 
 // Renderer::enqueue: the visibility into the caller's buffer after its event, channels on request, the same bits as
 // render(); RenderOptions' defaults are pn_render_options_init's.
-TEST(ApiCpp, AnEnqueuedFrameEqualsARenderedOne) {
-  CallerCl cl;
-  Context ctx(cl.context, cl.device, cl.queue);
-  Scene scene("builtin:box");
-  Renderer renderer(ctx, scene);
-  Camera camera = scene.defaultCamera();
-  camera.width = 40, camera.height = 30;
+TEST_F(ApiCppBox, AnEnqueuedFrameEqualsARenderedOne) {
   const Params params("pcf");
   const Frame rendered = renderer.render(camera, params);
   pn_render_options c;
