@@ -27,6 +27,7 @@ std::vector<Check> checks(Depth depth, const std::string& filter) {
   addRasterChecks(all);
   addVssmChecks(all);
   addTechniqueChecks(all);
+  addCallerChecks(all);
   std::vector<std::string> wanted;  // the filter's comma-separated parts
   for (size_t start = 0; start <= filter.size();) {
     const size_t comma = std::min(filter.find(',', start), filter.size());

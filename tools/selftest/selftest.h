@@ -76,5 +76,6 @@ void addBlurChecks(std::vector<Check>& out);  // blurred moments and ESM's log-s
 void addRasterChecks(std::vector<Check>& out);
 void addVssmChecks(std::vector<Check>& out);  // VSSM's per-pixel kernel (vssm_check.h)
 void addTechniqueChecks(std::vector<Check>& out);
+void addCallerChecks(std::vector<Check>& out);  // the kernels that read the caller's images (caller_checks.h)
 
 }  // namespace penumbra::selftest
