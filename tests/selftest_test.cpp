@@ -100,7 +100,8 @@ TEST(SelftestList, QuickIsPartOfFullAndEveryStageIsThere) {
     EXPECT_TRUE(fullIds.count(c.stage + "/" + c.name)) << c.name;
     quickStages.insert(c.stage);
   }
-  const std::set<std::string> expected = {"moments", "blur", "sat", "pyramid", "reduce", "raster", "vssm", "technique"};
+  const std::set<std::string> expected = {"moments", "blur", "sat",       "pyramid", "reduce",
+                                          "raster",  "vssm", "technique", "caller"};
   EXPECT_EQ(stages, expected);
   EXPECT_EQ(quickStages, expected) << "--quick covers every stage";
   EXPECT_LT(quick.size(), full.size());

@@ -36,7 +36,7 @@ class NotApplicable : public std::runtime_error {
 };
 
 struct Check {
-  std::string stage;   // "moments", "blur", "sat", "pyramid", "reduce", "raster", "vssm", "technique"
+  std::string stage;   // "moments", "blur", "sat", "pyramid", "reduce", "raster", "vssm", "technique", "caller"
   std::string name;    // the case, e.g. "vsm_97x61" or "pcss_box_spot"
   bool quick = false;  // part of --quick (every check is part of --full)
   std::function<Measured(Context&)> run;
