@@ -18,6 +18,7 @@ using penumbra::api::checkEnum;
 using penumbra::api::guard;
 using penumbra::api::require;
 using penumbra::api::requireSized;
+using penumbra::api::requireTexels;
 using penumbra::api::StageCall;
 
 pn_shader::~pn_shader() {
@@ -49,13 +50,6 @@ penumbra::Light lightOf(const pn_shade_desc& d) {
   light.radius = d.light_radius;
   light.angularRadiusDeg = d.light_angular_radius_deg;
   return light;
-}
-
-// Throws std::invalid_argument unless the image has pixels.
-void requirePixels(uint32_t width, uint32_t height, const char* what) {
-  if (width == 0 || height == 0)
-    throw std::invalid_argument(
-        fmt::format("{}: {} {}x{} has no pixels (at least 1 each)", kShade, what, width, height));
 }
 
 std::optional<penumbra::Bounds> sceneBounds(const pn_shade_desc& d) {
@@ -116,7 +110,7 @@ pn_status pn_shade(pn_shader* shader, const pn_params* params, const pn_shade_de
     const pn_shade_desc& d = requireSized(desc, sizeof(pn_shade_desc), kShade, "desc", "pn_shade_desc_init");
     const penumbra::Light light = lightOf(d);
     checkEnum(d.light_depth_storage, 2, kShade, "desc->light_depth_storage");
-    requirePixels(d.light_map_size, d.light_map_size, "desc->light_map_size");
+    requireTexels(d.light_map_size, d.light_map_size, kShade, "desc->light_map_size");
     StageCall call(s.context, kShade, num_events_in_wait_list, event_wait_list, event);
 
     penumbra::CallerLightMap map;
@@ -134,7 +128,7 @@ pn_status pn_shade(pn_shader* shader, const pn_params* params, const pn_shade_de
 
     penumbra::CallerGBuffer g;
     g.width = static_cast<int>(d.width), g.height = static_cast<int>(d.height);
-    requirePixels(d.width, d.height, "desc->width x height");
+    requireTexels(d.width, d.height, kShade, "desc->width x height");
     g.positions = call.image(d.positions, "desc->positions", d.width, d.height, 4);
     g.depth = call.image(d.depth, "desc->depth", d.width, d.height, 1);
     g.inverseViewProjection = glm::make_mat4(d.camera_inverse_view_projection);

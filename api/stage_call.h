@@ -173,12 +173,12 @@ class StageCall {
   std::unique_lock<std::mutex> lock_;
 };
 
-// Throws std::invalid_argument unless the image has texels: a stage of a 0-wide or 0-high image is a caller's error, as
-// a 0-wide camera is (api/convert.cpp).
-inline void requireTexels(uint32_t width, uint32_t height, const char* function) {
+// Throws std::invalid_argument unless the image (named `what` in the message) has texels: a stage of a 0-wide or
+// 0-high image is a caller's error, as a 0-wide camera is (api/convert.cpp).
+inline void requireTexels(uint32_t width, uint32_t height, const char* function, const char* what = "image") {
   if (width == 0 || height == 0)
     throw std::invalid_argument(
-        fmt::format("{}: image {}x{} has no texels (width and height must be at least 1)", function, width, height));
+        fmt::format("{}: {} {}x{} has no texels (width and height must be at least 1)", function, what, width, height));
 }
 
 // The caller's pn_image_shape (not NULL, with texels) as the core's ImageShape.

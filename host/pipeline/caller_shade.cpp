@@ -71,8 +71,9 @@ DepthReading depthReading(const glm::mat4& p, DepthStorage storage, NdcDepth ndc
   return r;
 }
 
-// The map's view from the caller's matrices, as fitLightView would have built it for that window (host/views/views.h).
-LightView callerView(const Light& light, const CallerLightMap& map) {
+// The map's view from the caller's matrices, as fitLightView would have built it for that window (host/views/views.h);
+// `reading` is the projection's depth reading (depthReading), whose planes the caller's depthNear/depthFar may replace.
+LightView callerView(const Light& light, const CallerLightMap& map, const DepthReading& reading) {
   const glm::mat4& v = map.view;
   const glm::mat4& p = map.projection;
   if (!finite(v) || !finite(p)) throw std::invalid_argument("light map: the view or projection is not finite");
@@ -122,7 +123,7 @@ LightView callerView(const Light& light, const CallerLightMap& map) {
   gpu.texelScale = widthX / static_cast<float>(map.size);
   gpu.width = gpu.height = map.size;
   gpu.warp = LIGHT_WARP_NONE;
-  DepthReading depth = depthReading(p, map.storage, map.ndc, "light map");
+  DepthReading depth = reading;
   if (map.depthNear != 0.0f || map.depthFar != 0.0f) {
     if (!std::isfinite(map.depthNear) || !std::isfinite(map.depthFar) || !(map.depthFar > map.depthNear))
       throw std::invalid_argument(fmt::format("light map: depth range {:.6g}..{:.6g} is not a finite, non-empty range",
@@ -155,13 +156,6 @@ Bounds frustumBounds(const CallerLightMap& map) {
     b.grow(glm::vec3(q) / q.w);
   }
   return b;
-}
-
-// The matrix's rows as four float4 kernel arguments.
-std::array<cl_float4, 4> rows(const glm::mat4& m) {
-  std::array<cl_float4, 4> r{};
-  for (int i = 0; i < 4; ++i) r[i] = {{m[0][i], m[1][i], m[2][i], m[3][i]}};
-  return r;
 }
 
 }  // namespace
@@ -222,8 +216,9 @@ std::map<std::string, std::string> CallerShader::shade(const TechniqueInfo& tech
           ? std::optional(imageLayout(*gbuffer.normals, gbuffer.width, gbuffer.height, 4, "G-buffer normals"))
           : std::nullopt;
   const CallerImageGpu visibilityLayout = imageLayout(visibility, gbuffer.width, gbuffer.height, 1, "visibility");
-  CallerMap callerMap{callerView(light, map), {}};
-  const CallerDepthGpu mapDepth = depthReading(map.projection, map.storage, map.ndc, "light map").gpu;
+  const DepthReading mapReading = depthReading(map.projection, map.storage, map.ndc, "light map");
+  CallerMap callerMap{callerView(light, map, mapReading), {}};
+  const CallerDepthGpu& mapDepth = mapReading.gpu;
   std::optional<CallerDepthGpu> cameraDepth;
   if (gbuffer.depth) {
     if (!finite(gbuffer.inverseViewProjection))
@@ -266,7 +261,8 @@ std::map<std::string, std::string> CallerShader::shade(const TechniqueInfo& tech
     Kernel kernel(ctx_, kSource, "caller_positions", kStage);
     kernel.args(gbuffer.positions->buffer, positionLayout, gbuffer_.position).moves(pixels * 32).launch(pixels, kGroup);
   } else {
-    const std::array<cl_float4, 4> r = rows(gbuffer.inverseViewProjection);
+    cl_float4 r[4];
+    setLightViewRows(r, gbuffer.inverseViewProjection);
     Kernel kernel(ctx_, kSource, "caller_positions_from_depth", kStage);
     kernel.args(gbuffer.depth->buffer, positionLayout, *cameraDepth, r[0], r[1], r[2], r[3], gbuffer_.position)
         .moves(pixels * 20)

@@ -12,6 +12,7 @@
 
 #include "host/cl/kernel.h"
 #include "host/stages/image_layout.h"
+#include "host/views/views.h"
 #include "tools/selftest/reference/inputs.h"
 #include "tools/selftest/selftest.h"
 
@@ -41,12 +42,6 @@ double hostDepth(const CallerDepthGpu& d, float v) {
   const double w = std::clamp(double(v), 0.0, 1.0);
   const double ndc = d.ndcZeroToOne ? w : 2.0 * w - 1.0;
   return -(double(d.p23) - ndc * d.p33) / (ndc * d.p32 - double(d.p22));
-}
-
-std::array<cl_float4, 4> matrixRows(const glm::mat4& m) {
-  std::array<cl_float4, 4> r{};
-  for (int i = 0; i < 4; ++i) r[i] = {{m[0][i], m[1][i], m[2][i], m[3][i]}};
-  return r;
 }
 
 // Components xyz (or xyzw) of float4s, flattened.
@@ -124,7 +119,8 @@ ref::Comparison callerPositionsFromDepth(Context& ctx) {
     position.fill(ctx, cl_float4{{ref::kPoison, ref::kPoison, ref::kPoison, ref::kPoison}});
     normal.fill(ctx, cl_float4{{ref::kPoison, ref::kPoison, ref::kPoison, ref::kPoison}});
     const CallerImage image{src};
-    const std::array<cl_float4, 4> r = matrixRows(inverse);
+    cl_float4 r[4];
+    setLightViewRows(r, inverse);
     Kernel(ctx, kCallerSource, "caller_positions_from_depth", "caller")
         .args(src, imageLayout(image, side, side, 1, "depth"),
               depthReadingOf(projection, false, false, 1.0f, 1.0f, 20.0f), r[0], r[1], r[2], r[3], position)
