@@ -374,18 +374,37 @@ static bool izb_soft_listed(const IzbFrame* f, __constant const LightViewGpu* lv
          c->lo.y - reach <= y0 + (float)IZB_CELL_TEXELS && c->hi.y + reach >= y0;
 }
 
-// Per caster, every cell holding samples (cellCount > 0) that needs it: counted into listCount (fill == 0) or written
-// to entries[listStart[c] + cursor[c]++] (fill == 1). listCount and cursor zero on entry.
+// The union of cluster `k`'s casters (izb_caster) with a triangle count: triangles that hide nothing (a repeated
+// vertex, izb_soft_projection) are left out of it.
+static IzbCaster izb_cluster_caster(__constant const LightViewGpu* lv, __global const float* positions,
+                                    __global const uint* triangles, uint triangleCount, uint k, int* members) {
+  IzbCaster u = {(float2)(INFINITY), (float2)(-INFINITY), INFINITY, 0};
+  *members = 0;
+  const uint end = min(triangleCount, (k + 1u) * IZB_CLUSTER);
+  for (uint t = k * IZB_CLUSTER; t < end; ++t) {
+    const float3 a = izb_vertex(positions, triangles[3 * t]), b = izb_vertex(positions, triangles[3 * t + 1]);
+    const float3 v = izb_vertex(positions, triangles[3 * t + 2]);
+    if (all(a == b) || all(b == v) || all(v == a)) continue;
+    const IzbCaster c = izb_caster(lv, positions, triangles, t);
+    u.lo = fmin(u.lo, c.lo), u.hi = fmax(u.hi, c.hi), u.zMin = fmin(u.zMin, c.zMin), u.unbounded |= c.unbounded;
+    ++*members;
+  }
+  return u;
+}
+
+// Per cluster of IZB_CLUSTER casters, every cell holding samples (cellCount > 0) that needs one of them: counted into
+// listCount (fill == 0) or written to entries[listStart[c] + cursor[c]++] (fill == 1). listCount and cursor zero on
+// entry. The cluster's box is the union of its casters' and its nearest depth theirs, so a cell that one of them
+// reaches (the reach grows as the caster nears the light) lists it.
 __kernel void izb_soft_lists(__global const float* positions, __global const uint* triangles, uint triangleCount,
                              const IzbFrame f, __constant const LightViewGpu* lv, __global const uint* cellCount,
                              __global const uint* cellDepth, __global const uint* depthMax, int fill,
                              __global uint* listCount, __global const uint* listStart, __global uint* entries) {
-  const uint t = get_global_id(0);
-  if (t >= triangleCount) return;
-  const float3 a = izb_vertex(positions, triangles[3 * t]), b = izb_vertex(positions, triangles[3 * t + 1]);
-  const float3 v = izb_vertex(positions, triangles[3 * t + 2]);
-  if (all(a == b) || all(b == v) || all(v == a)) return;  // hides nothing (izb_soft_projection)
-  const IzbCaster c = izb_caster(lv, positions, triangles, t);
+  const uint k = get_global_id(0);
+  if (k >= (triangleCount + IZB_CLUSTER - 1) / IZB_CLUSTER) return;
+  int members;
+  const IzbCaster c = izb_cluster_caster(lv, positions, triangles, triangleCount, k, &members);
+  if (members == 0) return;
   const int4 box = izb_soft_box(&f, lv, &c, as_float(*depthMax));
   const uint cellsX = ((uint)lv->width + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS;
   for (int y = box.z; y <= box.w; ++y)
@@ -393,7 +412,7 @@ __kernel void izb_soft_lists(__global const float* positions, __global const uin
       const uint cell = (uint)y * cellsX + (uint)x;
       if (cellCount[cell] == 0 || !izb_soft_listed(&f, lv, &c, x, y, as_float(cellDepth[cell]))) continue;
       const uint slot = atomic_inc(&listCount[cell]);
-      if (fill) entries[listStart[cell] + slot] = t;
+      if (fill) entries[listStart[cell] + slot] = k;
     }
 }
 
@@ -422,20 +441,52 @@ static IzbCone izb_light_cone(const IzbFrame* f, float3 origin) {
   return cone;
 }
 
-// balls[t]: triangle t's bounding ball (its centroid, the farthest vertex's distance widened by 1e-3 against rounding),
-// for izb_may_block; planes[t]: its plane (unit normal n, n . p for its points; zero for a degenerate triangle), for
-// izb_beside.
-__kernel void izb_soft_balls(__global const float* positions, __global const uint* triangles, uint triangleCount,
-                             __global float4* balls, __global float4* planes) {
+// casters[4 t .. 4 t + 3]: triangle t in one 64-byte record, so that a sample's test of a listed caster reads one
+// line: its bounding ball (the centroid m, the farthest vertex's distance widened by 1e-3 against rounding) for
+// izb_may_block, then its vertices, whose w hold its plane's unit normal n (zero for a degenerate triangle; the plane
+// is n . p = n . m, izb_caster_plane) for izb_beside.
+__kernel void izb_soft_casters(__global const float* positions, __global const uint* triangles, uint triangleCount,
+                               __global float4* casters) {
   const uint t = get_global_id(0);
   if (t >= triangleCount) return;
   const float3 a = izb_vertex(positions, triangles[3 * t]), b = izb_vertex(positions, triangles[3 * t + 1]);
   const float3 c = izb_vertex(positions, triangles[3 * t + 2]);
   const float3 m = (a + b + c) / 3.0f;
-  balls[t] = (float4)(m, 1.001f * sqrt(fmax(fmax(dot(a - m, a - m), dot(b - m, b - m)), dot(c - m, c - m))));
   const float3 n = cross(b - a, c - a);
   const float len = length(n);
-  planes[t] = len > 0.0f && isfinite(len) ? (float4)(n / len, dot(n / len, m)) : (float4)(0.0f);
+  const float3 unit = len > 0.0f && isfinite(len) ? n / len : (float3)(0.0f);
+  __global float4* record = casters + 4 * (size_t)t;
+  record[0] = (float4)(m, 1.001f * sqrt(fmax(fmax(dot(a - m, a - m), dot(b - m, b - m)), dot(c - m, c - m))));
+  record[1] = (float4)(a, unit.x), record[2] = (float4)(b, unit.y), record[3] = (float4)(c, unit.z);
+}
+
+// clusters[k]: a ball holding the balls of casters k IZB_CLUSTER .. (k + 1) IZB_CLUSTER - 1 (after izb_soft_casters):
+// their centroids' mean, the farthest of their balls' far sides widened by 1e-3. A cone that misses it misses them all.
+// Balls that are not finite are left out: izb_may_block never passes them (NaN compares false), so their casters are
+// skipped as they would be alone; a cluster of none gets a NaN ball, skipped the same way.
+__kernel void izb_soft_clusters(__global const float4* casters, uint triangleCount, __global float4* clusters) {
+  const uint k = get_global_id(0);
+  if (k >= (triangleCount + IZB_CLUSTER - 1) / IZB_CLUSTER) return;
+  const uint begin = k * IZB_CLUSTER, end = min(triangleCount, begin + IZB_CLUSTER);
+  float3 centre = (float3)(0.0f);
+  int finite = 0;
+  for (uint t = begin; t < end; ++t) {
+    const float4 ball = casters[4 * t];
+    if (all(isfinite(ball))) centre += ball.xyz, ++finite;
+  }
+  centre /= (float)finite;
+  float radius = finite > 0 ? 0.0f : NAN;
+  for (uint t = begin; t < end; ++t) {
+    const float4 ball = casters[4 * t];
+    if (all(isfinite(ball))) radius = fmax(radius, length(ball.xyz - centre) + ball.w);
+  }
+  clusters[k] = (float4)(centre, 1.001f * radius);
+}
+
+// The plane (n, n . m) of caster record `caster` (izb_soft_casters).
+static float4 izb_caster_plane(__global const float4* caster) {
+  const float3 n = (float3)(caster[1].w, caster[2].w, caster[3].w);
+  return (float4)(n, dot(n, caster[0].xyz));
 }
 
 // Whether the origin and the whole light lie on one side of caster plane `plane`, clear of it by more than rounding
@@ -629,7 +680,8 @@ __kernel void izb_soft_test(__global const uint* sorted, __global const uint* ce
                             __global const float* positions, __global const uint* triangles, const IzbFrame f,
                             __constant const LightViewGpu* lv, __global const uint* listCount,
                             __global const uint* listStart, __global const uint* listEntries,
-                            __global const float4* balls, __global const float4* planes, __global const float2* pattern,
+                            __global const float4* casters, __global const float4* clusters, uint triangleCount,
+                            __global const float2* pattern,
                             __global const float2* rotations, __global const float2* planePoints,
                             __global const uint* masks, __global const uint* alphaIndex,
                             __global const AlphaTriangle* alphaTriangles, __global const AlphaMaterial* alphaMaterials,
@@ -651,61 +703,66 @@ __kernel void izb_soft_test(__global const uint* sorted, __global const uint* ce
   uint blocked = 0, coned = 0;
   for (uint e = begin; e < end && blocked < n; ++e) {
     if (blocked != coned) cone = izb_unhidden_cone(&plane, mask, words, planePoints, cs), coned = blocked;
-    const uint t = listEntries[e];
-    const float4 ball = balls[t];
-    if (!izb_may_block(&cone, hard.origin, ball)) continue;
-    // Beside the caster's plane (the receiver's own surface, casters facing the light with the origin in front).
-    if (izb_beside(&f, hard.origin, planes[t], 1e-5f * (fmax(fmax(fabs(ball.x), fabs(ball.y)), fabs(ball.z)) + ball.w)))
-      continue;
-    IzbProjection proj;
-    const int edges = izb_soft_projection(&plane, izb_vertex(positions, triangles[3 * t]),
-                                          izb_vertex(positions, triangles[3 * t + 1]),
-                                          izb_vertex(positions, triangles[3 * t + 2]), &proj);
-    if (edges == IZB_HIDES_NONE) continue;
-    const bool projected = edges >= 0, masked = projected && proj.masked;
-    __global const uint* table[3];
-    bool empty = false;
-    for (int c = 0; masked && c < edges && !empty; ++c)
-      empty = !izb_edge_masks(proj.g[c], proj.offset[c], cs, words, masks, &table[c]);
-    if (empty) continue;  // the projection misses the light
-    const bool opaque = !f.alphaTested || alphaIndex[t] == ALPHA_NO_TRIANGLE;
-    for (int w = 0; w < words; ++w) {
-      uint test = ~mask[w];
-      if (masked) {
-        uint may = ~0u, certain = ~0u;
-        for (int c = 0; c < edges; ++c) may &= table[c][w], certain &= table[c][words + w];
-        test &= may;
-        if (opaque) {
-          const uint sure = test & certain;
-          mask[w] |= sure, blocked += popcount(sure), test &= ~certain;
-        }
-      }
-      while (test != 0u) {
-        const uint bit = 31u - clz(test & (0u - test));  // lowest set bit
-        test &= test - 1u;
-        const uint j = 32u * (uint)w + bit;
-        if (projected) {  // the point against the projection itself: clearly outside, or clearly inside an opaque one
-          const float2 h = planePoints[j];
-          const float2 q = (float2)(cs.x * h.x - cs.y * h.y, cs.y * h.x + cs.x * h.y);
-          bool outside = false, inside = true;
-          for (int c = 0; c < edges; ++c) {
-            const float side = dot(proj.g[c], q) - proj.h[c];
-            outside |= side<-proj.tol[c], inside &= side> proj.tol[c];
+    const uint k = listEntries[e];
+    const float4 clusterBall = clusters[k];
+    if (!izb_may_block(&cone, hard.origin, clusterBall)) continue;
+    const uint last = min(triangleCount, (k + 1u) * IZB_CLUSTER);
+    for (uint t = k * IZB_CLUSTER; t < last && blocked < n; ++t) {
+      if (blocked != coned) cone = izb_unhidden_cone(&plane, mask, words, planePoints, cs), coned = blocked;
+      __global const float4* caster = casters + 4 * (size_t)t;
+      const float4 ball = caster[0];
+      if (!izb_may_block(&cone, hard.origin, ball)) continue;
+      // Beside the caster's plane (the receiver's own surface, casters facing the light with the origin in front).
+      const float slack = 1e-5f * (fmax(fmax(fabs(ball.x), fabs(ball.y)), fabs(ball.z)) + ball.w);
+      if (izb_beside(&f, hard.origin, izb_caster_plane(caster), slack)) continue;
+      IzbProjection proj;
+      const int edges = izb_soft_projection(&plane, caster[1].xyz, caster[2].xyz, caster[3].xyz, &proj);
+      if (edges == IZB_HIDES_NONE) continue;
+      const bool projected = edges >= 0, masked = projected && proj.masked;
+      __global const uint* table[3];
+      bool empty = false;
+      for (int c = 0; masked && c < edges && !empty; ++c)
+        empty = !izb_edge_masks(proj.g[c], proj.offset[c], cs, words, masks, &table[c]);
+      if (empty) continue;  // the projection misses the light
+      const bool opaque = !f.alphaTested || alphaIndex[t] == ALPHA_NO_TRIANGLE;
+      for (int w = 0; w < words; ++w) {
+        uint test = ~mask[w];
+        if (masked) {
+          uint may = ~0u, certain = ~0u;
+          for (int c = 0; c < edges; ++c) may &= table[c][w], certain &= table[c][words + w];
+          test &= may;
+          if (opaque) {
+            const uint sure = test & certain;
+            mask[w] |= sure, blocked += popcount(sure), test &= ~certain;
           }
-          if (outside) continue;
-          if (opaque && inside) {
+        }
+        while (test != 0u) {
+          const uint bit = 31u - clz(test & (0u - test));  // lowest set bit
+          test &= test - 1u;
+          const uint j = 32u * (uint)w + bit;
+          if (projected) {  // the point against the projection itself: clearly outside, or clearly inside an opaque one
+            const float2 h = planePoints[j];
+            const float2 q = (float2)(cs.x * h.x - cs.y * h.y, cs.y * h.x + cs.x * h.y);
+            bool outside = false, inside = true;
+            for (int c = 0; c < edges; ++c) {
+              const float side = dot(proj.g[c], q) - proj.h[c];
+              outside |= side<-proj.tol[c], inside &= side> proj.tol[c];
+            }
+            if (outside) continue;
+            if (opaque && inside) {
+              mask[w] |= 1u << bit;
+              ++blocked;
+              continue;
+            }
+          }
+          const float2 p = pattern[j];
+          const float2 d = (float2)(cs.x * p.x - cs.y * p.y, cs.y * p.x + cs.x * p.y);
+          const IzbRay ray = izb_light_ray(&f, &plane, d);
+          if (izb_blocks(&ray, t, positions, triangles, alphaIndex, f.alphaTested, alphaTriangles, alphaMaterials,
+                         alphaTexels)) {
             mask[w] |= 1u << bit;
             ++blocked;
-            continue;
           }
-        }
-        const float2 p = pattern[j];
-        const float2 d = (float2)(cs.x * p.x - cs.y * p.y, cs.y * p.x + cs.x * p.y);
-        const IzbRay ray = izb_light_ray(&f, &plane, d);
-        if (izb_blocks(&ray, t, positions, triangles, alphaIndex, f.alphaTested, alphaTriangles, alphaMaterials,
-                       alphaTexels)) {
-          mask[w] |= 1u << bit;
-          ++blocked;
         }
       }
     }

@@ -41,6 +41,9 @@ void moveNearPlane(glm::mat4& P, float zNear) {
   P[3][2] = static_cast<float>(-2.0 * f * zNear / (f - zNear));
 }
 
+// Clusters of IZB_CLUSTER consecutive casters, the unit of izb_soft_lists' lists.
+uint32_t clusterCount(uint32_t triangles) { return (triangles + IZB_CLUSTER - 1) / IZB_CLUSTER; }
+
 // --izb-light-samples N: the side k of its k x k pattern; throws std::invalid_argument unless N = k^2, k in 4..16.
 int lightGridOf(int samples) {
   const int k = izb_light_grid_of(samples);
@@ -144,12 +147,17 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
     if (soft) {
       describeLight(f, light, grid, settings_.lightGrid);
       pattern_.prepare(ctx, settings_.lightGrid, f.lightKind == IZB_LIGHT_SUN, f.lightOneMinusCos);
-      balls_.allocate(ctx, std::max<size_t>(scene.triangleCount, 1));
-      planes_.allocate(ctx, std::max<size_t>(scene.triangleCount, 1));
-      Kernel balls(ctx, "kernels/izb.cl", "izb_soft_balls", "izb");
-      balls.args(scene.positions, scene.triangles, scene.triangleCount, balls_, planes_)
-          .moves(uint64_t{scene.triangleCount} * (48 + 32))
+      casters_.allocate(ctx, 4 * std::max<size_t>(scene.triangleCount, 1));
+      Kernel casters(ctx, "kernels/izb.cl", "izb_soft_casters", "izb");
+      casters.args(scene.positions, scene.triangles, scene.triangleCount, casters_)
+          .moves(uint64_t{scene.triangleCount} * (48 + 64))
           .launch(scene.triangleCount, kPixelGroup);
+      const uint32_t clusters = clusterCount(scene.triangleCount);
+      clusters_.allocate(ctx, std::max<size_t>(clusters, 1));
+      Kernel clusterBalls(ctx, "kernels/izb.cl", "izb_soft_clusters", "izb");
+      clusterBalls.args(casters_, scene.triangleCount, clusters_)
+          .moves(uint64_t{scene.triangleCount} * 16 + uint64_t{clusters} * 16)
+          .launch(clusters, kPixelGroup);
     }
     Kernel bin(ctx, "kernels/izb.cl", "izb_bin", "izb"), scanBlocks(ctx, "kernels/izb.cl", "izb_scan_blocks", "izb");
     Kernel scanSums(ctx, "kernels/izb.cl", "izb_scan_sums", "izb"),
@@ -177,7 +185,7 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
         entries += listCasters(ctx, f, scene, scanBlocks, scanSums, scanAdd);
         softTest
             .args(sorted_, cellOf_, cellStart_, cellCount_, g.position, g.normal, g.triangleId, scene.positions,
-                  scene.triangles, f, gpu_, listCount_, listStart_, listEntries_, balls_, planes_, pattern_.points,
+                  scene.triangles, f, gpu_, listCount_, listStart_, listEntries_, casters_, clusters_, scene.triangleCount, pattern_.points,
                   pattern_.rotations, pattern_.planePoints, pattern_.masks, scene.alphaIndex, scene.alphaTriangles,
                   scene.alphaMaterials, scene.alphaTexels, occluded_)
             .moves(count * 8)
@@ -238,24 +246,24 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
   // the count, never shrunk); returns the entries.
   uint64_t listCasters(Context& ctx, const IzbFrame& f, const raster::SceneBuffers& scene, Kernel& scanBlocks,
                        Kernel& scanSums, Kernel& scanAdd) {
-    const uint32_t triangles = scene.triangleCount, cells = f.cells;
+    const uint32_t triangles = scene.triangleCount, clusters = clusterCount(triangles), cells = f.cells;
     listCount_.fill(ctx, 0u);
     depthMax_.fill(ctx, 0u);
     Kernel depthMax(ctx, "kernels/izb.cl", "izb_depth_max", "izb");
     depthMax.args(cellDepth_, cells, depthMax_).moves(uint64_t{cells} * 4).launch(cells, kPixelGroup);
     Kernel lists(ctx, "kernels/izb.cl", "izb_soft_lists", "izb");
-    // Each caster reads its three vertices (36 B) and indices (12 B); the cells it visits are data-dependent.
+    // Each caster reads its three vertices (36 B) and indices (12 B); the cells its cluster visits are data-dependent.
     lists
         .args(scene.positions, scene.triangles, triangles, f, gpu_, cellCount_, cellDepth_, depthMax_, 0, listCount_,
               listStart_, listEntries_)
         .moves(uint64_t{triangles} * 48)
-        .launch(triangles, kPixelGroup);
+        .launch(clusters, kPixelGroup);
     // The total in 64 bits on the host (4 bytes a cell), where the device's 32-bit scan would wrap past 2^32.
     uint64_t total = 0;
     for (uint32_t n : listCount_.download(ctx)) total += n;
     if (total > 0xffffffffu)
       throw std::runtime_error(
-          fmt::format("izb: {} caster-cell entries under the area light exceed 2^32; lower "
+          fmt::format("izb: {} cluster-cell entries under the area light exceed 2^32; lower "
                       "--izb-chunk or --map-size",
                       total));
     scan(scanBlocks, scanSums, scanAdd, listCount_, listStart_, cells);
@@ -265,7 +273,7 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
         .args(scene.positions, scene.triangles, triangles, f, gpu_, cellCount_, cellDepth_, depthMax_, 1, listCount_,
               listStart_, listEntries_)
         .moves(uint64_t{triangles} * 48 + total * 4)
-        .launch(triangles, kPixelGroup);
+        .launch(clusters, kPixelGroup);
     return total;
   }
 
@@ -275,7 +283,8 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
   Buffer<uint32_t> depthMax_, cellDepth_;   // area lights: the farthest sample's light depth, of the pass and per cell
   Buffer<uint32_t> listCount_, listStart_;  // area lights: casters per cell (izb_soft_lists)
   Buffer<uint32_t> listEntries_;
-  Buffer<cl_float4> balls_, planes_;  // area lights: each caster's bounding ball and plane (izb_soft_balls)
+  Buffer<cl_float4> casters_;  // area lights: each caster's ball, vertices and plane, 64 bytes (izb_soft_casters)
+  Buffer<cl_float4> clusters_;  // area lights: each IZB_CLUSTER casters' ball (izb_soft_clusters)
   // Area lights: the light pattern and its bitmask tables on the device, made again only when the pattern or (a sun's)
   // tables change.
   struct PatternGpu {

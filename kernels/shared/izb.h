@@ -14,6 +14,9 @@
 #define IZB_MAX_SAMPLES 32
 #define IZB_CELL_TEXELS 8  // cell side in texels: the rasterizer's tile (RASTER_TILE_SIZE; the host asserts them equal)
 #define IZB_CHUNK_SAMPLES (1u << 24)  // default --izb-chunk: samples binned and tested per pass, 8 bytes each
+// Area lights: casters are listed and culled in clusters of this many consecutive triangles (kernels/izb.cl
+// izb_soft_clusters).
+#define IZB_CLUSTER 8
 // Shadow-ray origins leave the surface by IZB_RAY_OFFSET * max(|p|_inf, scene radius), the reference tracer's
 // ShadowTracer::kRayOffset (tools/reference/tracer.h; a test holds them equal).
 #define IZB_RAY_OFFSET 1e-4f
