@@ -3,9 +3,10 @@
 //    depths of texels closer than the receiver; 2. penumbra width from similar triangles; 3. PCF over that
 //    width. The brute-force baseline that VSSM must beat: cost grows with the search and filter tap counts.
 // Taps (`pattern`, kernels/shared/shade.h): SHADE_PATTERN_GRID, a taps x taps grid over the square of the region's
-// half-width; SHADE_PATTERN_POISSON, taps^2 points of a Poisson
-// disk (Mitchell's best candidate, host side) over the region's disk, the shape the light disk actually gives both
-// regions, rotated per pixel (kernels/shared/rotation.h) so the grid's banding becomes noise.
+// half-width; SHADE_PATTERN_POISSON, the first taps^2 (or, under auto, as many as the region needs) points of a
+// progressive Poisson disk (Mitchell's best candidate in the order it places them, host side: every prefix is spread
+// over the whole disk) over the region's disk, the shape the light disk actually gives both regions, rotated per pixel
+// (kernels/shared/rotation.h) so the grid's banding becomes noise.
 // Adaptive search (`adaptive`, beyond the sketch): a min-max pyramid of the map bounds the region first. Where no
 // texel of the region's square lies in front of the receiver, nothing can block and the pixel is lit without a tap;
 // otherwise the nearest caster in the region, z_min, replaces the near plane in the region's similar triangles (a
@@ -18,6 +19,33 @@
 
 #define PCSS_ADAPTIVE_STEPS 2  // narrowings of the search region by the pyramid's nearest caster
 
+// --pcss-search-taps / --pcss-filter-taps auto: a region of half-width r texels gets density * pi r^2 taps (its disk's
+// texels times the density), at least the floor and at most the setting's most. A small region needs few taps to see
+// every texel it holds; a wide one is sampled at the most, so that a finer map, whose regions span more texels, never
+// gets fewer taps than a coarser one. Measured on scenes/default.json and builtin:staircase
+// (docs/techniques/sm-pcf-pcss.md, "Taps from the region").
+#define PCSS_SEARCH_DENSITY 0.1f
+#define PCSS_FILTER_DENSITY 1.0f
+#define PCSS_SEARCH_FEWEST 9
+#define PCSS_FILTER_FEWEST 36
+
+// The taps a region of half-width `radius` texels gets, and in *side the grid's taps per side: fixed, taps x taps;
+// automatic, from the region's texels (above) within [fewest, taps^2] (the grid: the side of a square of that many).
+// A disk's automatic count is real: its whole part are full taps and the next tap weighs the fraction
+// (pcss_tap_weight), so that the estimate moves continuously with the radius instead of jumping as a tap is added.
+inline float pcss_tap_count(int automatic, int taps, float density, int fewest, float radius, int pattern, int* side) {
+  *side = taps;
+  if (!automatic) return (float)(taps * taps);
+  const float wanted = density * M_PI_F * radius * radius;
+  const int most = taps * taps;
+  if (pattern == SHADE_PATTERN_POISSON) return clamp(wanted, (float)min(fewest, most), (float)most);
+  *side = (int)clamp(ceil(sqrt(wanted)), (float)min((int)ceil(sqrt((float)fewest)), taps), (float)taps);
+  return (float)(*side * *side);
+}
+
+// Tap k's weight among `count` (pcss_tap_count): 1, the last of a fractional count its fraction.
+inline float pcss_tap_weight(int k, float count) { return fmin(count - (float)k, 1.0f); }
+
 // Tap k of a search or filter region of half-width `radius` texels: grid (taps x taps) or rotated Poisson disk.
 inline float2 pcss_offset(int pattern, __global const float2* disk, float2 cs, int taps, int k, float radius) {
   if (pattern == SHADE_PATTERN_POISSON) return radius * rot_apply(cs, disk[k]);
@@ -26,22 +54,23 @@ inline float2 pcss_offset(int pattern, __global const float2* disk, float2 cs, i
   return (float2)(-radius + (k % taps) * step, -radius + (k / taps) * step);
 }
 
-// Average depth of blockers in the search region of half-width `radius` texels; returns 0 when no tap blocks.
+// Average depth of blockers in the search region of half-width `radius` texels over `count` taps (`taps` per side on
+// the grid; pcss_tap_weight); returns 0 when no tap blocks.
 inline float pcss_blocker_depth(__global const float* map, __constant const LightViewGpu* lv, Receiver r, float radius,
-                                int pattern, __global const float2* disk, float2 cs, int taps) {
-  float sum = 0.0f;
-  int found = 0;
-  for (int k = 0; k < taps * taps; ++k) {
+                                int pattern, __global const float2* disk, float2 cs, int taps, float count) {
+  float sum = 0.0f, found = 0.0f;
+  for (int k = 0; (float)k < count; ++k) {
     float2 offset = pcss_offset(pattern, disk, cs, taps, k, radius);
     float2 uv = r.uv + offset;
     float occluder = sc_fetch(map, lv->width, lv->height, (int)floor(uv.x), (int)floor(uv.y));
     float depth = r.depth - r.bias - r.biasSlope * length(offset);
     if (occluder < depth) {
-      sum += occluder;
-      ++found;
+      const float weight = pcss_tap_weight(k, count);
+      sum += weight * occluder;
+      found += weight;
     }
   }
-  return found > 0 ? sum / (float)found : 0.0f;
+  return found > 0.0f ? sum / found : 0.0f;
 }
 
 __kernel void pcss_visibility(__global const float4* position, __global const float4* normal, __global const float* map,
@@ -77,14 +106,21 @@ __kernel void pcss_visibility(__global const float4* position, __global const fl
     }
     search = fmin(search, clamp(lv_penumbra_texels(lv, r.depth, fmax(nearest, lv->zNear)), 0.5f, maxRadius));
   }
-  float blocker = pcss_blocker_depth(map, lv, r, search, pattern, searchDisk, cs, searchTaps);
+  int searchSide;
+  const float searchCount = pcss_tap_count(s.autoTaps & PCSS_AUTO_SEARCH, searchTaps, PCSS_SEARCH_DENSITY,
+                                         PCSS_SEARCH_FEWEST, search, pattern, &searchSide);
+  float blocker = pcss_blocker_depth(map, lv, r, search, pattern, searchDisk, cs, searchSide, searchCount);
   blockerOut[i] = blocker;
   if (blocker <= 0.0f) return;  // no blocker: fully lit
   float radius = clamp(lv_penumbra_texels(lv, r.depth, blocker), 0.5f, maxRadius);
   ReceiverPlane rp = sc_receiver_plane_at(f.receiverPlane, position, lv, width, height, i, p.xyz, n, r.texel);
   const float planeBias = f.biasConstant * r.texel;
+  int filterSide;
+  const float filterCount = pcss_tap_count(s.autoTaps & PCSS_AUTO_FILTER, filterTaps, PCSS_FILTER_DENSITY,
+                                           PCSS_FILTER_FEWEST, radius, pattern, &filterSide);
   float sum = 0.0f;
-  for (int k = 0; k < filterTaps * filterTaps; ++k)
-    sum += sc_tap(map, lv, r, rp, planeBias, pcss_offset(pattern, filterDisk, cs, filterTaps, k, radius));
-  visibility[i] = sum / (float)(filterTaps * filterTaps);
+  for (int k = 0; (float)k < filterCount; ++k)
+    sum += pcss_tap_weight(k, filterCount) *
+           sc_tap(map, lv, r, rp, planeBias, pcss_offset(pattern, filterDisk, cs, filterSide, k, radius));
+  visibility[i] = sum / filterCount;
 }

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <stdexcept>
@@ -305,9 +306,13 @@ TEST_F(CallerShade, AGBufferFromDepthAndNormalsFromPositionsComeClose) {
     fromDepth.normals = base.gbuffer.normals;
     const Difference d = difference(shade(shader, base.pcss, base.params, light, base.map, fromDepth, s.scene.bounds()),
                                     base.visibility);
-    // Measured: mean 1.5e-5 and 4.7e-5, at most 0.028 apart (a position off by the depth buffer's resolution).
+    // A position off by the depth buffer's resolution moves pcss's taps by as much: at most a few pixels, where a
+    // search tap lands on either side of a blocker's edge, change by more than 0.1 (with today's per-pixel tap counts,
+    // measured: mean 2.2e-5 and 5.3e-5, 1 pixel of 24,000 each; with fixed 8 x 8 taps at most 0.028 apart).
     EXPECT_LE(d.mean, 2e-4) << light.describe();
-    EXPECT_LE(d.max, 0.1f) << light.describe();
+    EXPECT_LE(d.above, base.visibility.size() / 2000) << light.describe();
+    std::printf("  %s: from depth, mean %.2g, %zu pixels above 0.1, max %.3f\n", light.describe().c_str(), d.mean,
+                d.above, d.max);
   }
 }
 

@@ -222,10 +222,10 @@ TEST_F(MapSize, TheRendererSizesMapsToTheFrameForSpotAndPointLights) {
 }
 
 // The default: auto from 256 to 4096 texels, for every technique with one uniform map, its penumbra need 6 texels
-// across a half-width (sm and pcf, which trace no wider penumbra than a few texels: 3; vssm 24) at the narrowest tenth
-// of the shadowed pixels (the fifth for the techniques that blur their moments widely: vsm, evsm4, msm, savsm, lvsm),
-// its cap 16 (sm and pcf: 4) and its caster need 2 texels across the thinnest features; the split and jittered
-// techniques keep 2048.
+// across a half-width (sm and pcf, which trace no wider penumbra than a few texels: 3; pcss 9; vssm 24) at the
+// narrowest tenth of the shadowed pixels (the fifth for the techniques that blur their moments widely: vsm, evsm4, msm,
+// savsm, lvsm), its cap 16 (sm and pcf: 4) and its caster need 2 texels across the thinnest features; the split and
+// jittered techniques keep 2048.
 TEST(MapSizeDefaults, AutoFromThePixelsThePenumbraeAndTheCasters) {
   for (const char* name : {"sm", "pcf", "pcss", "vsm", "evsm2", "evsm4", "esm", "msm", "savsm", "vssm", "lvsm"}) {
     const Params params(findTechnique(name).params);
@@ -233,7 +233,11 @@ TEST(MapSizeDefaults, AutoFromThePixelsThePenumbraeAndTheCasters) {
     EXPECT_TRUE(params.isAuto("map-size")) << name;
     EXPECT_EQ(params.getInt("map-size-min"), 256) << name;
     EXPECT_EQ(params.getInt("map-size-max"), 4096) << name;
-    EXPECT_EQ(params.get("map-size-penumbra"), shortPenumbra ? 3.0 : std::string(name) == "vssm" ? 24.0 : 6.0) << name;
+    const double penumbra = shortPenumbra                 ? 3.0
+                            : std::string(name) == "vssm" ? 24.0
+                            : std::string(name) == "pcss" ? 9.0
+                                                          : 6.0;
+    EXPECT_EQ(params.get("map-size-penumbra"), penumbra) << name;
     const std::set<std::string> blurred = {"vsm", "evsm4", "msm", "savsm", "lvsm"};
     EXPECT_EQ(params.get("map-size-penumbra-quantile"), blurred.count(name) ? 0.2 : 0.1) << name;
     EXPECT_EQ(params.get("map-size-penumbra-max"), shortPenumbra ? 4.0 : 16.0) << name;
@@ -275,7 +279,8 @@ int sizeFromNeeds(const RenderResult& r, int minSize, int maxSize) {
 }
 
 // Area lights: the smaller the light, the narrower the penumbrae and the larger the map, up to what the probe measured
-// (a half-width of 6 texels, 3 for sm); a point light (no penumbra) and map-size-penumbra 0 leave the pixels' need.
+// (a half-width of 9 texels for pcss, 3 for sm); a point light (no penumbra) and map-size-penumbra 0 leave the pixels'
+// need.
 TEST_F(MapSize, NarrowPenumbraeNeedLargerMaps) {
   const Scene scene = test::squareOverPlane();
   Camera camera = test::topDown();
@@ -307,13 +312,16 @@ TEST_F(MapSize, NarrowPenumbraeNeedLargerMaps) {
     EXPECT_EQ(recordedNeed(hard, "penumbrae"), -1.0) << name;
     EXPECT_EQ(chosenSize(hard), chosenSize(off)) << name;
   }
-  // sm asks half the texels across a penumbra that a filter does.
+  // sm asks a third of the texels across a penumbra that pcss does (3 against 9), a filter at 6 twice sm's.
   Params pcss(findTechnique("pcss").params), sm(findTechnique("sm").params);
   Renderer renderer(ctx(), scene);
   const Light light = parseLight("spot:0,4,0:0,0,0:120:0.1");
   const double filterNeed = recordedNeed(renderer.render(camera, light, findTechnique("pcss"), pcss), "penumbrae");
   const double hardNeed = recordedNeed(renderer.render(camera, light, findTechnique("sm"), sm), "penumbrae");
-  EXPECT_NEAR(hardNeed, filterNeed / 2, 1e-6 * filterNeed);
+  EXPECT_NEAR(hardNeed, filterNeed / 3, 0.5);  // the header records whole texels
+  pcss.set("map-size-penumbra", "6");
+  const double sixNeed = recordedNeed(renderer.render(camera, light, findTechnique("pcss"), pcss), "penumbrae");
+  EXPECT_NEAR(hardNeed, sixNeed / 2, 1e-6 * sixNeed);
 }
 
 // Wide penumbrae cap the pixels' need: a large light over the square, seen by a large frame, gets a smaller map than

@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 namespace penumbra {
 namespace poisson_test {
@@ -46,6 +48,24 @@ TEST(Poisson, GridSearchGivesTheExhaustiveSearchsPatterns) {
         ASSERT_EQ(grid[i].s[0], exhaustive[i].s[0]) << count << " points, seed " << seed << ", point " << i;
         ASSERT_EQ(grid[i].s[1], exhaustive[i].s[1]) << count << " points, seed " << seed << ", point " << i;
       }
+    }
+  }
+}
+
+// The progressive pattern is the same points in the order they were placed: each prefix of 144 points (pcss's auto
+// filter at its most) is the pattern of that many, so a pixel that takes the first k taps gets a spread-out set.
+TEST(Poisson, EveryPrefixOfTheProgressivePatternIsThePatternOfItsSize) {
+  const std::vector<cl_float2> all = progressivePoissonDisk(144, 1);
+  ASSERT_EQ(all.size(), 144u);
+  for (int count : {1, 9, 16, 36, 64, 100, 144}) {
+    std::vector<cl_float2> prefix(all.begin(), all.begin() + count);
+    std::stable_sort(prefix.begin(), prefix.end(), [](const cl_float2& a, const cl_float2& b) {
+      return std::hypot(a.s[0], a.s[1]) < std::hypot(b.s[0], b.s[1]);
+    });
+    const std::vector<cl_float2> sorted = poissonDisk(count, 1);
+    for (int i = 0; i < count; ++i) {
+      ASSERT_EQ(prefix[i].s[0], sorted[i].s[0]) << count << " points, point " << i;
+      ASSERT_EQ(prefix[i].s[1], sorted[i].s[1]) << count << " points, point " << i;
     }
   }
 }

@@ -2,6 +2,7 @@
 // search, penumbra from similar triangles, PCF, on grids or rotated Poisson disks. Debug channel: the average blocker
 // depth.
 #include <algorithm>
+#include <string>
 
 #include "host/stages/pyramid.h"
 #include "host/techniques/poisson.h"
@@ -24,10 +25,17 @@ float maxRadiusFor(const Params& params, int mapSize) {
   return static_cast<float>(std::max(mapSize / kMaxRadiusDivisor, kMinAutoRadius));
 }
 
+// --pcss-search-taps / --pcss-filter-taps: fixed taps per side, or under auto (the default) the most per side of the
+// counts kernels/pcss.cl pcss_tap_count takes from each pixel's region, --pcss-*-taps-max.
+int tapsOf(const Params& params, const std::string& name) {
+  return params.getInt(params.isAuto(name) ? name + "-max" : name);
+}
+
 struct PcssSettings {
   MapSettings map;
   int receiverPlane = 1;
   int searchTaps = 0, filterTaps = 0;
+  int autoTaps = 0;  // PCSS_AUTO_* bits
   float maxRadius = 0;
   int pattern = SHADE_PATTERN_POISSON;  // SHADE_PATTERN_*
   bool adaptive = false;                // pcss-search adaptive
@@ -35,8 +43,10 @@ struct PcssSettings {
     const MapSettings map = MapSettings::from(params, mapSize);
     return {map,
             params.getInt("receiver-plane"),
-            params.getInt("pcss-search-taps"),
-            params.getInt("pcss-filter-taps"),
+            tapsOf(params, "pcss-search-taps"),
+            tapsOf(params, "pcss-filter-taps"),
+            (params.isAuto("pcss-search-taps") ? PCSS_AUTO_SEARCH : 0) |
+                (params.isAuto("pcss-filter-taps") ? PCSS_AUTO_FILTER : 0),
             maxRadiusFor(params, map.size),
             params.getInt("pcss-pattern"),
             params.getInt("pcss-search") == kSearchAdaptive};
@@ -57,10 +67,12 @@ class PercentageCloserSoft final : public TechniqueOf<PcssSettings> {
     const int searchTaps = s.searchTaps, filterTaps = s.filterTaps;
     const int pattern = s.pattern;
     if (searchDisk_.empty()) {
-      // taps^2 points each (the grid's count); their own seeds, so the two patterns do not line up.
+      // taps^2 points each (the grid's count; the most under auto, whose pixels take a prefix); their own seeds, so
+      // the two patterns do not line up.
       const int searchCount = pattern == SHADE_PATTERN_POISSON ? searchTaps * searchTaps : 1;
       const int filterCount = pattern == SHADE_PATTERN_POISSON ? filterTaps * filterTaps : 1;
-      const std::vector<cl_float2> search = poissonDisk(searchCount, 2), filter = poissonDisk(filterCount, 1);
+      const std::vector<cl_float2> search = progressivePoissonDisk(searchCount, 2);
+      const std::vector<cl_float2> filter = progressivePoissonDisk(filterCount, 1);
       searchDisk_ = Buffer<cl_float2>(frame.ctx, std::span<const cl_float2>(search), CL_MEM_READ_ONLY);
       filterDisk_ = Buffer<cl_float2>(frame.ctx, std::span<const cl_float2>(filter), CL_MEM_READ_ONLY);
     }
@@ -72,7 +84,8 @@ class PercentageCloserSoft final : public TechniqueOf<PcssSettings> {
     }
     const ShadeFrame shade = shadeFrame(frame, s.map, s.receiverPlane, ID_BUFFER_OFF);
     const PcssShade pcss{
-        searchTaps, filterTaps, s.maxRadius, pattern, static_cast<int>(adaptive), adaptive ? pyramid_.count() : 0u};
+        searchTaps, filterTaps, s.maxRadius, pattern, static_cast<int>(adaptive), adaptive ? pyramid_.count() : 0u,
+        s.autoTaps};
     launchVisibility(frame, map_, shade, "kernels/pcss.cl", "pcss_visibility", visibility, pcss, searchDisk_,
                      filterDisk_, pyramid_.pyramid(), pyramid_.levels(), blocker_);
   }
@@ -90,9 +103,22 @@ class PercentageCloserSoft final : public TechniqueOf<PcssSettings> {
 
 TechniqueInfo pcssTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
+  // With its taps following the region, a finer map never loses (docs/techniques/sm-pcf-pcss.md, "Taps from the
+  // region"): its error keeps falling until the narrow end of the penumbrae spans ~9 texels (6 before).
+  paramNamed(params, "map-size-penumbra").defaultValue = 9;
   params.push_back(receiverPlaneParam());
-  params.push_back({"pcss-search-taps", 8, 1, 64, "Blocker search: taps x taps samples (grid) or taps^2 (disk)"});
-  params.push_back({"pcss-filter-taps", 8, 1, 64, "PCF: taps x taps (grid) or taps^2 (disk) bilinear comparisons"});
+  // auto (the default, 0): from each pixel's region, kernels/pcss.cl pcss_tap_count.
+  ParamSpec searchTaps{"pcss-search-taps", 0, 1, 64,
+                       "Blocker search: taps x taps samples (grid) or taps^2 (disk); auto: 0.1 per texel of each "
+                       "pixel's search disk, at least 9, at most pcss-search-taps-max^2"};
+  ParamSpec filterTaps{"pcss-filter-taps", 0, 1, 64,
+                       "PCF: taps x taps (grid) or taps^2 (disk) bilinear comparisons; auto: 1 per texel of each "
+                       "pixel's filter disk, at least 36, at most pcss-filter-taps-max^2"};
+  searchTaps.autoName = filterTaps.autoName = "auto";
+  params.push_back(searchTaps);
+  params.push_back(filterTaps);
+  params.push_back({"pcss-search-taps-max", 8, 1, 64, "pcss-search-taps auto: the most taps per side"});
+  params.push_back({"pcss-filter-taps-max", 12, 1, 64, "pcss-filter-taps auto: the most taps per side"});
   ParamSpec maxRadius{"pcss-max-radius", 0, 1, 512,
                       "Largest search/filter half-width in texels; auto: a 32nd of the map's side, at least 64"};
   maxRadius.autoName = "auto";  // autoValue 0: the default

@@ -68,9 +68,8 @@ class PointGrid {
   std::vector<std::vector<cl_float2>> cells_;
 };
 
-}  // namespace
-
-std::vector<cl_float2> poissonDisk(int count, uint64_t seed, int candidates, NeighbourSearch search) {
+// Mitchell's best candidates in the order they are placed.
+std::vector<cl_float2> bestCandidates(int count, uint64_t seed, int candidates, NeighbourSearch search) {
   if (count < 1 || candidates < 1)
     throw std::invalid_argument(fmt::format("poissonDisk: count {} and candidates {} must be >= 1", count, candidates));
   Pcg32 rng(seed);
@@ -99,10 +98,21 @@ std::vector<cl_float2> poissonDisk(int count, uint64_t seed, int candidates, Nei
     points.push_back(best);
     grid.add(best);
   }
+  return points;
+}
+
+}  // namespace
+
+std::vector<cl_float2> poissonDisk(int count, uint64_t seed, int candidates, NeighbourSearch search) {
+  std::vector<cl_float2> points = bestCandidates(count, seed, candidates, search);
   std::stable_sort(points.begin(), points.end(), [](const cl_float2& a, const cl_float2& b) {
     return std::hypot(a.s[0], a.s[1]) < std::hypot(b.s[0], b.s[1]);
   });
   return points;
+}
+
+std::vector<cl_float2> progressivePoissonDisk(int count, uint64_t seed) {
+  return bestCandidates(count, seed, 64, NeighbourSearch::Grid);
 }
 
 }  // namespace penumbra

@@ -18,5 +18,8 @@ namespace penumbra {
 enum class NeighbourSearch { Grid, Exhaustive };
 std::vector<cl_float2> poissonDisk(int count, uint64_t seed = 1, int candidates = 64,
                                    NeighbourSearch search = NeighbourSearch::Grid);
+// The same points in the order the algorithm places them: every prefix is itself a best-candidate pattern (the first
+// k points are poissonDisk(k, seed)'s, unsorted), for filters that take a different number of taps per pixel.
+std::vector<cl_float2> progressivePoissonDisk(int count, uint64_t seed = 1);
 
 }  // namespace penumbra

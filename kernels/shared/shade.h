@@ -27,18 +27,24 @@ typedef struct PcfShade {
   int poissonTaps;  // 0: the (2 radius + 1)^2 grid; else this many rotated Poisson taps
 } PcfShade;
 
+// PcssShade.autoTaps: which tap counts follow each pixel's region (--pcss-search-taps / --pcss-filter-taps auto).
+#define PCSS_AUTO_SEARCH 1
+#define PCSS_AUTO_FILTER 2
+
 typedef struct PcssShade {
-  int searchTaps, filterTaps;  // taps per side of the blocker search and the filter (squared on Poisson disks)
+  int searchTaps, filterTaps;  // taps per side of the blocker search and the filter (squared on Poisson disks); the
+                               // most under auto
   float maxRadius;             // texels: the largest search and filter radius
   int pattern;                 // SHADE_PATTERN_*
   int adaptive;                // 1: the blocker search bounded by the min-max pyramid (levelCount levels above the map)
   uint levelCount;
+  int autoTaps;  // PCSS_AUTO_* bits
 } PcssShade;
 
 #if PENUMBRA_HOST
 static_assert(sizeof(ShadeFrame) == 28 && offsetof(ShadeFrame, idMode) == 24, "ShadeFrame is shared with OpenCL C");
 static_assert(sizeof(PcfShade) == 16 && offsetof(PcfShade, poissonTaps) == 12, "PcfShade is shared with OpenCL C");
-static_assert(sizeof(PcssShade) == 24 && offsetof(PcssShade, levelCount) == 20, "PcssShade is shared with OpenCL C");
+static_assert(sizeof(PcssShade) == 28 && offsetof(PcssShade, autoTaps) == 24, "PcssShade is shared with OpenCL C");
 #endif
 
 #endif  // PENUMBRA_KERNELS_SHARED_SHADE_H
