@@ -185,9 +185,9 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
         entries += listCasters(ctx, f, scene, scanBlocks, scanSums, scanAdd);
         softTest
             .args(sorted_, cellOf_, cellStart_, cellCount_, g.position, g.normal, g.triangleId, scene.positions,
-                  scene.triangles, f, gpu_, listCount_, listStart_, listEntries_, casters_, clusters_, scene.triangleCount, pattern_.points,
-                  pattern_.rotations, pattern_.planePoints, pattern_.masks, scene.alphaIndex, scene.alphaTriangles,
-                  scene.alphaMaterials, scene.alphaTexels, occluded_)
+                  scene.triangles, f, gpu_, listCount_, listStart_, listEntries_, casters_, clusters_,
+                  scene.triangleCount, pattern_.points, pattern_.rotations, pattern_.planePoints, pattern_.masks,
+                  scene.alphaIndex, scene.alphaTriangles, scene.alphaMaterials, scene.alphaTexels, occluded_)
             .moves(count * 8)
             .launch(count, kPixelGroup);
         continue;
@@ -283,7 +283,7 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
   Buffer<uint32_t> depthMax_, cellDepth_;   // area lights: the farthest sample's light depth, of the pass and per cell
   Buffer<uint32_t> listCount_, listStart_;  // area lights: casters per cell (izb_soft_lists)
   Buffer<uint32_t> listEntries_;
-  Buffer<cl_float4> casters_;  // area lights: each caster's ball, vertices and plane, 64 bytes (izb_soft_casters)
+  Buffer<cl_float4> casters_;   // area lights: each caster's ball, vertices and plane, 64 bytes (izb_soft_casters)
   Buffer<cl_float4> clusters_;  // area lights: each IZB_CLUSTER casters' ball (izb_soft_clusters)
   // Area lights: the light pattern and its bitmask tables on the device, made again only when the pattern or (a sun's)
   // tables change.
