@@ -8,6 +8,7 @@
 #include "host/pipeline/map_size.h"
 #include "host/scene/procedural.h"
 #include "host/techniques/technique.h"
+#include "kernels/shared/izb.h"
 
 namespace penumbra {
 namespace memory_plan_test {
@@ -91,6 +92,16 @@ TEST(MemoryPlan, IzbSamplesAreBoundedByItsChunk) {
   EXPECT_EQ(stage(many), cells + (uint64_t{1} << 24) * 8);
   EXPECT_EQ(stage(small), cells + 65536ull * 8);
   EXPECT_LT(planFrame(uhd, {{LightType::Spot, &izb, &many}}).deviceBytes(), kGiB);
+  // Per triangle 64 bytes of caster record and 16 per cluster of IZB_CLUSTER (izb_soft_casters, izb_soft_clusters):
+  // 1 M triangles of builtin:poles at its largest add 66 MiB.
+  const auto withTriangles = [&](uint64_t triangles) {
+    const MemoryPlan plan = planFrame(uhd, {{LightType::Spot, &izb, &one}}, FrameDownload::Image, {triangles, 0});
+    for (const MemoryStage& s : plan.stages)
+      if (s.name.find("grid and samples") != std::string::npos) return s.deviceBytes;
+    return uint64_t{0};
+  };
+  const uint64_t million = 1000000;
+  EXPECT_EQ(withTriangles(million) - stage(one), million * 64 + million / IZB_CLUSTER * 16);
 }
 
 // fvsm's atlas is planned at its texel budget (8 bytes a texel: depth and ids), or at the whole virtual map or a tile
