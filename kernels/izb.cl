@@ -318,13 +318,11 @@ typedef struct {
   int unbounded;
 } IzbCaster;
 
-static IzbCaster izb_caster(__constant const LightViewGpu* lv, __global const float* positions,
-                            __global const uint* triangles, uint t) {
+static IzbCaster izb_caster(__constant const LightViewGpu* lv, float3 a, float3 b, float3 v) {
   IzbCaster c = {(float2)(INFINITY), (float2)(-INFINITY), INFINITY, 0};
-  for (int v = 0; v < 3; ++v) {
-    const float3 p = lv_project(lv, izb_vertex(positions, triangles[3 * t + v]));
-    c.lo = fmin(c.lo, p.xy), c.hi = fmax(c.hi, p.xy), c.zMin = fmin(c.zMin, p.z);
-  }
+  const float3 pa = lv_project(lv, a), pb = lv_project(lv, b), pv = lv_project(lv, v);
+  c.lo = fmin(fmin(fmin(c.lo, pa.xy), pb.xy), pv.xy), c.hi = fmax(fmax(fmax(c.hi, pa.xy), pb.xy), pv.xy);
+  c.zMin = fmin(fmin(fmin(c.zMin, pa.z), pb.z), pv.z);
   c.unbounded = (lv->kind != LIGHT_KIND_DIRECTIONAL && !(c.zMin > 0.0f)) || !isfinite(c.zMin) ||
                 !(all(isfinite(c.lo)) && all(isfinite(c.hi)));
   return c;
@@ -380,12 +378,12 @@ static IzbCaster izb_cluster_caster(__constant const LightViewGpu* lv, __global 
                                     __global const uint* triangles, uint triangleCount, uint k, int* members) {
   IzbCaster u = {(float2)(INFINITY), (float2)(-INFINITY), INFINITY, 0};
   *members = 0;
-  const uint end = min(triangleCount, (k + 1u) * IZB_CLUSTER);
+  const uint end = izb_cluster_end(k, triangleCount);
   for (uint t = k * IZB_CLUSTER; t < end; ++t) {
     const float3 a = izb_vertex(positions, triangles[3 * t]), b = izb_vertex(positions, triangles[3 * t + 1]);
     const float3 v = izb_vertex(positions, triangles[3 * t + 2]);
     if (all(a == b) || all(b == v) || all(v == a)) continue;
-    const IzbCaster c = izb_caster(lv, positions, triangles, t);
+    const IzbCaster c = izb_caster(lv, a, b, v);
     u.lo = fmin(u.lo, c.lo), u.hi = fmax(u.hi, c.hi), u.zMin = fmin(u.zMin, c.zMin), u.unbounded |= c.unbounded;
     ++*members;
   }
@@ -401,7 +399,7 @@ __kernel void izb_soft_lists(__global const float* positions, __global const uin
                              __global const uint* cellDepth, __global const uint* depthMax, int fill,
                              __global uint* listCount, __global const uint* listStart, __global uint* entries) {
   const uint k = get_global_id(0);
-  if (k >= (triangleCount + IZB_CLUSTER - 1) / IZB_CLUSTER) return;
+  if (k >= izb_cluster_count(triangleCount)) return;
   int members;
   const IzbCaster c = izb_cluster_caster(lv, positions, triangles, triangleCount, k, &members);
   if (members == 0) return;
@@ -466,8 +464,8 @@ __kernel void izb_soft_casters(__global const float* positions, __global const u
 // skipped as they would be alone; a cluster of none gets a NaN ball, skipped the same way.
 __kernel void izb_soft_clusters(__global const float4* casters, uint triangleCount, __global float4* clusters) {
   const uint k = get_global_id(0);
-  if (k >= (triangleCount + IZB_CLUSTER - 1) / IZB_CLUSTER) return;
-  const uint begin = k * IZB_CLUSTER, end = min(triangleCount, begin + IZB_CLUSTER);
+  if (k >= izb_cluster_count(triangleCount)) return;
+  const uint begin = k * IZB_CLUSTER, end = izb_cluster_end(k, triangleCount);
   float3 centre = (float3)(0.0f);
   int finite = 0;
   for (uint t = begin; t < end; ++t) {
@@ -706,7 +704,7 @@ __kernel void izb_soft_test(__global const uint* sorted, __global const uint* ce
     const uint k = listEntries[e];
     const float4 clusterBall = clusters[k];
     if (!izb_may_block(&cone, hard.origin, clusterBall)) continue;
-    const uint last = min(triangleCount, (k + 1u) * IZB_CLUSTER);
+    const uint last = izb_cluster_end(k, triangleCount);
     for (uint t = k * IZB_CLUSTER; t < last && blocked < n; ++t) {
       if (blocked != coned) cone = izb_unhidden_cone(&plane, mask, words, planePoints, cs), coned = blocked;
       __global const float4* caster = casters + 4 * (size_t)t;

@@ -41,9 +41,6 @@ void moveNearPlane(glm::mat4& P, float zNear) {
   P[3][2] = static_cast<float>(-2.0 * f * zNear / (f - zNear));
 }
 
-// Clusters of IZB_CLUSTER consecutive casters, the unit of izb_soft_lists' lists.
-uint32_t clusterCount(uint32_t triangles) { return (triangles + IZB_CLUSTER - 1) / IZB_CLUSTER; }
-
 // --izb-light-samples N: the side k of its k x k pattern; throws std::invalid_argument unless N = k^2, k in 4..16.
 int lightGridOf(int samples) {
   const int k = izb_light_grid_of(samples);
@@ -152,7 +149,7 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
       casters.args(scene.positions, scene.triangles, scene.triangleCount, casters_)
           .moves(uint64_t{scene.triangleCount} * (48 + 64))
           .launch(scene.triangleCount, kPixelGroup);
-      const uint32_t clusters = clusterCount(scene.triangleCount);
+      const uint32_t clusters = izb_cluster_count(scene.triangleCount);
       clusters_.allocate(ctx, std::max<size_t>(clusters, 1));
       Kernel clusterBalls(ctx, "kernels/izb.cl", "izb_soft_clusters", "izb");
       clusterBalls.args(casters_, scene.triangleCount, clusters_)
@@ -246,7 +243,7 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
   // the count, never shrunk); returns the entries.
   uint64_t listCasters(Context& ctx, const IzbFrame& f, const raster::SceneBuffers& scene, Kernel& scanBlocks,
                        Kernel& scanSums, Kernel& scanAdd) {
-    const uint32_t triangles = scene.triangleCount, clusters = clusterCount(triangles), cells = f.cells;
+    const uint32_t triangles = scene.triangleCount, clusters = izb_cluster_count(triangles), cells = f.cells;
     listCount_.fill(ctx, 0u);
     depthMax_.fill(ctx, 0u);
     Kernel depthMax(ctx, "kernels/izb.cl", "izb_depth_max", "izb");

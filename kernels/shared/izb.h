@@ -86,6 +86,14 @@ static inline uint izb_hash(uint x) {
 // The rotation of pattern key `key` (a pixel, or a pixel's sub-pixel sample).
 static inline uint izb_rotation_of(uint key) { return izb_hash(key) >> 24; }
 
+// Clusters of IZB_CLUSTER consecutive casters (izb_soft_lists' unit): how many `triangles` make, and the end (one past
+// the last caster) of cluster k.
+static inline uint izb_cluster_count(uint triangles) { return (triangles + IZB_CLUSTER - 1) / IZB_CLUSTER; }
+static inline uint izb_cluster_end(uint k, uint triangles) {
+  const uint end = (k + 1u) * IZB_CLUSTER;
+  return end < triangles ? end : triangles;
+}
+
 // Jitter `axis` (0: x, 1: y) of point j of the pattern, in [0, 1): exactly 24 bits.
 static inline float izb_jitter(uint j, uint axis) {
   return (float)(izb_hash(j * 2u + axis + 0x9e3779b9u) >> 8) * (1.0f / 16777216.0f);
