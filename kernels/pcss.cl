@@ -19,18 +19,8 @@
 
 #define PCSS_ADAPTIVE_STEPS 2  // narrowings of the search region by the pyramid's nearest caster
 
-// --pcss-search-taps / --pcss-filter-taps auto: a region of half-width r texels gets density * pi r^2 taps (its disk's
-// texels times the density), at least the floor and at most the setting's most. A small region needs few taps to see
-// every texel it holds; a wide one is sampled at the most, so that a finer map, whose regions span more texels, never
-// gets fewer taps than a coarser one. Measured on scenes/default.json and builtin:staircase
-// (docs/techniques/sm-pcf-pcss.md, "Taps from the region").
-#define PCSS_SEARCH_DENSITY 0.1f
-#define PCSS_FILTER_DENSITY 1.0f
-#define PCSS_SEARCH_FEWEST 9
-#define PCSS_FILTER_FEWEST 36
-
 // The taps a region of half-width `radius` texels gets, and in *side the grid's taps per side: fixed, taps x taps;
-// automatic, from the region's texels (above) within [fewest, taps^2] (the grid: the side of a square of that many).
+// automatic, from the region's texels (PCSS_*_DENSITY, kernels/shared/shade.h) within [fewest, taps^2] (the grid: the side of a square of that many).
 // A disk's automatic count is real: its whole part are full taps and the next tap weighs the fraction
 // (pcss_tap_weight), so that the estimate moves continuously with the radius instead of jumping as a tap is added.
 inline float pcss_tap_count(int automatic, int taps, float density, int fewest, float radius, int pattern, int* side) {

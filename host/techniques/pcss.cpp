@@ -1,6 +1,8 @@
 // `pcss`: percentage-closer soft shadows for spot disk lights and sun disks (kernels/pcss.cl): blocker
 // search, penumbra from similar triangles, PCF, on grids or rotated Poisson disks. Debug channel: the average blocker
 // depth.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <string>
 
@@ -109,11 +111,13 @@ TechniqueInfo pcssTechnique() {
   params.push_back(receiverPlaneParam());
   // auto (the default, 0): from each pixel's region, kernels/pcss.cl pcss_tap_count.
   ParamSpec searchTaps{"pcss-search-taps", 0, 1, 64,
-                       "Blocker search: taps x taps samples (grid) or taps^2 (disk); auto: 0.1 per texel of each "
-                       "pixel's search disk, at least 9, at most pcss-search-taps-max^2"};
+                       fmt::format("Blocker search: taps x taps samples (grid) or taps^2 (disk); auto: {} per texel "
+                                   "of each pixel's search disk, at least {}, at most pcss-search-taps-max^2",
+                                   PCSS_SEARCH_DENSITY, PCSS_SEARCH_FEWEST)};
   ParamSpec filterTaps{"pcss-filter-taps", 0, 1, 64,
-                       "PCF: taps x taps (grid) or taps^2 (disk) bilinear comparisons; auto: 1 per texel of each "
-                       "pixel's filter disk, at least 36, at most pcss-filter-taps-max^2"};
+                       fmt::format("PCF: taps x taps (grid) or taps^2 (disk) bilinear comparisons; auto: {} per texel "
+                                   "of each pixel's filter disk, at least {}, at most pcss-filter-taps-max^2",
+                                   PCSS_FILTER_DENSITY, PCSS_FILTER_FEWEST)};
   searchTaps.autoName = filterTaps.autoName = "auto";
   params.push_back(searchTaps);
   params.push_back(filterTaps);

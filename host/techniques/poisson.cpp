@@ -112,7 +112,7 @@ std::vector<cl_float2> poissonDisk(int count, uint64_t seed, int candidates, Nei
 }
 
 std::vector<cl_float2> progressivePoissonDisk(int count, uint64_t seed) {
-  return bestCandidates(count, seed, 64, NeighbourSearch::Grid);
+  return bestCandidates(count, seed, kPoissonCandidates, NeighbourSearch::Grid);
 }
 
 }  // namespace penumbra

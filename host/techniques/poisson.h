@@ -16,7 +16,8 @@ namespace penumbra {
 // search's (Exhaustive, the reference the tests compare with) patterns bit for bit, in O(count) instead of
 // O(count^2) time per point.
 enum class NeighbourSearch { Grid, Exhaustive };
-std::vector<cl_float2> poissonDisk(int count, uint64_t seed = 1, int candidates = 64,
+inline constexpr int kPoissonCandidates = 64;  // best-candidate's candidates per point, by default
+std::vector<cl_float2> poissonDisk(int count, uint64_t seed = 1, int candidates = kPoissonCandidates,
                                    NeighbourSearch search = NeighbourSearch::Grid);
 // The same points in the order the algorithm places them: every prefix is itself a best-candidate pattern (the first
 // k points are poissonDisk(k, seed)'s, unsorted), for filters that take a different number of taps per pixel.

@@ -30,6 +30,15 @@ typedef struct PcfShade {
 // PcssShade.autoTaps: which tap counts follow each pixel's region (--pcss-search-taps / --pcss-filter-taps auto).
 #define PCSS_AUTO_SEARCH 1
 #define PCSS_AUTO_FILTER 2
+// Under auto a region of half-width r texels gets density * pi r^2 taps (its disk's texels times the density), at least
+// the fewest and at most the setting's most (kernels/pcss.cl pcss_tap_count). A small region needs few taps to see
+// every texel it holds; a wide one is sampled at the most, so that a finer map, whose regions span more texels, never
+// gets fewer taps than a coarser one. Measured on scenes/default.json and builtin:staircase
+// (docs/techniques/sm-pcf-pcss.md, "Taps from the region").
+#define PCSS_SEARCH_DENSITY 0.1f
+#define PCSS_FILTER_DENSITY 1.0f
+#define PCSS_SEARCH_FEWEST 9
+#define PCSS_FILTER_FEWEST 36
 
 typedef struct PcssShade {
   int searchTaps, filterTaps;  // taps per side of the blocker search and the filter (squared on Poisson disks); the
