@@ -85,10 +85,10 @@ TEST(Sweep, ExpandsOnlyTheParametersATechniqueHas) {
   EXPECT_NO_THROW(checkSweeps(sweeps, {&sm, &pcf}));
 }
 
-// "default" holds the parameter at the technique's own default: auto for pcf's map size, 2048 for pssm's.
+// "default" holds the parameter at the technique's own default: auto for pcf's map size, 2048 for jittered's.
 TEST(Sweep, DefaultHoldsTheTechniquesOwnValue) {
   const Sweep sizes = parseSweep("map-size=default,512");
-  for (const char* name : {"pcf", "pssm"}) {
+  for (const char* name : {"pcf", "jittered"}) {
     const std::vector<Setting> s = expandSweeps(findTechnique(name), {sizes});
     ASSERT_EQ(s.size(), 2u) << name;
     EXPECT_EQ(s[0].label, "map-size=default") << name;

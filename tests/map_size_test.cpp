@@ -224,8 +224,9 @@ TEST_F(MapSize, TheRendererSizesMapsToTheFrameForSpotAndPointLights) {
 // The default: auto from 256 to 4096 texels, for every technique with one uniform map, its penumbra need 6 texels
 // across a half-width (sm and pcf, which trace no wider penumbra than a few texels: 3; pcss 9; vssm 24) at the
 // narrowest tenth of the shadowed pixels (the fifth for the techniques that blur their moments widely: vsm, evsm4, msm,
-// savsm, lvsm), its cap 16 (sm and pcf: 4) and its caster need 2 texels across the thinnest features; the split and
-// jittered techniques keep 2048.
+// savsm, lvsm), its cap 16 (sm and pcf: 4) and its caster need 2 texels across the thinnest features. The split
+// techniques size every split as one map of the whole view, pssm with sm's and pcf's penumbra need, psvsm with vsm's,
+// at most 2048 (the fixed size they had); jittered keeps 2048.
 TEST(MapSizeDefaults, AutoFromThePixelsThePenumbraeAndTheCasters) {
   for (const char* name : {"sm", "pcf", "pcss", "vsm", "evsm2", "evsm4", "esm", "msm", "savsm", "vssm", "lvsm"}) {
     const Params params(findTechnique(name).params);
@@ -243,7 +244,18 @@ TEST(MapSizeDefaults, AutoFromThePixelsThePenumbraeAndTheCasters) {
     EXPECT_EQ(params.get("map-size-penumbra-max"), shortPenumbra ? 4.0 : 16.0) << name;
     EXPECT_EQ(params.get("map-size-detail"), 2.0) << name;
   }
-  for (const char* name : {"pssm", "psvsm", "jittered"}) {
+  for (const char* name : {"pssm", "psvsm"}) {
+    const Params params(findTechnique(name).params);
+    const bool pssm = std::string(name) == "pssm";
+    EXPECT_TRUE(params.isAuto("map-size")) << name;
+    EXPECT_EQ(params.getInt("map-size-min"), 256) << name;
+    EXPECT_EQ(params.getInt("map-size-max"), 2048) << name;
+    EXPECT_EQ(params.get("map-size-penumbra"), pssm ? 3.0 : 6.0) << name;
+    EXPECT_EQ(params.get("map-size-penumbra-quantile"), pssm ? 0.1 : 0.2) << name;
+    EXPECT_EQ(params.get("map-size-penumbra-max"), pssm ? 4.0 : 16.0) << name;
+    EXPECT_EQ(params.get("map-size-detail"), 2.0) << name;
+  }
+  for (const char* name : {"jittered"}) {
     const Params params(findTechnique(name).params);
     EXPECT_FALSE(params.isAuto("map-size")) << name;
     EXPECT_EQ(params.getInt("map-size"), 2048) << name;
@@ -373,14 +385,14 @@ TEST_F(MapSize, ThinCastersNeedLargerMaps) {
   EXPECT_LT(chosenSize(off), chosenSize(r));
 }
 
-TEST_F(MapSize, AutoIsATextValueThatSplitAndJitteredTechniquesRefuse) {
+TEST_F(MapSize, AutoIsATextValueThatJitteredRefuses) {
   const TechniqueInfo& sm = findTechnique("sm");
   Params params(sm.params);
   params.set("map-size", "auto");
   EXPECT_EQ(params.get("map-size"), 0.0);
   EXPECT_NE(params.describe().find("map-size=auto "), std::string::npos);
   EXPECT_THROW(params.set("map-size", "0"), std::invalid_argument);  // 0 is auto's, not a size
-  for (const char* name : {"pssm", "psvsm", "jittered"}) {
+  for (const char* name : {"jittered", "fvsm"}) {
     const TechniqueInfo& info = findTechnique(name);
     Params fixed(info.params);
     EXPECT_THROW(fixed.set("map-size", "auto"), std::invalid_argument) << name;

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "host/pipeline/renderer.h"
+#include "host/scene/load.h"
 #include "host/scene/procedural.h"
 #include "host/techniques/technique.h"
 #include "host/views/splits.h"
@@ -187,6 +188,49 @@ TEST_F(PssmAuto, MeetsOneTexelPerPixelOnALongGroundWithAtMostEightSplits) {
   }
   EXPECT_GT(covered, 8000);
   EXPECT_LT(promoted, covered / 20);
+}
+
+// The number after `key` in `text` (e.g. "smRes 640"), or -1 when it is not there.
+double numberAfter(const std::string& text, const std::string& key) {
+  const size_t at = text.find(key);
+  return at == std::string::npos ? -1.0 : std::stod(text.substr(at + key.size()));
+}
+
+std::vector<float> planesOf(const RenderResult& r) {
+  std::vector<float> planes;
+  std::istringstream text(r.image.attributes().at("penumbra:pssm-distances"));
+  for (float d; text >> d;) planes.push_back(d);
+  return planes;
+}
+
+// --map-size auto (the default) on builtin:staircase under its disk light: the penumbrae cap the map below what the
+// pixels alone need (more texels only narrow a PCF kernel of at most 4 texels), and eq. 15 plans the splits at the
+// pixels' size, not at the capped one: the same split planes as a fixed map of the pixels' size. Planned at the capped
+// size, eq. 15 asked for 8 splits there (each one more raster pass), which more texels per pixel do not need.
+TEST_F(PssmAuto, PenumbraCappedMapsPlanTheirSplitsAtThePixelsSize) {
+  const Scene scene = loadScene("builtin:staircase");
+  Camera camera = scene.cameras.front();
+  camera.width = 1280, camera.height = 720;
+  const Light light = scene.lights.front();
+  for (const char* technique : {"pssm", "psvsm"}) {
+    const RenderResult automatic = renderWith(ctx(), scene, camera, light, technique, {});
+    const auto& attributes = automatic.image.attributes();
+    const std::string& scheme = attributes.at("penumbra:pssm-scheme");
+    const double size = numberAfter(attributes.at("penumbra:map-size"), "auto ");
+    const double pixels = numberAfter(scheme, "smRes ");
+    ASSERT_GT(size, 0.0) << attributes.at("penumbra:map-size");
+    ASSERT_GT(pixels, 0.0) << scheme;
+    EXPECT_LE(size, 2048.0) << technique << ": --map-size-max for splits";
+    if (std::string(technique) == "pssm") EXPECT_LT(size, pixels) << attributes.at("penumbra:map-size");
+    const RenderResult fixed =
+        renderWith(ctx(), scene, camera, light, technique, {{"map-size", std::to_string(static_cast<int>(pixels))}});
+    // The same planes within the views' margins (a margin of texels is wider in the world on a smaller map).
+    const std::vector<float> got = planesOf(automatic), want = planesOf(fixed);
+    EXPECT_GE(got.size(), 3u) << technique << ": " << scheme;
+    ASSERT_EQ(got.size(), want.size()) << technique << ": " << scheme << " against "
+                                       << fixed.image.attributes().at("penumbra:pssm-scheme");
+    for (size_t i = 0; i < got.size(); ++i) EXPECT_NEAR(got[i], want[i], 0.02f * want[i]) << technique << " C_" << i;
+  }
 }
 
 class PssmSeams : public ClTest {};

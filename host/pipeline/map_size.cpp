@@ -105,6 +105,7 @@ int sizeMapForFrame(ShadowFrame& frame, const Params& params, MapProbe& probe) {
   // Wide penumbrae cap what the pixels ask for; the narrow end of the penumbrae and thin casters are not capped.
   const double pixels = drawn.cap > 0.0 ? std::min(need.needed, drawn.cap) : need.needed;
   const int size = roundedMapSize(std::max({pixels, drawn.penumbra, drawn.detail}), minSize, maxSize);
+  frame.pixelsMapSize = need.pixels == 0 ? 0 : roundedMapSize(need.needed, minSize, maxSize);
   frame.attributes["penumbra:map-size"] = need.pixels == 0
                                               ? fmt::format("auto {} (no pixel measured{})", size, drawn.note)
                                               : fmt::format("auto {} (pixels: quantile {} of {} pixels need {:.0f}{})",

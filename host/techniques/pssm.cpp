@@ -74,7 +74,8 @@ class ParallelSplit final : public TechniqueOf<PssmSettings> {
 
 TechniqueInfo pssmTechnique() {
   std::vector<ParamSpec> params = shadowMapParams();
-  fixMapSize(params, "each split's map; --pssm-splits auto adapts the split count to it");
+  shortPenumbraMapSize(params);  // a hard lookup or a PCF kernel of at most --pcf-radius-max texels, as sm and pcf
+  splitMapSize(params);
   params.push_back(
       {"pssm-filter", kPcf, 0, 1, "Per-split lookup: PCF over --pcf-radius, or one hard comparison", {"pcf", "hard"}});
   for (const ParamSpec& spec : pcfRadiusParams()) params.push_back(spec);

@@ -135,7 +135,8 @@ class ParallelSplitVariance final : public TechniqueOf<PsvsmSettings> {
 
 TechniqueInfo psvsmTechnique() {
   std::vector<ParamSpec> params = momentMapParams(chebyshevParams());
-  fixMapSize(params, "each split's map; --pssm-splits auto adapts the split count to it");
+  blurredPenumbraMapSize(params);  // moments blurred with one radius per frame, as vsm
+  splitMapSize(params);
   // Bilinear lookups by default; step 2e's mipmapped (trilinear) lookups are --moment-filtering trilinear. The mip
   // level follows the pixel's longer footprint axis, which against visibility at the pixel's centre washes out thin
   // casters and holes (builtin:poles MAE 0.0120 vs 0.0059, builtin:cards 0.0197 vs 0.0022 at 480x270) while gaining

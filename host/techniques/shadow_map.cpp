@@ -85,6 +85,16 @@ void blurredPenumbraMapSize(std::vector<ParamSpec>& params) {
   paramNamed(params, "map-size-penumbra-quantile").defaultValue = kBlurredPenumbraQuantile;
 }
 
+void splitMapSize(std::vector<ParamSpec>& params) {
+  ParamSpec& size = paramNamed(params, "map-size");
+  size.help = fmt::format(
+      "Each split's map width and height in texels, or auto: the size one map of the whole view would need "
+      "(--map-size auto's needs, measured on the light's whole view; a split, cropped to its slice, has at least "
+      "that map's texel density), at most --map-size-max ({} here); --pssm-splits auto adapts the split count to it",
+      kMapSizeFixed);
+  paramNamed(params, "map-size-max").defaultValue = kMapSizeFixed;
+}
+
 void fixMapSize(std::vector<ParamSpec>& params, const std::string& why) {
   std::erase_if(params, [](const ParamSpec& spec) { return spec.name.starts_with("map-size-"); });
   for (ParamSpec& spec : params)

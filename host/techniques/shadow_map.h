@@ -45,6 +45,9 @@ void shortPenumbraMapSize(std::vector<ParamSpec>& params);
 // builtin:cards (alpha holes: every penumbra narrow) and builtin:staircase draw the same size either way
 // (docs/techniques/moments.md, "Map size").
 void blurredPenumbraMapSize(std::vector<ParamSpec>& params);
+// For split techniques (pssm, psvsm): --map-size auto sizes every split's map as one map of the light's whole view
+// (the family's needs, set before this call), at most --map-size-max, whose default here is the former fixed 2048.
+void splitMapSize(std::vector<ParamSpec>& params);
 // For techniques whose map-size is not one uniform map's (per split, or warped): no auto and its settings; `why`
 // goes into the help.
 void fixMapSize(std::vector<ParamSpec>& params, const std::string& why);

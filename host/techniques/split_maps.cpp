@@ -46,20 +46,23 @@ struct SplitFit {
 };
 
 // Luksch sec. 7.2 with eq. 12's width measured: sigma is the far split's light-space width (the map's world extent,
-// margin included) over the camera's width 2 d tan(alpha / 2) at its far plane d, from a first guess sigma = 1.
+// margin included) over the camera's width 2 d tan(alpha / 2) at its far plane d, from a first guess sigma = 1. Eq.
+// 15's smRes is the map's size, or under --map-size auto the larger size the pixels alone ask for (ShadowFrame's
+// pixelsMapSize): where the penumbrae cap the map below it, more texels per pixel buy nothing, so neither do splits.
 float autoFactor(const SplitFit& fit, float near, float far, float rho, std::string& how) {
+  const int resolution = std::max(fit.size, fit.frame.pixelsMapSize);
   const Camera& camera = fit.frame.camera;
   const float res = static_cast<float>(camera.width);
   // The camera's width per unit depth at the far plane (an orthographic camera's width is the same at every depth).
   const float widthPerDepth = 2.0f * camera.halfExtentAt(far).x / far;
-  float factor = optimalTilingFactor(res, 1.0f, rho, fit.size), sigma = 1.0f;
+  float factor = optimalTilingFactor(res, 1.0f, rho, resolution), sigma = 1.0f;
   if (factor < 1.0f) {
     const LightView last = fit.view(std::max(near, factor * far), far);
     const float depth = fit.frame.light.type == LightType::Spot ? last.gpu.zFar : 0.0f;
     sigma = std::max(texelWorld(last, depth) * static_cast<float>(fit.size) / (widthPerDepth * far), 1e-3f);
-    factor = optimalTilingFactor(res, sigma, rho, fit.size);
+    factor = optimalTilingFactor(res, sigma, rho, resolution);
   }
-  how = fmt::format("auto (eq. 15 factor {:.4g}, sigma {:.4g}, rho {:.4g})", factor, sigma, rho);
+  how = fmt::format("auto (eq. 15 factor {:.4g}, sigma {:.4g}, rho {:.4g}, smRes {})", factor, sigma, rho, resolution);
   return factor;
 }
 

@@ -47,6 +47,9 @@ struct ShadowFrame {
   // The caller's map (pn_shade), else null: the scene is then a stand-in of no triangles whose bounds are the caller's
   // scene's, and the rasterizer holds nothing.
   const CallerMap* callerMap = nullptr;
+  // Under --map-size auto, the size the camera's pixels alone need (before the penumbrae cap it; rounded and clamped as
+  // the map size), which split techniques plan their split count with (host/techniques/split_maps.h); 0: none.
+  int pixelsMapSize = 0;
 };
 
 class Technique {
