@@ -58,15 +58,21 @@ inline float2 vssm_kernel_moments(const VssmMaps* m, float2 c, float w) {
 
 // The strips share the square's subdivision budget: uniform, each strip is d wide and ceil(d / K) high; adaptive,
 // each strip's tree is floor(log2(K) / 2) levels shallower (K strips of 4^-l the leaves each), at least one level.
+// Beyond the paper, the budget follows the kernel's size in texels: no sub-kernel narrower than leafTaps texels (its
+// leaf PCF would take more than a tap a texel, and the map holds nothing finer): uniform at most ceil(2w / leafTaps)
+// a side, adaptive at most floor(log2(2w / leafTaps)) levels (at least one). A kernel of 2 w >= d leafTaps texels
+// (uniform) or 2^H leafTaps (adaptive) is subdivided as the paper's.
 inline void vssm_kernel_subdivide(const VssmMaps* m, const VssmReceiver* r, float2 c, float w, int search,
                                   VssmAccum* acc) {
   const uint scheme = search ? m->p.searchScheme : m->p.shadeScheme;
-  const uint d = search ? m->p.searchDivisions : m->p.shadeDivisions;
   const uint strips = vssm_strip_count(m, w), k = max(strips, 1u);
-  uint height = 0u, shallower = 0u;
+  const float side = 2.0f * w / (float)m->p.leafTaps;  // the kernel's width in leaf-PCF footprints
+  const uint d = (uint)clamp(ceil(side), 1.0f, (float)(search ? m->p.searchDivisions : m->p.shadeDivisions));
+  uint height = 0u, shallower = 0u, resolved = 1u;
   for (uint n = 1u; n < m->p.nodeCount; n = 4u * n + 1u) ++height;  // nodeCount = (4^(H+1) - 1) / 3
   for (uint q = 4u; q <= k; q *= 4u) ++shallower;                   // floor(log4 K)
-  const uint maxLevel = height > shallower ? max(height - shallower, 1u) : 1u;
+  for (float s = 4.0f; s <= side && resolved < 16u; s *= 2.0f) ++resolved;  // floor(log2(side)), at least 1
+  const uint maxLevel = min(height > shallower ? max(height - shallower, 1u) : 1u, resolved);
   float2 lo, hi;
   for (uint s = 0; s < k; ++s) {
     vssm_kernel_box(c, w, s, strips, &lo, &hi);

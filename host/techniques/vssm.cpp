@@ -151,9 +151,15 @@ std::vector<ParamSpec> vssmParamSpecs() {
        "Non-planarity kernels: none (lit, as SAVSM), uniform (m x m search, n x n shading), adaptive (quad-tree of "
        "height H for both) or mixed (uniform search, adaptive shading; the paper's choice)",
        {"none", "uniform", "adaptive", "mixed"}},
-      {"vssm-m", 5, 1, 16, "Uniform blocker-search subdivision: m x m sub-kernels"},
-      {"vssm-n", 8, 1, 16, "Uniform shading subdivision: n x n sub-kernels"},
-      {"vssm-levels", 3, 1, VSSM_MAX_LEVELS, "Adaptive subdivision: quad-tree height H (up to 4^H leaf sub-kernels)"},
+      {"vssm-m", 5, 1, 16,
+       "Uniform blocker-search subdivision: m x m sub-kernels (at most ceil(2w / leaf taps) a side for a kernel of "
+       "half-width w texels)"},
+      {"vssm-n", 8, 1, 16,
+       "Uniform shading subdivision: n x n sub-kernels (at most ceil(2w / leaf taps) a side for a kernel of "
+       "half-width w texels)"},
+      {"vssm-levels", 3, 1, VSSM_MAX_LEVELS,
+       "Adaptive subdivision: quad-tree height H (up to 4^H leaf sub-kernels; at most floor(log2(2w / leaf taps)) "
+       "levels for a kernel of half-width w texels)"},
       {"vssm-leaf-taps", 2, 1, 8, "PCF taps per side in a non-planarity leaf sub-kernel"},
       {"vssm-lit-threshold", 1e-4, 0, 1,
        "Fully-lit sub-kernel threshold: sigma^2 < threshold * r^2, r the scene's bounding-sphere radius"},

@@ -228,15 +228,20 @@ std::pair<double, double> VssmReference::kernelMoments(const Rx& r, double w) co
 }
 
 // Each strip subdivided as the square would be, its share of the budget: uniform d x ceil(d / K); adaptive a tree
-// floor(log4 K) levels shallower (at least one level).
+// floor(log4 K) levels shallower (at least one level). No sub-kernel narrower than leafTaps texels: d at most
+// ceil(2w / leafTaps), the tree at most floor(log2(2w / leafTaps)) levels (at least one).
 void VssmReference::subdivide(const Rx& r, double w, bool search, Sums& s) const {
   const auto boxes = kernelBoxes(r, w);
   const int strips = int(boxes.size());
   const int scheme = search ? settings_.searchScheme : settings_.shadeScheme;
-  int shallower = 0;
+  const double side = 2.0 * w / settings_.leafTaps;
+  int shallower = 0, resolved = 1;
   for (int q = 4; q <= strips; q *= 4) ++shallower;
-  const int maxLevel = std::max(settings_.levels - shallower, 1);
-  const int nx = search ? settings_.m : settings_.n, ny = (nx + strips - 1) / strips;
+  for (double q = 4.0; q <= side && resolved < 16; q *= 2.0) ++resolved;
+  const int maxLevel = std::min(std::max(settings_.levels - shallower, 1), resolved);
+  const int budget = search ? settings_.m : settings_.n;
+  const int nx = static_cast<int>(std::clamp(std::ceil(side), 1.0, static_cast<double>(budget)));
+  const int ny = (nx + strips - 1) / strips;
   for (const auto& [lo, hi] : boxes) {
     if (scheme == 2) {
       adaptive(r, lo[0], lo[1], hi[0] - lo[0], hi[1] - lo[1], 0, maxLevel, search, s);
