@@ -42,7 +42,7 @@ __kernel void pcf_visibility(__global const float4* position, __global const flo
   const uint ownTriangle = id_pixel(pixelTriangle, i, idMode), ownObject = id_pixel(pixelObject, i, idMode);
   const float2 idUv = lv_project(lv, p.xyz).xy;  // the id lookups' position: no normal offset
   // Half-width of the kernel in texels.
-  float reach = (float)radius;
+  float reach = s.width;
   if (s.adaptive) reach = min(max(reach, 0.5f * sc_footprint_texels(fp)), s.maxRadius);
   filterOut[i] = reach;
   float sum = 0.0f;

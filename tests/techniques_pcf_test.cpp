@@ -164,58 +164,97 @@ TEST_F(PcfTechniques, PcssAdaptiveSearchSkipsOnlyWhatCannotBlockAndSamplesCloser
   }
 }
 
+// builtin:staircase under its area light at 320x180 and the Embree reference at 256 spp over its covered pixels whose
+// side seen by the camera faces the light (lit.Y): the MAE of a technique at a fixed map size there.
+class StaircaseTruth {
+ public:
+  explicit StaircaseTruth(Context& ctx)
+      : ctx_(ctx), scene_(makeProcedural("staircase")), light_(scene_.lights.front()) {
+    camera_ = scene_.cameras.front();
+    camera_.width = 320, camera_.height = 180;
+    const Image first = render("sm", 1024, {});
+    const auto& a = first.require("A").data;
+    std::vector<reference::ShadowPoint> points;
+    for (size_t i = 0; i < a.size(); ++i) {
+      if (a[i] == 0.0f) continue;
+      auto at = [&](const char* name) { return first.require(name).data[i]; };
+      const glm::vec3 p(at("P.X"), at("P.Y"), at("P.Z")), n(at("N.X"), at("N.Y"), at("N.Z"));
+      if (glm::dot(n, camera_.eye - p) * glm::dot(n, light_.position - p) <= 0.0f) continue;
+      points.push_back({p, n});
+      pixels_.push_back(i);
+    }
+    EXPECT_GT(points.size(), a.size() / 4);
+    reference::TraceSettings settings;
+    settings.spp = 256;
+    truth_ = reference::ShadowTracer(scene_).trace(points, light_, settings).visibility;
+  }
+  bool areaLight() const { return light_.isArea(); }
+  Image render(const std::string& technique, int size, const test::Values& values) {
+    const TechniqueInfo& info = findTechnique(technique);
+    Params params(info.params);
+    params.set("map-size", std::to_string(size));
+    for (const auto& [name, value] : values) params.set(name, value);
+    Renderer renderer(ctx_, scene_);
+    return renderer.render(camera_, light_, info, params).image;
+  }
+  double mae(const Image& image) const {
+    const auto& v = image.require("visibility.Y").data;
+    double sum = 0;
+    for (size_t k = 0; k < pixels_.size(); ++k) sum += std::abs(v[pixels_[k]] - truth_[k]);
+    return sum / static_cast<double>(pixels_.size());
+  }
+  double mae(const std::string& technique, int size, const test::Values& values = {}) {
+    return mae(render(technique, size, values));
+  }
+
+ private:
+  Context& ctx_;
+  Scene scene_;
+  Light light_;
+  Camera camera_;
+  std::vector<size_t> pixels_;
+  std::vector<float> truth_;
+};
+
 // --pcss-search-taps / --pcss-filter-taps auto (the defaults): each pixel takes taps from its region's texels, up to
 // the -max settings, so a finer map, whose penumbrae span more texels, gets more filter taps where a fixed count
-// under-samples them. On builtin:staircase under its area light (320x180, pixels facing the light, against the Embree
-// reference at 256 spp) the auto counts' MAE stays flat from 1024^2 to 4096^2 (measured 0.00030, 0.00029, 0.00030)
-// and lies well below the fixed 8 x 8's (0.00048, 0.00049 at 2048^2 and 4096^2; at 480x270 the fixed count's error
-// rose with the map, 0.00060, 0.00061, 0.00062).
+// under-samples them. On the staircase (StaircaseTruth) the auto counts' MAE stays flat from 1024^2 to 4096^2
+// (measured 0.00030, 0.00029, 0.00030) and lies well below the fixed 8 x 8's (0.00048, 0.00049 at 2048^2 and 4096^2;
+// at 480x270 the fixed count's error rose with the map, 0.00060, 0.00061, 0.00062).
 TEST_F(PcfTechniques, PcssAutoTapsGetNoWorseWithTheMap) {
-  const Scene scene = makeProcedural("staircase");
-  Camera camera = scene.cameras.front();
-  camera.width = 320, camera.height = 180;
-  const Light& light = scene.lights.front();
-  ASSERT_TRUE(light.isArea());
+  StaircaseTruth staircase(ctx());
+  ASSERT_TRUE(staircase.areaLight());
   const TechniqueInfo& pcss = findTechnique("pcss");
   EXPECT_TRUE(Params(pcss.params).isAuto("pcss-search-taps"));
   EXPECT_TRUE(Params(pcss.params).isAuto("pcss-filter-taps"));
-  auto render = [&](int size, const char* taps) {
-    Params params(pcss.params);
-    params.set("map-size", std::to_string(size));
-    if (std::string(taps) != "auto") params.set("pcss-search-taps", taps), params.set("pcss-filter-taps", taps);
-    Renderer renderer(ctx(), scene);
-    return renderer.render(camera, light, pcss, params).image;
-  };
-  const Image first = render(1024, "auto");
-  const auto& a = first.require("A").data;
-  std::vector<reference::ShadowPoint> points;
-  std::vector<size_t> pixels;
-  for (size_t i = 0; i < a.size(); ++i) {  // covered pixels whose side seen by the camera faces the light (lit.Y)
-    if (a[i] == 0.0f) continue;
-    auto at = [&](const char* name) { return first.require(name).data[i]; };
-    const glm::vec3 p(at("P.X"), at("P.Y"), at("P.Z")), n(at("N.X"), at("N.Y"), at("N.Z"));
-    if (glm::dot(n, camera.eye - p) * glm::dot(n, light.position - p) <= 0.0f) continue;
-    points.push_back({p, n});
-    pixels.push_back(i);
-  }
-  ASSERT_GT(points.size(), a.size() / 4);
-  const reference::ShadowTracer tracer(scene);
-  reference::TraceSettings settings;
-  settings.spp = 256;
-  const std::vector<float> truth = tracer.trace(points, light, settings).visibility;
-  auto mae = [&](const Image& image) {
-    const auto& v = image.require("visibility.Y").data;
-    double sum = 0;
-    for (size_t k = 0; k < pixels.size(); ++k) sum += std::abs(v[pixels[k]] - truth[k]);
-    return sum / static_cast<double>(pixels.size());
-  };
-  double previous = mae(first);
+  double previous = staircase.mae("pcss", 1024);
   std::printf("  1024^2: MAE auto %.5f\n", previous);
   for (int size : {2048, 4096}) {
-    const double automatic = mae(render(size, "auto")), fixed = mae(render(size, "8"));
+    const double automatic = staircase.mae("pcss", size),
+                 fixed = staircase.mae("pcss", size, {{"pcss-search-taps", "8"}, {"pcss-filter-taps", "8"}});
     std::printf("  %d^2: MAE auto %.5f, fixed 8x8 %.5f\n", size, automatic, fixed);
     EXPECT_LE(automatic, previous * 1.05) << size;  // flat within the reference's noise (256 rays a pixel)
     EXPECT_LT(automatic, fixed) << size;
+    previous = automatic;
+  }
+}
+
+// --pcf-radius auto (the default): the kernel's half-width follows the penumbra up to --pcf-max-radius (16) while its
+// taps stop at --pcf-radius-max (4) a side, so a finer map keeps the kernel's width in the world instead of sharpening
+// the penumbra. On the staircase (StaircaseTruth), measured: 0.00247, 0.00219, 0.00220 at 512^2, 1024^2, 2048^2
+// (7 and 14 texels wide at the last two); with the width held at the taps' 4 texels (the former rule, as
+// --pcf-max-radius 4 gives) 0.00354 and 0.00473.
+TEST_F(PcfTechniques, PcfAutoWidthGetsNoWorseWithTheMap) {
+  StaircaseTruth staircase(ctx());
+  double previous = staircase.mae("pcf", 512);
+  std::printf("  512^2: MAE %.5f\n", previous);
+  for (int size : {1024, 2048}) {
+    const Image image = staircase.render("pcf", size, {});
+    const double automatic = staircase.mae(image), narrow = staircase.mae("pcf", size, {{"pcf-max-radius", "4"}});
+    std::printf("  %d^2: MAE %.5f, width at most 4 texels %.5f (%s)\n", size, automatic, narrow,
+                image.attributes().at("penumbra:pcf-width").c_str());
+    EXPECT_LE(automatic, previous * 1.05) << size;
+    EXPECT_LT(automatic, narrow) << size;
     previous = automatic;
   }
 }

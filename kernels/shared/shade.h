@@ -21,10 +21,11 @@ typedef struct ShadeFrame {
 } ShadeFrame;
 
 typedef struct PcfShade {
-  int radius;       // half width of the kernel in texels
+  int radius;       // the grid's half width in taps: (2 radius + 1)^2 of them
   int adaptive;     // 1: widened to the pixel's footprint in the map, up to maxRadius
   float maxRadius;  // texels
   int poissonTaps;  // 0: the (2 radius + 1)^2 grid; else this many rotated Poisson taps
+  float width;      // the kernel's half width in texels (radius, or wider under --pcf-radius auto: the taps spread)
 } PcfShade;
 
 // PcssShade.autoTaps: which tap counts follow each pixel's region (--pcss-search-taps / --pcss-filter-taps auto).
@@ -52,7 +53,7 @@ typedef struct PcssShade {
 
 #if PENUMBRA_HOST
 static_assert(sizeof(ShadeFrame) == 28 && offsetof(ShadeFrame, idMode) == 24, "ShadeFrame is shared with OpenCL C");
-static_assert(sizeof(PcfShade) == 16 && offsetof(PcfShade, poissonTaps) == 12, "PcfShade is shared with OpenCL C");
+static_assert(sizeof(PcfShade) == 20 && offsetof(PcfShade, width) == 16, "PcfShade is shared with OpenCL C");
 static_assert(sizeof(PcssShade) == 28 && offsetof(PcssShade, autoTaps) == 24, "PcssShade is shared with OpenCL C");
 #endif
 
