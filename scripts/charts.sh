@@ -6,8 +6,9 @@
 # SIZE (640x360), MAP_SIZE (empty: each technique's own default, --map-size auto where it has one; or a size for
 # every technique), SPP (256), RUNS (3), WARMUP (1), TECHNIQUES (all,reference: every technique and
 # the Embree tracer as their peer), SCENES (space-separated), SWEEPS (space-separated PARAM=a,b,c for more points per
-# technique; default "lvsm-layers=1,2,4,8 pssm-splits+map-size=1+2048,2+1448,4+1024,8+724 spp=4,16,64": LVSM-N,
-# 1-8 parallel splits with the same total texels as one 2048² map, and the tracer at 4, 16 and 64 samples per pixel
+# technique; default "lvsm-layers=1,2,4,8 pssm-splits+map-size=default+default,1+2048,2+1448,4+1024,8+724
+# spp=4,16,64": LVSM-N, the split techniques' defaults and 1-8 parallel splits with the same total texels as one 2048²
+# map, and the tracer at 4, 16 and 64 samples per pixel
 # against the SPP ground truth; "" for defaults only).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -21,7 +22,7 @@ RUNS=${RUNS:-3}
 WARMUP=${WARMUP:-1}
 TECHNIQUES=${TECHNIQUES:-all,reference}
 sweep_args=()
-for sweep in ${SWEEPS-lvsm-layers=1,2,4,8 pssm-splits+map-size=1+2048,2+1448,4+1024,8+724 spp=4,16,64}; do sweep_args+=(--sweep "$sweep"); done
+for sweep in ${SWEEPS-lvsm-layers=1,2,4,8 pssm-splits+map-size=default+default,1+2048,2+1448,4+1024,8+724 spp=4,16,64}; do sweep_args+=(--sweep "$sweep"); done
 read -r -a SCENE_LIST <<<"${SCENES:-$(echo scenes/*.json) builtin:stacked-planes builtin:staircase}"
 PYTHON=${PYTHON:-$([ -x /usr/bin/python3 ] && echo /usr/bin/python3 || echo python3)}  # Debian's, with matplotlib
 
