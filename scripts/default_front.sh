@@ -6,7 +6,8 @@
 # environment narrows it.
 # Environment: PENUMBRA (a built tool; default: build with scripts/setup.sh and use $BUILD_DIR/tools/penumbra),
 # SCENES (space-separated; default: scenes/*.json and the built-in scenes), SIZES ("480x270 1280x720 1920x1080"),
-# MAP_SIZES (256,512,1024,2048,4096,8192), TECHNIQUES (all), SPP (256), RUNS (3), WARMUP (1), OUT (docs/default-front.md).
+# MAP_SIZES (256,512,1024,2048,4096,8192), TECHNIQUES (all), SPP (256), RUNS (3), WARMUP (1), OUT (docs/default-front.md),
+# SECTION (empty: OUT is the table alone; else the table replaces or joins OUT's "## SECTION").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -37,5 +38,8 @@ for scene in "${SCENE_LIST[@]}"; do
     csvs+=("out/front/$name.csv")
   done
 done
-command="SCENES=\"${SCENE_LIST[*]}\" SIZES=\"$SIZES\" MAP_SIZES=$MAP_SIZES TECHNIQUES=$TECHNIQUES ./scripts/default_front.sh"
-"$PYTHON" tools/default_front.py "$OUT" "${csvs[@]}" --command "$command"
+command="SCENES=\"${SCENE_LIST[*]}\" SIZES=\"$SIZES\" MAP_SIZES=$MAP_SIZES TECHNIQUES=$TECHNIQUES SPP=$SPP RUNS=$RUNS"
+command="$command ./scripts/default_front.sh"
+section_args=()
+[ -n "${SECTION:-}" ] && section_args=(--section "$SECTION") && command="SECTION=\"$SECTION\" $command"
+"$PYTHON" tools/default_front.py "$OUT" "${csvs[@]}" --command "$command" "${section_args[@]}"

@@ -281,6 +281,11 @@ cp "$scratch/bench/bench.csv" "$scratch/front.csv" 2>/dev/null
 expect default-front 0 "wrote .* of 1 defaults on their front" -- "$python" "$tools/default_front.py" \
   "$scratch/front.md" "$scratch/front.csv"
 expect default-front-row 0 "^\| builtin:box \| 48x32 \| light0 \| sm \| auto \|" -- cat "$scratch/front.md"
+# --section: a second table under "## Splits" joins the page, and a new head keeps it.
+expect default-front-section 0 "wrote .* of 1 defaults on their front" -- "$python" "$tools/default_front.py" \
+  "$scratch/front.md" "$scratch/front.csv" --section Splits
+expect default-front-head 0 "wrote" -- "$python" "$tools/default_front.py" "$scratch/front.md" "$scratch/front.csv"
+expect default-front-kept 0 "^## Splits" -- cat "$scratch/front.md"
 expect default-front-none 1 "no technique has both" -- "$python" "$tools/default_front.py" "$scratch/x.md" \
   "$scratch/box.csv"
 expect accuracy-table-row 0 "^\| pcf \| pcf-radius=1 \|" -- cat "$scratch/accuracy.md"
