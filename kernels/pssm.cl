@@ -29,7 +29,7 @@ inline float pssm_split_visibility(__global const float* maps, __global const ui
     return id_visibility(
         idMap, objectIds, lv->width, lv->height, idUv, ids.ownTriangle, ids.ownObject, ids.mode,
         sc_lit(sc_fetch(map, lv->width, lv->height, (int)floor(r.uv.x), (int)floor(r.uv.y)), r.depth - r.bias));
-  float step = splits[split].filterScale, sum = 0.0f;
+  float step = splits[split].filterScale * s.pcfWidth / (float)s.radius, sum = 0.0f;  // the taps spread over the width
   for (int dy = -s.radius; dy <= s.radius; ++dy)
     for (int dx = -s.radius; dx <= s.radius; ++dx) {
       float offset = sqrt((float)(dx * dx + dy * dy)) * step;

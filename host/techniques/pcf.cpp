@@ -1,10 +1,7 @@
 // `pcf`: percentage-closer filtering (kernels/pcf.cl): a (2r+1)^2 grid or a rotated Poisson disk of
 // bilinear comparisons, optionally widened to the pixel's footprint in the map, with receiver-plane depth
 // bias. Debug channel: the kernel half-width in texels.
-#include <fmt/format.h>
-
 #include <algorithm>
-#include <cmath>
 
 #include "host/techniques/poisson.h"
 #include "host/techniques/registry.h"
@@ -43,19 +40,8 @@ class PercentageCloser final : public TechniqueOf<PcfSettings> {
     // Depth comparisons only: the auto radius's occluders lie at or beyond the nearest drawn caster anyway. Under auto
     // the kernel may reach --pcf-max-radius texels, so the map's margin does.
     renderShadowMap(frame, s.map, map_, s.adaptive || s.radius.automatic ? maxRadius : limit, MapNear::Fitted);
-    // Under auto the kernel's half-width follows the penumbra, floor(h) up to --pcf-max-radius, and its taps stop at
-    // --pcf-radius-max a side: wider kernels spread them (a larger map never narrows the kernel in the world).
-    int radius = s.radius.radius;
-    float width = static_cast<float>(radius);
-    if (s.radius.automatic) {
-      radius = chooseFromPenumbra(frame, map_.targets.depth, map_.gpu, s.map.receiverBias(), s.radius.quantile,
-                                  s.radius.name, [&](double halfWidth) {
-                                    width = static_cast<float>(std::min(std::floor(halfWidth), double{maxRadius}));
-                                    return std::min(static_cast<int>(width), s.radius.max);
-                                  });
-      frame.attributes["penumbra:pcf-width"] =
-          fmt::format("{} texels, {} x {} taps", width, 2 * radius + 1, 2 * radius + 1);
-    }
+    const AutoKernel kernel =
+        resolveAutoKernel(frame, map_.targets.depth, map_.gpu, s.map.receiverBias(), s.radius, maxRadius);
     const int poissonTaps = s.poissonTaps;
     if (poisson_.empty()) {
       const std::vector<cl_float2> disk = poissonDisk(std::max(poissonTaps, 1));
@@ -64,7 +50,7 @@ class PercentageCloser final : public TechniqueOf<PcfSettings> {
     filter_.allocate(frame.ctx, visibility.size());
     const GBuffer& g = frame.gbuffer;
     const ShadeFrame shade = shadeFrame(frame, s.map, s.receiverPlane, s.idMode);
-    const PcfShade pcf{radius, static_cast<int>(s.adaptive), maxRadius, poissonTaps, width};
+    const PcfShade pcf{kernel.radius, static_cast<int>(s.adaptive), maxRadius, poissonTaps, kernel.width};
     launchVisibility(frame, map_, shade, "kernels/pcf.cl", "pcf_visibility", visibility, map_.targets.triangleId,
                      frame.raster.objectIds(), g.triangleId, g.objectId, pcf, poisson_, filter_);
   }

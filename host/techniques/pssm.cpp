@@ -1,5 +1,7 @@
 // `pssm`: parallel-split shadow maps (Zhang et al. 2006; Lauritzen, "Parallel-Split Variance Shadow Maps"; Luksch
 // sec. 7), hard or PCF per split: one map per split drawn into an atlas, then kernels/pssm.cl.
+#include <algorithm>
+
 #include "host/cl/kernel.h"
 #include "host/techniques/registry.h"
 #include "host/techniques/shadow_map.h"
@@ -17,9 +19,19 @@ struct PssmSettings {
   bool hard = false;  // pssm-filter hard
   AutoRadius radius;  // pcf-radius
   int idMode = ID_BUFFER_OFF;
+  float maxWidth = 0.0f;  // pcf-max-radius: the auto kernel's widest, texels of split 0
   static PssmSettings from(const Params& params, int mapSize) {
-    return {MapSettings::from(params, mapSize), SplitSettings::from(params), params.getInt("pssm-filter") == kHard,
-            AutoRadius::from(params, "pcf-radius"), params.getInt("id-buffer")};
+    return {MapSettings::from(params, mapSize),
+            SplitSettings::from(params),
+            params.getInt("pssm-filter") == kHard,
+            AutoRadius::from(params, "pcf-radius"),
+            params.getInt("id-buffer"),
+            static_cast<float>(params.get("pcf-max-radius"))};
+  }
+  // The most texels of split 0 the kernel can reach: the splits' margin.
+  float reach() const {
+    if (hard) return 0.0f;
+    return radius.automatic ? std::max(maxWidth, static_cast<float>(radius.max)) : static_cast<float>(radius.radius);
   }
   bool operator==(const PssmSettings&) const = default;
 };
@@ -32,19 +44,20 @@ class ParallelSplit final : public TechniqueOf<PssmSettings> {
     Context& ctx = frame.ctx;
     const PssmSettings& set = settings_;
     const bool hard = set.hard;
-    SplitPlan plan = planSplits(frame, set.map, set.splits, hard ? 0.0f : static_cast<float>(set.radius.limit()));
+    SplitPlan plan = planSplits(frame, set.map, set.splits, set.reach());
     const size_t texels = static_cast<size_t>(set.map.size) * set.map.size;
     const int idMode = set.idMode;
-    int radius = hard ? 0 : set.radius.radius;  // resolved on split 0 under auto
+    AutoKernel pcf{hard ? 0 : set.radius.radius, hard ? 0.0f : static_cast<float>(set.radius.radius)};  // auto: split 0
     atlas_.allocate(ctx, plan.views.size() * texels);
     idAtlas_.allocate(ctx, idMode == ID_BUFFER_OFF ? 1 : plan.views.size() * texels);
     drawSplits(frame, plan, targets_, [&](size_t s, const Buffer<float>& depth) {
-      if (s == 0 && !hard) radius = resolveAutoRadiusOnSplit0(frame, plan, depth, set.map, set.radius);
+      if (s == 0 && !hard) pcf = resolveAutoKernelOnSplit0(frame, plan, depth, set.map, set.radius, set.maxWidth);
       copyInto(ctx, depth, atlas_, s * texels, texels);
       if (idMode != ID_BUFFER_OFF) copyInto(ctx, targets_.triangleId, idAtlas_, s * texels, texels);
     });
     gpu_.upload(ctx, frame, plan, set.map, set.splits);
-    gpu_.shade.radius = radius;
+    gpu_.shade.radius = pcf.radius;
+    gpu_.shade.pcfWidth = pcf.width;
     gpu_.shade.idMode = idMode;
     recordSplits(frame, plan);
 
@@ -79,6 +92,9 @@ TechniqueInfo pssmTechnique() {
   params.push_back(
       {"pssm-filter", kPcf, 0, 1, "Per-split lookup: PCF over --pcf-radius, or one hard comparison", {"pcf", "hard"}});
   for (const ParamSpec& spec : pcfRadiusParams()) params.push_back(spec);
+  params.push_back({"pcf-max-radius", 16, 0, 256,
+                    "--pcf-radius auto: the kernel's largest half-width in texels of split 0 (beyond --pcf-radius-max "
+                    "the taps spread over the kernel)"});
   params.push_back(idBufferParam());
   for (const ParamSpec& spec : splitParams()) params.push_back(spec);
   for (const ParamSpec& spec : warpParams()) params.push_back(spec);

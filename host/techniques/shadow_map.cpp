@@ -161,6 +161,19 @@ int resolveAutoRadius(ShadowFrame& frame, const Buffer<float>& depth, const Buff
   });
 }
 
+AutoKernel resolveAutoKernel(ShadowFrame& frame, const Buffer<float>& depth, const Buffer<LightViewGpu>& view,
+                             const ReceiverBias& bias, const AutoRadius& radius, float maxWidth) {
+  if (!radius.automatic) return {radius.radius, static_cast<float>(radius.radius)};
+  AutoKernel kernel;
+  kernel.radius = chooseFromPenumbra(frame, depth, view, bias, radius.quantile, radius.name, [&](double halfWidth) {
+    kernel.width = static_cast<float>(std::min(std::floor(halfWidth), static_cast<double>(maxWidth)));
+    return std::min(static_cast<int>(kernel.width), radius.max);
+  });
+  frame.attributes["penumbra:pcf-width"] =
+      fmt::format("{} texels, {} x {} taps", kernel.width, 2 * kernel.radius + 1, 2 * kernel.radius + 1);
+  return kernel;
+}
+
 ParamSpec receiverPlaneParam() {
   return {"receiver-plane", 1, 0, 1,
           "Receiver-plane depth bias: compare each texel with the receiver's plane (from neighbouring pixels) "

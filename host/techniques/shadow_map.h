@@ -123,6 +123,17 @@ inline int resolveAutoRadius(ShadowFrame& frame, const ShadowMap& map, const Map
   return resolveAutoRadius(frame, map.targets.depth, map.gpu, settings.receiverBias(), radius);
 }
 
+// A PCF kernel under --pcf-radius auto (pcf, pssm): its half-width follows the penumbra, floor(h) up to `maxWidth`
+// texels, while its taps' radius stops at pcf-radius-max, so a wider kernel spreads its (2 radius + 1)^2 taps and a
+// larger map never narrows the kernel in the world. A fixed radius is its own width. Records "penumbra:pcf-radius" and
+// "penumbra:pcf-width".
+struct AutoKernel {
+  int radius = 0;      // taps a side: (2 radius + 1)^2
+  float width = 0.0f;  // texels
+};
+AutoKernel resolveAutoKernel(ShadowFrame& frame, const Buffer<float>& depth, const Buffer<LightViewGpu>& view,
+                             const ReceiverBias& bias, const AutoRadius& radius, float maxWidth);
+
 // "receiver-plane": receiver-plane depth bias on (1) or off (0), for the techniques whose kernels take it.
 ParamSpec receiverPlaneParam();
 

@@ -189,11 +189,22 @@ void SplitAovs::addChannels(Context& ctx, Image& image) const {
   image.add("resolutionError.Y", resolutionError.download(ctx));
 }
 
+namespace {
+Buffer<LightViewGpu> splitZero(ShadowFrame& frame, const SplitPlan& plan) {
+  return Buffer<LightViewGpu>(frame.ctx, std::span<const LightViewGpu>(&plan.views[0].gpu, 1), CL_MEM_READ_ONLY);
+}
+}  // namespace
+
 int resolveAutoRadiusOnSplit0(ShadowFrame& frame, const SplitPlan& plan, const Buffer<float>& depth,
                               const MapSettings& map, const AutoRadius& radius) {
   if (!radius.automatic) return radius.radius;
-  const Buffer<LightViewGpu> first(frame.ctx, std::span<const LightViewGpu>(&plan.views[0].gpu, 1), CL_MEM_READ_ONLY);
-  return resolveAutoRadius(frame, depth, first, map.receiverBias(), radius);
+  return resolveAutoRadius(frame, depth, splitZero(frame, plan), map.receiverBias(), radius);
+}
+
+AutoKernel resolveAutoKernelOnSplit0(ShadowFrame& frame, const SplitPlan& plan, const Buffer<float>& depth,
+                                     const MapSettings& map, const AutoRadius& radius, float maxWidth) {
+  if (!radius.automatic) return {radius.radius, static_cast<float>(radius.radius)};
+  return resolveAutoKernel(frame, depth, splitZero(frame, plan), map.receiverBias(), radius, maxWidth);
 }
 
 void recordSplits(ShadowFrame& frame, const SplitPlan& plan) {

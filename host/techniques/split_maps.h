@@ -82,6 +82,9 @@ struct SplitAovs {
 // is texels of split 0, which the farther splits scale by their zoom.
 int resolveAutoRadiusOnSplit0(ShadowFrame& frame, const SplitPlan& plan, const Buffer<float>& depth,
                               const MapSettings& map, const AutoRadius& radius);
+// resolveAutoKernel likewise: a PCF kernel's width and taps in texels of split 0, its width at most `maxWidth`.
+AutoKernel resolveAutoKernelOnSplit0(ShadowFrame& frame, const SplitPlan& plan, const Buffer<float>& depth,
+                                     const MapSettings& map, const AutoRadius& radius, float maxWidth);
 
 // "penumbra:pssm-distances", "penumbra:pssm-scheme", "penumbra:light-fit" (one entry per split).
 void recordSplits(ShadowFrame& frame, const SplitPlan& plan);

@@ -26,9 +26,9 @@ typedef struct PssmShade {
   uint mipTexels;      // psvsm: texels of one split's mip chain (levels 1..)
   float blend;         // blend band: the last `blend` fraction of a split's depth range fades into the next; 0 = off
   float bias, slopeBias, normalOffset;  // ShadowBias, texel footprints of the split used
-  int radius;                           // pssm: PCF radius in texels of split 0; 0 = one hard comparison
+  int radius;                           // pssm: PCF taps a side ((2 radius + 1)^2); 0 = one hard comparison
   int idMode;                           // pssm: ID_BUFFER_* (kernels/shared/id_buffer.h)
-  float pad0;
+  float pcfWidth;                       // pssm: the PCF kernel's half-width in texels of split 0 (>= radius)
 } PssmShade;
 
 #if PENUMBRA_HOST
