@@ -221,7 +221,9 @@ TEST_F(PssmAuto, PenumbraCappedMapsPlanTheirSplitsAtThePixelsSize) {
     ASSERT_GT(size, 0.0) << attributes.at("penumbra:map-size");
     ASSERT_GT(pixels, 0.0) << scheme;
     EXPECT_LE(size, 2048.0) << technique << ": --map-size-max for splits";
-    if (std::string(technique) == "pssm") EXPECT_LT(size, pixels) << attributes.at("penumbra:map-size");
+    if (std::string(technique) == "pssm") {
+      EXPECT_LT(size, pixels) << attributes.at("penumbra:map-size");
+    }
     const RenderResult fixed =
         renderWith(ctx(), scene, camera, light, technique, {{"map-size", std::to_string(static_cast<int>(pixels))}});
     // The same planes within the views' margins (a margin of texels is wider in the world on a smaller map).
