@@ -20,9 +20,10 @@
 #define PCSS_ADAPTIVE_STEPS 2  // narrowings of the search region by the pyramid's nearest caster
 
 // The taps a region of half-width `radius` texels gets, and in *side the grid's taps per side: fixed, taps x taps;
-// automatic, from the region's texels (PCSS_*_DENSITY, kernels/shared/shade.h) within [fewest, taps^2] (the grid: the side of a square of that many).
-// A disk's automatic count is real: its whole part are full taps and the next tap weighs the fraction
-// (pcss_tap_weight), so that the estimate moves continuously with the radius instead of jumping as a tap is added.
+// automatic, from the region's texels (PCSS_*_DENSITY, kernels/shared/shade.h) within [fewest, taps^2] (the grid: the
+// side of a square of that many). A disk's automatic count is real: its whole part are full taps and the next tap
+// weighs the fraction (pcss_tap_weight), so that the estimate moves continuously with the radius instead of jumping as
+// a tap is added.
 inline float pcss_tap_count(int automatic, int taps, float density, int fewest, float radius, int pattern, int* side) {
   *side = taps;
   if (!automatic) return (float)(taps * taps);

@@ -47,7 +47,7 @@ class ParallelSplit final : public TechniqueOf<PssmSettings> {
     SplitPlan plan = planSplits(frame, set.map, set.splits, set.reach());
     const size_t texels = static_cast<size_t>(set.map.size) * set.map.size;
     const int idMode = set.idMode;
-    AutoKernel pcf{hard ? 0 : set.radius.radius, hard ? 0.0f : static_cast<float>(set.radius.radius)};  // auto: split 0
+    AutoKernel pcf;  // hard: none; else the fixed radius or auto's, resolved on split 0
     atlas_.allocate(ctx, plan.views.size() * texels);
     idAtlas_.allocate(ctx, idMode == ID_BUFFER_OFF ? 1 : plan.views.size() * texels);
     drawSplits(frame, plan, targets_, [&](size_t s, const Buffer<float>& depth) {
