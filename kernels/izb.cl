@@ -269,6 +269,12 @@ static bool izb_sorted_sample(const IzbFrame* f, uint k, __global const uint* so
   return izb_ray(f, *i, position, pixelTriangle, normal, positions, triangles, lv, ray, pixel);
 }
 
+// The sorted sample of this work-item: its work-group's block spread over the launch (IzbFrame::spread).
+static uint izb_spread_sample(const IzbFrame* f) {
+  const ulong block = ((ulong)get_group_id(0) * f->spread) % get_num_groups(0);
+  return (uint)block * (uint)get_local_size(0) + (uint)get_local_id(0);
+}
+
 // One work-item per sorted sample: its ray against every triangle listed for its cell; occluded[pixel] counts the
 // pixel's blocked samples.
 __kernel void izb_test(__global const uint* sorted, __global const uint* cellOf, __global const uint* cellStart,
@@ -282,8 +288,8 @@ __kernel void izb_test(__global const uint* sorted, __global const uint* cellOf,
                        __global uint* occluded) {
   uint i, pixel;
   IzbRay ray;
-  if (!izb_sorted_sample(&f, get_global_id(0), sorted, cellStart, cellCount, position, normal, pixelTriangle, positions,
-                         triangles, lv, &i, &ray, &pixel))
+  if (!izb_sorted_sample(&f, izb_spread_sample(&f), sorted, cellStart, cellCount, position, normal, pixelTriangle,
+                         positions, triangles, lv, &i, &ray, &pixel))
     return;
   const uint cell = cellOf[i], begin = tileOffset[cell], end = begin + tileCount[cell];
   for (uint e = begin; e < end; ++e)
@@ -308,6 +314,85 @@ static void izb_disk_basis(float3 axis, float3* tangent, float3* bitangent) {
   if (!(length(cross(axis, up)) > 1e-3f)) up = (float3)(1.0f, 0.0f, 0.0f);
   *tangent = normalize(cross(axis, up));
   *bitangent = cross(axis, *tangent);
+}
+
+// Caster records, cluster by cluster in lanes (structure of arrays): field f of triangle t at float
+// (16 (t / IZB_CLUSTER) + f) IZB_CLUSTER + t % IZB_CLUSTER, so that a sample tests a cluster's IZB_CLUSTER casters at
+// once in float8 vectors (izb_soft_lanes). Fields: its bounding ball (IZB_FIELD_BALL: the centroid m, the farthest
+// vertex's distance widened by 1e-3 against rounding) for the cone test, its vertices (IZB_FIELD_A, _B, _C) and its
+// plane's unit normal n (IZB_FIELD_NORMAL: zero for a degenerate triangle; the plane is n . p = n . m). The last
+// cluster's slots past the triangles get a NaN ball, which no cone test passes.
+#if IZB_CLUSTER != 8
+#error "izb_soft_lanes tests a cluster's casters in float8 lanes"
+#endif
+#define IZB_FIELD_BALL 0
+#define IZB_FIELD_A 4
+#define IZB_FIELD_B 7
+#define IZB_FIELD_C 10
+#define IZB_FIELD_NORMAL 13
+#define IZB_FIELDS 16
+
+// One work-item per slot of izb_cluster_count(triangleCount) IZB_CLUSTER: slot i holds triangle order[i], the
+// triangles in the order of their centroids' Morton codes (host/techniques/izb.cpp), so that a cluster's are
+// neighbours and its ball small.
+__kernel void izb_soft_casters(__global const float* positions, __global const uint* triangles,
+                               __global const uint* order, uint triangleCount, __global float* casters) {
+  const uint i = get_global_id(0);
+  if (i >= izb_cluster_count(triangleCount) * IZB_CLUSTER) return;
+  __global float* record = casters + (size_t)(i / IZB_CLUSTER) * IZB_FIELDS * IZB_CLUSTER + i % IZB_CLUSTER;
+  float values[IZB_FIELDS];
+  if (i < triangleCount) {
+    const uint t = order[i];
+    const float3 a = izb_vertex(positions, triangles[3 * t]), b = izb_vertex(positions, triangles[3 * t + 1]);
+    const float3 c = izb_vertex(positions, triangles[3 * t + 2]);
+    const float3 m = (a + b + c) / 3.0f;
+    const float3 n = cross(b - a, c - a);
+    const float len = length(n);
+    const float3 unit = len > 0.0f && isfinite(len) ? n / len : (float3)(0.0f);
+    const float rho = 1.001f * sqrt(fmax(fmax(dot(a - m, a - m), dot(b - m, b - m)), dot(c - m, c - m)));
+    vstore4((float4)(m, rho), 0, values);
+    vstore3(a, 0, values + IZB_FIELD_A), vstore3(b, 0, values + IZB_FIELD_B), vstore3(c, 0, values + IZB_FIELD_C);
+    vstore3(unit, 0, values + IZB_FIELD_NORMAL);
+  } else {
+    for (int k = 0; k < IZB_FIELDS; ++k) values[k] = k < 4 ? NAN : 0.0f;
+  }
+  for (int k = 0; k < IZB_FIELDS; ++k) record[k * IZB_CLUSTER] = values[k];
+}
+
+// Field `field` .. field + 2 of lane j of a cluster's `record` (izb_soft_casters).
+static float3 izb_record_point(__global const float* record, int field, int j) {
+  return (float3)(record[field * IZB_CLUSTER + j], record[(field + 1) * IZB_CLUSTER + j],
+                  record[(field + 2) * IZB_CLUSTER + j]);
+}
+
+// Slot t's ball (izb_soft_casters).
+static float4 izb_caster_ball(__global const float* casters, uint t) {
+  __global const float* record = casters + (size_t)(t / IZB_CLUSTER) * IZB_FIELDS * IZB_CLUSTER;
+  return (float4)(izb_record_point(record, IZB_FIELD_BALL, (int)(t % IZB_CLUSTER)),
+                  record[3 * IZB_CLUSTER + t % IZB_CLUSTER]);
+}
+
+// clusters[k]: a ball holding the balls of casters k IZB_CLUSTER .. (k + 1) IZB_CLUSTER - 1 (after izb_soft_casters):
+// their centroids' mean, the farthest of their balls' far sides widened by 1e-3. A cone that misses it misses them all.
+// Balls that are not finite are left out: the cone test never passes them (NaN compares false), so their casters are
+// skipped as they would be alone; a cluster of none gets a NaN ball, skipped the same way.
+__kernel void izb_soft_clusters(__global const float* casters, uint triangleCount, __global float4* clusters) {
+  const uint k = get_global_id(0);
+  if (k >= izb_cluster_count(triangleCount)) return;
+  const uint begin = k * IZB_CLUSTER, end = izb_cluster_end(k, triangleCount);
+  float3 centre = (float3)(0.0f);
+  int finite = 0;
+  for (uint t = begin; t < end; ++t) {
+    const float4 ball = izb_caster_ball(casters, t);
+    if (all(isfinite(ball))) centre += ball.xyz, ++finite;
+  }
+  centre /= (float)finite;
+  float radius = finite > 0 ? 0.0f : NAN;
+  for (uint t = begin; t < end; ++t) {
+    const float4 ball = izb_caster_ball(casters, t);
+    if (all(isfinite(ball))) radius = fmax(radius, length(ball.xyz - centre) + ball.w);
+  }
+  clusters[k] = (float4)(centre, 1.001f * radius);
 }
 
 // A caster's projection on the grid: its bounding box (texels) and nearest light depth; `unbounded` when it reaches the
@@ -372,16 +457,16 @@ static bool izb_soft_listed(const IzbFrame* f, __constant const LightViewGpu* lv
          c->lo.y - reach <= y0 + (float)IZB_CELL_TEXELS && c->hi.y + reach >= y0;
 }
 
-// The union of cluster `k`'s casters (izb_caster) with a triangle count: triangles that hide nothing (a repeated
-// vertex, izb_soft_projection) are left out of it.
-static IzbCaster izb_cluster_caster(__constant const LightViewGpu* lv, __global const float* positions,
-                                    __global const uint* triangles, uint triangleCount, uint k, int* members) {
+// The union of cluster `k`'s casters (izb_caster, from their records) with a triangle count: triangles that hide
+// nothing (a repeated vertex, izb_soft_lanes) and the last cluster's empty slots are left out of it.
+static IzbCaster izb_cluster_caster(__constant const LightViewGpu* lv, __global const float* casters, uint k,
+                                    int* members) {
   IzbCaster u = {(float2)(INFINITY), (float2)(-INFINITY), INFINITY, 0};
   *members = 0;
-  const uint end = izb_cluster_end(k, triangleCount);
-  for (uint t = k * IZB_CLUSTER; t < end; ++t) {
-    const float3 a = izb_vertex(positions, triangles[3 * t]), b = izb_vertex(positions, triangles[3 * t + 1]);
-    const float3 v = izb_vertex(positions, triangles[3 * t + 2]);
+  __global const float* record = casters + (size_t)k * IZB_FIELDS * IZB_CLUSTER;
+  for (int j = 0; j < IZB_CLUSTER; ++j) {
+    const float3 a = izb_record_point(record, IZB_FIELD_A, j), b = izb_record_point(record, IZB_FIELD_B, j);
+    const float3 v = izb_record_point(record, IZB_FIELD_C, j);
     if (all(a == b) || all(b == v) || all(v == a)) continue;
     const IzbCaster c = izb_caster(lv, a, b, v);
     u.lo = fmin(u.lo, c.lo), u.hi = fmax(u.hi, c.hi), u.zMin = fmin(u.zMin, c.zMin), u.unbounded |= c.unbounded;
@@ -394,14 +479,14 @@ static IzbCaster izb_cluster_caster(__constant const LightViewGpu* lv, __global 
 // listCount (fill == 0) or written to entries[listStart[c] + cursor[c]++] (fill == 1). listCount and cursor zero on
 // entry. The cluster's box is the union of its casters' and its nearest depth theirs, so a cell that one of them
 // reaches (the reach grows as the caster nears the light) lists it.
-__kernel void izb_soft_lists(__global const float* positions, __global const uint* triangles, uint triangleCount,
-                             const IzbFrame f, __constant const LightViewGpu* lv, __global const uint* cellCount,
+__kernel void izb_soft_lists(__global const float* casters, uint triangleCount, const IzbFrame f,
+                             __constant const LightViewGpu* lv, __global const uint* cellCount,
                              __global const uint* cellDepth, __global const uint* depthMax, int fill,
                              __global uint* listCount, __global const uint* listStart, __global uint* entries) {
   const uint k = get_global_id(0);
   if (k >= izb_cluster_count(triangleCount)) return;
   int members;
-  const IzbCaster c = izb_cluster_caster(lv, positions, triangles, triangleCount, k, &members);
+  const IzbCaster c = izb_cluster_caster(lv, casters, k, &members);
   if (members == 0) return;
   const int4 box = izb_soft_box(&f, lv, &c, as_float(*depthMax));
   const uint cellsX = ((uint)lv->width + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS;
@@ -437,68 +522,6 @@ static IzbCone izb_light_cone(const IzbFrame* f, float3 origin) {
   cone.sinHalf = sine < 1.0f ? sine : 1.0f, cone.cosHalf = sine < 1.0f ? sqrt(1.0f - sine * sine) : 0.0f;
   cone.reach = distance + f->lightRadius;
   return cone;
-}
-
-// casters[4 t .. 4 t + 3]: triangle t in one 64-byte record, so that a sample's test of a listed caster reads one
-// line: its bounding ball (the centroid m, the farthest vertex's distance widened by 1e-3 against rounding) for
-// izb_may_block, then its vertices, whose w hold its plane's unit normal n (zero for a degenerate triangle; the plane
-// is n . p = n . m, izb_caster_plane) for izb_beside.
-__kernel void izb_soft_casters(__global const float* positions, __global const uint* triangles, uint triangleCount,
-                               __global float4* casters) {
-  const uint t = get_global_id(0);
-  if (t >= triangleCount) return;
-  const float3 a = izb_vertex(positions, triangles[3 * t]), b = izb_vertex(positions, triangles[3 * t + 1]);
-  const float3 c = izb_vertex(positions, triangles[3 * t + 2]);
-  const float3 m = (a + b + c) / 3.0f;
-  const float3 n = cross(b - a, c - a);
-  const float len = length(n);
-  const float3 unit = len > 0.0f && isfinite(len) ? n / len : (float3)(0.0f);
-  __global float4* record = casters + 4 * (size_t)t;
-  record[0] = (float4)(m, 1.001f * sqrt(fmax(fmax(dot(a - m, a - m), dot(b - m, b - m)), dot(c - m, c - m))));
-  record[1] = (float4)(a, unit.x), record[2] = (float4)(b, unit.y), record[3] = (float4)(c, unit.z);
-}
-
-// clusters[k]: a ball holding the balls of casters k IZB_CLUSTER .. (k + 1) IZB_CLUSTER - 1 (after izb_soft_casters):
-// their centroids' mean, the farthest of their balls' far sides widened by 1e-3. A cone that misses it misses them all.
-// Balls that are not finite are left out: izb_may_block never passes them (NaN compares false), so their casters are
-// skipped as they would be alone; a cluster of none gets a NaN ball, skipped the same way.
-__kernel void izb_soft_clusters(__global const float4* casters, uint triangleCount, __global float4* clusters) {
-  const uint k = get_global_id(0);
-  if (k >= izb_cluster_count(triangleCount)) return;
-  const uint begin = k * IZB_CLUSTER, end = izb_cluster_end(k, triangleCount);
-  float3 centre = (float3)(0.0f);
-  int finite = 0;
-  for (uint t = begin; t < end; ++t) {
-    const float4 ball = casters[4 * t];
-    if (all(isfinite(ball))) centre += ball.xyz, ++finite;
-  }
-  centre /= (float)finite;
-  float radius = finite > 0 ? 0.0f : NAN;
-  for (uint t = begin; t < end; ++t) {
-    const float4 ball = casters[4 * t];
-    if (all(isfinite(ball))) radius = fmax(radius, length(ball.xyz - centre) + ball.w);
-  }
-  clusters[k] = (float4)(centre, 1.001f * radius);
-}
-
-// The plane (n, n . m) of caster record `caster` (izb_soft_casters).
-static float4 izb_caster_plane(__global const float4* caster) {
-  const float3 n = (float3)(caster[1].w, caster[2].w, caster[3].w);
-  return (float4)(n, dot(n, caster[0].xyz));
-}
-
-// Whether the origin and the whole light lie on one side of caster plane `plane`, clear of it by more than rounding
-// (the caster's vertices lie within `slack` of the plane): then no segment between them meets the caster. A sphere's
-// or disk's points lie within lightRadius of its centre; a sun's directions within alpha of its axis.
-static bool izb_beside(const IzbFrame* f, float3 origin, float4 plane, float slack) {
-  const float side = dot(plane.xyz, origin) - plane.w;
-  if (!(fabs(side) > slack)) return false;
-  if (f->lightKind == IZB_LIGHT_SUN) {
-    const float sinAlpha = sqrt(f->lightOneMinusCos * (2.0f - f->lightOneMinusCos));
-    return dot(plane.xyz, vload3(0, f->toLight)) * sign(side) > sinAlpha + 1e-5f;
-  }
-  const float light = dot(plane.xyz, vload3(0, f->lightCentre)) - plane.w;
-  return light * sign(side) > f->lightRadius + slack;
 }
 
 // Whether a caster in `ball` can meet a segment from `origin` inside `cone`: the ball against the cone, in front of
@@ -597,173 +620,347 @@ static IzbRay izb_light_ray(const IzbFrame* f, const IzbLightPlane* p, float2 di
 // An edge's line is trusted to the masks when its cross product's rounding, magnified by the light's distance over its
 // radius, moves it across the unit disk by at most ~8 eps IZB_EDGE_CONDITION = 2.4e-4 (a quarter of IZB_MASK_MARGIN).
 #define IZB_EDGE_CONDITION 512.0f
-#define IZB_HIDES_NONE (-2)
-#define IZB_TRACE (-1)
 
-// A caster's projection on the light's plane: the unit-disk points q with dot(g[i], q) >= h[i] for each edge i, each
-// side's value known to within tol[i] (rounding; at least IZB_MASK_MARGIN |g[i]|); `masked` when every edge is
-// conditioned well enough for the bitmask tables.
+// Three float8 coordinates: a point or vector of each of a cluster's IZB_CLUSTER casters.
 typedef struct {
-  float2 g[3];
-  float h[3], tol[3];
-  float offset[3];  // h[i] / |g[i]|: the line's offset across the unit disk, for the masks
-  int edges, masked;
-} IzbProjection;
+  float8 x, y, z;
+} IzbLanes3;
 
-// Caster (a, b, c) seen from the plane's origin o, projected onto the light's plane (IzbProjection). With v_i the
-// vertices minus o, a direction d meets the triangle at t > 0 exactly when d = alpha v_0 + beta v_1 + gamma v_2 with
-// alpha, beta, gamma >= 0, i.e. when sign(det(v_0, v_1, v_2)) (v_i x v_j) . d >= 0 for each edge (the triple products
-// of a ray-triangle test): the plane through o and an edge cuts the light's plane in a line. The light's point of q
-// lies along d(q) = D + s (q.x T + q.y B) (spot, sphere: D = centre - o, s = radius; sun: D = the axis, s = tan
-// alpha), affine in q, so each edge is a half-plane of the light's plane: vertices behind o, or next to it, need no
-// clipping. Before the light: every vertex lies nearer than the light's plane (checked), so the hit does too. Returns
-// the edges, 0..3 (an edge that holds the whole disk is left out: 0 edges, the caster hides every light point),
-// IZB_HIDES_NONE when it hides none (an edge leaves the whole disk out, or two vertices coincide: the watertight test's
-// U and V are then opposite and W zero, so it meets no ray), IZB_TRACE when the points must be traced: a vertex at or
-// beyond the light's plane, or o in the caster's plane within rounding.
-static int izb_soft_projection(const IzbLightPlane* p, float3 a, float3 b, float3 c, IzbProjection* out) {
-  if (all(a == b) || all(b == c) || all(c == a)) return IZB_HIDES_NONE;
-  const float3 v[3] = {a - p->origin, b - p->origin, c - p->origin};
-  for (int i = 0; i < 3; ++i)
-    if (!p->sun && !(dot(v[i], p->normal) < p->height * (1.0f - 1e-5f))) return IZB_TRACE;
+static IzbLanes3 izb_lanes_load(__global const float* record, int field) {
+  const IzbLanes3 v = {vload8(field, record), vload8(field + 1, record), vload8(field + 2, record)};
+  return v;
+}
+
+static IzbLanes3 izb_lanes_minus(IzbLanes3 a, float3 o) {
+  const IzbLanes3 v = {a.x - o.x, a.y - o.y, a.z - o.z};
+  return v;
+}
+
+static IzbLanes3 izb_lanes_sub(IzbLanes3 a, IzbLanes3 b) {
+  const IzbLanes3 v = {a.x - b.x, a.y - b.y, a.z - b.z};
+  return v;
+}
+
+// Component by component in dot()'s and cross()'s order, products first (no fused multiply-adds: FP_CONTRACT OFF).
+static float8 izb_lanes_dot(IzbLanes3 a, IzbLanes3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static float8 izb_lanes_dot3(IzbLanes3 a, float3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+
+static IzbLanes3 izb_lanes_cross(IzbLanes3 a, IzbLanes3 b) {
+  const IzbLanes3 v = {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+  return v;
+}
+
+// Bit j set where lane j of `m` (an OpenCL vector comparison: -1 true, 0 false) is true.
+static uint izb_lane_bits(int8 m) {
+  const int8 v = m & (int8)(1, 2, 4, 8, 16, 32, 64, 128);
+  return (uint)(v.s0 | v.s1 | v.s2 | v.s3 | v.s4 | v.s5 | v.s6 | v.s7);
+}
+
+// A batch of IZB_CLUSTER casters (from one cluster or several) projected onto the light's plane, lane by lane: for
+// edge i, the unit-disk points q with dot(g[i], q) >= h[i], each side's value known to within tol[i] (rounding; at
+// least IZB_MASK_MARGIN |g[i]|), and its masks' first word in the tables. Bit j of the masks: `live`, caster j may
+// hide a light point and needs the per-point work; `traced` (live), its points must be traced (no projection);
+// `masked` (live, projected), every edge is conditioned well enough for the bitmask tables; `edge[i]`, edge i bounds
+// the projection (an edge that holds the whole disk is left out; none, and the caster hides every light point).
+typedef struct {
+  float gx[3][IZB_CLUSTER], gy[3][IZB_CLUSTER], h[3][IZB_CLUSTER], tol[3][IZB_CLUSTER];
+  int table[3][IZB_CLUSTER];  // masked: the edge's masks in the tables (izb_edge_tables)
+  uint live, traced, masked, edge[3];
+} IzbLanes;
+
+// izb_mask_angle_bin, lane by lane, with its arithmetic: q = (x or y) / (|x| + |y|), one division, then
+// y >= 0: x >= 0 ? q_y : 1 - q_x; y < 0: x < 0 ? 2 - q_y : 3 + q_x ((int) and convert_int8 both truncate). The clamps
+// here take vector bounds: Oclgrind's int8 clamp with scalar bounds returns garbage.
+static int8 izb_mask_angle_bins(float8 x, float8 y) {
+  const float8 sum = fabs(x) + fabs(y);
+  const int8 xPositive = x >= 0.0f, yPositive = y >= 0.0f;
+  const float8 q = select(x, y, xPositive == yPositive) / sum;
+  const float8 base = select(select((float8)(3.0f), (float8)(2.0f), x < 0.0f),
+                             select((float8)(1.0f), (float8)(0.0f), xPositive), yPositive);
+  const float8 p = base + select(-q, q, xPositive);
+  const int8 bin = clamp(convert_int8(p * (0.25f * (float)IZB_MASK_ANGLES)), (int8)(0), (int8)(IZB_MASK_ANGLES - 1));
+  return select(bin, (int8)(0), !(sum > 0.0f));
+}
+
+// The first word of the masks (host/techniques/izb_pattern.h) of the points that edge (g, offset = h / |g|) may hold,
+// or certainly holds, lane by lane, the pattern turned by cs: its lookups are of the edge turned back; `misses`: the
+// edge holds none of the unit disk.
+static int8 izb_edge_tables(float8 gx, float8 gy, float8 offset, float2 cs, int words, int8* misses) {
+  *misses = offset > 1.0f + IZB_MASK_MARGIN;
+  const int8 a = izb_mask_angle_bins(cs.x * gx + cs.y * gy, cs.x * gy - cs.y * gx);
+  const int8 b = clamp(convert_int8(floor((offset + 1.0f) * (0.5f * (float)IZB_MASK_OFFSETS))), (int8)(0),
+                       (int8)(IZB_MASK_OFFSETS - 1));
+  return (a * IZB_MASK_OFFSETS + b) * (2 * words);
+}
+
+// Which of cluster `record`'s casters may hide part of the light from a receiver sample whose segments to it lie in
+// `cone` (bit j: lane j), all lanes at once:
+// 1. Each caster's ball against the cone (izb_may_block's test).
+// 2. Beside its plane: the origin and the whole light on one side of it, clear by more than rounding (its vertices
+//    lie within slack = 1e-5 (|m|_inf + rho) of it): no segment between them meets it. A sphere's or disk's points lie
+//    within lightRadius of its centre; a sun's directions within alpha of its axis. The receiver's own surface and
+//    casters that face the light with the origin in front end here.
+static uint izb_soft_cull(const IzbFrame* f, float3 o, const IzbCone* cone, __global const float* record) {
+  const float8 rho = vload8(3, record);
+  const IzbLanes3 m = izb_lanes_load(record, IZB_FIELD_BALL);
+  const IzbLanes3 w = izb_lanes_minus(m, o);
+  const float8 a = izb_lanes_dot3(w, cone->axis);
+  const float8 side = rho + a * cone->sinHalf + 1e-3f * (fabs(a) + rho);
+  const float8 p2 = fmax(izb_lanes_dot(w, w) - a * a, 0.0f);
+  const float cos2 = cone->cosHalf * cone->cosHalf;
+  // Behind the origin, beyond the light (or NaN), or outside the cone's side.
+  const int8 meets = (a + rho > 0.0f) & (a - rho < cone->reach) & (side >= 0.0f) & (p2 * cos2 <= side * side);
+  if (!any(meets)) return 0u;
+  const IzbLanes3 n = izb_lanes_load(record, IZB_FIELD_NORMAL);
+  const float8 level = izb_lanes_dot(n, m), offside = izb_lanes_dot3(n, o) - level;
+  const float8 slack = 1e-5f * (fmax(fmax(fabs(m.x), fabs(m.y)), fabs(m.z)) + rho);
+  int8 beside = fabs(offside) > slack;
+  if (f->lightKind == IZB_LIGHT_SUN) {
+    const float sinAlpha = sqrt(f->lightOneMinusCos * (2.0f - f->lightOneMinusCos));
+    beside &= izb_lanes_dot3(n, vload3(0, f->toLight)) * sign(offside) > sinAlpha + 1e-5f;
+  } else {
+    beside &= (izb_lanes_dot3(n, vload3(0, f->lightCentre)) - level) * sign(offside) > f->lightRadius + slack;
+  }
+  return izb_lane_bits(meets & ~beside);
+}
+
+// The casters of a batch (`vertex`: lanes of a.x, a.y, a.z, b.x, ... c.z; `live`: the lanes that hold one) projected
+// onto the light's plane (IzbLanes). With v_i the vertices minus o, a direction d meets the triangle at t > 0 exactly
+// when d = alpha v_0 + beta v_1 + gamma v_2 with alpha, beta, gamma >= 0, i.e. when sign(det(v_0, v_1, v_2))
+// (v_i x v_j) . d >= 0 for each edge (the triple products of a ray-triangle test): the plane through o and an edge
+// cuts the light's plane in a line. The light's point of q lies along d(q) = D + s (q.x T + q.y B) (spot, sphere:
+// D = centre - o, s = radius; sun: D = the axis, s = tan alpha), affine in q, so each edge is a half-plane of the
+// light's plane: vertices behind o, or next to it, need no clipping. Before the light: every vertex lies nearer than
+// the light's plane (checked), so the hit does too. A caster hides none when an edge leaves the whole disk out, or two
+// vertices coincide (the watertight test's U and V are then opposite and W zero, so it meets no ray); its points are
+// traced when a vertex lies at or beyond the light's plane, or o in its plane within rounding.
+static IzbLanes izb_soft_project(const IzbLightPlane* p, const float (*vertex)[IZB_CLUSTER], uint live, float2 cs,
+                                 int words) {
+  IzbLanes out;
+  const float3 o = p->origin;
+  IzbLanes3 v[3];
+  for (int i = 0; i < 3; ++i) {
+    const IzbLanes3 corner = {vload8(0, vertex[3 * i]), vload8(0, vertex[3 * i + 1]), vload8(0, vertex[3 * i + 2])};
+    v[i] = izb_lanes_minus(corner, o);
+  }
+  // Coinciding vertices (compared as given, before o is taken off).
+  int8 none = (int8)(0);
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3;
+    none |= (vload8(0, vertex[3 * i]) == vload8(0, vertex[3 * j])) &
+            (vload8(0, vertex[3 * i + 1]) == vload8(0, vertex[3 * j + 1])) &
+            (vload8(0, vertex[3 * i + 2]) == vload8(0, vertex[3 * j + 2]));
+  }
+  int8 traced = (int8)(0);
+  if (!p->sun)
+    for (int i = 0; i < 3; ++i) traced |= !(izb_lanes_dot3(v[i], p->normal) < p->height * (1.0f - 1e-5f));
   // Products of v_i with the edges v_j - v_i, whose differences are near exact (Sterbenz), not of two long, nearly
   // parallel v_i: det(v_0, v_1, v_2) = v_0 . (e_01 x e_02) and v_i x v_j = v_i x e_ij.
-  const float3 e[3] = {v[1] - v[0], v[2] - v[1], v[0] - v[2]};
-  const float3 normal = cross(e[0], -e[2]);
-  const float det = dot(v[0], normal);
-  if (!(det * det > 1e-10f * dot(v[0], v[0]) * dot(normal, normal))) return IZB_TRACE;  // o in the caster's plane
-  const float sgn = det > 0.0f ? 1.0f : -1.0f, s = 1.0f / p->scale;
+  const IzbLanes3 e[3] = {izb_lanes_sub(v[1], v[0]), izb_lanes_sub(v[2], v[1]), izb_lanes_sub(v[0], v[2])};
+  const IzbLanes3 minusE2 = {-e[2].x, -e[2].y, -e[2].z};
+  const IzbLanes3 normal = izb_lanes_cross(e[0], minusE2);
+  const float8 det = izb_lanes_dot(v[0], normal);
+  traced |= !(det * det > 1e-10f * izb_lanes_dot(v[0], v[0]) * izb_lanes_dot(normal, normal));  // o in its plane
+  const float8 sgn = select((float8)(-1.0f), (float8)(1.0f), det > 0.0f);
+  const float s = 1.0f / p->scale;
   const float3 d = p->sun ? p->normal : p->centre - p->origin;
   const float reach = length(d) + s;  // |d(q)| over the unit disk
-  out->edges = 0, out->masked = 1;
+  int8 hidesNone = none, masked = (int8)(-1), misses = (int8)(0);
   for (int i = 0; i < 3; ++i) {
-    const float3 m = sgn * cross(v[i], e[i]);
-    const float2 g = s * (float2)(dot(m, p->tangent), dot(m, p->bitangent));
-    const float h = -dot(m, d), g2 = dot(g, g);
+    const IzbLanes3 cr = izb_lanes_cross(v[i], e[i]);
+    const IzbLanes3 mi = {sgn * cr.x, sgn * cr.y, sgn * cr.z};
+    const float8 gx = s * izb_lanes_dot3(mi, p->tangent), gy = s * izb_lanes_dot3(mi, p->bitangent);
+    const float8 h = -izb_lanes_dot3(mi, d), g2 = gx * gx + gy * gy;
     // Inside where dot(g, q) >= h; over the unit disk dot(g, q) spans [-|g|, |g|]. Rounding moves h by about 8 eps
     // |v_i| |e_i| reach, which a well-conditioned edge (|g| IZB_EDGE_CONDITION > |v_i| |e_i| reach) bounds by
     // 8 eps IZB_EDGE_CONDITION |g|.
-    const float scale2 = dot(v[i], v[i]) * dot(e[i], e[i]) * (reach * reach);
-    const bool conditioned = g2 * (IZB_EDGE_CONDITION * IZB_EDGE_CONDITION) > scale2;
-    const float glen = sqrt(g2), err = conditioned ? (5e-7f * IZB_EDGE_CONDITION) * glen : 5e-7f * sqrt(scale2);
-    if (h + glen < -err) continue;  // the whole disk lies inside this edge
-    if (h - glen > err) return IZB_HIDES_NONE;
-    const int k = out->edges++;
-    out->g[k] = g, out->h[k] = h, out->tol[k] = fmax(err, IZB_MASK_MARGIN * glen), out->offset[k] = h / glen;
-    out->masked &= conditioned;
+    const float8 scale2 = izb_lanes_dot(v[i], v[i]) * izb_lanes_dot(e[i], e[i]) * (reach * reach);
+    const int8 conditioned = g2 * (IZB_EDGE_CONDITION * IZB_EDGE_CONDITION) > scale2;
+    const float8 glen = sqrt(g2);
+    const float8 err = select(5e-7f * sqrt(scale2), (5e-7f * IZB_EDGE_CONDITION) * glen, conditioned);
+    const int8 whole = h + glen < -err;  // the whole disk lies inside this edge
+    hidesNone |= h - glen > err;
+    masked &= whole | conditioned;
+    out.edge[i] = izb_lane_bits(~whole);
+    vstore8(gx, 0, out.gx[i]), vstore8(gy, 0, out.gy[i]), vstore8(h, 0, out.h[i]);
+    vstore8(fmax(err, IZB_MASK_MARGIN * glen), 0, out.tol[i]);
+    int8 edgeMisses;
+    vstore8(izb_edge_tables(gx, gy, h / glen, cs, words, &edgeMisses), 0, out.table[i]);
+    misses |= edgeMisses & ~whole;
   }
-  return out->edges;
+  // Coinciding vertices hide nothing even where traced; a projection that leaves the disk out, only when projected;
+  // an edge of a masked one that misses the disk (its tables are trusted).
+  masked &= ~traced;
+  out.live = live & ~izb_lane_bits(none | (hidesNone & ~traced) | (masked & misses));
+  out.traced = izb_lane_bits(traced) & out.live;
+  out.masked = izb_lane_bits(masked) & out.live;
+  return out;
 }
 
-// The points of the light pattern (a mask of `words` words) that caster edge (n, offset) may hold, or certainly holds
-// (host/techniques/izb_pattern.h masks), the pattern turned by (c, s): its lookups are of the edge turned back.
-// Returns false when the edge holds none of the unit disk.
-static bool izb_edge_masks(float2 n, float offset, float2 cs, int words, __global const uint* masks,
-                           __global const uint** may) {
-  if (offset > 1.0f + IZB_MASK_MARGIN) return false;
-  const int a = izb_mask_angle_bin(cs.x * n.x + cs.y * n.y, cs.x * n.y - cs.y * n.x);
-  const int b = clamp((int)floor((offset + 1.0f) * (0.5f * (float)IZB_MASK_OFFSETS)), 0, IZB_MASK_OFFSETS - 1);
-  *may = masks + (size_t)((a * IZB_MASK_OFFSETS + b) * 2) * (size_t)words;
-  return true;
+// What izb_soft_cover reads besides the batch: the sample's light, pattern and the scene's triangles.
+typedef struct {
+  const IzbFrame* f;
+  const IzbLightPlane* plane;
+  float2 cs;
+  int words;
+  __global const float* positions;
+  __global const uint* triangles;
+  __global const float2* pattern;
+  __global const float2* planePoints;
+  __global const uint* masks;
+  __global const uint* alphaIndex;
+  __global const AlphaTriangle* alphaTriangles;
+  __global const AlphaMaterial* alphaMaterials;
+  __global const uchar* alphaTexels;
+} IzbCover;
+
+// The light points the batch's live casters (triangles[j]: lane j's) hide, added to `mask` and counted in *blocked,
+// until all n are. Per caster, three bitmask lookups (its edges) give the points it may hold and those it certainly
+// holds; the certain ones of an opaque caster are blocked outright, the others not yet blocked are tested against the
+// projection and, where rounding leaves it unsure, traced exactly (the reference's ray and test).
+static void izb_soft_cover(const IzbCover* in, const IzbLanes* lanes, const uint* casterOf, uint n, uint* mask,
+                           uint* blocked) {
+  const int words = in->words;
+  const float2 cs = in->cs;
+  for (uint live = lanes->live; live != 0u && *blocked < n; live &= live - 1u) {
+    const int j = (int)(31u - clz(live & (0u - live)));  // lowest live lane
+    const uint t = casterOf[j], bitJ = 1u << j;
+    const bool projected = !(lanes->traced & bitJ), masked = (lanes->masked & bitJ) != 0u;
+    if (masked) {  // most casters a sample reaches can hide only points it has hidden already
+      uint open = 0u;
+      for (int w = 0; w < words; ++w) {
+        uint may = ~mask[w];
+        for (int c = 0; c < 3; ++c)
+          if (lanes->edge[c] & bitJ) may &= in->masks[lanes->table[c][j] + w];
+        open |= may;
+      }
+      if (open == 0u) continue;
+    }
+    float2 g[3];
+    float h[3], tol[3];
+    int edges = 0;
+    __global const uint* table[3];
+    for (int c = 0; c < 3; ++c) {
+      if (!(lanes->edge[c] & bitJ)) continue;
+      g[edges] = (float2)(lanes->gx[c][j], lanes->gy[c][j]), h[edges] = lanes->h[c][j];
+      tol[edges] = lanes->tol[c][j], table[edges++] = in->masks + lanes->table[c][j];
+    }
+    const bool opaque = !in->f->alphaTested || in->alphaIndex[t] == ALPHA_NO_TRIANGLE;
+    for (int w = 0; w < words; ++w) {
+      uint test = ~mask[w];
+      if (masked) {
+        uint may = ~0u, certain = ~0u;
+        for (int c = 0; c < edges; ++c) may &= table[c][w], certain &= table[c][words + w];
+        test &= may;
+        if (opaque) {
+          const uint sure = test & certain;
+          mask[w] |= sure, *blocked += popcount(sure), test &= ~certain;
+        }
+      }
+      while (test != 0u) {
+        const uint bit = 31u - clz(test & (0u - test));  // lowest set bit
+        test &= test - 1u;
+        const uint pj = 32u * (uint)w + bit;
+        if (projected) {  // the point against the projection itself: clearly outside, or clearly inside an opaque one
+          const float2 hp = in->planePoints[pj];
+          const float2 q = (float2)(cs.x * hp.x - cs.y * hp.y, cs.y * hp.x + cs.x * hp.y);
+          bool outside = false, inside = true;
+          for (int c = 0; c < edges; ++c) {
+            const float side = dot(g[c], q) - h[c];
+            outside |= side<-tol[c], inside &= side> tol[c];
+          }
+          if (outside) continue;
+          if (opaque && inside) {
+            mask[w] |= 1u << bit;
+            ++*blocked;
+            continue;
+          }
+        }
+        const float2 pp = in->pattern[pj];
+        const float2 dd = (float2)(cs.x * pp.x - cs.y * pp.y, cs.y * pp.x + cs.x * pp.y);
+        const IzbRay ray = izb_light_ray(in->f, in->plane, dd);
+        if (izb_blocks(&ray, t, in->positions, in->triangles, in->alphaIndex, in->f->alphaTested, in->alphaTriangles,
+                       in->alphaMaterials, in->alphaTexels)) {
+          mask[w] |= 1u << bit;
+          ++*blocked;
+        }
+      }
+    }
+  }
 }
 
-// One work-item per sorted sample. Each caster of its cell that can meet the cone of its segments to the light is
-// projected onto the light's plane; three bitmask lookups (its edges) give the light points it may hold and those it
-// certainly holds. The certain ones of an opaque caster are blocked outright, the others not yet blocked are traced
-// exactly (the reference's ray and test). Occluders fuse in the mask, with no blocker-depth estimate and no bias.
-// occluded[pixel] gains the blocked rays. Sub-pixel sample s turns its pattern by key pixel + s * 0x632be5ab.
+// One work-item per sorted sample. Each cluster of its cell whose ball meets the cone of its segments to the light
+// has its casters culled in lanes (izb_soft_cull); the ones left are gathered, IZB_CLUSTER at a time across clusters,
+// projected onto the light's plane in lanes (izb_soft_project) and cover the light's points (izb_soft_cover).
+// Occluders fuse in the mask, with no blocker-depth estimate and no bias. occluded[pixel] gains the blocked rays.
+// Sub-pixel sample s turns its pattern by key pixel + s * 0x632be5ab.
 __kernel void izb_soft_test(__global const uint* sorted, __global const uint* cellOf, __global const uint* cellStart,
                             __global const uint* cellCount, __global const float4* position,
                             __global const float4* normal, __global const uint* pixelTriangle,
                             __global const float* positions, __global const uint* triangles, const IzbFrame f,
                             __constant const LightViewGpu* lv, __global const uint* listCount,
                             __global const uint* listStart, __global const uint* listEntries,
-                            __global const float4* casters, __global const float4* clusters, uint triangleCount,
-                            __global const float2* pattern,
-                            __global const float2* rotations, __global const float2* planePoints,
-                            __global const uint* masks, __global const uint* alphaIndex,
-                            __global const AlphaTriangle* alphaTriangles, __global const AlphaMaterial* alphaMaterials,
-                            __global const uchar* alphaTexels, __global uint* occluded) {
+                            __global const float* casters, __global const float4* clusters, __global const uint* order,
+                            __global const float2* pattern, __global const float2* rotations,
+                            __global const float2* planePoints, __global const uint* masks,
+                            __global const uint* alphaIndex, __global const AlphaTriangle* alphaTriangles,
+                            __global const AlphaMaterial* alphaMaterials, __global const uchar* alphaTexels,
+                            __global uint* occluded) {
   uint i, pixel;
   IzbRay hard;
-  if (!izb_sorted_sample(&f, get_global_id(0), sorted, cellStart, cellCount, position, normal, pixelTriangle, positions,
-                         triangles, lv, &i, &hard, &pixel))
+  if (!izb_sorted_sample(&f, izb_spread_sample(&f), sorted, cellStart, cellCount, position, normal, pixelTriangle,
+                         positions, triangles, lv, &i, &hard, &pixel))
     return;
   const uint cell = cellOf[i], begin = listStart[cell], end = begin + listCount[cell];
   if (begin == end) return;
   const uint key = pixel + (i % (uint)f.samples) * 0x632be5abu, n = (uint)f.lightSamples;
-  const int words = izb_mask_words((int)n);
-  const float2 cs = rotations[izb_rotation_of(key)];
-  IzbCone cone = izb_light_cone(&f, hard.origin);
   const IzbLightPlane plane = izb_light_plane(&f, hard.origin);
+  const IzbCover in = {&f,
+                       &plane,
+                       rotations[izb_rotation_of(key)],
+                       izb_mask_words((int)n),
+                       positions,
+                       triangles,
+                       pattern,
+                       planePoints,
+                       masks,
+                       alphaIndex,
+                       alphaTriangles,
+                       alphaMaterials,
+                       alphaTexels};
+  IzbCone cone = izb_light_cone(&f, hard.origin);
   uint mask[IZB_MAX_LIGHT_GRID * IZB_MAX_LIGHT_GRID / 32];
-  for (int w = 0; w < words; ++w) mask[w] = n - 32u * (uint)w >= 32u ? 0u : ~0u << (n - 32u * (uint)w);
+  for (int w = 0; w < in.words; ++w) mask[w] = n - 32u * (uint)w >= 32u ? 0u : ~0u << (n - 32u * (uint)w);
   uint blocked = 0, coned = 0;
-  for (uint e = begin; e < end && blocked < n; ++e) {
-    if (blocked != coned) cone = izb_unhidden_cone(&plane, mask, words, planePoints, cs), coned = blocked;
-    const uint k = listEntries[e];
-    const float4 clusterBall = clusters[k];
-    if (!izb_may_block(&cone, hard.origin, clusterBall)) continue;
-    const uint last = izb_cluster_end(k, triangleCount);
-    for (uint t = k * IZB_CLUSTER; t < last && blocked < n; ++t) {
-      if (blocked != coned) cone = izb_unhidden_cone(&plane, mask, words, planePoints, cs), coned = blocked;
-      __global const float4* caster = casters + 4 * (size_t)t;
-      const float4 ball = caster[0];
-      if (!izb_may_block(&cone, hard.origin, ball)) continue;
-      // Beside the caster's plane (the receiver's own surface, casters facing the light with the origin in front).
-      const float slack = 1e-5f * (fmax(fmax(fabs(ball.x), fabs(ball.y)), fabs(ball.z)) + ball.w);
-      if (izb_beside(&f, hard.origin, izb_caster_plane(caster), slack)) continue;
-      IzbProjection proj;
-      const int edges = izb_soft_projection(&plane, caster[1].xyz, caster[2].xyz, caster[3].xyz, &proj);
-      if (edges == IZB_HIDES_NONE) continue;
-      const bool projected = edges >= 0, masked = projected && proj.masked;
-      __global const uint* table[3];
-      bool empty = false;
-      for (int c = 0; masked && c < edges && !empty; ++c)
-        empty = !izb_edge_masks(proj.g[c], proj.offset[c], cs, words, masks, &table[c]);
-      if (empty) continue;  // the projection misses the light
-      const bool opaque = !f.alphaTested || alphaIndex[t] == ALPHA_NO_TRIANGLE;
-      for (int w = 0; w < words; ++w) {
-        uint test = ~mask[w];
-        if (masked) {
-          uint may = ~0u, certain = ~0u;
-          for (int c = 0; c < edges; ++c) may &= table[c][w], certain &= table[c][words + w];
-          test &= may;
-          if (opaque) {
-            const uint sure = test & certain;
-            mask[w] |= sure, blocked += popcount(sure), test &= ~certain;
-          }
-        }
-        while (test != 0u) {
-          const uint bit = 31u - clz(test & (0u - test));  // lowest set bit
-          test &= test - 1u;
-          const uint j = 32u * (uint)w + bit;
-          if (projected) {  // the point against the projection itself: clearly outside, or clearly inside an opaque one
-            const float2 h = planePoints[j];
-            const float2 q = (float2)(cs.x * h.x - cs.y * h.y, cs.y * h.x + cs.x * h.y);
-            bool outside = false, inside = true;
-            for (int c = 0; c < edges; ++c) {
-              const float side = dot(proj.g[c], q) - proj.h[c];
-              outside |= side<-proj.tol[c], inside &= side> proj.tol[c];
-            }
-            if (outside) continue;
-            if (opaque && inside) {
-              mask[w] |= 1u << bit;
-              ++blocked;
-              continue;
-            }
-          }
-          const float2 p = pattern[j];
-          const float2 d = (float2)(cs.x * p.x - cs.y * p.y, cs.y * p.x + cs.x * p.y);
-          const IzbRay ray = izb_light_ray(&f, &plane, d);
-          if (izb_blocks(&ray, t, positions, triangles, alphaIndex, f.alphaTested, alphaTriangles, alphaMaterials,
-                         alphaTexels)) {
-            mask[w] |= 1u << bit;
-            ++blocked;
-          }
-        }
+  // The batch: the culled casters' vertices (a.x, a.y, a.z, b.x, ... c.z) lane by lane and their triangles.
+  float vertex[9][IZB_CLUSTER];
+  uint casterOf[IZB_CLUSTER];
+  int pending = 0;
+  for (uint e = begin; blocked < n; ++e) {
+    const bool last = e == end;
+    if (!last) {
+      if (blocked != coned) cone = izb_unhidden_cone(&plane, mask, in.words, planePoints, in.cs), coned = blocked;
+      const uint k = listEntries[e];
+      if (!izb_may_block(&cone, hard.origin, clusters[k])) continue;
+      __global const float* record = casters + (size_t)k * IZB_FIELDS * IZB_CLUSTER;
+      for (uint kept = izb_soft_cull(&f, hard.origin, &cone, record); kept != 0u; kept &= kept - 1u) {
+        const int j = (int)(31u - clz(kept & (0u - kept)));
+        for (int c = 0; c < 9; ++c) vertex[c][pending] = record[(IZB_FIELD_A + c) * IZB_CLUSTER + j];
+        casterOf[pending] = order[k * IZB_CLUSTER + (uint)j];
+        if (++pending < IZB_CLUSTER) continue;
+        const IzbLanes lanes = izb_soft_project(&plane, vertex, (1u << IZB_CLUSTER) - 1u, in.cs, in.words);
+        izb_soft_cover(&in, &lanes, casterOf, n, mask, &blocked);
+        pending = 0;
       }
+      continue;
     }
+    if (pending > 0) {
+      for (int l = pending; l < IZB_CLUSTER; ++l)  // the lanes left empty hold a point, which hides none
+        for (int c = 0; c < 9; ++c) vertex[c][l] = 0.0f;
+      const IzbLanes lanes = izb_soft_project(&plane, vertex, (1u << pending) - 1u, in.cs, in.words);
+      izb_soft_cover(&in, &lanes, casterOf, n, mask, &blocked);
+    }
+    break;
   }
   if (blocked > 0) atomic_add(&occluded[pixel], blocked);
 }

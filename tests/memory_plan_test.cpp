@@ -92,10 +92,12 @@ TEST(MemoryPlan, IzbSamplesAreBoundedByItsChunk) {
   EXPECT_EQ(stage(many), cells + (uint64_t{1} << 24) * 8);
   EXPECT_EQ(stage(small), cells + 65536ull * 8);
   EXPECT_LT(planFrame(uhd, {{LightType::Spot, &izb, &many}}).deviceBytes(), kGiB);
-  // Per triangle 64 bytes of caster record and 16 per cluster of IZB_CLUSTER (izb_soft_casters, izb_soft_clusters):
-  // 1 M triangles of builtin:poles at its largest add 66 MiB.
+  // Per triangle 64 bytes of caster record and 4 of its slot's triangle, and 16 per cluster of IZB_CLUSTER
+  // (izb_soft_casters, izb_soft_clusters): 1 M triangles of builtin:poles at its largest add 67 MiB; a count that
+  // fills no whole cluster is padded to one.
   const uint64_t million = 1000000;
-  EXPECT_EQ(stage(one, million) - stage(one), million * 64 + million / IZB_CLUSTER * 16);
+  EXPECT_EQ(stage(one, million) - stage(one), million * 68 + million / IZB_CLUSTER * 16);
+  EXPECT_EQ(stage(one, million + 1) - stage(one), (million + IZB_CLUSTER) * 68 + (million / IZB_CLUSTER + 1) * 16);
 }
 
 // fvsm's atlas is planned at its texel budget (8 bytes a texel: depth and ids), or at the whole virtual map or a tile
