@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <glm/gtc/matrix_transform.hpp>
+#include <numeric>
 #include <random>
 
 #include "host/scene/camera.h"
@@ -530,6 +531,26 @@ TEST_F(Izb, SoftRefusesPatternSizesThatAreNoSquare) {
 // The pattern's bitmask tables against the points themselves: for random edges (normal angle, offset) across the
 // light's plane, every point within the margin of the inner side is in the "may" mask of the edge's bin, and every
 // point of the "certain" mask lies inside by more than the margin; for disk and sun points, turned patterns too.
+// The CPU work-group spread (IzbFrame::spread) is a permutation of the groups for every count, and deals each of the
+// runtime's runs of consecutive groups (PoCL's: up to 512) blocks from the whole range, so a dense prefix is shared.
+TEST(IzbConstants, SpreadStridePermutesTheGroupsAndSharesAPrefix) {
+  for (uint32_t groups = 1; groups <= 5000; ++groups) {
+    const uint32_t stride = izb_spread_stride(groups);
+    ASSERT_EQ(std::gcd(stride, groups), 1u) << groups;
+    std::vector<bool> seen(groups, false);
+    for (uint32_t g = 0; g < groups; ++g) seen[static_cast<uint64_t>(g) * stride % groups] = true;
+    ASSERT_EQ(std::count(seen.begin(), seen.end(), true), static_cast<std::ptrdiff_t>(groups)) << groups;
+  }
+  // 3600 groups (640x360 samples), the work in the first 1400: each run of 512 gets 150-250 of them, not 0 or 512.
+  const uint32_t groups = 3600, stride = izb_spread_stride(groups);
+  for (uint32_t run = 0; run + 512 <= groups; run += 512) {
+    int dense = 0;
+    for (uint32_t g = run; g < run + 512; ++g) dense += static_cast<uint64_t>(g) * stride % groups < 1400;
+    EXPECT_GT(dense, 150) << run;
+    EXPECT_LT(dense, 250) << run;
+  }
+}
+
 TEST(IzbPattern, BitmaskTablesAreConservative) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> angle(-3.14159265358979, 3.14159265358979), offset(-1.2, 1.2);

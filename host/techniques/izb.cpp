@@ -14,7 +14,6 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <numeric>
 #include <stdexcept>
 
 #include "host/cl/kernel.h"
@@ -28,13 +27,10 @@
 namespace penumbra {
 namespace {
 
-// IzbFrame::spread for `groups` work-groups: on a CPU device the odd stride nearest groups / golden ratio that is
-// coprime to it (so g -> g stride mod groups is a permutation), 1 on other devices.
+// IzbFrame::spread for `groups` work-groups: izb_spread_stride on a CPU device, 1 on other devices.
 uint32_t spreadStride(const Context& ctx, size_t groups) {
-  if (!ctx.info().isCpu() || groups < 3) return 1;
-  auto stride = static_cast<uint32_t>(static_cast<double>(groups) * 0.6180339887) | 1u;
-  while (std::gcd(size_t{stride}, groups) != 1) stride += 2;
-  return stride;
+  if (groups > 0xffffffffu) throw std::logic_error("izb: more work-groups than 32 bits count");
+  return ctx.info().isCpu() ? izb_spread_stride(static_cast<uint32_t>(groups)) : 1u;
 }
 
 static_assert(IZB_CELL_TEXELS == kRasterTileSize, "izb's cells are the rasterizer's tiles");

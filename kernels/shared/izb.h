@@ -101,6 +101,22 @@ static inline uint izb_cluster_end(uint k, uint triangles) {
   return end < triangles ? end : triangles;
 }
 
+// IzbFrame::spread on a CPU device for `groups` work-groups: the odd stride nearest groups / golden ratio that is
+// coprime to it, so that g -> g stride mod groups is a permutation whose runs of consecutive g reach the whole range.
+static inline uint izb_spread_stride(uint groups) {
+  if (groups < 3u) return 1u;
+  uint stride = (uint)((float)groups * 0.618034f) | 1u;
+  for (;;) {
+    uint a = groups, b = stride;  // gcd(groups, stride)
+    while (b != 0u) {
+      const uint r = a % b;
+      a = b, b = r;
+    }
+    if (a == 1u) return stride;
+    stride += 2u;
+  }
+}
+
 // Jitter `axis` (0: x, 1: y) of point j of the pattern, in [0, 1): exactly 24 bits.
 static inline float izb_jitter(uint j, uint axis) {
   return (float)(izb_hash(j * 2u + axis + 0x9e3779b9u) >> 8) * (1.0f / 16777216.0f);
