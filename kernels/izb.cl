@@ -318,12 +318,12 @@ static void izb_disk_basis(float3 axis, float3* tangent, float3* bitangent) {
 
 // Caster records, cluster by cluster in lanes (structure of arrays): field f of triangle t at float
 // (16 (t / IZB_CLUSTER) + f) IZB_CLUSTER + t % IZB_CLUSTER, so that a sample tests a cluster's IZB_CLUSTER casters at
-// once in float8 vectors (izb_soft_lanes). Fields: its bounding ball (IZB_FIELD_BALL: the centroid m, the farthest
+// once in float8 vectors (izb_soft_cull). Fields: its bounding ball (IZB_FIELD_BALL: the centroid m, the farthest
 // vertex's distance widened by 1e-3 against rounding) for the cone test, its vertices (IZB_FIELD_A, _B, _C) and its
 // plane's unit normal n (IZB_FIELD_NORMAL: zero for a degenerate triangle; the plane is n . p = n . m). The last
 // cluster's slots past the triangles get a NaN ball, which no cone test passes.
 #if IZB_CLUSTER != 8
-#error "izb_soft_lanes tests a cluster's casters in float8 lanes"
+#error "izb_soft_cull tests a cluster's casters in float8 lanes"
 #endif
 #define IZB_FIELD_BALL 0
 #define IZB_FIELD_A 4
@@ -458,7 +458,7 @@ static bool izb_soft_listed(const IzbFrame* f, __constant const LightViewGpu* lv
 }
 
 // The union of cluster `k`'s casters (izb_caster, from their records) with a triangle count: triangles that hide
-// nothing (a repeated vertex, izb_soft_lanes) and the last cluster's empty slots are left out of it.
+// nothing (a repeated vertex, izb_soft_project) and the last cluster's empty slots are left out of it.
 static IzbCaster izb_cluster_caster(__constant const LightViewGpu* lv, __global const float* casters, uint k,
                                     int* members) {
   IzbCaster u = {(float2)(INFINITY), (float2)(-INFINITY), INFINITY, 0};

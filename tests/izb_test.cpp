@@ -568,7 +568,7 @@ TEST(IzbPattern, BitmaskTablesAreConservative) {
         const uint32_t key = static_cast<uint32_t>(rng());
         const double a = angle(rng), d = offset(rng);
         const glm::dvec2 normal(std::cos(a), std::sin(a));
-        // The lookup of kernels/izb.cl izb_edge_masks, the edge turned back by the key's rotation.
+        // The lookup of kernels/izb.cl izb_edge_tables, the edge turned back by the key's rotation.
         const glm::vec2 cs = pattern.rotations()[izb_rotation_of(key)];
         const glm::vec2 e(normal);
         const int bin = izb_mask_angle_bin(cs.x * e.x + cs.y * e.y, cs.x * e.y - cs.y * e.x);

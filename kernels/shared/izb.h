@@ -124,6 +124,7 @@ static inline float izb_jitter(uint j, uint axis) {
 
 // The angle bin of a line normal (x, y) in the masks: IZB_MASK_ANGLES bins uniform in its "diamond angle" (a
 // monotonic stand-in for the polar angle in [0, 4), one division instead of an arc tangent), 0 for the zero vector.
+// kernels/izb.cl izb_mask_angle_bins computes the same, lane by lane.
 static inline int izb_mask_angle_bin(float x, float y) {
   const float ax = x < 0.0f ? -x : x, ay = y < 0.0f ? -y : y, sum = ax + ay;
   if (!(sum > 0.0f)) return 0;
