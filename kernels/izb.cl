@@ -365,31 +365,30 @@ static float3 izb_record_point(__global const float* record, int field, int j) {
                   record[(field + 2) * IZB_CLUSTER + j]);
 }
 
-// Slot t's ball (izb_soft_casters).
-static float4 izb_caster_ball(__global const float* casters, uint t) {
-  __global const float* record = casters + (size_t)(t / IZB_CLUSTER) * IZB_FIELDS * IZB_CLUSTER;
-  return (float4)(izb_record_point(record, IZB_FIELD_BALL, (int)(t % IZB_CLUSTER)),
-                  record[3 * IZB_CLUSTER + t % IZB_CLUSTER]);
+// Lane j's ball (izb_soft_casters).
+static float4 izb_record_ball(__global const float* record, int j) {
+  return (float4)(izb_record_point(record, IZB_FIELD_BALL, j), record[3 * IZB_CLUSTER + j]);
 }
 
 // clusters[k]: a ball holding the balls of casters k IZB_CLUSTER .. (k + 1) IZB_CLUSTER - 1 (after izb_soft_casters):
 // their centroids' mean, the farthest of their balls' far sides widened by 1e-3. A cone that misses it misses them all.
-// Balls that are not finite are left out: the cone test never passes them (NaN compares false), so their casters are
-// skipped as they would be alone; a cluster of none gets a NaN ball, skipped the same way.
+// Balls that are not finite are left out (the last cluster's empty slots among them): the cone test never passes them
+// (NaN compares false), so their casters are skipped as they would be alone; a cluster of none gets a NaN ball, skipped
+// the same way.
 __kernel void izb_soft_clusters(__global const float* casters, uint triangleCount, __global float4* clusters) {
   const uint k = get_global_id(0);
   if (k >= izb_cluster_count(triangleCount)) return;
-  const uint begin = k * IZB_CLUSTER, end = izb_cluster_end(k, triangleCount);
+  __global const float* record = casters + (size_t)k * IZB_FIELDS * IZB_CLUSTER;
   float3 centre = (float3)(0.0f);
   int finite = 0;
-  for (uint t = begin; t < end; ++t) {
-    const float4 ball = izb_caster_ball(casters, t);
+  for (int j = 0; j < IZB_CLUSTER; ++j) {
+    const float4 ball = izb_record_ball(record, j);
     if (all(isfinite(ball))) centre += ball.xyz, ++finite;
   }
   centre /= (float)finite;
   float radius = finite > 0 ? 0.0f : NAN;
-  for (uint t = begin; t < end; ++t) {
-    const float4 ball = izb_caster_ball(casters, t);
+  for (int j = 0; j < IZB_CLUSTER; ++j) {
+    const float4 ball = izb_record_ball(record, j);
     if (all(isfinite(ball))) radius = fmax(radius, length(ball.xyz - centre) + ball.w);
   }
   clusters[k] = (float4)(centre, 1.001f * radius);
@@ -936,31 +935,26 @@ __kernel void izb_soft_test(__global const uint* sorted, __global const uint* ce
   float vertex[9][IZB_CLUSTER];
   uint casterOf[IZB_CLUSTER];
   int pending = 0;
-  for (uint e = begin; blocked < n; ++e) {
-    const bool last = e == end;
-    if (!last) {
-      if (blocked != coned) cone = izb_unhidden_cone(&plane, mask, in.words, planePoints, in.cs), coned = blocked;
-      const uint k = listEntries[e];
-      if (!izb_may_block(&cone, hard.origin, clusters[k])) continue;
-      __global const float* record = casters + (size_t)k * IZB_FIELDS * IZB_CLUSTER;
-      for (uint kept = izb_soft_cull(&f, hard.origin, &cone, record); kept != 0u; kept &= kept - 1u) {
-        const int j = (int)(31u - clz(kept & (0u - kept)));
-        for (int c = 0; c < 9; ++c) vertex[c][pending] = record[(IZB_FIELD_A + c) * IZB_CLUSTER + j];
-        casterOf[pending] = order[k * IZB_CLUSTER + (uint)j];
-        if (++pending < IZB_CLUSTER) continue;
-        const IzbLanes lanes = izb_soft_project(&plane, vertex, (1u << IZB_CLUSTER) - 1u, in.cs, in.words);
-        izb_soft_cover(&in, &lanes, casterOf, n, mask, &blocked);
-        pending = 0;
-      }
-      continue;
-    }
-    if (pending > 0) {
-      for (int l = pending; l < IZB_CLUSTER; ++l)  // the lanes left empty hold a point, which hides none
-        for (int c = 0; c < 9; ++c) vertex[c][l] = 0.0f;
-      const IzbLanes lanes = izb_soft_project(&plane, vertex, (1u << pending) - 1u, in.cs, in.words);
+  for (uint e = begin; e < end && blocked < n; ++e) {
+    if (blocked != coned) cone = izb_unhidden_cone(&plane, mask, in.words, planePoints, in.cs), coned = blocked;
+    const uint k = listEntries[e];
+    if (!izb_may_block(&cone, hard.origin, clusters[k])) continue;
+    __global const float* record = casters + (size_t)k * IZB_FIELDS * IZB_CLUSTER;
+    for (uint kept = izb_soft_cull(&f, hard.origin, &cone, record); kept != 0u; kept &= kept - 1u) {
+      const int j = (int)(31u - clz(kept & (0u - kept)));
+      for (int c = 0; c < 9; ++c) vertex[c][pending] = record[(IZB_FIELD_A + c) * IZB_CLUSTER + j];
+      casterOf[pending] = order[k * IZB_CLUSTER + (uint)j];
+      if (++pending < IZB_CLUSTER) continue;
+      const IzbLanes lanes = izb_soft_project(&plane, vertex, (1u << IZB_CLUSTER) - 1u, in.cs, in.words);
       izb_soft_cover(&in, &lanes, casterOf, n, mask, &blocked);
+      pending = 0;
     }
-    break;
+  }
+  if (pending > 0 && blocked < n) {              // the last, partial batch
+    for (int l = pending; l < IZB_CLUSTER; ++l)  // the lanes left empty hold a point, which hides none
+      for (int c = 0; c < 9; ++c) vertex[c][l] = 0.0f;
+    const IzbLanes lanes = izb_soft_project(&plane, vertex, (1u << pending) - 1u, in.cs, in.words);
+    izb_soft_cover(&in, &lanes, casterOf, n, mask, &blocked);
   }
   if (blocked > 0) atomic_add(&occluded[pixel], blocked);
 }

@@ -528,9 +528,6 @@ TEST_F(Izb, SoftRefusesPatternSizesThatAreNoSquare) {
   }
 }
 
-// The pattern's bitmask tables against the points themselves: for random edges (normal angle, offset) across the
-// light's plane, every point within the margin of the inner side is in the "may" mask of the edge's bin, and every
-// point of the "certain" mask lies inside by more than the margin; for disk and sun points, turned patterns too.
 // The CPU work-group spread (IzbFrame::spread) is a permutation of the groups for every count, and deals each of the
 // runtime's runs of consecutive groups (PoCL's: up to 512) blocks from the whole range, so a dense prefix is shared.
 TEST(IzbConstants, SpreadStridePermutesTheGroupsAndSharesAPrefix) {
@@ -551,6 +548,9 @@ TEST(IzbConstants, SpreadStridePermutesTheGroupsAndSharesAPrefix) {
   }
 }
 
+// The pattern's bitmask tables against the points themselves: for random edges (normal angle, offset) across the
+// light's plane, every point within the margin of the inner side is in the "may" mask of the edge's bin, and every
+// point of the "certain" mask lies inside by more than the margin; for disk and sun points, turned patterns too.
 TEST(IzbPattern, BitmaskTablesAreConservative) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> angle(-3.14159265358979, 3.14159265358979), offset(-1.2, 1.2);

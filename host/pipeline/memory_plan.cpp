@@ -41,9 +41,8 @@ double param(const PlannedLight& light, const char* name, double fallback) {
 // since the plan does not see its radius) with the light pattern's bitmask tables (at most 1 MiB), 68 bytes per
 // triangle slot, the triangles padded to whole clusters of IZB_CLUSTER (each caster's record: ball, vertices, plane;
 // and its triangle), 16 per cluster (its ball), and each pass 8 bytes per sample (cell, sorted index) of at most
-// --izb-chunk samples. The casters' entries (in the hard case the
-// rasterizer's tile lists, under an area light izb's own) are grown to what a pass asks for, as the rasterizer's queues
-// are. The cube faces of a point light reuse them.
+// --izb-chunk samples. The casters' entries (in the hard case the rasterizer's tile lists, under an area light izb's
+// own) are grown to what a pass asks for, as the rasterizer's queues are. The cube faces of a point light reuse them.
 MemoryStage izbGrid(const PlannedLight& light, size_t index, uint64_t pixels, uint64_t triangles) {
   MemoryStage stage{fmt::format("light {} ({}): grid and samples", index, light.technique->name)};
   const auto cellsPerSide = static_cast<uint64_t>((param(light, "map-size", 8) + 7) / 8);

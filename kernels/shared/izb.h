@@ -93,13 +93,8 @@ static inline uint izb_hash(uint x) {
 // The rotation of pattern key `key` (a pixel, or a pixel's sub-pixel sample).
 static inline uint izb_rotation_of(uint key) { return izb_hash(key) >> 24; }
 
-// Clusters of IZB_CLUSTER consecutive casters (izb_soft_lists' unit): how many `triangles` make, and the end (one past
-// the last caster) of cluster k.
+// Clusters of IZB_CLUSTER casters (izb_soft_lists' unit, the last one padded): how many `triangles` make.
 static inline uint izb_cluster_count(uint triangles) { return (triangles + IZB_CLUSTER - 1) / IZB_CLUSTER; }
-static inline uint izb_cluster_end(uint k, uint triangles) {
-  const uint end = (k + 1u) * IZB_CLUSTER;
-  return end < triangles ? end : triangles;
-}
 
 // IzbFrame::spread on a CPU device for `groups` work-groups: the odd stride nearest groups / golden ratio that is
 // coprime to it, so that g -> g stride mod groups is a permutation whose runs of consecutive g reach the whole range.
