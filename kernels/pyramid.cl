@@ -165,6 +165,64 @@ inline void pyramid_batch(__global const PyramidInput* src, __global PyramidStor
   }
 }
 
+#if PYRAMID_MINMAX && PYRAMID_FROM_DEPTH != 1
+// The rows schedule of the levels-only min-max pyramid (CPU devices; host/stages/pyramid.h PyramidSchedule::Rows):
+// one level per launch, a work-item per PYRAMID_ROW_TEXELS destination texels of a row, its footprint's source rows
+// read as explicit vectors (PoCL vectorizes neither the batched kernel's per-texel footprint loops nor across
+// work-items that loop). Min-max is exact in any order: the result equals the batched schedule's bit for bit.
+#define PYRAMID_ROW_TEXELS 8
+
+// (min, max) of the 8 destination texels of one source row whose footprints start at `row` (2 source texels each,
+// and a third, the next pair's first, where the source width is odd).
+#if PYRAMID_FROM_DEPTH == 2
+inline void pyramid_row_range(__global const float* row, int odd, float8* lo, float8* hi) {
+  const float16 a = vload16(0, row);
+  const float16 v = select((float16)(INFINITY), a, isfinite(a));  // pyramid_far_range: background the farthest
+  float8 mn = fmin(v.even, v.odd), mx = fmax(v.even, v.odd);
+  if (odd) {
+    const float next = pyramid_far_range(row[16]).x;
+    const float8 e = v.even, third = (float8)(e.s1234, e.s567, next);
+    mn = fmin(mn, third), mx = fmax(mx, third);
+  }
+  *lo = fmin(*lo, mn), *hi = fmax(*hi, mx);
+}
+#else
+inline void pyramid_row_range(__global const float2* row, int odd, float8* lo, float8* hi) {
+  const float16 a = vload16(0, (__global const float*)row), b = vload16(1, (__global const float*)row);
+  const float16 mins = (float16)(a.even, b.even), maxs = (float16)(a.odd, b.odd);  // of the 16 source texels
+  float8 mn = fmin(mins.even, mins.odd), mx = fmax(maxs.even, maxs.odd);
+  if (odd) {
+    const float2 next = row[16];
+    const float8 lo3 = mins.even, hi3 = maxs.even;
+    mn = fmin(mn, (float8)(lo3.s1234, lo3.s567, next.x)), mx = fmax(mx, (float8)(hi3.s1234, hi3.s567, next.y));
+  }
+  *lo = fmin(*lo, mn), *hi = fmax(*hi, mx);
+}
+#endif
+
+__kernel void pyramid_minmax_rows(__global const PyramidInput* src, PyramidLevel s, __global float2* dst,
+                                  PyramidLevel d) {
+  const uint x0 = get_global_id(0) * PYRAMID_ROW_TEXELS, y = get_global_id(1);
+  if (x0 >= d.width || y >= d.height) return;
+  src += s.offset;
+  __global float2* out = dst + d.offset + (size_t)y * d.width;
+  int firstRow;
+  float w[3];
+  const int rows = pyramid_taps(y, s.height, d.height, &firstRow, w);
+  if (s.width > 1 && x0 + PYRAMID_ROW_TEXELS <= d.width) {  // the footprints start at 2 x0 and lie in the row
+    float8 lo = (float8)(INFINITY), hi = (float8)(-INFINITY);
+    for (int j = 0; j < rows; ++j)
+      pyramid_row_range(src + (size_t)(firstRow + j) * s.width + 2 * x0, s.width & 1, &lo, &hi);
+    float16 both;
+    both.even = lo, both.odd = hi;
+    vstore16(both, 0, (__global float*)(out + x0));
+    return;
+  }
+  for (uint x = x0; x < min(x0 + PYRAMID_ROW_TEXELS, d.width); ++x)  // the row's last texels; a 1-wide source
+    out[x] = pyramid_reduce_global(src, s.width, pyramid_footprint(x, y, s, d));
+}
+#endif
+
 #if PYRAMID_MINMAX && PYRAMID_FROM_DEPTH
 #if PYRAMID_FROM_DEPTH == 1
 __kernel void pyramid_minmax_base(__global const float* depth, __global float2* out, PyramidLevel d) {

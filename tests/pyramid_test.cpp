@@ -1,13 +1,16 @@
 // Pyramid stage (the default, batched schedule) against the double reference: moment mip chains (1/2/4
 // channels, odd, prime, thin and 1x1 sizes; every level keeps the mean) and the min-max depth pyramid with
-// background and NaN texels. The batched schedule against the per-level one: pyramid_schedule_test.cpp.
+// background and NaN texels; the levels-only min-max pyramid's rows schedule against its batched one. The batched
+// schedule against the per-level one: pyramid_schedule_test.cpp.
 #include "host/stages/pyramid.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -49,6 +52,13 @@ TEST_F(PyramidLogMips, AverageTheExponentials) {
   EXPECT_THROW(computeLogMomentMips(ctx(), two, ImageShape{1, 1, 2}, mips, 80.0f), std::invalid_argument);
 }
 
+// The rows schedule builds levels-only min-max pyramids (LevelsRowsEqualBatched), not moment mips.
+TEST_F(PyramidLogMips, RowsScheduleIsForMinMaxLevelsOnly) {
+  Buffer<float> base(ctx(), 16), mips(ctx(), pyramidLayout(4, 4, 1).texels);
+  EXPECT_THROW(computeMomentMips(ctx(), base, ImageShape{4, 4, 1}, mips, {PyramidSchedule::Rows}),
+               std::invalid_argument);
+}
+
 INSTANTIATE_TEST_SUITE_P(Pyramid, PyramidMips, ::testing::ValuesIn(ref::momentMipCases()), caseName);
 
 class PyramidMinMax : public test::ClTestWithParam<Case> {};
@@ -68,6 +78,31 @@ TEST_P(PyramidMinMax, LevelsAboveTheMapMatchTheReference) {
   Buffer<cl_float2> out(ctx(), std::max<size_t>(layout.texels, 1));
   EXPECT_THROW(computeMinMaxLevels(ctx(), in, c.width, c.height, out, {PyramidSchedule::PerLevel}),
                std::invalid_argument);
+}
+
+// The rows schedule (CPU devices' default) and the batched one (GPUs') give the same levels and top bit for bit, on
+// every case; the rows schedule builds nothing but levels-only min-max pyramids.
+TEST_P(PyramidMinMax, LevelsRowsEqualBatched) {
+  const Case c = GetParam();
+  const std::vector<float> base = ref::randomDepthMap(c.width, c.height, c.width + 7 * c.height, c.channels == 0);
+  const PyramidLayout layout = pyramidLayout(c.width, c.height, 1);
+  Buffer<float> in(ctx(), std::span<const float>(base));
+  Buffer<cl_float2> rows(ctx(), std::max<size_t>(layout.texels, 1)), batched(ctx(), rows.size());
+  rows.fill(ctx(), {{test::kPoison, test::kPoison}});
+  batched.fill(ctx(), {{-test::kPoison, -test::kPoison}});
+  const cl_float2 rowsTop = computeMinMaxLevels(ctx(), in, c.width, c.height, rows, {PyramidSchedule::Rows});
+  const cl_float2 batchedTop = computeMinMaxLevels(ctx(), in, c.width, c.height, batched, {PyramidSchedule::Batched});
+  EXPECT_EQ(std::memcmp(&rowsTop, &batchedTop, sizeof(cl_float2)), 0);
+  const std::vector<cl_float2> a = rows.download(ctx()), b = batched.download(ctx());
+  for (size_t i = 0; i < layout.texels; ++i)
+    ASSERT_EQ(std::memcmp(&a[i], &b[i], sizeof(cl_float2)), 0)
+        << "texel " << i << ": rows (" << a[i].s[0] << ", " << a[i].s[1] << "), batched (" << b[i].s[0] << ", "
+        << b[i].s[1] << ")";
+  if (c.width * c.height > 1) {  // a 1x1 map builds nothing
+    Buffer<cl_float2> full(ctx(), pyramidLayout(c.width, c.height, 0).texels);
+    EXPECT_THROW(computeMinMaxPyramid(ctx(), in, c.width, c.height, full, {PyramidSchedule::Rows}),
+                 std::invalid_argument);
+  }
 }
 
 // channels == 0 marks an all-background map.

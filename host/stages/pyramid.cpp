@@ -19,6 +19,9 @@ namespace penumbra {
 namespace {
 
 const Range kLevelGroup(16, 8);  // per-level kernels
+// The rows schedule (pyramid_minmax_rows): a work-item per kRowTexels texels of a row (PYRAMID_ROW_TEXELS), up to
+// kRowGroup of a row's work-items per group (PoCL runs them one after another: the source rows stream through).
+constexpr uint32_t kRowTexels = 8, kRowGroup = 32;
 
 // Batched schedule per device type; a row counts only after tests/pyramid_schedule_test.cpp passes with it.
 struct PyramidTuning {
@@ -42,14 +45,20 @@ std::string describePyramidTuning(const DeviceInfo& device) {
   const PyramidTuning& t = tuning(device);
   std::string tiles;
   for (uint32_t edge : t.tiles) tiles += fmt::format("{}{}", tiles.empty() ? "" : "/", edge);
-  return fmt::format("{} (tiles {}, {} KiB per group, {}x{} work-items, {} groups per compute unit)",
+  return fmt::format("{} (tiles {}, {} KiB per group, {}x{} work-items, {} groups per compute unit; min-max levels {})",
                      device.cpuLayouts() ? "cpu" : "gpu", tiles, t.localBytes / 1024, t.groupX, t.groupY,
-                     t.groupsPerUnit);
+                     t.groupsPerUnit, device.cpuLayouts() ? "by rows" : "batched");
 }
 
 namespace {
 
 uint64_t texels(const PyramidLevel& l) { return uint64_t{l.width} * l.height; }
+
+void checkNotRows(const PyramidConfig& config, const char* what) {
+  if (config.schedule == PyramidSchedule::Rows)
+    throw std::invalid_argument(
+        fmt::format("pyramid: the rows schedule builds levels-only min-max pyramids, not {}", what));
+}
 
 // Halo of every level of a pass along one axis (PyramidBatch::haloX): level j + 1 of a tile reads level j
 // up to twice its end, plus one texel where level j is odd.
@@ -207,6 +216,7 @@ std::vector<cl::Event> momentMips(Context& ctx, const Buffer<T>& base, const Ima
   std::vector<PyramidLevel> chain{{0, shape.width, shape.height, 0}};  // level 0 in `base`, the rest in `mips`
   chain.insert(chain.end(), layout.levels.begin(), layout.levels.end());
   std::vector<cl::Event> events;
+  checkNotRows(config, "moment mips");
   if (config.schedule == PyramidSchedule::PerLevel) {
     Kernel down(ctx, "kernels/pyramid.cl", "pyramid_downsample", "pyramid", options);
     for (size_t i = 1; i < chain.size(); ++i)  // floor: read the level above and write this one
@@ -270,6 +280,7 @@ std::vector<cl::Event> computeMinMaxPyramid(Context& ctx, const Buffer<float>& d
   checkBufferSize(depth.size(), size_t(width) * height, "pyramid", "depth");
   checkBufferSize(out.size(), layout.texels, "pyramid", "min-max pyramid");
   const std::vector<PyramidLevel>& chain = layout.levels;
+  checkNotRows(config, "min-max pyramids with level 0");
   if (chain.empty()) return {};
   const std::string fromDepth = "-DPYRAMID_MINMAX=1 -DPYRAMID_FROM_DEPTH=1", fromLevels = "-DPYRAMID_MINMAX=1";
   const auto texelBytes = uint32_t(sizeof(cl_float2));
@@ -310,14 +321,32 @@ cl_float2 computeMinMaxLevels(Context& ctx, const Buffer<float>& depth, uint32_t
   std::vector<PyramidLevel> chain{{0, width, height, 0}};  // level 0 in `depth`, the rest in `out`
   chain.insert(chain.end(), layout.levels.begin(), layout.levels.end());
   const auto texelBytes = uint32_t(sizeof(cl_float2));
-  const std::vector<PyramidPass> passes = plan(ctx, width, height, texelBytes, config);
-  Kernel first(ctx, "kernels/pyramid.cl", "pyramid_minmax_batch", "pyramid",
-               "-DPYRAMID_MINMAX=1 -DPYRAMID_FROM_DEPTH=2");
-  std::optional<Kernel> rest;
-  if (passes.size() > 1)
-    rest.emplace(ctx, "kernels/pyramid.cl", "pyramid_minmax_batch", "pyramid", "-DPYRAMID_MINMAX=1");
-  recordPasses(ctx, first, rest ? *rest : first, depth, out, chain, passes, uint32_t(sizeof(float)), texelBytes, false,
-               config);
+  const std::string fromDepth = "-DPYRAMID_MINMAX=1 -DPYRAMID_FROM_DEPTH=2", fromLevels = "-DPYRAMID_MINMAX=1";
+  const bool rows =
+      config.schedule == PyramidSchedule::Rows || (config.schedule == PyramidSchedule::Auto && ctx.info().cpuLayouts());
+  if (rows) {
+    Kernel first(ctx, "kernels/pyramid.cl", "pyramid_minmax_rows", "pyramid", fromDepth);
+    std::optional<Kernel> rest;
+    if (chain.size() > 2) rest.emplace(ctx, "kernels/pyramid.cl", "pyramid_minmax_rows", "pyramid", fromLevels);
+    for (size_t i = 1; i < chain.size(); ++i) {  // floor: read the level above and write this one
+      Kernel& kernel = i == 1 ? first : *rest;
+      if (i == 1)
+        kernel.args(depth, chain[0], out, chain[1]);
+      else
+        kernel.args(out, chain[i - 1], out, chain[i]);
+      const uint64_t bytes =
+          texels(chain[i - 1]) * (i == 1 ? sizeof(float) : texelBytes) + texels(chain[i]) * texelBytes;
+      const uint32_t items = (chain[i].width + kRowTexels - 1) / kRowTexels;
+      kernel.moves(bytes).launch(Range(items, chain[i].height), Range(std::min(kRowGroup, std::bit_ceil(items)), 1));
+    }
+  } else {
+    const std::vector<PyramidPass> passes = plan(ctx, width, height, texelBytes, config);
+    Kernel first(ctx, "kernels/pyramid.cl", "pyramid_minmax_batch", "pyramid", fromDepth);
+    std::optional<Kernel> rest;
+    if (passes.size() > 1) rest.emplace(ctx, "kernels/pyramid.cl", "pyramid_minmax_batch", "pyramid", fromLevels);
+    recordPasses(ctx, first, rest ? *rest : first, depth, out, chain, passes, uint32_t(sizeof(float)), texelBytes,
+                 false, config);
+  }
   return out.download(ctx, layout.levels.back().offset, 1)[0];
 }
 

@@ -42,12 +42,15 @@ struct PyramidLayout {
 };
 PyramidLayout pyramidLayout(uint32_t width, uint32_t height, uint32_t firstLevel);
 
-// Batched on every device (on PoCL too: 2048^2 and 4096^2 moment mips ~15% faster, min-max level); PerLevel:
-// one launch per level, the reference schedule the batches are tested against bit for bit.
-enum class PyramidSchedule { Batched, PerLevel };
+// Batched: several levels per dispatch (moment mips ~15% faster than PerLevel on PoCL too); PerLevel: one launch
+// per level, the reference schedule the batches are tested against bit for bit; Rows (computeMinMaxLevels only): one
+// launch per level, a work-item per 8 texels of a row read as explicit vectors, which CPUs vectorize (PoCL, 2-core
+// EPYC: 4096^2 levels 17.0 -> 4.0 ms, 1.8x the bandwidth floor; docs/performance.md); Auto: Rows for
+// computeMinMaxLevels on CPU devices (DeviceInfo::cpuLayouts), else Batched.
+enum class PyramidSchedule { Auto, Batched, PerLevel, Rows };
 
 struct PyramidConfig {
-  PyramidSchedule schedule = PyramidSchedule::Batched;
+  PyramidSchedule schedule = PyramidSchedule::Auto;
   // 0 everywhere: the device's row (pyramid.cpp). tile: a work-group's tile edge in every pass; localBytes:
   // the local memory a work-group may use (at most the device's); groupX x groupY: work-items per group.
   uint32_t tile = 0;

@@ -218,6 +218,17 @@ void registerAll(Setup& s) {
       auto out = std::make_shared<Buffer<cl_float2>>(s.ctx, pyramidLayout(n, n, 0).texels);
       return std::function<void()>([&s, depth, out, n] { computeMinMaxPyramid(s.ctx, *depth, n, n, *out); });
     });
+    // Levels 1.. alone, what pcss and vssm build (level 0 stays the map): the device's default schedule (rows on
+    // CPUs) beside the batched one.
+    for (const auto& [name, schedule] : {std::pair{"pyramid_minmax_levels", PyramidSchedule::Auto},
+                                         std::pair{"pyramid_minmax_levels_batched", PyramidSchedule::Batched}})
+      add(s, name, size, texels * (4 + 8.0 / 3), [&s, schedule](uint32_t n) {
+        auto depth =
+            std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(ref::randomUnitImage(size_t(n) * n, 5)));
+        auto out = std::make_shared<Buffer<cl_float2>>(s.ctx, pyramidLayout(n, n, 1).texels);
+        return std::function<void()>(
+            [&s, depth, out, n, schedule] { computeMinMaxLevels(s.ctx, *depth, n, n, *out, {schedule}); });
+      });
     add(s, "reduce_lloyd_k4", size, texels * 8, [&s](uint32_t n) {
       const size_t count = size_t(n) * n;
       auto x = std::make_shared<Buffer<float>>(s.ctx, std::span<const float>(ref::randomUnitImage(count, 6)));
