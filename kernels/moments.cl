@@ -116,6 +116,32 @@ __kernel void moments_vsm_reduced(__global const float* depth, __global float2* 
   out[(size_t)y * outWidth + x] = sum / (float)(factor * factor);
 }
 
+// The same for 2 x 2 blocks on CPU devices (host/stages/moments.cpp): a work-item per 8 blocks of a row of blocks, the
+// two depth rows under them read as float16s (moments_vsm_reduced's float2 loads leave PoCL scalar code: 4096^2 in
+// 2 x 2 blocks, default.json's vssm map at 640x360, 9.0 -> 2.9 ms, the bandwidth floor). The same sums in the same
+// order as moments_vsm_reduced's, uncontracted as its dot(): the same moments bit for bit.
+__kernel void moments_vsm_reduced2_rows(__global const float* depth, __global float2* out, MomentsParams p) {
+#pragma OPENCL FP_CONTRACT OFF
+  const uint x0 = get_global_id(0) * 8u, y = get_global_id(1);
+  const uint outWidth = (p.width + 1u) / 2u, outHeight = (p.height + 1u) / 2u;
+  if (x0 >= outWidth || y >= outHeight) return;
+  __global float2* row = out + (size_t)y * outWidth;
+  if ((x0 + 8u) * 2u <= p.width && (y + 1u) * 2u <= p.height) {
+    float8 mean = (float8)(0.0f), square = (float8)(0.0f);
+    for (uint j = 0; j < 2u; ++j) {
+      const float16 d = vload16(0, depth + (size_t)(2u * y + j) * p.width + 2u * x0);
+      const float16 z = select((float16)(1.0f), clamp((d - p.depthNear) * p.depthInvRange, 0.0f, 1.0f), isfinite(d));
+      mean += z.even + z.odd, square += z.even * z.even + z.odd * z.odd;
+    }
+    float16 both;
+    both.even = mean / 4.0f, both.odd = square / 4.0f;
+    vstore16(both, 0, (__global float*)(row + x0));
+    return;
+  }
+  for (uint x = x0; x < min(x0 + 8u, outWidth); ++x)  // the row's last blocks, and blocks that reach past the map
+    row[x] = moments_block_sum(depth, p, MOMENTS_KIND_VSM, 2u, x, y).xy / 4.0f;
+}
+
 MOMENTS_REDUCED(moments_esm_reduced, MOMENTS_KIND_ESM, 1, .x)
 MOMENTS_REDUCED(moments_evsm2_reduced, MOMENTS_KIND_EVSM2, 2, .xy)
 MOMENTS_REDUCED(moments_evsm4_reduced, MOMENTS_KIND_EVSM4, 4, )

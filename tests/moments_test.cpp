@@ -8,7 +8,9 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <span>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "host/cl/buffer.h"
@@ -51,6 +53,38 @@ TEST_P(MomentsReducedTest, MatchesBlockMeansOfTheReference) {
 std::string reducedName(const ::testing::TestParamInfo<ReducedCase>& info) { return info.param.name(); }
 
 INSTANTIATE_TEST_SUITE_P(Moments, MomentsReducedTest, ::testing::ValuesIn(ref::momentsReducedCases()), reducedName);
+
+// VSM's 2 x 2 blocks on CPU devices (moments_vsm_reduced2_rows, 8 blocks per work-item) against the per-block kernel
+// the GPU layouts run: bit for bit on a CPU device, background and NaN texels included, on sizes with blocks past the
+// map's edge and rows shorter than 8 blocks.
+class MomentsReducedLayouts : public test::ClTest {};
+
+TEST_F(MomentsReducedLayouts, VsmRowsOfBlocksEqualThePerBlockKernel) {
+  Context* cpu = &ctx();
+  auto gpu = test::smallGpuContext(ctx(), ctx().info().localMemBytes);
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> uniform(1.0f, 9.0f);
+  for (const auto& [width, height] :
+       {std::pair<uint32_t, uint32_t>{64, 32}, {97, 61}, {130, 3}, {2, 2}, {1, 1}, {33, 18}}) {
+    std::vector<float> depth(size_t(width) * height);
+    for (size_t i = 0; i < depth.size(); ++i)
+      depth[i] = i % 11 == 3 ? std::numeric_limits<float>::infinity() : i % 13 == 5 ? std::nanf("") : uniform(rng);
+    MomentsConfig config = ref::momentsCaseConfig(MomentKind::Vsm);
+    config.depthNear = 2.0f, config.depthFar = 8.0f;  // depths outside clamp
+    const size_t blocks = size_t(reducedExtent(width, 2)) * reducedExtent(height, 2);
+    std::vector<float> results[2];
+    for (int layout = 0; layout < 2; ++layout) {
+      Context& ctx = layout == 0 ? *cpu : *gpu;
+      Buffer<float> in(ctx, std::span<const float>(depth)), out(ctx, blocks * 2);
+      out.fill(ctx, test::kPoison);
+      computeMomentsReduced(ctx, in, width, height, config, 2, out);
+      results[layout] = out.download(ctx);
+    }
+    if (cpu->info().isCpu()) {
+      EXPECT_EQ(results[0], results[1]) << width << "x" << height;
+    }
+  }
+}
 
 TEST(MomentsConfig, ClampsExponentsToStorage) {
   EXPECT_EQ(evsmClampExponent(100.0f, MomentStorage::Float32), 42.0f);

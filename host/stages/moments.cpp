@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <stdexcept>
 
@@ -186,9 +187,16 @@ cl::Event computeMomentsReduced(Context& ctx, const Buffer<float>& depth, uint32
   const size_t texels = size_t(width) * height, outTexels = size_t(outWidth) * outHeight;
   checkBufferSize(depth.size(), texels, "moments", "depth");
   checkBufferSize(out.size(), outTexels * momentChannels(config.kind), "moments", "output");
-  Kernel kernel(ctx, "kernels/moments.cl", fmt::format("{}_reduced", entryPoint(config.kind)), "moments");
   // Floor: read each depth texel once, write each block's moments once.
   const uint64_t bytes = texels * sizeof(float) + outTexels * momentChannels(config.kind) * sizeof(float);
+  if (config.kind == MomentKind::Vsm && factor == 2 && ctx.info().cpuLayouts()) {  // 8 blocks per work-item
+    Kernel rows(ctx, "kernels/moments.cl", "moments_vsm_reduced2_rows", "moments");
+    const uint32_t items = (outWidth + 7) / 8;
+    return rows.args(depth, out, params)
+        .moves(bytes)
+        .launch(Range(items, outHeight), Range(std::min<uint32_t>(32, std::bit_ceil(items)), 1));
+  }
+  Kernel kernel(ctx, "kernels/moments.cl", fmt::format("{}_reduced", entryPoint(config.kind)), "moments");
   return kernel.args(depth, out, params, factor).moves(bytes).launch(Range(outWidth, outHeight), Range(128, 1));
 }
 

@@ -43,6 +43,7 @@ std::vector<MomentsReducedCase> momentsReducedCases() {
   std::vector<MomentsReducedCase> out;
   for (MomentKind kind : {MomentKind::Vsm, MomentKind::Evsm2, MomentKind::Evsm4, MomentKind::Msm, MomentKind::Esm})
     for (auto [w, h, f] : {std::tuple{64u, 32u, 2u},
+                           {97u, 61u, 2u},
                            {97u, 61u, 4u},
                            {97u, 61u, 3u},
                            {1u, 1u, 4u},
