@@ -53,7 +53,9 @@ TEST_F(PyramidLogMips, AverageTheExponentials) {
 }
 
 // The rows schedule builds levels-only min-max pyramids (LevelsRowsEqualBatched), not moment mips.
-TEST_F(PyramidLogMips, RowsScheduleIsForMinMaxLevelsOnly) {
+class PyramidRowsSchedule : public test::ClTest {};
+
+TEST_F(PyramidRowsSchedule, BuildsMinMaxLevelsOnly) {
   Buffer<float> base(ctx(), 16), mips(ctx(), pyramidLayout(4, 4, 1).texels);
   EXPECT_THROW(computeMomentMips(ctx(), base, ImageShape{4, 4, 1}, mips, {PyramidSchedule::Rows}),
                std::invalid_argument);
