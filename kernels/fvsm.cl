@@ -63,11 +63,11 @@ __kernel void fvsm_visibility(__global const float4* position, __global const fl
   __constant const LightViewGpu* lv = views + (leaf - begin);
   const ShadowBias bias = {f.biasConstant, f.biasSlope, f.normalOffset};
   const float3 n = normal[i].xyz;
-  const Receiver r = sc_receiver(lv, p.xyz, n, bias);
+  ReceiverPlane rp;
+  const Receiver r = sc_hard_receiver(f.receiverPlane, position, lv, width, height, i, p.xyz, n, bias, &rp);
   float lit = 1.0f;
   if (r.valid) {
     __global const float* map = atlas + (size_t)leaf * (size_t)lv->width * (size_t)lv->height;
-    const ReceiverPlane rp = sc_receiver_plane_at(f.receiverPlane, position, lv, width, height, i, p.xyz, n, r.texel);
     lit = sc_hard_lit(map, lv, r, rp, f.biasConstant * r.texel);
   }
   visibility[i] = lit;

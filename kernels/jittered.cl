@@ -200,10 +200,9 @@ inline uint jittered_lookup(__global const float4* position, __global const floa
                             int receiverPlane, int idMode, __global const uint* mapIds, __global const uint* objectIds,
                             __global const uint* pixelTriangle, __global const uint* pixelObject, JitterShade s,
                             int pass, float slack, uint i, float4 p, bool record, int2* texel, JitterPixel* px) {
-  float3 n = normal[i].xyz;
-  Receiver r = sc_receiver(lv, p.xyz, n, bias);
+  ReceiverPlane rp;
+  Receiver r = sc_hard_receiver(receiverPlane, position, lv, width, height, i, p.xyz, normal[i].xyz, bias, &rp);
   if (!r.valid) return 0u;
-  ReceiverPlane rp = sc_receiver_plane_at(receiverPlane, position, lv, width, height, i, p.xyz, n, r.texel);
   float2 idUv = lv_project(lv, p.xyz).xy;
   float lit = id_visibility(mapIds, objectIds, lv->width, lv->height, idUv, id_pixel(pixelTriangle, i, idMode),
                             id_pixel(pixelObject, i, idMode), idMode, sc_hard_lit(map, lv, r, rp, bias.base * r.texel));

@@ -22,11 +22,11 @@ __kernel void sm_visibility(__global const float4* position, __global const floa
   }
   ShadowBias bias = {f.biasConstant, f.biasSlope, f.normalOffset};
   float3 n = normal[i].xyz;
-  Receiver r = sc_receiver(lv, p.xyz, n, bias);
+  // The map holds the occluder's depth at the texel centre: compare it with the receiver's own plane there.
+  ReceiverPlane rp;
+  Receiver r = sc_hard_receiver(f.receiverPlane, position, lv, width, height, i, p.xyz, n, bias, &rp);
   float lit = 1.0f;
   if (r.valid) {
-    // The map holds the occluder's depth at the texel centre: compare it with the receiver's own plane there.
-    ReceiverPlane rp = sc_receiver_plane_at(f.receiverPlane, position, lv, width, height, i, p.xyz, n, r.texel);
     lit = id_visibility(mapIds, objectIds, lv->width, lv->height, lv_project(lv, p.xyz).xy,
                         id_pixel(pixelTriangle, i, idMode), id_pixel(pixelObject, i, idMode), idMode,
                         sc_hard_lit(map, lv, r, rp, biasConstant * r.texel));

@@ -62,7 +62,12 @@ inline float sc_depth_slope(__constant const LightViewGpu* lv, float3 position, 
   return isfinite(slope) ? min(slope, SHADOW_MAX_SLOPE) : SHADOW_MAX_SLOPE;
 }
 
-inline Receiver sc_receiver(__constant const LightViewGpu* lv, float3 position, float3 normal, ShadowBias bias) {
+// sc_receiver without its depth slope: bias and biasSlope are left 0 for sc_receiver_sloped to fill in. The hard tests
+// (sm, fvsm, jittered) compare against the receiver's plane wherever it is known and need the slope-scaled bias only
+// where it is not: the slope's four projections are then skipped (default.json at 640x360, alternated A/B runs:
+// sm_visibility 7.3 -> 5.5 ms, fvsm_visibility 8.4 -> 6.2 ms, the same images bit for bit).
+inline Receiver sc_receiver_unsloped(__constant const LightViewGpu* lv, float3 position, float3 normal,
+                                     ShadowBias bias) {
   Receiver r;
   float3 toLight = lv_to_light(lv, position);
   float cosTheta = dot(normal, toLight);
@@ -75,14 +80,28 @@ inline Receiver sc_receiver(__constant const LightViewGpu* lv, float3 position, 
   float offset = SHADOW_NORMAL_OFFSET_SCALED ? sqrt(max(1.0f - cosTheta * cosTheta, 0.0f)) : 1.0f;
   float3 moved = position + normal * (bias.normalOffset * offset * texel);
   float3 p = lv_project(lv, moved);
-  float tanTheta = sc_depth_slope(lv, position, normal, texel);
   r.uv = p.xy;
   r.depth = p.z;
-  r.bias = texel * (bias.base + bias.slope * tanTheta);
-  r.biasSlope = texel * tanTheta;
+  r.bias = 0.0f;
+  r.biasSlope = 0.0f;
   r.texel = texel;
   r.valid = p.z > 0.0f && all(isfinite(p));
   return r;
+}
+
+// The slope-scaled bias of sc_receiver_unsloped's receiver at `position`. sc_depth_slope gives the same slope, bit for
+// bit, for either sign of the normal (its tangent steps and their projections only change sign), so the normal need
+// not be flipped as sc_receiver_unsloped flips it.
+inline Receiver sc_receiver_sloped(__constant const LightViewGpu* lv, Receiver r, float3 position, float3 normal,
+                                   ShadowBias bias) {
+  float tanTheta = sc_depth_slope(lv, position, normal, r.texel);
+  r.bias = r.texel * (bias.base + bias.slope * tanTheta);
+  r.biasSlope = r.texel * tanTheta;
+  return r;
+}
+
+inline Receiver sc_receiver(__constant const LightViewGpu* lv, float3 position, float3 normal, ShadowBias bias) {
+  return sc_receiver_sloped(lv, sc_receiver_unsloped(lv, position, normal, bias), position, normal, bias);
 }
 
 // A G-buffer neighbour counts for the footprint only when it lies near the pixel's tangent plane:
@@ -155,6 +174,17 @@ inline ReceiverPlane sc_receiver_plane_at(int enabled, __global const float4* po
                                           float3 p, float3 n, float texelWorld) {
   ReceiverPlane none = {(float2)(0.0f), 0};
   return enabled ? sc_receiver_plane(sc_footprint(position, lv, width, height, i, p, n), texelWorld) : none;
+}
+
+// The receiver of a hard test (sm, fvsm, jittered) and its plane: sc_receiver with the slope-scaled bias computed
+// only where the plane is unknown, the one case sc_hard_lit reads it. Returns the receiver (valid 0: nothing to test).
+inline Receiver sc_hard_receiver(int receiverPlane, __global const float4* position, __constant const LightViewGpu* lv,
+                                 uint width, uint height, uint i, float3 p, float3 n, ShadowBias bias,
+                                 ReceiverPlane* rp) {
+  Receiver r = sc_receiver_unsloped(lv, p, n, bias);
+  if (!r.valid) return r;
+  *rp = sc_receiver_plane_at(receiverPlane, position, lv, width, height, i, p, n, r.texel);
+  return rp->valid ? r : sc_receiver_sloped(lv, r, p, n, bias);
 }
 
 // Map depth at an integer texel; texels outside the map hold no occluder (+INFINITY).
