@@ -31,13 +31,14 @@ __kernel void pcf_visibility(__global const float4* position, __global const flo
   if (p.w == 0.0f) return;
   ShadowBias bias = {f.biasConstant, f.biasSlope, f.normalOffset};
   float3 n = normal[i].xyz;
-  Receiver r = sc_receiver(lv, p.xyz, n, bias);
+  Receiver r = sc_receiver_unsloped(lv, p.xyz, n, bias);
   if (!r.valid) return;
   // The footprint serves the receiver plane and the adaptive size: measured only when one of them is on.
   Footprint fp = {(float3)(0.0f), (float3)(0.0f)};
   if (f.receiverPlane || s.adaptive) fp = sc_footprint(position, lv, width, height, i, p.xyz, n);
   ReceiverPlane rp = sc_receiver_plane(fp, r.texel);
   if (!f.receiverPlane) rp.valid = 0;
+  if (!rp.valid) r = sc_receiver_sloped(lv, r, p.xyz, n, bias);  // the taps' slope-scaled bias (sc_tap)
   const float planeBias = biasConstant * r.texel;
   const uint ownTriangle = id_pixel(pixelTriangle, i, idMode), ownObject = id_pixel(pixelObject, i, idMode);
   const float2 idUv = lv_project(lv, p.xyz).xy;  // the id lookups' position: no normal offset

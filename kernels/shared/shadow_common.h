@@ -65,7 +65,7 @@ inline float sc_depth_slope(__constant const LightViewGpu* lv, float3 position, 
 // sc_receiver without its depth slope: bias and biasSlope are left 0 for sc_receiver_sloped to fill in. The hard tests
 // (sm, fvsm, jittered) compare against the receiver's plane wherever it is known and need the slope-scaled bias only
 // where it is not: the slope's four projections are then skipped (default.json at 640x360, alternated A/B runs:
-// sm_visibility 7.3 -> 5.5 ms, fvsm_visibility 8.4 -> 6.2 ms, the same images bit for bit).
+// sm_visibility 7.3 -> 5.5 ms, fvsm_visibility 8.4 -> 6.2 ms, the same images bit for bit); pcf's taps likewise.
 inline Receiver sc_receiver_unsloped(__constant const LightViewGpu* lv, float3 position, float3 normal,
                                      ShadowBias bias) {
   Receiver r;
