@@ -82,8 +82,6 @@ __kernel void pcss_visibility(__global const float4* position, __global const fl
   float3 n = normal[i].xyz;
   Receiver r = sc_receiver(lv, p.xyz, n, bias);
   if (!r.valid) return;
-  float angle = rot_angle(i % width, i / width);
-  float2 cs = (float2)(cos(angle), sin(angle));
   // The light disk seen from the receiver covers, at the near plane, the widest region that can hold blockers.
   float search = clamp(lv_penumbra_texels(lv, r.depth, lv->zNear), 0.5f, maxRadius);
   for (int step = 0; s.adaptive && step < PCSS_ADAPTIVE_STEPS; ++step) {
@@ -97,6 +95,9 @@ __kernel void pcss_visibility(__global const float4* position, __global const fl
     }
     search = fmin(search, clamp(lv_penumbra_texels(lv, r.depth, fmax(nearest, lv->zNear)), 0.5f, maxRadius));
   }
+  // The pattern's rotation, once the pyramid has not let the pixel go (most lit pixels leave above without it).
+  const float angle = rot_angle(i % width, i / width);
+  const float2 cs = (float2)(cos(angle), sin(angle));
   int searchSide;
   const float searchCount = pcss_tap_count(s.autoTaps & PCSS_AUTO_SEARCH, searchTaps, PCSS_SEARCH_DENSITY,
                                          PCSS_SEARCH_FEWEST, search, pattern, &searchSide);
