@@ -24,8 +24,9 @@ inline float pssm_split_visibility(__global const float* maps, __global const ui
   if (!r.valid) return 1.0f;
   __global const float* map = maps + (size_t)split * s.mapTexels;
   __global const uint* idMap = idMaps + (size_t)split * s.mapTexels;
-  const float2 idUv = lv_project(lv, p).xy;  // the id lookups' position: no normal offset
-  if (s.radius == 0)                         // hard: the nearest texel, as sm
+  // The id lookups' position (no normal offset), read only with an ID buffer.
+  const float2 idUv = ids.mode == ID_BUFFER_OFF ? (float2)(0.0f) : lv_project(lv, p).xy;
+  if (s.radius == 0)  // hard: the nearest texel, as sm
     return id_visibility(
         idMap, objectIds, lv->width, lv->height, idUv, ids.ownTriangle, ids.ownObject, ids.mode,
         sc_lit(sc_fetch(map, lv->width, lv->height, (int)floor(r.uv.x), (int)floor(r.uv.y)), r.depth - r.bias));
