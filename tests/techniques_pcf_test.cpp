@@ -95,34 +95,49 @@ void expectEdge(const RenderResult& result, float band, const std::string& what)
   EXPECT_EQ(count.wrong, 0) << what;
 }
 
-// --pcss-search adaptive: where the pyramid says nothing in the search region lies in front of the receiver
-// (blocker.Z = -1) the full search finds no blocker either (exactly lit); the early-out takes most lit pixels; and the
-// narrowed region's taps come closer to brute-force PCSS (64 x 64 taps) than the full region's at the same count.
-// --pcss-max-radius auto (the default) is a 32nd of the map's side, at least 64 texels: the same frame as the explicit
-// radius at 512^2 and 1024^2 (64, not 16 or 32), 2048^2 (64, the fixed default before) and 4096^2 (128), under a light
-// large enough that the reach matters (the penumbrae are wider than 32 texels at 1024^2): a smaller reach darkens
-// differently.
-TEST_F(PcfTechniques, PcssMaxRadiusAutoIsA32ndOfTheMapAndAtLeast64) {
+// The widest reach under auto (the default) grows with the map, so that it holds the same width in the scene:
+// --pcss-max-radius is a 32nd of the map's side, at least 64 texels; --pcf-max-radius (pcf's and pssm's auto kernel) a
+// 64th, at least 16. Each renders the same frame as its explicit count at 512^2 .. 4096^2, under a light large enough
+// that the reach matters (the penumbrae are wider than 32 texels at 1024^2): a smaller reach darkens differently.
+TEST_F(PcfTechniques, MaxRadiusAutoGrowsWithTheMap) {
   const Scene scene = test::squareOverPlane();
   Camera camera = test::topDown();
   camera.width = 96, camera.height = 72;
-  const TechniqueInfo& pcss = findTechnique("pcss");
-  EXPECT_TRUE(Params(pcss.params).isAuto("pcss-max-radius"));
   const Light light = parseLight("spot:0,4,0:0,0,0:120:1.5");
-  auto visibility = [&](int size, const char* radius) {
-    Params params(pcss.params);
-    params.set("map-size", std::to_string(size));
-    params.set("pcss-max-radius", radius);
-    Renderer renderer(ctx(), scene);
-    return renderer.render(camera, light, pcss, params).image.require("visibility.Y").data;
+  struct Case {
+    const char *technique, *param;
+    std::vector<std::pair<int, const char*>> sameAs;   // map size, the explicit reach auto equals there
+    std::vector<std::pair<int, const char*>> shorter;  // map size, a shorter reach that differs there
   };
-  for (const auto& [size, radius] : {std::pair{512, "64"}, {1024, "64"}, {2048, "64"}, {4096, "128"}}) {
-    EXPECT_EQ(visibility(size, "auto"), visibility(size, radius)) << size;
+  const std::vector<Case> cases = {
+      {"pcss",
+       "pcss-max-radius",
+       {{512, "64"}, {1024, "64"}, {2048, "64"}, {4096, "128"}},
+       {{4096, "64"}, {1024, "32"}}},
+      {"pcf", "pcf-max-radius", {{512, "16"}, {1024, "16"}, {2048, "32"}, {4096, "64"}}, {{4096, "16"}, {2048, "16"}}},
+      {"pssm", "pcf-max-radius", {{1024, "16"}, {4096, "64"}}, {{4096, "16"}}},
+  };
+  for (const Case& c : cases) {
+    const TechniqueInfo& info = findTechnique(c.technique);
+    EXPECT_TRUE(Params(info.params).isAuto(c.param)) << c.technique;
+    auto visibility = [&](int size, const char* radius) {
+      Params params(info.params);
+      params.set("map-size", std::to_string(size));
+      params.set(c.param, radius);
+      Renderer renderer(ctx(), scene);
+      return renderer.render(camera, light, info, params).image.require("visibility.Y").data;
+    };
+    for (const auto& [size, radius] : c.sameAs)
+      EXPECT_EQ(visibility(size, "auto"), visibility(size, radius)) << c.technique << " " << size;
+    for (const auto& [size, radius] : c.shorter)
+      EXPECT_NE(visibility(size, "auto"), visibility(size, radius))
+          << c.technique << " " << size << ": " << radius << " texels are too short under this light";
   }
-  EXPECT_NE(visibility(4096, "auto"), visibility(4096, "64")) << "the reach matters under this light";
-  EXPECT_NE(visibility(1024, "auto"), visibility(1024, "32")) << "and a 32nd of a small map is too short";
 }
 
+// --pcss-search adaptive: where the pyramid says nothing in the search region lies in front of the receiver
+// (blocker.Z = -1) the full search finds no blocker either (exactly lit); the early-out takes most lit pixels; and the
+// narrowed region's taps come closer to brute-force PCSS (64 x 64 taps) than the full region's at the same count.
 TEST_F(PcfTechniques, PcssAdaptiveSearchSkipsOnlyWhatCannotBlockAndSamplesCloser) {
   const Scene scene = test::squareOverPlane();
   Camera camera = test::topDown();
@@ -239,22 +254,24 @@ TEST_F(PcfTechniques, PcssAutoTapsGetNoWorseWithTheMap) {
   }
 }
 
-// --pcf-radius auto (the default): the kernel's half-width follows the penumbra up to --pcf-max-radius (16) while its
-// taps stop at --pcf-radius-max (4) a side, so a finer map keeps the kernel's width in the world instead of sharpening
-// the penumbra; pssm's per-split PCF likewise, in texels of split 0. On the staircase (StaircaseTruth), measured: pcf
-// 0.00247, 0.00219, 0.00220 at 512^2, 1024^2, 2048^2 (7 and 14 texels wide at the last two), with the width held at
-// the taps' 4 texels (the former rule, as --pcf-max-radius 4 gives) 0.00354 and 0.00473; pssm the same to 1e-5.
+// --pcf-radius auto (the default): the kernel's half-width follows the penumbra up to --pcf-max-radius (auto: a 64th
+// of the map's side, at least 16 texels) while its taps stop at --pcf-radius-max (4) a side, so a finer map keeps the
+// kernel's width in the world instead of sharpening the penumbra; pssm's per-split PCF likewise, in texels of split 0.
+// On the staircase (StaircaseTruth), measured: pcf 0.00247, 0.00219, 0.00220, 0.00223 at 512^2 .. 4096^2 (7, 14 and 28
+// texels wide at the last three); with the width held at the taps' 4 texels (as --pcf-max-radius 4 gives) 0.00354 and
+// 0.00473 at 1024^2 and 2048^2, and with the former fixed 16 0.00362 at 4096^2; pssm within 4e-5 of pcf.
 TEST_F(PcfTechniques, PcfAutoWidthGetsNoWorseWithTheMap) {
   StaircaseTruth staircase(ctx());
   for (const char* technique : {"pcf", "pssm"}) {
     double previous = staircase.mae(technique, 512);
     std::printf("  %s 512^2: MAE %.5f\n", technique, previous);
-    for (int size : {1024, 2048}) {
+    for (int size : {1024, 2048, 4096}) {
       const Image image = staircase.render(technique, size, {});
       const double automatic = staircase.mae(image);
-      const double narrow = staircase.mae(technique, size, {{"pcf-max-radius", "4"}});
-      std::printf("  %s %d^2: MAE %.5f, width at most 4 texels %.5f (%s)\n", technique, size, automatic, narrow,
-                  image.attributes().at("penumbra:pcf-width").c_str());
+      const char* shorter = size < 4096 ? "4" : "16";
+      const double narrow = staircase.mae(technique, size, {{"pcf-max-radius", shorter}});
+      std::printf("  %s %d^2: MAE %.5f, width at most %s texels %.5f (%s)\n", technique, size, automatic, shorter,
+                  narrow, image.attributes().at("penumbra:pcf-width").c_str());
       EXPECT_LE(automatic, previous * 1.05) << technique << " " << size;
       EXPECT_LT(automatic, narrow) << technique << " " << size;
       previous = automatic;

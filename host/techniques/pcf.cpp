@@ -21,9 +21,13 @@ struct PcfSettings {
   float maxRadius = 0;  // pcf-max-radius
   int poissonTaps = 0;
   static PcfSettings from(const Params& params, int mapSize) {
-    return {MapSettings::from(params, mapSize),       params.getInt("receiver-plane"),
-            params.getInt("id-buffer"),               AutoRadius::from(params, "pcf-radius"),
-            params.getInt("pcf-adaptive") == 1,       static_cast<float>(params.get("pcf-max-radius")),
+    const MapSettings map = MapSettings::from(params, mapSize);
+    return {map,
+            params.getInt("receiver-plane"),
+            params.getInt("id-buffer"),
+            AutoRadius::from(params, "pcf-radius"),
+            params.getInt("pcf-adaptive") == 1,
+            kPcfMaxRadius.texels(params, "pcf-max-radius", map.size),
             params.getInt("pcf-poisson-taps")};
   }
   bool operator==(const PcfSettings&) const = default;
@@ -79,9 +83,9 @@ TechniqueInfo pcfTechnique() {
                     1,
                     "Widen the kernel to half the pixel's footprint in the map (minified shadows), same tap count",
                     {"off", "on"}});
-  params.push_back({"pcf-max-radius", 16, 0, 256,
-                    "Largest kernel half-width in texels: the adaptive widening's, and --pcf-radius auto's (beyond "
-                    "--pcf-radius-max the taps spread over the kernel)"});
+  params.push_back(kPcfMaxRadius.param("pcf-max-radius", 0, 256,
+                                       "Largest kernel half-width in texels: the adaptive widening's, and --pcf-radius "
+                                       "auto's (beyond --pcf-radius-max the taps spread over the kernel)"));
   params.push_back(
       {"pcf-poisson-taps", 0, 0, 64, "Rotated Poisson-disk taps over the kernel instead of the grid (0: grid)"});
   return {"pcf", "Percentage-closer filtering: grid or rotated Poisson taps, adaptive size, receiver-plane bias",

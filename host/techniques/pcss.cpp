@@ -21,11 +21,7 @@ namespace {
 // with 128, 480x270, 256-spp reference); and at least 64 texels, the fixed reach before, since the map is small exactly
 // where the penumbrae are wide (--map-size auto draws 384-768^2 for stacked-planes under a light of radius 2-4: a 32nd
 // of that, 12-24 texels, tripled the MAE, 0.0092 against 0.0297 at radius 4). The taps are as many at any reach.
-constexpr int kMaxRadiusDivisor = 32, kMinAutoRadius = 64;
-float maxRadiusFor(const Params& params, int mapSize) {
-  if (!params.isAuto("pcss-max-radius")) return static_cast<float>(params.get("pcss-max-radius"));
-  return static_cast<float>(std::max(mapSize / kMaxRadiusDivisor, kMinAutoRadius));
-}
+constexpr AutoReach kMaxRadius{32, 64};
 
 // --pcss-search-taps / --pcss-filter-taps: fixed taps per side, or under auto (the default) the most per side of the
 // counts kernels/pcss.cl pcss_tap_count takes from each pixel's region, --pcss-*-taps-max.
@@ -49,7 +45,7 @@ struct PcssSettings {
             tapsOf(params, "pcss-filter-taps"),
             (params.isAuto("pcss-search-taps") ? PCSS_AUTO_SEARCH : 0) |
                 (params.isAuto("pcss-filter-taps") ? PCSS_AUTO_FILTER : 0),
-            maxRadiusFor(params, map.size),
+            kMaxRadius.texels(params, "pcss-max-radius", map.size),
             params.getInt("pcss-pattern"),
             params.getInt("pcss-search") == kSearchAdaptive};
   }
@@ -123,10 +119,7 @@ TechniqueInfo pcssTechnique() {
   params.push_back(filterTaps);
   params.push_back({"pcss-search-taps-max", 8, 1, 64, "pcss-search-taps auto: the most taps per side"});
   params.push_back({"pcss-filter-taps-max", 12, 1, 64, "pcss-filter-taps auto: the most taps per side"});
-  ParamSpec maxRadius{"pcss-max-radius", 0, 1, 512,
-                      "Largest search/filter half-width in texels; auto: a 32nd of the map's side, at least 64"};
-  maxRadius.autoName = "auto";  // autoValue 0: the default
-  params.push_back(maxRadius);
+  params.push_back(kMaxRadius.param("pcss-max-radius", 1, 512, "Largest search/filter half-width in texels"));
   // The disk by default: at the grid's tap count it halves the grid's error or more, docs/techniques/sm-pcf-pcss.md.
   static_assert(SHADE_PATTERN_GRID == 0 && SHADE_PATTERN_POISSON == 1, "pcss-pattern's choices are SHADE_PATTERN_*");
   params.push_back({"pcss-pattern",

@@ -21,12 +21,13 @@ struct PssmSettings {
   int idMode = ID_BUFFER_OFF;
   float maxWidth = 0.0f;  // pcf-max-radius: the auto kernel's widest, texels of split 0
   static PssmSettings from(const Params& params, int mapSize) {
-    return {MapSettings::from(params, mapSize),
+    const MapSettings map = MapSettings::from(params, mapSize);
+    return {map,
             SplitSettings::from(params),
             params.getInt("pssm-filter") == kHard,
             AutoRadius::from(params, "pcf-radius"),
             params.getInt("id-buffer"),
-            static_cast<float>(params.get("pcf-max-radius"))};
+            kPcfMaxRadius.texels(params, "pcf-max-radius", map.size)};
   }
   // The most texels of split 0 the kernel can reach: the splits' margin.
   float reach() const {
@@ -92,9 +93,9 @@ TechniqueInfo pssmTechnique() {
   params.push_back(
       {"pssm-filter", kPcf, 0, 1, "Per-split lookup: PCF over --pcf-radius, or one hard comparison", {"pcf", "hard"}});
   for (const ParamSpec& spec : pcfRadiusParams()) params.push_back(spec);
-  params.push_back({"pcf-max-radius", 16, 0, 256,
-                    "--pcf-radius auto: the kernel's largest half-width in texels of split 0 (beyond --pcf-radius-max "
-                    "the taps spread over the kernel)"});
+  params.push_back(kPcfMaxRadius.param("pcf-max-radius", 0, 256,
+                                       "--pcf-radius auto: the kernel's largest half-width in texels of split 0 "
+                                       "(beyond --pcf-radius-max the taps spread over the kernel)"));
   params.push_back(idBufferParam());
   for (const ParamSpec& spec : splitParams()) params.push_back(spec);
   for (const ParamSpec& spec : warpParams()) params.push_back(spec);

@@ -131,6 +131,21 @@ std::vector<ParamSpec> pcfRadiusParams() {
                           4);
 }
 
+ParamSpec AutoReach::param(const std::string& name, int min, int max, const std::string& help) const {
+  const int tens = divisor % 100 / 10, units = divisor % 10;
+  const char* ordinal = tens == 1 || units == 0 || units > 3 ? "th" : units == 1 ? "st" : units == 2 ? "nd" : "rd";
+  ParamSpec spec{name, min - 1.0, static_cast<double>(min), static_cast<double>(max),
+                 fmt::format("{}; auto: a {}{} of the map's side, at least {}", help, divisor, ordinal, minimum)};
+  spec.autoName = "auto";
+  spec.autoValue = min - 1.0;
+  return spec;
+}
+
+float AutoReach::texels(const Params& params, const std::string& name, int mapSize) const {
+  if (!params.isAuto(name)) return static_cast<float>(params.get(name));
+  return static_cast<float>(std::max(mapSize / divisor, minimum));
+}
+
 AutoRadius AutoRadius::from(const Params& params, const std::string& name) {
   AutoRadius r;
   r.name = name;

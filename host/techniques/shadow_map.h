@@ -91,8 +91,6 @@ void tightenMapNear(ShadowFrame& frame, const MapSettings& settings, ShadowMap& 
 // docs/techniques/moments.md and docs/techniques/sm-pcf-pcss.md.
 std::vector<ParamSpec> autoRadiusParams(const std::string& name, const std::string& help, double max, double maxDefault,
                                         const std::string& maxNote = {});
-// pcf-radius as autoRadiusParams (auto, at most 4 by default) for pcf and pssm.
-std::vector<ParamSpec> pcfRadiusParams();
 
 // autoRadiusParams(name) as parsed.
 struct AutoRadius {
@@ -105,6 +103,25 @@ struct AutoRadius {
   int limit() const { return automatic ? max : radius; }  // the most it can be: the map's margin before it is measured
   bool operator==(const AutoRadius&) const = default;
 };
+
+// A filter's widest reach in texels (pcss-max-radius, pcf-max-radius): a count, or under auto (the default) a
+// `divisor`-th of the map's side and at least `minimum` texels, the same width in the scene at every size from
+// divisor * minimum up, so that a finer map never reaches less far (its penumbrae span more texels). The map is fitted
+// with this reach as its margin, before anything is measured on it.
+struct AutoReach {
+  int divisor = 1;
+  int minimum = 0;
+  // The parameter: a count of `min` .. `max` texels, or auto (its value min - 1), the default.
+  ParamSpec param(const std::string& name, int min, int max, const std::string& help) const;
+  float texels(const Params& params, const std::string& name, int mapSize) const;
+};
+
+// pcf-radius as autoRadiusParams (auto, at most 4 by default) for pcf and pssm.
+std::vector<ParamSpec> pcfRadiusParams();
+// pcf-max-radius (pcf, pssm): the auto kernel's widest half-width, by default a 64th of the map's side and at least 16
+// texels (a fixed 16 let staircase's penumbrae, 28 texels wide at the narrow end at 4096^2, outgrow the kernel:
+// docs/techniques/sm-pcf-pcss.md).
+inline constexpr AutoReach kPcfMaxRadius{64, 16};
 
 // A setting chosen per frame from the penumbrae: `choose` of the penumbra half-width (texels of `depth`) that
 // `quantile` of the camera's shadowed pixels reach (host/views/light_fit.h measurePenumbraWidth; 0 when none is
