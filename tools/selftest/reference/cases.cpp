@@ -125,6 +125,16 @@ std::vector<SatCase> satCases() {
   out.push_back(
       {"Fixed64_Tiled_70x45_c1_nonfinite", 70, 45, 1, SAT_MODE_FIXED64, SatAlgorithm::Tiled, SatInput::NonFinite});
   out.push_back({"Fp64_Tiled_61x97_c2_hugerange", 61, 97, 2, SAT_MODE_FP64, SatAlgorithm::Tiled, SatInput::HugeRange});
+  // The line scans' fixed-point rows convert 16 floats at a time (a chunk of 16, 8 or 4 texels) and the rest one by
+  // one: VSSM's two-channel fixed64 table, four channels, and widths around the chunk, on adversarial inputs.
+  out.push_back(
+      {"Fixed64_Lines_97x61_c2_nonfinite", 97, 61, 2, SAT_MODE_FIXED64, SatAlgorithm::Lines, SatInput::NonFinite});
+  out.push_back(
+      {"Fixed64_Lines_45x70_c4_hugerange", 45, 70, 4, SAT_MODE_FIXED64, SatAlgorithm::Lines, SatInput::HugeRange});
+  out.push_back(
+      {"Fixed32_Lines_17x9_c1_nonfinite", 17, 9, 1, SAT_MODE_FIXED32, SatAlgorithm::Lines, SatInput::NonFinite});
+  out.push_back(
+      {"Fixed32_Lines_16x3_c2_hugerange", 16, 3, 2, SAT_MODE_FIXED32, SatAlgorithm::Lines, SatInput::HugeRange});
   // One large case per mode family: fp32 (zero mean) and 32-bit fixed point.
   out.push_back({"Fp32_Tiled_2048x2048_c2", 2048, 2048, 2, SAT_MODE_FP32});
   out.push_back({"Fixed32_Tiled_2048x2048_c1", 2048, 2048, 1, SAT_MODE_FIXED32});
