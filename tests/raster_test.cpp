@@ -3,7 +3,9 @@
 // every depth mode, perspective and orthographic views, scissors, tile masks and back-face culling.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -138,6 +140,73 @@ TEST_F(RasterTest, EmptyScissorDrawsNothing) {
   uploadScene(raster, scene);
   const RasterOutput out = drawPoisoned(ctx(), raster, view);
   for (size_t i = 0; i < out.ids.size(); ++i) ASSERT_EQ(out.ids[i], kPoisonId);
+}
+
+// Fresh targets (allocated by the draw) are filled with the background only where the draw leaves pixels untouched:
+// outside a scissor, in masked-out tiles, everywhere for an empty scissor; a draw over the whole viewport writes every
+// pixel itself (the soups above check that against poisoned targets). The G-buffer likewise outside its scissor.
+TEST_F(RasterTest, FreshTargetsHoldTheBackgroundWhereTheDrawLeavesThem) {
+  const Scene scene = triangleSoup(200, 80, 1.8f, 0.6f);
+  const RasterView whole = perspectiveView(77, 45, {0.5f, 1.0f, 6.0f}, {0, 0, 0}, 50.0f, 0.5f, 20.0f);
+  Rasterizer raster(ctx());
+  uploadScene(raster, scene);
+  RasterTargets full;
+  raster.draw(whole, full);
+  const std::vector<uint32_t> fullIds = full.triangleId.download(ctx());
+  const int tilesX = (whole.width + RASTER_TILE_SIZE - 1) / RASTER_TILE_SIZE;
+  const int tilesY = (whole.height + RASTER_TILE_SIZE - 1) / RASTER_TILE_SIZE;
+  std::vector<uint32_t> mask(static_cast<size_t>(tilesX) * tilesY, 0u);
+  for (size_t t = 0; t < mask.size(); t += 2) mask[t] = 1u;
+  Buffer<uint32_t> maskBuffer(ctx(), std::span<const uint32_t>(mask));
+  struct Case {
+    const char* what;
+    std::optional<Scissor> scissor;
+    const Buffer<uint32_t>* mask;
+  };
+  for (const Case& c :
+       {Case{"scissor", Scissor{13, 9, 60, 40}, nullptr}, Case{"empty scissor", Scissor{5, 5, 5, 20}, nullptr},
+        Case{"tile mask", std::nullopt, &maskBuffer}}) {
+    RasterView view = whole;
+    view.scissor = c.scissor;
+    view.tileMask = c.mask;
+    RasterTargets fresh;
+    raster.draw(view, fresh);
+    const std::vector<uint32_t> ids = fresh.triangleId.download(ctx());
+    const std::vector<float> depth = fresh.depth.download(ctx());
+    size_t drawn = 0, background = 0;
+    for (int y = 0; y < view.height; ++y)
+      for (int x = 0; x < view.width; ++x) {
+        const size_t i = static_cast<size_t>(y) * view.width + x;
+        const bool inScissor =
+            !c.scissor || (x >= c.scissor->x0 && x < c.scissor->x1 && y >= c.scissor->y0 && y < c.scissor->y1);
+        const bool inMask = c.mask == nullptr || mask[(y / RASTER_TILE_SIZE) * tilesX + x / RASTER_TILE_SIZE] != 0;
+        if (inScissor && inMask) {
+          ASSERT_EQ(ids[i], fullIds[i]) << c.what << " " << x << "," << y;
+          ++drawn;
+        } else {
+          ASSERT_EQ(ids[i], kNoTriangle) << c.what << " " << x << "," << y;
+          ASSERT_TRUE(std::isinf(depth[i]) && depth[i] > 0.0f) << c.what << " " << x << "," << y;
+          ++background;
+        }
+      }
+    EXPECT_GT(background, 500u) << c.what;
+  }
+  RasterView scissored = whole;
+  scissored.scissor = Scissor{13, 9, 60, 40};
+  GBuffer g;
+  raster.drawGBuffer(scissored, g);
+  const std::vector<cl_float4> position = g.position.download(ctx());
+  const std::vector<uint32_t> objectId = g.objectId.download(ctx());
+  size_t outside = 0;
+  for (int y = 0; y < whole.height; ++y)
+    for (int x = 0; x < whole.width; ++x) {
+      if (x >= 13 && x < 60 && y >= 9 && y < 40) continue;
+      const size_t i = static_cast<size_t>(y) * whole.width + x;
+      ASSERT_EQ(position[i].s[3], 0.0f) << x << "," << y;
+      ASSERT_EQ(objectId[i], kNoTriangle) << x << "," << y;
+      ++outside;
+    }
+  EXPECT_GT(outside, 1000u);
 }
 
 TEST_F(RasterTest, BackFaceCullingOnClosedMeshKeepsTheVisibleSurface) {
