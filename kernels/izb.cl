@@ -474,28 +474,88 @@ static IzbCaster izb_cluster_caster(__constant const LightViewGpu* lv, __global 
   return u;
 }
 
-// Per cluster of IZB_CLUSTER casters, every cell holding samples (cellCount > 0) that needs one of them: counted into
-// listCount (fill == 0) or written to entries[listStart[c] + cursor[c]++] (fill == 1). listCount and cursor zero on
-// entry. The cluster's box is the union of its casters' and its nearest depth theirs, so a cell that one of them
-// reaches (the reach grows as the caster nears the light) lists it.
-__kernel void izb_soft_lists(__global const float* casters, uint triangleCount, const IzbFrame f,
-                             __constant const LightViewGpu* lv, __global const uint* cellCount,
-                             __global const uint* cellDepth, __global const uint* depthMax, int fill,
-                             __global uint* listCount, __global const uint* listStart, __global uint* entries) {
+// A cluster's union (izb_cluster_caster) as izb_soft_tiles stores it for the cells' tests: (lo, hi, zMin, unbounded,
+// members, 0).
+static float8 izb_box_pack(const IzbCaster* c, int members) {
+  return (float8)(c->lo, c->hi, c->zMin, as_float(c->unbounded), as_float(members), 0.0f);
+}
+static IzbCaster izb_box_unpack(float8 b, int* members) {
+  IzbCaster c = {b.s01, b.s23, b.s4, as_int(b.s5)};
+  *members = as_int(b.s6);
+  return c;
+}
+
+// Per cluster of IZB_CLUSTER casters: its union stored in boxes[k] (fill == 0; read back when fill == 1), and the
+// cluster counted into tileCount (fill == 0) or written to tileEntries[tileStart[t] + cursor] (fill == 1) for every
+// tile of IZB_TILE_CELLS^2 cells that its box, dilated by the reach towards the frame's farthest sample (izb_soft_box),
+// meets. tileCount zero on entry. The cluster's box is the union of its casters' and its nearest depth theirs, so a
+// cell that one of them reaches (the reach grows as the caster nears the light) lies in a tile that lists it. One
+// atomic per cluster and tile, where listing per cell took one per cluster and cell.
+__kernel void izb_soft_tiles(__global const float* casters, uint triangleCount, const IzbFrame f,
+                             __constant const LightViewGpu* lv, __global const uint* depthMax, int fill,
+                             __global float8* boxes, __global uint* tileCount, __global const uint* tileStart,
+                             __global uint* tileEntries) {
   const uint k = get_global_id(0);
   if (k >= izb_cluster_count(triangleCount)) return;
   int members;
-  const IzbCaster c = izb_cluster_caster(lv, casters, k, &members);
+  IzbCaster c;
+  if (fill) {
+    c = izb_box_unpack(boxes[k], &members);
+  } else {
+    c = izb_cluster_caster(lv, casters, k, &members);
+    boxes[k] = izb_box_pack(&c, members);
+  }
   if (members == 0) return;
   const int4 box = izb_soft_box(&f, lv, &c, as_float(*depthMax));
-  const uint cellsX = ((uint)lv->width + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS;
-  for (int y = box.z; y <= box.w; ++y)
-    for (int x = box.x; x <= box.y; ++x) {
-      const uint cell = (uint)y * cellsX + (uint)x;
-      if (cellCount[cell] == 0 || !izb_soft_listed(&f, lv, &c, x, y, as_float(cellDepth[cell]))) continue;
-      const uint slot = atomic_inc(&listCount[cell]);
-      if (fill) entries[listStart[cell] + slot] = k;
+  if (box.x > box.y || box.z > box.w) return;
+  const uint tilesX = izb_tiles_of(((uint)lv->width + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS);
+  for (int y = box.z / IZB_TILE_CELLS; y <= box.w / IZB_TILE_CELLS; ++y)
+    for (int x = box.x / IZB_TILE_CELLS; x <= box.y / IZB_TILE_CELLS; ++x) {
+      const uint tile = (uint)y * tilesX + (uint)x;
+      const uint slot = atomic_inc(&tileCount[tile]);
+      if (fill) tileEntries[tileStart[tile] + slot] = k;
     }
+}
+
+// Per cell: the most entries its list can hold, its tile's cluster count (izb_soft_tiles) where it holds samples and 0
+// elsewhere, into bound[cell]: scanned, they place each cell's list (izb_soft_lists) without a counting pass.
+__kernel void izb_soft_list_bounds(const IzbFrame f, __constant const LightViewGpu* lv, __global const uint* cellCount,
+                                   __global const uint* tileCount, __global uint* bound) {
+  const uint cell = get_global_id(0);
+  if (cell >= f.cells) return;
+  const uint cellsX = ((uint)lv->width + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS;
+  const uint x = cell % cellsX, y = cell / cellsX;
+  bound[cell] = cellCount[cell] == 0 ? 0u : tileCount[(y / IZB_TILE_CELLS) * izb_tiles_of(cellsX) + x / IZB_TILE_CELLS];
+}
+
+// Per cell holding samples: the clusters of its tile (izb_soft_tiles) that it needs, those whose box dilated by the
+// reach towards the cell's own farthest sample meets its square (izb_soft_listed), written in the tile's order to
+// entries[listStart[cell] ...] (room for its whole tile: izb_soft_list_bounds) and counted into listCount[cell] (0 for
+// a cell without samples). No atomics: each work-item owns its cell's list.
+__kernel void izb_soft_lists(const IzbFrame f, __constant const LightViewGpu* lv, __global const uint* cellCount,
+                             __global const uint* cellDepth, __global const float8* boxes,
+                             __global const uint* tileCount, __global const uint* tileStart,
+                             __global const uint* tileEntries, __global uint* listCount, __global const uint* listStart,
+                             __global uint* entries) {
+  const uint cell = get_global_id(0);
+  if (cell >= f.cells) return;
+  if (cellCount[cell] == 0) {
+    listCount[cell] = 0;
+    return;
+  }
+  const uint cellsX = ((uint)lv->width + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS;
+  const int x = (int)(cell % cellsX), y = (int)(cell / cellsX);
+  const uint tile = (uint)(y / IZB_TILE_CELLS) * izb_tiles_of(cellsX) + (uint)(x / IZB_TILE_CELLS);
+  const float zCell = as_float(cellDepth[cell]);
+  const uint begin = tileStart[tile], end = begin + tileCount[tile], out = listStart[cell];
+  uint n = 0;
+  for (uint j = begin; j < end; ++j) {
+    const uint k = tileEntries[j];
+    int members;
+    const IzbCaster c = izb_box_unpack(boxes[k], &members);
+    if (izb_soft_listed(&f, lv, &c, x, y, zCell)) entries[out + n++] = k;
+  }
+  listCount[cell] = n;
 }
 
 // The cone from a receiver sample around every segment it can send to the light: unit `axis` towards the light's

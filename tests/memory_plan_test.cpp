@@ -71,8 +71,8 @@ TEST(MemoryPlan, GrowsWithPixelsLightsAndMaps) {
 
 // izb at 4K with 32 samples a pixel: its passes of at most --izb-chunk samples bound the sample buffers (8 bytes a
 // sample: 128 MiB at the default 2^24), far below the 265 M samples' 2 GiB; its grid is 24 bytes a cell (16 of the
-// samples, 8 of an area light's caster lists), not a map, beside the light pattern's bitmask tables (256 KiB at the
-// default 64 points).
+// samples, 8 of an area light's caster lists) and 8 a tile of IZB_TILE_CELLS^2 cells (the clusters' tile lists), not
+// a map, beside the light pattern's bitmask tables (256 KiB at the default 64 points).
 TEST(MemoryPlan, IzbSamplesAreBoundedByItsChunk) {
   const TechniqueInfo& izb = findTechnique("izb");
   Params one(izb.params), many(izb.params), small(izb.params);
@@ -87,17 +87,18 @@ TEST(MemoryPlan, IzbSamplesAreBoundedByItsChunk) {
     ADD_FAILURE() << "no izb stage in " << plan.describe();
     return uint64_t{0};
   };
-  const uint64_t cells = 256 * 256 * 24 + 256 * 64 * 2 * 4 * 2;
+  const uint64_t tilesPerSide = (256 + IZB_TILE_CELLS - 1) / IZB_TILE_CELLS;
+  const uint64_t cells = 256 * 256 * 24 + tilesPerSide * tilesPerSide * 8 + 256 * 64 * 2 * 4 * 2;
   EXPECT_EQ(stage(one), cells + 3840ull * 2160 * 8);  // one sample a pixel: below the chunk
   EXPECT_EQ(stage(many), cells + (uint64_t{1} << 24) * 8);
   EXPECT_EQ(stage(small), cells + 65536ull * 8);
   EXPECT_LT(planFrame(uhd, {{LightType::Spot, &izb, &many}}).deviceBytes(), kGiB);
-  // Per triangle 64 bytes of caster record and 4 of its slot's triangle, and 16 per cluster of IZB_CLUSTER
-  // (izb_soft_casters, izb_soft_clusters): 1 M triangles of builtin:poles at its largest add 67 MiB; a count that
-  // fills no whole cluster is padded to one.
+  // Per triangle 64 bytes of caster record and 4 of its slot's triangle, and 48 per cluster of IZB_CLUSTER (its ball
+  // and its box: izb_soft_casters, izb_soft_clusters, izb_soft_tiles): 1 M triangles of builtin:poles at its largest
+  // add 71 MiB; a count that fills no whole cluster is padded to one.
   const uint64_t million = 1000000;
-  EXPECT_EQ(stage(one, million) - stage(one), million * 68 + million / IZB_CLUSTER * 16);
-  EXPECT_EQ(stage(one, million + 1) - stage(one), (million + IZB_CLUSTER) * 68 + (million / IZB_CLUSTER + 1) * 16);
+  EXPECT_EQ(stage(one, million) - stage(one), million * 68 + million / IZB_CLUSTER * 48);
+  EXPECT_EQ(stage(one, million + 1) - stage(one), (million + IZB_CLUSTER) * 68 + (million / IZB_CLUSTER + 1) * 48);
 }
 
 // fvsm's atlas is planned at its texel budget (8 bytes a texel: depth and ids), or at the whole virtual map or a tile

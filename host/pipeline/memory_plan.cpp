@@ -38,9 +38,11 @@ double param(const PlannedLight& light, const char* name, double fallback) {
 
 // izb (host/techniques/izb.cpp) draws no map: its light grid holds 16 bytes per 8x8-texel cell (count, start,
 // cursor, farthest depth), 8 more under an area light (its caster lists' count and start; planned whatever the light,
-// since the plan does not see its radius) with the light pattern's bitmask tables (at most 1 MiB), 68 bytes per
+// since the plan does not see its radius) and 8 per tile of IZB_TILE_CELLS^2 cells (the clusters' tile lists' count
+// and start) with the light pattern's bitmask tables (at most 1 MiB), 68 bytes per
 // triangle slot, the triangles padded to whole clusters of IZB_CLUSTER (each caster's record: ball, vertices, plane;
-// and its triangle), 16 per cluster (its ball), and each pass 8 bytes per sample (cell, sorted index) of at most
+// and its triangle), 48 per cluster (its ball and its box), and each pass 8 bytes per sample (cell, sorted index) of at
+// most
 // --izb-chunk samples. The casters' entries (in the hard case the rasterizer's tile lists, under an area light izb's
 // own) are grown to what a pass asks for, as the rasterizer's queues are. The cube faces of a point light reuse them.
 MemoryStage izbGrid(const PlannedLight& light, size_t index, uint64_t pixels, uint64_t triangles) {
@@ -53,7 +55,9 @@ MemoryStage izbGrid(const PlannedLight& light, size_t index, uint64_t pixels, ui
   const uint64_t tables = uint64_t{IZB_MASK_ANGLES} * IZB_MASK_OFFSETS * 2 * 4 * ((lightPoints + 31) / 32);
   const uint64_t clusters = (triangles + IZB_CLUSTER - 1) / IZB_CLUSTER, slots = clusters * IZB_CLUSTER;
   stage.largestBuffer = std::max({chunk * 4, cellsPerSide * cellsPerSide * 4, tables, slots * 64});
-  stage.deviceBytes = cellsPerSide * cellsPerSide * 24 + chunk * 8 + tables + slots * 68 + clusters * 16;
+  const uint64_t tilesPerSide = (cellsPerSide + IZB_TILE_CELLS - 1) / IZB_TILE_CELLS;
+  stage.deviceBytes = cellsPerSide * cellsPerSide * 24 + tilesPerSide * tilesPerSide * 8 + chunk * 8 + tables +
+                      slots * 68 + clusters * 48;
   return stage;
 }
 

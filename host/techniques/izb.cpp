@@ -169,7 +169,7 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
         scanAdd(ctx, "kernels/izb.cl", "izb_scan_add", "izb");
     Kernel scatter(ctx, "kernels/izb.cl", "izb_scatter", "izb"), test(ctx, "kernels/izb.cl", "izb_test", "izb");
     Kernel softTest(ctx, "kernels/izb.cl", "izb_soft_test", "izb");
-    uint64_t entries = 0;
+    uint64_t entries = 0, room = 0;  // room: area lights' list room (Listed)
     int chunks = 0;
     for (size_t begin = 0; begin < pixels; begin += pixelsPerChunk, ++chunks) {
       const size_t count = std::min(pixelsPerChunk, pixels - begin) * static_cast<size_t>(samples_);
@@ -188,7 +188,8 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
       scan(scanBlocks, scanSums, scanAdd, cellCount_, cellStart_, cells);
       scatter.args(cellOf_, cellStart_, cursor_, sorted_, f.sampleCount).moves(count * 12).launch(count, kPixelGroup);
       if (soft) {
-        entries += listCasters(ctx, f, scene, scanBlocks, scanSums, scanAdd);
+        const Listed listed = listCasters(ctx, f, scene, cellsX, cellsY, scanBlocks, scanSums, scanAdd);
+        entries += listed.entries, room += listed.room;
         softTest
             .args(sorted_, cellOf_, cellStart_, cellCount_, g.position, g.normal, g.triangleId, scene.positions,
                   scene.triangles, f, gpu_, listCount_, listStart_, listEntries_, casters_, clusters_, order_,
@@ -221,8 +222,8 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
     if (soft)
       frame.attributes["penumbra:izb"] += fmt::format(
           "; area light: {} light points per sample ({}x{} stratified, jittered per pixel), casters listed in the "
-          "cells where they can hide part of the light",
-          rays / samples_, settings_.lightGrid, settings_.lightGrid);
+          "cells where they can hide part of the light (room for {} entries from the {}x{}-cell tiles' lists)",
+          rays / samples_, settings_.lightGrid, settings_.lightGrid, room, IZB_TILE_CELLS, IZB_TILE_CELLS);
   }
 
  private:
@@ -248,34 +249,62 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
   }
 
   // Area lights: every caster listed in the cells holding samples where it can hide part of the light from one of
-  // them (kernels/izb.cl izb_soft_lists, counting then filling), into listCount_, listStart_ and listEntries_ (grown to
-  // the count, never shrunk); returns the entries.
-  uint64_t listCasters(Context& ctx, const IzbFrame& f, const raster::SceneBuffers& scene, Kernel& scanBlocks,
-                       Kernel& scanSums, Kernel& scanAdd) {
+  // them: the clusters first binned into tiles of IZB_TILE_CELLS^2 cells (kernels/izb.cl izb_soft_tiles, counting then
+  // filling, one atomic per cluster and tile), then each cell's own list taken from its tile's in one pass
+  // (izb_soft_lists, no atomics) into room for the whole tile (izb_soft_list_bounds), into listCount_, listStart_ and
+  // listEntries_ (grown to the bound, never shrunk); returns the entries listed. Listing per cell with an atomic per
+  // cluster and cell, counted and then filled, spent 70 % of the lists' time on those atomics on CPUs
+  // (docs/techniques/izb.md).
+  struct Listed {
+    uint64_t entries = 0, room = 0;  // clusters listed in cells, and the room the cells' tiles gave them
+  };
+  Listed listCasters(Context& ctx, const IzbFrame& f, const raster::SceneBuffers& scene, uint32_t cellsX,
+                     uint32_t cellsY, Kernel& scanBlocks, Kernel& scanSums, Kernel& scanAdd) {
     const uint32_t triangles = scene.triangleCount, clusters = izb_cluster_count(triangles), cells = f.cells;
-    listCount_.fill(ctx, 0u);
+    const uint32_t tiles = izb_tiles_of(cellsX) * izb_tiles_of(cellsY);
     depthMax_.fill(ctx, 0u);
     Kernel depthMax(ctx, "kernels/izb.cl", "izb_depth_max", "izb");
     depthMax.args(cellDepth_, cells, depthMax_).moves(uint64_t{cells} * 4).launch(cells, kPixelGroup);
-    Kernel lists(ctx, "kernels/izb.cl", "izb_soft_lists", "izb");
-    // Each caster reads its three vertices (36 B) from its record; the cells its cluster visits are data-dependent.
-    lists.args(casters_, triangles, f, gpu_, cellCount_, cellDepth_, depthMax_, 0, listCount_, listStart_, listEntries_)
-        .moves(uint64_t{triangles} * 36)
+    Kernel binTiles(ctx, "kernels/izb.cl", "izb_soft_tiles", "izb");
+    boxes_.allocate(ctx, std::max<size_t>(clusters, 1));
+    tileCount_.allocate(ctx, tiles);
+    tileStart_.allocate(ctx, tiles);
+    tileCount_.fill(ctx, 0u);
+    // Each caster reads its three vertices (36 B) from its record and the cluster writes its box (32 B); the tiles it
+    // visits are data-dependent.
+    binTiles.args(casters_, triangles, f, gpu_, depthMax_, 0, boxes_, tileCount_, tileStart_, tileEntries_)
+        .moves(uint64_t{triangles} * 36 + uint64_t{clusters} * 32)
         .launch(clusters, kPixelGroup);
-    // The total in 64 bits on the host (4 bytes a cell), where the device's 32-bit scan would wrap past 2^32.
-    uint64_t total = 0;
-    for (uint32_t n : listCount_.download(ctx)) total += n;
-    if (total > 0xffffffffu)
-      throw std::runtime_error(
-          fmt::format("izb: {} cluster-cell entries under the area light exceed 2^32; lower "
-                      "--izb-chunk or --map-size",
-                      total));
+    const uint64_t tileTotal = totalOf(ctx, tileCount_, "cluster-tile");
+    scan(scanBlocks, scanSums, scanAdd, tileCount_, tileStart_, tiles);
+    if (tileEntries_.size() < tileTotal) tileEntries_.allocate(ctx, static_cast<size_t>(tileTotal + tileTotal / 4));
+    tileCount_.fill(ctx, 0u);  // the same pass again, counting into place
+    binTiles.args(casters_, triangles, f, gpu_, depthMax_, 1, boxes_, tileCount_, tileStart_, tileEntries_)
+        .moves(uint64_t{clusters} * 32 + tileTotal * 4)
+        .launch(clusters, kPixelGroup);
+    Kernel bounds(ctx, "kernels/izb.cl", "izb_soft_list_bounds", "izb");
+    bounds.args(f, gpu_, cellCount_, tileCount_, listCount_).moves(uint64_t{cells} * 12).launch(cells, kPixelGroup);
+    const uint64_t room = totalOf(ctx, listCount_, "cluster-cell");
     scan(scanBlocks, scanSums, scanAdd, listCount_, listStart_, cells);
-    if (listEntries_.size() < total) listEntries_.allocate(ctx, static_cast<size_t>(total + total / 4));
-    listCount_.fill(ctx, 0u);  // the same pass again, counting into place
-    lists.args(casters_, triangles, f, gpu_, cellCount_, cellDepth_, depthMax_, 1, listCount_, listStart_, listEntries_)
-        .moves(uint64_t{triangles} * 36 + total * 4)
-        .launch(clusters, kPixelGroup);
+    if (listEntries_.size() < room) listEntries_.allocate(ctx, static_cast<size_t>(room + room / 4));
+    Kernel lists(ctx, "kernels/izb.cl", "izb_soft_lists", "izb");
+    // Each cell reads its tile's entries and their clusters' boxes (32 B each), writes its entries and its count.
+    lists
+        .args(f, gpu_, cellCount_, cellDepth_, boxes_, tileCount_, tileStart_, tileEntries_, listCount_, listStart_,
+              listEntries_)
+        .moves(uint64_t{cells} * 12 + room * 36)
+        .launch(cells, kPixelGroup);
+    return {totalOf(ctx, listCount_, "cluster-cell"), room};
+  }
+
+  // The sum of `counts` in 64 bits on the host (4 bytes an element), where the device's 32-bit scan would wrap past
+  // 2^32.
+  static uint64_t totalOf(Context& ctx, const Buffer<uint32_t>& counts, const char* what) {
+    uint64_t total = 0;
+    for (uint32_t n : counts.download(ctx)) total += n;
+    if (total > 0xffffffffu)
+      throw std::runtime_error(fmt::format(
+          "izb: {} {} entries under the area light exceed 2^32; lower --izb-chunk or --map-size", total, what));
     return total;
   }
 
@@ -314,6 +343,9 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
   Buffer<uint32_t> depthMax_, cellDepth_;   // area lights: the farthest sample's light depth, of the pass and per cell
   Buffer<uint32_t> listCount_, listStart_;  // area lights: casters per cell (izb_soft_lists)
   Buffer<uint32_t> listEntries_;
+  Buffer<cl_float8> boxes_;                 // area lights: each cluster's box (izb_soft_tiles)
+  Buffer<uint32_t> tileCount_, tileStart_;  // area lights: clusters per tile of cells (izb_soft_tiles)
+  Buffer<uint32_t> tileEntries_;
   Buffer<cl_float> casters_;    // area lights: each caster's ball, vertices and plane in its cluster's lanes, 64 bytes
                                 // (izb_soft_casters)
   Buffer<cl_float4> clusters_;  // area lights: each IZB_CLUSTER casters' ball (izb_soft_clusters)

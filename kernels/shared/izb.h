@@ -96,6 +96,11 @@ static inline uint izb_rotation_of(uint key) { return izb_hash(key) >> 24; }
 // Clusters of IZB_CLUSTER casters (izb_soft_lists' unit, the last one padded): how many `triangles` make.
 static inline uint izb_cluster_count(uint triangles) { return (triangles + IZB_CLUSTER - 1) / IZB_CLUSTER; }
 
+// The soft lists' binning (izb_soft_tiles): clusters listed first in tiles of IZB_TILE_CELLS x IZB_TILE_CELLS cells,
+// from which each cell then takes its own list (izb_soft_lists) without atomics.
+#define IZB_TILE_CELLS 4
+static inline uint izb_tiles_of(uint cells) { return (cells + IZB_TILE_CELLS - 1) / IZB_TILE_CELLS; }
+
 // IzbFrame::spread on a CPU device for `groups` work-groups: the odd stride nearest groups / golden ratio that is
 // coprime to it, so that g -> g stride mod groups is a permutation whose runs of consecutive g reach the whole range.
 static inline uint izb_spread_stride(uint groups) {
