@@ -111,30 +111,32 @@ std::vector<SatCase> satCases() {
         c.quick = s.w == 97 && algorithm != SatAlgorithm::Hensley;
         out.push_back(c);
       }
-  // Adversarial inputs and the other channel counts, tiled (the production path).
+  // Adversarial inputs and the other channel counts, tiled (the production path); and the line scans' fixed-point
+  // rows, which convert 16 floats at a time (a chunk of 16, 8 or 4 texels) and the rest one by one: VSSM's
+  // two-channel fixed64 table, four channels, and widths around the chunk.
   out.push_back({"Fp32_Tiled_97x61_c1_raw", 97, 61, 1, SAT_MODE_FP32, SatAlgorithm::Tiled, SatInput::Random, false});
-  out.push_back({"Fp32_Tiled_45x70_c4_constant", 45, 70, 4, SAT_MODE_FP32, SatAlgorithm::Tiled, SatInput::Constant});
-  out.push_back({"Fp32_Tiled_97x61_c1_hugerange", 97, 61, 1, SAT_MODE_FP32, SatAlgorithm::Tiled, SatInput::HugeRange});
-  out.push_back({"Fp32_Tiled_97x61_c2_nonfinite", 97, 61, 2, SAT_MODE_FP32, SatAlgorithm::Tiled, SatInput::NonFinite});
-  out.push_back(
-      {"Fp32_Hensley_50x40_c2_nonfinite", 50, 40, 2, SAT_MODE_FP32, SatAlgorithm::Hensley, SatInput::NonFinite});
-  out.push_back(
-      {"Fixed32_Tiled_97x61_c2_hugerange", 97, 61, 2, SAT_MODE_FIXED32, SatAlgorithm::Tiled, SatInput::HugeRange});
-  out.push_back(
-      {"Fixed32_Tiled_97x61_c2_nonfinite", 97, 61, 2, SAT_MODE_FIXED32, SatAlgorithm::Tiled, SatInput::NonFinite});
-  out.push_back(
-      {"Fixed64_Tiled_70x45_c1_nonfinite", 70, 45, 1, SAT_MODE_FIXED64, SatAlgorithm::Tiled, SatInput::NonFinite});
-  out.push_back({"Fp64_Tiled_61x97_c2_hugerange", 61, 97, 2, SAT_MODE_FP64, SatAlgorithm::Tiled, SatInput::HugeRange});
-  // The line scans' fixed-point rows convert 16 floats at a time (a chunk of 16, 8 or 4 texels) and the rest one by
-  // one: VSSM's two-channel fixed64 table, four channels, and widths around the chunk, on adversarial inputs.
-  out.push_back(
-      {"Fixed64_Lines_97x61_c2_nonfinite", 97, 61, 2, SAT_MODE_FIXED64, SatAlgorithm::Lines, SatInput::NonFinite});
-  out.push_back(
-      {"Fixed64_Lines_45x70_c4_hugerange", 45, 70, 4, SAT_MODE_FIXED64, SatAlgorithm::Lines, SatInput::HugeRange});
-  out.push_back(
-      {"Fixed32_Lines_17x9_c1_nonfinite", 17, 9, 1, SAT_MODE_FIXED32, SatAlgorithm::Lines, SatInput::NonFinite});
-  out.push_back(
-      {"Fixed32_Lines_16x3_c2_hugerange", 16, 3, 2, SAT_MODE_FIXED32, SatAlgorithm::Lines, SatInput::HugeRange});
+  struct Adversarial {
+    uint32_t w, h, channels, mode;
+    SatAlgorithm algorithm;
+    SatInput input;
+  };
+  const char* inputNames[] = {"random", "constant", "hugerange", "nonfinite"};
+  constexpr SatAlgorithm kTiled = SatAlgorithm::Tiled, kLines = SatAlgorithm::Lines;
+  for (const Adversarial& a : {Adversarial{45, 70, 4, SAT_MODE_FP32, kTiled, SatInput::Constant},
+                               {97, 61, 1, SAT_MODE_FP32, kTiled, SatInput::HugeRange},
+                               {97, 61, 2, SAT_MODE_FP32, kTiled, SatInput::NonFinite},
+                               {50, 40, 2, SAT_MODE_FP32, SatAlgorithm::Hensley, SatInput::NonFinite},
+                               {97, 61, 2, SAT_MODE_FIXED32, kTiled, SatInput::HugeRange},
+                               {97, 61, 2, SAT_MODE_FIXED32, kTiled, SatInput::NonFinite},
+                               {70, 45, 1, SAT_MODE_FIXED64, kTiled, SatInput::NonFinite},
+                               {61, 97, 2, SAT_MODE_FP64, kTiled, SatInput::HugeRange},
+                               {97, 61, 2, SAT_MODE_FIXED64, kLines, SatInput::NonFinite},
+                               {45, 70, 4, SAT_MODE_FIXED64, kLines, SatInput::HugeRange},
+                               {17, 9, 1, SAT_MODE_FIXED32, kLines, SatInput::NonFinite},
+                               {16, 3, 2, SAT_MODE_FIXED32, kLines, SatInput::HugeRange}})
+    out.push_back({fmt::format("{}_{}_{}x{}_c{}_{}", modeNames[a.mode], satAlgorithmName(a.algorithm), a.w, a.h,
+                               a.channels, inputNames[static_cast<int>(a.input)]),
+                   a.w, a.h, a.channels, a.mode, a.algorithm, a.input});
   // One large case per mode family: fp32 (zero mean) and 32-bit fixed point.
   out.push_back({"Fp32_Tiled_2048x2048_c2", 2048, 2048, 2, SAT_MODE_FP32});
   out.push_back({"Fixed32_Tiled_2048x2048_c1", 2048, 2048, 1, SAT_MODE_FIXED32});
