@@ -150,7 +150,7 @@ __kernel void izb_bin(__global const float4* position, __global const float4* no
     atomic_inc(outside);
     return;
   }
-  const uint cellsX = ((uint)lv->width + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS;  // the light view's tiles
+  const uint cellsX = izb_cells_of((uint)lv->width);  // the light view's tiles
   const uint cell = ((uint)t.y / IZB_CELL_TEXELS) * cellsX + (uint)t.x / IZB_CELL_TEXELS;
   cellOf[i] = cell;
   atomic_inc(&cellCount[cell]);
@@ -429,8 +429,8 @@ static float izb_soft_reach(const IzbFrame* f, __constant const LightViewGpu* lv
 // the farthest sample of the frame, within the grid. Each is then checked with its own farthest sample
 // (izb_soft_lists).
 static int4 izb_soft_box(const IzbFrame* f, __constant const LightViewGpu* lv, const IzbCaster* c, float zMax) {
-  const uint cellsX = ((uint)lv->width + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS;
-  const uint cellsY = ((uint)lv->height + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS;
+  const uint cellsX = izb_cells_of((uint)lv->width);
+  const uint cellsY = izb_cells_of((uint)lv->height);
   const int4 every = (int4)(0, (int)cellsX - 1, 0, (int)cellsY - 1);
   if (c->unbounded) return every;
   const float reach = izb_soft_reach(f, lv, c->zMin, zMax);
@@ -508,7 +508,7 @@ __kernel void izb_soft_tiles(__global const float* casters, uint triangleCount, 
   if (members == 0) return;
   const int4 box = izb_soft_box(&f, lv, &c, as_float(*depthMax));
   if (box.x > box.y || box.z > box.w) return;
-  const uint tilesX = izb_tiles_of(((uint)lv->width + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS);
+  const uint tilesX = izb_tiles_of(izb_cells_of((uint)lv->width));
   for (int y = box.z / IZB_TILE_CELLS; y <= box.w / IZB_TILE_CELLS; ++y)
     for (int x = box.x / IZB_TILE_CELLS; x <= box.y / IZB_TILE_CELLS; ++x) {
       const uint tile = (uint)y * tilesX + (uint)x;
@@ -523,7 +523,7 @@ __kernel void izb_soft_list_bounds(const IzbFrame f, __constant const LightViewG
                                    __global const uint* tileCount, __global uint* bound) {
   const uint cell = get_global_id(0);
   if (cell >= f.cells) return;
-  const uint cellsX = ((uint)lv->width + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS;
+  const uint cellsX = izb_cells_of((uint)lv->width);
   const uint x = cell % cellsX, y = cell / cellsX;
   bound[cell] = cellCount[cell] == 0 ? 0u : tileCount[(y / IZB_TILE_CELLS) * izb_tiles_of(cellsX) + x / IZB_TILE_CELLS];
 }
@@ -543,7 +543,7 @@ __kernel void izb_soft_lists(const IzbFrame f, __constant const LightViewGpu* lv
     listCount[cell] = 0;
     return;
   }
-  const uint cellsX = ((uint)lv->width + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS;
+  const uint cellsX = izb_cells_of((uint)lv->width);
   const int x = (int)(cell % cellsX), y = (int)(cell / cellsX);
   const uint tile = (uint)(y / IZB_TILE_CELLS) * izb_tiles_of(cellsX) + (uint)(x / IZB_TILE_CELLS);
   const float zCell = as_float(cellDepth[cell]);

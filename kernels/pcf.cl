@@ -41,8 +41,7 @@ __kernel void pcf_visibility(__global const float4* position, __global const flo
   if (!rp.valid) r = sc_receiver_sloped(lv, r, p.xyz, n, bias);  // the taps' slope-scaled bias (sc_tap)
   const float planeBias = biasConstant * r.texel;
   const uint ownTriangle = id_pixel(pixelTriangle, i, idMode), ownObject = id_pixel(pixelObject, i, idMode);
-  // The id lookups' position (no normal offset), read only with an ID buffer.
-  const float2 idUv = idMode == ID_BUFFER_OFF ? (float2)(0.0f) : lv_project(lv, p.xyz).xy;
+  const float2 idUv = id_uv(lv, p.xyz, idMode);
   // Half-width of the kernel in texels.
   float reach = s.width;
   if (s.adaptive) reach = min(max(reach, 0.5f * sc_footprint_texels(fp)), s.maxRadius);

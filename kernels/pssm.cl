@@ -24,8 +24,7 @@ inline float pssm_split_visibility(__global const float* maps, __global const ui
   if (!r.valid) return 1.0f;
   __global const float* map = maps + (size_t)split * s.mapTexels;
   __global const uint* idMap = idMaps + (size_t)split * s.mapTexels;
-  // The id lookups' position (no normal offset), read only with an ID buffer.
-  const float2 idUv = ids.mode == ID_BUFFER_OFF ? (float2)(0.0f) : lv_project(lv, p).xy;
+  const float2 idUv = id_uv(lv, p, ids.mode);
   if (s.radius == 0)  // hard: the nearest texel, as sm
     return id_visibility(
         idMap, objectIds, lv->width, lv->height, idUv, ids.ownTriangle, ids.ownObject, ids.mode,

@@ -27,9 +27,9 @@ __kernel void sm_visibility(__global const float4* position, __global const floa
   Receiver r = sc_hard_receiver(f.receiverPlane, position, lv, width, height, i, p.xyz, n, bias, &rp);
   float lit = 1.0f;
   if (r.valid) {
-    const float2 idUv = idMode == ID_BUFFER_OFF ? (float2)(0.0f) : lv_project(lv, p.xyz).xy;  // read only with ids
-    lit = id_visibility(mapIds, objectIds, lv->width, lv->height, idUv, id_pixel(pixelTriangle, i, idMode),
-                        id_pixel(pixelObject, i, idMode), idMode, sc_hard_lit(map, lv, r, rp, biasConstant * r.texel));
+    lit = id_visibility(mapIds, objectIds, lv->width, lv->height, id_uv(lv, p.xyz, idMode),
+                        id_pixel(pixelTriangle, i, idMode), id_pixel(pixelObject, i, idMode), idMode,
+                        sc_hard_lit(map, lv, r, rp, biasConstant * r.texel));
   }
   visibility[i] = lit;
 }

@@ -55,7 +55,7 @@ MemoryStage izbGrid(const PlannedLight& light, size_t index, uint64_t pixels, ui
   const uint64_t tables = uint64_t{IZB_MASK_ANGLES} * IZB_MASK_OFFSETS * 2 * 4 * ((lightPoints + 31) / 32);
   const uint64_t clusters = (triangles + IZB_CLUSTER - 1) / IZB_CLUSTER, slots = clusters * IZB_CLUSTER;
   stage.largestBuffer = std::max({chunk * 4, cellsPerSide * cellsPerSide * 4, tables, slots * 64});
-  const uint64_t tilesPerSide = (cellsPerSide + IZB_TILE_CELLS - 1) / IZB_TILE_CELLS;
+  const uint64_t tilesPerSide = izb_tiles_of(static_cast<uint32_t>(cellsPerSide));
   stage.deviceBytes = cellsPerSide * cellsPerSide * 24 + tilesPerSide * tilesPerSide * 8 + chunk * 8 + tables +
                       slots * 68 + clusters * 48;
   return stage;

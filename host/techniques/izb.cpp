@@ -115,8 +115,8 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
     LightView grid = gridView(frame);
     gpu_.allocate(ctx, 1, CL_MEM_READ_ONLY);
     gpu_.upload(ctx, std::span<const LightViewGpu>(&grid.gpu, 1));
-    const uint32_t cellsX = static_cast<uint32_t>((grid.raster.width + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS);
-    const uint32_t cellsY = static_cast<uint32_t>((grid.raster.height + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS);
+    const uint32_t cellsX = izb_cells_of(static_cast<uint32_t>(grid.raster.width));
+    const uint32_t cellsY = izb_cells_of(static_cast<uint32_t>(grid.raster.height));
     const uint32_t cells = cellsX * cellsY;
     const Light& light = frame.pointLight != nullptr ? *frame.pointLight : frame.light;
     const bool soft = light.isArea();  // a radius of 0 is the exact hard shadow

@@ -12,6 +12,7 @@
 #define PENUMBRA_KERNELS_SHARED_ID_BUFFER_H
 
 #include "kernels/shared/common.h"
+#include "kernels/shared/light_view.h"
 
 #define ID_BUFFER_OFF 0
 #define ID_BUFFER_OBJECT 1
@@ -27,6 +28,12 @@ inline uint id_fetch(__global const uint* mapIds, __global const uint* objectIds
   if (x < 0 || y < 0 || x >= width || y >= height) return ID_NONE;
   uint t = mapIds[y * width + x];
   return t == ID_NONE || mode == ID_BUFFER_POLYGON ? t : objectIds[t];
+}
+
+// The id lookups' position of the receiver at world `p`: its own map position, without the depth test's normal
+// offset; read only with an ID buffer, so not projected without one.
+inline float2 id_uv(__constant const LightViewGpu* lv, float3 p, int mode) {
+  return mode == ID_BUFFER_OFF ? (float2)(0.0f) : lv_project(lv, p).xy;
 }
 
 // The receiver's own id in the mode's id space.

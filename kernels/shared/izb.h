@@ -100,6 +100,8 @@ static inline uint izb_cluster_count(uint triangles) { return (triangles + IZB_C
 // from which each cell then takes its own list (izb_soft_lists) without atomics.
 #define IZB_TILE_CELLS 4
 static inline uint izb_tiles_of(uint cells) { return (cells + IZB_TILE_CELLS - 1) / IZB_TILE_CELLS; }
+// Cells of IZB_CELL_TEXELS along a grid side of `texels`.
+static inline uint izb_cells_of(uint texels) { return (texels + IZB_CELL_TEXELS - 1) / IZB_CELL_TEXELS; }
 
 // IzbFrame::spread on a CPU device for `groups` work-groups: the odd stride nearest groups / golden ratio that is
 // coprime to it, so that g -> g stride mod groups is a permutation whose runs of consecutive g reach the whole range.
