@@ -76,6 +76,13 @@
 #define RASTER_TRI_SINGLE_SIDED 1u  // culled when back-facing in views that cull single-sided triangles
 #define RASTER_TRI_ALPHA 2u         // alpha-tested; bits >> RASTER_TRI_ALPHA_SHIFT: its AlphaTriangle
 #define RASTER_TRI_ALPHA_SHIFT 2
+
+// Which side setup drops (RasterViewParams::solidSides: a code per triangle; the view's own culling: RASTER_CULL_CW):
+// the triangles of a solid facing away from the view's centre, clockwise in window space where the solid's outside is
+// counter-clockwise, and the other way round for solids wound inside out.
+#define RASTER_CULL_NONE 0u
+#define RASTER_CULL_CW 1u   // drop triangles clockwise in window space
+#define RASTER_CULL_CCW 2u  // drop triangles counter-clockwise in window space
 #define RASTER_MAX_ALPHA_TRIANGLES (1u << (32 - RASTER_FLAG_ALPHA_SHIFT))  // alpha-tested triangles per scene
 
 // DepthMode (raster/rasterizer.h) as the kernels see it.

@@ -13,6 +13,13 @@
 
 namespace penumbra {
 
+// A closed group of triangles (RasterGeometry::solidOf): a segment from a point outside it that meets it first crosses
+// one of its triangles from that triangle's outer side (host/scene/solids.h finds them).
+struct RasterSolid {
+  glm::vec3 min{0.0f}, max{0.0f};   // its box
+  bool counterClockwiseOut = true;  // which winding faces out
+};
+
 // One material as far as the rasterizer cares.
 struct RasterMaterial {
   // The record the fine stage samples: cutoff, alpha factor, texture transform and sampler, and the texture's place
@@ -34,6 +41,11 @@ struct RasterGeometry {
   std::span<const uint32_t> materialIds;
   std::span<const glm::vec2> uvs;  // one per position when a material has an alpha texture, else may be empty
   std::span<const uint8_t> alphaTexels;  // every alpha texture, one byte per texel (RasterMaterial::alpha)
+  // Empty, or one entry per triangle: the index of the solid it bounds in `solids`, or kNoSolid
+  // (RasterView::cullSolidsFarSides).
+  std::span<const int32_t> solidOf;
+  std::span<const RasterSolid> solids;
+  static constexpr int32_t kNoSolid = -1;
 };
 
 }  // namespace penumbra

@@ -3,17 +3,18 @@
 // what the run asked for and re-run; a clean error past the hard maximum.
 #include "raster/rasterizer.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <limits>
 #include <span>
 #include <stdexcept>
 #include <vector>
 
-#include <fmt/format.h>
-
 #include "host/cl/error.h"
 #include "raster/alpha_tables.h"
 #include "raster/plan.h"
+#include "raster/solid_sides.h"
 #include "raster/stages.h"
 
 namespace penumbra {
@@ -62,6 +63,7 @@ struct Rasterizer::Impl {
 
   void upload(const RasterGeometry& geometry);
   void uploadMaterials(const RasterGeometry& geometry);
+  void chooseSolidSides(const RasterView& view, raster::Plan& plan);
   void run(const raster::Plan& plan, Buffer<float>& depth, Buffer<uint32_t>& triangleIds);
   void sizeQueues(const raster::Plan& plan);
   bool grow(const char* queue, const char* kernel, uint32_t& capacity, uint64_t requested, size_t recordBytes,
@@ -70,6 +72,7 @@ struct Rasterizer::Impl {
   Context& ctx;
   raster::Stages stages;
   raster::SceneBuffers scene;
+  raster::SolidSides solidSides;
   raster::Queues queues;
   RasterCapacities capacities;
   bool capacitiesChosen = false;  // false: size from the next draw (initial or automatic)
@@ -94,7 +97,19 @@ void Rasterizer::Impl::upload(const RasterGeometry& s) {
   objectIds.resize(s.triangles.size(), 0);
   scene.objectIds = Buffer<uint32_t>(ctx, std::span<const uint32_t>(objectIds), CL_MEM_READ_ONLY);
   uploadMaterials(s);
+  solidSides.set(s);
+  static constexpr uint8_t kNoCodes = RASTER_CULL_NONE;
+  scene.solidSides = Buffer<uint8_t>(ctx, std::span<const uint8_t>(&kNoCodes, 1), CL_MEM_READ_ONLY);
   capacitiesChosen = false;
+}
+
+// A draw that may drop the far sides of solids gets their codes for its centre, uploaded when they change.
+void Rasterizer::Impl::chooseSolidSides(const RasterView& view, raster::Plan& plan) {
+  if (!view.cullSolidsFarSides || solidSides.empty() || plan.params.generalProjection || plan.empty()) return;
+  const raster::SolidSides::Codes codes = solidSides.codesFor(view);
+  if (codes.codes == nullptr) return;
+  if (codes.changed) scene.solidSides = Buffer<uint8_t>(ctx, std::span<const uint8_t>(*codes.codes), CL_MEM_READ_ONLY);
+  plan.params.solidSides = 1;
 }
 
 // The alpha and sidedness tables (raster/alpha_tables.h); one placeholder entry each where a scene needs none.
@@ -203,8 +218,9 @@ const Buffer<uint32_t>& Rasterizer::objectIds() const { return impl_->scene.obje
 const RasterStats& Rasterizer::stats() const { return impl_->stats; }
 
 void Rasterizer::draw(const RasterView& view, RasterTargets& targets) {
-  const raster::Plan plan =
+  raster::Plan plan =
       raster::makePlan(view, impl_->scene.triangleCount, impl_->scene.vertexCount, impl_->scene.materials);
+  impl_->chooseSolidSides(view, plan);
   ensureTarget(impl_->ctx, targets.depth, plan, std::numeric_limits<float>::infinity());
   ensureTarget(impl_->ctx, targets.triangleId, plan, kNoTriangle);
   impl_->run(plan, targets.depth, targets.triangleId);

@@ -56,6 +56,12 @@ struct RasterView {
   // ceil(width / 8) * ceil(height / 8) of them; tiles whose entry is 0 are left untouched, like pixels outside the
   // scissor, and cost nothing past binning. For passes that need scattered parts of a map (jittered).
   const Buffer<uint32_t>* tileMask = nullptr;
+  // draw() with a separable projection only: leave out the triangles of solids (RasterGeometry::solids) that face away
+  // from the projection's centre (its eye, or its direction for an orthographic view) where the centre lies outside
+  // the solid's box. Along every ray from the centre the nearest surface of a solid faces the centre, so the depth and
+  // triangle ids drawn are the same (up to which of two faces a texel centre exactly on a silhouette edge goes to),
+  // for less work. Light views set it (host/views/views.h); a general (warped) projection ignores it.
+  bool cullSolidsFarSides = false;
 };
 
 // Depth-only targets (shadow maps): width * height each, row-major, row 0 at the bottom (y up in NDC).

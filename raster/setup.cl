@@ -148,9 +148,10 @@ static RasterTriangle setupRejected(uint id) {
 }
 
 // Builds the record of one clip-space triangle; returns false (record invalid) when it is dropped: w <= 0,
-// zero snapped area (not in conservative draws), back-facing with `cull` set, or no pixel centre of the scissor inside its bounds. `alpha`: the
-// RASTER_FLAG_ALPHA bits of an alpha-tested triangle (0 for others), added to the flags of a drawn record.
-static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, uint id, bool cull, uint alpha,
+// zero snapped area (not in conservative draws), wound the way `cull` drops (RASTER_CULL_*), or no pixel centre of the
+// scissor inside its bounds. `alpha`: the RASTER_FLAG_ALPHA bits of an alpha-tested triangle (0 for others), added to
+// the flags of a drawn record.
+static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, uint id, uint cull, uint alpha,
                       RasterTriangle* r) {
   *r = setupRejected(id);
   if (!(v0.w > 0 && v1.w > 0 && v2.w > 0)) return false;
@@ -165,7 +166,8 @@ static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, u
   long area = (long)(s[1].x - s[0].x) * (s[2].y - s[0].y) - (long)(s[2].x - s[0].x) * (s[1].y - s[0].y);
   // Conservative draws keep zero-area records (slivers thinner than a subpixel after snapping): their edge tests still
   // pass wherever the dilated rectangle meets the snapped segment, and the exact test downstream decides.
-  if ((area == 0 && !p->conservative) || (cull && area < 0)) return false;
+  if ((area == 0 && !p->conservative) || (cull == RASTER_CULL_CW && area < 0) || (cull == RASTER_CULL_CCW && area > 0))
+    return false;
   if (area < 0) {  // make it counter-clockwise: edge functions positive inside
     int2 ts = s[1];
     s[1] = s[2];
@@ -214,7 +216,7 @@ static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, u
 
 // Near-plane and guard-band clipping into a fan: the first triangle goes to `out[t]`, the others are appended.
 // Returns how many are drawn.
-static uint setupClipped(real4 c0, real4 c1, real4 c2, const RasterViewParams* p, uint t, bool cull, uint alpha,
+static uint setupClipped(real4 c0, real4 c1, real4 c2, const RasterViewParams* p, uint t, uint cull, uint alpha,
                          __global RasterTriangle* out, __global RasterCounters* counters) {
   real4 poly[RASTER_MAX_CLIP_VERTICES], next[RASTER_MAX_CLIP_VERTICES];
   poly[0] = c0, poly[1] = c1, poly[2] = c2;
@@ -257,9 +259,11 @@ static bool setupOutside(real4 v, int plane) {  // trivial reject against the vi
   }
 }
 
-// The culling decision and the record's alpha flags from the triangle's material bits (RASTER_TRI_*).
-static bool setupCulls(const RasterViewParams* p, uint bits) {
-  return p->cullBackFaces || (p->cullSingleSided && (bits & RASTER_TRI_SINGLE_SIDED) != 0);
+// The culling decision (RASTER_CULL_*) from the view, the triangle's material bits (RASTER_TRI_*) and, where the
+// view drops the far sides of solids, its solid code; and the record's alpha flags from the material bits.
+static uint setupCulls(const RasterViewParams* p, uint bits, __global const uchar* solidSides, uint t) {
+  if (p->cullBackFaces || (p->cullSingleSided && (bits & RASTER_TRI_SINGLE_SIDED) != 0)) return RASTER_CULL_CW;
+  return p->solidSides ? solidSides[t] : RASTER_CULL_NONE;
 }
 static uint setupAlphaFlags(uint bits) {
   return (bits & RASTER_TRI_ALPHA) != 0
@@ -268,8 +272,8 @@ static uint setupAlphaFlags(uint bits) {
 }
 
 static uint setupTriangle(__global const float* positions, __global const uint* triangles,
-                          __global const uint* triangleBits, uint t, const RasterViewParams* p,
-                          __global RasterTriangle* out, __global RasterCounters* counters) {
+                          __global const uint* triangleBits, __global const uchar* solidSides, uint t,
+                          const RasterViewParams* p, __global RasterTriangle* out, __global RasterCounters* counters) {
   RasterTriangle r = setupRejected(t);
   uint3 idx = vload3(t, triangles);
   if (idx.x >= p->vertexCount || idx.y >= p->vertexCount || idx.z >= p->vertexCount) {
@@ -298,7 +302,7 @@ static uint setupTriangle(__global const float* positions, __global const uint* 
     clip = clip || setupPlaneDistance(c0, plane, gx, gy) < 0 || setupPlaneDistance(c1, plane, gx, gy) < 0 ||
            setupPlaneDistance(c2, plane, gx, gy) < 0;
   const uint bits = p->triangleBits ? triangleBits[t] : 0u;
-  const bool cull = setupCulls(p, bits);
+  const uint cull = setupCulls(p, bits, solidSides, t);
   const uint alpha = setupAlphaFlags(bits);
   if (clip) return setupClipped(c0, c1, c2, p, t, cull, alpha, out, counters);
   bool drawn = setupEmit(c0, c1, c2, p, t, cull, alpha, &r);
@@ -307,12 +311,15 @@ static uint setupTriangle(__global const float* positions, __global const uint* 
 }
 
 // out: triangleCount + extraCapacity records. counters->extraTriangles must be 0 and counters->setUp 0 on entry.
-// triangleBits: one entry per triangle when p.triangleBits is set (else never read).
+// triangleBits: one entry per triangle when p.triangleBits is set, solidSides (RASTER_CULL_*) when p.solidSides is
+// (else never read).
 __kernel __attribute__((reqd_work_group_size(RASTER_WG_SETUP, 1, 1))) void setup_triangles(
     __global const float* positions, __global const uint* triangles, __global const uint* triangleBits,
-    __global RasterTriangle* out, __global RasterCounters* counters, const RasterViewParams p) {
+    __global const uchar* solidSides, __global RasterTriangle* out, __global RasterCounters* counters,
+    const RasterViewParams p) {
   const uint t = get_global_id(0), lid = get_local_id(0);
-  const uint n = t < p.triangleCount ? setupTriangle(positions, triangles, triangleBits, t, &p, out, counters) : 0;
+  const uint n =
+      t < p.triangleCount ? setupTriangle(positions, triangles, triangleBits, solidSides, t, &p, out, counters) : 0;
 #if RASTER_SETUP_VECTOR
   // CPUs run a work-group's items one after another: a plain sum by item 0 beats a locked add per item.
   __local uint drawnBy[RASTER_WG_SETUP];

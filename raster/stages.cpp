@@ -51,10 +51,11 @@ void Stages::record(const Plan& plan, const SceneBuffers& scene, Queues& q, Buff
   q.binCount.fill(ctx_, 0u);
   q.binTileTotal.fill(ctx_, 0u);
   // Bytes floors (Kernel::moves): setup reads every vertex position and triangle's indices once (3 floats, 3
-  // uints), and its material bits when the draw needs them (1 uint); fine writes one depth and one triangle id per
-  // scissor pixel. Bins, tiles and alpha-texture reads are data-dependent.
-  setup_.args(scene.positions, scene.triangles, scene.triangleBits, q.records, q.counters, p)
-      .moves(uint64_t{scene.vertexCount} * 12 + uint64_t{scene.triangleCount} * (p.triangleBits ? 16 : 12))
+  // uints), and its material bits and solid code when the draw needs them (1 uint, 1 byte); fine writes one depth and
+  // one triangle id per scissor pixel. Bins, tiles and alpha-texture reads are data-dependent.
+  setup_.args(scene.positions, scene.triangles, scene.triangleBits, scene.solidSides, q.records, q.counters, p)
+      .moves(uint64_t{scene.vertexCount} * 12 +
+             uint64_t{scene.triangleCount} * ((p.triangleBits ? 16 : 12) + (p.solidSides ? 1 : 0)))
       .launch(scene.triangleCount, groups_.setup);
   binCount_.args(q.records, q.counters, q.binCount, p).launch(binItems, groups_.bin);
   binScan_.args(q.binCount, q.binOffset, q.binCursor, bins, q.counters, cl_uint{0})

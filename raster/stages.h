@@ -26,6 +26,9 @@ struct SceneBuffers {
   Buffer<AlphaTriangle> alphaTriangles;
   Buffer<AlphaMaterial> alphaMaterials;
   Buffer<uint8_t> alphaTexels;
+  // The draw's RASTER_CULL_* code per triangle when it drops the far sides of solids (RasterView::cullSolidsFarSides),
+  // made for the view's centre (Rasterizer::draw); else one unused entry.
+  Buffer<uint8_t> solidSides;
   uint32_t vertexCount = 0, triangleCount = 0;
   SceneMaterials materials;
 };

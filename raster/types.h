@@ -85,6 +85,8 @@ typedef struct {
   int triangleBits;                    // 1: setup reads the per-triangle material bits (RASTER_TRI_*)
   int cullSingleSided;                 // 1: drop clockwise triangles whose bits say RASTER_TRI_SINGLE_SIDED
   int conservative;                    // 1: tile lists only (Rasterizer::drawTileLists): dilated boxes and tests, no fine
+  int solidSides;                      // 1: setup reads the per-triangle RASTER_SOLID_* codes (RasterView)
+  int pad[3];
 } RasterViewParams;
 
 #if PENUMBRA_HOST
@@ -96,8 +98,8 @@ static_assert(sizeof(RasterCounters) == 32 && offsetof(RasterCounters, extraTria
 static_assert(offsetof(RasterViewParams, p00) == 112 && offsetof(RasterViewParams, viewZGeneral) == 168);
 static_assert(offsetof(RasterViewParams, width) == 192 && offsetof(RasterViewParams, generalProjection) == 284);
 static_assert(offsetof(RasterViewParams, tileMasked) == 288 && offsetof(RasterViewParams, cullSingleSided) == 296);
-static_assert(offsetof(RasterViewParams, conservative) == 300);
-static_assert(sizeof(RasterViewParams) == 304, "RasterViewParams layout must match OpenCL C");
+static_assert(offsetof(RasterViewParams, conservative) == 300 && offsetof(RasterViewParams, solidSides) == 304);
+static_assert(sizeof(RasterViewParams) == 320, "RasterViewParams layout must match OpenCL C");
 #endif
 
 #endif

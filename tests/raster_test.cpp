@@ -9,6 +9,7 @@
 #include <span>
 #include <vector>
 
+#include "host/scene/procedural_mesh.h"
 #include "host/views/raster_scene.h"
 #include "raster/constants.h"
 #include "raster/rasterizer.h"
@@ -239,6 +240,53 @@ TEST_F(RasterTest, BackFaceCullingDropsClockwiseTriangles) {
   EXPECT_GT(left, 50u);
   EXPECT_EQ(right, 0u);
   EXPECT_EQ(raster.stats().trianglesSetUp, 1u);
+}
+
+// RasterView::cullSolidsFarSides: boxes (one wound inside out) on an open ground quad, seen from a perspective eye and
+// an orthographic direction, and from an eye inside a box (which keeps all its sides): the depth and the triangle ids
+// are those of the draw without it, with fewer triangles set up; a general projection ignores it.
+TEST_F(RasterTest, SolidsFarSidesAreLeftOutWithTheSameDepthAndIds) {
+  Scene scene = makeScene({{-6, 0, -6}, {-6, 0, 6}, {6, 0, 6}, {6, 0, -6}}, {{0, 1, 2}, {0, 2, 3}});
+  detail::addBox(scene, 0, {-2.0f, 0.0f, -1.0f}, {-0.5f, 1.5f, 0.5f});
+  const size_t inverted = scene.triangles.size();
+  detail::addBox(scene, 0, {1.0f, 0.2f, -2.0f}, {2.5f, 2.0f, -0.5f});
+  for (size_t t = inverted; t < scene.triangles.size(); ++t) std::swap(scene.triangles[t].y, scene.triangles[t].z);
+  detail::addBox(scene, 0, {-0.6f, 2.5f, 1.4f}, {0.6f, 3.7f, 2.6f});  // holds the third view's eye
+  scene.objectIds.assign(scene.triangles.size(), 0);
+  Rasterizer raster(ctx());
+  uploadScene(raster, scene);
+  struct Case {
+    const char* name;
+    RasterView view;
+    bool fewer;  // some triangle faces away from the centre and is left out
+  };
+  RasterView general = perspectiveView(64, 48, {3, 6, 5}, {0, 0, 0}, 60.0f, 0.5f, 30.0f);
+  general.projection[0][1] = 0.25f;
+  const Case cases[] = {
+      {"perspective", perspectiveView(120, 90, {3, 6, 5}, {0, 0, 0}, 60.0f, 0.5f, 30.0f), true},
+      {"orthographic", orthoView(120, 90, {2, 8, 3}, {0, 0, 0}, {-6, 6, -5, 5}, 1.0f, 20.0f), true},
+      {"eye inside a box", perspectiveView(96, 64, {0, 3, 2}, {0, 0, -3}, 120.0f, 0.05f, 30.0f), true},
+      {"general", general, false},
+  };
+  for (const Case& c : cases) {
+    RasterView view = c.view;
+    view.cullSolidsFarSides = false;
+    const RasterOutput both = drawPoisoned(ctx(), raster, view);
+    const uint64_t all = raster.stats().trianglesSetUp;
+    view.cullSolidsFarSides = true;
+    const RasterOutput near = drawPoisoned(ctx(), raster, view);
+    size_t differing = 0, covered = 0;
+    for (size_t i = 0; i < both.depth.size(); ++i) {
+      covered += both.ids[i] != kNoTriangle;
+      differing += both.ids[i] != near.ids[i] || std::memcmp(&both.depth[i], &near.depth[i], sizeof(float)) != 0;
+    }
+    EXPECT_GT(covered, both.depth.size() / 4) << c.name;
+    EXPECT_LE(differing, 2u) << c.name;  // a texel centre exactly on a silhouette edge may go to the other face
+    if (c.fewer)
+      EXPECT_LT(raster.stats().trianglesSetUp, all) << c.name;
+    else
+      EXPECT_EQ(raster.stats().trianglesSetUp, all) << c.name;
+  }
 }
 
 TEST_F(RasterTest, RejectsUnsupportedViews) {

@@ -90,6 +90,7 @@ Solids findSolids(const Scene& scene) {
     if (!g.solid || !(std::abs(g.volume) > kMinVolumeShare * g.area * diagonal)) continue;
     index[root] = static_cast<int32_t>(solids.bounds.size());
     solids.bounds.push_back(g.bounds);
+    solids.counterClockwiseOut.push_back(g.volume > 0.0 ? 1 : 0);
   }
   for (size_t i = 0; i < count; ++i) {
     const glm::uvec3 t = scene.triangles[i];

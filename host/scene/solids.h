@@ -18,6 +18,7 @@ struct Solids {
   std::vector<int32_t> solidOf;       // per triangle: the solid it bounds, kNone when it bounds none
   std::vector<glm::vec4> outerPlane;  // per triangle bounding a solid: unit normal towards its outside, and n . p
   std::vector<Bounds> bounds;         // per solid
+  std::vector<uint8_t> counterClockwiseOut;  // per solid: 1 when its triangles' counter-clockwise sides face out
   size_t triangles = 0;               // triangles bounding a solid
 };
 

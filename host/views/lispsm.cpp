@@ -140,6 +140,7 @@ void finish(LightView& lv, const glm::dmat4& P, double texelScale, LispsmFit& re
   result.warped = true;
   result.n = float(n), result.nOpt = float(nOpt), result.gammaDeg = float(gammaDeg);
   lv.raster.projection = glm::mat4(P);
+  lv.raster.cullSolidsFarSides = false;  // its rays leave the warp's centre, its depth test is the light's depth
   setLightViewRows(lv.gpu.projection, lv.raster.projection);
   lv.gpu.warp = LIGHT_WARP_PERSPECTIVE;
   lv.gpu.texelScale = float(texelScale);

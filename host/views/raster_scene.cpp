@@ -2,9 +2,11 @@
 // checked; the arrays are the scene's own.
 #include "host/views/raster_scene.h"
 
+#include <fmt/format.h>
+
 #include <stdexcept>
 
-#include <fmt/format.h>
+#include "host/scene/solids.h"
 
 namespace penumbra {
 
@@ -24,6 +26,12 @@ SceneGeometry::SceneGeometry(const Scene& scene) {
   geometry_.materialIds = scene.materialIds;
   geometry_.uvs = scene.uvs;
   geometry_.alphaTexels = scene.alphaTexels;
+  const Solids solids = findSolids(scene);
+  solidOf_ = solids.solidOf;
+  for (size_t s = 0; s < solids.bounds.size(); ++s)
+    solids_.push_back({solids.bounds[s].min, solids.bounds[s].max, solids.counterClockwiseOut[s] != 0});
+  geometry_.solidOf = solidOf_;
+  geometry_.solids = solids_;
 }
 
 void uploadScene(Rasterizer& raster, const Scene& scene) { raster.setGeometry(SceneGeometry(scene).geometry()); }

@@ -1,8 +1,9 @@
 // A Scene as the rasterizer's plain arrays (raster/geometry.h): its materials turned into the records the kernels
-// read (each alpha texture located in the scene's atlas), everything else viewed in place. The one place where
-// host/scene meets raster/.
+// read (each alpha texture located in the scene's atlas) and its solids (host/scene/solids.h) as RasterSolids,
+// everything else viewed in place. The one place where host/scene meets raster/.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "host/scene/scene.h"
@@ -23,6 +24,8 @@ class SceneGeometry {
 
  private:
   std::vector<RasterMaterial> materials_;
+  std::vector<int32_t> solidOf_;
+  std::vector<RasterSolid> solids_;
   RasterGeometry geometry_;
 };
 

@@ -94,6 +94,7 @@ LightView fitLightView(const Light& light, const Bounds& sceneBounds, int size, 
   LightViewGpu& gpu = lv.gpu;
   raster.width = raster.height = size;
   raster.depthMode = DepthMode::kViewZ;
+  raster.cullSolidsFarSides = true;  // the nearest surface along every ray of the map is the same
   raster.view = lightEyeMatrix(light, scene);
   float zNear, zFar;
   depthRange(raster.view, scene, zNear, zFar);

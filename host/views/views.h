@@ -32,6 +32,7 @@ struct LightView {
 // `snapToTexels` (parallel splits' stability option): a cropped window's extent is rounded up to a step of
 // 2^(1/8) relative to the full window and its centre to whole texels of the result, so a moving camera moves
 // the map by whole texels and changes its texel size only in discrete steps (no shimmering edges).
+// Its draws leave out the sides of solids that face away from the light (RasterView::cullSolidsFarSides).
 LightView fitLightView(const Light& light, const Bounds& scene, int size, const ReceiverBounds* receivers = nullptr,
                        float marginTexels = 0.0f, bool snapToTexels = false);
 
