@@ -42,7 +42,7 @@
 static inline void fineStore(const RasterViewParams* p, int x, int y, float best, uint bestId, __global float* depth,
                              __global uint* triangleId) {
   const size_t pixel = (size_t)y * p->width + x;
-  triangleId[pixel] = bestId;
+  if (!p->skipIds) triangleId[pixel] = bestId;
   depth[pixel] = bestId == RASTER_NO_TRIANGLE ? INFINITY : rasterDepth(p, x, y, best);
 }
 

@@ -222,7 +222,12 @@ void Rasterizer::draw(const RasterView& view, RasterTargets& targets) {
       raster::makePlan(view, impl_->scene.triangleCount, impl_->scene.vertexCount, impl_->scene.materials);
   impl_->chooseSolidSides(view, plan);
   ensureTarget(impl_->ctx, targets.depth, plan, std::numeric_limits<float>::infinity());
-  ensureTarget(impl_->ctx, targets.triangleId, plan, kNoTriangle);
+  if (view.writeTriangleIds) {
+    ensureTarget(impl_->ctx, targets.triangleId, plan, kNoTriangle);
+  } else {
+    plan.params.skipIds = 1;
+    if (targets.triangleId.empty()) targets.triangleId.allocate(impl_->ctx, 1);  // an argument fine never writes
+  }
   impl_->run(plan, targets.depth, targets.triangleId);
 }
 

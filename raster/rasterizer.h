@@ -62,12 +62,16 @@ struct RasterView {
   // triangle ids drawn are the same (up to which of two faces a texel centre exactly on a silhouette edge goes to),
   // for less work. Light views set it (host/views/views.h); a general (warped) projection ignores it.
   bool cullSolidsFarSides = false;
+  // draw() only: false leaves RasterTargets::triangleId alone (not written, not even sized): a depth-only map, for the
+  // techniques that read no ID buffer (a 4096^2 map writes 64 MiB less).
+  bool writeTriangleIds = true;
 };
 
 // Depth-only targets (shadow maps): width * height each, row-major, row 0 at the bottom (y up in NDC).
 struct RasterTargets {
   Buffer<float> depth;          // per DepthMode; +INFINITY where nothing was drawn
-  Buffer<uint32_t> triangleId;  // index into RasterGeometry::triangles, kNoTriangle where nothing was drawn
+  Buffer<uint32_t> triangleId;  // index into RasterGeometry::triangles, kNoTriangle where nothing was drawn (unless
+                                // the view's writeTriangleIds is false)
 };
 
 // The camera's G-buffer, reconstructed exactly from the visible triangle per pixel.

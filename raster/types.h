@@ -85,8 +85,9 @@ typedef struct {
   int triangleBits;                    // 1: setup reads the per-triangle material bits (RASTER_TRI_*)
   int cullSingleSided;                 // 1: drop clockwise triangles whose bits say RASTER_TRI_SINGLE_SIDED
   int conservative;                    // 1: tile lists only (Rasterizer::drawTileLists): dilated boxes and tests, no fine
-  int solidSides;                      // 1: setup reads the per-triangle RASTER_SOLID_* codes (RasterView)
-  int pad[3];
+  int solidSides;                      // 1: setup reads the per-triangle RASTER_CULL_* codes (RasterView)
+  int skipIds;                         // 1: fine writes depth only (RasterView::writeTriangleIds false)
+  int pad[2];
 } RasterViewParams;
 
 #if PENUMBRA_HOST

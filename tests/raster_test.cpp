@@ -289,6 +289,29 @@ TEST_F(RasterTest, SolidsFarSidesAreLeftOutWithTheSameDepthAndIds) {
   }
 }
 
+// RasterView::writeTriangleIds false: the same depths, and the id target left as it was (poisoned ids stay; fresh
+// targets get one unused entry).
+TEST_F(RasterTest, DepthOnlyDrawsLeaveTheIdsAlone) {
+  const Scene soup = triangleSoup(300, 11, 2.0f, 0.6f);
+  RasterView view = perspectiveView(77, 53, {0.5f, 1.0f, 6.0f}, {0, 0, 0}, 50.0f, 0.5f, 20.0f);
+  Rasterizer raster(ctx());
+  uploadScene(raster, soup);
+  const RasterOutput both = drawPoisoned(ctx(), raster, view);
+  view.writeTriangleIds = false;
+  const RasterOutput depthOnly = drawPoisoned(ctx(), raster, view);
+  size_t covered = 0;
+  for (size_t i = 0; i < both.depth.size(); ++i) {
+    covered += both.ids[i] != kNoTriangle;
+    ASSERT_EQ(std::memcmp(&both.depth[i], &depthOnly.depth[i], sizeof(float)), 0) << i;
+    ASSERT_EQ(depthOnly.ids[i], kPoisonId) << i;
+  }
+  EXPECT_GT(covered, both.depth.size() / 4);
+  RasterTargets fresh;
+  raster.draw(view, fresh);
+  EXPECT_EQ(fresh.triangleId.size(), 1u);
+  EXPECT_EQ(fresh.depth.download(ctx()), both.depth);
+}
+
 TEST_F(RasterTest, RejectsUnsupportedViews) {
   Rasterizer raster(ctx());
   RasterTargets targets;

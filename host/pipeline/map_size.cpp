@@ -57,7 +57,8 @@ DrawnNeeds drawnNeeds(ShadowFrame& frame, const Params& params, MapProbe& probe,
   const ReceiverBias bias{static_cast<float>(params.get("bias")), static_cast<float>(params.get("slope-bias")),
                           static_cast<float>(params.get("normal-offset"))};
   MapDetailMeter meter;
-  for (const LightView& view : probeViews(frame, params, kMapProbeSize)) {
+  for (LightView& view : probeViews(frame, params, kMapProbeSize)) {
+    view.raster.writeTriangleIds = false;  // depths are what it measures
     frame.raster.draw(view.raster, probe.targets);
     if (probe.view.empty()) probe.view.allocate(frame.ctx, 1, CL_MEM_READ_ONLY);
     probe.view.upload(frame.ctx, std::span<const LightViewGpu>(&view.gpu, 1));

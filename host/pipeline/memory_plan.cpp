@@ -25,7 +25,7 @@ constexpr uint64_t kVisibilityBytesPerPixel = 4;  // per light
 // A technique's per-pixel buffers (MomentDebug's moments and statistics, the split AOVs, jittered's state, PCSS's
 // blocker depths): at most 32 bytes per pixel in every technique of the registry.
 constexpr uint64_t kTechniquePixelBytes = 32;
-// Each shadow-map texel: the rasterizer's depth and triangle id targets.
+// Each shadow-map texel: the rasterizer's depth and triangle id targets (depth-only maps use half: an upper bound).
 constexpr uint64_t kMapTexelBytes = 8;
 // Host: every channel of the image (R, G, B, A, P.*, N.*, depth.Z, visibility.Y: 13 floats) plus a layer per light,
 // the debug channels (at most 4 floats) and the 8-bit RGBA preview.

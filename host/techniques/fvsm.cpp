@@ -219,10 +219,10 @@ class FittedVirtualShadowMap final : public TechniqueOf<FvsmSettings> {
     level_.fill(ctx, -1.0f);
     if (!leaves.empty()) {
       atlasDepth_.allocate(ctx, leaves.size() * tileTexels);
-      atlasIds_.allocate(ctx, leaves.size() * tileTexels);
+      noIds_.allocate(ctx, 1);  // depth-only tiles: no ID buffer reads them
       for (size_t k = 0; k < leaves.size(); ++k) {
-        RasterTargets slot{atlasDepth_.region(ctx, k * tileTexels, tileTexels),
-                           atlasIds_.region(ctx, k * tileTexels, tileTexels)};
+        RasterTargets slot{atlasDepth_.region(ctx, k * tileTexels, tileTexels), noIds_.region(ctx, 0, 1)};
+        views[k].raster.writeTriangleIds = false;
         frame.raster.draw(views[k].raster, slot);
       }
       page_.allocate(ctx, page.size(), CL_MEM_READ_ONLY);
@@ -272,7 +272,7 @@ class FittedVirtualShadowMap final : public TechniqueOf<FvsmSettings> {
   Buffer<uint32_t> histogram_, page_;
   Buffer<int32_t> leafLevels_;
   Buffer<float> atlasDepth_, level_;
-  Buffer<uint32_t> atlasIds_;
+  Buffer<uint32_t> noIds_;
 };
 
 }  // namespace

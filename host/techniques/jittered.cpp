@@ -162,6 +162,7 @@ class Jittered final : public TechniqueOf<JitterSettings> {
             pass > 0 && plan.nJitter > 0.0f ? nJitteredView(frame, plan, pass) : baseView(frame, plan, pass), angle,
             plan.scale, offset);
         map_.view.raster.scissor = scissor;
+        map_.view.raster.writeTriangleIds = map_.triangleIds;
         if (masking_) map_.view.raster.tileMask = &tileMask_;
         frame.raster.draw(map_.view.raster, map_.targets);
       }
@@ -223,6 +224,7 @@ class Jittered final : public TechniqueOf<JitterSettings> {
     plan.reduction = settings_.reduction;
     plan.warped = settings_.map.fit.warp.lispsm;
     plan.nJitter = settings_.nJitter;
+    map_.triangleIds = settings_.idMode != ID_BUFFER_OFF;
     renderShadowMap(frame, settings_.map, map_, 0.0f);
     plan.fitted = map_.view;
     if (plan.reduction > 0.0f || plan.nJitter > 0.0f) plan.depth = tightViewDepth(frame.ctx, frame.gbuffer);

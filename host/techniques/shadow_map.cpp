@@ -258,6 +258,7 @@ void renderShadowMap(ShadowFrame& frame, const MapSettings& settings, ShadowMap&
   } else {
     const float margin = reachTexels + settings.normalOffset + 1.0f;
     map.view = fitWarpedLightView(frame, settings.fit, size, margin);
+    map.view.raster.writeTriangleIds = map.triangleIds;
     frame.raster.draw(map.view.raster, map.targets);
   }
   if (near == MapNear::Drawn)

@@ -24,6 +24,7 @@ struct ShadowMap {
   LightView view;
   RasterTargets targets;     // depth: linear light depth, +INFINITY where empty
   Buffer<LightViewGpu> gpu;  // view.gpu on the device (one element) for __constant arguments
+  bool triangleIds = false;  // renderShadowMap draws targets.triangleId too (an ID buffer reads them)
 };
 
 // map-size (auto: chosen per frame by the renderer from the camera's pixels, host/views/light_fit.h neededMapSize),

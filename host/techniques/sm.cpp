@@ -22,6 +22,7 @@ class HardShadowMap final : public TechniqueOf<SmSettings> {
   using TechniqueOf::TechniqueOf;
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
+    map_.triangleIds = settings_.idMode != ID_BUFFER_OFF;
     renderShadowMap(frame, settings_.map, map_, 0.0f, MapNear::Fitted);  // depth comparisons only
     const GBuffer& g = frame.gbuffer;
     const ShadeFrame shade = shadeFrame(frame, settings_.map, settings_.receiverPlane, settings_.idMode);
