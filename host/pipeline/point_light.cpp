@@ -53,6 +53,7 @@ void CubeShadows::render(ShadowFrame& frame, Technique& technique, int size, flo
     }
     ShadowFrame faceFrame{ctx, frame.raster, frame.scene, spot, frame.camera, face_, receivers};
     faceFrame.pointLight = &point;
+    faceFrame.solids = frame.solids;
     technique.render(faceFrame, faceVisibility_);
     selectCubeFace(ctx, faces_, faceVisibility_, face, visibility);
     mergeAttributes(attributes, faceFrame.attributes, name);

@@ -82,8 +82,9 @@ void recordTechniques(const std::vector<FrameLight>& lights,
 
 }  // namespace
 
-Renderer::Renderer(Context& ctx, const Scene& scene) : ctx_(ctx), scene_(scene), raster_(ctx) {
-  uploadScene(raster_, scene);
+Renderer::Renderer(Context& ctx, const Scene& scene)
+    : ctx_(ctx), scene_(scene), solids_(findSolids(scene)), raster_(ctx) {
+  uploadScene(raster_, scene, solids_);
 }
 
 void Renderer::addDebugChannels(const Light& light, Slot& slot, Image& image) {
@@ -108,6 +109,7 @@ std::map<std::string, std::string> Renderer::shadow(const Camera& camera, const 
                                          : reduceReceivers(ctx_, gbuffer_, lightEyeMatrix(light.light, scene_.bounds()),
                                                            light.light.type == LightType::Spot);
   ShadowFrame frame{ctx_, raster_, scene_, light.light, camera, gbuffer_, receivers};
+  frame.solids = &solids_;
   // --map-size auto: the technique instance is the one of this frame's size (host/pipeline/map_size.h).
   const Params& params = light.params;
   const int mapSize = autoMapSize(params) ? sizeMapForFrame(frame, params, slot.probe) : 0;

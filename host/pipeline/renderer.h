@@ -94,6 +94,7 @@ class Renderer {
 
   Context& ctx_;
   const Scene& scene_;
+  Solids solids_;  // found once: the rasterizer's light views and izb's casters use them
   Rasterizer raster_;
   GBuffer gbuffer_;
   std::vector<Slot> slots_;  // one per light of the frame, in order

@@ -152,7 +152,7 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
       describeLight(f, light, grid, settings_.lightGrid);
       pattern_.prepare(ctx, settings_.lightGrid, f.lightKind == IZB_LIGHT_SUN, f.lightOneMinusCos);
       // 64 bytes per slot of the clusters' lanes (izb_soft_casters), the last cluster's padded.
-      selectCasters(ctx, frame.scene, light);
+      selectCasters(ctx, frame, light);
       const uint32_t clusters = izb_cluster_count(casterCount_), slots = clusters * IZB_CLUSTER;
       casters_.allocate(ctx, size_t{16} * std::max<size_t>(slots, 1));
       Kernel casters(ctx, "kernels/izb.cl", "izb_soft_casters", "izb");
@@ -226,7 +226,7 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
           "cells where they can hide part of the light (room for {} entries from the {}x{}-cell tiles' lists); {} "
           "casters of {} triangles ({} bounding solids, {} of them facing away from the whole light, left out)",
           rays / samples_, settings_.lightGrid, settings_.lightGrid, room, IZB_TILE_CELLS, IZB_TILE_CELLS, casterCount_,
-          frame.scene.triangles.size(), solids_.triangles, frame.scene.triangles.size() - casterCount_);
+          frame.scene.triangles.size(), solids_->triangles, frame.scene.triangles.size() - casterCount_);
   }
 
  private:
@@ -314,8 +314,9 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
   // Area lights: the clusters' triangles in the order of their centroids' Morton codes (30 bits over the scene's
   // bounds, ties by index), so that each cluster's IZB_CLUSTER casters are neighbours and its ball, which every sample
   // of a cell listing it tests first, is small (default.json: the clusters' mean radius 0.49 against 0.75 in the
-  // scene's own order). Computed once for the scene the renderer holds, with its solids.
-  void orderCasters(const Scene& scene) {
+  // scene's own order). Computed once for the scene the renderer holds, with its solids (the renderer's, else found
+  // here).
+  void orderCasters(const Scene& scene, const Solids* found) {
     if (orderedScene_ == &scene && orderedTriangles_ == scene.triangles.size()) return;
     const size_t count = scene.triangles.size();
     const Bounds bounds = scene.bounds();
@@ -335,7 +336,8 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
     std::sort(keys.begin(), keys.end());
     mortonOrder_.resize(count);
     for (size_t i = 0; i < count; ++i) mortonOrder_[i] = static_cast<uint32_t>(keys[i]);
-    solids_ = findSolids(scene);
+    if (found == nullptr) ownSolids_ = findSolids(scene);
+    solids_ = found != nullptr ? found : &ownSolids_;
     orderedScene_ = &scene, orderedTriangles_ = count;
     selected_ = false;
   }
@@ -345,14 +347,14 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
   // its triangles that faces some light point, so the others hide nothing more; on scenes/default.json 36 % of the
   // triangles). order_ holds them padded to whole clusters with 0xffffffff, casterCount_ counts them. Made again only
   // when the scene or the light changes.
-  void selectCasters(Context& ctx, const Scene& scene, const Light& light) {
-    orderCasters(scene);
+  void selectCasters(Context& ctx, const ShadowFrame& frame, const Light& light) {
+    orderCasters(frame.scene, frame.solids);
     const LightExtent extent = lightExtent(light);
     if (selected_ && extent == selectedLight_) return;
     std::vector<uint32_t> order;
     order.reserve(mortonOrder_.size() + IZB_CLUSTER);
     for (uint32_t t : mortonOrder_)
-      if (!facesAwayFromLight(solids_, t, extent)) order.push_back(t);
+      if (!facesAwayFromLight(*solids_, t, extent)) order.push_back(t);
     casterCount_ = static_cast<uint32_t>(order.size());
     order.resize(size_t{izb_cluster_count(casterCount_)} * IZB_CLUSTER, 0xffffffffu);
     if (order.empty()) order.push_back(0xffffffffu);
@@ -377,7 +379,8 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
   const Scene* orderedScene_ = nullptr;
   size_t orderedTriangles_ = 0;
   std::vector<uint32_t> mortonOrder_;  // every triangle, in the order of its centroid's Morton code
-  Solids solids_;
+  const Solids* solids_ = nullptr;     // the renderer's (ShadowFrame::solids), else ownSolids_
+  Solids ownSolids_;
   LightExtent selectedLight_;  // the light order_ was selected for
   bool selected_ = false;
   // Area lights: the light pattern and its bitmask tables on the device, made again only when the pattern or (a sun's)

@@ -13,6 +13,7 @@
 #include "host/cl/context.h"
 #include "host/io/image.h"
 #include "host/scene/scene.h"
+#include "host/scene/solids.h"
 #include "host/techniques/params.h"
 #include "host/views/light_fit.h"
 #include "host/views/views.h"
@@ -47,6 +48,8 @@ struct ShadowFrame {
   // The caller's map (pn_shade), else null: the scene is then a stand-in of no triangles whose bounds are the caller's
   // scene's, and the rasterizer holds nothing.
   const CallerMap* callerMap = nullptr;
+  // The scene's solids (host/scene/solids.h), found once by the renderer; null: a technique that needs them finds them.
+  const Solids* solids = nullptr;
   // Under --map-size auto, the size the camera's pixels alone need (before the penumbrae cap it; rounded and clamped as
   // the map size), which split techniques plan their split count with (host/techniques/split_maps.h); 0: none.
   int pixelsMapSize = 0;

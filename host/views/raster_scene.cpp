@@ -10,7 +10,7 @@
 
 namespace penumbra {
 
-SceneGeometry::SceneGeometry(const Scene& scene) {
+SceneGeometry::SceneGeometry(const Scene& scene, const Solids& solids) {
   materials_.reserve(scene.materials.size());
   for (const Material& m : scene.materials) {
     if (m.alphaTexture >= 0 && static_cast<size_t>(m.alphaTexture) >= scene.alphaTextures.size())
@@ -26,14 +26,16 @@ SceneGeometry::SceneGeometry(const Scene& scene) {
   geometry_.materialIds = scene.materialIds;
   geometry_.uvs = scene.uvs;
   geometry_.alphaTexels = scene.alphaTexels;
-  const Solids solids = findSolids(scene);
-  solidOf_ = solids.solidOf;
   for (size_t s = 0; s < solids.bounds.size(); ++s)
     solids_.push_back({solids.bounds[s].min, solids.bounds[s].max, solids.counterClockwiseOut[s] != 0});
-  geometry_.solidOf = solidOf_;
+  geometry_.solidOf = solids.solidOf;
   geometry_.solids = solids_;
 }
 
-void uploadScene(Rasterizer& raster, const Scene& scene) { raster.setGeometry(SceneGeometry(scene).geometry()); }
+void uploadScene(Rasterizer& raster, const Scene& scene) { uploadScene(raster, scene, findSolids(scene)); }
+
+void uploadScene(Rasterizer& raster, const Scene& scene, const Solids& solids) {
+  raster.setGeometry(SceneGeometry(scene, solids).geometry());
+}
 
 }  // namespace penumbra

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "host/scene/scene.h"
+#include "host/scene/solids.h"
 #include "raster/geometry.h"
 #include "raster/rasterizer.h"
 
@@ -14,9 +15,9 @@ namespace penumbra {
 
 class SceneGeometry {
  public:
-  // Views of `scene`, which must outlive this object. Throws std::invalid_argument ("raster scene: ...") for a
-  // material whose alpha texture is not one of the scene's.
-  explicit SceneGeometry(const Scene& scene);
+  // Views of `scene` and its `solids` (findSolids(scene)), which must outlive this object. Throws
+  // std::invalid_argument ("raster scene: ...") for a material whose alpha texture is not one of the scene's.
+  SceneGeometry(const Scene& scene, const Solids& solids);
   SceneGeometry(const SceneGeometry&) = delete;
   SceneGeometry& operator=(const SceneGeometry&) = delete;
 
@@ -24,12 +25,13 @@ class SceneGeometry {
 
  private:
   std::vector<RasterMaterial> materials_;
-  std::vector<int32_t> solidOf_;
   std::vector<RasterSolid> solids_;
   RasterGeometry geometry_;
 };
 
-// Uploads the scene's triangles and materials to `raster` (Rasterizer::setGeometry).
+// Uploads the scene's triangles, materials and solids to `raster` (Rasterizer::setGeometry); the first form finds the
+// solids itself.
 void uploadScene(Rasterizer& raster, const Scene& scene);
+void uploadScene(Rasterizer& raster, const Scene& scene, const Solids& solids);
 
 }  // namespace penumbra
