@@ -77,6 +77,16 @@ TEST(SceneSolids, OpenDoubledSheetAndAlphaTestedGroupsBoundNone) {
   masked.materialIds.assign(masked.triangles.size(), 0);
   EXPECT_TRUE(findSolids(masked).bounds.empty());
 
+  Scene outOfRange = oneBox();  // no solids, no read past the positions: the rasterizer's upload names the index
+  outOfRange.triangles[3].z = 1000;
+  const Solids none = findSolids(outOfRange);
+  EXPECT_TRUE(none.bounds.empty());
+  EXPECT_EQ(none.solidOf.size(), outOfRange.triangles.size());
+
+  Scene nonFinite = oneBox();  // a NaN vertex: no volume to trust
+  nonFinite.positions[0] = glm::vec3(NAN);
+  EXPECT_TRUE(findSolids(nonFinite).bounds.empty());
+
   Scene repeated = oneBox();  // two vertices of one triangle at one position
   repeated.positions[repeated.triangles[0].y] = repeated.positions[repeated.triangles[0].x];
   EXPECT_TRUE(findSolids(repeated).bounds.empty());

@@ -64,6 +64,8 @@ Solids findSolids(const Scene& scene) {
   solids.solidOf.assign(count, Solids::kNone);
   solids.outerPlane.assign(count, glm::vec4(NAN));
   if (scene.positions.size() >= kMaxWelded) return solids;  // edge keys hold vertex ids below 2^31
+  for (const glm::uvec3& t : scene.triangles)               // no solids; the rasterizer's upload names the bad index
+    if (t.x >= scene.positions.size() || t.y >= scene.positions.size() || t.z >= scene.positions.size()) return solids;
   uint32_t vertices = 0;
   const std::vector<uint32_t> welded = weldedVertices(scene.positions, vertices);
   std::vector<uint32_t> parent(vertices);

@@ -19,12 +19,13 @@ struct Solids {
   std::vector<glm::vec4> outerPlane;  // per triangle bounding a solid: unit normal towards its outside, and n . p
   std::vector<Bounds> bounds;         // per solid
   std::vector<uint8_t> counterClockwiseOut;  // per solid: 1 when its triangles' counter-clockwise sides face out
-  size_t triangles = 0;               // triangles bounding a solid
+  size_t triangles = 0;                      // triangles bounding a solid
 };
 
 // The solids of `scene`. A group is left out (kNone) when an edge is open, shared by more than two triangles or run
 // the same way twice, when a triangle has two vertices at one position or its material may discard fragments, or
-// when its signed volume is too small to tell its outside (a closed sheet of two faces back to back).
+// when its signed volume is too small to tell its outside (a closed sheet of two faces back to back). A scene with an
+// index out of range has none (the rasterizer's upload refuses it with the index named).
 Solids findSolids(const Scene& scene);
 
 // The light's extent for the test below: every point of a spot disk or sphere light lies within `radius` of `centre`;
