@@ -254,7 +254,7 @@ TEST_F(RasterTest, SolidsFarSidesAreLeftOutWithTheSameDepthAndIds) {
   detail::addBox(scene, 0, {-0.6f, 2.5f, 1.4f}, {0.6f, 3.7f, 2.6f});  // holds the third view's eye
   scene.objectIds.assign(scene.triangles.size(), 0);
   Rasterizer raster(ctx());
-  uploadScene(raster, scene);
+  uploadScene(raster, scene, findSolids(scene));
   struct Case {
     const char* name;
     RasterView view;

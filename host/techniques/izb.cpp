@@ -344,7 +344,7 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
 
   // Area lights: the casters of `light`, the scene's triangles in Morton order (orderCasters) less those of solids that
   // face away from the whole light (host/scene/solids.h: a segment from the light into a solid first crosses one of
-  // its triangles that faces some light point, so the others hide nothing more; on scenes/default.json 36 % of the
+  // its triangles that faces some light point, so the others hide nothing more; on scenes/default.json 33 % of the
   // triangles). order_ holds them padded to whole clusters with 0xffffffff, casterCount_ counts them. Made again only
   // when the scene or the light changes.
   void selectCasters(Context& ctx, const ShadowFrame& frame, const Light& light) {

@@ -32,7 +32,7 @@ SceneGeometry::SceneGeometry(const Scene& scene, const Solids& solids) {
   geometry_.solids = solids_;
 }
 
-void uploadScene(Rasterizer& raster, const Scene& scene) { uploadScene(raster, scene, findSolids(scene)); }
+void uploadScene(Rasterizer& raster, const Scene& scene) { uploadScene(raster, scene, Solids{}); }
 
 void uploadScene(Rasterizer& raster, const Scene& scene, const Solids& solids) {
   raster.setGeometry(SceneGeometry(scene, solids).geometry());

@@ -29,8 +29,9 @@ class SceneGeometry {
   RasterGeometry geometry_;
 };
 
-// Uploads the scene's triangles, materials and solids to `raster` (Rasterizer::setGeometry); the first form finds the
-// solids itself.
+// Uploads the scene's triangles, materials and solids to `raster` (Rasterizer::setGeometry). The first form uploads no
+// solids, so no draw leaves their far sides out: for rasterizers that draw no light view (the reference's G-buffer,
+// whose timed upload must not find them) and tests of other things; the Renderer finds them once (findSolids).
 void uploadScene(Rasterizer& raster, const Scene& scene);
 void uploadScene(Rasterizer& raster, const Scene& scene, const Solids& solids);
 
