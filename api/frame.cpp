@@ -111,19 +111,21 @@ pn_status pn_frame_device_buffer(const pn_frame* frame, pn_frame_output output, 
   return guard([&] {
     require(buffer, "pn_frame_device_buffer", "buffer");
     const pn_frame& f = *require(frame, "pn_frame_device_buffer", "frame");
+    auto give = [&](const auto& kept, const char* name, const char* bit) {
+      if (kept.empty())
+        throw std::invalid_argument(fmt::format(
+            "pn_frame_device_buffer: the frame has no {} (its pn_render_options::outputs left out {})", name, bit));
+      *buffer = kept.get()();
+    };
     switch (output) {
       case PN_FRAME_PREVIEW:
-        *buffer = f.preview.get()();
-        return;
+        return give(f.preview, "PN_FRAME_PREVIEW", "PN_FRAME_OUTPUT_PREVIEW_BIT");
       case PN_FRAME_POSITION:
-        *buffer = f.position.get()();
-        return;
+        return give(f.position, "PN_FRAME_POSITION", "PN_FRAME_OUTPUT_SURFACES_BIT");
       case PN_FRAME_NORMAL:
-        *buffer = f.normal.get()();
-        return;
+        return give(f.normal, "PN_FRAME_NORMAL", "PN_FRAME_OUTPUT_SURFACES_BIT");
       case PN_FRAME_DEPTH:
-        *buffer = f.depth.get()();
-        return;
+        return give(f.depth, "PN_FRAME_DEPTH", "PN_FRAME_OUTPUT_SURFACES_BIT");
       case PN_FRAME_OUTPUT_MAX_ENUM:  // not an output
         break;
     }

@@ -3,6 +3,7 @@
 // light; the camera likewise. Each frame keeps a device copy of every light's visibility.
 #include <fmt/format.h>
 
+#include <cstddef>
 #include <set>
 #include <string>
 
@@ -80,7 +81,7 @@ penumbra::Buffer<T> copyOf(penumbra::Context& ctx, const penumbra::Buffer<T>& so
 // (`outputs`: none, or one per light, NULL entries the frame's own); the renderer overwrites its buffers with the next
 // frame, and a frame is a snapshot. Enqueued only.
 void copyDeviceOutputs(penumbra::Context& ctx, const penumbra::Renderer& renderer, size_t lights,
-                       const std::vector<penumbra::Buffer<float>>& outputs, pn_frame& frame) {
+                       const std::vector<penumbra::Buffer<float>>& outputs, bool surfaces, pn_frame& frame) {
   for (size_t i = 0; i < lights; ++i) {
     if (i < outputs.size() && !outputs[i].empty()) {
       frame.visibility.push_back(outputs[i]);
@@ -89,6 +90,7 @@ void copyDeviceOutputs(penumbra::Context& ctx, const penumbra::Renderer& rendere
       frame.visibility.push_back(copyOf(ctx, renderer.visibility(i)));
     }
   }
+  if (!surfaces) return;
   const penumbra::GBuffer& gbuffer = renderer.gbuffer();
   frame.position = copyOf(ctx, gbuffer.position);
   frame.normal = copyOf(ctx, gbuffer.normal);
@@ -131,13 +133,16 @@ std::vector<penumbra::Buffer<float>> visibilityOutputs(StageCall& call, const pn
 // (ALL) or left to be read on request. Holds nothing but what the caller's lock (the StageCall's or its own) covers.
 std::unique_ptr<pn_frame> renderFrame(pn_renderer& r, const penumbra::Camera& cam,
                                       const std::vector<penumbra::FrameLight>& frameLights, pn_frame_channels channels,
-                                      const std::vector<penumbra::Buffer<float>>& outputs) {
+                                      const std::vector<penumbra::Buffer<float>>& outputs, unsigned outputBits) {
   auto created = std::make_unique<pn_frame>();
   penumbra::Context& ctx = *r.context->context;
   const bool onRequest = channels == PN_FRAME_CHANNELS_ON_REQUEST;
+  const penumbra::FrameOutputs kept{(outputBits & PN_FRAME_OUTPUT_PREVIEW_BIT) != 0,
+                                    (outputBits & PN_FRAME_OUTPUT_SURFACES_BIT) != 0,
+                                    (outputBits & PN_FRAME_OUTPUT_DEBUG_BIT) != 0};
   penumbra::RenderResult result = r.renderer->render(
-      cam, frameLights, onRequest ? penumbra::FrameDownload::OnRequest : penumbra::FrameDownload::Image);
-  copyDeviceOutputs(ctx, *r.renderer, frameLights.size(), outputs, *created);
+      cam, frameLights, onRequest ? penumbra::FrameDownload::OnRequest : penumbra::FrameDownload::Image, kept);
+  copyDeviceOutputs(ctx, *r.renderer, frameLights.size(), outputs, kept.surfaces, *created);
   created->preview = std::move(result.preview);  // the frame's own: a new buffer every render
   result.image.attributes()["penumbra:scene"] = r.scene->spec;
   created->image = std::move(result.image);
@@ -148,7 +153,7 @@ std::unique_ptr<pn_frame> renderFrame(pn_renderer& r, const penumbra::Camera& ca
     copies.position = created->position, copies.normal = created->normal, copies.depth = created->depth;
     std::vector<penumbra::LightVisibility> layers;
     for (size_t i = 0; i < frameLights.size(); ++i) layers.push_back({&frameLights[i].light, &created->visibility[i]});
-    created->deferred = penumbra::frameChannels(ctx, copies, layers, created->preview);
+    created->deferred = penumbra::frameChannels(ctx, copies, layers, created->preview, kept);
     penumbra::api::retainHandle(r.context, "pn_renderer_enqueue");
     created->context = r.context;
     created->pending = std::move(result.profile);
@@ -203,7 +208,8 @@ pn_status pn_renderer_render(pn_renderer* renderer, const pn_camera* camera, con
     const std::vector<penumbra::FrameLight> frameLights = ::frameLights(*r.scene, lights, light_count, params);
     // Renderer::render checks every light against its technique before any work.
     std::lock_guard lock(r.context->mutex);
-    std::unique_ptr<pn_frame> created = renderFrame(r, cam, frameLights, PN_FRAME_CHANNELS_ALL, {});
+    std::unique_ptr<pn_frame> created =
+        renderFrame(r, cam, frameLights, PN_FRAME_CHANNELS_ALL, {}, PN_FRAME_OUTPUTS_ALL);
     waitForFrame(*r.context->context);  // the device copies complete when this returns
     *frame = created.release();
   });
@@ -214,6 +220,7 @@ void pn_render_options_init(pn_render_options* options) {
   *options = pn_render_options{};
   options->size = sizeof(pn_render_options);
   options->channels = PN_FRAME_CHANNELS_ON_REQUEST;
+  options->outputs = PN_FRAME_OUTPUTS_ALL;
 }
 
 pn_status pn_renderer_enqueue(pn_renderer* renderer, const pn_camera* camera, const pn_frame_light* lights,
@@ -226,18 +233,25 @@ pn_status pn_renderer_enqueue(pn_renderer* renderer, const pn_camera* camera, co
     pn_renderer& r = *require(renderer, kFunction, "renderer");
     pn_render_options defaults;
     pn_render_options_init(&defaults);
-    const pn_render_options& o = options != nullptr
-                                     ? penumbra::api::requireSized(options, sizeof(pn_render_options), kFunction,
-                                                                   "options", "pn_render_options_init")
-                                     : defaults;
+    // 0.3's options end before `outputs`; theirs is every output.
+    constexpr size_t kFirstSize = offsetof(pn_render_options, outputs);
+    const pn_render_options& o = options != nullptr ? penumbra::api::requireSized(options, kFirstSize, kFunction,
+                                                                                  "options", "pn_render_options_init")
+                                                    : defaults;
     checkEnum(o.channels, 2, kFunction, "options->channels");
+    const unsigned outputBits = o.size >= offsetof(pn_render_options, outputs) + sizeof(o.outputs)
+                                    ? o.outputs
+                                    : static_cast<unsigned>(PN_FRAME_OUTPUTS_ALL);
+    if ((outputBits & ~static_cast<unsigned>(PN_FRAME_OUTPUTS_ALL)) != 0)
+      throw std::invalid_argument(fmt::format("{}: options->outputs {:#x} has bits beyond PN_FRAME_OUTPUTS_ALL ({:#x})",
+                                              kFunction, outputBits, static_cast<unsigned>(PN_FRAME_OUTPUTS_ALL)));
     const penumbra::Camera cam = frameCamera(r, camera, kFunction);
     const std::vector<penumbra::FrameLight> frameLights = ::frameLights(*r.scene, lights, light_count, params);
     StageCall call(r.context, kFunction, num_events_in_wait_list, event_wait_list, event);
     const std::vector<penumbra::Buffer<float>> outputs =
         visibilityOutputs(call, o, frameLights.size(), static_cast<size_t>(cam.width) * cam.height);
     call.begin();
-    std::unique_ptr<pn_frame> created = renderFrame(r, cam, frameLights, o.channels, outputs);
+    std::unique_ptr<pn_frame> created = renderFrame(r, cam, frameLights, o.channels, outputs, outputBits);
     call.finish();
     *frame = created.release();
   });

@@ -158,5 +158,61 @@ TEST_F(FrameImage, DeferredChannelsEqualTheWholeImage) {
   }
 }
 
+// FrameOutputs: a frame of the visibility alone (bench's) has each light's visibility bit for bit as the whole frame
+// has it, and nothing else: no R, G, B, A (and no shading pass), no P, N, depth, no debug channels (the point light's
+// cubeFace.Y); the same whether downloaded whole or deferred; a frame that sees nothing still warns.
+TEST_F(FrameImage, OutputsLeaveOutWhatTheCallerDoesNotRead) {
+  Camera camera = test::topDown();
+  camera.width = 53, camera.height = 40;
+  const Scene scene = test::squareOverPlane();
+  const TechniqueInfo& sm = findTechnique("sm");
+  Light point = parseLight("point:0.3,3,0.2");
+  point.name = "Bulb";
+  const std::vector<FrameLight> lights = {{point, &sm, Params(sm.params)},
+                                          {test::pointAbove(), &sm, Params(sm.params)}};
+  Camera away = camera;
+  away.target = camera.eye + (camera.eye - camera.target);  // looks up, at nothing
+  for (const bool seesScene : {true, false}) {
+    const Camera& view = seesScene ? camera : away;
+    Renderer whole(ctx(), scene), bare(ctx(), scene), deferred(ctx(), scene);
+    const RenderResult a = whole.render(view, lights);
+    std::vector<std::string> visibility;  // visibility.Y and each light's layer
+    for (const std::string& name : a.image.channelNames())
+      if (name.starts_with("visibility.")) visibility.push_back(name);
+    std::sort(visibility.begin(), visibility.end());
+    ASSERT_EQ(visibility.size(), 3u);
+    const RenderResult b = bare.render(view, lights, FrameDownload::Image, FrameOutputs::visibilityOnly());
+    const RenderResult c = deferred.render(view, lights, FrameDownload::Deferred, FrameOutputs::visibilityOnly());
+    EXPECT_EQ(a.warnings, b.warnings);
+    EXPECT_EQ(a.warnings, c.warnings);
+    EXPECT_EQ(a.image.attributes(), b.image.attributes());
+    EXPECT_TRUE(b.preview.empty());
+    EXPECT_TRUE(c.preview.empty());
+    std::vector<std::string> names = b.image.channelNames();
+    std::sort(names.begin(), names.end());
+    EXPECT_EQ(names, visibility);
+    EXPECT_TRUE(c.image.channelNames().empty());
+    names = ImageRows(c.image, c.deferred).channelNames();
+    std::sort(names.begin(), names.end());
+    EXPECT_EQ(names, visibility);
+    for (const std::string& name : visibility) {
+      const std::vector<float>&ours = b.image.require(name).data, &full = a.image.require(name).data;
+      ASSERT_EQ(ours.size(), full.size()) << name;
+      EXPECT_EQ(std::memcmp(ours.data(), full.data(), ours.size() * sizeof(float)), 0) << name;
+    }
+    for (const RenderResult* r : {&a, &b}) {
+      bool shaded = false;
+      for (const PassTime& pass : r->passes) shaded |= pass.name.starts_with("shade/shade_");
+      EXPECT_EQ(shaded, r == &a) << "seesScene " << seesScene;
+    }
+  }
+  // The preview alone left out keeps the surfaces and the debug channels.
+  Renderer renderer(ctx(), scene);
+  const RenderResult d = renderer.render(camera, lights, FrameDownload::Image, {false, true, true});
+  EXPECT_EQ(d.image.find("R"), nullptr);
+  EXPECT_NE(d.image.find("P.X"), nullptr);
+  EXPECT_NE(d.image.find("cubeFace.Y"), nullptr);
+}
+
 }  // namespace frame_image_test
 }  // namespace penumbra

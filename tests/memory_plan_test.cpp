@@ -57,7 +57,13 @@ TEST(MemoryPlan, GrowsWithPixelsLightsAndMaps) {
   EXPECT_LT(device(cameraOf(64, 64), {{LightType::Spot, &sm, &small}}),
             device(cameraOf(64, 64), {{LightType::Point, &sm, &small}}));  // six cube faces
   EXPECT_EQ(planFrame(cameraOf(8192, 8192), {{LightType::Spot, &sm, &small}}).hostBytes() / (8192ull * 8192),
-            (13 + 4 + 1) * 4 + 4);  // the image's channels and the PNG preview
+            (4 + 7 + 4 + 1 + 1) * 4 + 4);  // the image's channels (preview, surfaces, debug, visibility) and PNG
+  // A frame of the visibility alone (bench's): visibility.Y and the light's layer, no preview pass on the device.
+  const MemoryPlan whole = planFrame(cameraOf(8192, 8192), {{LightType::Spot, &sm, &small}});
+  const MemoryPlan bare = planFrame(cameraOf(8192, 8192), {{LightType::Spot, &sm, &small}}, FrameDownload::Image, {},
+                                    FrameOutputs::visibilityOnly());
+  EXPECT_EQ(bare.hostBytes() / (8192ull * 8192), 2u * 4);
+  EXPECT_EQ(whole.deviceBytes() - bare.deviceBytes(), 8192ull * 8192 * 16);  // the preview's float4
   // A deferred frame (penumbra render) holds its writers' bands on the host, not the image.
   EXPECT_EQ(planFrame(cameraOf(8192, 8192), {{LightType::Spot, &sm, &small}}, FrameDownload::Deferred).hostBytes(),
             kDeferredHostBytes);

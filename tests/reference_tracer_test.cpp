@@ -206,6 +206,25 @@ TEST_F(Reference, GBufferPixelsAreExactlyThoseOfRender) {
   EXPECT_EQ(ref.image.numbers().at("penumbra:stderr-max"), ref.stderrMax);
 }
 
+// bench's peer keeps its rasterizer (ReferenceRaster) across frames: each frame equals a fresh reference bit for bit,
+// also after a frame of another camera and size (the G-buffer's targets reallocated and reused).
+TEST_F(Reference, AKeptRasterizerDrawsTheFramesAFreshOneDraws) {
+  const Scene scene = test::squareOverPlane();
+  const Light light = parseLight("spot:0.5,4,0:0,0,0:120:0.3");
+  Camera small = test::topDown();
+  small.width = 37, small.height = 29;
+  const std::vector<Camera> cameras = {test::topDown(), small, test::topDown()};
+  ReferenceRaster peer(ctx(), scene);
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    const ReferenceResult kept = renderReference(peer, cameras[i], {light}, {16, 1, 0});
+    const ReferenceResult fresh = renderReference(ctx(), scene, cameras[i], light, {16, 1, 0});
+    ASSERT_EQ(kept.image.channelNames(), fresh.image.channelNames()) << i;
+    for (const ImageChannel& channel : fresh.image.channels())
+      EXPECT_EQ(kept.image.require(channel.name).data, channel.data) << i << " " << channel.name;
+    EXPECT_EQ(kept.rays, fresh.rays) << i;
+  }
+}
+
 TEST_F(Reference, NoNanAndVisibilityInRangeOnEveryBuiltinScene) {
   for (const ProceduralInfo& info : proceduralScenes()) {
     const Scene scene = makeProcedural(info.name);

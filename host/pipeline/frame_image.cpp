@@ -39,18 +39,19 @@ struct ChannelSource {
 };
 
 // The frame's channels in the order of the Image: R, G, B, A, visibility.Y, each light's visibility.<layer>.Y, P.*,
-// N.*, depth.Z.
+// N.*, depth.Z; those `outputs` leaves out are not there.
 std::vector<ChannelSource> channelSources(const GBuffer& gbuffer, std::span<const LightVisibility> lights,
-                                          const Buffer<cl_float4>& rgba) {
+                                          const Buffer<cl_float4>& rgba, FrameOutputs outputs) {
   std::vector<ChannelSource> sources;
   auto components = [&](const Buffer<cl_float4>& buffer, std::initializer_list<const char*> names) {
     int c = 0;
     for (const char* name : names) sources.push_back({name, nullptr, &buffer, c++});
   };
-  components(rgba, {"R", "G", "B", "A"});
+  if (outputs.preview) components(rgba, {"R", "G", "B", "A"});
   sources.push_back({"visibility.Y", lights[0].visibility});
   for (const LightVisibility& lit : lights)
     sources.push_back({lightChannel("visibility", lightLayer(*lit.light)), lit.visibility});
+  if (!outputs.surfaces) return sources;
   components(gbuffer.position, {"P.X", "P.Y", "P.Z"});
   components(gbuffer.normal, {"N.X", "N.Y", "N.Z"});
   sources.push_back({"depth.Z", &gbuffer.depth});
@@ -260,6 +261,12 @@ Image frameImage(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& visi
 
 Buffer<cl_float4> shadeFrame(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisibility> lights,
                              const Camera& camera, const Bounds& bounds) {
+  checkFrameLights(gbuffer, lights);
+  const uint32_t count = static_cast<uint32_t>(gbuffer.width) * static_cast<uint32_t>(gbuffer.height);
+  return shadePreview(ctx, gbuffer, lights, camera, bounds, count);
+}
+
+void checkFrameLights(const GBuffer& gbuffer, std::span<const LightVisibility> lights) {
   const uint32_t count = static_cast<uint32_t>(gbuffer.width) * static_cast<uint32_t>(gbuffer.height);
   if (lights.empty()) throw std::invalid_argument("frameImage: no lights");
   std::set<std::string> layers;
@@ -270,7 +277,6 @@ Buffer<cl_float4> shadeFrame(Context& ctx, const GBuffer& gbuffer, std::span<con
     if (!layers.insert(lightLayer(*lit.light)).second)
       throw std::invalid_argument(fmt::format("frameImage: two lights named \"{}\"", lightLayer(*lit.light)));
   }
-  return shadePreview(ctx, gbuffer, lights, camera, bounds, count);
 }
 
 Image frameHeader(Context& ctx, std::span<const LightVisibility> lights, const Camera& camera, const Bounds& bounds,
@@ -300,17 +306,22 @@ Image frameHeader(Context& ctx, std::span<const LightVisibility> lights, const C
 }
 
 Image frameImage(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisibility> lights, const Camera& camera,
-                 const Bounds& bounds, Buffer<cl_float4>* previewOut) {
-  Buffer<cl_float4> rgba = shadeFrame(ctx, gbuffer, lights, camera, bounds);
+                 const Bounds& bounds, Buffer<cl_float4>* previewOut, FrameOutputs outputs) {
+  Buffer<cl_float4> rgba;
+  if (outputs.preview)
+    rgba = shadeFrame(ctx, gbuffer, lights, camera, bounds);
+  else
+    checkFrameLights(gbuffer, lights);
   Image image = frameHeader(ctx, lights, camera, bounds, gbuffer.width, gbuffer.height);
-  downloadChannels(ctx, channelSources(gbuffer, lights, rgba), image);
+  downloadChannels(ctx, channelSources(gbuffer, lights, rgba, outputs), image);
   if (previewOut != nullptr) *previewOut = std::move(rgba);
   return image;
 }
 
 std::vector<DeferredChannel> frameChannels(Context& ctx, const GBuffer& gbuffer,
-                                           std::span<const LightVisibility> lights, const Buffer<cl_float4>& preview) {
-  return deferredChannels(ctx, channelSources(gbuffer, lights, preview), gbuffer.width, gbuffer.height);
+                                           std::span<const LightVisibility> lights, const Buffer<cl_float4>& preview,
+                                           FrameOutputs outputs) {
+  return deferredChannels(ctx, channelSources(gbuffer, lights, preview, outputs), gbuffer.width, gbuffer.height);
 }
 
 bool seesSurface(Context& ctx, const GBuffer& gbuffer) {

@@ -16,6 +16,16 @@
 
 namespace penumbra {
 
+// What a frame makes besides each light's visibility buffer and channels (Renderer::render, planFrame): the shaded
+// preview (channels R, G, B, A and RenderResult::preview), the G-buffer's surface channels (P.X/Y/Z, N.X/Y/Z,
+// depth.Z) and the first light's technique's debug channels. A caller that reads the visibility alone (bench's
+// accuracy, an engine that shades the frame itself) leaves the rest out: no preview pass, nothing else downloaded.
+struct FrameOutputs {
+  bool preview = true, surfaces = true, debug = true;
+  static constexpr FrameOutputs visibilityOnly() { return {false, false, false}; }
+  bool operator==(const FrameOutputs&) const = default;
+};
+
 // R,G,B,A (A = 1 where a surface is seen), visibility.Y (and visibility.<layer>.Y, the same), P.X/Y/Z, N.X/Y/Z,
 // depth.Z, with the light, camera, device and version as provenance attributes and the standard worldToCamera and
 // worldToNDC matrices. Rows stay bottom-up like the G-buffer: add any further bottom-up channels, then flipRows().
@@ -34,8 +44,9 @@ struct LightVisibility {
 // ambient term (one light: exactly the single-light preview); penumbra:light and penumbra:light-name are the first
 // light's, penumbra:lights ("LAYER=FORM; ...") lists them all when there are several. `preview`, when given,
 // receives the device RGBA the R,G,B,A channels are read from (rows bottom-up).
+// `outputs` leaves channels out: without the preview no shading pass runs (`preview` is left empty).
 Image frameImage(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisibility> lights, const Camera& camera,
-                 const Bounds& bounds, Buffer<cl_float4>* preview = nullptr);
+                 const Bounds& bounds, Buffer<cl_float4>* preview = nullptr, FrameOutputs outputs = {});
 
 // The steps of frameImage for a frame whose channels stay on the device (written in bands: ImageRows):
 // shadeFrame checks the lights as frameImage does and returns the shaded preview (R, G, B, A per pixel, rows
@@ -46,10 +57,14 @@ Image frameImage(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisi
 // use `ctx`, which must outlive them.
 Buffer<cl_float4> shadeFrame(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisibility> lights,
                              const Camera& camera, const Bounds& bounds);
+// shadeFrame's checks alone (at least one light, each visibility the G-buffer's size, distinct layers), for a frame
+// without a preview.
+void checkFrameLights(const GBuffer& gbuffer, std::span<const LightVisibility> lights);
 Image frameHeader(Context& ctx, std::span<const LightVisibility> lights, const Camera& camera, const Bounds& bounds,
                   int width, int height);
 std::vector<DeferredChannel> frameChannels(Context& ctx, const GBuffer& gbuffer,
-                                           std::span<const LightVisibility> lights, const Buffer<cl_float4>& preview);
+                                           std::span<const LightVisibility> lights, const Buffer<cl_float4>& preview,
+                                           FrameOutputs outputs = {});
 
 // Whether any pixel of the G-buffer sees a surface (a finite depth), read in bands: the A channel's test without
 // the channel.

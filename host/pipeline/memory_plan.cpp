@@ -27,9 +27,9 @@ constexpr uint64_t kVisibilityBytesPerPixel = 4;  // per light
 constexpr uint64_t kTechniquePixelBytes = 32;
 // Each shadow-map texel: the rasterizer's depth and triangle id targets (depth-only maps use half: an upper bound).
 constexpr uint64_t kMapTexelBytes = 8;
-// Host: every channel of the image (R, G, B, A, P.*, N.*, depth.Z, visibility.Y: 13 floats) plus a layer per light,
-// the debug channels (at most 4 floats) and the 8-bit RGBA preview.
-constexpr uint64_t kImageFloatsPerPixel = 13 + 4;
+// Host: the image's channels (R, G, B, A; P.*, N.*, depth.Z; visibility.Y and a layer per light; the debug channels,
+// at most 4 floats) and the 8-bit RGBA preview, those the frame's FrameOutputs keep.
+constexpr uint64_t kPreviewFloatsPerPixel = 4, kSurfaceFloatsPerPixel = 7, kDebugFloatsPerPixel = 4;
 constexpr uint64_t kPreviewPngBytesPerPixel = 4;
 
 double param(const PlannedLight& light, const char* name, double fallback) {
@@ -136,7 +136,7 @@ MemoryStage rasterizerStage(const PlannedScene& scene, uint64_t pixels) {
 }
 
 MemoryPlan planFrame(const Camera& camera, const std::vector<PlannedLight>& lights, FrameDownload download,
-                     PlannedScene scene) {
+                     PlannedScene scene, FrameOutputs outputs) {
   const uint64_t pixels = static_cast<uint64_t>(camera.width) * static_cast<uint64_t>(camera.height);
   MemoryPlan plan;
   plan.stages.push_back({"G-buffer", pixels * kGBufferBytesPerPixel, 0, pixels * 16});
@@ -149,9 +149,12 @@ MemoryPlan planFrame(const Camera& camera, const std::vector<PlannedLight>& ligh
     plan.stages.push_back(lights[i].params->has("izb-samples") ? izbGrid(lights[i], i, pixels, scene.triangles)
                                                                : techniqueMaps(lights[i], i, pixels));
   }
-  plan.stages.push_back({"shade", pixels * (kPreviewBytesPerPixel + (lights.size() > 1 ? 4 : 0)), 0, pixels * 16});
-  const uint64_t floats = kImageFloatsPerPixel + lights.size();
-  const uint64_t whole = pixels * (floats * 4 + kPreviewPngBytesPerPixel);
+  if (outputs.preview)
+    plan.stages.push_back({"shade", pixels * (kPreviewBytesPerPixel + (lights.size() > 1 ? 4 : 0)), 0, pixels * 16});
+  const uint64_t floats = (outputs.preview ? kPreviewFloatsPerPixel : 0) +
+                          (outputs.surfaces ? kSurfaceFloatsPerPixel : 0) + (outputs.debug ? kDebugFloatsPerPixel : 0) +
+                          1 + lights.size();
+  const uint64_t whole = pixels * (floats * 4 + (outputs.preview ? kPreviewPngBytesPerPixel : 0));
   plan.stages.push_back(
       {"image download", 0, download == FrameDownload::Image ? whole : std::min(whole, kDeferredHostBytes), 0});
   return plan;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "host/cl/device.h"
+#include "host/pipeline/frame_image.h"
 #include "host/scene/camera.h"
 #include "host/scene/light.h"
 #include "host/techniques/technique.h"
@@ -69,7 +70,7 @@ struct PlannedScene {
 // stage holds the uploaded scene and its queues at their first sizes (raster/rasterizer.cpp's sizeQueues): its
 // largest buffer, 72 bytes a triangle of set-up records, is what meets the device's largest allocation first.
 MemoryPlan planFrame(const Camera& camera, const std::vector<PlannedLight>& lights,
-                     FrameDownload download = FrameDownload::Image, PlannedScene scene = {});
+                     FrameDownload download = FrameDownload::Image, PlannedScene scene = {}, FrameOutputs outputs = {});
 
 // What a deferred frame's writers hold at most: the EXR's band (32 MiB), the PNG's (8 MiB) and the float4 buffers'
 // band caches (under 32 MiB).

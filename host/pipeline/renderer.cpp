@@ -40,7 +40,8 @@ auto inStage(const MemoryPlan& plan, const std::string& stage, Fn&& fn) {
 // Everything refused before any work: lights a technique cannot shadow, coordinates out of range, a memory plan that
 // does not fit. Returns the plan.
 MemoryPlan checkedPlan(const Scene& scene, const Camera& camera, const std::vector<FrameLight>& lights,
-                       const DeviceInfo& device, std::optional<uint64_t> limit, FrameDownload download) {
+                       const DeviceInfo& device, std::optional<uint64_t> limit, FrameDownload download,
+                       FrameOutputs outputs) {
   if (lights.empty()) throw std::invalid_argument("Renderer::render: no lights");
   std::vector<Light> frameLights;
   std::vector<PlannedLight> planned;
@@ -51,7 +52,7 @@ MemoryPlan checkedPlan(const Scene& scene, const Camera& camera, const std::vect
     planned.push_back({l.light.type, l.technique, &l.params});
   }
   checkFrameRange(scene, camera, frameLights);
-  MemoryPlan plan = planFrame(camera, planned, download, {scene.triangles.size(), scene.positions.size()});
+  MemoryPlan plan = planFrame(camera, planned, download, {scene.triangles.size(), scene.positions.size()}, outputs);
   checkMemoryPlan(plan, device, limit);
   return plan;
 }
@@ -127,8 +128,10 @@ RenderResult Renderer::render(const Camera& camera, const Light& light, const Te
   return render(camera, {FrameLight{light, &technique, params}});
 }
 
-RenderResult Renderer::render(const Camera& camera, const std::vector<FrameLight>& lights, FrameDownload download) {
-  const MemoryPlan plan = checkedPlan(scene_, camera, lights, ctx_.info(), memoryLimit_, download);  // before any work
+RenderResult Renderer::render(const Camera& camera, const std::vector<FrameLight>& lights, FrameDownload download,
+                              FrameOutputs outputs) {
+  // Before any work.
+  const MemoryPlan plan = checkedPlan(scene_, camera, lights, ctx_.info(), memoryLimit_, download, outputs);
   Profiler profiler;
   ProfilerScope scope(ctx_, profiler);
   const Bounds bounds = scene_.bounds();
@@ -153,22 +156,26 @@ RenderResult Renderer::render(const Camera& camera, const std::vector<FrameLight
   RenderResult result;
   inStage(plan, "shade and image download", [&] {
     if (download == FrameDownload::Image) {
-      result.image = frameImage(ctx_, gbuffer_, layers, camera, bounds, &result.preview);
+      result.image = frameImage(ctx_, gbuffer_, layers, camera, bounds, &result.preview, outputs);
     } else {
       if (download == FrameDownload::Deferred) {
         gbuffer_.triangleId = {};  // shading and the outputs need neither
         gbuffer_.objectId = {};
       }
-      result.preview = shadeFrame(ctx_, gbuffer_, layers, camera, bounds);
+      if (outputs.preview)
+        result.preview = shadeFrame(ctx_, gbuffer_, layers, camera, bounds);
+      else
+        checkFrameLights(gbuffer_, layers);
       result.image = frameHeader(ctx_, layers, camera, bounds, gbuffer_.width, gbuffer_.height);
-      result.deferred = frameChannels(ctx_, gbuffer_, layers, result.preview);
+      result.deferred = frameChannels(ctx_, gbuffer_, layers, result.preview, outputs);
     }
-    if (download != FrameDownload::OnRequest)
+    if (download != FrameDownload::OnRequest && outputs.debug)
       addDebugChannels(lights[0].light, slots_[0], result.image);  // the first light's only
   });
   if (download != FrameDownload::OnRequest) {  // reading the frame back waits for it
-    const std::optional<std::string> warning = download == FrameDownload::Image
-                                                   ? emptyFrameWarning(scene_, camera, result.image.require("A").data)
+    const ImageChannel* alpha = result.image.find("A");
+    const std::optional<std::string> warning = alpha != nullptr
+                                                   ? emptyFrameWarning(scene_, camera, alpha->data)
                                                    : emptyFrameWarning(scene_, camera, seesSurface(ctx_, gbuffer_));
     if (warning) result.warnings.push_back(*warning);
   }

@@ -33,8 +33,8 @@ struct RenderResult {
   // R,G,B,A (shaded preview of every light, A = 1 where a surface is seen), visibility.Y (the first light's),
   // visibility.<layer>.Y per light (light_names.h lightLayer), P.X/Y/Z, N.X/Y/Z, depth.Z and the first light's
   // technique's debug channels (a point light: cubeFace.Y, each pixel's cube face 0..5 = +X -X +Y -Y +Z -Z, -1 for
-  // background, instead: a technique's debug layers would hold its last face's alone); rows top-down; provenance in
-  // the attributes.
+  // background, instead: a technique's debug layers would hold its last face's alone), those the frame's FrameOutputs
+  // keep; rows top-down; provenance in the attributes.
   // FrameDownload::Deferred: the header and the debug channels alone; the rest is in `deferred`.
   Image image;
   // FrameDownload::Deferred: every other channel, read on demand from the device (rows top-down); write the frame
@@ -42,7 +42,8 @@ struct RenderResult {
   std::vector<DeferredChannel> deferred;
   std::vector<PassTime> passes;       // device time per named pass, in recording order (not with OnRequest)
   Profiler profile;                   // FrameDownload::OnRequest: the frame's events, resolved when asked
-  Buffer<cl_float4> preview;          // the shaded preview on the device (R, G, B, A per pixel), rows bottom-up
+  Buffer<cl_float4> preview;          // the shaded preview on the device (R, G, B, A per pixel), rows bottom-up;
+                                      // empty without FrameOutputs::preview
   std::vector<std::string> warnings;  // e.g. a frame that sees no surface (frame_check.h); the caller prints them
 };
 
@@ -64,8 +65,10 @@ class Renderer {
   // FrameDownload::Deferred is for a frame written once (penumbra render): no channel is downloaded whole, the
   // G-buffer's triangle and object ids are released once the lights are done (the next frame allocates them again),
   // and the memory plan counts the writers' bands instead of the image (docs/robustness.md).
+  // `outputs` leaves out what the caller does not read (the preview and its pass, the surface and debug channels);
+  // each light's visibility is always made.
   RenderResult render(const Camera& camera, const std::vector<FrameLight>& lights,
-                      FrameDownload download = FrameDownload::Image);
+                      FrameDownload download = FrameDownload::Image, FrameOutputs outputs = {});
 
   // A frame whose memory plan (host/pipeline/memory_plan.h) needs more than `bytes` of device or host memory is
   // refused (MemoryError) before anything is allocated; none: the device's own limits alone.

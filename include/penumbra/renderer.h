@@ -100,6 +100,18 @@ typedef enum pn_frame_channels {
                                              passes is one of its values (and refused). */
 } pn_frame_channels;
 
+/** What a frame of pn_renderer_enqueue makes besides each light's visibility (always made), as bits of
+ *  pn_render_options::outputs. A caller that reads the visibility alone (an engine shading the frame itself) leaves
+ *  the rest out: no preview shading pass, no copies of the G-buffer, nothing more to read back. */
+typedef enum pn_frame_output_bits {
+  PN_FRAME_OUTPUT_PREVIEW_BIT = 1,  /**< The shaded preview: PN_FRAME_PREVIEW and the channels R, G, B, A. */
+  PN_FRAME_OUTPUT_SURFACES_BIT = 2, /**< PN_FRAME_POSITION, PN_FRAME_NORMAL, PN_FRAME_DEPTH and the channels P.X/Y/Z,
+                                         N.X/Y/Z, depth.Z (the frame's copies of the G-buffer). */
+  PN_FRAME_OUTPUT_DEBUG_BIT = 4,    /**< The first light's technique's debug channels (PN_FRAME_CHANNELS_ALL). */
+  PN_FRAME_OUTPUTS_ALL = 7,         /**< Everything (the default). */
+  PN_FRAME_OUTPUT_BITS_MAX_ENUM = 0x7FFFFFFF /**< Not a value: makes the type as wide as int. */
+} pn_frame_output_bits;
+
 /** pn_renderer_enqueue's settings; pn_render_options_init() gives the defaults. */
 typedef struct pn_render_options {
   size_t size; /**< sizeof(pn_render_options) as the caller compiled it (set by pn_render_options_init()): fields a
@@ -111,9 +123,13 @@ typedef struct pn_render_options {
    *  channels on request read it, so write it only once they are read. */
   const cl_mem* visibility;
   size_t visibility_count; /**< Entries in `visibility` (0, or the call's light count). */
+  /** pn_frame_output_bits: what the frame makes besides each light's visibility (PN_FRAME_OUTPUTS_ALL, the default).
+   *  Added in 0.4: read only when `size` holds it, so a caller compiled against 0.3 gets everything. An output left
+   *  out is not there: pn_frame_device_buffer refuses it, and its channels are not among the frame's. */
+  unsigned outputs;
 } pn_render_options;
 
-/** The defaults: channels on request, visibility into the frame's own buffers. */
+/** The defaults: channels on request, visibility into the frame's own buffers, every output. */
 PN_API void pn_render_options_init(pn_render_options* options);
 
 /** pn_renderer_render without waiting for the frame: enqueues a barrier on the wait list, then the frame, on the

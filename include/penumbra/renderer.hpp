@@ -152,6 +152,8 @@ enum class FrameChannels { All = PN_FRAME_CHANNELS_ALL, OnRequest = PN_FRAME_CHA
 struct RenderOptions {
   FrameChannels channels = FrameChannels::OnRequest;  ///< All at once, or each read when first asked for.
   std::vector<cl_mem> visibility;  ///< Empty, or one buffer per light (nullptr: the frame's own) to write into.
+  /// pn_frame_output_bits: what the frame makes besides each light's visibility.
+  unsigned outputs = PN_FRAME_OUTPUTS_ALL;
   /// As the C API takes it; its visibility points into these options.
   pn_render_options toC() const {
     pn_render_options o;
@@ -159,6 +161,7 @@ struct RenderOptions {
     o.channels = static_cast<pn_frame_channels>(channels);
     o.visibility = visibility.empty() ? nullptr : visibility.data();
     o.visibility_count = visibility.size();
+    o.outputs = outputs;
     return o;
   }
 };

@@ -4,6 +4,7 @@
 #include <penumbra/penumbra.h>
 
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -418,6 +419,79 @@ TEST(ApiRenderer, TechniquesAndTheirParameters) {
   EXPECT_EQ(pn_params_get(params, "lvsm-splits", &value), PN_ERROR_INVALID_ARGUMENT);
   EXPECT_STREQ(pn_last_error_message(), "\"lvsm-splits\" is a text parameter (pn_params_describe shows its value)");
   pn_params_release(params);
+}
+
+// pn_render_options::outputs: a frame of the visibility alone has it bit for bit as the whole frame has it, and no
+// preview (no shading pass, PN_FRAME_PREVIEW refused naming the bit), no G-buffer copies and none of their channels,
+// on request or all at once; a caller compiled against 0.3 (its size ends before `outputs`) gets every output; bits
+// beyond PN_FRAME_OUTPUTS_ALL are refused.
+TEST(ApiRenderer, FramesLeaveOutTheOutputsTheCallerDoesNotRead) {
+  pn_context* ctx = nullptr;
+  PN_ASSERT_OK(pn_context_create(nullptr, &ctx));
+  Rendered r;
+  pn_frame* whole = renderBox(ctx, "pcf", r);
+  ASSERT_NE(whole, nullptr);
+  pn_camera camera;
+  pn_camera_init(&camera);
+  PN_ASSERT_OK(pn_scene_default_camera(r.scene, &camera));
+  camera.width = kWidth, camera.height = kHeight;
+  pn_render_options options;
+  pn_render_options_init(&options);
+  EXPECT_EQ(options.outputs, static_cast<unsigned>(PN_FRAME_OUTPUTS_ALL));
+  options.outputs = 0;
+  for (const pn_frame_channels channels : {PN_FRAME_CHANNELS_ON_REQUEST, PN_FRAME_CHANNELS_ALL}) {
+    options.channels = channels;
+    pn_frame* bare = nullptr;
+    PN_ASSERT_OK(pn_renderer_enqueue(r.renderer, &camera, nullptr, 0, r.params, &options, 0, nullptr, nullptr, &bare));
+    std::vector<std::string> names;
+    for (size_t i = 0; i < pn_frame_channel_count(bare); ++i) names.push_back(pn_frame_channel_name(bare, i));
+    EXPECT_EQ(names.size(), 2u) << channels;  // visibility.Y and the light's layer
+    for (const std::string& name : names) {
+      EXPECT_TRUE(name.starts_with("visibility.")) << name;
+      EXPECT_TRUE(sameBits(channel(bare, name.c_str()), channel(whole, name.c_str()))) << name;
+    }
+    const float* data = nullptr;
+    EXPECT_EQ(pn_frame_channel(bare, "R", &data), PN_ERROR_INVALID_ARGUMENT);
+    cl_mem buffer = nullptr;
+    EXPECT_EQ(pn_frame_device_buffer(bare, PN_FRAME_PREVIEW, &buffer), PN_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(pn_last_error_message()).find("PN_FRAME_OUTPUT_PREVIEW_BIT"), std::string::npos)
+        << pn_last_error_message();
+    EXPECT_EQ(pn_frame_device_buffer(bare, PN_FRAME_DEPTH, &buffer), PN_ERROR_INVALID_ARGUMENT);
+    PN_ASSERT_OK(pn_frame_visibility_buffer(bare, 0, &buffer));
+    for (size_t i = 0; i < pn_frame_pass_count(bare); ++i) {
+      const char* name = nullptr;
+      PN_ASSERT_OK(pn_frame_pass(bare, i, &name, nullptr));
+      EXPECT_FALSE(std::string(name).starts_with("shade/shade_")) << name;
+    }
+    pn_frame_release(bare);
+  }
+  // The preview alone: the surfaces stay.
+  options.outputs = PN_FRAME_OUTPUT_PREVIEW_BIT;
+  pn_frame* preview = nullptr;
+  PN_ASSERT_OK(pn_renderer_enqueue(r.renderer, &camera, nullptr, 0, r.params, &options, 0, nullptr, nullptr, &preview));
+  cl_mem buffer = nullptr;
+  PN_ASSERT_OK(pn_frame_device_buffer(preview, PN_FRAME_PREVIEW, &buffer));
+  EXPECT_EQ(pn_frame_device_buffer(preview, PN_FRAME_POSITION, &buffer), PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_TRUE(sameBits(channel(preview, "R"), channel(whole, "R")));
+  pn_frame_release(preview);
+  // A 0.3 caller: its options end before `outputs`, whatever lies beyond is not read.
+  options.outputs = 0;
+  options.size = offsetof(pn_render_options, outputs);
+  pn_frame* old = nullptr;
+  PN_ASSERT_OK(pn_renderer_enqueue(r.renderer, &camera, nullptr, 0, r.params, &options, 0, nullptr, nullptr, &old));
+  PN_ASSERT_OK(pn_frame_device_buffer(old, PN_FRAME_PREVIEW, &buffer));
+  PN_ASSERT_OK(pn_frame_device_buffer(old, PN_FRAME_POSITION, &buffer));
+  pn_frame_release(old);
+  pn_render_options_init(&options);
+  options.outputs = 8;
+  pn_frame* none = nullptr;
+  EXPECT_EQ(pn_renderer_enqueue(r.renderer, &camera, nullptr, 0, r.params, &options, 0, nullptr, nullptr, &none),
+            PN_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pn_last_error_message()).find("beyond PN_FRAME_OUTPUTS_ALL"), std::string::npos)
+      << pn_last_error_message();
+  EXPECT_EQ(none, nullptr);
+  pn_frame_release(whole);
+  pn_context_release(ctx);
 }
 
 // pn_renderer_enqueue: after the caller's event, a frame whose visibility goes into the caller's buffer and whose host

@@ -227,6 +227,7 @@ int run(const BenchOptions& o) {
     const Light* light = nullptr;
     std::string label;
     std::unique_ptr<Renderer> own;
+    std::unique_ptr<reference::ReferenceRaster> peer;  // the reference's rasterizer, kept across its frames
     std::vector<std::vector<PassTime>> runs;
     WallTimes walls;
     RenderResult last;
@@ -255,9 +256,10 @@ int run(const BenchOptions& o) {
     try {
       Renderer& renderer = cell.own ? *cell.own : shared;
       const auto start = std::chrono::steady_clock::now();
-      cell.last = isReferenceTechnique(*cell.job->technique)
-                      ? traceFrame(ctx, scene, camera, *cell.light, cell.job->params)
-                      : renderer.render(camera, *cell.light, *cell.job->technique, cell.job->params);
+      const bool peer = isReferenceTechnique(*cell.job->technique);
+      if (peer && !cell.peer) cell.peer = std::make_unique<reference::ReferenceRaster>(ctx, scene);
+      cell.last = peer ? traceFrame(*cell.peer, camera, *cell.light, cell.job->params)
+                       : benchFrame(renderer, camera, *cell.light, *cell.job);
       const double wall = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
       if (!cell.walls.first) cell.walls.first = wall;
       if (i >= o.warmup) cell.runs.push_back(cell.last.passes), cell.walls.runs.push_back(wall);
@@ -266,6 +268,7 @@ int run(const BenchOptions& o) {
       failed.push_back(cell.label);
       cell.failed = true;
       cell.own.reset();
+      cell.peer.reset();
     }
     progress.advance();
   };
@@ -277,6 +280,7 @@ int run(const BenchOptions& o) {
     addRows(o, *cell.job, *cell.light, summariseRuns(cell.runs), copy.bytesPerSecond, metrics, cell.walls, rows);
     cell.last = {};
     cell.own.reset();
+    cell.peer.reset();
   };
   if (o.interleave) {
     progress.announce(fmt::format("{} settings interleaved", cells.size()));

@@ -63,6 +63,11 @@ std::vector<BenchJob> planBenchJobs(const BenchOptions& options) {
   return jobs;
 }
 
+RenderResult benchFrame(Renderer& renderer, const Camera& camera, const Light& light, const BenchJob& job) {
+  return renderer.render(camera, {FrameLight{light, job.technique, job.params}}, FrameDownload::Image,
+                         FrameOutputs::visibilityOnly());
+}
+
 CompareSpec lightSpec(const CompareSpec& spec, const Light& light, size_t lightCount) {
   if (lightCount == 1) return spec;
   CompareSpec out = spec;

@@ -6,11 +6,12 @@
 #include <vector>
 
 #include "host/eval/metrics.h"
-#include "tools/eval/sweep.h"
+#include "host/pipeline/renderer.h"
 #include "host/scene/light.h"
 #include "host/techniques/technique.h"
 #include "tools/cli/technique_options.h"
 #include "tools/cli/view_options.h"
+#include "tools/eval/sweep.h"
 
 namespace penumbra::cli {
 
@@ -33,6 +34,11 @@ struct BenchJob {
 
 // Every job, its Params validated before anything runs (a bad value is a usage error, exit 2).
 std::vector<BenchJob> planBenchJobs(const BenchOptions& options);
+
+// One frame of `job` under `light`, as bench times it: the light's visibility alone (FrameOutputs::visibilityOnly),
+// which is what the accuracy metrics read and all that the traced peer makes; no preview pass, no download of the
+// G-buffer's channels. A frame `penumbra render` writes costs that much more (docs/performance.md).
+RenderResult benchFrame(Renderer& renderer, const Camera& camera, const Light& light, const BenchJob& job);
 
 // The comparison of one light's frame: one light compares visibility.Y within lit.Y as ever; several compare each
 // light's layer, visibility.<layer>.Y within lit.<layer>.Y.

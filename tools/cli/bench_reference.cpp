@@ -20,13 +20,13 @@ const TechniqueInfo& referenceTechnique() {
 
 bool isReferenceTechnique(const TechniqueInfo& technique) { return &technique == &referenceTechnique(); }
 
-RenderResult traceFrame(Context& ctx, const Scene& scene, const Camera& camera, const Light& light,
+RenderResult traceFrame(reference::ReferenceRaster& peer, const Camera& camera, const Light& light,
                         const Params& params) {
   reference::TraceSettings trace;
   trace.spp = params.getInt("spp");
   trace.seed = kPeerSeed;
   if (light.isArea()) reference::SampleLayout::fromSpp(trace.spp);  // a bad spp: std::invalid_argument
-  reference::ReferenceResult traced = reference::renderReference(ctx, scene, camera, light, trace);
+  reference::ReferenceResult traced = reference::renderReference(peer, camera, {light}, trace);
   RenderResult result;
   result.image = std::move(traced.image);
   result.passes = {{"reference/gbuffer", traced.rasterSeconds * 1e3, 1, 0},

@@ -8,6 +8,7 @@
 #include "host/pipeline/renderer.h"
 #include "host/scene/scene.h"
 #include "host/techniques/technique.h"
+#include "tools/reference/reference.h"
 
 namespace penumbra::cli {
 
@@ -16,10 +17,11 @@ namespace penumbra::cli {
 const TechniqueInfo& referenceTechnique();
 bool isReferenceTechnique(const TechniqueInfo& technique);
 
-// One frame of the reference of `light` alone: its image, and as passes the wall times "reference/gbuffer",
+// One frame of the reference of `light` alone, drawn with `peer`'s kept rasterizer (bench keeps one per reference
+// setting, as the techniques' Renderer keeps its own): its image, and as passes the wall times "reference/gbuffer",
 // "reference/bvh_build" and "reference/trace" in milliseconds. Throws std::invalid_argument for an spp that is
 // not 4k^2 under an area light.
-RenderResult traceFrame(Context& ctx, const Scene& scene, const Camera& camera, const Light& light,
+RenderResult traceFrame(reference::ReferenceRaster& peer, const Camera& camera, const Light& light,
                         const Params& params);
 
 }  // namespace penumbra::cli

@@ -60,13 +60,13 @@ SequenceRow measureCell(const BenchOptions& o, Context& ctx, const Scene& scene,
                         const std::vector<Image>& refs, const BenchJob& job, const Light& light,
                         const CompareSpec& spec) {
   Renderer renderer(ctx, scene);
-  for (int i = 0; i < o.warmup; ++i) renderer.render(cameras[0], light, *job.technique, job.params);
+  for (int i = 0; i < o.warmup; ++i) benchFrame(renderer, cameras[0], light, job);
   std::vector<std::vector<PassTime>> runs;
   std::vector<ShimmerMetrics> pairs;
   double mae = 0;
   std::vector<float> previous, previousPixels;
   for (size_t f = 0; f < cameras.size(); ++f) {
-    RenderResult result = renderer.render(cameras[f], light, *job.technique, job.params);
+    RenderResult result = benchFrame(renderer, cameras[f], light, job);
     runs.push_back(result.passes);
     mae += compareImages(result.image, refs[f], spec).mae / static_cast<double>(cameras.size());
     std::vector<float> visibility = result.image.require(spec.channel).data;

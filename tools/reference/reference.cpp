@@ -62,17 +62,33 @@ ReferenceResult renderReference(Context& ctx, const Scene& scene, const Camera& 
   return renderReference(ctx, scene, camera, std::vector<Light>{light}, settings);
 }
 
+ReferenceRaster::ReferenceRaster(Context& ctx, const Scene& scene) : ctx_(ctx), scene_(scene), raster_(ctx) {
+  uploadScene(raster_, scene);
+}
+
 ReferenceResult renderReference(Context& ctx, const Scene& scene, const Camera& camera,
                                 const std::vector<Light>& lights, const TraceSettings& settings) {
   if (lights.empty()) throw std::invalid_argument("renderReference: no lights");
   using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  ReferenceRaster raster(ctx, scene);
+  const double setUp = std::chrono::duration<double>(Clock::now() - start).count();
+  ReferenceResult result = renderReference(raster, camera, lights, settings);
+  result.rasterSeconds += setUp;  // a single frame pays for its rasterizer
+  return result;
+}
+
+ReferenceResult renderReference(ReferenceRaster& peer, const Camera& camera, const std::vector<Light>& lights,
+                                const TraceSettings& settings) {
+  if (lights.empty()) throw std::invalid_argument("renderReference: no lights");
+  using Clock = std::chrono::steady_clock;
+  Context& ctx = peer.ctx();
+  const Scene& scene = peer.scene();
   ReferenceResult result;
   const Bounds bounds = scene.bounds();
   const Clock::time_point start = Clock::now();
-  Rasterizer raster(ctx);
-  uploadScene(raster, scene);
-  GBuffer gbuffer;
-  raster.drawGBuffer(cameraView(camera, bounds), gbuffer);
+  GBuffer& gbuffer = peer.gbuffer();
+  peer.raster().drawGBuffer(cameraView(camera, bounds), gbuffer);
   const std::vector<cl_float4> position = gbuffer.position.download(ctx), normal = gbuffer.normal.download(ctx);
   const Receivers r = receivers(ctx, scene, gbuffer, position, normal);
   result.rasterSeconds = std::chrono::duration<double>(Clock::now() - start).count();

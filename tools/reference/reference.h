@@ -9,6 +9,7 @@
 #include "host/cl/context.h"
 #include "host/io/image.h"
 #include "host/scene/scene.h"
+#include "raster/rasterizer.h"
 #include "tools/reference/tracer.h"
 
 namespace penumbra::reference {
@@ -25,6 +26,26 @@ struct ReferenceResult {
   double stderrMean = 0, stderrRms = 0, stderrMax = 0;           // of stderr.Y over covered pixels
 };
 
+// The rasterizer the reference draws its G-buffer with, the scene uploaded once and its buffers reused from frame to
+// frame, as the Renderer keeps them for the techniques: bench's steady frames of the traced peer pay for drawing and
+// reading back the G-buffer, not for a new rasterizer, the scene's upload and fresh pages each frame. `scene` must
+// outlive it.
+class ReferenceRaster {
+ public:
+  ReferenceRaster(Context& ctx, const Scene& scene);
+  ReferenceRaster(Context& ctx, const Scene&& scene) = delete;
+  Context& ctx() { return ctx_; }
+  const Scene& scene() const { return scene_; }
+  Rasterizer& raster() { return raster_; }
+  GBuffer& gbuffer() { return gbuffer_; }
+
+ private:
+  Context& ctx_;
+  const Scene& scene_;
+  Rasterizer raster_;
+  GBuffer gbuffer_;
+};
+
 ReferenceResult renderReference(Context& ctx, const Scene& scene, const Camera& camera, const Light& light,
                                 const TraceSettings& settings);
 
@@ -34,5 +55,9 @@ ReferenceResult renderReference(Context& ctx, const Scene& scene, const Camera& 
 // standard-error summary are the first light's.
 ReferenceResult renderReference(Context& ctx, const Scene& scene, const Camera& camera,
                                 const std::vector<Light>& lights, const TraceSettings& settings);
+// The same frame drawn with `raster`'s kept rasterizer (its scene); rasterSeconds counts the draw, the read-back and
+// the receivers, not the rasterizer's set-up.
+ReferenceResult renderReference(ReferenceRaster& raster, const Camera& camera, const std::vector<Light>& lights,
+                                const TraceSettings& settings);
 
 }  // namespace penumbra::reference
