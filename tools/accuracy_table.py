@@ -33,7 +33,8 @@ def markdown(rows, note, command):
                for d, b in sorted(bandwidth.items())]
     sizes = sorted({f'{r["width"]}x{r["height"]}, median of {r["runs"]} runs' for r in rows})
     out += [f"- device: {d}" for d in devices] + [f"- frame: {s}" for s in sizes]
-    out += ["- ms: median device time of the whole frame (G-buffer, technique, preview; OpenCL profiling events);",
+    out += ["- ms: median device time of the frame's visibility (G-buffer, technique, read-back; no preview; OpenCL",
+            "  profiling events); the reference's: host wall time of its G-buffer, BVH build and tracing;",
             "  MAE, RMSE: visibility error against the Embree reference over covered pixels that can receive light;",
             "  leak: fraction with reference < 0.05 but ours > 0.5; false shadow: reference > 0.95 but ours < 0.5;",
             "  umbra light: of the pixels with reference < 0.02, the fraction where ours > 0.1.", ""]
