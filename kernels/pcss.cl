@@ -12,6 +12,8 @@
 // otherwise the nearest caster in the region, z_min, replaces the near plane in the region's similar triangles (a
 // blocker at depth z >= z_min occludes the light from the receiver only inside the light's cone cut at z, which
 // narrows as z grows), twice, each time over the narrowed square: the taps stay on where blockers can be.
+// Umbra (`umbra`, with the pyramid): where every search tap blocked, the pyramid's farthest texel under the filter's
+// square decides whether every filter tap must read 0; then the pixel is 0 without the filter's taps.
 #include "kernels/shared/pyramid.h"
 #include "kernels/shared/rotation.h"
 #include "kernels/shared/shade.h"
@@ -48,8 +50,10 @@ inline float2 pcss_offset(int pattern, __global const float2* disk, float2 cs, i
 // Average depth of blockers in the search region of half-width `radius` texels over `count` taps (`taps` per side on
 // the grid; pcss_tap_weight); returns 0 when no tap blocks.
 inline float pcss_blocker_depth(__global const float* map, __constant const LightViewGpu* lv, Receiver r, float radius,
-                                int pattern, __global const float2* disk, float2 cs, int taps, float count) {
+                                int pattern, __global const float2* disk, float2 cs, int taps, float count,
+                                int* every) {
   float sum = 0.0f, found = 0.0f;
+  int all = 1;
   for (int k = 0; (float)k < count; ++k) {
     float2 offset = pcss_offset(pattern, disk, cs, taps, k, radius);
     float2 uv = r.uv + offset;
@@ -59,8 +63,11 @@ inline float pcss_blocker_depth(__global const float* map, __constant const Ligh
       const float weight = pcss_tap_weight(k, count);
       sum += weight * occluder;
       found += weight;
+    } else {
+      all = 0;
     }
   }
+  *every = all;
   return found > 0.0f ? sum / found : 0.0f;
 }
 
@@ -101,10 +108,28 @@ __kernel void pcss_visibility(__global const float4* position, __global const fl
   int searchSide;
   const float searchCount = pcss_tap_count(s.autoTaps & PCSS_AUTO_SEARCH, searchTaps, PCSS_SEARCH_DENSITY,
                                          PCSS_SEARCH_FEWEST, search, pattern, &searchSide);
-  float blocker = pcss_blocker_depth(map, lv, r, search, pattern, searchDisk, cs, searchSide, searchCount);
+  int every;
+  float blocker = pcss_blocker_depth(map, lv, r, search, pattern, searchDisk, cs, searchSide, searchCount, &every);
   blockerOut[i] = blocker;
   if (blocker <= 0.0f) return;  // no blocker: fully lit
   float radius = clamp(lv_penumbra_texels(lv, r.depth, blocker), 0.5f, maxRadius);
+  if (every && s.umbra && s.adaptive) {
+    // Likely umbra (every search tap blocked): the pyramid tells for sure. Every texel a filter tap reads lies within
+    // `reach` of the receiver and in front of the strictest comparison a tap makes there (the receiver's plane no
+    // steeper than SHADOW_MAX_SLOPE, or the slope-scaled bias at the square's corner): every filter tap reads 0, so
+    // the filter's sum is 0, bit for bit, without its taps or the receiver's plane.
+    const float reach = radius * (pattern == SHADE_PATTERN_POISSON ? 1.0f : M_SQRT2_F) + 1.5f;
+    const float far = pyramid_depth_range_of(map, pyramid, levels, s.levelCount, lv->width, lv->height, r.uv - reach,
+                                             r.uv + reach, INFINITY)
+                          .y;
+    const float slack = M_SQRT2_F * reach;
+    const float strictest = fmin(r.depth - f.biasConstant * r.texel - SHADOW_MAX_SLOPE * r.texel * slack,
+                                 r.depth - r.bias - r.biasSlope * slack);
+    if (far < strictest - 1e-5f * fabs(r.depth)) {
+      visibility[i] = 0.0f;
+      return;
+    }
+  }
   ReceiverPlane rp = sc_receiver_plane_at(f.receiverPlane, position, lv, width, height, i, p.xyz, n, r.texel);
   const float planeBias = f.biasConstant * r.texel;
   int filterSide;

@@ -179,6 +179,34 @@ TEST_F(PcfTechniques, PcssAdaptiveSearchSkipsOnlyWhatCannotBlockAndSamplesCloser
   }
 }
 
+// --pcss-umbra on (the default): a pixel whose every search tap blocks and whose filter square the pyramid finds wholly
+// in front of its strictest comparison is left at 0 without the filter. The frames equal --pcss-umbra off's bit for
+// bit (visibility and blocker.Z) on scenes with wide umbrae under spot disks, a sun disk and an alpha-tested caster,
+// at grid and Poisson taps; each has umbra pixels for the test to find.
+TEST_F(PcfTechniques, PcssUmbraTestLeavesEveryPixelAsTheFilterWould) {
+  struct Case {
+    const char* scene;
+    const char* light;  // "": the scene's own
+    const char* pattern;
+  };
+  for (const Case& c : {Case{"box", "", "poisson"}, Case{"stacked-planes", "spot:0.3,6,0.2:0,0,0:90:1", "poisson"},
+                        Case{"staircase", "", "grid"}, Case{"cards", "", "poisson"},
+                        Case{"box", "dir:0.3,-1,0.2:2", "poisson"}}) {
+    const Scene scene = makeProcedural(c.scene);
+    Camera camera = scene.cameras.empty() ? test::topDown() : scene.cameras.front();
+    camera.width = 160, camera.height = 90;
+    const Light light = *c.light != '\0' ? parseLight(c.light) : scene.lights.front();
+    const RenderResult on = render(scene, camera, light, "pcss", {{"pcss-pattern", c.pattern}});
+    const RenderResult off = render(scene, camera, light, "pcss", {{"pcss-pattern", c.pattern}, {"pcss-umbra", "off"}});
+    for (const char* channel : {"visibility.Y", "blocker.Z"})
+      EXPECT_EQ(on.image.require(channel).data, off.image.require(channel).data) << c.scene << " " << channel;
+    const auto &v = on.image.require("visibility.Y").data, &a = on.image.require("A").data;
+    size_t umbra = 0;
+    for (size_t i = 0; i < v.size(); ++i) umbra += a[i] > 0.0f && v[i] == 0.0f;
+    EXPECT_GT(umbra, v.size() / 50) << c.scene << " " << c.light;
+  }
+}
+
 // builtin:staircase under its area light at 320x180 and the Embree reference at 256 spp over its covered pixels whose
 // side seen by the camera faces the light (lit.Y): the MAE of a technique at a fixed map size there.
 class StaircaseTruth {

@@ -37,6 +37,7 @@ struct PcssSettings {
   float maxRadius = 0;
   int pattern = SHADE_PATTERN_POISSON;  // SHADE_PATTERN_*
   bool adaptive = false;                // pcss-search adaptive
+  bool umbra = true;                    // pcss-umbra on
   static PcssSettings from(const Params& params, int mapSize) {
     const MapSettings map = MapSettings::from(params, mapSize);
     return {map,
@@ -47,7 +48,8 @@ struct PcssSettings {
                 (params.isAuto("pcss-filter-taps") ? PCSS_AUTO_FILTER : 0),
             kMaxRadius.texels(params, "pcss-max-radius", map.size),
             params.getInt("pcss-pattern"),
-            params.getInt("pcss-search") == kSearchAdaptive};
+            params.getInt("pcss-search") == kSearchAdaptive,
+            params.getInt("pcss-umbra") == 1};
   }
   bool operator==(const PcssSettings&) const = default;
 };
@@ -81,9 +83,14 @@ class PercentageCloserSoft final : public TechniqueOf<PcssSettings> {
       pyramid_.allocate(frame.ctx, 1, 1);  // unused arguments still need buffers
     }
     const ShadeFrame shade = shadeFrame(frame, s.map, s.receiverPlane, ID_BUFFER_OFF);
-    const PcssShade pcss{
-        searchTaps, filterTaps, s.maxRadius, pattern, static_cast<int>(adaptive), adaptive ? pyramid_.count() : 0u,
-        s.autoTaps};
+    const PcssShade pcss{searchTaps,
+                         filterTaps,
+                         s.maxRadius,
+                         pattern,
+                         static_cast<int>(adaptive),
+                         adaptive ? pyramid_.count() : 0u,
+                         s.autoTaps,
+                         static_cast<int>(s.umbra)};
     launchVisibility(frame, map_, shade, "kernels/pcss.cl", "pcss_visibility", visibility, pcss, searchDisk_,
                      filterDisk_, pyramid_.pyramid(), pyramid_.levels(), blocker_);
   }
@@ -136,6 +143,14 @@ TechniqueInfo pcssTechnique() {
                     "Blocker search region: the light's cone cut at the near plane (full), or narrowed by the nearest "
                     "caster in it from a min-max pyramid, lit without taps where nothing can block (adaptive)",
                     {"full", "adaptive"}});
+  params.push_back({"pcss-umbra",
+                    1,
+                    0,
+                    1,
+                    "With --pcss-search adaptive: a pixel whose every search tap blocks is tested on the pyramid and "
+                    "left at 0 without the filter's taps where every one of them must block (the same image; off: "
+                    "every tap taken)",
+                    {"off", "on"}});
   return {"pcss", "Percentage-closer soft shadows (blocker search + PCF) for area lights", params,
           makeTechnique<PercentageCloserSoft>};
 }

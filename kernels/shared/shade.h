@@ -49,12 +49,13 @@ typedef struct PcssShade {
   int adaptive;                // 1: the blocker search bounded by the min-max pyramid (levelCount levels above the map)
   uint levelCount;
   int autoTaps;  // PCSS_AUTO_* bits
+  int umbra;     // 1: with the pyramid, a pixel whose every search tap blocks is tested for umbra before the filter
 } PcssShade;
 
 #if PENUMBRA_HOST
 static_assert(sizeof(ShadeFrame) == 28 && offsetof(ShadeFrame, idMode) == 24, "ShadeFrame is shared with OpenCL C");
 static_assert(sizeof(PcfShade) == 20 && offsetof(PcfShade, width) == 16, "PcfShade is shared with OpenCL C");
-static_assert(sizeof(PcssShade) == 28 && offsetof(PcssShade, autoTaps) == 24, "PcssShade is shared with OpenCL C");
+static_assert(sizeof(PcssShade) == 32 && offsetof(PcssShade, umbra) == 28, "PcssShade is shared with OpenCL C");
 #endif
 
 #endif  // PENUMBRA_KERNELS_SHARED_SHADE_H
