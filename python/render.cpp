@@ -67,18 +67,36 @@ FrameLight frameLight(const py::handle& item) {
   return {t[0].cast<Light>(), makeParams(t[1].cast<std::string>(), t[2].cast<py::dict>())};
 }
 
+// render()'s `outputs`: None, every output; else the names of those kept (pn_frame_output_bits).
+unsigned outputBits(const std::optional<std::vector<std::string>>& outputs) {
+  if (!outputs) return PN_FRAME_OUTPUTS_ALL;
+  static const std::map<std::string, unsigned> kBits = {{"preview", PN_FRAME_OUTPUT_PREVIEW_BIT},
+                                                        {"surfaces", PN_FRAME_OUTPUT_SURFACES_BIT},
+                                                        {"debug", PN_FRAME_OUTPUT_DEBUG_BIT}};
+  unsigned bits = 0;
+  for (const std::string& name : *outputs) {
+    auto it = kBits.find(name);
+    if (it == kBits.end()) throw py::value_error("render: output \"" + name + "\" is none of preview, surfaces, debug");
+    bits |= it->second;
+  }
+  return bits;
+}
+
 Frame render(Renderer& renderer, const std::string& technique, const py::dict& params,
-             const std::optional<Camera>& camera, const std::optional<py::list>& lights, const std::string& channels) {
+             const std::optional<Camera>& camera, const std::optional<py::list>& lights, const std::string& channels,
+             const std::optional<std::vector<std::string>>& outputs) {
   if (channels != "all" && channels != "on_request")
     throw py::value_error("render: channels '" + channels + "' is not all or on_request");
+  const unsigned bits = outputBits(outputs);
   const Params fallback = makeParams(technique, params);
   std::vector<FrameLight> frameLights;
   if (lights)
     for (const py::handle& item : *lights) frameLights.push_back(frameLight(item));
   py::gil_scoped_release release;  // no Python object is touched from here on
-  if (channels == "all") return renderer.render(camera, frameLights, &fallback);
+  if (channels == "all" && bits == PN_FRAME_OUTPUTS_ALL) return renderer.render(camera, frameLights, &fallback);
   RenderOptions options;
-  options.channels = FrameChannels::OnRequest;
+  options.channels = channels == "all" ? FrameChannels::All : FrameChannels::OnRequest;
+  options.outputs = bits;
   return renderer.enqueue(camera, frameLights, &fallback, options);
 }
 
@@ -169,10 +187,13 @@ void bindRender(py::module_& m) {
       .def(py::init<const Context&, const Scene&>(), py::arg("context"), py::arg("scene"))
       .def("render", &render, py::arg("technique") = "pcss", py::arg("params") = py::dict(),
            py::arg("camera") = std::nullopt, py::arg("lights") = std::nullopt, py::arg("channels") = "all",
+           py::arg("outputs") = std::nullopt,
            "Renders a frame, releasing the GIL. No camera: the scene's default; no lights: the scene's (else the "
            "framing light). Lights: Light objects (shadowed by technique/params) or (Light, technique, params) "
            "tuples. channels: 'all' (every channel downloaded before it returns) or 'on_request' (nothing waited "
-           "for: each channel read from the device when first indexed; no debug channels).");
+           "for: each channel read from the device when first indexed; no debug channels). outputs: None (all), or "
+           "those of 'preview', 'surfaces' (position, normal, depth), 'debug' the frame keeps besides each light's "
+           "visibility ([] : the visibility alone, no preview pass).");
 }
 
 }  // namespace penumbra::python

@@ -64,6 +64,20 @@ class Module(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "channels 'some' is not all or on_request"):
             self.renderer.render("pcf", channels="some")
 
+    def test_outputs_leave_out_what_the_caller_does_not_read(self):
+        frame = self.renderer.render("pcf", camera=self.camera(40, 30))
+        for channels in ("all", "on_request"):
+            bare = self.renderer.render("pcf", camera=self.camera(40, 30), channels=channels, outputs=[])
+            self.assertEqual(sorted(bare.channel_names),
+                             sorted(n for n in frame.channel_names if n.startswith("visibility.")))
+            self.assertEqual(len(bare.channel_names), 2)  # visibility.Y and the light's layer
+            np.testing.assert_array_equal(bare["visibility.Y"], frame["visibility.Y"])
+        kept = self.renderer.render("pcf", camera=self.camera(40, 30), outputs=["preview"])
+        np.testing.assert_array_equal(kept["R"], frame["R"])
+        self.assertNotIn("P.X", kept.channel_names)
+        with self.assertRaisesRegex(ValueError, 'output "shadow" is none of preview, surfaces, debug'):
+            self.renderer.render("pcf", outputs=["shadow"])
+
     def test_channels_are_read_only_views_that_keep_the_frame(self):
         frame = self.renderer.render("sm", camera=self.camera(40, 30))
         visibility = frame["visibility.Y"]
