@@ -8,6 +8,8 @@
 //   the tap count stays fixed, their spacing grows.
 // - Bias: receiver-plane depth bias (Isidoro, GDC 2006; sc_receiver_plane) where the receiver's plane is
 //   known from its neighbours, else the slope-scaled bias growing with the tap offset.
+// - A grid at unit spacing (the kernel no wider than its taps) against the receiver's plane compares each texel once
+//   for all the taps that read it (sc_grid_plane_sum), the same sum to rounding.
 // - ID buffer (Luksch sec. 9.1, kernels/shared/id_buffer.h): each tap's four-neighbour id test instead of (or, in
 //   combined mode, between objects beside) its depth comparison, so the filter averages id tests.
 #include "kernels/shared/id_buffer.h"
@@ -57,6 +59,10 @@ __kernel void pcf_visibility(__global const float4* position, __global const flo
                            sc_tap(map, lv, r, rp, planeBias, offset));
     }
     taps = poissonTaps;
+  } else if (rp.valid && idMode == ID_BUFFER_OFF && reach == (float)radius) {
+    // A unit grid against the receiver's plane shares its texels between taps: each compared once (box: 4x faster).
+    sum = sc_grid_plane_sum(map, lv->width, lv->height, r.uv, radius, r.depth - planeBias, rp.gradient);
+    taps = (2 * radius + 1) * (2 * radius + 1);
   } else {
     float step = radius > 0 ? reach / (float)radius : 0.0f;
     for (int dy = -radius; dy <= radius; ++dy)

@@ -2,7 +2,8 @@
 // and the bias cone of filter taps grow with) against the light's exact depths: the light ray through texels around
 // the receiver's, intersected with its plane in double precision, differenced across the map. Directional and spot
 // maps (a wide spot, far off its axis, where tan of the angle to the light is not the slope), random receivers and
-// normals, edge-on planes (clamped to SHADOW_MAX_SLOPE) and a plane square to a spot's axis (slope 0).
+// normals, edge-on planes (clamped to SHADOW_MAX_SLOPE) and a plane square to a spot's axis (slope 0). And pcf's unit
+// grid summed texel by texel (sc_grid_plane_sum) against the taps it replaces.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -148,6 +149,71 @@ TEST_F(ShadowSlope, EdgeOnClampsAndAPlaneSquareToTheAxisIsFlat) {
   EXPECT_EQ(got[0], kMaxSlope) << "edge-on";
   EXPECT_NEAR(got[1], 0.0f, 1e-3f) << "square to the axis";
   EXPECT_NEAR(tanToLight(light, ground, glm::vec3(0, 1, 0)), 0.373, 0.001);
+}
+
+// sc_grid_plane_sum (pcf's unit grid against the receiver's plane, each texel compared once) equals the sum of the
+// (2r+1)^2 taps it replaces, sc_compare_bilinear_plane at every unit offset, to rounding: maps of 1x1, 7x5 and 64x64
+// texels holding random depths, background (+inf) and NaN; receivers inside, on texel edges and centres, beyond every
+// side and far from the origin (uv ~ 4000); radii 0..4; planes flat and steep. A case is left out where a texel lies
+// within 1e-3 of its comparison's depth (rounding may tip it either way), at most a few of the thousands.
+TEST_F(ShadowSlope, GridSumEqualsItsTaps) {
+  Context& ctx = ShadowSlope::ctx();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (const glm::ivec2 size : {glm::ivec2(1, 1), glm::ivec2(7, 5), glm::ivec2(64, 64)}) {
+    std::vector<float> map(static_cast<size_t>(size.x) * size.y);
+    for (float& z : map) {
+      const float u = unit(rng);
+      z = u < 0.1f ? INFINITY : u < 0.15f ? NAN : unit(rng);
+    }
+    std::vector<cl_float4> receivers;
+    std::vector<cl_float2> gradients;
+    std::vector<int> radii;
+    for (int k = 0; k < 2000; ++k) {
+      glm::vec2 uv(-3.0f + unit(rng) * (size.x + 6.0f), -3.0f + unit(rng) * (size.y + 6.0f));
+      if (k % 5 == 1) uv = glm::floor(uv) + 0.5f;  // texel centres: fraction 0
+      if (k % 5 == 2) uv = glm::floor(uv);         // texel edges: fraction 0.5
+      if (k % 7 == 3) uv += glm::vec2(4000.0f);    // far from the origin, beyond the map
+      const float steep = k % 3 == 0 ? 2.0f : 0.05f;
+      receivers.push_back({{uv.x, uv.y, unit(rng), 0.0f}});
+      gradients.push_back({{steep * (2.0f * unit(rng) - 1.0f), steep * (2.0f * unit(rng) - 1.0f)}});
+      radii.push_back(k % 5);
+    }
+    const size_t count = receivers.size();
+    Buffer<float> mapBuffer(ctx, std::span<const float>(map));
+    Buffer<cl_float4> receiverBuffer(ctx, std::span<const cl_float4>(receivers));
+    Buffer<cl_float2> gradientBuffer(ctx, std::span<const cl_float2>(gradients));
+    Buffer<int> radiusBuffer(ctx, std::span<const int>(radii));
+    Buffer<float> out(ctx, 2 * count);
+    out.fill(ctx, test::kPoison);
+    Kernel kernel(ctx, "tools/selftest/kernels/shadow_probe.cl", "shadow_grid_plane_test", "test");
+    kernel
+        .args(mapBuffer, size.x, size.y, receiverBuffer, gradientBuffer, radiusBuffer, static_cast<uint32_t>(count),
+              out)
+        .launch(count, 64);
+    const std::vector<float> sums = out.download(ctx);
+    size_t compared = 0;
+    for (size_t i = 0; i < count; ++i) {
+      const glm::dvec2 uv(receivers[i].s[0], receivers[i].s[1]), g(gradients[i].s[0], gradients[i].s[1]);
+      const int r = radii[i];
+      const glm::ivec2 first = glm::ivec2(glm::floor(uv - 0.5)) - r;
+      bool close = false;  // a texel within 1e-3 of its comparison's depth
+      for (int y = first.y; y <= first.y + 2 * r + 1; ++y)
+        for (int x = first.x; x <= first.x + 2 * r + 1; ++x) {
+          if (x < 0 || y < 0 || x >= size.x || y >= size.y) continue;
+          const double z = map[static_cast<size_t>(y) * size.x + x];
+          const double depth = receivers[i].s[2] + glm::dot(g, glm::dvec2(x + 0.5, y + 0.5) - uv);
+          close |= std::isfinite(z) && std::abs(z - depth) < 1e-3;
+        }
+      if (close) continue;
+      ++compared;
+      const float taps = sums[2 * i], grid = sums[2 * i + 1];
+      ASSERT_TRUE(std::isfinite(taps) && std::isfinite(grid)) << i;
+      EXPECT_NEAR(grid, taps, 1e-5f * (2 * r + 1) * (2 * r + 1))
+          << size.x << "x" << size.y << " case " << i << " radius " << r;
+    }
+    EXPECT_GT(compared, count * 9 / 10) << size.x << "x" << size.y;
+  }
 }
 
 }  // namespace shadow_slope_test

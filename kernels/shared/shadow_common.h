@@ -235,6 +235,30 @@ inline float sc_compare_bilinear_plane(__global const float* map, int width, int
   return mix(mix(s00, s10, f.x), mix(s01, s11, f.x), f.y);
 }
 
+// sc_compare_bilinear_plane summed over the (2r+1)^2 taps at unit spacing around uv (offsets -r..r in x and y), each
+// texel compared once: the taps' bilinear footprints tile the (2r+2)^2 texels from floor(uv - 0.5) - r, a texel's
+// comparison (against the plane at its own centre) is the same in every tap that reads it, and it gathers those taps'
+// bilinear weights, 1 - f at the first row and column, f at the last and 1 between (f the fraction of uv - 0.5): the
+// taps' sum to rounding, with (2r+2)^2 fetches and comparisons instead of 4 (2r+1)^2 (pcf's unit grid: 64 for 196 at
+// r = 3).
+inline float sc_grid_plane_sum(__global const float* map, int width, int height, float2 uv, int radius, float depth,
+                               float2 g) {
+  const float2 t = uv - 0.5f, b = floor(t), f = t - b;
+  const int x0 = (int)b.x - radius, y0 = (int)b.y - radius, n = 2 * radius + 2;
+  float sum = 0.0f;
+  for (int j = 0; j < n; ++j) {
+    const float wy = j == 0 ? 1.0f - f.y : j == n - 1 ? f.y : 1.0f;
+    float row = 0.0f;
+    for (int k = 0; k < n; ++k) {
+      const float wx = k == 0 ? 1.0f - f.x : k == n - 1 ? f.x : 1.0f;
+      const float2 c = (float2)((float)(x0 + k), (float)(y0 + j)) + 0.5f - uv;  // texel centre from the receiver
+      row += wx * sc_lit(sc_fetch(map, width, height, x0 + k, y0 + j), depth + dot(g, c));
+    }
+    sum += wy * row;
+  }
+  return sum;
+}
+
 // One filter tap at texel offset `offset` from the receiver: against the receiver's plane where it is known
 // (planeBias: the constant bias, world units), else with the slope-scaled bias growing with the offset.
 inline float sc_tap(__global const float* map, __constant const LightViewGpu* lv, Receiver r, ReceiverPlane rp,
