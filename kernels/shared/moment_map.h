@@ -71,7 +71,10 @@ inline MomentReceiver mm_receiver(__global const float4* position, __global cons
   m.tSlope = r.biasSlope * s.depthInvRange;
   m.valid = r.valid && r.uv.x >= 0.0f && r.uv.y >= 0.0f && r.uv.x <= (float)lv->width && r.uv.y <= (float)lv->height &&
             isfinite(m.t);
-  if (m.valid) m.footprint = sc_footprint_texels(sc_footprint(position, lv, s.width, s.height, i, p.xyz, n));
+  // Read only by a mip chain's level (mm_lod: bilinear lookups alone, levels 1, never) and savsm's footprint width:
+  // its neighbours' reads and projections are left out elsewhere (vsm's default: 14 % of its shading).
+  if (m.valid && (s.levels > 1 || s.widthMode == MOMENT_WIDTH_FOOTPRINT))
+    m.footprint = sc_footprint_texels(sc_footprint(position, lv, s.width, s.height, i, p.xyz, n));
   return m;
 }
 
