@@ -35,6 +35,24 @@ constexpr float kCameraTolerance = 1e-4f;  // world units on a camera 8.6 units 
 
 class FrameImage : public test::ClTest {};
 
+// Two lights over the square under sm, the point light "Bulb" first (the first light's debug channels are the
+// frame's: its cubeFace.Y), a top-down camera of width x height that sees them and the same camera looking up, at
+// nothing.
+struct TwoLights {
+  Scene scene = test::squareOverPlane();
+  std::vector<FrameLight> lights;
+  Camera camera = test::topDown(), away;
+  TwoLights(int width, int height) {
+    const TechniqueInfo& sm = findTechnique("sm");
+    Light point = parseLight("point:0.3,3,0.2");
+    point.name = "Bulb";
+    lights = {{point, &sm, Params(sm.params)}, {test::pointAbove(), &sm, Params(sm.params)}};
+    camera.width = width, camera.height = height;
+    away = camera;
+    away.target = camera.eye + (camera.eye - camera.target);
+  }
+};
+
 TEST_F(FrameImage, CameraMatricesReadBackThroughOpenExrProjectOntoThePixel) {
   const Camera camera = test::topDown();
   const TechniqueInfo& sm = findTechnique("sm");
@@ -119,17 +137,10 @@ TEST_F(FrameImage, ChannelsStayInPlaceAcrossDownloadBands) {
 // are no multiple of the height; with two lights (one a point light: its cubeFace.Y debug channel stays a host
 // channel) and for a frame that sees nothing.
 TEST_F(FrameImage, DeferredChannelsEqualTheWholeImage) {
-  Camera camera = test::topDown();
-  camera.width = 97, camera.height = 61;
-  const Scene scene = test::squareOverPlane();
-  const TechniqueInfo& sm = findTechnique("sm");
-  Light point = parseLight("point:0.3,3,0.2");
-  point.name = "Bulb";
-  // The point light first: the first light's debug channels are the frame's.
-  const std::vector<FrameLight> lights = {{point, &sm, Params(sm.params)},
-                                          {test::pointAbove(), &sm, Params(sm.params)}};
-  Camera away = camera;
-  away.target = camera.eye + (camera.eye - camera.target);  // looks up, at nothing
+  const TwoLights frame(97, 61);
+  const Scene& scene = frame.scene;
+  const Camera &camera = frame.camera, &away = frame.away;
+  const std::vector<FrameLight>& lights = frame.lights;
   for (const bool seesScene : {true, false}) {
     const Camera& view = seesScene ? camera : away;
     Renderer whole(ctx(), scene), deferred(ctx(), scene);
@@ -162,16 +173,10 @@ TEST_F(FrameImage, DeferredChannelsEqualTheWholeImage) {
 // has it, and nothing else: no R, G, B, A (and no shading pass), no P, N, depth, no debug channels (the point light's
 // cubeFace.Y); the same whether downloaded whole or deferred; a frame that sees nothing still warns.
 TEST_F(FrameImage, OutputsLeaveOutWhatTheCallerDoesNotRead) {
-  Camera camera = test::topDown();
-  camera.width = 53, camera.height = 40;
-  const Scene scene = test::squareOverPlane();
-  const TechniqueInfo& sm = findTechnique("sm");
-  Light point = parseLight("point:0.3,3,0.2");
-  point.name = "Bulb";
-  const std::vector<FrameLight> lights = {{point, &sm, Params(sm.params)},
-                                          {test::pointAbove(), &sm, Params(sm.params)}};
-  Camera away = camera;
-  away.target = camera.eye + (camera.eye - camera.target);  // looks up, at nothing
+  const TwoLights frame(53, 40);
+  const Scene& scene = frame.scene;
+  const Camera &camera = frame.camera, &away = frame.away;
+  const std::vector<FrameLight>& lights = frame.lights;
   for (const bool seesScene : {true, false}) {
     const Camera& view = seesScene ? camera : away;
     Renderer whole(ctx(), scene), bare(ctx(), scene), deferred(ctx(), scene);

@@ -29,15 +29,21 @@ struct Rendered {
   }
 };
 
+// The scene's default camera at kWidth x kHeight.
+pn_camera boxCamera(const Rendered& r) {
+  pn_camera camera;
+  pn_camera_init(&camera);
+  EXPECT_EQ(pn_scene_default_camera(r.scene, &camera), PN_SUCCESS);
+  camera.width = kWidth, camera.height = kHeight;
+  return camera;
+}
+
 // builtin:box at 64x48 with `technique`, the scene's default camera and lights.
 pn_frame* renderBox(pn_context* ctx, const char* technique, Rendered& r) {
   EXPECT_EQ(pn_scene_load("builtin:box", nullptr, &r.scene), PN_SUCCESS) << pn_last_error_message();
   EXPECT_EQ(pn_params_create(technique, &r.params), PN_SUCCESS);
   EXPECT_EQ(pn_renderer_create(ctx, r.scene, &r.renderer), PN_SUCCESS) << pn_last_error_message();
-  pn_camera camera;
-  pn_camera_init(&camera);
-  EXPECT_EQ(pn_scene_default_camera(r.scene, &camera), PN_SUCCESS);
-  camera.width = kWidth, camera.height = kHeight;
+  const pn_camera camera = boxCamera(r);
   pn_frame* frame = nullptr;
   EXPECT_EQ(pn_renderer_render(r.renderer, &camera, nullptr, 0, r.params, &frame), PN_SUCCESS)
       << pn_last_error_message();
@@ -431,10 +437,7 @@ TEST(ApiRenderer, FramesLeaveOutTheOutputsTheCallerDoesNotRead) {
   Rendered r;
   pn_frame* whole = renderBox(ctx, "pcf", r);
   ASSERT_NE(whole, nullptr);
-  pn_camera camera;
-  pn_camera_init(&camera);
-  PN_ASSERT_OK(pn_scene_default_camera(r.scene, &camera));
-  camera.width = kWidth, camera.height = kHeight;
+  const pn_camera camera = boxCamera(r);
   pn_render_options options;
   pn_render_options_init(&options);
   EXPECT_EQ(options.outputs, static_cast<unsigned>(PN_FRAME_OUTPUTS_ALL));
@@ -505,10 +508,7 @@ TEST(ApiRenderer, EnqueuedFramesChainEventsAndReadChannelsOnRequest) {
   Rendered r;
   pn_frame* synchronous = renderBox(ctx, "pcss", r);
   ASSERT_NE(synchronous, nullptr);
-  pn_camera camera;
-  pn_camera_init(&camera);
-  PN_ASSERT_OK(pn_scene_default_camera(r.scene, &camera));
-  camera.width = kWidth, camera.height = kHeight;
+  const pn_camera camera = boxCamera(r);
   const size_t pixels = size_t(kWidth) * kHeight;
 
   // The caller's own command first: a write of its output buffer whose event the frame waits for.
