@@ -260,13 +260,7 @@ Image frameImage(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& visi
 }
 
 Buffer<cl_float4> shadeFrame(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisibility> lights,
-                             const Camera& camera, const Bounds& bounds) {
-  checkFrameLights(gbuffer, lights);
-  const uint32_t count = static_cast<uint32_t>(gbuffer.width) * static_cast<uint32_t>(gbuffer.height);
-  return shadePreview(ctx, gbuffer, lights, camera, bounds, count);
-}
-
-void checkFrameLights(const GBuffer& gbuffer, std::span<const LightVisibility> lights) {
+                             const Camera& camera, const Bounds& bounds, FrameOutputs outputs) {
   const uint32_t count = static_cast<uint32_t>(gbuffer.width) * static_cast<uint32_t>(gbuffer.height);
   if (lights.empty()) throw std::invalid_argument("frameImage: no lights");
   std::set<std::string> layers;
@@ -277,6 +271,7 @@ void checkFrameLights(const GBuffer& gbuffer, std::span<const LightVisibility> l
     if (!layers.insert(lightLayer(*lit.light)).second)
       throw std::invalid_argument(fmt::format("frameImage: two lights named \"{}\"", lightLayer(*lit.light)));
   }
+  return outputs.preview ? shadePreview(ctx, gbuffer, lights, camera, bounds, count) : Buffer<cl_float4>();
 }
 
 Image frameHeader(Context& ctx, std::span<const LightVisibility> lights, const Camera& camera, const Bounds& bounds,
@@ -307,11 +302,7 @@ Image frameHeader(Context& ctx, std::span<const LightVisibility> lights, const C
 
 Image frameImage(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisibility> lights, const Camera& camera,
                  const Bounds& bounds, Buffer<cl_float4>* previewOut, FrameOutputs outputs) {
-  Buffer<cl_float4> rgba;
-  if (outputs.preview)
-    rgba = shadeFrame(ctx, gbuffer, lights, camera, bounds);
-  else
-    checkFrameLights(gbuffer, lights);
+  Buffer<cl_float4> rgba = shadeFrame(ctx, gbuffer, lights, camera, bounds, outputs);
   Image image = frameHeader(ctx, lights, camera, bounds, gbuffer.width, gbuffer.height);
   downloadChannels(ctx, channelSources(gbuffer, lights, rgba, outputs), image);
   if (previewOut != nullptr) *previewOut = std::move(rgba);

@@ -50,16 +50,13 @@ Image frameImage(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisi
 
 // The steps of frameImage for a frame whose channels stay on the device (written in bands: ImageRows):
 // shadeFrame checks the lights as frameImage does and returns the shaded preview (R, G, B, A per pixel, rows
-// bottom-up); frameHeader is the Image's size and header without channels; frameChannels reads each of frameImage's
-// channels on demand, rows top-down (already flipped), one band of a float4 buffer downloaded once for all of its
-// components. The readers hold the device buffers (OpenCL reference counts), so they outlive the renderer's own
-// handles; their contents are the frame's until something writes them again (the renderer's next frame). The readers
-// use `ctx`, which must outlive them.
+// bottom-up; an empty buffer and no shading pass without outputs.preview); frameHeader is the Image's size and header
+// without channels; frameChannels reads each of frameImage's channels on demand, rows top-down (already flipped), one
+// band of a float4 buffer downloaded once for all of its components. The readers hold the device buffers (OpenCL
+// reference counts), so they outlive the renderer's own handles; their contents are the frame's until something writes
+// them again (the renderer's next frame). The readers use `ctx`, which must outlive them.
 Buffer<cl_float4> shadeFrame(Context& ctx, const GBuffer& gbuffer, std::span<const LightVisibility> lights,
-                             const Camera& camera, const Bounds& bounds);
-// shadeFrame's checks alone (at least one light, each visibility the G-buffer's size, distinct layers), for a frame
-// without a preview.
-void checkFrameLights(const GBuffer& gbuffer, std::span<const LightVisibility> lights);
+                             const Camera& camera, const Bounds& bounds, FrameOutputs outputs = {});
 Image frameHeader(Context& ctx, std::span<const LightVisibility> lights, const Camera& camera, const Bounds& bounds,
                   int width, int height);
 std::vector<DeferredChannel> frameChannels(Context& ctx, const GBuffer& gbuffer,

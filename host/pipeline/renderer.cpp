@@ -162,10 +162,7 @@ RenderResult Renderer::render(const Camera& camera, const std::vector<FrameLight
         gbuffer_.triangleId = {};  // shading and the outputs need neither
         gbuffer_.objectId = {};
       }
-      if (outputs.preview)
-        result.preview = shadeFrame(ctx_, gbuffer_, layers, camera, bounds);
-      else
-        checkFrameLights(gbuffer_, layers);
+      result.preview = shadeFrame(ctx_, gbuffer_, layers, camera, bounds, outputs);
       result.image = frameHeader(ctx_, layers, camera, bounds, gbuffer_.width, gbuffer_.height);
       result.deferred = frameChannels(ctx_, gbuffer_, layers, result.preview, outputs);
     }
