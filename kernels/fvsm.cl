@@ -5,8 +5,10 @@
 // pssm's resolution error), the level l at which one step spans at least one texel of the quality xi (step * 2^l >=
 // xi), per cell of the finest level's grid as a histogram, from which the host rejects outliers and builds the
 // quadtree. fvsm_visibility looks every pixel up through the page table (the finest grid's cells -> the drawn tile
-// covering them) and runs sm's hard test in that tile, its bias in that tile's texel footprint.
+// covering them) and runs sm's hard test in that tile, its bias in that tile's texel footprint; with exact edges, a
+// pixel whose texels disagree is decided by its shadow ray against their triangles (kernels/shared/exact_edges.h).
 #define SHADOW_NORMAL_OFFSET_SCALED 0  // the whole normal offset at every angle (kernels/shared/shadow_common.h)
+#include "kernels/shared/exact_edges.h"
 #include "kernels/shared/fvsm.h"
 #include "kernels/shared/shade.h"
 #include "kernels/shared/shadow_common.h"
@@ -46,13 +48,19 @@ __kernel void fvsm_request(__global const float4* position, __global const float
 }
 
 // sm's hard test of every covered pixel whose page-table tile is one of this batch's (leaves begin .. begin + count
-// - 1, their views in `views`); the tiles' depths lie one after the other in `atlas`, tile * tile texels each.
-// level[i] gets the tile's quadtree level (the debug channel). Other pixels are left as they are (1: lit).
+// - 1, their views in `views`); the tiles' depths lie one after the other in `atlas`, tile * tile texels each, and
+// their triangle ids so in `atlasIds` (read with exact edges only). pixelTriangle is the G-buffer's triangle per pixel,
+// positions .. alphaTexels the scene's (raster::SceneBuffers). level[i] gets the tile's quadtree level (the debug
+// channel). Other pixels are left as they are (1: lit).
 __kernel void fvsm_visibility(__global const float4* position, __global const float4* normal,
-                              __global const float* atlas, __constant const LightViewGpu* base, ShadeFrame f,
-                              __constant const LightViewGpu* views, __global const uint* page,
-                              __global const int* leafLevels, FvsmBatch b, __global float* visibility,
-                              __global float* level) {
+                              __global const float* atlas, __global const uint* atlasIds,
+                              __constant const LightViewGpu* base, ShadeFrame f, __constant const LightViewGpu* views,
+                              __global const uint* page, __global const int* leafLevels, FvsmBatch b,
+                              __global const uint* pixelTriangle, __global const float* positions,
+                              __global const uint* triangles, __global const uint* alphaIndex,
+                              __global const AlphaTriangle* alphaTriangles,
+                              __global const AlphaMaterial* alphaMaterials, __global const uchar* alphaTexels,
+                              __global float* visibility, __global float* level) {
   const uint width = f.width, height = f.height, begin = b.begin, count = b.count, cells = b.cells;
   const uint i = get_global_id(0);
   float4 p;
@@ -67,8 +75,19 @@ __kernel void fvsm_visibility(__global const float4* position, __global const fl
   const Receiver r = sc_hard_receiver(f.receiverPlane, position, lv, width, height, i, p.xyz, n, bias, &rp);
   float lit = 1.0f;
   if (r.valid) {
-    __global const float* map = atlas + (size_t)leaf * (size_t)lv->width * (size_t)lv->height;
-    lit = sc_hard_lit(map, lv, r, rp, f.biasConstant * r.texel);
+    const size_t first = (size_t)leaf * (size_t)lv->width * (size_t)lv->height;
+    lit = sc_hard_lit(atlas + first, lv, r, rp, f.biasConstant * r.texel);
+    if (b.exactEdges) {
+      const EdgeScene s = {positions,
+                           triangles,
+                           b.triangleCount,
+                           {alphaIndex, alphaTriangles, alphaMaterials, alphaTexels, b.alphaTested},
+                           b.sceneRadius};
+      const float exact =
+          edge_exact_lit(atlas + first, atlasIds + first, lv, p.xyz, pixelTriangle[i], n, rp,
+                         rp.valid ? f.biasConstant * r.texel : r.bias, lit, convert_int2(floor(r.uv)), false, &s);
+      if (exact >= 0.0f) lit = exact;
+    }
   }
   visibility[i] = lit;
   level[i] = (float)leafLevels[leaf];

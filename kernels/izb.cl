@@ -5,40 +5,19 @@
 // cell (a counting sort). The host then draws every caster conservatively over the grid (Rasterizer::drawTileLists,
 // only the cells that hold samples), and izb_test tests each sample exactly against the triangles listed for its cell:
 // the shadow ray of the Embree reference (tools/reference/tracer.cpp: the origin moved off the surface along its
-// geometric normal, towards the light's centre, by IZB_RAY_OFFSET times max(|p|_inf, scene radius); to the light's
+// geometric normal, towards the light's centre, by SHADOW_RAY_OFFSET times max(|p|_inf, scene radius); to the light's
 // point, or against a directional light's axis), with a watertight ray-triangle test and the alpha masks of
-// kernels/shared/alpha.h. A ray from a sample to a spot or point light (the light grid's centre of projection) or
-// along a directional light's axis projects to one point of the grid, so the triangles that can block it are exactly
-// those whose projection covers the point its origin projects to. izb_resolve turns the blocked samples into visibility.
-// Under an area light, izb_soft_* (below) take the place of the conservative draw and izb_test.
+// kernels/shared/alpha.h (kernels/shared/shadow_ray.h). A ray from a sample to a spot or point light (the light grid's
+// centre of projection) or along a directional light's axis projects to one point of the grid, so the triangles that
+// can block it are exactly those whose projection covers the point its origin projects to. izb_resolve turns the
+// blocked samples into visibility. Under an area light, izb_soft_* (below) take the place of the conservative draw and
+// izb_test.
 #include "kernels/shared/alpha.h"
 #include "kernels/shared/izb.h"
 #include "kernels/shared/light_view.h"
-
-// The same arithmetic on every device: no fused multiply-adds in the ray test or the sample positions.
-#pragma OPENCL FP_CONTRACT OFF
+#include "kernels/shared/shadow_ray.h"
 
 __constant float kIzbPattern[2 * IZB_PATTERN_ENTRIES] = IZB_PATTERN_VALUES;
-
-// Ray end just short of a spot or point light's point, as the reference's (geometry through the light point itself does
-// not count).
-#define IZB_SPOT_TFAR (1.0f - 1e-6f)
-
-typedef struct {
-  float3 origin, direction;
-  float tfar;
-} IzbRay;
-
-static float3 izb_vertex(__global const float* positions, uint v) { return vload3(v, positions); }
-
-// The geometric normal of triangle t (unnormalised), or `fallback` when it is degenerate.
-static float3 izb_geometric_normal(__global const float* positions, __global const uint* triangles, uint t,
-                                   float3 fallback) {
-  const float3 a = izb_vertex(positions, triangles[3 * t]), b = izb_vertex(positions, triangles[3 * t + 1]);
-  const float3 c = izb_vertex(positions, triangles[3 * t + 2]);
-  const float3 n = cross(b - a, c - a);
-  return dot(n, n) > 0.0f && all(isfinite(n)) ? n : fallback;
-}
 
 // clip -> world of NDC (x, y, z), through the camera's inverse.
 static float3 izb_unproject(const IzbFrame* f, float x, float y, float z) {
@@ -73,57 +52,14 @@ static float3 izb_sample_point(const IzbFrame* f, uint pixel, int s, float3 p, f
 // false for background.
 static bool izb_ray(const IzbFrame* f, uint i, __global const float4* position, __global const uint* pixelTriangle,
                     __global const float4* normal, __global const float* positions, __global const uint* triangles,
-                    __constant const LightViewGpu* lv, IzbRay* ray, uint* pixelOut) {
+                    __constant const LightViewGpu* lv, ShadowRay* ray, uint* pixelOut) {
   const uint pixel = f->pixelBegin + i / (uint)f->samples;
   *pixelOut = pixel;
   const float4 p4 = position[pixel];
   if (p4.w == 0.0f) return false;
-  const float3 n0 = izb_geometric_normal(positions, triangles, pixelTriangle[pixel], normal[pixel].xyz);
+  const float3 n0 = ray_geometric_normal(positions, triangles, pixelTriangle[pixel], normal[pixel].xyz);
   const float3 p = izb_sample_point(f, pixel, (int)(i % (uint)f->samples), p4.xyz, n0);
-  const bool directional = lv->kind == LIGHT_KIND_DIRECTIONAL;
-  const float3 centre = lv->position.xyz, toLight = -lv->axis.xyz;
-  float3 towards = toLight;
-  if (!directional) {
-    const float3 d = centre - p;
-    const float len = length(d);
-    if (len > 0.0f) towards = d / len;
-  }
-  float3 n = normalize(n0);
-  if (dot(n, towards) < 0.0f) n = -n;
-  const float3 q = fabs(p);
-  const float extent = fmax(fmax(fmax(q.x, q.y), q.z), f->sceneRadius);
-  ray->origin = p + n * (IZB_RAY_OFFSET * fmax(extent, FLT_MIN));
-  ray->direction = directional ? toLight : centre - ray->origin;
-  ray->tfar = directional ? INFINITY : IZB_SPOT_TFAR;
-  return true;
-}
-
-// Watertight ray-triangle intersection (Woop, Benthin & Wald, "Watertight Ray/Triangle Intersection", JCGT 2013): true
-// when the ray meets the triangle at 0 < t < tfar; (u, v) are the barycentric weights of vertices 1 and 2 (Embree's).
-static bool izb_intersect(const IzbRay* r, float3 v0, float3 v1, float3 v2, float* u, float* v) {
-  const float3 ad = fabs(r->direction);
-  const int kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
-  int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
-  const float dir[3] = {r->direction.x, r->direction.y, r->direction.z};
-  if (dir[kz] < 0.0f) {
-    const int swap = kx;
-    kx = ky, ky = swap;
-  }
-  const float sx = dir[kx] / dir[kz], sy = dir[ky] / dir[kz], sz = 1.0f / dir[kz];
-  const float3 a3 = v0 - r->origin, b3 = v1 - r->origin, c3 = v2 - r->origin;
-  const float a[3] = {a3.x, a3.y, a3.z}, b[3] = {b3.x, b3.y, b3.z}, c[3] = {c3.x, c3.y, c3.z};
-  const float ax = a[kx] - sx * a[kz], ay = a[ky] - sy * a[kz];
-  const float bx = b[kx] - sx * b[kz], by = b[ky] - sy * b[kz];
-  const float cx = c[kx] - sx * c[kz], cy = c[ky] - sy * c[kz];
-  const float U = cx * by - cy * bx, V = ax * cy - ay * cx, W = bx * ay - by * ax;
-  if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return false;
-  const float det = U + V + W;
-  if (det == 0.0f) return false;
-  const float T = U * (sz * a[kz]) + V * (sz * b[kz]) + W * (sz * c[kz]);
-  // 0 < T / det < tfar, with det's sign folded in.
-  const float sign = det < 0.0f ? -1.0f : 1.0f, adet = fabs(det), st = sign * T;
-  if (!(st > 0.0f) || !(st < r->tfar * adet)) return false;
-  *u = V / det, *v = W / det;
+  *ray = ray_towards_light(p, n0, lv, f->sceneRadius);
   return true;
 }
 
@@ -138,7 +74,7 @@ __kernel void izb_bin(__global const float4* position, __global const float4* no
                       __global uint* cellDepth) {
   const uint i = get_global_id(0);
   if (i >= f.sampleCount) return;
-  IzbRay ray;
+  ShadowRay ray;
   uint pixel;
   if (!izb_ray(&f, i, position, pixelTriangle, normal, positions, triangles, lv, &ray, &pixel)) {
     cellOf[i] = IZB_NO_CELL;
@@ -237,33 +173,13 @@ __kernel void izb_scatter(__global const uint* cellOf, __global const uint* cell
 
 // ---- The exact test ----------------------------------------------------------------------------------------------
 
-// Whether triangle t blocks the ray: the intersection, then its alpha test where it has one (alphaIndex holds one
-// entry, ALPHA_NO_TRIANGLE, when no triangle of the scene is alpha-tested).
-static bool izb_blocks(const IzbRay* ray, uint t, __global const float* positions, __global const uint* triangles,
-                       __global const uint* alphaIndex, uint alphaTested,
-                       __global const AlphaTriangle* alphaTriangles, __global const AlphaMaterial* alphaMaterials,
-                       __global const uchar* alphaTexels) {
-  float u, v;
-  if (!izb_intersect(ray, izb_vertex(positions, triangles[3 * t]), izb_vertex(positions, triangles[3 * t + 1]),
-                     izb_vertex(positions, triangles[3 * t + 2]), &u, &v))
-    return false;
-  const uint index = alphaTested ? alphaIndex[t] : ALPHA_NO_TRIANGLE;
-  if (index == ALPHA_NO_TRIANGLE) return true;
-  __global const AlphaTriangle* a = &alphaTriangles[index];
-  // (1 - u - v) uv0 + u uv1 + v uv2, as the reference's filter (tools/reference/alpha_filter.cpp).
-  const float w = 1.0f - u - v;
-  const float tu = (w * a->uv[0] + u * a->uv[2]) + v * a->uv[4], tv = (w * a->uv[1] + u * a->uv[3]) + v * a->uv[5];
-  const AlphaMaterial m = alphaMaterials[a->material];
-  return alphaPasses(&m, alphaTexels, tu, tv) != 0;
-}
-
 // Sorted sample k of the pass (izb_scatter's order): its index i, its shadow ray towards the light's centre and its
 // pixel; false past the pass's samples or for background.
 static bool izb_sorted_sample(const IzbFrame* f, uint k, __global const uint* sorted, __global const uint* cellStart,
                               __global const uint* cellCount, __global const float4* position,
                               __global const float4* normal, __global const uint* pixelTriangle,
                               __global const float* positions, __global const uint* triangles,
-                              __constant const LightViewGpu* lv, uint* i, IzbRay* ray, uint* pixel) {
+                              __constant const LightViewGpu* lv, uint* i, ShadowRay* ray, uint* pixel) {
   if (k >= cellStart[f->cells - 1] + cellCount[f->cells - 1]) return false;
   *i = sorted[k];
   return izb_ray(f, *i, position, pixelTriangle, normal, positions, triangles, lv, ray, pixel);
@@ -287,14 +203,14 @@ __kernel void izb_test(__global const uint* sorted, __global const uint* cellOf,
                        __global const AlphaMaterial* alphaMaterials, __global const uchar* alphaTexels,
                        __global uint* occluded) {
   uint i, pixel;
-  IzbRay ray;
+  ShadowRay ray;
   if (!izb_sorted_sample(&f, izb_spread_sample(&f), sorted, cellStart, cellCount, position, normal, pixelTriangle,
                          positions, triangles, lv, &i, &ray, &pixel))
     return;
   const uint cell = cellOf[i], begin = tileOffset[cell], end = begin + tileCount[cell];
+  const RayAlpha alpha = {alphaIndex, alphaTriangles, alphaMaterials, alphaTexels, f.alphaTested};
   for (uint e = begin; e < end; ++e)
-    if (izb_blocks(&ray, tileEntries[e], positions, triangles, alphaIndex, f.alphaTested, alphaTriangles,
-                   alphaMaterials, alphaTexels)) {
+    if (ray_blocked_by(&ray, tileEntries[e], positions, triangles, &alpha)) {
       atomic_inc(&occluded[pixel]);
       return;
     }
@@ -343,8 +259,8 @@ __kernel void izb_soft_casters(__global const float* positions, __global const u
   float values[IZB_FIELDS];
   if (i < triangleCount) {
     const uint t = order[i];
-    const float3 a = izb_vertex(positions, triangles[3 * t]), b = izb_vertex(positions, triangles[3 * t + 1]);
-    const float3 c = izb_vertex(positions, triangles[3 * t + 2]);
+    const float3 a = ray_vertex(positions, triangles[3 * t]), b = ray_vertex(positions, triangles[3 * t + 1]);
+    const float3 c = ray_vertex(positions, triangles[3 * t + 2]);
     const float3 m = (a + b + c) / 3.0f;
     const float3 n = cross(b - a, c - a);
     const float len = length(n);
@@ -659,8 +575,8 @@ static IzbCone izb_unhidden_cone(const IzbLightPlane* p, const uint* mask, int w
 // The ray from the plane's origin to the light's point of unit-disk point `disk` (host/techniques/izb_pattern.h), as
 // tools/reference/light_samples.cpp LightSampler::rayFromDisk: the disk's basis is the plane's (a sphere's faces the
 // origin, izb_light_plane computes it as the reference does).
-static IzbRay izb_light_ray(const IzbFrame* f, const IzbLightPlane* p, float2 disk) {
-  IzbRay ray;
+static ShadowRay izb_light_ray(const IzbFrame* f, const IzbLightPlane* p, float2 disk) {
+  ShadowRay ray;
   ray.origin = p->origin;
   if (p->sun) {
     const float r2 = dot(disk, disk), x = r2 * f->lightOneMinusCos;
@@ -672,7 +588,7 @@ static IzbRay izb_light_ray(const IzbFrame* f, const IzbLightPlane* p, float2 di
   }
   const float3 point = p->centre + f->lightRadius * (disk.x * p->tangent + disk.y * p->bitangent);
   ray.direction = point - p->origin;
-  ray.tfar = IZB_SPOT_TFAR;
+  ray.tfar = SHADOW_RAY_SPOT_TFAR;
   return ray;
 }
 
@@ -867,10 +783,7 @@ typedef struct {
   __global const float2* pattern;
   __global const float2* planePoints;
   __global const uint* masks;
-  __global const uint* alphaIndex;
-  __global const AlphaTriangle* alphaTriangles;
-  __global const AlphaMaterial* alphaMaterials;
-  __global const uchar* alphaTexels;
+  RayAlpha alpha;
 } IzbCover;
 
 // The light points the batch's live casters (triangles[j]: lane j's) hide, added to `mask` and counted in *blocked,
@@ -904,7 +817,7 @@ static void izb_soft_cover(const IzbCover* in, const IzbLanes* lanes, const uint
       g[edges] = (float2)(lanes->gx[c][j], lanes->gy[c][j]), h[edges] = lanes->h[c][j];
       tol[edges] = lanes->tol[c][j], table[edges++] = in->masks + lanes->table[c][j];
     }
-    const bool opaque = !in->f->alphaTested || in->alphaIndex[t] == ALPHA_NO_TRIANGLE;
+    const bool opaque = !in->alpha.alphaTested || in->alpha.index[t] == ALPHA_NO_TRIANGLE;
     for (int w = 0; w < words; ++w) {
       uint test = ~mask[w];
       if (masked) {
@@ -937,9 +850,8 @@ static void izb_soft_cover(const IzbCover* in, const IzbLanes* lanes, const uint
         }
         const float2 pp = in->pattern[pj];
         const float2 dd = (float2)(cs.x * pp.x - cs.y * pp.y, cs.y * pp.x + cs.x * pp.y);
-        const IzbRay ray = izb_light_ray(in->f, in->plane, dd);
-        if (izb_blocks(&ray, t, in->positions, in->triangles, in->alphaIndex, in->f->alphaTested, in->alphaTriangles,
-                       in->alphaMaterials, in->alphaTexels)) {
+        const ShadowRay ray = izb_light_ray(in->f, in->plane, dd);
+        if (ray_blocked_by(&ray, t, in->positions, in->triangles, &in->alpha)) {
           mask[w] |= 1u << bit;
           ++*blocked;
         }
@@ -966,7 +878,7 @@ __kernel void izb_soft_test(__global const uint* sorted, __global const uint* ce
                             __global const AlphaMaterial* alphaMaterials, __global const uchar* alphaTexels,
                             __global uint* occluded) {
   uint i, pixel;
-  IzbRay hard;
+  ShadowRay hard;
   if (!izb_sorted_sample(&f, izb_spread_sample(&f), sorted, cellStart, cellCount, position, normal, pixelTriangle,
                          positions, triangles, lv, &i, &hard, &pixel))
     return;
@@ -983,10 +895,7 @@ __kernel void izb_soft_test(__global const uint* sorted, __global const uint* ce
                        pattern,
                        planePoints,
                        masks,
-                       alphaIndex,
-                       alphaTriangles,
-                       alphaMaterials,
-                       alphaTexels};
+                       {alphaIndex, alphaTriangles, alphaMaterials, alphaTexels, f.alphaTested}};
   IzbCone cone = izb_light_cone(&f, hard.origin);
   uint mask[IZB_MAX_LIGHT_GRID * IZB_MAX_LIGHT_GRID / 32];
   for (int w = 0; w < in.words; ++w) mask[w] = n - 32u * (uint)w >= 32u ? 0u : ~0u << (n - 32u * (uint)w);

@@ -9,8 +9,10 @@
 // the host's stopping rule (sec. 6.3) reads those counters, once a pass, with the texel box of the unconfident
 // pixels' lookups (the next pass's scissor). Each pass also appends the pixels a later pass can still change to a
 // work list, and the next pass runs over that list only: once most pixels are final (optimal, adapted at confidence
-// 1), a pass costs what its few unconfident pixels cost, not the frame's.
+// 1), a pass costs what its few unconfident pixels cost, not the frame's. With exact edges, pass 0 settles every
+// pixel whose texels disagree by its exact shadow ray (kernels/shared/exact_edges.h): it leaves the work list.
 #define SHADOW_NORMAL_OFFSET_SCALED 0  // the whole normal offset at every angle (kernels/shared/shadow_common.h)
+#include "kernels/shared/exact_edges.h"
 #include "kernels/shared/id_buffer.h"
 #include "kernels/shared/jittered.h"
 #include "kernels/shared/shade.h"
@@ -194,12 +196,14 @@ inline void jittered_count(uint flags, int2 texel, uint pixel, __local JitterGro
 // sm's test of covered pixel i (world position p) through map `lv`, the pass's update of its state `px` (eq. 4-6
 // with the required confidence's `slack`) and its counter flags; `texel` receives the lookup's texel. With `record`,
 // px also receives what a later pass needs to move the lookup instead of projecting again (texel position, the
-// biased depth at it, the receiver plane's depth gradient in texels, valid, the id lookup's position).
+// biased depth at it, the receiver plane's depth gradient in texels, valid, the id lookup's position). With `edges`
+// (pass 0 with exact edges), a pixel whose texels disagree is settled by its exact shadow ray instead.
 inline uint jittered_lookup(__global const float4* position, __global const float4* normal, uint width, uint height,
                             __global const float* map, __constant const LightViewGpu* lv, ShadowBias bias,
                             int receiverPlane, int idMode, __global const uint* mapIds, __global const uint* objectIds,
                             __global const uint* pixelTriangle, __global const uint* pixelObject, JitterShade s,
-                            int pass, float slack, uint i, float4 p, bool record, int2* texel, JitterPixel* px) {
+                            int pass, float slack, uint i, float4 p, bool record, const EdgeScene* edges, int2* texel,
+                            JitterPixel* px) {
   ReceiverPlane rp;
   Receiver r = sc_hard_receiver(receiverPlane, position, lv, width, height, i, p.xyz, normal[i].xyz, bias, &rp);
   if (!r.valid) return 0u;
@@ -207,16 +211,25 @@ inline uint jittered_lookup(__global const float4* position, __global const floa
   float lit = id_visibility(mapIds, objectIds, lv->width, lv->height, idUv, id_pixel(pixelTriangle, i, idMode),
                             id_pixel(pixelObject, i, idMode), idMode, sc_hard_lit(map, lv, r, rp, bias.base * r.texel));
   float depth = rp.valid ? r.depth - bias.base * r.texel : r.depth - r.bias;  // as sc_hard_lit
+  *texel = convert_int2_sat(clamp(floor(r.uv), -1.0f, (float)max(lv->width, lv->height)));
+  if (record) {
+    px->u = r.uv.x, px->v = r.uv.y, px->depth = depth, px->valid = 1.0f;
+    px->gu = rp.gradient.x, px->gv = rp.gradient.y, px->idU = idUv.x, px->idV = idUv.y;
+  }
+  if (edges != 0) {
+    const float exact =
+        edge_exact_lit(map, mapIds, lv, p.xyz, pixelTriangle[i], normal[i].xyz, rp,
+                       rp.valid ? bias.base * r.texel : r.bias, lit, convert_int2(floor(r.uv)), true, edges);
+    if (exact >= 0.0f) {
+      px->lit = exact, px->kept = JITTER_SETTLED, px->pass = (float)(pass + 1);
+      return JITTER_COUNT_COVERED;
+    }
+  }
   bool agree = false;
   if (s.agreement > 0 && idMode == ID_BUFFER_OFF) {
     float occluders[JITTER_NEIGHBOURS];
     jittered_gather(map, lv->width, lv->height, floor(r.uv), true, occluders);
     agree = jittered_agree(occluders, floor(r.uv), r.uv, depth, rp.gradient, lit);
-  }
-  *texel = convert_int2_sat(clamp(floor(r.uv), -1.0f, (float)max(lv->width, lv->height)));
-  if (record) {
-    px->u = r.uv.x, px->v = r.uv.y, px->depth = depth, px->valid = 1.0f;
-    px->gu = rp.gradient.x, px->gv = rp.gradient.y, px->idU = idUv.x, px->idV = idUv.y;
   }
   return jittered_update(s, pass, lit, jittered_confidence(r.uv), slack, agree, px);
 }
@@ -228,9 +241,17 @@ inline uint jittered_lookup(__global const float4* position, __global const floa
 __kernel __attribute__((reqd_work_group_size(JITTER_GROUP, 1, 1))) void jittered_first(
     __global const float4* position, __global const float4* normal, __global const float* map,
     __constant const LightViewGpu* lv, ShadeFrame f, __global const uint* mapIds, __global const uint* objectIds,
-    __global const uint* pixelTriangle, __global const uint* pixelObject, JitterShade s, __global JitterPixel* state,
-    __global int* counters, __global uint* next, __global uint* tileMask, __global float* visibility) {
+    __global const uint* pixelTriangle, __global const uint* pixelObject, JitterShade s,
+    __global const float* positions, __global const uint* triangles, __global const uint* alphaIndex,
+    __global const AlphaTriangle* alphaTriangles, __global const AlphaMaterial* alphaMaterials,
+    __global const uchar* alphaTexels, __global JitterPixel* state, __global int* counters, __global uint* next,
+    __global uint* tileMask, __global float* visibility) {
   const uint width = f.width, height = f.height;
+  const EdgeScene edges = {positions,
+                           triangles,
+                           s.triangleCount,
+                           {alphaIndex, alphaTriangles, alphaMaterials, alphaTexels, s.alphaTested},
+                           s.sceneRadius};
   __local JitterGroup wg;
   uint i = get_global_id(0), flags = 0;
   int2 texel = (int2)(0);
@@ -241,8 +262,9 @@ __kernel __attribute__((reqd_work_group_size(JITTER_GROUP, 1, 1))) void jittered
     px.slack = p.w == 0.0f ? 1.0f : jittered_slack(position, width, height, lv, s.precision, i, p);
   if (p.w != 0.0f) {
     ShadowBias bias = {f.biasConstant, f.biasSlope, f.normalOffset};
-    flags = jittered_lookup(position, normal, width, height, map, lv, bias, f.receiverPlane, f.idMode, mapIds,
-                            objectIds, pixelTriangle, pixelObject, s, 0, px.slack, i, p, true, &texel, &px);
+    flags =
+        jittered_lookup(position, normal, width, height, map, lv, bias, f.receiverPlane, f.idMode, mapIds, objectIds,
+                        pixelTriangle, pixelObject, s, 0, px.slack, i, p, true, s.exactEdges ? &edges : 0, &texel, &px);
   }
   if (i < width * height) jittered_store(state, visibility, i, px, 1.0f, 0);
   jittered_count(flags, texel, i, &wg, counters, next, tileMask, s.tilesX, s.tilesY, s.tileSize);
@@ -270,7 +292,7 @@ __kernel __attribute__((reqd_work_group_size(JITTER_GROUP, 1, 1))) void jittered
     float slack = s.mode == JITTER_OPTIMAL ? jittered_slack(position, width, height, lv, s.precision, i, p) : 0.0f;
     ShadowBias bias = {f.biasConstant, f.biasSlope, f.normalOffset};
     flags = jittered_lookup(position, normal, width, height, map, lv, bias, f.receiverPlane, f.idMode, mapIds,
-                            objectIds, pixelTriangle, pixelObject, s, pass, slack, i, p, false, &texel, &px);
+                            objectIds, pixelTriangle, pixelObject, s, pass, slack, i, p, false, 0, &texel, &px);
     // A receiver whose lookup fails here (behind this warp's eye) keeps what it has and stays listed.
     if (flags == 0u) flags = jittered_untested(s, px.kept);
     jittered_store(state, visibility, i, px, before, pass);

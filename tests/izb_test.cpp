@@ -21,6 +21,7 @@
 #include "host/techniques/registry.h"
 #include "host/views/raster_scene.h"
 #include "host/views/views.h"
+#include "kernels/shared/shadow_ray.h"
 #include "raster/rasterizer.h"
 #include "tests/support/cl_test.h"
 #include "tests/support/render.h"
@@ -33,7 +34,9 @@ namespace izb_test {
 
 using test::renderWith;
 
-TEST(IzbConstants, RayOffsetIsTheReferenceTracers) { EXPECT_EQ(IZB_RAY_OFFSET, reference::ShadowTracer::kRayOffset); }
+TEST(IzbConstants, RayOffsetIsTheReferenceTracers) {
+  EXPECT_EQ(SHADOW_RAY_OFFSET, reference::ShadowTracer::kRayOffset);
+}
 
 class Izb : public test::ClTest {};
 

@@ -55,6 +55,8 @@ CONFIGS = {
     "sm-id": ("sm", ["--id-buffer", "combined"]),
     "izb": ("izb", []),  # exact: the irregular z-buffer
     "fvsm": ("fvsm", []),  # fitted virtual shadow maps (its --map-size is the tile's)
+    "fvsm-map": ("fvsm", ["--exact-edges", "off"]),  # fvsm decided by its tiles alone, as Giegl and Wimmer
+    "jittered-map": ("jittered", ["--exact-edges", "off"]),  # jittered decided by its maps alone, as Luksch
 }
 
 

@@ -14,7 +14,6 @@
 //   4. fvsm_visibility: sm's hard test through the page table (finest cells -> tile), with the bias in the footprint
 //      of the tile used.
 #include "kernels/shared/fvsm.h"
-#include "kernels/shared/id_buffer.h"
 
 #include <fmt/format.h>
 
@@ -30,6 +29,8 @@
 #include "host/techniques/registry.h"
 #include "host/techniques/shadow_map.h"
 #include "host/views/views.h"
+#include "kernels/shared/id_buffer.h"
+#include "raster/stages.h"
 
 namespace penumbra {
 namespace {
@@ -125,9 +126,12 @@ struct FvsmSettings {
   float quality = 0;
   double outliers = 0;
   double budget = 0;  // fvsm-budget, texels
+  bool exactEdges = false;
   static FvsmSettings from(const Params& params, int mapSize) {
-    return {MapSettings::from(params, mapSize), params.getInt("receiver-plane"), params.get("fvsm-max-size"),
-            static_cast<float>(params.get("fvsm-quality")), params.get("fvsm-outliers"), params.get("fvsm-budget")};
+    return {MapSettings::from(params, mapSize), params.getInt("receiver-plane"),
+            params.get("fvsm-max-size"),        static_cast<float>(params.get("fvsm-quality")),
+            params.get("fvsm-outliers"),        params.get("fvsm-budget"),
+            params.getInt("exact-edges") != 0};
   }
   bool operator==(const FvsmSettings&) const = default;
 };
@@ -218,11 +222,13 @@ class FittedVirtualShadowMap final : public TechniqueOf<FvsmSettings> {
     level_.allocate(ctx, pixels);
     level_.fill(ctx, -1.0f);
     if (!leaves.empty()) {
+      const bool ids = settings_.exactEdges;  // without exact edges the tiles are depth only
       atlasDepth_.allocate(ctx, leaves.size() * tileTexels);
-      noIds_.allocate(ctx, 1);  // depth-only tiles: no ID buffer reads them
+      atlasIds_.allocate(ctx, ids ? leaves.size() * tileTexels : 1);
       for (size_t k = 0; k < leaves.size(); ++k) {
-        RasterTargets slot{atlasDepth_.region(ctx, k * tileTexels, tileTexels), noIds_.region(ctx, 0, 1)};
-        views[k].raster.writeTriangleIds = false;
+        RasterTargets slot{atlasDepth_.region(ctx, k * tileTexels, tileTexels),
+                           ids ? atlasIds_.region(ctx, k * tileTexels, tileTexels) : atlasIds_.region(ctx, 0, 1)};
+        views[k].raster.writeTriangleIds = ids;
         frame.raster.draw(views[k].raster, slot);
       }
       page_.allocate(ctx, page.size(), CL_MEM_READ_ONLY);
@@ -233,6 +239,8 @@ class FittedVirtualShadowMap final : public TechniqueOf<FvsmSettings> {
       // 4. The lookups, a batch of tile views at a time.
       Kernel lookup(ctx, "kernels/fvsm.cl", "fvsm_visibility", "shade");
       const ShadeFrame shade = shadeFrame(frame, settings_.map, settings_.receiverPlane, ID_BUFFER_OFF);
+      const raster::SceneBuffers& scene = frame.raster.deviceScene();
+      const float sceneRadius = frame.scene.triangles.empty() ? 0.0f : frame.scene.bounds().radius();
       batches_.resize(std::max(batches_.size(), (leaves.size() + kViewsPerBatch - 1) / kViewsPerBatch));
       for (size_t begin = 0; begin < leaves.size(); begin += kViewsPerBatch) {
         const size_t count = std::min(kViewsPerBatch, leaves.size() - begin);
@@ -241,10 +249,13 @@ class FittedVirtualShadowMap final : public TechniqueOf<FvsmSettings> {
         Buffer<LightViewGpu>& gpu = batches_[begin / kViewsPerBatch];
         gpu.allocate(ctx, batch.size(), CL_MEM_READ_ONLY);
         gpu.upload(ctx, std::span<const LightViewGpu>(batch));
+        const FvsmBatch batchInfo{static_cast<uint32_t>(begin),          static_cast<uint32_t>(count),
+                                  static_cast<uint32_t>(cells),          ids ? 1u : 0u,
+                                  scene.materials.alphaTested ? 1u : 0u, sceneRadius};
         lookup
-            .args(g.position, g.normal, atlasDepth_, baseGpu_, shade, gpu, page_, leafLevels_,
-                  FvsmBatch{static_cast<uint32_t>(begin), static_cast<uint32_t>(count), static_cast<uint32_t>(cells)},
-                  visibility, level_)
+            .args(g.position, g.normal, atlasDepth_, atlasIds_, baseGpu_, shade, gpu, page_, leafLevels_, batchInfo,
+                  g.triangleId, scene.positions, scene.triangles, scene.alphaIndex, scene.alphaTriangles,
+                  scene.alphaMaterials, scene.alphaTexels, visibility, level_)
             .moves(pixels * kVisibilityBytesPerPixel)
             .launch(pixels, kPixelGroup);
       }
@@ -272,7 +283,7 @@ class FittedVirtualShadowMap final : public TechniqueOf<FvsmSettings> {
   Buffer<uint32_t> histogram_, page_;
   Buffer<int32_t> leafLevels_;
   Buffer<float> atlasDepth_, level_;
-  Buffer<uint32_t> noIds_;
+  Buffer<uint32_t> atlasIds_;
 };
 
 }  // namespace
@@ -287,6 +298,7 @@ TechniqueInfo fvsmTechnique() {
       "Tile width and height in texels (the quadtree root's map); the virtual map is up to --fvsm-max-size "
       "texels a side";
   params.push_back(receiverPlaneParam());
+  params.push_back(exactEdgesParam());
   params.push_back({"fvsm-max-size", 32768, 64, 1 << 20,
                     "Virtual map width and height in texels at the quadtree's deepest level (map-size * 2^levels, "
                     "rounded down to a power-of-two multiple of map-size, at most 2^10 tiles a side)"});

@@ -24,6 +24,7 @@
 #include "host/techniques/split_maps.h"
 #include "host/techniques/warp.h"
 #include "kernels/shared/id_buffer.h"
+#include "raster/stages.h"
 
 namespace penumbra {
 namespace {
@@ -98,6 +99,7 @@ struct JitterSettings {
   MapSettings map;
   int receiverPlane = 1;
   int idMode = ID_BUFFER_OFF;
+  bool exactEdges = false;
   int confidence = JITTER_OPTIMAL;  // JITTER_* mode
   float confidenceThreshold = 0;
   int agreement = 0;  // jitter-agreement
@@ -113,6 +115,7 @@ struct JitterSettings {
     s.map = MapSettings::from(params, mapSize);
     s.receiverPlane = params.getInt("receiver-plane");
     s.idMode = params.getInt("id-buffer");
+    s.exactEdges = params.getInt("exact-edges") != 0;
     s.confidence = params.getInt("confidence");
     s.confidenceThreshold = static_cast<float>(params.get("confidence-threshold"));
     s.agreement = params.getInt("jitter-agreement");
@@ -162,7 +165,7 @@ class Jittered final : public TechniqueOf<JitterSettings> {
             pass > 0 && plan.nJitter > 0.0f ? nJitteredView(frame, plan, pass) : baseView(frame, plan, pass), angle,
             plan.scale, offset);
         map_.view.raster.scissor = scissor;
-        map_.view.raster.writeTriangleIds = map_.triangleIds;
+        map_.view.raster.writeTriangleIds = map_.triangleIds && (pass == 0 || settings_.idMode != ID_BUFFER_OFF);
         if (masking_) map_.view.raster.tileMask = &tileMask_;
         frame.raster.draw(map_.view.raster, map_.targets);
       }
@@ -224,7 +227,7 @@ class Jittered final : public TechniqueOf<JitterSettings> {
     plan.reduction = settings_.reduction;
     plan.warped = settings_.map.fit.warp.lispsm;
     plan.nJitter = settings_.nJitter;
-    map_.triangleIds = settings_.idMode != ID_BUFFER_OFF;
+    map_.triangleIds = settings_.idMode != ID_BUFFER_OFF || settings_.exactEdges;  // exact edges: pass 0's ids
     renderShadowMap(frame, settings_.map, map_, 0.0f);
     plan.fitted = map_.view;
     if (plan.reduction > 0.0f || plan.nJitter > 0.0f) plan.depth = tightViewDepth(frame.ctx, frame.gbuffer);
@@ -287,7 +290,7 @@ class Jittered final : public TechniqueOf<JitterSettings> {
   // A pass of n jitter: every listed pixel projected through this pass's own warped map (jittered_reproject).
   std::array<int32_t, JITTER_COUNTERS> reproject(ShadowFrame& frame, int pass, Buffer<float>& visibility) {
     const GBuffer& g = frame.gbuffer;
-    const JitterShade shade = shadeArgs(0);
+    const JitterShade shade = shadeArgs(frame, 0);
     const ShadeFrame frameShade = shadeFrame(frame, settings_.map, settings_.receiverPlane, settings_.idMode);
     JitterPass jp{};
     jp.pass = pass, jp.count = static_cast<uint32_t>(active_), jp.idMode = frameShade.idMode;
@@ -306,9 +309,18 @@ class Jittered final : public TechniqueOf<JitterSettings> {
   }
 
   // The technique's scalars (kernels/shared/jittered.h), with a tile mask of maskTiles^2 tiles (0: none).
-  JitterShade shadeArgs(int maskTiles) const {
-    return {settings_.confidence, settings_.confidenceThreshold, settings_.agreement, settings_.precision, maskTiles,
-            maskTiles, kRasterTileSize};
+  JitterShade shadeArgs(const ShadowFrame& frame, int maskTiles) const {
+    return {settings_.confidence,
+            settings_.confidenceThreshold,
+            settings_.agreement,
+            settings_.precision,
+            maskTiles,
+            maskTiles,
+            kRasterTileSize,
+            settings_.exactEdges ? 1 : 0,
+            frame.raster.deviceScene().materials.alphaTested ? 1u : 0u,
+            frame.scene.triangles.empty() ? 0.0f : frame.scene.bounds().radius(),
+            frame.raster.deviceScene().triangleCount};
   }
 
   void resetCounters(Context& ctx) {
@@ -337,14 +349,16 @@ class Jittered final : public TechniqueOf<JitterSettings> {
     tileMask_.allocate(frame.ctx, masking_ ? static_cast<size_t>(tiles) * tiles : 1);
     if (masking_) tileMask_.fill(frame.ctx, 0u);  // the previous pass's draw has read it
     const int maskTiles = masking_ ? tiles : 0;   // 0: the kernels mark nothing
-    const JitterShade shade = shadeArgs(maskTiles);
+    const JitterShade shade = shadeArgs(frame, maskTiles);
     if (pass == 0) {
       const ShadeFrame frameShade = shadeFrame(frame, settings_.map, settings_.receiverPlane, idMode);
       Kernel kernel(frame.ctx, "kernels/jittered.cl", "jittered_first", "shade");
+      const raster::SceneBuffers& scene = frame.raster.deviceScene();
       kernel
           .args(g.position, g.normal, map_.targets.depth, map_.gpu, frameShade, map_.targets.triangleId,
-                frame.raster.objectIds(), g.triangleId, g.objectId, shade, state_, counters_, next_, tileMask_,
-                visibility)
+                frame.raster.objectIds(), g.triangleId, g.objectId, shade, scene.positions, scene.triangles,
+                scene.alphaIndex, scene.alphaTriangles, scene.alphaMaterials, scene.alphaTexels, state_, counters_,
+                next_, tileMask_, visibility)
           // + the state; the work list's entries as a bound
           .moves(pixels * (kVisibilityBytesPerPixel + sizeof(JitterPixel) + 4))
           .launch(pixels, size_t{JITTER_GROUP});
@@ -386,6 +400,7 @@ TechniqueInfo jitteredTechnique() {
   paramNamed(params, "normal-offset").defaultValue = 0.25;
   params.push_back(receiverPlaneParam());
   params.push_back(idBufferParam());
+  params.push_back(exactEdgesParam());
   // LiSPSM by default: jittering removes projection aliasing, the warp perspective aliasing (Luksch sec. 5-6 combine
   // them); measured in the README's comparison (every case as accurate or more, at about the same time).
   for (ParamSpec& spec : warpParams(true)) params.push_back(spec);

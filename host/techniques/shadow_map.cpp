@@ -196,6 +196,16 @@ ParamSpec receiverPlaneParam() {
           {"off", "on"}};
 }
 
+ParamSpec exactEdgesParam() {
+  return {"exact-edges",
+          1,
+          0,
+          1,
+          "Exact shadow edges: where the 3x3 texels around a receiver disagree, its shadow ray is tested exactly "
+          "against the triangles they hold (the reference's ray), so edges and thin casters are decided per pixel",
+          {"off", "on"}};
+}
+
 ParamSpec idBufferParam() {
   return {"id-buffer", ID_BUFFER_OFF, ID_BUFFER_OFF, ID_BUFFER_COMBINED,
           "ID buffer: a receiver is lit where one of its four nearest texels holds its own object or triangle id "

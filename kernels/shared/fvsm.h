@@ -8,15 +8,19 @@
 #define FVSM_NO_LEAF 0xffffffffu  // a page-table entry no drawn tile covers
 #define FVSM_MAX_LEVELS 10        // quadtree levels below the root at most (2^10 tiles a side)
 
-// One batch of fvsm_visibility's lookups: the tiles [begin, begin + count) whose views the launch holds, and the
-// page table's cells per side.
+// One batch of fvsm_visibility's lookups: the tiles [begin, begin + count) whose views the launch holds, the page
+// table's cells per side, and the exact edges (kernels/shared/exact_edges.h): on (1) or off, whether the scene has
+// alpha-tested casters, the scene's radius.
 typedef struct FvsmBatch {
   uint begin, count;
   uint cells;
+  uint exactEdges, alphaTested;
+  float sceneRadius;
+  uint triangleCount;
 } FvsmBatch;
 
 #if PENUMBRA_HOST
-static_assert(sizeof(FvsmBatch) == 12, "FvsmBatch is shared with OpenCL C");
+static_assert(sizeof(FvsmBatch) == 28, "FvsmBatch is shared with OpenCL C");
 #endif
 
 #endif

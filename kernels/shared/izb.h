@@ -17,9 +17,6 @@
 // Area lights: casters are listed and culled in clusters of this many consecutive triangles (kernels/izb.cl
 // izb_soft_clusters).
 #define IZB_CLUSTER 8
-// Shadow-ray origins leave the surface by IZB_RAY_OFFSET * max(|p|_inf, scene radius), the reference tracer's
-// ShadowTracer::kRayOffset (tools/reference/tracer.h; a test holds them equal).
-#define IZB_RAY_OFFSET 1e-4f
 
 // Everything the sample kernels share about a frame and chunk, passed by value (only 4-byte scalars, so OpenCL C and
 // C++ lay it out alike).

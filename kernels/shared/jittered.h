@@ -42,6 +42,12 @@ typedef struct JitterShade {
   float precision;   // optimal: eq. 5's required precision (--jitter-precision)
   int tilesX, tilesY;  // the next pass's tile mask (0: the kernels mark nothing)
   int tileSize;        // pixels per side of a mask tile (RASTER_TILE_SIZE)
+  // Exact edges (kernels/shared/exact_edges.h): pass 0 settles a pixel whose texels disagree by its shadow ray (1) or
+  // not (0); whether the scene has alpha-tested casters; the scene's radius.
+  int exactEdges;
+  uint alphaTested;
+  float sceneRadius;
+  uint triangleCount;
 } JitterShade;
 
 // What changes from pass to pass: its number, its work list and, for jittered_pass, its texel transform from pass 0's
@@ -74,7 +80,7 @@ typedef struct JitterPixel {
 } JitterPixel;
 
 #if PENUMBRA_HOST
-static_assert(sizeof(JitterShade) == 28 && offsetof(JitterShade, tileSize) == 24, "JitterShade as in OpenCL C");
+static_assert(sizeof(JitterShade) == 44 && offsetof(JitterShade, tileSize) == 24, "JitterShade as in OpenCL C");
 static_assert(sizeof(JitterPass) == 48 && offsetof(JitterPass, mapWidth) == 16 && offsetof(JitterPass, idMode) == 36,
               "JitterPass as in OpenCL C");
 static_assert(sizeof(JitterPixel) == 64, "JitterPixel is one cache line, laid out as in OpenCL C");
