@@ -90,7 +90,8 @@ TEST_F(Fvsm, FewerTexelsThanAUniformMapOfEqualWrongPixels) {
 // their texels, and the pixels they change become the reference's, except where a pole is thinner than the coarse
 // tile's texel near the horizon and none of the texels tested holds the pole that the ray meets. Measured on PoCL at
 // 480x270: poles 0.335 % wrong without, 0.035 % with, 11 of the 545 changed pixels unlike the reference; alpha-tested
-// cards with round holes (the alpha test on those rays too) 0.29 % and 0, every changed pixel the reference's.
+// cards with round holes (the alpha test on those rays too) 0.29 % and 0, every changed pixel the reference's; the
+// staircase under a hard spot (a perspective map) 0.012 % and 0.
 TEST_F(Fvsm, ExactEdgesDecideThinCastersAndMasksAsTheReference) {
   struct Lit {
     const char* scene;
@@ -99,7 +100,8 @@ TEST_F(Fvsm, ExactEdgesDecideThinCastersAndMasksAsTheReference) {
     double unlikeAtMost;  // share of the changed pixels that are not the reference's
   };
   for (const Lit& lit :
-       {Lit{"poles:thickness=0.03", "dir:1,-0.18,0.4", 0.0006, 0.05}, Lit{"cards", "dir:0.3,-1,0.25", 0.0002, 0.01}}) {
+       {Lit{"poles:thickness=0.03", "dir:1,-0.18,0.4", 0.0006, 0.05}, Lit{"cards", "dir:0.3,-1,0.25", 0.0002, 0.01},
+        Lit{"staircase", "spot:0.2,6,0.3:0,0,0:70", 0.0002, 0.01}}) {
     const Scene scene = makeProceduralFromSpec(lit.scene);
     Camera camera = scene.cameras.front();
     camera.width = 480, camera.height = 270;
@@ -121,7 +123,7 @@ TEST_F(Fvsm, ExactEdgesDecideThinCastersAndMasksAsTheReference) {
         lit.scene, lit.light, 100 * wrongOff, 100 * wrongOn, changed, unlike);
     EXPECT_LE(wrongOn, lit.onAtMost) << lit.scene;
     EXPECT_LT(wrongOn * 4, wrongOff) << lit.scene;
-    EXPECT_GT(changed, 50u) << lit.scene;
+    EXPECT_GT(changed, 10u) << lit.scene;
     EXPECT_LE(static_cast<double>(unlike), lit.unlikeAtMost * static_cast<double>(changed)) << lit.scene;
   }
 }

@@ -73,9 +73,10 @@ inline float edge_exact_lit(__global const float* map, __global const uint* ids,
   // texels missed (a quad's other half, a strip's next, a thin box's other faces).
   for (int j = 0; j < count; ++j)
     for (int d = -EXACT_EDGE_NEIGHBOURS; d <= EXACT_EDGE_NEIGHBOURS; ++d) {
-      const long t = (long)tested[j] + d;
-      if (d == 0 || t < 0 || t >= (long)s->triangleCount) continue;
-      if (ray_blocked_by(&ray, (uint)t, s->positions, s->triangles, &s->alpha)) return 0.0f;
+      if (d == 0 || (d < 0 && tested[j] < (uint)(-d))) continue;
+      const uint t = tested[j] + (uint)d;  // wraps to tested[j] - |d| for d < 0
+      if (t >= s->triangleCount) continue;
+      if (ray_blocked_by(&ray, t, s->positions, s->triangles, &s->alpha)) return 0.0f;
     }
   return 1.0f;
 }
