@@ -104,6 +104,7 @@ VssmSettings VssmSettings::from(const Params& params) {
   s.pGuard = static_cast<float>(params.get("vssm-p-guard"));
   s.stackedSpread = static_cast<float>(params.get("vssm-stacked"));
   s.stackedTaps = static_cast<uint32_t>(params.getInt("vssm-stacked-taps"));
+  s.stackedTrace = params.getInt("vssm-stacked-trace") == 1;
   s.searchNarrowings = params.getInt("vssm-search") == kSearchAdaptive ? kSearchNarrowings : 0;
   s.satReduceAuto = params.isAuto("vssm-sat-reduce");
   s.maps.satReduce = s.satReduceAuto ? 1 : static_cast<uint32_t>(params.getInt("vssm-sat-reduce"));
@@ -137,6 +138,7 @@ VssmParams vssmParams(const VssmSettings& settings, const VssmMaps& maps, float 
   p.diskStrips = settings.diskStrips;
   p.stackedSpread = settings.stackedSpread;
   p.stackedTaps = settings.stackedTaps;
+  p.stackedTrace = settings.stackedTrace ? 1u : 0u;
   p.searchNarrowings = settings.searchNarrowings;
   p.satReduce = maps.satReduce();
   return p;
@@ -183,6 +185,14 @@ std::vector<ParamSpec> vssmParamSpecs() {
        "its nearest texel to the receiver holds blockers at several depths and is sampled by jittered taps (the "
        "blockers' mean depth, PCF); 0 = never"},
       {"vssm-stacked-taps", 8, 1, 32, "Stacked-blocker kernels: taps x taps jittered cells"},
+      {"vssm-stacked-trace",
+       1,
+       0,
+       1,
+       "Beyond the paper: a receiver whose search kernel holds blockers at several depths also traces its segments to "
+       "32 points of the light through the depth map, and keeps the darker of the two (occluders stacked inside the "
+       "kernel fuse, where the blocker average lets light into the umbra)",
+       {"off", "on"}},
       {"vssm-sat", 0, 0, 3, "SAT storage of the moments", {"fixed64", "fixed32", "fp32", "fp64"}},
   };
   ParamSpec reduce{"vssm-sat-reduce", 0, 1, 16,

@@ -55,7 +55,7 @@ typedef struct VssmParams {
   uint stackedTaps;      // the fallback's jittered taps per side
   uint searchNarrowings;  // beyond the paper: narrowings of the search kernel by its nearest texel (0: L7's kernel)
   uint satReduce;         // beyond the paper: map texels per SAT texel along each side (1: the paper's, one per texel)
-  uint pad;
+  uint stackedTrace;      // beyond the paper: a stacked search kernel's receiver also traced through the map (1)
 } VssmParams;
 
 #if PENUMBRA_HOST
