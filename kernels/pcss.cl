@@ -14,12 +14,14 @@
 // narrows as z grows), twice, each time over the narrowed square: the taps stay on where blockers can be.
 // Umbra (`umbra`, with the pyramid): where every search tap blocked, the pyramid's farthest texel under the filter's
 // square decides whether every filter tap must read 0; then the pixel is 0 without the filter's taps.
+#include "kernels/shared/map_trace.h"
 #include "kernels/shared/pyramid.h"
 #include "kernels/shared/rotation.h"
 #include "kernels/shared/shade.h"
 #include "kernels/shared/shadow_common.h"
 
 #define PCSS_ADAPTIVE_STEPS 2  // narrowings of the search region by the pyramid's nearest caster
+#define PCSS_STACKED_SPREAD 0.1f  // blockers at several depths: the average this share of the way past the nearest
 
 // The taps a region of half-width `radius` texels gets, and in *side the grid's taps per side: fixed, taps x taps;
 // automatic, from the region's texels (PCSS_*_DENSITY, kernels/shared/shade.h) within [fewest, taps^2] (the grid: the
@@ -48,11 +50,12 @@ inline float2 pcss_offset(int pattern, __global const float2* disk, float2 cs, i
 }
 
 // Average depth of blockers in the search region of half-width `radius` texels over `count` taps (`taps` per side on
-// the grid; pcss_tap_weight); returns 0 when no tap blocks.
+// the grid; pcss_tap_weight); returns 0 when no tap blocks. *nearest: the nearest blocking tap's depth.
 inline float pcss_blocker_depth(__global const float* map, __constant const LightViewGpu* lv, Receiver r, float radius,
-                                int pattern, __global const float2* disk, float2 cs, int taps, float count,
-                                int* every) {
+                                int pattern, __global const float2* disk, float2 cs, int taps, float count, int* every,
+                                float* nearest) {
   float sum = 0.0f, found = 0.0f;
+  *nearest = INFINITY;
   int all = 1;
   for (int k = 0; (float)k < count; ++k) {
     float2 offset = pcss_offset(pattern, disk, cs, taps, k, radius);
@@ -63,6 +66,7 @@ inline float pcss_blocker_depth(__global const float* map, __constant const Ligh
       const float weight = pcss_tap_weight(k, count);
       sum += weight * occluder;
       found += weight;
+      *nearest = fmin(*nearest, occluder);
     } else {
       all = 0;
     }
@@ -109,7 +113,9 @@ __kernel void pcss_visibility(__global const float4* position, __global const fl
   const float searchCount = pcss_tap_count(s.autoTaps & PCSS_AUTO_SEARCH, searchTaps, PCSS_SEARCH_DENSITY,
                                          PCSS_SEARCH_FEWEST, search, pattern, &searchSide);
   int every;
-  float blocker = pcss_blocker_depth(map, lv, r, search, pattern, searchDisk, cs, searchSide, searchCount, &every);
+  float nearest;
+  float blocker =
+      pcss_blocker_depth(map, lv, r, search, pattern, searchDisk, cs, searchSide, searchCount, &every, &nearest);
   blockerOut[i] = blocker;
   if (blocker <= 0.0f) return;  // no blocker: fully lit
   float radius = clamp(lv_penumbra_texels(lv, r.depth, blocker), 0.5f, maxRadius);
@@ -139,5 +145,11 @@ __kernel void pcss_visibility(__global const float4* position, __global const fl
   for (int k = 0; (float)k < filterCount; ++k)
     sum += pcss_tap_weight(k, filterCount) *
            sc_tap(map, lv, r, rp, planeBias, pcss_offset(pattern, filterDisk, cs, filterSide, k, radius));
-  visibility[i] = sum / filterCount;
+  float lit = sum / filterCount;
+  // Beyond the paper: blockers at several depths (the average more than PCSS_STACKED_SPREAD of the way from the nearest
+  // to the receiver, vssm's --vssm-stacked test) size the filter from a depth between them, which lets light into the
+  // umbra of the lower ones; their segments are traced as well where the filter leaves light, and the darker kept.
+  if (s.stackedTrace && lit > 0.0f && blocker - nearest > PCSS_STACKED_SPREAD * (r.depth - nearest))
+    lit = fmin(lit, map_trace(map, lv, r.uv, r.depth, r.bias, r.biasSlope, search, i));
+  visibility[i] = lit;
 }

@@ -4,6 +4,7 @@
 // penumbra kernel by similar triangles (L16), contact PCF (sec. 6.4), visibility by the Chebyshev bound (L20)
 // or subdivision (L18). Built with -DSAT_MODE=... -DSAT_CHANNELS=2 for the SAT's storage.
 #include "kernels/shared/chebyshev.h"
+#include "kernels/shared/map_trace.h"
 #include "kernels/shared/moments.h"
 #include "kernels/shared/shade.h"
 #include "kernels/shared/vssm_subdivide.h"
@@ -106,7 +107,7 @@ inline float vssm_stacked_taps(const VssmMaps* m, const VssmReceiver* r, float2 
   for (int j = 0; j < taps; ++j)
     for (int i = 0; i < taps; ++i) {
       const uint tap = (r->seed * 2u * n + (search ? n : 0u) + (uint)(j * taps + i)) * 2u;
-      const float2 pos = c - w + cell * (float2)((float)i + vssm_hash01(tap), (float)j + vssm_hash01(tap + 1u));
+      const float2 pos = c - w + cell * (float2)((float)i + rot_hash01(tap), (float)j + rot_hash01(tap + 1u));
       if (m->p.diskStrips != 0u && length(pos - c) > w) continue;
       count += 1.0f;
       if (!search) {
@@ -122,78 +123,6 @@ inline float vssm_stacked_taps(const VssmMaps* m, const VssmReceiver* r, float2 
   if (search) return blocked > 0.0f ? sum / blocked : -1.0f;
   if (count > 0.0f) return sum / count;
   return sc_compare_bilinear(m->depth, m->lv->width, m->lv->height, c, vssm_tap_depth(r, c));  // no tap in the disk
-}
-
-// Beyond the paper: the lit share of a receiver whose search kernel holds blockers at several depths, by tracing its
-// segments to VSSM_TRACE_POINTS points of the light through the depth map (a ray-traced shadow map, as screen-space
-// ray marching does in a depth buffer; the points: 8 x 4 jittered cells, Shirley and Chiu's concentric map onto the
-// disk). The segment to the light point s (in the unit disk of the light) passes depth z at map position uv + s k,
-// k = w(z) the light's footprint half-width at z in texels (lv_penumbra_texels), so it is marched in k from the
-// receiver (k = 0) to the search kernel's edge (the nearest blocker's k), a texel of map position a step or at most
-// VSSM_TRACE_STEPS steps. It is blocked where it comes out from under the map's surface (from a depth beyond the
-// texel's to one before it):
-// - through the surface, where that is continuous (the texels' depths differ by no more than twice the segment's own
-//   step in depth, or VSSM_TRACE_SHEET of the depth range): it crossed a surface the light sees;
-// - past a caster's outline (a depth discontinuity), where the deeper surface now seen lies between the depth at
-//   which it went under and its own: what the nearer caster hides of a caster below it is taken to continue under it
-//   (stacked plates). Else it passes, as past a thin caster's outline.
-// Blockers at several depths fuse, where the fallback's blocker average (PCSS's) and the Chebyshev bound let light
-// into the umbra. What it cannot see are the walls of a solid that face away from the light: a segment that goes
-// under a solid's top and leaves through such a wall passes. So the pixel keeps the darker of this and the fallback's
-// lit share (vssm_pixel), and the trace runs only where the fallback leaves light (not on the contact path: there
-// the blocker touches the receiver, and sec. 6.4's PCF decides).
-#define VSSM_TRACE_POINTS 32
-#define VSSM_TRACE_STEPS 16  // steps a segment at most: a texel of map position each, or more on wide kernels
-#define VSSM_TRACE_SHEET 0.05f
-// The light depth at which the light's footprint from a receiver at depth d is k texels wide (lv_penumbra_texels
-// inverted).
-inline float vssm_depth_at_footprint(__constant const LightViewGpu* lv, float d, float k) {
-  const float texel = lv_texel_world(lv, d);
-  return lv->kind == LIGHT_KIND_SPOT ? d / (1.0f + k * texel / lv->lightSize) : d - k * texel / lv->lightSize;
-}
-
-inline float vssm_trace(const VssmMaps* m, const VssmReceiver* r, float w) {
-  __constant const LightViewGpu* lv = m->lv;
-  const int width = lv->width, height = lv->height;
-  const float zFar = vssm_depth_at_footprint(lv, r->depth, w);  // the search kernel's nearest blocker
-  const float sheet = VSSM_TRACE_SHEET * fmax(r->depth - zFar, 0.0f);
-  int lit = 0;
-  for (int k = 0; k < VSSM_TRACE_POINTS; ++k) {
-    const uint tap = (r->seed * 4u * VSSM_TRACE_POINTS + 2u * VSSM_TRACE_POINTS + (uint)k) * 2u;
-    const float a = 2.0f * (((float)(k % 8) + vssm_hash01(tap)) / 8.0f) - 1.0f;
-    const float b = 2.0f * (((float)(k / 8) + vssm_hash01(tap + 1u)) / (float)(VSSM_TRACE_POINTS / 8)) - 1.0f;
-    // Shirley and Chiu's concentric map of the square [-1, 1]^2 onto the unit disk.
-    float radius = 0.0f, phi = 0.0f;
-    if (fabs(a) > fabs(b)) {
-      radius = a, phi = (M_PI_F / 4.0f) * (b / a);
-    } else if (b != 0.0f) {
-      radius = b, phi = M_PI_F / 2.0f - (M_PI_F / 4.0f) * (a / b);
-    }
-    const float2 s = radius * (float2)(cos(phi), sin(phi));
-    const float len = length(s);
-    const int steps = min((int)ceil(w * len) + 1, VSSM_TRACE_STEPS);
-    const float dk = w / (float)steps;
-    float prevZ = r->depth, prevM = 0.0f, prevF = -1.0f, entered = r->depth;
-    bool blocked = false;
-    for (int i = 0; i <= steps && !blocked; ++i) {
-      const float kk = dk * (float)i;
-      const float2 q = r->uv + s * kk;
-      const float z = vssm_depth_at_footprint(lv, r->depth, kk);
-      const float mz = sc_fetch(m->depth, width, height, (int)floor(q.x), (int)floor(q.y));
-      const float bias = r->bias + r->biasSlope * kk * len;
-      const float f = z - bias - mz;                              // > 0: the segment lies beyond the surface here
-      if (i > 0 && !(prevF > 0.0f) && f > 0.0f) entered = prevZ;  // it passes under a caster's outline
-      if (i > 0 && prevF > 0.0f && !(f > 0.0f)) {
-        // Out from under a surface: through it where the surface is continuous; past its outline otherwise, where
-        // the deeper surface now seen (mz) blocked it if that lay between where it went under and here, since what
-        // the nearer caster hides of it is taken to continue under it (stacked casters).
-        blocked = fabs(mz - prevM) <= fmax(2.0f * (prevZ - z), sheet) || (mz < entered - bias && mz > z);
-      }
-      prevZ = z, prevM = mz, prevF = isfinite(f) ? f : -1.0f;
-    }
-    lit += !blocked;
-  }
-  return (float)lit / (float)VSSM_TRACE_POINTS;
 }
 
 // Alg. 1 L11-L15: the average blocker depth (normalised) over the search kernel of half-width w at c, or -1 when
@@ -334,9 +263,10 @@ inline VssmResult vssm_pixel(const VssmMaps* m, VssmReceiver r) {
   int path = -1;
   out.visibility = vssm_shade(m, &r, r.uv, wp, &subdivided, &out.visited, &path);
   out.path = path >= 0 ? path : subdivided ? VSSM_PATH_SUBDIVIDED : VSSM_PATH_PLANAR;
-  // A search kernel of stacked blockers: its segments traced as well, where they hide more (vssm_trace).
+  // A search kernel of stacked blockers: its segments traced as well, where they hide more
+  // (kernels/shared/map_trace.h).
   if (stacked && m->p.stackedTrace && out.visibility > 0.0f)
-    out.visibility = fmin(out.visibility, vssm_trace(m, &r, wi));
+    out.visibility = fmin(out.visibility, map_trace(m->depth, lv, r.uv, r.depth, r.bias, r.biasSlope, wi, r.seed));
   return out;
 }
 

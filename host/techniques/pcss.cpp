@@ -38,6 +38,7 @@ struct PcssSettings {
   int pattern = SHADE_PATTERN_POISSON;  // SHADE_PATTERN_*
   bool adaptive = false;                // pcss-search adaptive
   bool umbra = true;                    // pcss-umbra on
+  bool stackedTrace = true;             // pcss-stacked-trace on
   static PcssSettings from(const Params& params, int mapSize) {
     const MapSettings map = MapSettings::from(params, mapSize);
     return {map,
@@ -49,7 +50,8 @@ struct PcssSettings {
             kMaxRadius.texels(params, "pcss-max-radius", map.size),
             params.getInt("pcss-pattern"),
             params.getInt("pcss-search") == kSearchAdaptive,
-            params.getInt("pcss-umbra") == 1};
+            params.getInt("pcss-umbra") == 1,
+            params.getInt("pcss-stacked-trace") == 1};
   }
   bool operator==(const PcssSettings&) const = default;
 };
@@ -90,7 +92,8 @@ class PercentageCloserSoft final : public TechniqueOf<PcssSettings> {
                          static_cast<int>(adaptive),
                          adaptive ? pyramid_.count() : 0u,
                          s.autoTaps,
-                         static_cast<int>(s.umbra)};
+                         static_cast<int>(s.umbra),
+                         static_cast<int>(s.stackedTrace)};
     launchVisibility(frame, map_, shade, "kernels/pcss.cl", "pcss_visibility", visibility, pcss, searchDisk_,
                      filterDisk_, pyramid_.pyramid(), pyramid_.levels(), blocker_);
   }
@@ -150,6 +153,14 @@ TechniqueInfo pcssTechnique() {
                     "With --pcss-search adaptive: a pixel whose every search tap blocks is tested on the pyramid and "
                     "left at 0 without the filter's taps where every one of them must block (the same image; off: "
                     "every tap taken)",
+                    {"off", "on"}});
+  params.push_back({"pcss-stacked-trace",
+                    1,
+                    0,
+                    1,
+                    "Beyond the paper: a pixel whose search taps find blockers at several depths also traces its "
+                    "segments to 32 light points through the map and keeps the darker result (stacked casters fuse, "
+                    "where one average blocker depth lets light into the umbra)",
                     {"off", "on"}});
   return {"pcss", "Percentage-closer soft shadows (blocker search + PCF) for area lights", params,
           makeTechnique<PercentageCloserSoft>};

@@ -50,12 +50,14 @@ typedef struct PcssShade {
   uint levelCount;
   int autoTaps;  // PCSS_AUTO_* bits
   int umbra;     // 1: with the pyramid, a pixel whose every search tap blocks is tested for umbra before the filter
+  int stackedTrace;  // 1: a search whose blockers lie at several depths also traces the pixel
+                     // (kernels/shared/map_trace.h)
 } PcssShade;
 
 #if PENUMBRA_HOST
 static_assert(sizeof(ShadeFrame) == 28 && offsetof(ShadeFrame, idMode) == 24, "ShadeFrame is shared with OpenCL C");
 static_assert(sizeof(PcfShade) == 20 && offsetof(PcfShade, width) == 16, "PcfShade is shared with OpenCL C");
-static_assert(sizeof(PcssShade) == 32 && offsetof(PcssShade, umbra) == 28, "PcssShade is shared with OpenCL C");
+static_assert(sizeof(PcssShade) == 36 && offsetof(PcssShade, stackedTrace) == 32, "PcssShade is shared with OpenCL C");
 #endif
 
 #endif  // PENUMBRA_KERNELS_SHARED_SHADE_H

@@ -7,6 +7,7 @@
 
 #include "kernels/shared/moments.h"
 #include "kernels/shared/pyramid.h"
+#include "kernels/shared/rotation.h"
 #include "kernels/shared/sat.h"
 #include "kernels/shared/shadow_common.h"
 #include "kernels/shared/vssm.h"
@@ -64,16 +65,6 @@ inline float vssm_tap_depth(const VssmReceiver* r, float2 pos) {
   return r->depth - r->bias - r->biasSlope * length(pos - r->uv);
 }
 
-// Low-bias 32-bit integer hash (Wellons' "lowbias32" constants) to a uniform float in [0, 1).
-inline float vssm_hash01(uint x) {
-  x ^= x >> 16;
-  x *= 0x7feb352du;
-  x ^= x >> 15;
-  x *= 0x846ca68bu;
-  x ^= x >> 16;
-  return (float)(x >> 8) * (1.0f / 16777216.0f);
-}
-
 // Sec. 6.4: 3 x 3 jittered bilinear PCF (Bavoil 2008) over [lo, hi]: one bilinear comparison at a random
 // point of each of 3 x 3 cells. Returns the lit fraction.
 inline float vssm_contact_pcf(const VssmMaps* m, const VssmReceiver* r, float2 lo, float2 hi) {
@@ -82,7 +73,7 @@ inline float vssm_contact_pcf(const VssmMaps* m, const VssmReceiver* r, float2 l
   for (int j = 0; j < 3; ++j)
     for (int i = 0; i < 3; ++i) {
       const uint tap = r->seed * 18u + (uint)(j * 3 + i) * 2u;
-      const float2 pos = lo + cell * (float2)((float)i + vssm_hash01(tap), (float)j + vssm_hash01(tap + 1u));
+      const float2 pos = lo + cell * (float2)((float)i + rot_hash01(tap), (float)j + rot_hash01(tap + 1u));
       lit += sc_compare_bilinear(m->depth, m->lv->width, m->lv->height, pos, vssm_tap_depth(r, pos));
     }
   return lit / 9.0f;
