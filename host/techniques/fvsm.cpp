@@ -249,9 +249,13 @@ class FittedVirtualShadowMap final : public TechniqueOf<FvsmSettings> {
         Buffer<LightViewGpu>& gpu = batches_[begin / kViewsPerBatch];
         gpu.allocate(ctx, batch.size(), CL_MEM_READ_ONLY);
         gpu.upload(ctx, std::span<const LightViewGpu>(batch));
-        const FvsmBatch batchInfo{static_cast<uint32_t>(begin),          static_cast<uint32_t>(count),
-                                  static_cast<uint32_t>(cells),          ids ? 1u : 0u,
-                                  scene.materials.alphaTested ? 1u : 0u, sceneRadius};
+        const FvsmBatch batchInfo{static_cast<uint32_t>(begin),
+                                  static_cast<uint32_t>(count),
+                                  static_cast<uint32_t>(cells),
+                                  ids ? 1u : 0u,
+                                  scene.materials.alphaTested ? 1u : 0u,
+                                  sceneRadius,
+                                  scene.triangleCount};
         lookup
             .args(g.position, g.normal, atlasDepth_, atlasIds_, baseGpu_, shade, gpu, page_, leafLevels_, batchInfo,
                   g.triangleId, scene.positions, scene.triangles, scene.alphaIndex, scene.alphaTriangles,

@@ -393,7 +393,9 @@ TEST_F(Stability, StackedOccludersKeepLightOutOfVssmUmbra) {
     EXPECT_GT(off.umbraLight, 2 * kMaxUmbraLight) << light;
     EXPECT_LT(on.mae, off.mae) << light;
     EXPECT_LE(on.mae, untraced.mae) << light;
-    if (widest) EXPECT_GT(untraced.umbraLight, kMaxUmbraLight) << light;
+    if (widest) {
+      EXPECT_GT(untraced.umbraLight, kMaxUmbraLight) << light;
+    }
     EXPECT_LE(pcss.umbraLight, kMaxUmbraLight) << light;
   }
 }
