@@ -3,11 +3,12 @@
 // decides a receiver from its nearest texel, so near a shadow edge, and everywhere on a caster thinner than a few
 // texels, the texel and the receiver's own point may lie on opposite sides of the caster's outline: a wrong pixel at
 // every edge crossing that no map resolution removes, only shrinks. The map also knows which triangle covers each
-// texel (the rasterizer's triangle ids), so where the 3x3 texels around the receiver's own map position disagree about
-// it (biased depth tests against the receiver's plane), or agree with each other but not with the lookup, the
-// receiver's shadow ray (the reference tracer's, kernels/shared/shadow_ray.h) is tested exactly against every triangle
-// those texels hold: one of them blocks it, or the receiver is lit. Exact wherever the blocking triangle covers one of
-// the nine texel centres; a caster no texel centre of the window samples stays as the map has it. OpenCL C only.
+// texel (the rasterizer's triangle ids), so where the texels nearest the receiver's own map position disagree about it
+// (biased depth tests against the receiver's plane), or agree with each other but not with the lookup, the receiver's
+// shadow ray (the reference tracer's, kernels/shared/shadow_ray.h) is tested exactly against the triangles of the 3x3
+// texels around that position and of the lookup's texel, then against their neighbours in the index buffer: one of
+// them blocks it, or the receiver is lit. A 0 is always the reference's; a 1 is, unless the blocker is a triangle none
+// of those holds (a caster no texel centre near the receiver samples). OpenCL C only.
 #ifndef PENUMBRA_KERNELS_SHARED_EXACT_EDGES_H
 #define PENUMBRA_KERNELS_SHARED_EXACT_EDGES_H
 
@@ -32,11 +33,11 @@ typedef struct {
 // The visibility of the receiver at world p on triangle `own` (shading normal n, the fallback of a degenerate one's
 // geometric normal) whose map lookup at texel `looked` gave `lit`: -1 (the map decides) unless the texels nearest its
 // own map position (the four around it, or with `wide` the 3x3 around its own texel) disagree about it, or agree with
-// each other but not with the lookup; else 0 or 1 from
-// its exact shadow ray against the triangles of the 3x3 texels around that position and of the looked-up texel (the
-// normal offset moves the lookup off the window by up to a texel, and a caster thinner than a texel may show only
-// there). `map` and `ids` are lv's depth and triangle ids; the receiver's depth at texel centre c is z + g . (c - uv)
-// (g the receiver plane's gradient where rp is valid, else 0) less `bias` (world units in light depth).
+// each other but not with the lookup; else 0 or 1 from its exact shadow ray against the triangles of the 3x3 texels
+// around that position and of the looked-up texel (the normal offset moves the lookup off the window by up to a texel,
+// and a caster thinner than a texel may show only there), then their neighbours. `map` and `ids` are lv's depth and
+// triangle ids; the receiver's depth at texel centre c is z + g . (c - uv) (g the receiver plane's gradient where rp is
+// valid, else 0) less `bias` (world units in light depth).
 inline float edge_exact_lit(__global const float* map, __global const uint* ids, __constant const LightViewGpu* lv,
                             float3 p, uint own, float3 n, ReceiverPlane rp, float bias, float lit, int2 looked,
                             bool wide, const EdgeScene* s) {
