@@ -17,6 +17,10 @@
 #include "kernels/shared/light_view.h"
 #include "kernels/shared/shadow_ray.h"
 
+// The same arithmetic on every device: no fused multiply-adds in the sample positions either (shadow_ray.h sets it
+// for the ray test too).
+#pragma OPENCL FP_CONTRACT OFF
+
 __constant float kIzbPattern[2 * IZB_PATTERN_ENTRIES] = IZB_PATTERN_VALUES;
 
 // clip -> world of NDC (x, y, z), through the camera's inverse.

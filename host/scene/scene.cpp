@@ -18,6 +18,8 @@ Bounds Scene::bounds() const {
   return b;
 }
 
+float Scene::boundingRadius() const { return triangles.empty() ? 0.0f : bounds().radius(); }
+
 namespace {
 
 // Gives a scene without materials one plain material for all its triangles, so it can join a scene that has some.

@@ -52,6 +52,9 @@ struct Scene {
 
   size_t triangleCount() const { return triangles.size(); }
   Bounds bounds() const;
+  // The radius of the sphere around bounds(); 0 for a scene without triangles. The shadow rays' offset floor
+  // (kernels/shared/shadow_ray.h, tools/reference/tracer.cpp).
+  float boundingRadius() const;
   // The material of triangle t (nullptr: opaque, double-sided: a scene without materials).
   const Material* materialOf(size_t t) const { return materials.empty() ? nullptr : &materials[materialIds[t]]; }
   bool anyMayDiscard() const;  // some material can discard fragments (Material::mayDiscard)

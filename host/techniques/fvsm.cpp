@@ -240,7 +240,7 @@ class FittedVirtualShadowMap final : public TechniqueOf<FvsmSettings> {
       Kernel lookup(ctx, "kernels/fvsm.cl", "fvsm_visibility", "shade");
       const ShadeFrame shade = shadeFrame(frame, settings_.map, settings_.receiverPlane, ID_BUFFER_OFF);
       const raster::SceneBuffers& scene = frame.raster.deviceScene();
-      const float sceneRadius = frame.scene.triangles.empty() ? 0.0f : frame.scene.bounds().radius();
+      const float sceneRadius = frame.scene.boundingRadius();
       batches_.resize(std::max(batches_.size(), (leaves.size() + kViewsPerBatch - 1) / kViewsPerBatch));
       for (size_t begin = 0; begin < leaves.size(); begin += kViewsPerBatch) {
         const size_t count = std::min(kViewsPerBatch, leaves.size() - begin);

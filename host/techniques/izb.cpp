@@ -141,7 +141,7 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
     const glm::mat4 inverse(glm::inverse(glm::dmat4(rasterClipMatrix(cameraView(frame.camera, frame.scene.bounds())))));
     for (int r = 0; r < 4; ++r)
       for (int c = 0; c < 4; ++c) f.cameraInverse[r * 4 + c] = inverse[c][r];
-    f.sceneRadius = frame.scene.triangles.empty() ? 0.0f : frame.scene.bounds().radius();
+    f.sceneRadius = frame.scene.boundingRadius();
     f.width = static_cast<uint32_t>(g.width), f.height = static_cast<uint32_t>(g.height);
     f.samples = samples_, f.pattern = izb_pattern_offset(samples_);
     f.cells = cells;

@@ -144,6 +144,7 @@ class Jittered final : public TechniqueOf<JitterSettings> {
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     const Plan plan = planPasses(frame);
+    rayRadius_ = settings_.exactEdges ? frame.scene.boundingRadius() : 0.0f;  // read by pass 0's exact edges only
     reset(frame.ctx, static_cast<size_t>(frame.gbuffer.width) * frame.gbuffer.height);
     const int mode = settings_.confidence, maxPasses = settings_.passes;
     const int window = settings_.window;
@@ -319,7 +320,7 @@ class Jittered final : public TechniqueOf<JitterSettings> {
             kRasterTileSize,
             settings_.exactEdges ? 1 : 0,
             frame.raster.deviceScene().materials.alphaTested ? 1u : 0u,
-            frame.scene.triangles.empty() ? 0.0f : frame.scene.bounds().radius(),
+            rayRadius_,
             frame.raster.deviceScene().triangleCount};
   }
 
@@ -384,6 +385,7 @@ class Jittered final : public TechniqueOf<JitterSettings> {
   Buffer<LightViewGpu> passGpu_;  // an n-jittered pass's own light view (jittered_reproject)
   bool masking_ = false;          // this frame's later passes draw only what their listed pixels read
   int passes_ = 0;
+  float rayRadius_ = 0.0f;  // the scene's bounding radius, the exact edges' ray offset floor (this frame's)
 };
 
 }  // namespace

@@ -201,7 +201,7 @@ ParamSpec exactEdgesParam() {
           1,
           0,
           1,
-          "Exact shadow edges: where the 3x3 texels around a receiver disagree, its shadow ray is tested exactly "
+          "Exact shadow edges: where the texels nearest a receiver disagree, its shadow ray is tested exactly "
           "against the triangles they hold (the reference's ray), so edges and thin casters are decided per pixel",
           {"off", "on"}};
 }

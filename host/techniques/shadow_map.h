@@ -155,8 +155,9 @@ AutoKernel resolveAutoKernel(ShadowFrame& frame, const Buffer<float>& depth, con
 // "receiver-plane": receiver-plane depth bias on (1) or off (0), for the techniques whose kernels take it.
 ParamSpec receiverPlaneParam();
 
-// "exact-edges": on (1) or off (0): a hard lookup whose 3x3 texels disagree is decided by the receiver's exact shadow
-// ray against the triangles they hold (kernels/shared/exact_edges.h), for the techniques whose kernels take it (fvsm).
+// "exact-edges": on (1) or off (0): a hard lookup whose nearest texels disagree is decided by the receiver's exact
+// shadow ray against the triangles they hold (kernels/shared/exact_edges.h), for the techniques whose kernels take it
+// (fvsm, jittered).
 ParamSpec exactEdgesParam();
 
 // pcss-search and vssm-search: the blocker search over the light's cone cut at the near plane (full), or narrowed by

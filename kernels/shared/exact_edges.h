@@ -16,10 +16,8 @@
 #include "kernels/shared/shadow_common.h"
 #include "kernels/shared/shadow_ray.h"
 
-#define EXACT_EDGE_WINDOW 3  // texels a side around the receiver's own nearest texel
-#ifndef EXACT_EDGE_NEIGHBOURS
+#define EXACT_EDGE_WINDOW 3      // texels a side around the receiver's own nearest texel
 #define EXACT_EDGE_NEIGHBOURS 6  // triangles either side of a window's triangle in the index buffer also tested
-#endif
 
 // What the exact test reads: the scene's triangles, their alpha masks, and the scene radius (the ray offset's floor).
 typedef struct {

@@ -111,7 +111,7 @@ ShadowTracer::ShadowTracer(const Scene& scene) : impl_(std::make_unique<Impl>())
     impl_->build(scene);
   else
     embree().rtcCommitScene(impl_->scene);
-  impl_->sceneRadius = scene.triangles.empty() ? 0.0f : scene.bounds().radius();
+  impl_->sceneRadius = scene.boundingRadius();
   impl_->buildSeconds = secondsSince(start);
 }
 
