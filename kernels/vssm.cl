@@ -28,20 +28,16 @@ inline uint vssm_strip_count(const VssmMaps* m, float w) {
   return m->p.diskStrips == 0u ? 0u : clamp((uint)ceil(2.0f * w / (float)m->p.satReduce), 1u, m->p.diskStrips);
 }
 
-// The integral of the half chord sqrt(w^2 - y^2) from 0 to y (y within [-w, w]).
-inline float vssm_half_chord_integral(float w, float y) {
-  y = clamp(y, -w, w);
-  return 0.5f * (y * sqrt(fmax(w * w - y * y, 0.0f)) + w * w * asin(clamp(y / w, -1.0f, 1.0f)));
-}
-
-// Kernel [c - w, c + w]: the square itself (strips 0) or strip k of `strips`.
-inline void vssm_kernel_box(float2 c, float w, uint k, uint strips, float2* lo, float2* hi) {
+// Kernel [c - w, c + w]: the square itself (strips 0) or strip k of `strips`, whose half-width is the integral of the
+// half chord sqrt(w^2 - y^2) over its rows divided by their height: w times a share that depends on k and the strip
+// count alone, looked up (m->strips, made in double precision: host/techniques/vssm_maps.h vssmDiskStripTable).
+inline void vssm_kernel_box(const VssmMaps* m, float2 c, float w, uint k, uint strips, float2* lo, float2* hi) {
   if (strips == 0u) {
     *lo = c - w, *hi = c + w;
     return;
   }
   const float h = 2.0f * w / (float)strips, ya = -w + h * (float)k, yb = ya + h;
-  const float halfWidth = (vssm_half_chord_integral(w, yb) - vssm_half_chord_integral(w, ya)) / h;
+  const float halfWidth = w * m->strips[strips * (strips - 1u) / 2u + k];
   *lo = (float2)(c.x - halfWidth, c.y + ya), *hi = (float2)(c.x + halfWidth, c.y + yb);
 }
 
@@ -50,7 +46,7 @@ inline float2 vssm_kernel_moments(const VssmMaps* m, float2 c, float w) {
   float2 sum = (float2)(0.0f), lo, hi;
   float area = 0.0f;
   for (uint k = 0; k < max(strips, 1u); ++k) {
-    vssm_kernel_box(c, w, k, strips, &lo, &hi);
+    vssm_kernel_box(m, c, w, k, strips, &lo, &hi);
     const float a = (hi.x - lo.x) * (hi.y - lo.y);
     sum += vssm_box_moments(m, lo, hi) * a, area += a;
   }
@@ -76,7 +72,7 @@ inline void vssm_kernel_subdivide(const VssmMaps* m, const VssmReceiver* r, floa
   const uint maxLevel = min(height > shallower ? max(height - shallower, 1u) : 1u, resolved);
   float2 lo, hi;
   for (uint s = 0; s < k; ++s) {
-    vssm_kernel_box(c, w, s, strips, &lo, &hi);
+    vssm_kernel_box(m, c, w, s, strips, &lo, &hi);
     if (scheme == VSSM_SCHEME_UNIFORM)
       vssm_uniform(m, r, lo, hi, d, (d + k - 1u) / k, search, acc);
     else
@@ -280,8 +276,8 @@ __kernel void vssm_visibility(__global const float4* position, __global const fl
                               __global const float* depth, __constant const LightViewGpu* lv, ShadeFrame f,
                               __global const SAT_T* sat, SatTableDesc desc, __global const float* satOffset,
                               __global const float2* hsm, __constant const PyramidLevel* levels,
-                              __constant const VssmNode* nodes, VssmParams params, __global float4* debug,
-                              __global float* visibility) {
+                              __constant const VssmNode* nodes, __constant const float* strips, VssmParams params,
+                              __global float4* debug, __global float* visibility) {
   const uint count = f.width * f.height;
   const uint i = get_global_id(0);
   if (i >= count) return;
@@ -292,6 +288,6 @@ __kernel void vssm_visibility(__global const float4* position, __global const fl
   const ShadowBias bias = {f.biasConstant, f.biasSlope, f.normalOffset};
   const Receiver rc = sc_receiver(lv, p.xyz, normal[i].xyz, bias);
   if (!rc.valid) return;
-  const VssmMaps m = {sat, satOffset, depth, hsm, levels, nodes, lv, desc, params};
+  const VssmMaps m = {sat, satOffset, depth, hsm, levels, nodes, strips, lv, desc, params};
   vssm_store(vssm_pixel(&m, vssm_receiver(&m, rc.uv, rc.depth, rc.bias, rc.biasSlope, i)), i, debug, visibility);
 }

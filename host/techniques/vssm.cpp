@@ -50,7 +50,8 @@ class VarianceSoftShadows final : public TechniqueOf<VssmTechniqueSettings> {
         [&](const auto& sat) {
           kernel
               .args(g.position, g.normal, map_.targets.depth, map_.gpu, frameShade, sat, maps_.satDesc(),
-                    maps_.satOffset(), maps_.hsm(), maps_.levels(), maps_.nodes(), shade, debug_, visibility)
+                    maps_.satOffset(), maps_.hsm(), maps_.levels(), maps_.nodes(), maps_.diskStrips(), shade, debug_,
+                    visibility)
               .moves(uint64_t{count} * kVisibilityBytesPerPixel)
               .launch(count, kPixelGroup);
         },
@@ -170,7 +171,7 @@ std::vector<ParamSpec> vssmParamSpecs() {
       {"vssm-p-guard", 0.9, 0, 1,
        "Eq. 4 divides by 1 - P: a search kernel whose Chebyshev P exceeds this is subdivided; 1 = only z_avg >= t"},
       {"vssm-min-variance", 1e-6, 0, 1, "Chebyshev minimum variance, in normalised light depth squared"},
-      {"vssm-disk-strips", 8, 0, 32,
+      {"vssm-disk-strips", 8, 0, VSSM_MAX_DISK_STRIPS,
        "Beyond the paper: search and penumbra kernels as disks of at most this many area-matched SAT strips (one per "
        "texel row at most); 0 = the paper's squares"},
       {"vssm-search",

@@ -48,6 +48,18 @@ std::vector<VssmNode> vssmQuadTree(uint32_t height) {
   return nodes;
 }
 
+std::vector<float> vssmDiskStripTable() {
+  // The integral of sqrt(1 - y^2) from 0 to y.
+  const auto integral = [](double y) { return 0.5 * (y * std::sqrt(std::max(1.0 - y * y, 0.0)) + std::asin(y)); };
+  std::vector<float> table;
+  for (int strips = 1; strips <= VSSM_MAX_DISK_STRIPS; ++strips)
+    for (int k = 0; k < strips; ++k) {
+      const double height = 2.0 / strips, ya = -1.0 + height * k, yb = std::min(ya + height, 1.0);
+      table.push_back(static_cast<float>((integral(yb) - integral(ya)) / height));
+    }
+  return table;
+}
+
 std::string VssmMaps::buildOptions() const { return satBuildOptions(desc_); }
 
 template <class T>
@@ -90,6 +102,10 @@ void VssmMaps::buildMoments(Context& ctx, const Buffer<float>& depth, uint32_t w
     nodes_ = Buffer<VssmNode>(ctx, std::span<const VssmNode>(tree), CL_MEM_READ_ONLY);
     nodeCount_ = static_cast<uint32_t>(tree.size());
     treeHeight_ = config.treeHeight;
+  }
+  if (strips_.empty()) {
+    const std::vector<float> table = vssmDiskStripTable();
+    strips_ = Buffer<float>(ctx, std::span<const float>(table), CL_MEM_READ_ONLY);
   }
   zNear_ = zNear;
   invRange_ = 1.0f / (zFar - zNear);

@@ -39,6 +39,12 @@ struct VssmMapConfig {
 // Nodes of the full quad-tree of height H in depth-first order, with Child and Next links (sec. 5.3, Fig. 5(b)).
 std::vector<VssmNode> vssmQuadTree(uint32_t height);
 
+// Beyond the paper: the half-widths of a disk kernel's K equal-height strips (kernels/vssm.cl vssm_kernel_box), as
+// shares of the disk's half-width w: strip k spans rows y in [-1 + 2k / K, -1 + 2 (k + 1) / K] (times w), and its
+// half-width is the mean of the half chord sqrt(1 - y^2) over them, so the strips have the disk's area row by row.
+// Entry K (K - 1) / 2 + k, for K = 1 .. VSSM_MAX_DISK_STRIPS.
+std::vector<float> vssmDiskStripTable();
+
 class VssmMaps {
  public:
   using SatBuffer = std::variant<Buffer<uint64_t>, Buffer<uint32_t>, Buffer<float>, Buffer<double>>;
@@ -62,6 +68,7 @@ class VssmMaps {
   const Buffer<cl_float2>& hsm() const { return hsm_.pyramid(); }
   const Buffer<PyramidLevel>& levels() const { return hsm_.levels(); }
   const Buffer<VssmNode>& nodes() const { return nodes_; }
+  const Buffer<float>& diskStrips() const { return strips_; }  // vssmDiskStripTable
   uint32_t levelCount() const { return hsm_.count(); }
   uint32_t satReduce() const { return satReduce_; }
   uint32_t nodeCount() const { return nodeCount_; }
@@ -79,6 +86,7 @@ class VssmMaps {
   SatTableDesc desc_{};
   MinMaxLevels hsm_;
   Buffer<VssmNode> nodes_;
+  Buffer<float> strips_;
   uint32_t nodeCount_ = 0, treeHeight_ = 0, satReduce_ = 1;
   float zNear_ = 0.0f, invRange_ = 1.0f;
 };

@@ -21,6 +21,9 @@
 #define VSSM_PATH_NO_BLOCKER 5  // the blocker search found no blocker: lit
 #define VSSM_PATH_STACKED 6     // the penumbra kernel's blockers lie at several depths: jittered PCF (vssm.cl)
 
+// Beyond the paper: a disk kernel as at most this many strips (--vssm-disk-strips); the strips' half-widths, as shares
+// of the disk's half-width, are a table of K (K - 1) / 2 + k for strip k of K (vssmDiskStripTable).
+#define VSSM_MAX_DISK_STRIPS 32
 #define VSSM_MAX_LEVELS 5     // quad-tree height H: 4^5 = 1024 leaves, 1365 nodes (21 KiB of __constant)
 #define VSSM_NO_NODE 0xffffu  // Child of a leaf
 

@@ -20,6 +20,7 @@ typedef struct VssmMaps {
   __global const float2* hsm;       // levels 1.. of the depth's min-max pyramid (level 0: `depth`)
   __constant const PyramidLevel* levels;
   __constant const VssmNode* nodes;
+  __constant const float* strips;  // the disk strips' half-widths (VSSM_MAX_DISK_STRIPS)
   __constant const LightViewGpu* lv;
   SatTableDesc desc;
   VssmParams p;

@@ -130,7 +130,7 @@ KernelOut runKernel(Context& ctx, const VssmCase& c, const std::vector<float>& m
       [&](const auto& sat) {
         kernel
             .args(rxBuffer, slopeBuffer, count, depth, lvBuffer, sat, maps.satDesc(), maps.satOffset(), maps.hsm(),
-                  maps.levels(), maps.nodes(), p, debug, visibility)
+                  maps.levels(), maps.nodes(), maps.diskStrips(), p, debug, visibility)
             .launch(count, 64);
       },
       maps.sat());

@@ -8,11 +8,11 @@ __kernel void vssm_visibility_receivers(__global const float4* receivers, __glob
                                         __global const float* depth, __constant const LightViewGpu* lv,
                                         __global const SAT_T* sat, SatTableDesc desc, __global const float* satOffset,
                                         __global const float2* hsm, __constant const PyramidLevel* levels,
-                                        __constant const VssmNode* nodes, VssmParams params, __global float4* debug,
-                                        __global float* visibility) {
+                                        __constant const VssmNode* nodes, __constant const float* strips,
+                                        VssmParams params, __global float4* debug, __global float* visibility) {
   const uint i = get_global_id(0);
   if (i >= count) return;
   const float4 q = receivers[i];
-  const VssmMaps m = {sat, satOffset, depth, hsm, levels, nodes, lv, desc, params};
+  const VssmMaps m = {sat, satOffset, depth, hsm, levels, nodes, strips, lv, desc, params};
   vssm_store(vssm_pixel(&m, vssm_receiver(&m, q.xy, q.z, q.w, slopes[i], i)), i, debug, visibility);
 }
