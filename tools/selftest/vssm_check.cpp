@@ -187,6 +187,11 @@ std::string VssmOutcome::failure(const VssmCase& c) const {
     out += fmt::format("; mean |difference| {:.3g} > {}", meanDifference, kVssmMeanVisTol);
   if (c.searchScheme != VSSM_SCHEME_NONE && c.width * c.height > 1 && subdivided == 0)
     out += "; no receiver took the subdivision path";
+  // Over a huge depth range (the map's depths spread over every decade) the casters nearest the light have cones that
+  // span the map: every node can hold a blocker there.
+  const bool hugeRange = c.zFar / c.zNear > 1e4f;
+  if (c.searchScheme != VSSM_SCHEME_NONE && c.narrowings > 0 && c.width * c.height > 1 && !hugeRange && noBlocker == 0)
+    out += "; no receiver's search was ended by the HSM's no-blocker test";
   // The random maps' blocks overlap at several depths: some penumbra kernels hold stacked blockers.
   if (c.stacked > 0 && c.width * c.height > 1 && stacked == 0) out += "; no receiver took the stacked-blocker fallback";
   if (c.stacked == 0 && stacked != 0) out += fmt::format("; {} receivers took the fallback switched off", stacked);
@@ -219,6 +224,7 @@ VssmOutcome runVssmCase(Context& ctx, const VssmCase& c) {
     sum += diff, o.worstDifference = std::max(o.worstDifference, diff);
     o.subdivided += want.path == VSSM_PATH_SUBDIVIDED;
     o.stacked += want.path == VSSM_PATH_STACKED;
+    o.noBlocker += want.path == VSSM_PATH_NO_BLOCKER && want.visited == 0;
     if (diff > c.visTol && ++o.flips <= 5)
       o.report += fmt::format("\n  receiver {} ({:.3f}, {:.3f}, d {:.4g}): {} vs {} (paths {} / {})", i, receivers[i].u,
                               receivers[i].v, receivers[i].depth, vis, want.visibility, got.debug[i].s[3], want.path);

@@ -254,6 +254,44 @@ void VssmReference::subdivide(const Rx& r, double w, bool search, Sums& s) const
   }
 }
 
+// vssm.cl vssm_no_blocker: every node of the finest level covering the kernel's square (widened by a texel) with at
+// most kNodes a side lies beyond min(w, its nearest depth's cone) or passes the strictest comparison a tap makes on it.
+bool VssmReference::noBlocker(const Rx& r, double w) const {
+  constexpr int kNodes = 8;
+  const double ax = std::clamp(r.u - w - 1, 0.0, double(width_)), bx = std::clamp(r.u + w + 1, ax, double(width_));
+  const double ay = std::clamp(r.v - w - 1, 0.0, double(height_)), by = std::clamp(r.v + w + 1, ay, double(height_));
+  if (!(bx > ax && by > ay)) return true;
+  auto span = [](double a, double b, uint32_t base, uint32_t level) {
+    const double s = double(level) / base;
+    return std::pair<int, int>(std::max(int(std::floor(a * s - 1e-3)), 0),
+                               std::min(int(std::floor(b * s + 1e-3)), int(level) - 1));
+  };
+  size_t l = 0;
+  std::pair<int, int> sx = span(ax, bx, width_, width_), sy = span(ay, by, height_, height_);
+  while ((sx.second - sx.first >= kNodes || sy.second - sy.first >= kNodes) && l + 1 < hsm_.size()) {
+    ++l;
+    sx = span(ax, bx, width_, hsmSizes_[l].first), sy = span(ay, by, height_, hsmSizes_[l].second);
+  }
+  const auto [lw, lh] = hsmSizes_[l];
+  const double nx = double(width_) / lw, ny = double(height_) / lh;
+  const bool exact = (size_t(lw) << l) == width_ && (size_t(lh) << l) == height_;
+  const double ox = exact ? 0.0 : nx, oy = exact ? 0.0 : ny;
+  const double invRange = 1.0 / (light_.zFar - light_.zNear);
+  for (int y = sy.first; y <= sy.second; ++y)
+    for (int x = sx.first; x <= sx.second; ++x) {
+      const double nearest = hsm_[l][size_t(y) * lw + x].first;
+      if (!(nearest < 1.0)) continue;  // nothing drawn nearer than the far plane
+      const double gx = std::max({x * nx - ox - r.u, r.u - (x + 1) * nx - ox, 0.0});
+      const double gy = std::max({y * ny - oy - r.v, r.v - (y + 1) * ny - oy, 0.0});
+      const double reach = std::hypot(gx, gy) - std::sqrt(2.0);
+      const double z = light_.zNear + nearest / invRange;
+      const double cone = std::clamp(penumbraTexels(r.depth, std::max(z, light_.zNear)), 0.5, settings_.maxRadius);
+      if (reach > std::min(w, cone)) continue;
+      if (nearest < r.t - r.tSlope * std::max(reach, 0.0)) return false;
+    }
+  return true;
+}
+
 double VssmReference::blocker(const Rx& r, double w, double zmin, bool& subdivided, int& visited) const {
   const auto [e1, e2] = kernelMoments(r, w);
   const double minVar = settings_.minVariance;
@@ -266,6 +304,7 @@ double VssmReference::blocker(const Rx& r, double w, double zmin, bool& subdivid
     }
   }
   if (settings_.searchScheme == 0) return -1;
+  if (settings_.searchNarrowings > 0 && noBlocker(r, w)) return -1;
   subdivided = true;
   Sums s;
   subdivide(r, w, true, s);

@@ -58,6 +58,7 @@ class VssmReference {
   double corner(double u, double v, int channel) const;
   std::pair<double, double> boxMoments(double lx, double ly, double hx, double hy) const;
   std::pair<double, double> hsmRange(double lx, double ly, double hx, double hy) const;
+  bool noBlocker(const Rx& r, double w) const;
   double fetch(int x, int y) const;
   double bilinearLit(double u, double v, double depth) const;
   double tapDepth(const Rx& r, double u, double v) const;
