@@ -361,6 +361,43 @@ TEST_F(MapSize, WidePenumbraeCapThePixelsNeed) {
   }
 }
 
+// The size below which a technique's fixed kernel reach holds the median penumbra ("... holds that median below R"), -1
+// without one.
+double recordedReach(const RenderResult& r) {
+  const std::string& text = r.image.attributes().at("penumbra:map-size");
+  const std::string key = "holds that median below ";
+  const size_t at = text.find(key);
+  return at == std::string::npos ? -1.0 : std::stod(text.substr(at + key.size()));
+}
+
+// vssm clamps its kernels at --vssm-max-radius texels at any map size: under a large light whose median penumbra would
+// span more, the size is capped where it spans that many, below what the needs ask for, and the cap follows the
+// parameter.
+TEST_F(MapSize, VssmKeepsTheMedianPenumbraWithinItsKernels) {
+  const Scene scene = test::squareOverPlane();
+  Camera camera = test::topDown();
+  camera.width = 400, camera.height = 300;
+  const Light light = parseLight("spot:0,4,0:0,0,0:120:0.4");
+  const TechniqueInfo& info = findTechnique("vssm");
+  Params params(info.params);
+  params.set("map-size-max", "8192");
+  Renderer renderer(ctx(), scene);
+  params.set("vssm-max-radius", "4096");  // a reach no size comes near: the needs alone
+  const RenderResult free = renderer.render(camera, light, info, params);
+  EXPECT_EQ(recordedReach(free), -1.0) << free.image.attributes().at("penumbra:map-size");
+  EXPECT_EQ(chosenSize(free), sizeFromNeeds(free, 256, 8192));
+  params.set("vssm-max-radius", "16");
+  const RenderResult capped = renderer.render(camera, light, info, params);
+  const std::string& text = capped.image.attributes().at("penumbra:map-size");
+  const double reach = recordedReach(capped);
+  ASSERT_GT(reach, 0.0) << text;
+  EXPECT_EQ(chosenSize(capped), roundedMapSize(reach, 256, 8192)) << text;
+  EXPECT_LT(chosenSize(capped), sizeFromNeeds(capped, 256, 8192)) << text;  // below the narrow end's need
+  params.set("vssm-max-radius", "32");                                      // twice the reach
+  const RenderResult wider = renderer.render(camera, light, info, params);
+  EXPECT_NEAR(recordedReach(wider), 2.0 * reach, 1.0) << wider.image.attributes().at("penumbra:map-size");
+}
+
 // Thin casters: the poles (0.1 wide) under a hard spot light are a texel or two wide in the probe, so the casters'
 // need asks for twice the probe's size per texel they lack; without it, the pixels' need alone.
 TEST_F(MapSize, ThinCastersNeedLargerMaps) {

@@ -35,9 +35,12 @@ struct MapProbe {
 // - the casters' (map-size-detail > 0): the thinnest 5 % of the features the probe holds span map-size-detail texels
 //   (a pole or a bar narrower than a texel drops out of the map).
 // Under an area light the pixels' need (not the other two) is capped where the median penumbra half-width would span
-// more than map-size-penumbra-max texels: a penumbra that wide is filtered, and more texels buy nothing.
+// more than map-size-penumbra-max texels: a penumbra that wide is filtered, and more texels buy nothing. With
+// `kernelReach` > 0 (TechniqueInfo::kernelReachParam's value: the technique clamps its kernels' half-width at that many
+// texels) the size, needs and all, is capped where the median penumbra half-width would span more than it: beyond, half
+// the penumbrae would be drawn narrower than they are.
 // The last two are measured on `probe`. Records "penumbra:map-size" (the size and each need) in frame.attributes. The
 // technique's instance is made with it (TechniqueInfo::create's mapSize).
-int sizeMapForFrame(ShadowFrame& frame, const Params& params, MapProbe& probe);
+int sizeMapForFrame(ShadowFrame& frame, const Params& params, MapProbe& probe, double kernelReach = 0.0);
 
 }  // namespace penumbra

@@ -218,8 +218,11 @@ TechniqueInfo vssmTechnique() {
   // whole texels): docs/techniques/README.md, "Beyond the pixels".
   paramNamed(params, "map-size-penumbra").defaultValue = 24;
   for (ParamSpec& spec : vssmParamSpecs()) params.push_back(std::move(spec));
-  return {"vssm", "Variance soft shadow mapping (SAT moments, min-max HSM, kernel subdivision) for area lights", params,
-          makeTechnique<VarianceSoftShadows>};
+  TechniqueInfo info{"vssm",
+                     "Variance soft shadow mapping (SAT moments, min-max HSM, kernel subdivision) for area lights",
+                     params, makeTechnique<VarianceSoftShadows>};
+  info.kernelReachParam = "vssm-max-radius";  // its search and penumbra kernels clamp there, at any map size
+  return info;
 }
 
 }  // namespace penumbra
