@@ -49,11 +49,12 @@ struct DrawnNeeds {
   double reach = 0.0;                   // the size beyond which the technique's kernels clamp the median; 0: none
   std::string note;
 };
-DrawnNeeds drawnNeeds(ShadowFrame& frame, const Params& params, MapProbe& probe, int maxSize, double kernelReach) {
+DrawnNeeds drawnNeeds(ShadowFrame& frame, const Params& params, MapProbe& probe, int minSize, int maxSize,
+                      const std::function<double(int)>& kernelReach) {
   DrawnNeeds needs;
   const double penumbraTexels = params.get("map-size-penumbra"), detailTexels = params.get("map-size-detail");
   const double capTexels = params.get("map-size-penumbra-max");
-  const bool penumbrae = (penumbraTexels > 0.0 || capTexels > 0.0 || kernelReach > 0.0) && frame.light.isArea();
+  const bool penumbrae = (penumbraTexels > 0.0 || capTexels > 0.0 || kernelReach) && frame.light.isArea();
   if (!penumbrae && !(detailTexels > 0.0)) return needs;
   const ReceiverBias bias{static_cast<float>(params.get("bias")), static_cast<float>(params.get("slope-bias")),
                           static_cast<float>(params.get("normal-offset"))};
@@ -84,13 +85,16 @@ DrawnNeeds drawnNeeds(ShadowFrame& frame, const Params& params, MapProbe& probe,
                                 median.halfWidth, kMapProbeSize, needs.cap);
     }
   }
-  if (penumbrae && kernelReach > 0.0) {
+  if (penumbrae && kernelReach) {
     const PenumbraWidth median = meter.penumbra(0.5);
-    if (median.pixels > 0 && median.halfWidth > 0.0) {
-      needs.reach = probeSize * kernelReach / median.halfWidth;
-      if (needs.reach < maxSize)
-        needs.note +=
-            fmt::format("; its kernels' {:.0f}-texel reach holds that median below {:.0f}", kernelReach, needs.reach);
+    // The largest size (a multiple of 128, as roundedMapSize gives) whose kernels hold the median half-width.
+    const auto holds = [&](int size) { return median.halfWidth * size / probeSize <= kernelReach(size); };
+    if (median.pixels > 0 && median.halfWidth > 0.0 && !holds(maxSize)) {
+      int size = roundedMapSize(maxSize, minSize, maxSize);
+      while (size > minSize && !holds(size)) size = std::max(minSize, size - 128);
+      needs.reach = size;
+      needs.note +=
+          fmt::format("; its kernels' {:.0f}-texel reach holds that median up to {}", kernelReach(size), size);
     }
   }
   if (detailTexels > 0.0 && meter.features() > 0) {
@@ -106,16 +110,17 @@ DrawnNeeds drawnNeeds(ShadowFrame& frame, const Params& params, MapProbe& probe,
 
 bool autoMapSize(const Params& params) { return params.isAuto("map-size"); }
 
-int sizeMapForFrame(ShadowFrame& frame, const Params& params, MapProbe& probe, double kernelReach) {
+int sizeMapForFrame(ShadowFrame& frame, const Params& params, MapProbe& probe,
+                    const std::function<double(int)>& kernelReach) {
   std::vector<LightViewGpu> views;
   for (const LightView& view : probeViews(frame, params, kProbeSize)) views.push_back(view.gpu);
   const double quantile = params.get("map-size-quantile");
   const int minSize = params.getInt("map-size-min"), maxSize = params.getInt("map-size-max");
   const MapSizeNeed need = neededMapSize(frame.ctx, frame.gbuffer, views, quantile, minSize, maxSize);
-  const DrawnNeeds drawn = drawnNeeds(frame, params, probe, maxSize, kernelReach);
+  const DrawnNeeds drawn = drawnNeeds(frame, params, probe, minSize, maxSize, kernelReach);
   // Wide penumbrae cap what the pixels ask for; the narrow end of the penumbrae and thin casters are not capped, but
   // everything is where the technique's kernels would clamp the median penumbra (on default.json under a radius-2 spot,
-  // vssm's 128 texels: 3840^2 had MAE 0.0191, 2048^2 0.0109).
+  // vssm's 128 texels: 3840^2 had MAE 0.0191, 2048^2 0.0109; pcss's 64 at 1536^2 0.0139, at 1024^2 0.0079).
   const double pixels = drawn.cap > 0.0 ? std::min(need.needed, drawn.cap) : need.needed;
   double wanted = std::max({pixels, drawn.penumbra, drawn.detail});
   if (drawn.reach > 0.0) wanted = std::min(wanted, drawn.reach);

@@ -3,6 +3,8 @@
 // size and a new size is a new instance.
 #pragma once
 
+#include <functional>
+
 #include "host/techniques/params.h"
 #include "host/techniques/technique.h"
 #include "raster/rasterizer.h"
@@ -36,11 +38,13 @@ struct MapProbe {
 //   (a pole or a bar narrower than a texel drops out of the map).
 // Under an area light the pixels' need (not the other two) is capped where the median penumbra half-width would span
 // more than map-size-penumbra-max texels: a penumbra that wide is filtered, and more texels buy nothing. With
-// `kernelReach` > 0 (TechniqueInfo::kernelReachParam's value: the technique clamps its kernels' half-width at that many
-// texels) the size, needs and all, is capped where the median penumbra half-width would span more than it: beyond, half
-// the penumbrae would be drawn narrower than they are.
+// `kernelReach` (TechniqueInfo::kernelReach: the texels the technique clamps its kernels' half-width at, on a map of
+// the given size; it may grow with the size, no faster than in proportion) the size, needs and all, is at most the
+// largest multiple of 128 where the median penumbra half-width spans no more than that: beyond, half the penumbrae
+// would be drawn narrower than they are.
 // The last two are measured on `probe`. Records "penumbra:map-size" (the size and each need) in frame.attributes. The
 // technique's instance is made with it (TechniqueInfo::create's mapSize).
-int sizeMapForFrame(ShadowFrame& frame, const Params& params, MapProbe& probe, double kernelReach = 0.0);
+int sizeMapForFrame(ShadowFrame& frame, const Params& params, MapProbe& probe,
+                    const std::function<double(int mapSize)>& kernelReach = {});
 
 }  // namespace penumbra

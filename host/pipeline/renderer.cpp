@@ -113,9 +113,10 @@ std::map<std::string, std::string> Renderer::shadow(const Camera& camera, const 
   frame.solids = &solids_;
   // --map-size auto: the technique instance is the one of this frame's size (host/pipeline/map_size.h).
   const Params& params = light.params;
-  const std::string& reach = light.technique->kernelReachParam;
-  const int mapSize =
-      autoMapSize(params) ? sizeMapForFrame(frame, params, slot.probe, reach.empty() ? 0.0 : params.get(reach)) : 0;
+  const auto& kernelReach = light.technique->kernelReach;
+  std::function<double(int)> reach;
+  if (kernelReach) reach = [&](int size) { return kernelReach(params, size); };
+  const int mapSize = autoMapSize(params) ? sizeMapForFrame(frame, params, slot.probe, reach) : 0;
   Technique& shadows = techniqueFor(slot, *light.technique, params, mapSize);
   if (point)
     slot.cube.render(frame, shadows, mapSize > 0 ? mapSize : params.getInt("map-size"),

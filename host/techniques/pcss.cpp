@@ -162,8 +162,11 @@ TechniqueInfo pcssTechnique() {
                     "segments to 32 light points through the map and keeps the darker result (stacked casters fuse, "
                     "where one average blocker depth lets light into the umbra)",
                     {"off", "on"}});
-  return {"pcss", "Percentage-closer soft shadows (blocker search + PCF) for area lights", params,
-          makeTechnique<PercentageCloserSoft>};
+  TechniqueInfo info{"pcss", "Percentage-closer soft shadows (blocker search + PCF) for area lights", params,
+                     makeTechnique<PercentageCloserSoft>};
+  // Its search and filter clamp at --pcss-max-radius: under auto a 32nd of the map's side, at least 64 texels.
+  info.kernelReach = [](const Params& p, int size) { return kMaxRadius.texels(p, "pcss-max-radius", size); };
+  return info;
 }
 
 }  // namespace penumbra

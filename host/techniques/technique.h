@@ -103,9 +103,10 @@ struct TechniqueInfo {
   // Empty when the technique shades from one light depth map the caller drew (pn_shade: ShadowFrame::callerMap);
   // otherwise why it cannot (it draws maps of its own choosing, or none).
   std::string callerMapRefusal = {};
-  // The parameter bounding its kernels' half-width in texels of the map (a search or filter clamped there), when that
-  // bound does not grow with the map: --map-size auto keeps the median penumbra within it (host/pipeline/map_size.h).
-  std::string kernelReachParam = {};
+  // Where its per-pixel kernels (a blocker search, a penumbra filter) are clamped: the half-width in texels of a map of
+  // mapSize texels a side; empty when they are not. --map-size auto keeps the median penumbra within it
+  // (host/pipeline/map_size.h).
+  std::function<double(const Params& params, int mapSize)> kernelReach = {};
 
   bool hasParam(const std::string& param) const;  // a parameter of that name (without dashes)
   bool shadowsPointLights() const { return pointLightRefusal.empty(); }

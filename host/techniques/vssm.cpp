@@ -221,7 +221,7 @@ TechniqueInfo vssmTechnique() {
   TechniqueInfo info{"vssm",
                      "Variance soft shadow mapping (SAT moments, min-max HSM, kernel subdivision) for area lights",
                      params, makeTechnique<VarianceSoftShadows>};
-  info.kernelReachParam = "vssm-max-radius";  // its search and penumbra kernels clamp there, at any map size
+  info.kernelReach = [](const Params& p, int) { return p.get("vssm-max-radius"); };  // at any map size
   return info;
 }
 
