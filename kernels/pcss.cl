@@ -95,7 +95,7 @@ __kernel void pcss_visibility(__global const float4* position, __global const fl
   if (!r.valid) return;
   // The light disk seen from the receiver covers, at the near plane, the widest region that can hold blockers.
   float search = clamp(lv_penumbra_texels(lv, r.depth, lv->zNear), 0.5f, maxRadius);
-  for (int step = 0; s.adaptive && step < PCSS_ADAPTIVE_STEPS; ++step) {
+  for (int step = 0; s.adaptive; ++step) {
     // The square around the region's disk; texels beyond the map hold no caster.
     const float nearest = pyramid_depth_range_of(map, pyramid, levels, s.levelCount, lv->width, lv->height,
                                                  r.uv - search, r.uv + search, INFINITY)
@@ -104,7 +104,10 @@ __kernel void pcss_visibility(__global const float4* position, __global const fl
       blockerOut[i] = -1.0f;
       return;
     }
-    search = fmin(search, clamp(lv_penumbra_texels(lv, r.depth, fmax(nearest, lv->zNear)), 0.5f, maxRadius));
+    if (step == PCSS_ADAPTIVE_STEPS) break;  // the last narrowed region tested too
+    const float narrowed = clamp(lv_penumbra_texels(lv, r.depth, fmax(nearest, lv->zNear)), 0.5f, maxRadius);
+    if (!(narrowed < search)) break;
+    search = narrowed;
   }
   // The pattern's rotation, once the pyramid has not let the pixel go (most lit pixels leave above without it).
   const float angle = rot_angle(i % width, i / width);
