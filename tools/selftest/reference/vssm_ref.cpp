@@ -46,6 +46,13 @@ double chebyshev(double mean, double variance, double t) {
   return variance / (variance + (t - mean) * (t - mean));
 }
 
+// Texels of a pyramid level `level` texels across covering base interval [a, b] of `base` texels (pyramid.h
+// pyramid_cover_span, widened by 1e-3 level texels against rounding).
+std::pair<int, int> span(double a, double b, uint32_t base, uint32_t level) {
+  const double s = double(level) / base;
+  return {std::max(int(std::floor(a * s - 1e-3)), 0), std::min(int(std::floor(b * s + 1e-3)), int(level) - 1)};
+}
+
 }  // namespace
 
 VssmReference::VssmReference(const std::vector<float>& depth, uint32_t width, uint32_t height, const VssmLight& light,
@@ -110,11 +117,6 @@ std::pair<double, double> VssmReference::hsmRange(double lx, double ly, double h
   const double ax = std::clamp(lx, 0.0, double(width_)), bx = std::clamp(hx, ax, double(width_));
   const double ay = std::clamp(ly, 0.0, double(height_)), by = std::clamp(hy, ay, double(height_));
   if (!(bx > ax && by > ay)) return {lo, hi};
-  auto span = [](double a, double b, uint32_t base, uint32_t level) {
-    const double s = double(level) / base;
-    return std::pair<int, int>(std::max(int(std::floor(a * s - 1e-3)), 0),
-                               std::min(int(std::floor(b * s + 1e-3)), int(level) - 1));
-  };
   size_t l = 0;
   std::pair<int, int> sx, sy;
   for (;; ++l) {
@@ -261,11 +263,6 @@ bool VssmReference::noBlocker(const Rx& r, double w) const {
   const double ax = std::clamp(r.u - w - 1, 0.0, double(width_)), bx = std::clamp(r.u + w + 1, ax, double(width_));
   const double ay = std::clamp(r.v - w - 1, 0.0, double(height_)), by = std::clamp(r.v + w + 1, ay, double(height_));
   if (!(bx > ax && by > ay)) return true;
-  auto span = [](double a, double b, uint32_t base, uint32_t level) {
-    const double s = double(level) / base;
-    return std::pair<int, int>(std::max(int(std::floor(a * s - 1e-3)), 0),
-                               std::min(int(std::floor(b * s + 1e-3)), int(level) - 1));
-  };
   size_t l = 0;
   std::pair<int, int> sx = span(ax, bx, width_, width_), sy = span(ay, by, height_, height_);
   while ((sx.second - sx.first >= kNodes || sy.second - sy.first >= kNodes) && l + 1 < hsm_.size()) {
