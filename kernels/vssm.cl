@@ -142,13 +142,11 @@ inline bool vssm_no_blocker(const VssmMaps* m, const VssmReceiver* r, float w) {
   const float2 size = (float2)((float)width, (float)height);
   const float2 a = clamp(r->uv - (w + 1.0f), (float2)(0.0f), size), b = clamp(r->uv + (w + 1.0f), a, size);
   if (!(b.x > a.x && b.y > a.y)) return true;    // only texels beyond the map, which hold no occluder
-  PyramidLevel level = {0u, width, height, 0u};  // the map itself, then levels 1.. of the HSM
-  int2 sx = pyramid_cover_span(a.x, b.x, width, width), sy = pyramid_cover_span(a.y, b.y, height, height);
-  uint l = 0;
-  for (; (sx.y - sx.x >= VSSM_BLOCKER_NODES || sy.y - sy.x >= VSSM_BLOCKER_NODES) && l < m->p.pyramidLevels; ++l) {
-    level = m->levels[l];
-    sx = pyramid_cover_span(a.x, b.x, width, level.width), sy = pyramid_cover_span(a.y, b.y, height, level.height);
-  }
+  int2 sx, sy;
+  const uint l =
+      pyramid_cover_level(m->levels, m->p.pyramidLevels, width, height, a, b, VSSM_BLOCKER_NODES - 1, &sx, &sy);
+  PyramidLevel level = {0u, width, height, 0u};  // level 0: the map itself
+  if (l > 0u) level = m->levels[l - 1];
   const float2 node = size / (float2)((float)level.width, (float)level.height);  // map texels per node
   // Halving exactly from the map (every size above even), a node covers exactly its share.
   const bool exact = level.width << l == width && level.height << l == height;

@@ -77,8 +77,9 @@ DrawnNeeds drawnNeeds(ShadowFrame& frame, const Params& params, MapProbe& probe,
                                 quantile, width.pixels, width.halfWidth, kMapProbeSize, needs.penumbra);
     }
   }
+  // The median half-width, which wide penumbrae are judged by (the pixels' cap, the kernels' reach).
+  const PenumbraWidth median = penumbrae ? meter.penumbra(0.5) : PenumbraWidth{};
   if (penumbrae && capTexels > 0.0) {
-    const PenumbraWidth median = meter.penumbra(0.5);
     if (median.pixels > 0 && median.halfWidth > 0.0) {
       needs.cap = probeSize * capTexels / median.halfWidth;
       needs.note += fmt::format("; median penumbra {:.3g} texels wide at {} caps the pixels' need at {:.0f}",
@@ -86,7 +87,6 @@ DrawnNeeds drawnNeeds(ShadowFrame& frame, const Params& params, MapProbe& probe,
     }
   }
   if (penumbrae && kernelReach) {
-    const PenumbraWidth median = meter.penumbra(0.5);
     // The largest size (a multiple of 128, as roundedMapSize gives) whose kernels hold the median half-width.
     const auto holds = [&](int size) { return median.halfWidth * size / probeSize <= kernelReach(size); };
     if (median.pixels > 0 && median.halfWidth > 0.0 && !holds(maxSize)) {

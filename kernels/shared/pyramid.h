@@ -80,6 +80,21 @@ inline int2 pyramid_cover_span(float a, float b, uint base, uint level) {
 // a minimum does not. A select, not ?: on vectors (kernels/pyramid.cl pyramid_depth_range says why).
 inline float2 pyramid_far_range(float z) { return select((float2)(INFINITY), (float2)(z), (int2)(-isfinite(z))); }
 
+// The finest level of a levels-only min-max pyramid over a width x height map (0: the map itself; l >= 1: levels[l -
+// 1], of `levelCount`) whose texels covering [a, b] (inside the map) span at most most + 1 a side, or the coarsest
+// level; those texels' spans in *sx and *sy (pyramid_cover_span).
+inline uint pyramid_cover_level(__constant const PyramidLevel* levels, uint levelCount, uint width, uint height,
+                                float2 a, float2 b, int most, int2* sx, int2* sy) {
+  *sx = pyramid_cover_span(a.x, b.x, width, width), *sy = pyramid_cover_span(a.y, b.y, height, height);
+  uint l = 0;
+  while ((sx->y - sx->x > most || sy->y - sy->x > most) && l < levelCount) {
+    ++l;
+    *sx = pyramid_cover_span(a.x, b.x, width, levels[l - 1].width);
+    *sy = pyramid_cover_span(a.y, b.y, height, levels[l - 1].height);
+  }
+  return l;
+}
+
 // (min, max) of depth over every base texel the box [lo, hi] (texels) touches, from a width x height depth map `base`
 // and the `levelCount` levels 1.. of its min-max pyramid (levels[0] is level 1): the finest level where the box covers
 // at most 2 x 2 texels, the depth map itself (pyramid_far_range) where that is level 0. A box reaching outside the
@@ -92,8 +107,9 @@ inline float2 pyramid_depth_range_of(__global const float* base, __global const 
   if (any(lo < (float2)(0.0f)) || any(hi > size)) range = (float2)(outside);
   const float2 a = clamp(lo, (float2)(0.0f), size), b = clamp(hi, a, size);
   if (!(b.x > a.x && b.y > a.y)) return range;
-  int2 sx = pyramid_cover_span(a.x, b.x, width, width), sy = pyramid_cover_span(a.y, b.y, height, height);
-  if ((sx.y - sx.x <= 1 && sy.y - sy.x <= 1) || levelCount == 0) {
+  int2 sx, sy;
+  const uint l = pyramid_cover_level(levels, levelCount, width, height, a, b, 1, &sx, &sy);
+  if (l == 0) {
     for (int y = sy.x; y <= sy.y; ++y)
       for (int x = sx.x; x <= sx.y; ++x) {
         const float2 v = pyramid_far_range(base[(size_t)y * width + x]);
@@ -101,13 +117,7 @@ inline float2 pyramid_depth_range_of(__global const float* base, __global const 
       }
     return range;
   }
-  uint l = 0;
-  for (;; ++l) {
-    sx = pyramid_cover_span(a.x, b.x, width, levels[l].width);
-    sy = pyramid_cover_span(a.y, b.y, height, levels[l].height);
-    if ((sx.y - sx.x <= 1 && sy.y - sy.x <= 1) || l + 1 >= levelCount) break;
-  }
-  const PyramidLevel level = levels[l];
+  const PyramidLevel level = levels[l - 1];
   for (int y = sy.x; y <= sy.y; ++y)
     for (int x = sx.x; x <= sx.y; ++x) {
       const float2 v = pyramid[level.offset + (size_t)y * level.width + x];

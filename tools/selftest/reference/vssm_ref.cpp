@@ -111,18 +111,27 @@ std::pair<double, double> VssmReference::boxMoments(double lx, double ly, double
   return {sum[0] / area, sum[1] / area};
 }
 
+// vssm.cl pyramid_cover_level: the finest HSM level (0: the map) whose texels over [ax, bx] x [ay, by] span at most
+// most + 1 a side, or the coarsest; their spans in sx and sy.
+size_t VssmReference::coverLevel(double ax, double bx, double ay, double by, int most, std::pair<int, int>& sx,
+                                 std::pair<int, int>& sy) const {
+  size_t l = 0;
+  sx = span(ax, bx, width_, width_), sy = span(ay, by, height_, height_);
+  while ((sx.second - sx.first > most || sy.second - sy.first > most) && l + 1 < hsm_.size()) {
+    ++l;
+    sx = span(ax, bx, width_, hsmSizes_[l].first), sy = span(ay, by, height_, hsmSizes_[l].second);
+  }
+  return l;
+}
+
 std::pair<double, double> VssmReference::hsmRange(double lx, double ly, double hx, double hy) const {
   double lo = kInf, hi = -kInf;
   if (lx < 0 || ly < 0 || hx > width_ || hy > height_) lo = hi = 1.0;
   const double ax = std::clamp(lx, 0.0, double(width_)), bx = std::clamp(hx, ax, double(width_));
   const double ay = std::clamp(ly, 0.0, double(height_)), by = std::clamp(hy, ay, double(height_));
   if (!(bx > ax && by > ay)) return {lo, hi};
-  size_t l = 0;
   std::pair<int, int> sx, sy;
-  for (;; ++l) {
-    sx = span(ax, bx, width_, hsmSizes_[l].first), sy = span(ay, by, height_, hsmSizes_[l].second);
-    if ((sx.second - sx.first <= 1 && sy.second - sy.first <= 1) || l + 1 >= hsm_.size()) break;
-  }
+  const size_t l = coverLevel(ax, bx, ay, by, 1, sx, sy);
   for (int y = sy.first; y <= sy.second; ++y)
     for (int x = sx.first; x <= sx.second; ++x) {
       const auto& v = hsm_[l][size_t(y) * hsmSizes_[l].first + x];
@@ -263,12 +272,8 @@ bool VssmReference::noBlocker(const Rx& r, double w) const {
   const double ax = std::clamp(r.u - w - 1, 0.0, double(width_)), bx = std::clamp(r.u + w + 1, ax, double(width_));
   const double ay = std::clamp(r.v - w - 1, 0.0, double(height_)), by = std::clamp(r.v + w + 1, ay, double(height_));
   if (!(bx > ax && by > ay)) return true;
-  size_t l = 0;
-  std::pair<int, int> sx = span(ax, bx, width_, width_), sy = span(ay, by, height_, height_);
-  while ((sx.second - sx.first >= kNodes || sy.second - sy.first >= kNodes) && l + 1 < hsm_.size()) {
-    ++l;
-    sx = span(ax, bx, width_, hsmSizes_[l].first), sy = span(ay, by, height_, hsmSizes_[l].second);
-  }
+  std::pair<int, int> sx, sy;
+  const size_t l = coverLevel(ax, bx, ay, by, kNodes - 1, sx, sy);
   const auto [lw, lh] = hsmSizes_[l];
   const double nx = double(width_) / lw, ny = double(height_) / lh;
   const bool exact = (size_t(lw) << l) == width_ && (size_t(lh) << l) == height_;

@@ -59,6 +59,8 @@ class VssmReference {
   std::pair<double, double> boxMoments(double lx, double ly, double hx, double hy) const;
   std::pair<double, double> hsmRange(double lx, double ly, double hx, double hy) const;
   bool noBlocker(const Rx& r, double w) const;
+  size_t coverLevel(double ax, double bx, double ay, double by, int most, std::pair<int, int>& sx,
+                    std::pair<int, int>& sy) const;
   double fetch(int x, int y) const;
   double bilinearLit(double u, double v, double depth) const;
   double tapDepth(const Rx& r, double u, double v) const;
