@@ -132,9 +132,40 @@ inline float vssm_stacked_taps(const VssmMaps* m, const VssmReceiver* r, float2 
 // receiver when it lies farther than min(w, the cone's half-width at z_n) from it (deeper texels' cones are narrower)
 // or when z_n passes the strictest comparison a tap can make on it, t - tSlope d (d its distance, less a bilinear tap's
 // reach where positive); each node's box is its nominal share of the map widened by one of its own texels (a level's
-// texel covers no more). Tested where the kernel would be subdivided (the planar path's kernel holds its blocker): no
-// node can hold one, and the search ends with none (path 5) without subdividing.
+// texel covers no more). A node that fails is not the end: its children on the next finer level are tested in its place
+// (depth first, down to the map's own texels), since a node's nearest depth may be the receiver's own surface, tilted
+// to the light, whose texels each pass their own offset's bias; the search fails only at a texel that can block, or
+// after VSSM_BLOCKER_BUDGET node tests (or a full stack). Tested where the kernel would be subdivided (the planar
+// path's kernel holds its blocker): no node can hold one, and the search ends with none (path 5) without subdividing.
 #define VSSM_BLOCKER_NODES 8
+#define VSSM_BLOCKER_BUDGET 256
+#define VSSM_BLOCKER_STACK 32
+
+// Level l of the HSM as the descent reads it: the map itself at 0, else m->levels[l - 1].
+inline PyramidLevel vssm_hsm_level(const VssmMaps* m, uint l) {
+  const PyramidLevel base = {0u, m->lv->width, m->lv->height, 0u};
+  return l > 0u ? m->levels[l - 1u] : base;
+}
+
+// Whether node (x, y) of HSM level l can hold a texel that blocks a tap of the search kernel of half-width w.
+inline bool vssm_node_may_block(const VssmMaps* m, const VssmReceiver* r, float w, uint l, PyramidLevel level, int x,
+                                int y) {
+  __constant const LightViewGpu* lv = m->lv;
+  const size_t at = (size_t)y * level.width + (size_t)x;
+  const float nearest = l > 0u ? m->hsm[level.offset + at].x : m->depth[at];
+  if (!isfinite(nearest)) return false;  // nothing drawn
+  const float2 size = (float2)((float)lv->width, (float)lv->height);
+  const float2 node = size / (float2)((float)level.width, (float)level.height);  // map texels per node
+  // Halving exactly from the map (every size above even), a node covers exactly its share.
+  const bool exact = level.width << l == lv->width && level.height << l == lv->height;
+  const float2 overhang = exact ? (float2)(0.0f) : node;
+  const float2 lo = (float2)((float)x, (float)y) * node - overhang;
+  const float2 hi = (float2)((float)(x + 1), (float)(y + 1)) * node + overhang;
+  const float reach = length(fmax(fmax(lo - r->uv, r->uv - hi), 0.0f)) - M_SQRT2_F;
+  const float cone = clamp(lv_penumbra_texels(lv, r->depth, fmax(nearest, lv->zNear)), 0.5f, m->p.maxRadius);
+  if (reach > fmin(w, cone)) return false;  // beyond the kernel, or beyond the cone its own depth cuts
+  return moments_normalize(nearest, m->p.depthNear, m->p.depthInvRange) < r->t - r->tSlope * fmax(reach, 0.0f);
+}
 
 inline bool vssm_no_blocker(const VssmMaps* m, const VssmReceiver* r, float w) {
   __constant const LightViewGpu* lv = m->lv;
@@ -143,26 +174,34 @@ inline bool vssm_no_blocker(const VssmMaps* m, const VssmReceiver* r, float w) {
   const float2 a = clamp(r->uv - (w + 1.0f), (float2)(0.0f), size), b = clamp(r->uv + (w + 1.0f), a, size);
   if (!(b.x > a.x && b.y > a.y)) return true;    // only texels beyond the map, which hold no occluder
   int2 sx, sy;
-  const uint l =
+  const uint top =
       pyramid_cover_level(m->levels, m->p.pyramidLevels, width, height, a, b, VSSM_BLOCKER_NODES - 1, &sx, &sy);
-  PyramidLevel level = {0u, width, height, 0u};  // level 0: the map itself
-  if (l > 0u) level = m->levels[l - 1];
-  const float2 node = size / (float2)((float)level.width, (float)level.height);  // map texels per node
-  // Halving exactly from the map (every size above even), a node covers exactly its share.
-  const bool exact = level.width << l == width && level.height << l == height;
-  const float2 overhang = exact ? (float2)(0.0f) : node;
-  for (int y = sy.x; y <= sy.y; ++y)
-    for (int x = sx.x; x <= sx.y; ++x) {
-      const size_t at = (size_t)y * level.width + (size_t)x;
-      const float nearest = l > 0u ? m->hsm[level.offset + at].x : m->depth[at];
-      if (!isfinite(nearest)) continue;  // nothing drawn
-      const float2 lo = (float2)((float)x, (float)y) * node - overhang;
-      const float2 hi = (float2)((float)(x + 1), (float)(y + 1)) * node + overhang;
-      const float reach = length(fmax(fmax(lo - r->uv, r->uv - hi), 0.0f)) - M_SQRT2_F;
-      const float cone = clamp(lv_penumbra_texels(lv, r->depth, fmax(nearest, lv->zNear)), 0.5f, m->p.maxRadius);
-      if (reach > fmin(w, cone)) continue;  // beyond the kernel, or beyond the cone its own depth cuts
-      if (moments_normalize(nearest, m->p.depthNear, m->p.depthInvRange) < r->t - r->tSlope * fmax(reach, 0.0f))
-        return false;
+  uint stack[VSSM_BLOCKER_STACK];  // (level << 28) | (y << 14) | x: map sides up to 8192 (--map-size)
+  int budget = VSSM_BLOCKER_BUDGET;
+  for (int y0 = sy.x; y0 <= sy.y; ++y0)
+    for (int x0 = sx.x; x0 <= sx.y; ++x0) {
+      int depth = 0;
+      stack[depth++] = top << 28 | (uint)y0 << 14 | (uint)x0;
+      while (depth > 0) {
+        const uint e = stack[--depth], l = e >> 28;
+        const int x = (int)(e & 0x3fffu), y = (int)((e >> 14) & 0x3fffu);
+        if (--budget < 0) return false;
+        const PyramidLevel level = vssm_hsm_level(m, l);
+        if (!vssm_node_may_block(m, r, w, l, level, x, y)) continue;
+        if (l == 0u) return false;  // a texel that can block
+        // Its children on level l - 1 (pyramid_taps' footprint: 1, 2 or 3 a side) within the square.
+        const PyramidLevel finer = vssm_hsm_level(m, l - 1u);
+        const int2 cx = pyramid_cover_span(a.x, b.x, width, finer.width);
+        const int2 cy = pyramid_cover_span(a.y, b.y, height, finer.height);
+        const int nx = finer.width == 1u ? 1 : finer.width % 2u == 0u ? 2 : 3;
+        const int ny = finer.height == 1u ? 1 : finer.height % 2u == 0u ? 2 : 3;
+        const int fx = finer.width == 1u ? 0 : 2 * x, fy = finer.height == 1u ? 0 : 2 * y;
+        for (int j = max(fy, cy.x); j <= min(fy + ny - 1, cy.y); ++j)
+          for (int i = max(fx, cx.x); i <= min(fx + nx - 1, cx.y); ++i) {
+            if (depth == VSSM_BLOCKER_STACK) return false;
+            stack[depth++] = (l - 1u) << 28 | (uint)j << 14 | (uint)i;
+          }
+      }
     }
   return true;
 }

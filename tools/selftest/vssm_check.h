@@ -41,7 +41,7 @@ std::vector<VssmCase> vssmCases();
 // receivers the reference sent down the subdivision and stacked-blocker paths and those whose search the HSM ended
 // with no blocker instead of subdividing (vssm.cl vssm_no_blocker), the mean and the worst difference.
 struct VssmOutcome {
-  size_t receivers = 0, flips = 0, paths = 0, subdivided = 0, stacked = 0, noBlocker = 0, outOfRange = 0;
+  size_t receivers = 0, flips = 0, paths = 0, subdivided = 0, stacked = 0, noBlocker = 0, descents = 0, outOfRange = 0;
   double meanDifference = 0.0, worstDifference = 0.0;
   std::string report;  // the first flips
   // The suite's verdict: visibility in [0, 1], paths and mean within their margins, the subdivision path taken where

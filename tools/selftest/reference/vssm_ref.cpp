@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <tuple>
+#include <vector>
 
 #include "tools/selftest/reference/moments_ref.h"
 #include "tools/selftest/reference/pyramid_ref.h"
@@ -265,32 +266,65 @@ void VssmReference::subdivide(const Rx& r, double w, bool search, Sums& s) const
   }
 }
 
-// vssm.cl vssm_no_blocker: every node of the finest level covering the kernel's square (widened by a texel) with at
-// most kNodes a side lies beyond min(w, its nearest depth's cone) or passes the strictest comparison a tap makes on it.
+// vssm.cl vssm_node_may_block: node (x, y) of level l lies within min(w, its nearest depth's cone) and fails the
+// strictest comparison a tap makes on it.
+bool VssmReference::nodeMayBlock(const Rx& r, double w, size_t l, int x, int y) const {
+  const auto [lw, lh] = hsmSizes_[l];
+  const double nearest = hsm_[l][size_t(y) * lw + x].first;
+  if (!(nearest < 1.0)) return false;  // nothing drawn nearer than the far plane
+  const double nx = double(width_) / lw, ny = double(height_) / lh;
+  const bool exact = (size_t(lw) << l) == width_ && (size_t(lh) << l) == height_;
+  const double ox = exact ? 0.0 : nx, oy = exact ? 0.0 : ny;
+  const double gx = std::max({x * nx - ox - r.u, r.u - (x + 1) * nx - ox, 0.0});
+  const double gy = std::max({y * ny - oy - r.v, r.v - (y + 1) * ny - oy, 0.0});
+  const double reach = std::hypot(gx, gy) - std::sqrt(2.0);
+  const double invRange = 1.0 / (light_.zFar - light_.zNear);
+  const double z = light_.zNear + nearest / invRange;
+  const double cone = std::clamp(penumbraTexels(r.depth, std::max(z, light_.zNear)), 0.5, settings_.maxRadius);
+  if (reach > std::min(w, cone)) return false;
+  return nearest < r.t - r.tSlope * std::max(reach, 0.0);
+}
+
+// vssm.cl vssm_no_blocker: the nodes of the finest level covering the kernel's square (widened by a texel) with at
+// most kNodes a side, each that may block replaced by its children on the next finer level (depth first, the same
+// order, budget and stack as the kernel's), down to the map's texels.
 bool VssmReference::noBlocker(const Rx& r, double w) const {
-  constexpr int kNodes = 8;
+  constexpr int kNodes = 8, kBudget = 256;
+  constexpr size_t kStack = 32;
   const double ax = std::clamp(r.u - w - 1, 0.0, double(width_)), bx = std::clamp(r.u + w + 1, ax, double(width_));
   const double ay = std::clamp(r.v - w - 1, 0.0, double(height_)), by = std::clamp(r.v + w + 1, ay, double(height_));
   if (!(bx > ax && by > ay)) return true;
   std::pair<int, int> sx, sy;
-  const size_t l = coverLevel(ax, bx, ay, by, kNodes - 1, sx, sy);
-  const auto [lw, lh] = hsmSizes_[l];
-  const double nx = double(width_) / lw, ny = double(height_) / lh;
-  const bool exact = (size_t(lw) << l) == width_ && (size_t(lh) << l) == height_;
-  const double ox = exact ? 0.0 : nx, oy = exact ? 0.0 : ny;
-  const double invRange = 1.0 / (light_.zFar - light_.zNear);
-  for (int y = sy.first; y <= sy.second; ++y)
-    for (int x = sx.first; x <= sx.second; ++x) {
-      const double nearest = hsm_[l][size_t(y) * lw + x].first;
-      if (!(nearest < 1.0)) continue;  // nothing drawn nearer than the far plane
-      const double gx = std::max({x * nx - ox - r.u, r.u - (x + 1) * nx - ox, 0.0});
-      const double gy = std::max({y * ny - oy - r.v, r.v - (y + 1) * ny - oy, 0.0});
-      const double reach = std::hypot(gx, gy) - std::sqrt(2.0);
-      const double z = light_.zNear + nearest / invRange;
-      const double cone = std::clamp(penumbraTexels(r.depth, std::max(z, light_.zNear)), 0.5, settings_.maxRadius);
-      if (reach > std::min(w, cone)) continue;
-      if (nearest < r.t - r.tSlope * std::max(reach, 0.0)) return false;
+  const size_t top = coverLevel(ax, bx, ay, by, kNodes - 1, sx, sy);
+  struct Node {
+    size_t l;
+    int x, y;
+  };
+  std::vector<Node> stack;
+  int budget = kBudget;
+  bool descended = false;
+  for (int y0 = sy.first; y0 <= sy.second; ++y0)
+    for (int x0 = sx.first; x0 <= sx.second; ++x0) {
+      stack.assign(1, Node{top, x0, y0});
+      while (!stack.empty()) {
+        const Node n = stack.back();
+        stack.pop_back();
+        if (--budget < 0) return false;
+        if (!nodeMayBlock(r, w, n.l, n.x, n.y)) continue;
+        if (n.l == 0) return false;  // a texel that can block
+        descended = true;
+        const auto [fw, fh] = hsmSizes_[n.l - 1];
+        const auto cx = span(ax, bx, width_, fw), cy = span(ay, by, height_, fh);
+        const int nx = fw == 1 ? 1 : fw % 2 == 0 ? 2 : 3, ny = fh == 1 ? 1 : fh % 2 == 0 ? 2 : 3;
+        const int fx = fw == 1 ? 0 : 2 * n.x, fy = fh == 1 ? 0 : 2 * n.y;
+        for (int j = std::max(fy, cy.first); j <= std::min(fy + ny - 1, cy.second); ++j)
+          for (int i = std::max(fx, cx.first); i <= std::min(fx + nx - 1, cx.second); ++i) {
+            if (stack.size() == kStack) return false;
+            stack.push_back(Node{n.l - 1, i, j});
+          }
+      }
     }
+  descents_ += descended;
   return true;
 }
 

@@ -51,6 +51,9 @@ class VssmReference {
   VssmReference(const std::vector<float>& depth, uint32_t width, uint32_t height, const VssmLight& light,
                 const VssmSettings& settings);
   VssmResult pixel(const VssmReceiverIn& receiver) const;
+  // Searches the no-blocker test ended only by descending below its first level (vssm.cl vssm_no_blocker), over
+  // every pixel() so far.
+  size_t descents() const { return descents_; }
 
  private:
   struct Rx;
@@ -58,6 +61,7 @@ class VssmReference {
   double corner(double u, double v, int channel) const;
   std::pair<double, double> boxMoments(double lx, double ly, double hx, double hy) const;
   std::pair<double, double> hsmRange(double lx, double ly, double hx, double hy) const;
+  bool nodeMayBlock(const Rx& r, double w, size_t l, int x, int y) const;
   bool noBlocker(const Rx& r, double w) const;
   size_t coverLevel(double ax, double bx, double ay, double by, int most, std::pair<int, int>& sx,
                     std::pair<int, int>& sy) const;
@@ -90,6 +94,7 @@ class VssmReference {
   uint32_t satWidth_, satHeight_;
   std::vector<std::vector<std::pair<float, float>>> hsm_;
   std::vector<std::pair<uint32_t, uint32_t>> hsmSizes_;
+  mutable size_t descents_ = 0;  // statistics for the kernel suite (descents())
 };
 
 }  // namespace penumbra::ref
