@@ -289,7 +289,7 @@ bool VssmReference::nodeMayBlock(const Rx& r, double w, size_t l, int x, int y) 
 // most kNodes a side, each that may block replaced by its children on the next finer level (depth first, the same
 // order, budget and stack as the kernel's), down to the map's texels.
 bool VssmReference::noBlocker(const Rx& r, double w) const {
-  constexpr int kNodes = 8, kBudget = 256;
+  constexpr int kNodes = 4, kBudget = 256;
   constexpr size_t kStack = 32;
   const double ax = std::clamp(r.u - w - 1, 0.0, double(width_)), bx = std::clamp(r.u + w + 1, ax, double(width_));
   const double ay = std::clamp(r.v - w - 1, 0.0, double(height_)), by = std::clamp(r.v + w + 1, ay, double(height_));
