@@ -135,8 +135,8 @@ inline float vssm_stacked_taps(const VssmMaps* m, const VssmReceiver* r, float2 
 // texel covers no more). A node that fails is not the end: its children on the next finer level are tested in its place
 // (depth first, down to the map's own texels), since a node's nearest depth may be the receiver's own surface, tilted
 // to the light, whose texels each pass their own offset's bias; the search fails only at a texel that can block, or
-// after VSSM_BLOCKER_BUDGET node tests (or a full stack). Tested where the kernel would be subdivided (the planar
-// path's kernel holds its blocker): no node can hold one, and the search ends with none (path 5) without subdividing.
+// after VSSM_BLOCKER_BUDGET node tests (or a full stack). Tested before the kernel's moments are read: no node can hold
+// a blocker, and the search ends with none (path 5) without moments or subdivision.
 // Four nodes a side to start: eight made twice the node tests (default.json under a radius-2 spot: 2.6 M against 1.3
 // M for the same answers), two 1.7 M and hit the budget on 45 pixels.
 #define VSSM_BLOCKER_NODES 4
@@ -214,10 +214,14 @@ inline bool vssm_no_blocker(const VssmMaps* m, const VssmReceiver* r, float w) {
 inline float vssm_blocker_depth(const VssmMaps* m, const VssmReceiver* r, float2 c, float w, float zmin,
                                 int* subdivided, int* visited, int* stacked) {
   const float minVariance = m->p.minVariance;
+  // Beyond the paper, first: a kernel where no texel can block has no blocker, whatever its moments say (a receiver
+  // tilted to the light puts its own surface in front of t over the kernel: z_Avg < t, a planar "blocker" no tap is).
+  const int none = m->p.searchScheme == VSSM_SCHEME_NONE;
+  if (!none && m->p.searchNarrowings > 0u && vssm_no_blocker(m, r, w)) return -1.0f;
   const float2 e = vssm_kernel_moments(m, c, w);
   // L15 on a planar kernel (z_Avg < t), guarded: as P -> 1 (the limit z_Avg -> t of the non-planarity case) eq. 4
   // amplifies the bound's error by 1 / (1 - P), so above planarMaxLit the kernel is subdivided as well.
-  const int planar = e.x < r->t, none = m->p.searchScheme == VSSM_SCHEME_NONE;
+  const int planar = e.x < r->t;
   if (planar && (none || cheb_upper_bound(e, r->t, minVariance) <= m->p.planarMaxLit)) {
     const float zocc = vssm_occluder(e, r->t, minVariance);
     if (vssm_stacked(m, zocc, zmin, r->t)) {  // blockers at several depths
@@ -227,7 +231,6 @@ inline float vssm_blocker_depth(const VssmMaps* m, const VssmReceiver* r, float2
     return clamp(zocc, zmin, r->t);
   }
   if (none) return -1.0f;  // z_Avg >= t read as "no blocker", as VSM does
-  if (m->p.searchNarrowings > 0u && vssm_no_blocker(m, r, w)) return -1.0f;
   *subdivided = 1;
   VssmAccum acc = vssm_accum_zero();
   vssm_kernel_subdivide(m, r, c, w, 1, &acc);

@@ -329,6 +329,7 @@ bool VssmReference::noBlocker(const Rx& r, double w) const {
 }
 
 double VssmReference::blocker(const Rx& r, double w, double zmin, bool& subdivided, int& visited) const {
+  if (settings_.searchScheme != 0 && settings_.searchNarrowings > 0 && noBlocker(r, w)) return -1;
   const auto [e1, e2] = kernelMoments(r, w);
   const double minVar = settings_.minVariance;
   if (e1 < r.t) {
@@ -340,7 +341,6 @@ double VssmReference::blocker(const Rx& r, double w, double zmin, bool& subdivid
     }
   }
   if (settings_.searchScheme == 0) return -1;
-  if (settings_.searchNarrowings > 0 && noBlocker(r, w)) return -1;
   subdivided = true;
   Sums s;
   subdivide(r, w, true, s);
