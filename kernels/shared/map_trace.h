@@ -35,6 +35,10 @@ inline float map_depth_at_footprint(__constant const LightViewGpu* lv, float d, 
   return lv->kind == LIGHT_KIND_SPOT ? d / (1.0f + k * texel / lv->lightSize) : d - k * texel / lv->lightSize;
 }
 
+// The texel column (or row) holding map position q: floor(q) where q >= 0, else -1 (beyond the map, as floor's
+// negative values are for sc_fetch); a truncating conversion, which equals floor there, costs less than floor.
+inline int map_texel_of(float q) { return q >= 0.0f ? (int)q : -1; }
+
 // The receiver at map position uv and light depth `depth` (world units), compared with the bias `bias` plus
 // `biasSlope` per texel of offset, as a PCF tap; w: the search kernel's half-width in texels; seed: the pixel's.
 inline float map_trace(__global const float* map, __constant const LightViewGpu* lv, float2 uv, float depth, float bias,
@@ -42,6 +46,10 @@ inline float map_trace(__global const float* map, __constant const LightViewGpu*
   const int width = lv->width, height = lv->height;
   const float zFar = map_depth_at_footprint(lv, depth, w);  // the search kernel's nearest blocker
   const float sheet = MAP_TRACE_SHEET * fmax(depth - zFar, 0.0f);
+  // map_depth_at_footprint's terms, read once; and the receiver's own texel, where every segment starts (k = 0).
+  const float texel = lv_texel_world(lv, depth), lightSize = lv->lightSize;
+  const bool spot = lv->kind == LIGHT_KIND_SPOT;
+  const float m0 = sc_fetch(map, width, height, map_texel_of(uv.x), map_texel_of(uv.y)), f0 = depth - bias - m0;
   int lit = 0;
   for (int k = 0; k < MAP_TRACE_POINTS; ++k) {
     const uint tap = (seed * 4u * MAP_TRACE_POINTS + 2u * MAP_TRACE_POINTS + (uint)k) * 2u;
@@ -58,17 +66,17 @@ inline float map_trace(__global const float* map, __constant const LightViewGpu*
     const float len = length(s);
     const int steps = min((int)ceil(w * len) + 1, MAP_TRACE_STEPS);
     const float dk = w / (float)steps;
-    float prevZ = depth, prevM = 0.0f, prevF = -1.0f, entered = depth;
+    float prevZ = depth, prevM = m0, prevF = isfinite(f0) ? f0 : -1.0f, entered = depth;
     bool blocked = false;
-    for (int i = 0; i <= steps && !blocked; ++i) {
+    for (int i = 1; i <= steps && !blocked; ++i) {
       const float kk = dk * (float)i;
       const float2 q = uv + s * kk;
-      const float z = map_depth_at_footprint(lv, depth, kk);
-      const float mz = sc_fetch(map, width, height, (int)floor(q.x), (int)floor(q.y));
+      const float z = spot ? depth / (1.0f + kk * texel / lightSize) : depth - kk * texel / lightSize;
+      const float mz = sc_fetch(map, width, height, map_texel_of(q.x), map_texel_of(q.y));
       const float tapBias = bias + biasSlope * kk * len;
       const float f = z - tapBias - mz;                           // > 0: the segment lies beyond the surface here
-      if (i > 0 && !(prevF > 0.0f) && f > 0.0f) entered = prevZ;  // it passes under a caster's outline
-      if (i > 0 && prevF > 0.0f && !(f > 0.0f))                   // out from under it: through it, or past it
+      if (!(prevF > 0.0f) && f > 0.0f) entered = prevZ;           // it passes under a caster's outline
+      if (prevF > 0.0f && !(f > 0.0f))                            // out from under it: through it, or past it
         blocked = fabs(mz - prevM) <= fmax(2.0f * (prevZ - z), sheet) || (mz < entered - tapBias && mz > z);
       prevZ = z, prevM = mz, prevF = isfinite(f) ? f : -1.0f;
     }
