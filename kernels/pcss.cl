@@ -60,7 +60,7 @@ inline float pcss_blocker_depth(__global const float* map, __constant const Ligh
   for (int k = 0; (float)k < count; ++k) {
     float2 offset = pcss_offset(pattern, disk, cs, taps, k, radius);
     float2 uv = r.uv + offset;
-    float occluder = sc_fetch(map, lv->width, lv->height, (int)floor(uv.x), (int)floor(uv.y));
+    float occluder = sc_fetch(map, lv->width, lv->height, (int)pn_floor(uv.x), (int)pn_floor(uv.y));
     float depth = r.depth - r.bias - r.biasSlope * length(offset);
     if (occluder < depth) {
       const float weight = pcss_tap_weight(k, count);

@@ -110,7 +110,7 @@ inline float vssm_stacked_taps(const VssmMaps* m, const VssmReceiver* r, float2 
         sum += sc_compare_bilinear(m->depth, m->lv->width, m->lv->height, pos, vssm_tap_depth(r, pos));
         continue;
       }
-      const float z = sc_fetch(m->depth, m->lv->width, m->lv->height, (int)floor(pos.x), (int)floor(pos.y));
+      const float z = sc_fetch(m->depth, m->lv->width, m->lv->height, (int)pn_floor(pos.x), (int)pn_floor(pos.y));
       if (z < vssm_tap_depth(r, pos)) {
         blocked += 1.0f;
         sum += (z - m->p.depthNear) * m->p.depthInvRange;

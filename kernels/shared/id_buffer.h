@@ -43,7 +43,7 @@ inline uint id_own(int mode, uint triangle, uint object) { return mode == ID_BUF
 // holds the receiver's id `own` or nothing, shadowed (0) when all four hold other ids.
 inline float id_lit(__global const uint* mapIds, __global const uint* objectIds, int width, int height, float2 uv,
                     uint own, int mode) {
-  float2 base = floor(uv - 0.5f);
+  float2 base = pn_floor2(uv - 0.5f);
   int x = (int)base.x, y = (int)base.y;
   for (int k = 0; k < 4; ++k) {
     uint id = id_fetch(mapIds, objectIds, width, height, x + (k & 1), y + (k >> 1), mode);
@@ -58,7 +58,7 @@ inline int id_depth_decides(__global const uint* mapIds, __global const uint* ob
                             float2 uv, uint ownObject, int mode) {
   if (mode == ID_BUFFER_OFF) return 1;
   if (mode != ID_BUFFER_COMBINED) return 0;
-  uint id = id_fetch(mapIds, objectIds, width, height, (int)floor(uv.x), (int)floor(uv.y), ID_BUFFER_OBJECT);
+  uint id = id_fetch(mapIds, objectIds, width, height, (int)pn_floor(uv.x), (int)pn_floor(uv.y), ID_BUFFER_OBJECT);
   return id == ownObject || id == ID_NONE;
 }
 

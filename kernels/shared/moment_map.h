@@ -93,7 +93,7 @@ inline float4 mm_fetch(__global const MomentScalar* data, uint channels, Pyramid
 // Bilinear lookup at continuous texel coordinates `uv` of level `l` (texel centres at +0.5).
 inline float4 mm_bilinear(__global const MomentScalar* data, uint channels, PyramidLevel l, float2 uv) {
   float2 t = uv - 0.5f;
-  float2 base = floor(t);
+  float2 base = pn_floor2(t);
   float2 f = t - base;
   int x = (int)base.x, y = (int)base.y;
   float4 bottom = mix(mm_fetch(data, channels, l, x, y), mm_fetch(data, channels, l, x + 1, y), f.x);
@@ -104,7 +104,7 @@ inline float4 mm_bilinear(__global const MomentScalar* data, uint channels, Pyra
 // mm_bilinear of ESM's log-space depths (one channel, kernels/shared/moments.h moments_log_mix with exponent c).
 inline float mm_bilinear_log(__global const MomentScalar* data, PyramidLevel l, float2 uv, float c) {
   float2 t = uv - 0.5f;
-  float2 base = floor(t);
+  float2 base = pn_floor2(t);
   float2 f = t - base;
   int x = (int)base.x, y = (int)base.y;
   float bottom = moments_log_mix(mm_fetch(data, 1, l, x, y).x, mm_fetch(data, 1, l, x + 1, y).x, f.x, c);

@@ -72,7 +72,7 @@ inline PyramidTaps pyramid_footprint(uint x, uint y, PyramidLevel s, PyramidLeve
 // widened by 1e-3 level texels against rounding.
 inline int2 pyramid_cover_span(float a, float b, uint base, uint level) {
   const float s = (float)level / (float)base;
-  return (int2)(max((int)floor(a * s - 1e-3f), 0), min((int)floor(b * s + 1e-3f), (int)level - 1));
+  return (int2)(max((int)pn_floor(a * s - 1e-3f), 0), min((int)pn_floor(b * s + 1e-3f), (int)level - 1));
 }
 
 // Level 0 of a levels-only min-max pyramid (host/stages/pyramid.h computeMinMaxLevels): the depth map itself, a texel

@@ -97,8 +97,8 @@ inline SAT_F sat_box_sum(__global const SAT_T* sat, SatTableDesc t, __global con
   const float2 size = (float2)((float)t.width, (float)t.height);
   lo = clamp(lo, (float2)(0.0f), size);
   hi = clamp(hi, lo, size);
-  const int2 c0 = min(convert_int2(floor(lo)), (int2)(t.width - 1, t.height - 1));
-  const int2 c1 = min(convert_int2(floor(hi)), (int2)(t.width - 1, t.height - 1));
+  const int2 c0 = min(convert_int2(pn_floor2(lo)), (int2)(t.width - 1, t.height - 1));
+  const int2 c1 = min(convert_int2(pn_floor2(hi)), (int2)(t.width - 1, t.height - 1));
   const float2 f0 = lo - convert_float2(c0), f1 = hi - convert_float2(c1);
   const int xs[4] = {c0.x, c0.x + 1, c1.x, c1.x + 1}, ys[4] = {c0.y, c0.y + 1, c1.y, c1.y + 1};
   const float wx[4] = {1.0f - f0.x, f0.x, 1.0f - f1.x, f1.x}, wy[4] = {1.0f - f0.y, f0.y, 1.0f - f1.y, f1.y};

@@ -200,7 +200,7 @@ inline float sc_lit(float occluder, float depth) { return occluder < depth ? 0.0
 // the plane is known (planeBias: the constant bias, world units), else against the slope-biased depth.
 inline float sc_hard_lit(__global const float* map, __constant const LightViewGpu* lv, Receiver r, ReceiverPlane rp,
                          float planeBias) {
-  float2 texel = floor(r.uv);
+  float2 texel = pn_floor2(r.uv);
   float occluder = sc_fetch(map, lv->width, lv->height, (int)texel.x, (int)texel.y);
   float depth = rp.valid ? r.depth - planeBias + dot(rp.gradient, texel + 0.5f - r.uv) : r.depth - r.bias;
   return sc_lit(occluder, depth);
@@ -209,7 +209,7 @@ inline float sc_hard_lit(__global const float* map, __constant const LightViewGp
 // Bilinear-weighted comparison of the four texels around continuous texel coordinate `uv`.
 inline float sc_compare_bilinear(__global const float* map, int width, int height, float2 uv, float depth) {
   float2 t = uv - 0.5f;
-  float2 base = floor(t);
+  float2 base = pn_floor2(t);
   float2 f = t - base;
   int x = (int)base.x, y = (int)base.y;
   float s00 = sc_lit(sc_fetch(map, width, height, x, y), depth);
@@ -224,7 +224,7 @@ inline float sc_compare_bilinear(__global const float* map, int width, int heigh
 inline float sc_compare_bilinear_plane(__global const float* map, int width, int height, float2 uv, float2 origin,
                                        float depth, float2 g) {
   float2 t = uv - 0.5f;
-  float2 base = floor(t);
+  float2 base = pn_floor2(t);
   float2 f = t - base;
   int x = (int)base.x, y = (int)base.y;
   float2 c = base + 0.5f - origin;  // centre of texel (x, y) relative to the receiver
@@ -243,7 +243,7 @@ inline float sc_compare_bilinear_plane(__global const float* map, int width, int
 // r = 3).
 inline float sc_grid_plane_sum(__global const float* map, int width, int height, float2 uv, int radius, float depth,
                                float2 g) {
-  const float2 t = uv - 0.5f, b = floor(t), f = t - b;
+  const float2 t = uv - 0.5f, b = pn_floor2(t), f = t - b;
   const int x0 = (int)b.x - radius, y0 = (int)b.y - radius, n = 2 * radius + 2;
   float sum = 0.0f;
   for (int j = 0; j < n; ++j) {

@@ -36,7 +36,7 @@ inline void vssm_leaf_search(const VssmMaps* m, const VssmReceiver* r, float2 lo
   for (int j = 0; j < taps; ++j)
     for (int i = 0; i < taps; ++i) {
       const float2 pos = lo + step * (float2)((float)i + 0.5f, (float)j + 0.5f);
-      const float z = sc_fetch(m->depth, m->lv->width, m->lv->height, (int)floor(pos.x), (int)floor(pos.y));
+      const float z = sc_fetch(m->depth, m->lv->width, m->lv->height, (int)pn_floor(pos.x), (int)pn_floor(pos.y));
       if (z < vssm_tap_depth(r, pos)) {
         blocked += 1.0f;
         depthSum += (z - m->p.depthNear) * m->p.depthInvRange;
