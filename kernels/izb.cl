@@ -667,7 +667,8 @@ static int8 izb_mask_angle_bins(float8 x, float8 y) {
 static int8 izb_edge_tables(float8 gx, float8 gy, float8 offset, float2 cs, int words, int8* misses) {
   *misses = offset > 1.0f + IZB_MASK_MARGIN;
   const int8 a = izb_mask_angle_bins(cs.x * gx + cs.y * gy, cs.x * gy - cs.y * gx);
-  const int8 b = clamp(convert_int8(floor((offset + 1.0f) * (0.5f * (float)IZB_MASK_OFFSETS))), (int8)(0),
+  // Truncation, not floor: the two differ only below 0, which the clamp takes to 0 either way.
+  const int8 b = clamp(convert_int8((offset + 1.0f) * (0.5f * (float)IZB_MASK_OFFSETS)), (int8)(0),
                        (int8)(IZB_MASK_OFFSETS - 1));
   return (a * IZB_MASK_OFFSETS + b) * (2 * words);
 }
