@@ -191,15 +191,13 @@ inline bool vssm_no_blocker(const VssmMaps* m, const VssmReceiver* r, float w) {
         const PyramidLevel level = vssm_hsm_level(m, l);
         if (!vssm_node_may_block(m, r, w, l, level, x, y)) continue;
         if (l == 0u) return false;  // a texel that can block
-        // Its children on level l - 1 (pyramid_taps' footprint: 1, 2 or 3 a side) within the square.
+        // Its children on level l - 1 (its footprint there: 1, 2 or 3 a side) within the square.
         const PyramidLevel finer = vssm_hsm_level(m, l - 1u);
+        const PyramidTaps t = pyramid_footprint((uint)x, (uint)y, finer, level);
         const int2 cx = pyramid_cover_span(a.x, b.x, width, finer.width);
         const int2 cy = pyramid_cover_span(a.y, b.y, height, finer.height);
-        const int nx = finer.width == 1u ? 1 : finer.width % 2u == 0u ? 2 : 3;
-        const int ny = finer.height == 1u ? 1 : finer.height % 2u == 0u ? 2 : 3;
-        const int fx = finer.width == 1u ? 0 : 2 * x, fy = finer.height == 1u ? 0 : 2 * y;
-        for (int j = max(fy, cy.x); j <= min(fy + ny - 1, cy.y); ++j)
-          for (int i = max(fx, cx.x); i <= min(fx + nx - 1, cx.y); ++i) {
+        for (int j = max(t.y0, cy.x); j <= min(t.y0 + t.ny - 1, cy.y); ++j)
+          for (int i = max(t.x0, cx.x); i <= min(t.x0 + t.nx - 1, cx.y); ++i) {
             if (depth == VSSM_BLOCKER_STACK) return false;
             stack[depth++] = (l - 1u) << 28 | (uint)j << 14 | (uint)i;
           }

@@ -29,10 +29,9 @@
 #define MAP_TRACE_SHEET 0.05f
 
 // The light depth at which the light's footprint from a receiver at depth d is k texels wide (lv_penumbra_texels
-// inverted).
-inline float map_depth_at_footprint(__constant const LightViewGpu* lv, float d, float k) {
-  const float texel = lv_texel_world(lv, d);
-  return lv->kind == LIGHT_KIND_SPOT ? d / (1.0f + k * texel / lv->lightSize) : d - k * texel / lv->lightSize;
+// inverted), from the receiver's texel width (lv_texel_world at d) and the light's size, which map_trace reads once.
+inline float map_depth_at_footprint(bool spot, float d, float texel, float lightSize, float k) {
+  return spot ? d / (1.0f + k * texel / lightSize) : d - k * texel / lightSize;
 }
 
 // The texel column (or row) holding map position q: floor(q) where q >= 0, else -1 (beyond the map, as floor's
@@ -44,11 +43,11 @@ inline int map_texel_of(float q) { return q >= 0.0f ? (int)q : -1; }
 inline float map_trace(__global const float* map, __constant const LightViewGpu* lv, float2 uv, float depth, float bias,
                        float biasSlope, float w, uint seed) {
   const int width = lv->width, height = lv->height;
-  const float zFar = map_depth_at_footprint(lv, depth, w);  // the search kernel's nearest blocker
-  const float sheet = MAP_TRACE_SHEET * fmax(depth - zFar, 0.0f);
-  // map_depth_at_footprint's terms, read once; and the receiver's own texel, where every segment starts (k = 0).
   const float texel = lv_texel_world(lv, depth), lightSize = lv->lightSize;
   const bool spot = lv->kind == LIGHT_KIND_SPOT;
+  const float zFar = map_depth_at_footprint(spot, depth, texel, lightSize, w);  // the search kernel's nearest blocker
+  const float sheet = MAP_TRACE_SHEET * fmax(depth - zFar, 0.0f);
+  // The receiver's own texel, where every segment starts (k = 0).
   const float m0 = sc_fetch(map, width, height, map_texel_of(uv.x), map_texel_of(uv.y)), f0 = depth - bias - m0;
   int lit = 0;
   for (int k = 0; k < MAP_TRACE_POINTS; ++k) {
@@ -71,7 +70,7 @@ inline float map_trace(__global const float* map, __constant const LightViewGpu*
     for (int i = 1; i <= steps && !blocked; ++i) {
       const float kk = dk * (float)i;
       const float2 q = uv + s * kk;
-      const float z = spot ? depth / (1.0f + kk * texel / lightSize) : depth - kk * texel / lightSize;
+      const float z = map_depth_at_footprint(spot, depth, texel, lightSize, kk);
       const float mz = sc_fetch(map, width, height, map_texel_of(q.x), map_texel_of(q.y));
       const float tapBias = bias + biasSlope * kk * len;
       const float f = z - tapBias - mz;                           // > 0: the segment lies beyond the surface here

@@ -190,11 +190,11 @@ std::string VssmOutcome::failure(const VssmCase& c) const {
   // Over a huge depth range (the map's depths spread over every decade) the casters nearest the light have cones that
   // span the map: every node can hold a blocker there.
   const bool hugeRange = c.zFar / c.zNear > 1e4f;
-  if (c.searchScheme != VSSM_SCHEME_NONE && c.narrowings > 0 && c.width * c.height > 1 && !hugeRange && noBlocker == 0)
-    out += "; no receiver's search was ended by the HSM's no-blocker test";
+  const bool noBlockerTested =
+      c.searchScheme != VSSM_SCHEME_NONE && c.narrowings > 0 && c.width * c.height > 1 && !hugeRange;
+  if (noBlockerTested && noBlocker == 0) out += "; no receiver's search was ended by the HSM's no-blocker test";
   // Receivers on surfaces tilted to the light: their own texels fail a coarse node's test and pass their own.
-  if (c.searchScheme != VSSM_SCHEME_NONE && c.narrowings > 0 && c.width * c.height > 1 && !hugeRange && descents == 0)
-    out += "; no receiver's no-blocker test descended below its first level";
+  if (noBlockerTested && descents == 0) out += "; no receiver's no-blocker test descended below its first level";
   // The random maps' blocks overlap at several depths: some penumbra kernels hold stacked blockers.
   if (c.stacked > 0 && c.width * c.height > 1 && stacked == 0) out += "; no receiver took the stacked-blocker fallback";
   if (c.stacked == 0 && stacked != 0) out += fmt::format("; {} receivers took the fallback switched off", stacked);
