@@ -166,10 +166,10 @@ class FittedVirtualShadowMap final : public TechniqueOf<FvsmSettings> {
     const uint32_t width = static_cast<uint32_t>(g.width), height = static_cast<uint32_t>(g.height);
     Kernel request(ctx, "kernels/fvsm.cl", "fvsm_request", "fvsm");
     request
-        .args(g.position, g.normal, width, height, baseGpu_, static_cast<uint32_t>(cells), levels,
-              settings_.quality, histogram_)
+        .args(g.position, g.normal, width, height, baseGpu_, static_cast<uint32_t>(cells), levels, settings_.quality,
+              histogram_)
         .moves(pixels * kVisibilityBytesPerPixel)
-        .launch(pixels, kPixelGroup);
+        .launch(pixels, pixelGroup(frame.ctx));
     const std::vector<uint32_t> counts = histogram_.download(ctx);
 
     // 2. Outlier rejection per cell, the quadtree, the budget.
@@ -261,7 +261,7 @@ class FittedVirtualShadowMap final : public TechniqueOf<FvsmSettings> {
                   g.triangleId, scene.positions, scene.triangles, scene.alphaIndex, scene.alphaTriangles,
                   scene.alphaMaterials, scene.alphaTexels, visibility, level_)
             .moves(pixels * kVisibilityBytesPerPixel)
-            .launch(pixels, kPixelGroup);
+            .launch(pixels, pixelGroup(frame.ctx));
       }
     }
     const uint64_t rendered = leaves.size() * tileTexels;

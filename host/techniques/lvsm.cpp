@@ -259,7 +259,7 @@ void LayeredVsm::render(ShadowFrame& frame, Buffer<float>& visibility) {
     kernel.args(g.position, g.normal, map_.gpu, layers_, layerMips_, mipLevels_, shade, layoutBuffer, visibility,
                 debug_.moments, debug_.stats, layerIndex_);
   // G-buffer in, visibility, debug moments (16 B), stats (8 B) and layer index (4 B) out.
-  kernel.moves(pixels * (kVisibilityBytesPerPixel + 16 + 8 + 4)).launch(pixels, kPixelGroup);
+  kernel.moves(pixels * (kVisibilityBytesPerPixel + 16 + 8 + 4)).launch(pixels, pixelGroup(frame.ctx));
 }
 
 std::vector<ParamSpec> lvsmParams() {

@@ -196,7 +196,7 @@ void MomentTechnique::render(ShadowFrame& frame, Buffer<float>& visibility) {
     lookups(moments16_, mips16_);
   else
     lookups(moments_, mips_);
-  kernel.moves(pixels * kVisibilityBytesPerPixel).launch(pixels, kPixelGroup);
+  kernel.moves(pixels * kVisibilityBytesPerPixel).launch(pixels, pixelGroup(frame.ctx));
 }
 
 void positiveWarpBlurMax(std::vector<ParamSpec>& params) {

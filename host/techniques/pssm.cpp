@@ -67,11 +67,11 @@ class ParallelSplit final : public TechniqueOf<PssmSettings> {
     aovs_.allocate(ctx, pixels);
     Kernel kernel(ctx, "kernels/pssm.cl", "pssm_visibility", "shade");
     kernel
-        .args(g.position, g.normal, g.depth, atlas_, idAtlas_, frame.raster.objectIds(), g.triangleId,
-              g.objectId, gpu_.views, gpu_.splits, gpu_.shade, visibility, aovs_.split,
+        .args(g.position, g.normal, g.depth, atlas_, idAtlas_, frame.raster.objectIds(), g.triangleId, g.objectId,
+              gpu_.views, gpu_.splits, gpu_.shade, visibility, aovs_.split,
               aovs_.resolutionError)
         .moves(pixels * (kVisibilityBytesPerPixel + 4 + 8))  // + camera depth read, split and error AOVs written
-        .launch(pixels, kPixelGroup);
+        .launch(pixels, pixelGroup(frame.ctx));
   }
 
   void addDebugChannels(Context& ctx, Image& image) override { aovs_.addChannels(ctx, image); }

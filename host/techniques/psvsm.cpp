@@ -73,7 +73,7 @@ class ParallelSplitVariance final : public TechniqueOf<PsvsmSettings> {
       lookups(maps_);
     kernel
         .moves(pixels * (kVisibilityBytesPerPixel + 4 + 8))  // + camera depth read, split and error AOVs written
-        .launch(pixels, kPixelGroup);
+        .launch(pixels, pixelGroup(frame.ctx));
   }
 
   void addDebugChannels(Context& ctx, Image& image) override { aovs_.addChannels(ctx, image); }

@@ -106,7 +106,7 @@ class SummedAreaVsm final : public TechniqueOf<SavsmSettings> {
     Kernel kernel(ctx, "kernels/savsm.cl", "savsm_visibility", "shade", satBuildOptions(desc));
     kernel.args(g.position, g.normal, map_.gpu, table, desc, offset, s, visibility, debug_.moments, debug_.stats)
         .moves(pixels * kVisibilityBytesPerPixel)
-        .launch(pixels, kPixelGroup);
+        .launch(pixels, pixelGroup(frame.ctx));
   }
 
   // savsm-occluder-distance, or under auto its quantile over the camera's pixels in the map's hard shadow (in units

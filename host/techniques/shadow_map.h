@@ -15,7 +15,12 @@
 
 namespace penumbra {
 
-inline constexpr size_t kPixelGroup = 64;  // work-group size of the per-pixel visibility kernels
+// Work-group size of the per-pixel kernels: 64 work-items (two NVIDIA warps, one AMD wavefront), 32 on CPU devices.
+// PoCL's pthread device deals each thread a run of up to 256 groups per thread at a time, so with 64 pixels a group a
+// run is a seventh of a 640x360 frame, and the thread that draws the run holding the shadows (the costly pixels)
+// works on alone at the end; halving the group halves the runs (docs/performance.md, "Work spread over a CPU's
+// threads").
+inline size_t pixelGroup(const Context& ctx) { return ctx.info().isCpu() ? 32 : 64; }
 // Bandwidth floor of a per-pixel visibility kernel (Kernel::moves): read the pixel's position and normal (two
 // float4), write its visibility (a float). Map reads depend on the filter and caches; debug outputs are optional.
 inline constexpr uint64_t kVisibilityBytesPerPixel = 2 * 16 + 4;
@@ -183,7 +188,7 @@ void launchVisibility(ShadowFrame& frame, const ShadowMap& map, const ShadeFrame
   Kernel kernel(frame.ctx, source, entry, "shade");
   kernel.args(g.position, g.normal, map.targets.depth, map.gpu, shade, extra..., visibility)
       .moves(uint64_t{width} * height * kVisibilityBytesPerPixel)
-      .launch(static_cast<size_t>(width) * height, kPixelGroup);
+      .launch(static_cast<size_t>(width) * height, pixelGroup(frame.ctx));
 }
 
 }  // namespace penumbra

@@ -53,7 +53,7 @@ class VarianceSoftShadows final : public TechniqueOf<VssmTechniqueSettings> {
                     maps_.satOffset(), maps_.hsm(), maps_.levels(), maps_.nodes(), maps_.diskStrips(), shade, debug_,
                     visibility)
               .moves(uint64_t{count} * kVisibilityBytesPerPixel)
-              .launch(count, kPixelGroup);
+              .launch(count, pixelGroup(frame.ctx));
         },
         maps_.sat());
   }
