@@ -2,7 +2,7 @@
 // light-space box of the receivers the camera sees (G-buffer positions), the depth range of a rasterized map, the
 // histogram of the map sizes the camera's pixels need, the histogram of the penumbra widths its shadows have, and the
 // histogram of the widths of the casters' features a drawn map holds. Two
-// passes without global atomics: every work-group reduces a fixed chunk in local memory and writes one partial; the
+// passes without global atomics: every work-group reduces its share in local memory and writes one partial; the
 // host reduces the few partials. Min, max and counts only, so the result does not depend on the order.
 
 #include "kernels/shared/shadow_common.h"
@@ -12,6 +12,13 @@
 #define FIT_SIZE_BINS_PER_OCTAVE 8
 #define FIT_PENUMBRA_BINS 128  // log2 of a penumbra half-width in texels in [-8, 8), FIT_SIZE_BINS_PER_OCTAVE an octave
 #define FIT_PENUMBRA_LOG2_MIN (-8)
+
+// The G-buffer passes' loop: blocks of FIT_GROUP consecutive samples dealt to the work-groups in turn, so that each
+// group's share spreads over the whole frame while a block stays contiguous. A pixel's cost follows the frame's content
+// (a covered pixel projects, a shadowed one reads the map), and a chunk of consecutive rows per group left one thread
+// of a CPU device with all the shadows (PoCL deals each thread a run of groups).
+#define FIT_FOR_SAMPLES(k, count) \
+  for (uint k = get_group_id(0) * FIT_GROUP + get_local_id(0); k < (count); k += get_num_groups(0) * FIT_GROUP)
 
 // Sample k of a width x height frame measured on a grid of `stride` (every stride-th column of every stride-th row,
 // from (0, 0)): its pixel index. `columns` = ceil(width / stride).
@@ -53,12 +60,11 @@ inline void fit_bins_store(__local const uint* bins, uint n, __global uint* part
 // at or behind the light (d <= 0) cannot be in a spot light's map and are skipped. Per group:
 // partial[2g] = (min x, min y, min d, 0), partial[2g+1] = (max x, max y, max d, 0); empty = (+inf, -inf).
 __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_receivers_partial(
-    __global const float4* position, uint count, uint chunk, float4 row0, float4 row1, float4 row2, int perspective,
+    __global const float4* position, uint count, float4 row0, float4 row1, float4 row2, int perspective,
     __global float4* partial) {
   __local float4 los[FIT_GROUP], his[FIT_GROUP];
   float4 lo = (float4)(INFINITY, INFINITY, INFINITY, 0.0f), hi = (float4)(-INFINITY, -INFINITY, -INFINITY, 0.0f);
-  const uint begin = get_group_id(0) * chunk, end = min(begin + chunk, count);
-  for (uint i = begin + get_local_id(0); i < end; i += FIT_GROUP) {
+  FIT_FOR_SAMPLES(i, count) {
     float4 p = position[i];
     if (p.w == 0.0f) continue;
     p.w = 1.0f;
@@ -171,14 +177,12 @@ __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_detail_
 // (every stride-th column of every stride-th row, from (0, 0)) are measured, each against its own neighbours. Per
 // group: partial[g * FIT_SIZE_BINS + b] = count of bin b.
 __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_size_partial(
-    __global const float4* position, __global const float4* normal, uint width, uint height, uint stride, uint chunk,
+    __global const float4* position, __global const float4* normal, uint width, uint height, uint stride,
     __constant const LightViewGpu* views, uint viewCount, __global uint* partial) {
   __local uint bins[FIT_SIZE_BINS];
-  const uint lid = get_local_id(0);
   fit_bins_clear(bins, FIT_SIZE_BINS);
   const uint columns = (width + stride - 1) / stride, count = columns * ((height + stride - 1) / stride);
-  const uint begin = get_group_id(0) * chunk, end = min(begin + chunk, count);
-  for (uint k = begin + lid; k < end; k += FIT_GROUP) {
+  FIT_FOR_SAMPLES(k, count) {
     const uint i = fit_sample_pixel(k, width, stride, columns);
     float4 p = position[i];
     if (p.w == 0.0f) continue;
@@ -213,16 +217,14 @@ __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_size_pa
 #define FIT_PENUMBRA_HALF_WIDTH 0
 #define FIT_PENUMBRA_DISTANCE 1
 __kernel __attribute__((reqd_work_group_size(FIT_GROUP, 1, 1))) void fit_penumbra_partial(
-    __global const float4* position, __global const float4* normal, uint width, uint height, uint stride, uint chunk,
+    __global const float4* position, __global const float4* normal, uint width, uint height, uint stride,
     __global const float* map, __constant const LightViewGpu* lv, float biasConstant, float biasSlope,
     float normalOffset, int measure, float unit, __global uint* partial) {
   __local uint bins[FIT_PENUMBRA_BINS];
-  const uint lid = get_local_id(0);
   fit_bins_clear(bins, FIT_PENUMBRA_BINS);
   const uint columns = (width + stride - 1) / stride, count = columns * ((height + stride - 1) / stride);
-  const uint begin = get_group_id(0) * chunk, end = min(begin + chunk, count);
   const ShadowBias bias = {biasConstant, biasSlope, normalOffset};
-  for (uint k = begin + lid; k < end; k += FIT_GROUP) {
+  FIT_FOR_SAMPLES(k, count) {
     const uint i = fit_sample_pixel(k, width, stride, columns);
     float4 p = position[i];
     float3 n = normal[i].xyz;

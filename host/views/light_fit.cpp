@@ -1,4 +1,4 @@
-// Device reductions for the light fit: one work-group per fixed chunk, a few partials finished on the host.
+// Device reductions for the light fit: a few work-groups, each reducing its share to a partial the host finishes.
 #include "host/views/light_fit.h"
 
 #include <algorithm>
@@ -37,9 +37,8 @@ uint32_t chunkFor(const Context& ctx, size_t count) {
 // The sample grid a quantile histogram of `g` is measured on (fitSampleStride, fit_sample_pixel) and its launch.
 struct SampleLaunch {
   uint32_t stride;
-  size_t count;    // samples
-  uint32_t chunk;  // samples per work-group
-  size_t groups;
+  size_t count;   // samples
+  size_t groups;  // as many as chunkFor's chunks; each takes every groups-th block of the samples (FIT_FOR_SAMPLES)
 };
 
 SampleLaunch sampleLaunch(const Context& ctx, const GBuffer& g) {
@@ -47,8 +46,8 @@ SampleLaunch sampleLaunch(const Context& ctx, const GBuffer& g) {
   s.stride = fitSampleStride(static_cast<size_t>(g.width) * static_cast<size_t>(g.height));
   s.count = static_cast<size_t>((g.width + s.stride - 1) / s.stride) *
             static_cast<size_t>((g.height + s.stride - 1) / s.stride);
-  s.chunk = chunkFor(ctx, s.count);
-  s.groups = (s.count + s.chunk - 1) / s.chunk;
+  const uint32_t chunk = chunkFor(ctx, s.count);
+  s.groups = (s.count + chunk - 1) / chunk;
   return s;
 }
 
@@ -101,7 +100,7 @@ ReceiverBounds reduceReceivers(Context& ctx, const GBuffer& gbuffer, const glm::
   Buffer<cl_float4> partial(ctx, 2 * groups);
   Kernel kernel(ctx, "kernels/fit.cl", "fit_receivers_partial", "fit");
   kernel
-      .args(gbuffer.position, static_cast<uint32_t>(count), chunk, row(lightEye, 0), row(lightEye, 1), row(lightEye, 2),
+      .args(gbuffer.position, static_cast<uint32_t>(count), row(lightEye, 0), row(lightEye, 1), row(lightEye, 2),
             static_cast<int>(perspective), partial)
       .moves(count * sizeof(cl_float4))  // floor: read every position once
       .launch(groups * kFitGroup, kFitGroup);
@@ -134,7 +133,7 @@ MapSizeNeed neededMapSize(Context& ctx, const GBuffer& gbuffer, std::span<const 
   Kernel kernel(ctx, "kernels/fit.cl", "fit_size_partial", "fit");
   kernel
       .args(gbuffer.position, gbuffer.normal, static_cast<uint32_t>(gbuffer.width),
-            static_cast<uint32_t>(gbuffer.height), s.stride, s.chunk, viewBuffer, static_cast<uint32_t>(views.size()),
+            static_cast<uint32_t>(gbuffer.height), s.stride, viewBuffer, static_cast<uint32_t>(views.size()),
             partial)
       .moves(s.count * 4 * sizeof(cl_float4))  // floor: each sample's position and normal, two neighbours' positions
       .launch(s.groups * kFitGroup, kFitGroup);
@@ -168,8 +167,8 @@ Histogram penumbraBins(Context& ctx, const GBuffer& gbuffer, const Buffer<float>
   Kernel kernel(ctx, "kernels/fit.cl", "fit_penumbra_partial", "fit");
   kernel
       .args(gbuffer.position, gbuffer.normal, static_cast<uint32_t>(gbuffer.width),
-            static_cast<uint32_t>(gbuffer.height), s.stride, s.chunk, map, view, bias.constant, bias.slope,
-            bias.normalOffset, static_cast<int>(measure), unit, partial)
+            static_cast<uint32_t>(gbuffer.height), s.stride, map, view, bias.constant, bias.slope, bias.normalOffset,
+            static_cast<int>(measure), unit, partial)
       .moves(s.count * (2 * sizeof(cl_float4) + sizeof(float)))  // floor: each sample's position and normal, a texel
       .launch(s.groups * kFitGroup, kFitGroup);
   return sumPartials(partial.download(ctx), kPenumbraBins);
