@@ -85,8 +85,17 @@ inline float2 pyramid_far_range(float z) { return select((float2)(INFINITY), (fl
 // level; those texels' spans in *sx and *sy (pyramid_cover_span).
 inline uint pyramid_cover_level(__constant const PyramidLevel* levels, uint levelCount, uint width, uint height,
                                 float2 a, float2 b, int most, int2* sx, int2* sy) {
-  *sx = pyramid_cover_span(a.x, b.x, width, width), *sy = pyramid_cover_span(a.y, b.y, height, height);
+  // Levels on which the box spans most + 4 texels or more along an axis fail the test below for certain (the spans'
+  // floors and clamps take off less than 3 texels, and rounding far less than 1), and so do the finer ones: the search
+  // starts past them, with a product per level instead of the spans' divisions and floors.
+  const float2 extent = b - a;
+  const float limit = (float)(most + 4);
   uint l = 0;
+  while (l < levelCount && (extent.x * (float)(l == 0 ? width : levels[l - 1].width) >= limit * (float)width ||
+                            extent.y * (float)(l == 0 ? height : levels[l - 1].height) >= limit * (float)height))
+    ++l;
+  const uint lw = l == 0 ? width : levels[l - 1].width, lh = l == 0 ? height : levels[l - 1].height;
+  *sx = pyramid_cover_span(a.x, b.x, width, lw), *sy = pyramid_cover_span(a.y, b.y, height, lh);
   while ((sx->y - sx->x > most || sy->y - sy->x > most) && l < levelCount) {
     ++l;
     *sx = pyramid_cover_span(a.x, b.x, width, levels[l - 1].width);
