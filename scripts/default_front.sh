@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Regenerates docs/default-front.md: whether each technique's default map size sits on its own speed-vs-error front.
-# Per scene and frame size, one interleaved `penumbra bench --sweep map-size=default,<fixed sizes>` run against an
-# Embree reference (cached in out/front/), then tools/default_front.py over the CSVs. The whole matrix (every
+# Per scene, frame size and technique, one interleaved `penumbra bench --sweep map-size=default,<fixed sizes>` run
+# against an Embree reference (traced once per scene and size, cached in out/front/), then tools/default_front.py over
+# the CSVs. One technique a run: an interleaved run keeps a renderer per setting, and every technique's at 8192² at once
+# took 23.7 GB on `staircase`. The whole matrix (every
 # technique, sizes 256..8192, three frame sizes) takes hours on a 2-core PoCL machine and minutes on a GPU; the
 # environment narrows it.
 # Environment: PENUMBRA (a built tool; default: build with scripts/setup.sh and use $BUILD_DIR/tools/penumbra),
@@ -27,15 +29,26 @@ if [ -z "${PENUMBRA:-}" ]; then
 fi
 export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$(dirname "$PENUMBRA")/../pocl-cache}
 
+TECH_LIST=$TECHNIQUES
+[ "$TECHNIQUES" = all ] && TECH_LIST=$("$PENUMBRA" render --help | sed -n 's/.*Shadow technique: //p' | tr -d ' ')
+[ -n "$TECH_LIST" ] || { echo "default_front: no technique list" >&2; exit 1; }
+
 mkdir -p out/front
 csvs=()
 for scene in "${SCENE_LIST[@]}"; do
   for size in $SIZES; do
     name=$(basename "$scene" .json | tr ':' '-')-$size
-    echo "default_front: $scene at $size"
-    "$PENUMBRA" bench "$scene" --size "$size" --techniques "$TECHNIQUES" --sweep "map-size=default,$MAP_SIZES" \
-      --interleave --runs "$RUNS" --warmup "$WARMUP" --spp "$SPP" --quiet -o "out/front/$name.csv" >/dev/null
-    csvs+=("out/front/$name.csv")
+    for technique in ${TECH_LIST//,/ }; do
+      echo "default_front: $scene at $size, $technique"
+      # The scene's reference, shared by name: bench reuses a cached trace beside its CSV when its key (scene, camera,
+      # size, lights, spp) matches, and traces a new one otherwise.
+      stem=out/front/$name-$technique
+      [ -f "out/front/$name.reference.exr" ] && ln -f "out/front/$name.reference.exr" "$stem.reference.exr"
+      "$PENUMBRA" bench "$scene" --size "$size" --techniques "$technique" --sweep "map-size=default,$MAP_SIZES" \
+        --interleave --runs "$RUNS" --warmup "$WARMUP" --spp "$SPP" --quiet -o "$stem.csv" >/dev/null
+      ln -f "$stem.reference.exr" "out/front/$name.reference.exr"
+      csvs+=("$stem.csv")
+    done
   done
 done
 command="SCENES=\"${SCENE_LIST[*]}\" SIZES=\"$SIZES\" MAP_SIZES=$MAP_SIZES TECHNIQUES=$TECHNIQUES SPP=$SPP RUNS=$RUNS"
