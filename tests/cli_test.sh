@@ -245,6 +245,13 @@ else
   failed=$((failed + 1))
   echo "FAIL bench-interleave-rows: interleaved totals differ from the sequential run's"
 fi
+# Interleaved renderers hold their buffers between rounds and share one budget: sm's 4096² maps (128 MiB) fit 150 MiB
+# alone, and alone in a sequential run, but not beside the 2048² setting's 32 MiB.
+expect bench-interleave-budget 1 "sm map-size=4096 failed: .* \(beside 32 MiB of 150 MiB held by 1 other interleaved" \
+  -- "${bench[@]}" --techniques sm --sweep map-size=2048,4096 --interleave --memory-limit 150MiB \
+  -o "$scratch/bench/x.csv"
+expect bench-sequential-budget 0 "wrote" -- "${bench[@]}" --techniques sm --sweep map-size=2048,4096 \
+  --memory-limit 150MiB -o "$scratch/bench/x.csv"
 expect bench-sweep-skipped 0 "pcf-radius skipped for sm" -- "${bench[@]}" --techniques sm,pcf --sweep pcf-radius=1 \
   -o "$scratch/bench/bench.csv"
 expect bench-reuses-reference 0 "reusing the reference" -- "${bench[@]}" --techniques sm -o "$scratch/bench/bench.csv"

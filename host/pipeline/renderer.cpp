@@ -135,6 +135,7 @@ RenderResult Renderer::render(const Camera& camera, const std::vector<FrameLight
                               FrameOutputs outputs) {
   // Before any work.
   const MemoryPlan plan = checkedPlan(scene_, camera, lights, ctx_.info(), memoryLimit_, download, outputs);
+  plannedDeviceBytes_ = plan.deviceBytes();
   Profiler profiler;
   ProfilerScope scope(ctx_, profiler);
   const Bounds bounds = scene_.bounds();

@@ -73,6 +73,9 @@ class Renderer {
   // A frame whose memory plan (host/pipeline/memory_plan.h) needs more than `bytes` of device or host memory is
   // refused (MemoryError) before anything is allocated; none: the device's own limits alone.
   void setMemoryLimit(std::optional<uint64_t> bytes) { memoryLimit_ = bytes; }
+  // The device memory the last frame's plan counted (0 before the first frame): what this renderer holds between
+  // frames, for callers that keep several (penumbra bench --interleave) and share one budget among them.
+  uint64_t plannedDeviceBytes() const { return plannedDeviceBytes_; }
 
   // Light `index`'s visibility buffer of the last frame (rows bottom-up); the next render() overwrites it.
   const Buffer<float>& visibility(size_t index) const { return slots_.at(index).visibility; }
@@ -102,6 +105,7 @@ class Renderer {
   GBuffer gbuffer_;
   std::vector<Slot> slots_;  // one per light of the frame, in order
   std::optional<uint64_t> memoryLimit_;
+  uint64_t plannedDeviceBytes_ = 0;
 };
 
 }  // namespace penumbra

@@ -8,22 +8,18 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <filesystem>
 #include <memory>
 #include <sstream>
 #include <string_view>
 
-#include <CLI/CLI.hpp>
-
-#include "tools/eval/bandwidth.h"
 #include "host/cl/context.h"
-#include "tools/eval/bench_report.h"
-#include "tools/eval/bench_stats.h"
-#include "tools/eval/sweep.h"
 #include "host/io/atomic_file.h"
 #include "host/io/exr.h"
 #include "host/pipeline/frame_image.h"
+#include "host/pipeline/memory_plan.h"
 #include "host/pipeline/renderer.h"
 #include "host/scene/light_names.h"
 #include "host/scene/load.h"
@@ -35,6 +31,10 @@
 #include "tools/cli/stop_signal.h"
 #include "tools/cli/technique_options.h"
 #include "tools/cli/view_options.h"
+#include "tools/eval/bandwidth.h"
+#include "tools/eval/bench_report.h"
+#include "tools/eval/bench_stats.h"
+#include "tools/eval/sweep.h"
 #include "tools/reference/reference.h"
 
 namespace penumbra::cli {
@@ -251,10 +251,30 @@ int run(const BenchOptions& o) {
   // SIGINT / SIGTERM: the frame in flight ends, the rows of every setting with a timed run are written, and the exit
   // code says which signal it was (130, 143); a second signal ends the process at once.
   const StopSignals stop;
+  // Interleaved, every setting's renderer holds its buffers between rounds: they share the device's memory (or
+  // --memory-limit), so each frame's plan must fit beside what the others' last plans hold (every technique at 8192²
+  // at once took 23.7 GB of a 23 GiB machine before this budget). The first cell renders on `shared`.
+  const uint64_t budget = limit ? std::min(*limit, ctx.info().globalMemBytes) : ctx.info().globalMemBytes;
+  auto rendererOf = [&](Cell& cell) -> Renderer& { return cell.own ? *cell.own : shared; };
+  auto heldByOthers = [&](const Cell& self, size_t* holders) {
+    uint64_t held = 0;
+    for (Cell& other : cells) {
+      if (&other == &self || other.failed || isReferenceTechnique(*other.job->technique)) continue;
+      const uint64_t bytes = rendererOf(other).plannedDeviceBytes();
+      if (bytes > 0) held += bytes, ++*holders;
+    }
+    return held;
+  };
   auto frame = [&](Cell& cell, int i) {
     if (cell.failed || stop.requested()) return;
+    size_t holders = 0;
+    uint64_t held = 0;
     try {
-      Renderer& renderer = cell.own ? *cell.own : shared;
+      if (o.interleave && !isReferenceTechnique(*cell.job->technique)) {
+        held = heldByOthers(cell, &holders);
+        rendererOf(cell).setMemoryLimit(budget > held ? budget - held : 0);
+      }
+      Renderer& renderer = rendererOf(cell);
       const auto start = std::chrono::steady_clock::now();
       const bool peer = isReferenceTechnique(*cell.job->technique);
       if (peer && !cell.peer) cell.peer = std::make_unique<reference::ReferenceRaster>(ctx, scene);
@@ -264,7 +284,12 @@ int run(const BenchOptions& o) {
       if (!cell.walls.first) cell.walls.first = wall;
       if (i >= o.warmup) cell.runs.push_back(cell.last.passes), cell.walls.runs.push_back(wall);
     } catch (const std::exception& e) {  // one failing setting must not lose the others' measurements
-      fmt::print(stderr, "bench: {} failed: {}\n", cell.label, e.what());
+      const bool crowded = holders > 0 && dynamic_cast<const MemoryError*>(&e) != nullptr;
+      fmt::print(stderr, "bench: {} failed: {}{}\n", cell.label, e.what(),
+                 crowded ? fmt::format(" (beside {} of {} held by {} other interleaved setting{}: fewer settings a "
+                                       "run, or no --interleave)",
+                                       formatBytes(held), formatBytes(budget), holders, holders == 1 ? "" : "s")
+                         : "");
       failed.push_back(cell.label);
       cell.failed = true;
       cell.own.reset();
