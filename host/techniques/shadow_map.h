@@ -16,8 +16,8 @@
 namespace penumbra {
 
 // Work-group size of the per-pixel kernels: 64 work-items (two NVIDIA warps, one AMD wavefront), 32 on CPU devices.
-// PoCL's pthread device deals each thread a run of up to 256 groups per thread at a time, so with 64 pixels a group a
-// run is a seventh of a 640x360 frame, and the thread that draws the run holding the shadows (the costly pixels)
+// PoCL's pthread device deals its threads runs of up to 256 groups per thread (512 on two), so with 64 pixels a group
+// a run is a seventh of a 640x360 frame, and the thread that draws the run holding the shadows (the costly pixels)
 // works on alone at the end; halving the group halves the runs (docs/performance.md, "Work spread over a CPU's
 // threads").
 inline size_t pixelGroup(const Context& ctx) { return ctx.info().isCpu() ? 32 : 64; }

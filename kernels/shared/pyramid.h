@@ -80,6 +80,11 @@ inline int2 pyramid_cover_span(float a, float b, uint base, uint level) {
 // a minimum does not. A select, not ?: on vectors (kernels/pyramid.cl pyramid_depth_range says why).
 inline float2 pyramid_far_range(float z) { return select((float2)(INFINITY), (float2)(z), (int2)(-isfinite(z))); }
 
+// Texels across and down level l of a levels-only min-max pyramid over a width x height map (0: the map itself).
+inline uint2 pyramid_level_size(__constant const PyramidLevel* levels, uint l, uint width, uint height) {
+  return l == 0 ? (uint2)(width, height) : (uint2)(levels[l - 1].width, levels[l - 1].height);
+}
+
 // The finest level of a levels-only min-max pyramid over a width x height map (0: the map itself; l >= 1: levels[l -
 // 1], of `levelCount`) whose texels covering [a, b] (inside the map) span at most most + 1 a side, or the coarsest
 // level; those texels' spans in *sx and *sy (pyramid_cover_span).
@@ -88,20 +93,14 @@ inline uint pyramid_cover_level(__constant const PyramidLevel* levels, uint leve
   // Levels on which the box spans most + 4 texels or more along an axis fail the test below for certain (the spans'
   // floors and clamps take off less than 3 texels, and rounding far less than 1), and so do the finer ones: the search
   // starts past them, with a product per level instead of the spans' divisions and floors.
-  const float2 extent = b - a;
-  const float limit = (float)(most + 4);
+  const float2 extent = b - a, limit = (float)(most + 4) * (float2)((float)width, (float)height);
   uint l = 0;
-  while (l < levelCount && (extent.x * (float)(l == 0 ? width : levels[l - 1].width) >= limit * (float)width ||
-                            extent.y * (float)(l == 0 ? height : levels[l - 1].height) >= limit * (float)height))
-    ++l;
-  const uint lw = l == 0 ? width : levels[l - 1].width, lh = l == 0 ? height : levels[l - 1].height;
-  *sx = pyramid_cover_span(a.x, b.x, width, lw), *sy = pyramid_cover_span(a.y, b.y, height, lh);
-  while ((sx->y - sx->x > most || sy->y - sy->x > most) && l < levelCount) {
-    ++l;
-    *sx = pyramid_cover_span(a.x, b.x, width, levels[l - 1].width);
-    *sy = pyramid_cover_span(a.y, b.y, height, levels[l - 1].height);
+  while (l < levelCount && any(extent * convert_float2(pyramid_level_size(levels, l, width, height)) >= limit)) ++l;
+  for (;; ++l) {
+    const uint2 size = pyramid_level_size(levels, l, width, height);
+    *sx = pyramid_cover_span(a.x, b.x, width, size.x), *sy = pyramid_cover_span(a.y, b.y, height, size.y);
+    if (!(sx->y - sx->x > most || sy->y - sy->x > most) || l == levelCount) return l;
   }
-  return l;
 }
 
 // (min, max) of depth over every base texel the box [lo, hi] (texels) touches, from a width x height depth map `base`

@@ -8,14 +8,19 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include <CLI/CLI.hpp>
 #include <chrono>
 #include <filesystem>
 #include <memory>
 #include <sstream>
 #include <string_view>
 
+#include <CLI/CLI.hpp>
+
+#include "tools/eval/bandwidth.h"
 #include "host/cl/context.h"
+#include "tools/eval/bench_report.h"
+#include "tools/eval/bench_stats.h"
+#include "tools/eval/sweep.h"
 #include "host/io/atomic_file.h"
 #include "host/io/exr.h"
 #include "host/pipeline/frame_image.h"
@@ -31,10 +36,6 @@
 #include "tools/cli/stop_signal.h"
 #include "tools/cli/technique_options.h"
 #include "tools/cli/view_options.h"
-#include "tools/eval/bandwidth.h"
-#include "tools/eval/bench_report.h"
-#include "tools/eval/bench_stats.h"
-#include "tools/eval/sweep.h"
 #include "tools/reference/reference.h"
 
 namespace penumbra::cli {
@@ -270,13 +271,13 @@ int run(const BenchOptions& o) {
     size_t holders = 0;
     uint64_t held = 0;
     try {
-      if (o.interleave && !isReferenceTechnique(*cell.job->technique)) {
-        held = heldByOthers(cell, &holders);
-        rendererOf(cell).setMemoryLimit(budget > held ? budget - held : 0);
-      }
-      Renderer& renderer = rendererOf(cell);
-      const auto start = std::chrono::steady_clock::now();
       const bool peer = isReferenceTechnique(*cell.job->technique);
+      Renderer& renderer = rendererOf(cell);
+      if (o.interleave && !peer) {
+        held = heldByOthers(cell, &holders);
+        renderer.setMemoryLimit(budget > held ? budget - held : 0);
+      }
+      const auto start = std::chrono::steady_clock::now();
       if (peer && !cell.peer) cell.peer = std::make_unique<reference::ReferenceRaster>(ctx, scene);
       cell.last = peer ? traceFrame(*cell.peer, camera, *cell.light, cell.job->params)
                        : benchFrame(renderer, camera, *cell.light, *cell.job);
