@@ -159,9 +159,10 @@ __kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coar
 // RASTER_RECT_OVERLAPS for the 16 tiles of bin row `ty` (tile grid) at once, as a lane mask (-1: the record may cover a
 // sample of that tile), lanes outside [tx0, tx1] (the record's candidate tiles) 0: the same rectangles (each tile cut
 // to the candidate box) and the same corner of each edge, in 64-bit lanes, so the tiles hit are exactly the scalar
-// test's. Draws with a tile mask or conservative tests take the scalar loop (COARSE_FOR_EACH_TILE). The scalar loop's
-// branches mispredict where boxes span several tiles (scenes/default.json's 4096^2 light map: 819 k tile tests for
-// 329 k entries); one row at a time took coarse_count + coarse_fill from 7.9 to 3.5 ms there (docs/performance.md).
+// test's. The scalar loop's branches mispredict where boxes span several tiles (scenes/default.json's 4096^2 light map:
+// 819 k tile tests for 329 k entries); a row at a time took coarse_count + coarse_fill there from 7.5 to 3.2 ms
+// (docs/performance.md). Boxes one tile wide (most triangles of dense meshes), draws with a tile mask and conservative
+// tests keep the scalar loop (COARSE_FOR_EACH_TILE): for one tile the row's 16 lanes cost more.
 static inline int16 coarseRowHits(const RasterTriangle* t, int tileX0, int ty, int tx0, int tx1) {
   const int16 tx = tileX0 + (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   const int16 px = tx << RASTER_TILE_LOG2;
