@@ -221,6 +221,37 @@ __kernel void pyramid_minmax_rows(__global const PyramidInput* src, PyramidLevel
   for (uint x = x0; x < min(x0 + PYRAMID_ROW_TEXELS, d.width); ++x)  // the row's last texels; a 1-wide source
     out[x] = pyramid_reduce_global(src, s.width, pyramid_footprint(x, y, s, d));
 }
+
+// Two levels per launch where both halvings are exact (the source's width a multiple of 32, its height of 4; the host
+// checks): a work-item takes 8 texels of the second level `d2`, the 2 x 16 texels of the first `d1` over them and the
+// 4 x 32 source texels under those, so the first level is written and not read back (a 4096^2 map's level 1 is 32 MiB).
+// The same minima and maxima of the same texels as two pyramid_minmax_rows launches, bit for bit.
+__kernel void pyramid_minmax_rows2(__global const PyramidInput* src, PyramidLevel s, __global float2* dst,
+                                   PyramidLevel d1, PyramidLevel d2) {
+  const uint x2 = get_global_id(0) * PYRAMID_ROW_TEXELS, y2 = get_global_id(1);
+  if (x2 >= d2.width || y2 >= d2.height) return;
+  src += s.offset;
+  float16 lo2 = (float16)(INFINITY), hi2 = (float16)(-INFINITY);  // the first level's 16 texels, over both its rows
+  for (uint r = 0; r < 2; ++r) {
+    const uint y1 = 2 * y2 + r;
+    float8 loA = (float8)(INFINITY), hiA = (float8)(-INFINITY), loB = loA, hiB = hiA;
+    for (uint j = 0; j < 2; ++j) {
+      __global const PyramidInput* row = src + (size_t)(2 * y1 + j) * s.width + 4 * x2;
+      pyramid_row_range(row, 0, &loA, &hiA);
+      pyramid_row_range(row + 2 * PYRAMID_ROW_TEXELS, 0, &loB, &hiB);
+    }
+    __global float* out = (__global float*)(dst + d1.offset + (size_t)y1 * d1.width + 2 * x2);
+    float16 both;
+    both.even = loA, both.odd = hiA;
+    vstore16(both, 0, out);
+    both.even = loB, both.odd = hiB;
+    vstore16(both, 1, out);
+    lo2 = fmin(lo2, (float16)(loA, loB)), hi2 = fmax(hi2, (float16)(hiA, hiB));
+  }
+  float16 both;
+  both.even = fmin(lo2.even, lo2.odd), both.odd = fmax(hi2.even, hi2.odd);
+  vstore16(both, 0, (__global float*)(dst + d2.offset + (size_t)y2 * d2.width + x2));
+}
 #endif
 
 #if PYRAMID_MINMAX && PYRAMID_FROM_DEPTH

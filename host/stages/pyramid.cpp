@@ -19,8 +19,9 @@ namespace penumbra {
 namespace {
 
 const Range kLevelGroup(16, 8);  // per-level kernels
-// The rows schedule (pyramid_minmax_rows): a work-item per kRowTexels texels of a row (PYRAMID_ROW_TEXELS), up to
-// kRowGroup of a row's work-items per group (PoCL runs them one after another: the source rows stream through).
+// The rows schedule (pyramid_minmax_rows, and pyramid_minmax_rows2 for two levels at once): a work-item per kRowTexels
+// texels of a row (PYRAMID_ROW_TEXELS), up to kRowGroup of a row's work-items per group (PoCL runs them one after
+// another: the source rows stream through).
 constexpr uint32_t kRowTexels = 8, kRowGroup = 32;
 
 // Batched schedule per device type; a row counts only after tests/pyramid_schedule_test.cpp passes with it.
@@ -325,19 +326,38 @@ cl_float2 computeMinMaxLevels(Context& ctx, const Buffer<float>& depth, uint32_t
   const bool rows =
       config.schedule == PyramidSchedule::Rows || (config.schedule == PyramidSchedule::Auto && ctx.info().cpuLayouts());
   if (rows) {
-    Kernel first(ctx, "kernels/pyramid.cl", "pyramid_minmax_rows", "pyramid", fromDepth);
-    std::optional<Kernel> rest;
-    if (chain.size() > 2) rest.emplace(ctx, "kernels/pyramid.cl", "pyramid_minmax_rows", "pyramid", fromLevels);
-    for (size_t i = 1; i < chain.size(); ++i) {  // floor: read the level above and write this one
-      Kernel& kernel = i == 1 ? first : *rest;
+    std::optional<Kernel> first, rest, first2, rest2;  // one level a launch, or two (pyramid_minmax_rows2)
+    const auto kernel = [&](std::optional<Kernel>& k, const char* name, const std::string& options) -> Kernel& {
+      if (!k) k.emplace(ctx, "kernels/pyramid.cl", name, "pyramid", options);
+      return *k;
+    };
+    for (size_t i = 1; i < chain.size();) {  // floor: read the level above and write the new ones
+      const PyramidLevel& source = chain[i - 1];
+      const uint64_t sourceBytes = texels(source) * (i == 1 ? sizeof(float) : texelBytes);
+      // Both halvings exact, and the second level's rows whole vectors: two levels, the first not read back.
+      if (i + 1 < chain.size() && source.width % (4 * kRowTexels) == 0 && source.height % 4 == 0) {
+        Kernel& k = i == 1 ? kernel(first2, "pyramid_minmax_rows2", fromDepth)
+                           : kernel(rest2, "pyramid_minmax_rows2", fromLevels);
+        if (i == 1)
+          k.args(depth, source, out, chain[i], chain[i + 1]);
+        else
+          k.args(out, source, out, chain[i], chain[i + 1]);
+        const uint32_t items = chain[i + 1].width / kRowTexels;
+        k.moves(sourceBytes + (texels(chain[i]) + texels(chain[i + 1])) * texelBytes)
+            .launch(Range(items, chain[i + 1].height), Range(std::min(kRowGroup, std::bit_ceil(items)), 1));
+        i += 2;
+        continue;
+      }
+      Kernel& k =
+          i == 1 ? kernel(first, "pyramid_minmax_rows", fromDepth) : kernel(rest, "pyramid_minmax_rows", fromLevels);
       if (i == 1)
-        kernel.args(depth, chain[0], out, chain[1]);
+        k.args(depth, source, out, chain[i]);
       else
-        kernel.args(out, chain[i - 1], out, chain[i]);
-      const uint64_t bytes =
-          texels(chain[i - 1]) * (i == 1 ? sizeof(float) : texelBytes) + texels(chain[i]) * texelBytes;
+        k.args(out, source, out, chain[i]);
       const uint32_t items = (chain[i].width + kRowTexels - 1) / kRowTexels;
-      kernel.moves(bytes).launch(Range(items, chain[i].height), Range(std::min(kRowGroup, std::bit_ceil(items)), 1));
+      k.moves(sourceBytes + texels(chain[i]) * texelBytes)
+          .launch(Range(items, chain[i].height), Range(std::min(kRowGroup, std::bit_ceil(items)), 1));
+      ++i;
     }
   } else {
     const std::vector<PyramidPass> passes = plan(ctx, width, height, texelBytes, config);

@@ -44,8 +44,8 @@ PyramidLayout pyramidLayout(uint32_t width, uint32_t height, uint32_t firstLevel
 
 // Batched: several levels per dispatch (moment mips ~15% faster than PerLevel on PoCL too); PerLevel: one launch
 // per level, the reference schedule the batches are tested against bit for bit; Rows (computeMinMaxLevels only): one
-// launch per level, a work-item per 8 texels of a row read as explicit vectors, which CPUs vectorize (PoCL, 2-core
-// EPYC: 4096^2 levels 17.0 -> 4.0 ms, 1.8x the bandwidth floor; docs/performance.md); Auto: Rows for
+// launch per level, or per two where both halvings are exact, a work-item per 8 texels of a row read as explicit
+// vectors, which CPUs vectorize (PoCL, 2-core EPYC: 4096^2 levels 17.0 -> 3.0 ms; docs/performance.md); Auto: Rows for
 // computeMinMaxLevels on CPU devices (DeviceInfo::cpuLayouts), else Batched.
 enum class PyramidSchedule { Auto, Batched, PerLevel, Rows };
 

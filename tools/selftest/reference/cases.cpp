@@ -151,7 +151,9 @@ std::vector<PyramidCase> momentMipCases() {
 }
 
 std::vector<PyramidCase> minMaxCases() {
-  return {{1, 1, 1, false},  {97, 61, 1, true},   {128, 64, 1, false},
+  // 128x64 and 480x68: the CPU rows schedule's two-level launches (widths multiples of 32, heights of 4), the second
+  // then down to odd sizes.
+  return {{1, 1, 1, false},  {97, 61, 1, true},   {128, 64, 1, false}, {480, 68, 1, false},
           {3, 41, 1, false}, {1021, 3, 1, false}, {13, 9, 0, false}};
 }
 
