@@ -15,6 +15,7 @@ __kernel void esm_visibility(__global const float4* position, __global const flo
                              __global float* visibility, __global float4* debugMoments, __global float2* debugStats) {
   uint i = get_global_id(0);
   if (i >= s.width * s.height) return;
+  mm_prefetch(position, lv, base, s, i);
   MomentReceiver r = mm_receiver(position, normal, lv, s, i);
   float lit = 1.0f, width = 0.0f, filtered = 0.0f;
   if (r.valid) {

@@ -24,6 +24,7 @@ __kernel void evsm_visibility(__global const float4* position, __global const fl
                               __global float2* debugStats) {
   uint i = get_global_id(0);
   if (i >= s.width * s.height) return;
+  mm_prefetch(position, lv, base, s, i);
   MomentReceiver r = mm_receiver(position, normal, lv, s, i);
   float lit = 1.0f, variance = 0.0f, width = 0.0f;
   float4 m = (float4)(0.0f);

@@ -27,6 +27,7 @@ __kernel void pcf_visibility(__global const float4* position, __global const flo
   const int idMode = f.idMode, radius = s.radius, poissonTaps = s.poissonTaps;
   uint i = get_global_id(0);
   if (i >= width * height) return;
+  sc_prefetch_texels(position, lv, map, sizeof(float), radius + 1, i + PN_PREFETCH_AHEAD, width * height);
   float4 p = position[i];
   visibility[i] = 1.0f;
   filterOut[i] = 0.0f;

@@ -15,6 +15,7 @@ __kernel void sm_visibility(__global const float4* position, __global const floa
   const int idMode = f.idMode;
   uint i = get_global_id(0);
   if (i >= width * height) return;
+  sc_prefetch_texels(position, lv, map, sizeof(float), 1, i + PN_PREFETCH_AHEAD, width * height);
   float4 p = position[i];
   if (p.w == 0.0f) {  // background
     visibility[i] = 1.0f;

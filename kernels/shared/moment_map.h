@@ -81,6 +81,14 @@ inline MomentReceiver mm_receiver(__global const float4* position, __global cons
 // Moment images are fp32, or half when the kernel is built with -DSTORE_HALF (kernels/shared/storage.h).
 #define MomentScalar PN_SCALAR
 
+// The base level's texels under the pixel PN_PREFETCH_AHEAD work-items after pixel i, asked of the caches on CPU
+// devices (sc_prefetch_texels): its bilinear lookup's two rows.
+inline void mm_prefetch(__global const float4* position, __constant const LightViewGpu* lv,
+                        __global const MomentScalar* base, MomentShade s, uint i) {
+  sc_prefetch_texels(position, lv, base, s.channels * (uint)sizeof(MomentScalar), 1, i + PN_PREFETCH_AHEAD,
+                     s.width * s.height);
+}
+
 // One moment texel (unused channels 0), clamped to the level's edge.
 inline float4 mm_fetch(__global const MomentScalar* data, uint channels, PyramidLevel l, int x, int y) {
   x = clamp(x, 0, (int)l.width - 1);

@@ -103,33 +103,25 @@ inline uint pyramid_cover_level(__constant const PyramidLevel* levels, uint leve
   }
 }
 
-// Software prefetch (CPU devices, PENUMBRA_CPU_LAYOUTS from the host): clang's builtin through an integer, a CPU
-// device having one flat address space; nothing elsewhere.
-#if defined(__clang__) && defined(PENUMBRA_CPU_LAYOUTS)
-#define PYRAMID_PREFETCH(address) __builtin_prefetch((const void*)(size_t)(address))
-#else
-#define PYRAMID_PREFETCH(address) ((void)0)
-#endif
 #define PYRAMID_PREFETCH_LEVELS 4  // pyramid levels 1.. whose node under a point pyramid_prefetch asks for
-#define PYRAMID_PREFETCH_AHEAD 4   // work-items ahead whose texels a shading kernel prefetches
 
 // Asks the caches for the depth map's texel at `uv` (texels) and the one above it, and the nodes over it in the first
 // PYRAMID_PREFETCH_LEVELS levels: what the narrowest pyramid_depth_range_of queries near uv read, mostly from memory
 // (a 4096^2 map is 64 MiB, and neighbouring pixels' texels lie rows apart). Shading kernels call it for a pixel a few
 // work-items ahead, whose queries come after the current one's: pcss's shading on scenes/default.json at 640x360,
-// 33.6 -> 31.6 ms (docs/performance.md). No-op off CPU devices.
+// 33.2 -> 32.0 ms (docs/performance.md, "Prefetching"). No-op off CPU devices.
 inline void pyramid_prefetch(__global const float* base, __global const float2* pyramid,
                              __constant const PyramidLevel* levels, uint levelCount, uint width, uint height,
                              float2 uv) {
-#if defined(__clang__) && defined(PENUMBRA_CPU_LAYOUTS)
+#if PN_PREFETCHES
   if (!(uv.x >= 0.0f && uv.y >= 0.0f && uv.x < (float)width && uv.y < (float)height)) return;
   const uint x = (uint)uv.x, y = (uint)uv.y;
-  PYRAMID_PREFETCH(&base[(size_t)y * width + x]);
-  if (y + 1 < height) PYRAMID_PREFETCH(&base[(size_t)(y + 1) * width + x]);
+  PN_PREFETCH(&base[(size_t)y * width + x]);
+  if (y + 1 < height) PN_PREFETCH(&base[(size_t)(y + 1) * width + x]);
   for (uint l = 0; l < min(levelCount, (uint)PYRAMID_PREFETCH_LEVELS); ++l) {
     const PyramidLevel level = levels[l];
-    PYRAMID_PREFETCH(&pyramid[level.offset + (size_t)min(y >> (l + 1), level.height - 1) * level.width +
-                              min(x >> (l + 1), level.width - 1)]);
+    PN_PREFETCH(&pyramid[level.offset + (size_t)min(y >> (l + 1), level.height - 1) * level.width +
+                         min(x >> (l + 1), level.width - 1)]);
   }
 #endif
 }

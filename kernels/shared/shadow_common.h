@@ -187,6 +187,30 @@ inline Receiver sc_hard_receiver(int receiverPlane, __global const float4* posit
   return rp->valid ? r : sc_receiver_sloped(lv, r, p, n, bias);
 }
 
+// Asks the caches (CPU devices, PN_PREFETCH) for the map texels within `reach` of where G-buffer pixel `ahead` projects
+// (rows y - reach .. y + reach, the columns x - reach and x + reach of each), texels of `texelBytes` bytes; nothing for
+// background or a point off the map. The shading kernels' map reads miss the caches: a 1920^2 map is 14 MiB, and
+// neighbouring pixels land texels apart in it, the next frame row rows away (sm's one read took 86 % of its kernel's
+// own time). Called for the pixel PN_PREFETCH_AHEAD work-items on; reach covers the pixel's normal offset too.
+inline void sc_prefetch_texels(__global const float4* position, __constant const LightViewGpu* lv,
+                               __global const void* map, uint texelBytes, int reach, uint ahead, uint count) {
+#if PN_PREFETCHES
+  if (ahead >= count) return;
+  const float4 q = position[ahead];
+  if (q.w == 0.0f) return;
+  const float2 uv = lv_project(lv, q.xyz).xy;
+  if (!(uv.x >= 0.0f && uv.y >= 0.0f && uv.x < (float)lv->width && uv.y < (float)lv->height)) return;
+  const int x = (int)uv.x, y = (int)uv.y;
+  const int x0 = max(x - reach, 0), x1 = min(x + reach, lv->width - 1);
+  __global const uchar* base = (__global const uchar*)map;
+  for (int row = max(y - reach, 0); row <= min(y + reach, lv->height - 1); ++row) {
+    const size_t first = (size_t)row * (size_t)lv->width;
+    PN_PREFETCH(base + (first + (size_t)x0) * texelBytes);
+    PN_PREFETCH(base + (first + (size_t)x1) * texelBytes);
+  }
+#endif
+}
+
 // Map depth at an integer texel; texels outside the map hold no occluder (+INFINITY).
 inline float sc_fetch(__global const float* depth, int width, int height, int x, int y) {
   if (x < 0 || y < 0 || x >= width || y >= height) return INFINITY;
