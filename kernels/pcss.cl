@@ -85,11 +85,8 @@ __kernel void pcss_visibility(__global const float4* position, __global const fl
   const float maxRadius = s.maxRadius;
   uint i = get_global_id(0);
   if (i >= width * height) return;
-  if (s.adaptive && i + PN_PREFETCH_AHEAD < width * height) {  // the narrowing's texels of a pixel further on
-    const float4 ahead = position[i + PN_PREFETCH_AHEAD];
-    if (ahead.w != 0.0f)
-      pyramid_prefetch(map, pyramid, levels, s.levelCount, lv->width, lv->height, lv_project(lv, ahead.xyz).xy);
-  }
+  if (s.adaptive)
+    pyramid_prefetch_ahead(position, lv, map, pyramid, levels, s.levelCount, i + PN_PREFETCH_AHEAD, width * height);
   float4 p = position[i];
   visibility[i] = 1.0f;
   blockerOut[i] = 0.0f;

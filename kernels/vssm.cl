@@ -372,11 +372,7 @@ __kernel void vssm_visibility(__global const float4* position, __global const fl
   if (i >= count) return;
   visibility[i] = 1.0f;
   debug[i] = (float4)(0.0f, 0.0f, 0.0f, -1.0f);
-  if (i + PN_PREFETCH_AHEAD < count) {  // the narrowing's texels of a pixel further on
-    const float4 ahead = position[i + PN_PREFETCH_AHEAD];
-    if (ahead.w != 0.0f)
-      pyramid_prefetch(depth, hsm, levels, params.pyramidLevels, lv->width, lv->height, lv_project(lv, ahead.xyz).xy);
-  }
+  pyramid_prefetch_ahead(position, lv, depth, hsm, levels, params.pyramidLevels, i + PN_PREFETCH_AHEAD, count);
   const float4 p = position[i];
   if (p.w == 0.0f) return;
   const ShadowBias bias = {f.biasConstant, f.biasSlope, f.normalOffset};

@@ -146,7 +146,7 @@ std::string Context::buildOptions(const std::string& options) const {
   std::string all = "-cl-std=CL1.2";
   if (info_.fp64) all += " -DPENUMBRA_HAS_FP64=1";
   if (info_.int64Atomics) all += " -DPENUMBRA_HAS_INT64_ATOMICS=1";
-  if (info_.cpuLayouts()) all += " -DPENUMBRA_CPU_LAYOUTS=1";  // kernels/shared/pyramid.h PYRAMID_PREFETCH
+  if (info_.cpuLayouts()) all += " -DPENUMBRA_CPU_LAYOUTS=1";  // kernels/shared/common.h PN_PREFETCH
   if (!options.empty()) all += " " + options;
   return all;
 }

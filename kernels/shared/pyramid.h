@@ -5,6 +5,7 @@
 #define PENUMBRA_KERNELS_SHARED_PYRAMID_H
 
 #include "kernels/shared/common.h"
+#include "kernels/shared/light_view.h"  // pyramid_prefetch_ahead projects a pixel into the map
 
 #define PYRAMID_MAX_LEVELS 16  // 2^15 = the largest supported image side, plus the base level
 
@@ -103,17 +104,23 @@ inline uint pyramid_cover_level(__constant const PyramidLevel* levels, uint leve
   }
 }
 
-#define PYRAMID_PREFETCH_LEVELS 4  // pyramid levels 1.. whose node under a point pyramid_prefetch asks for
+#define PYRAMID_PREFETCH_LEVELS 4  // pyramid levels 1.. whose node under a point pyramid_prefetch_ahead asks for
 
-// Asks the caches for the depth map's texel at `uv` (texels) and the one above it, and the nodes over it in the first
-// PYRAMID_PREFETCH_LEVELS levels: what the narrowest pyramid_depth_range_of queries near uv read, mostly from memory
-// (a 4096^2 map is 64 MiB, and neighbouring pixels' texels lie rows apart). Shading kernels call it for a pixel a few
-// work-items ahead, whose queries come after the current one's: pcss's shading on scenes/default.json at 640x360,
-// 33.2 -> 32.0 ms (docs/performance.md, "Prefetching"). No-op off CPU devices.
-inline void pyramid_prefetch(__global const float* base, __global const float2* pyramid,
-                             __constant const PyramidLevel* levels, uint levelCount, uint width, uint height,
-                             float2 uv) {
+// Asks the caches (CPU devices, PN_PREFETCH) for what the narrowest pyramid_depth_range_of queries of G-buffer pixel
+// `ahead` will read: where its position projects into the width x height map `base`, the texel and the one above it,
+// and the nodes over it in the first PYRAMID_PREFETCH_LEVELS of the `levelCount` levels; nothing for background or a
+// point off the map. Those reads come from memory (a 4096^2 map is 64 MiB, and neighbouring pixels' texels lie rows
+// apart). Shading kernels call it for the pixel PN_PREFETCH_AHEAD work-items on: pcss's shading on
+// scenes/default.json at 640x360, 33.2 -> 32.0 ms (docs/performance.md, "Prefetching"). No-op off CPU devices.
+inline void pyramid_prefetch_ahead(__global const float4* position, __constant const LightViewGpu* lv,
+                                   __global const float* base, __global const float2* pyramid,
+                                   __constant const PyramidLevel* levels, uint levelCount, uint ahead, uint count) {
 #if PN_PREFETCHES
+  if (ahead >= count) return;
+  const float4 q = position[ahead];
+  if (q.w == 0.0f) return;
+  const float2 uv = lv_project(lv, q.xyz).xy;
+  const uint width = (uint)lv->width, height = (uint)lv->height;
   if (!(uv.x >= 0.0f && uv.y >= 0.0f && uv.x < (float)width && uv.y < (float)height)) return;
   const uint x = (uint)uv.x, y = (uint)uv.y;
   PN_PREFETCH(&base[(size_t)y * width + x]);
