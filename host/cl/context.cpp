@@ -146,7 +146,8 @@ std::string Context::buildOptions(const std::string& options) const {
   std::string all = "-cl-std=CL1.2";
   if (info_.fp64) all += " -DPENUMBRA_HAS_FP64=1";
   if (info_.int64Atomics) all += " -DPENUMBRA_HAS_INT64_ATOMICS=1";
-  if (info_.cpuLayouts()) all += " -DPENUMBRA_CPU_LAYOUTS=1";  // kernels/shared/common.h PN_PREFETCH
+  // kernels/shared/common.h PN_PREFETCH: software prefetch on CPU devices, not under Oclgrind (no llvm.prefetch there).
+  if (info_.cpuLayouts() && !info_.isSimulator()) all += " -DPENUMBRA_CPU_LAYOUTS=1";
   if (!options.empty()) all += " " + options;
   return all;
 }

@@ -29,10 +29,10 @@ inline float pn_floor(float x) {
 }
 inline float2 pn_floor2(float2 x) { return (float2)(pn_floor(x.x), pn_floor(x.y)); }
 
-// Software prefetch on CPU devices (PENUMBRA_CPU_LAYOUTS, a build option the host passes where the CPU layouts apply):
-// clang's builtin through an integer, a CPU device having one flat address space; nothing elsewhere. Shading kernels
-// ask for what the pixel PN_PREFETCH_AHEAD work-items on reads: PoCL runs a work-group's items one after another, so
-// by the time that pixel runs its lines have arrived (docs/performance.md, "Prefetching").
+// Software prefetch on CPU devices (PENUMBRA_CPU_LAYOUTS, a build option the host passes where the CPU layouts apply,
+// Oclgrind aside): clang's builtin through an integer, a CPU device having one flat address space; nothing elsewhere.
+// Shading kernels ask for what the pixel PN_PREFETCH_AHEAD work-items on reads: PoCL runs a work-group's items one
+// after another, so by the time that pixel runs its lines have arrived (docs/performance.md, "Prefetching").
 #if defined(__clang__) && defined(PENUMBRA_CPU_LAYOUTS)
 #define PN_PREFETCH(address) __builtin_prefetch((const void*)(size_t)(address))
 #define PN_PREFETCHES 1
