@@ -155,6 +155,7 @@ __kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coar
 #if RASTER_BIN_TILES != 16
 #error "coarseRowHits holds a bin's tile row in 16-wide vectors"
 #endif
+#define COARSE_LANES (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15)  // a bin row's tiles, left to right
 
 // RASTER_RECT_OVERLAPS for the 16 tiles of bin row `ty` (tile grid) at once, as a lane mask (-1: the record may cover a
 // sample of that tile), lanes outside [tx0, tx1] (the record's candidate tiles) 0: the same rectangles (each tile cut
@@ -164,7 +165,7 @@ __kernel __attribute__((reqd_work_group_size(RASTER_COARSE_WG, 1, 1))) void coar
 // (docs/performance.md). Boxes one tile wide (most triangles of dense meshes), draws with a tile mask and conservative
 // tests keep the scalar loop (COARSE_FOR_EACH_TILE): for one tile the row's 16 lanes cost more.
 static inline int16 coarseRowHits(const RasterTriangle* t, int tileX0, int ty, int tx0, int tx1) {
-  const int16 tx = tileX0 + (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const int16 tx = tileX0 + COARSE_LANES;
   const int16 px = tx << RASTER_TILE_LOG2;
   const int16 ox0 = max((int16)((int)t->bbox[0]), px), ox1 = min((int16)((int)t->bbox[2]), px + (RASTER_TILE_SIZE - 1));
   const int py = ty << RASTER_TILE_LOG2;
@@ -189,6 +190,12 @@ static inline int coarseSum16(int16 v) {
   return c.x + c.y;
 }
 
+// Whether a record whose candidate columns are [tx0, tx1] is tested a bin row at a time (coarseRowHits): boxes more
+// than a tile wide, in draws with neither a tile mask nor conservative tests. coarse_count and coarse_fill ask alike.
+static inline bool coarseByRows(const RasterViewParams* p, int tx0, int tx1) {
+  return p->tileMasked == 0 && p->conservative == 0 && tx1 > tx0;
+}
+
 // The candidate tiles of record `t` inside bin `b`: columns [*tx0, *tx1], rows [*ty0, *ty1] of the tile grid.
 static inline void coarseCandidates(const RasterTriangle* t, const CoarseBin* b, int* tx0, int* ty0, int* tx1,
                                     int* ty1) {
@@ -205,7 +212,6 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_COARSE, 1, 1))) void coar
     const RasterViewParams p, uint bins) {
   if (get_global_id(0) >= bins) return;
   const CoarseBin b = coarseBinOf(&p, get_global_id(0), binCount, binOffset);
-  const bool vectorRows = p.tileMasked == 0 && p.conservative == 0;  // else the scalar loop, with its extra tests
   uint hits[RASTER_BIN_TILE_COUNT];
   for (int i = 0; i < RASTER_BIN_TILE_COUNT; ++i) hits[i] = 0;
   for (uint j = 0; j < b.count; ++j) {
@@ -215,15 +221,14 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_COARSE, 1, 1))) void coar
     uint code = COARSE_NO_TILE;
     int tx0, ty0, tx1, ty1;
     coarseCandidates(&t, &b, &tx0, &ty0, &tx1, &ty1);
-    if (vectorRows && tx1 > tx0) {
+    if (coarseByRows(&p, tx0, tx1)) {
       int n = 0;
       for (int ty = ty0; ty <= ty1; ++ty) {
         const int16 hit = coarseRowHits(&t, b.tileX0, ty, tx0, tx1);
         const int row = (ty - b.tileY0) << RASTER_BIN_LOG2, rowHits = -coarseSum16(hit);
         if (rowHits == 0) continue;
         vstore16(vload16(0, hits + row) - as_uint16(hit), 0, hits + row);  // a hit lane is -1
-        if (n == 0 && rowHits == 1)
-          code = (uint)(row + coarseSum16(hit & (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15)));
+        if (n == 0 && rowHits == 1) code = (uint)(row + coarseSum16(hit & COARSE_LANES));
         n += rowHits;
       }
       if (n > 1) code = COARSE_SEVERAL_TILES;
@@ -282,12 +287,10 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_COARSE, 1, 1))) void coar
       const RasterTriangle t = tris[index];
       int tx0, ty0, tx1, ty1;
       coarseCandidates(&t, &b, &tx0, &ty0, &tx1, &ty1);
-      if (p.tileMasked == 0 && p.conservative == 0 && tx1 > tx0) {
+      if (coarseByRows(&p, tx0, tx1)) {
         for (int ty = ty0; ty <= ty1; ++ty) {
           // The row's hit lanes as bits, visited lowest first.
-          uint bits =
-              (uint)coarseSum16(coarseRowHits(&t, b.tileX0, ty, tx0, tx1) &
-                                (int16)(1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384, 32768));
+          uint bits = (uint)coarseSum16(coarseRowHits(&t, b.tileX0, ty, tx0, tx1) & ((int16)(1) << COARSE_LANES));
           for (; bits != 0; bits &= bits - 1)
             COARSE_FILL_ONE(((ty - b.tileY0) << RASTER_BIN_LOG2) + 31 - (int)clz(bits & (0u - bits)));
         }

@@ -80,6 +80,20 @@ inline float lv_penumbra_texels(__constant const LightViewGpu* lv, float receive
   return max(world, 0.0f) / lv_texel_world(lv, receiver);
 }
 
+// The map texel under G-buffer pixel `pixel` of `count` (its position projected): 0 for a pixel past the end,
+// background (w = 0) or a point off the map (or behind a warp's centre: NaN). What the shading kernels' prefetches ask
+// about.
+inline int lv_pixel_texel(__global const float4* position, __constant const LightViewGpu* lv, uint pixel, uint count,
+                          int2* texel) {
+  if (pixel >= count) return 0;
+  const float4 q = position[pixel];
+  if (q.w == 0.0f) return 0;
+  const float2 uv = lv_project(lv, q.xyz).xy;
+  if (!(uv.x >= 0.0f && uv.y >= 0.0f && uv.x < (float)lv->width && uv.y < (float)lv->height)) return 0;
+  *texel = convert_int2(uv);
+  return 1;
+}
+
 // Unit vector from a world point towards the light (spot and point: its position; directional: against its axis).
 inline float3 lv_to_light(__constant const LightViewGpu* lv, float3 world) {
   return lv->kind == LIGHT_KIND_DIRECTIONAL ? -lv->axis.xyz : normalize(lv->position.xyz - world);

@@ -116,13 +116,9 @@ inline void pyramid_prefetch_ahead(__global const float4* position, __constant c
                                    __global const float* base, __global const float2* pyramid,
                                    __constant const PyramidLevel* levels, uint levelCount, uint ahead, uint count) {
 #if PN_PREFETCHES
-  if (ahead >= count) return;
-  const float4 q = position[ahead];
-  if (q.w == 0.0f) return;
-  const float2 uv = lv_project(lv, q.xyz).xy;
-  const uint width = (uint)lv->width, height = (uint)lv->height;
-  if (!(uv.x >= 0.0f && uv.y >= 0.0f && uv.x < (float)width && uv.y < (float)height)) return;
-  const uint x = (uint)uv.x, y = (uint)uv.y;
+  int2 texel;
+  if (!lv_pixel_texel(position, lv, ahead, count, &texel)) return;
+  const uint width = (uint)lv->width, height = (uint)lv->height, x = (uint)texel.x, y = (uint)texel.y;
   PN_PREFETCH(&base[(size_t)y * width + x]);
   if (y + 1 < height) PN_PREFETCH(&base[(size_t)(y + 1) * width + x]);
   for (uint l = 0; l < min(levelCount, (uint)PYRAMID_PREFETCH_LEVELS); ++l) {

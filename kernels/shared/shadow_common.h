@@ -195,12 +195,9 @@ inline Receiver sc_hard_receiver(int receiverPlane, __global const float4* posit
 inline void sc_prefetch_texels(__global const float4* position, __constant const LightViewGpu* lv,
                                __global const void* map, uint texelBytes, int reach, uint ahead, uint count) {
 #if PN_PREFETCHES
-  if (ahead >= count) return;
-  const float4 q = position[ahead];
-  if (q.w == 0.0f) return;
-  const float2 uv = lv_project(lv, q.xyz).xy;
-  if (!(uv.x >= 0.0f && uv.y >= 0.0f && uv.x < (float)lv->width && uv.y < (float)lv->height)) return;
-  const int x = (int)uv.x, y = (int)uv.y;
+  int2 texel;
+  if (!lv_pixel_texel(position, lv, ahead, count, &texel)) return;
+  const int x = texel.x, y = texel.y;
   const int x0 = max(x - reach, 0), x1 = min(x + reach, lv->width - 1);
   __global const uchar* base = (__global const uchar*)map;
   for (int row = max(y - reach, 0); row <= min(y + reach, lv->height - 1); ++row) {
