@@ -83,6 +83,11 @@
 #define RASTER_CULL_NONE 0u
 #define RASTER_CULL_CW 1u   // drop triangles clockwise in window space
 #define RASTER_CULL_CCW 2u  // drop triangles counter-clockwise in window space
+// Which light a view leaves out non-casters for (RasterViewParams::casterSource; RasterView::casterLight): none, a
+// ball (a spot or point light's centre and radius) or a cone of directions (a sun's direction and angular radius).
+#define RASTER_CASTERS_ALL 0u
+#define RASTER_CASTERS_BALL 1u
+#define RASTER_CASTERS_CONE 2u
 #define RASTER_MAX_ALPHA_TRIANGLES (1u << (32 - RASTER_FLAG_ALPHA_SHIFT))  // alpha-tested triangles per scene
 
 // DepthMode (raster/rasterizer.h) as the kernels see it.

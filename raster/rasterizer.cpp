@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <span>
 #include <stdexcept>
@@ -64,6 +65,7 @@ struct Rasterizer::Impl {
   void upload(const RasterGeometry& geometry);
   void uploadMaterials(const RasterGeometry& geometry);
   void chooseSolidSides(const RasterView& view, raster::Plan& plan);
+  void chooseCasters(const RasterView& view, raster::Plan& plan) const;
   void run(const raster::Plan& plan, Buffer<float>& depth, Buffer<uint32_t>& triangleIds);
   void sizeQueues(const raster::Plan& plan);
   bool grow(const char* queue, const char* kernel, uint32_t& capacity, uint64_t requested, size_t recordBytes,
@@ -77,6 +79,7 @@ struct Rasterizer::Impl {
   RasterCapacities capacities;
   bool capacitiesChosen = false;  // false: size from the next draw (initial or automatic)
   RasterStats stats;
+  glm::vec3 boundsLo{INFINITY}, boundsHi{-INFINITY};  // the finite positions' box (RasterView::casterLight)
   Buffer<float> noDepth;  // the depth and id targets of conservative draws, which write neither
   Buffer<uint32_t> noIds;
 };
@@ -86,6 +89,10 @@ void Rasterizer::Impl::upload(const RasterGeometry& s) {
   scene.vertexCount = static_cast<uint32_t>(s.positions.size());
   scene.triangleCount = static_cast<uint32_t>(s.triangles.size());
   scene.positions = Buffer<float>(ctx, floats(s.positions), CL_MEM_READ_ONLY);
+  boundsLo = glm::vec3(INFINITY), boundsHi = glm::vec3(-INFINITY);
+  for (const glm::vec3& p : s.positions)
+    if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
+      boundsLo = glm::min(boundsLo, p), boundsHi = glm::max(boundsHi, p);
   std::vector<glm::vec3> zeroNormals;
   if (s.normals.empty()) zeroNormals.assign(s.positions.size(), glm::vec3(0));  // G-buffer: geometric normals
   scene.normals = Buffer<float>(ctx, floats(s.normals.empty() ? zeroNormals : s.normals), CL_MEM_READ_ONLY);
@@ -110,6 +117,23 @@ void Rasterizer::Impl::chooseSolidSides(const RasterView& view, raster::Plan& pl
   if (codes.codes == nullptr) return;
   if (codes.changed) scene.solidSides = Buffer<uint8_t>(ctx, std::span<const uint8_t>(*codes.codes), CL_MEM_READ_ONLY);
   plan.params.solidSides = 1;
+}
+
+// A shadow-map draw for a light (RasterView::casterLight): the light and the geometry's box for setup's caster test.
+void Rasterizer::Impl::chooseCasters(const RasterView& view, raster::Plan& plan) const {
+  if (!view.casterLight || !(boundsLo.x <= boundsHi.x) || plan.empty()) return;
+  const RasterLight& light = *view.casterLight;
+  RasterViewParams& p = plan.params;
+  const glm::vec3 centre = 0.5f * (boundsLo + boundsHi), half = 0.5f * (boundsHi - boundsLo);
+  const glm::vec4 source = light.directional ? glm::vec4(glm::normalize(light.towards), std::sin(light.angularRadius))
+                                             : glm::vec4(light.position, light.radius);
+  if (!std::isfinite(source.x + source.y + source.z + source.w) || !(source.w >= 0.0f) ||
+      (light.directional && !(light.angularRadius < 1.5707963f)))
+    throw std::invalid_argument("raster view: the caster test's light is not finite, or a cone of half a sphere");
+  p.casterSource = light.directional ? RASTER_CASTERS_CONE : RASTER_CASTERS_BALL;
+  p.casterTolerance = 1e-5f * std::max({glm::length(half), glm::length(centre), 1e-30f});
+  for (int i = 0; i < 4; ++i) p.casterLight[i] = source[i];
+  for (int i = 0; i < 3; ++i) p.casterBoxCentre[i] = centre[i], p.casterBoxHalf[i] = half[i];
 }
 
 // The alpha and sidedness tables (raster/alpha_tables.h); one placeholder entry each where a scene needs none.
@@ -221,6 +245,7 @@ void Rasterizer::draw(const RasterView& view, RasterTargets& targets) {
   raster::Plan plan =
       raster::makePlan(view, impl_->scene.triangleCount, impl_->scene.vertexCount, impl_->scene.materials);
   impl_->chooseSolidSides(view, plan);
+  impl_->chooseCasters(view, plan);
   ensureTarget(impl_->ctx, targets.depth, plan, std::numeric_limits<float>::infinity());
   if (view.writeTriangleIds) {
     ensureTarget(impl_->ctx, targets.triangleId, plan, kNoTriangle);

@@ -36,6 +36,16 @@ struct Scissor {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // pixels [x0, x1) x [y0, y1)
 };
 
+// A light as the caster test sees it (RasterView::casterLight): a ball holding a spot or point light (its disk or
+// sphere), or the cone of directions towards a sun.
+struct RasterLight {
+  bool directional = false;
+  glm::vec3 position{0.0f};    // ball: the centre
+  float radius = 0.0f;         // ball: world units (0: a point)
+  glm::vec3 towards{0.0f};     // cone: unit direction from the scene towards the light
+  float angularRadius = 0.0f;  // cone: radians, below pi / 2
+};
+
 struct RasterView {
   glm::mat4 view{1.0f};  // world -> eye
   // eye -> clip, OpenGL convention. Separable: perspective (glm::perspective/frustum: w_c = -k z_eye) or
@@ -65,6 +75,13 @@ struct RasterView {
   // draw() only: false leaves RasterTargets::triangleId alone (not written, not even sized): a depth-only map, for the
   // techniques that read no ID buffer (a 4096^2 map writes 64 MiB less).
   bool writeTriangleIds = true;
+  // draw() only: the light a shadow map of depth comparisons is drawn for, whose draw may leave out every triangle
+  // that cannot hide any part of it from any point of the uploaded geometry's bounding box: the triangle's plane has
+  // the whole light strictly on one side and the box on that side too (up to 10^-5 of the box's size, far below any
+  // depth bias). Receivers lie in that box, so no comparison a receiver makes changes; the texels such a triangle held
+  // (a ground under everything, the walls of a room around its light) stay empty. Not for maps whose texels are
+  // filtered as values (moments), which need the receivers' own depths.
+  std::optional<RasterLight> casterLight;
 };
 
 // Depth-only targets (shadow maps): width * height each, row-major, row 0 at the bottom (y up in NDC).

@@ -271,6 +271,25 @@ static uint setupAlphaFlags(uint bits) {
              : 0u;
 }
 
+// Whether the triangle (q0, q1, q2) can shade no point of the view's receiver box from any point of its light
+// (RasterView::casterLight): its plane has the whole light strictly on one side and every point of the box on the
+// same side, or behind the plane by at most casterTolerance. A segment from such a point to a point of the light then
+// stays on that side and crosses the triangle nowhere (beyond the tolerance, which depth comparisons' bias ignores
+// anyway): a ground plane under everything, a room's walls around its light. Degenerate triangles are kept (setup
+// drops them later).
+static bool setupCastsNothing(const RasterViewParams* p, float3 q0, float3 q1, float3 q2) {
+  const float3 n = cross(q1 - q0, q2 - q0);
+  const float size = length(n);
+  if (!(size > 0.0f) || !isfinite(size)) return false;
+  const float3 light = (float3)(p->casterLight[0], p->casterLight[1], p->casterLight[2]);
+  const float side = p->casterSource == RASTER_CASTERS_BALL ? dot(n, light - q0) : dot(n, light);
+  if (!(fabs(side) > p->casterLight[3] * size)) return false;  // the plane cuts the light (or touches it)
+  const float3 centre = (float3)(p->casterBoxCentre[0], p->casterBoxCentre[1], p->casterBoxCentre[2]);
+  const float3 extent = (float3)(p->casterBoxHalf[0], p->casterBoxHalf[1], p->casterBoxHalf[2]);
+  const float nearest = copysign(1.0f, side) * dot(n, centre - q0) - dot(fabs(n), extent);  // the box's corner
+  return nearest >= -p->casterTolerance * size;
+}
+
 static uint setupTriangle(__global const float* positions, __global const uint* triangles,
                           __global const uint* triangleBits, __global const uchar* solidSides, uint t,
                           const RasterViewParams* p, __global RasterTriangle* out, __global RasterCounters* counters) {
@@ -282,6 +301,10 @@ static uint setupTriangle(__global const float* positions, __global const uint* 
   }
   float3 q0 = vload3(idx.x, positions), q1 = vload3(idx.y, positions), q2 = vload3(idx.z, positions);
   if (!all(isfinite(q0) && isfinite(q1) && isfinite(q2))) {  // NaN or infinite vertices are dropped
+    out[t] = r;
+    return 0;
+  }
+  if (p->casterSource != RASTER_CASTERS_ALL && setupCastsNothing(p, q0, q1, q2)) {
     out[t] = r;
     return 0;
   }

@@ -87,7 +87,11 @@ typedef struct {
   int conservative;                    // 1: tile lists only (Rasterizer::drawTileLists): dilated boxes and tests, no fine
   int solidSides;                      // 1: setup reads the per-triangle RASTER_CULL_* codes (RasterView)
   int skipIds;                         // 1: fine writes depth only (RasterView::writeTriangleIds false)
-  int pad[2];
+  uint casterSource;                   // RASTER_CASTERS_*: setup leaves out triangles that shade no point of the box
+  float casterTolerance;               // world units a box point may lie behind a left-out triangle's plane
+  float casterLight[4];                // ball: centre xyz, radius; cone: unit direction towards the light, sin(angle)
+  float casterBoxCentre[4];            // the box every receiver lies in (the geometry's bounds): centre xyz
+  float casterBoxHalf[4];              // and half-extent xyz
 } RasterViewParams;
 
 #if PENUMBRA_HOST
@@ -100,7 +104,8 @@ static_assert(offsetof(RasterViewParams, p00) == 112 && offsetof(RasterViewParam
 static_assert(offsetof(RasterViewParams, width) == 192 && offsetof(RasterViewParams, generalProjection) == 284);
 static_assert(offsetof(RasterViewParams, tileMasked) == 288 && offsetof(RasterViewParams, cullSingleSided) == 296);
 static_assert(offsetof(RasterViewParams, conservative) == 300 && offsetof(RasterViewParams, solidSides) == 304);
-static_assert(sizeof(RasterViewParams) == 320, "RasterViewParams layout must match OpenCL C");
+static_assert(offsetof(RasterViewParams, casterSource) == 312 && offsetof(RasterViewParams, casterBoxHalf) == 352);
+static_assert(sizeof(RasterViewParams) == 368, "RasterViewParams layout must match OpenCL C");
 #endif
 
 #endif

@@ -33,7 +33,7 @@ class IdBuffer : public ClTest, public ::testing::WithParamInterface<std::string
 };
 
 TEST_P(IdBuffer, NoAcneWithoutAnyBias) {
-  const Scene plane = makeProcedural("plane");
+  const Scene plane = test::withSliverBelow(makeProcedural("plane"));  // a plane that may shadow
   Camera camera = test::topDown();
   camera.eye = {0.0f, 2.0f, 6.0f};
   camera.width = 128, camera.height = 96;

@@ -289,6 +289,90 @@ TEST_F(RasterTest, SolidsFarSidesAreLeftOutWithTheSameDepthAndIds) {
   }
 }
 
+// RasterView::casterLight: a ground quad under a box and a floating plate, drawn from above. Under a light above the
+// ground (a ball, a sun's cone) the triangles in the ground's plane (the ground and the box's bottom) are left out and
+// their texels stay empty, while every other texel keeps its depth and id; a light below the ground, a ball or a cone
+// that the plane cuts, or geometry below the ground keeps every triangle. A degenerate light is refused.
+TEST_F(RasterTest, CasterTestLeavesOutOnlyWhatShadowsNoPointOfTheScene) {
+  Scene scene = makeScene({{-6, 0, -6}, {-6, 0, 6}, {6, 0, 6}, {6, 0, -6}}, {{0, 1, 2}, {0, 2, 3}});
+  detail::addBox(scene, 0, {-2.0f, 0.0f, -1.0f}, {-0.5f, 1.5f, 0.5f});
+  detail::addTriangle(scene, 0, {0.5f, 2.0f, 0.5f}, {2.5f, 2.2f, 0.5f}, {1.5f, 2.1f, 2.5f});  // the plate
+  scene.objectIds.assign(scene.triangles.size(), 0);
+  Scene below = scene;  // a sliver under the ground: the box of the scene then reaches under the ground's plane
+  detail::addTriangle(below, 0, {3, -0.01f, 3}, {4, -0.01f, 3}, {3, -0.01f, 4});
+  // The triangles lying in the plane y = h, which the caster test may leave out.
+  auto inPlane = [](const Scene& s, uint32_t triangle, float h) {
+    const glm::uvec3 t = s.triangles[triangle];
+    return s.positions[t.x].y == h && s.positions[t.y].y == h && s.positions[t.z].y == h;
+  };
+  auto countInPlane = [&](const Scene& s, float h) {
+    size_t n = 0;
+    for (uint32_t t = 0; t < s.triangles.size(); ++t) n += inPlane(s, t, h);
+    return n;
+  };
+  ASSERT_EQ(countInPlane(scene, 0.0f), 4u);  // the ground's 2 and the box's bottom 2
+  ASSERT_EQ(countInPlane(below, -0.01f), 1u);
+  auto ball = [](glm::vec3 centre, float radius) {
+    RasterLight l;
+    l.position = centre, l.radius = radius;
+    return l;
+  };
+  auto cone = [](glm::vec3 towards, float degrees) {
+    RasterLight l;
+    l.directional = true, l.towards = glm::normalize(towards), l.angularRadius = glm::radians(degrees);
+    return l;
+  };
+  struct Case {
+    const char* name;
+    const Scene* scene;
+    RasterLight light;
+    std::optional<float> plane;  // the plane whose triangles are left out; none: every triangle is drawn
+  };
+  const Case cases[] = {
+      {"ball above", &scene, ball({1, 8, 2}, 0.5f), 0.0f},
+      {"point above", &scene, ball({-4, 3, 5}, 0.0f), 0.0f},
+      {"sun above", &scene, cone({0.3f, 1.0f, 0.2f}, 5.0f), 0.0f},
+      {"ball below", &scene, ball({0, -5, 0}, 0.5f), std::nullopt},
+      {"ball through the plane", &scene, ball({0, 0.3f, 0}, 0.5f), std::nullopt},
+      {"sun grazing within its radius", &scene, cone({1.0f, std::tan(glm::radians(3.0f)), 0.0f}, 5.0f), std::nullopt},
+      // The ground then shadows the sliver, which shadows nothing.
+      {"geometry below the ground", &below, ball({1, 8, 2}, 0.5f), -0.01f},
+  };
+  const RasterView top = orthoView(96, 96, {0, 10, 0.01f}, {0, 0, 0}, {-7, 7, -7, 7}, 1.0f, 20.0f);
+  for (const Case& c : cases) {
+    Rasterizer raster(ctx());
+    uploadScene(raster, *c.scene);
+    RasterView view = top;
+    const RasterOutput all = drawPoisoned(ctx(), raster, view);
+    const uint64_t drawn = raster.stats().trianglesSetUp;
+    view.casterLight = c.light;
+    const RasterOutput casters = drawPoisoned(ctx(), raster, view);
+    EXPECT_EQ(drawn - raster.stats().trianglesSetUp, c.plane ? countInPlane(*c.scene, *c.plane) : 0u) << c.name;
+    size_t emptied = 0;
+    for (size_t i = 0; i < all.depth.size(); ++i) {
+      if (c.plane && all.ids[i] != kNoTriangle && inPlane(*c.scene, all.ids[i], *c.plane)) {
+        ASSERT_EQ(casters.ids[i], kNoTriangle) << c.name << " " << i;
+        ASSERT_EQ(casters.depth[i], std::numeric_limits<float>::infinity()) << c.name << " " << i;
+        ++emptied;
+      } else {
+        ASSERT_EQ(casters.ids[i], all.ids[i]) << c.name << " " << i;
+        ASSERT_EQ(std::memcmp(&casters.depth[i], &all.depth[i], sizeof(float)), 0) << c.name << " " << i;
+      }
+    }
+    if (c.plane == 0.0f) {
+      EXPECT_GT(emptied, all.depth.size() / 2) << c.name;  // the ground
+    }
+  }
+  Rasterizer raster(ctx());
+  uploadScene(raster, scene);
+  RasterView view = top;
+  RasterTargets targets;
+  view.casterLight = cone({0, 1, 0}, 90.0f);
+  EXPECT_THROW(raster.draw(view, targets), std::invalid_argument);
+  view.casterLight = ball({0, NAN, 0}, 1.0f);
+  EXPECT_THROW(raster.draw(view, targets), std::invalid_argument);
+}
+
 // RasterView::writeTriangleIds false: the same depths, and the id target left as it was (poisoned ids stay; fresh
 // targets get one unused entry).
 TEST_F(RasterTest, DepthOnlyDrawsLeaveTheIdsAlone) {

@@ -36,7 +36,7 @@ class PcfTechniques : public ClTest {
 };
 
 TEST_F(PcfTechniques, ReceiverPlaneBiasKeepsAGrazingPlaneLitWithoutSlopeBias) {
-  const Scene plane = makeProcedural("plane");
+  const Scene plane = test::withSliverBelow(makeProcedural("plane"));  // a plane that may shadow
   Camera camera = test::topDown();
   camera.eye = {0.0f, 6.0f, 6.0f};
   const Light grazing = parseLight("dir:1,-0.25,0.2");  // ~75 degrees from the normal

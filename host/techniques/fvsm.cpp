@@ -229,6 +229,7 @@ class FittedVirtualShadowMap final : public TechniqueOf<FvsmSettings> {
         RasterTargets slot{atlasDepth_.region(ctx, k * tileTexels, tileTexels),
                            ids ? atlasIds_.region(ctx, k * tileTexels, tileTexels) : atlasIds_.region(ctx, 0, 1)};
         views[k].raster.writeTriangleIds = ids;
+        views[k].raster.casterLight = rasterLightOf(frame.light);  // depth comparisons only (ShadowMap::castersOnly)
         frame.raster.draw(views[k].raster, slot);
       }
       page_.allocate(ctx, page.size(), CL_MEM_READ_ONLY);

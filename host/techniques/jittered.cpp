@@ -168,6 +168,7 @@ class Jittered final : public TechniqueOf<JitterSettings> {
         map_.view.raster.scissor = scissor;
         map_.view.raster.writeTriangleIds = map_.triangleIds && (pass == 0 || settings_.idMode != ID_BUFFER_OFF);
         if (masking_) map_.view.raster.tileMask = &tileMask_;
+        map_.view.raster.casterLight = rasterLightOf(frame.light);  // as pass 0's (renderShadowMap, castersOnly)
         frame.raster.draw(map_.view.raster, map_.targets);
       }
       if (pass == 0) {  // renderShadowMap uploaded the unscaled view; a rotation's common scale redrew it
@@ -229,6 +230,7 @@ class Jittered final : public TechniqueOf<JitterSettings> {
     plan.warped = settings_.map.fit.warp.lispsm;
     plan.nJitter = settings_.nJitter;
     map_.triangleIds = settings_.idMode != ID_BUFFER_OFF || settings_.exactEdges;  // exact edges: pass 0's ids
+    map_.castersOnly = true;  // depth comparisons only: the maps leave out what can shadow no receiver
     renderShadowMap(frame, settings_.map, map_, 0.0f);
     plan.fitted = map_.view;
     if (plan.reduction > 0.0f || plan.nJitter > 0.0f) plan.depth = tightViewDepth(frame.ctx, frame.gbuffer);

@@ -44,6 +44,7 @@ class PercentageCloser final : public TechniqueOf<PcfSettings> {
     // Depth comparisons only: the auto radius's occluders lie at or beyond the nearest drawn caster anyway. Under auto
     // the kernel may reach --pcf-max-radius texels, so the map's margin does.
     map_.triangleIds = s.idMode != ID_BUFFER_OFF;
+    map_.castersOnly = true;  // the map leaves out what can shadow no receiver
     renderShadowMap(frame, s.map, map_, s.adaptive || s.radius.automatic ? maxRadius : limit, MapNear::Fitted);
     const AutoKernel kernel =
         resolveAutoKernel(frame, map_.targets.depth, map_.gpu, s.map.receiverBias(), s.radius, maxRadius);

@@ -63,6 +63,7 @@ class PercentageCloserSoft final : public TechniqueOf<PcssSettings> {
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     const PcssSettings& s = settings_;
     const bool adaptive = s.adaptive;
+    map_.castersOnly = true;  // depth comparisons only: the map leaves out what can shadow no receiver
     // Adaptive: the pyramid's top is the nearest caster drawn, no reduction of its own.
     renderShadowMap(frame, s.map, map_, s.maxRadius, adaptive ? MapNear::Fitted : MapNear::Drawn);
     blocker_.allocate(frame.ctx, visibility.size());

@@ -51,7 +51,7 @@ class ParallelSplit final : public TechniqueOf<PssmSettings> {
     AutoKernel pcf;  // hard: none; else the fixed radius or auto's, resolved on split 0
     atlas_.allocate(ctx, plan.views.size() * texels);
     idAtlas_.allocate(ctx, idMode == ID_BUFFER_OFF ? 1 : plan.views.size() * texels);
-    drawSplits(frame, plan, targets_, idMode != ID_BUFFER_OFF, [&](size_t s, const Buffer<float>& depth) {
+    drawSplits(frame, plan, targets_, idMode != ID_BUFFER_OFF, true, [&](size_t s, const Buffer<float>& depth) {
       if (s == 0 && !hard) pcf = resolveAutoKernelOnSplit0(frame, plan, depth, set.map, set.radius, set.maxWidth);
       copyInto(ctx, depth, atlas_, s * texels, texels);
       if (idMode != ID_BUFFER_OFF) copyInto(ctx, targets_.triangleId, idAtlas_, s * texels, texels);

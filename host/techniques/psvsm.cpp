@@ -99,7 +99,7 @@ class ParallelSplitVariance final : public TechniqueOf<PsvsmSettings> {
     maps.mipAtlas.allocate(ctx, plan.views.size() * mipTexels * 2);
     maps.moments.allocate(ctx, shape.count());
     if (mipTexels > 0) maps.mips.allocate(ctx, mipTexels * 2);
-    drawSplits(frame, plan, targets_, false, [&](size_t s, const Buffer<float>& depth) {
+    drawSplits(frame, plan, targets_, false, false, [&](size_t s, const Buffer<float>& depth) {
       const LightViewGpu& v = plan.views[s].gpu;
       if (s == 0) blurRadius_ = resolveAutoRadiusOnSplit0(frame, plan, depth, settings_.map, settings_.filter.blur);
       MomentsConfig config;

@@ -269,6 +269,7 @@ void renderShadowMap(ShadowFrame& frame, const MapSettings& settings, ShadowMap&
     const float margin = reachTexels + settings.normalOffset + 1.0f;
     map.view = fitWarpedLightView(frame, settings.fit, size, margin);
     map.view.raster.writeTriangleIds = map.triangleIds;
+    if (map.castersOnly) map.view.raster.casterLight = rasterLightOf(frame.light);
     frame.raster.draw(map.view.raster, map.targets);
   }
   if (near == MapNear::Drawn)

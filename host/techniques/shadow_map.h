@@ -30,6 +30,9 @@ struct ShadowMap {
   RasterTargets targets;     // depth: linear light depth, +INFINITY where empty
   Buffer<LightViewGpu> gpu;  // view.gpu on the device (one element) for __constant arguments
   bool triangleIds = false;  // renderShadowMap draws targets.triangleId too (an ID buffer reads them)
+  // renderShadowMap leaves out the triangles that can shadow no point of the scene (RasterView::casterLight): for
+  // techniques that only compare depths with the map's texels (sm, pcf, pcss), never for filtered moments.
+  bool castersOnly = false;
 };
 
 // map-size (auto: chosen per frame by the renderer from the camera's pixels, host/views/light_fit.h neededMapSize),

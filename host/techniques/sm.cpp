@@ -23,6 +23,7 @@ class HardShadowMap final : public TechniqueOf<SmSettings> {
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     map_.triangleIds = settings_.idMode != ID_BUFFER_OFF;
+    map_.castersOnly = true;  // the map leaves out what can shadow no receiver
     renderShadowMap(frame, settings_.map, map_, 0.0f, MapNear::Fitted);  // depth comparisons only
     const GBuffer& g = frame.gbuffer;
     const ShadeFrame shade = shadeFrame(frame, settings_.map, settings_.receiverPlane, settings_.idMode);

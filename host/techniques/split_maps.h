@@ -55,10 +55,12 @@ LightView sliceLightView(const ShadowFrame& frame, const MapSettings& map, float
 // --warp lispsm (pssm) each split gets its own LiSPSM view of its slice instead (no snapping: a usage error).
 SplitPlan planSplits(ShadowFrame& frame, const MapSettings& map, const SplitSettings& splits, float marginTexels);
 
-// Draws every split's depth map (split s into `targets`, with its triangle ids when `triangleIds`, then tightens its
-// zNear to the nearest caster drawn) and hands it to `each(s, depth)` before the next split reuses the targets.
+// Draws every split's depth map (split s into `targets`, with its triangle ids when `triangleIds`, leaving out what
+// can shadow no receiver when `castersOnly` (ShadowMap::castersOnly: depth comparisons, not moments), then tightens
+// its zNear to the nearest caster drawn) and hands it to `each(s, depth)` before the next split reuses the targets.
 template <class Each>
-void drawSplits(ShadowFrame& frame, SplitPlan& plan, RasterTargets& targets, bool triangleIds, Each&& each);
+void drawSplits(ShadowFrame& frame, SplitPlan& plan, RasterTargets& targets, bool triangleIds, bool castersOnly,
+                Each&& each);
 
 // The kernels' per-split constants, the shared shade arguments and the light views on the device.
 struct SplitGpu {
@@ -90,10 +92,12 @@ AutoKernel resolveAutoKernelOnSplit0(ShadowFrame& frame, const SplitPlan& plan, 
 void recordSplits(ShadowFrame& frame, const SplitPlan& plan);
 
 template <class Each>
-void drawSplits(ShadowFrame& frame, SplitPlan& plan, RasterTargets& targets, bool triangleIds, Each&& each) {
+void drawSplits(ShadowFrame& frame, SplitPlan& plan, RasterTargets& targets, bool triangleIds, bool castersOnly,
+                Each&& each) {
   for (size_t s = 0; s < plan.views.size(); ++s) {
     LightView& view = plan.views[s];
     view.raster.writeTriangleIds = triangleIds;
+    if (castersOnly) view.raster.casterLight = rasterLightOf(frame.light);
     frame.raster.draw(view.raster, targets);
     const size_t texels = static_cast<size_t>(view.raster.width) * static_cast<size_t>(view.raster.height);
     const DepthRange drawn = reduceDepthRange(frame.ctx, targets.depth, texels);

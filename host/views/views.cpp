@@ -86,6 +86,16 @@ RasterView cameraView(const Camera& camera, const Bounds& sceneBounds) {
   return view;
 }
 
+RasterLight rasterLightOf(const Light& light) {
+  RasterLight r;
+  r.directional = light.type == LightType::Directional;
+  r.position = light.position;
+  r.radius = std::max(light.radius, 0.0f);
+  r.towards = -light.direction;
+  r.angularRadius = glm::radians(std::max(light.angularRadiusDeg, 0.0f));
+  return r;
+}
+
 LightView fitLightView(const Light& light, const Bounds& sceneBounds, int size, const ReceiverBounds* receivers,
                        float marginTexels, bool snapToTexels) {
   const Bounds scene = sceneBounds.orUnit();

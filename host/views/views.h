@@ -36,6 +36,10 @@ struct LightView {
 LightView fitLightView(const Light& light, const Bounds& scene, int size, const ReceiverBounds* receivers = nullptr,
                        float marginTexels = 0.0f, bool snapToTexels = false);
 
+// The light as the rasterizer's caster test sees it (RasterView::casterLight): the ball of a spot's disk or a point's
+// sphere (a cube face's square spot keeps its point's centre and radius), or a sun's cone of directions.
+RasterLight rasterLightOf(const Light& light);
+
 // The part [ndcLo, ndcHi] (in base's NDC x, y) of base's window as a map of `size` texels: the crop matrix C
 // (ndc' = s ndc + o mapping the part onto [-1, 1]^2, Zhang et al. 2006's) times base's projection, which keeps the
 // rasterizer's separable form; texel and frustum widths scale with the part. Virtual shadow maps' tiles (fvsm).

@@ -17,6 +17,7 @@
 #include "host/pipeline/renderer.h"
 #include "host/scene/camera.h"
 #include "host/scene/light.h"
+#include "host/scene/procedural_mesh.h"
 #include "host/scene/scene.h"
 #include "host/techniques/registry.h"
 
@@ -38,6 +39,18 @@ inline Scene squareOverPlane() {
   };
   quad(5.0f, 0.0f, 0);
   quad(1.0f, 2.0f, 1);
+  return scene;
+}
+
+// `scene` with a sliver just under the middle of its floor (10^-4 of its size below its bounds): a shadow map
+// then keeps the floor's triangles, which may shadow the sliver (RasterView::casterLight leaves out only what shadows
+// no point of the scene), so a lone plane can shadow itself, as tests of acne and its biases need. The floor hides the
+// sliver from a camera and lights above it.
+inline Scene withSliverBelow(Scene scene) {
+  const Bounds b = scene.bounds();
+  const glm::vec3 c = b.center();
+  const float size = glm::length(b.max - b.min), y = b.min.y - 1e-4f * size, e = 1e-3f * size;
+  detail::addTriangle(scene, 0, {c.x, y, c.z}, {c.x, y, c.z + e}, {c.x + e, y, c.z});
   return scene;
 }
 
