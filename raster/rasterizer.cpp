@@ -14,6 +14,7 @@
 
 #include "host/cl/error.h"
 #include "raster/alpha_tables.h"
+#include "raster/caster_test.h"
 #include "raster/plan.h"
 #include "raster/solid_sides.h"
 #include "raster/stages.h"
@@ -66,6 +67,7 @@ struct Rasterizer::Impl {
   void uploadMaterials(const RasterGeometry& geometry);
   void chooseSolidSides(const RasterView& view, raster::Plan& plan);
   void chooseCasters(const RasterView& view, raster::Plan& plan) const;
+  raster::CasterTest casterTest(const RasterLight& light) const { return {light, boundsLo, boundsHi}; }
   void run(const raster::Plan& plan, Buffer<float>& depth, Buffer<uint32_t>& triangleIds);
   void sizeQueues(const raster::Plan& plan);
   bool grow(const char* queue, const char* kernel, uint32_t& capacity, uint64_t requested, size_t recordBytes,
@@ -121,19 +123,7 @@ void Rasterizer::Impl::chooseSolidSides(const RasterView& view, raster::Plan& pl
 
 // A shadow-map draw for a light (RasterView::casterLight): the light and the geometry's box for setup's caster test.
 void Rasterizer::Impl::chooseCasters(const RasterView& view, raster::Plan& plan) const {
-  if (!view.casterLight || !(boundsLo.x <= boundsHi.x) || plan.empty()) return;
-  const RasterLight& light = *view.casterLight;
-  RasterViewParams& p = plan.params;
-  const glm::vec3 centre = 0.5f * (boundsLo + boundsHi), half = 0.5f * (boundsHi - boundsLo);
-  const glm::vec4 source = light.directional ? glm::vec4(glm::normalize(light.towards), std::sin(light.angularRadius))
-                                             : glm::vec4(light.position, light.radius);
-  if (!std::isfinite(source.x + source.y + source.z + source.w) || !(source.w >= 0.0f) ||
-      (light.directional && !(light.angularRadius < 1.5707963f)))
-    throw std::invalid_argument("raster view: the caster test's light is not finite, or a cone of half a sphere");
-  p.casterSource = light.directional ? RASTER_CASTERS_CONE : RASTER_CASTERS_BALL;
-  p.casterTolerance = 1e-5f * std::max({glm::length(half), glm::length(centre), 1e-30f});
-  for (int i = 0; i < 4; ++i) p.casterLight[i] = source[i];
-  for (int i = 0; i < 3; ++i) p.casterBoxCentre[i] = centre[i], p.casterBoxHalf[i] = half[i];
+  if (view.casterLight && !plan.empty()) casterTest(*view.casterLight).describe(plan.params);
 }
 
 // The alpha and sidedness tables (raster/alpha_tables.h); one placeholder entry each where a scene needs none.
@@ -270,6 +260,8 @@ RasterTileLists Rasterizer::drawTileLists(const RasterView& view) {
 }
 
 const raster::SceneBuffers& Rasterizer::deviceScene() const { return impl_->scene; }
+
+raster::CasterTest Rasterizer::casterTest(const RasterLight& light) const { return impl_->casterTest(light); }
 
 void Rasterizer::drawGBuffer(const RasterView& view, GBuffer& g) {
   const raster::Plan plan =

@@ -19,6 +19,7 @@ namespace penumbra {
 
 namespace raster {
 struct SceneBuffers;
+class CasterTest;
 }
 
 inline constexpr int kRasterTileSize = RASTER_TILE_SIZE;  // pixels per side of a tile: RasterView::tileMask's unit
@@ -164,6 +165,9 @@ class Rasterizer {
   // The uploaded scene on the device (raster/stages.h): world positions, triangles and the alpha tables (alphaIndex,
   // alphaTriangles, alphaMaterials, alphaTexels), for kernels that test against the triangles the rasterizer draws.
   const raster::SceneBuffers& deviceScene() const;
+  // RasterView::casterLight's test for `light` over the uploaded geometry's bounds, for callers that pick casters on
+  // the host (izb's area-light lists). Throws as draw() does for a bad light.
+  raster::CasterTest casterTest(const RasterLight& light) const;
 
   // RasterGeometry::objectIds of the uploaded scene on the device, one per triangle (0 where the scene gave none): what a
   // map's triangle ids resolve to for an object ID buffer.

@@ -11,6 +11,7 @@
 
 #include "host/scene/procedural_mesh.h"
 #include "host/views/raster_scene.h"
+#include "raster/caster_test.h"
 #include "raster/constants.h"
 #include "raster/rasterizer.h"
 #include "tests/raster_support.h"
@@ -289,7 +290,8 @@ TEST_F(RasterTest, SolidsFarSidesAreLeftOutWithTheSameDepthAndIds) {
   }
 }
 
-// RasterView::casterLight: a ground quad under a box and a floating plate, drawn from above. Under a light above the
+// RasterView::casterLight (and Rasterizer::casterTest on the host): a ground quad under a box and a floating plate,
+// drawn from above. Under a light above the
 // ground (a ball, a sun's cone) the triangles in the ground's plane (the ground and the box's bottom) are left out and
 // their texels stay empty, while every other texel keeps its depth and id; a light below the ground, a ball or a cone
 // that the plane cuts, or geometry below the ground keeps every triangle. A degenerate light is refused.
@@ -348,6 +350,13 @@ TEST_F(RasterTest, CasterTestLeavesOutOnlyWhatShadowsNoPointOfTheScene) {
     view.casterLight = c.light;
     const RasterOutput casters = drawPoisoned(ctx(), raster, view);
     EXPECT_EQ(drawn - raster.stats().trianglesSetUp, c.plane ? countInPlane(*c.scene, *c.plane) : 0u) << c.name;
+    const raster::CasterTest host = raster.casterTest(c.light);  // the host's double-precision test: the same ones
+    for (uint32_t t = 0; t < c.scene->triangles.size(); ++t) {
+      const glm::uvec3 v = c.scene->triangles[t];
+      EXPECT_EQ(host.castsNothing(c.scene->positions[v.x], c.scene->positions[v.y], c.scene->positions[v.z]),
+                c.plane && inPlane(*c.scene, t, *c.plane))
+          << c.name << " triangle " << t;
+    }
     size_t emptied = 0;
     for (size_t i = 0; i < all.depth.size(); ++i) {
       if (c.plane && all.ids[i] != kNoTriangle && inPlane(*c.scene, all.ids[i], *c.plane)) {

@@ -23,6 +23,7 @@
 #include "host/techniques/registry.h"
 #include "host/techniques/shadow_map.h"
 #include "host/views/views.h"
+#include "raster/caster_test.h"
 #include "raster/stages.h"
 
 namespace penumbra {
@@ -206,6 +207,7 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
         continue;
       }
       grid.raster.tileMask = &cellCount_;
+      grid.raster.casterLight = rasterLightOf(light);  // what can shadow no receiver is listed nowhere
       const RasterTileLists lists = frame.raster.drawTileLists(grid.raster);
       entries += lists.entryCount;
       test.args(sorted_, cellOf_, cellStart_, cellCount_, g.position, g.normal, g.triangleId, scene.positions,
@@ -229,9 +231,10 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
       frame.attributes["penumbra:izb"] += fmt::format(
           "; area light: {} light points per sample ({}x{} stratified, jittered per pixel), casters listed in the "
           "cells where they can hide part of the light (room for {} entries from the {}x{}-cell tiles' lists); {} "
-          "casters of {} triangles ({} bounding solids, {} of them facing away from the whole light, left out)",
+          "casters of {} triangles ({} bounding solids, {} of them facing away from the whole light, and {} that can "
+          "shadow no point of the scene, left out)",
           rays / samples_, settings_.lightGrid, settings_.lightGrid, room, IZB_TILE_CELLS, IZB_TILE_CELLS, casterCount_,
-          frame.scene.triangles.size(), solids_->triangles, frame.scene.triangles.size() - casterCount_);
+          frame.scene.triangles.size(), solids_->triangles, farSides_, castsNothing_);
   }
 
  private:
@@ -358,8 +361,19 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
     if (selected_ && extent == selectedLight_) return;
     std::vector<uint32_t> order;
     order.reserve(mortonOrder_.size() + IZB_CLUSTER);
-    for (uint32_t t : mortonOrder_)
-      if (!facesAwayFromLight(*solids_, t, extent)) order.push_back(t);
+    // Left out: the far sides of solids, and what can shadow no point of the scene (RasterView::casterLight's test).
+    const raster::CasterTest casters = frame.raster.casterTest(rasterLightOf(light));
+    const Scene& scene = frame.scene;
+    farSides_ = castsNothing_ = 0;
+    for (uint32_t t : mortonOrder_) {
+      const glm::uvec3 v = scene.triangles[t];
+      if (facesAwayFromLight(*solids_, t, extent))
+        ++farSides_;
+      else if (casters.castsNothing(scene.positions[v.x], scene.positions[v.y], scene.positions[v.z]))
+        ++castsNothing_;
+      else
+        order.push_back(t);
+    }
     casterCount_ = static_cast<uint32_t>(order.size());
     order.resize(size_t{izb_cluster_count(casterCount_)} * IZB_CLUSTER, 0xffffffffu);
     if (order.empty()) order.push_back(0xffffffffu);
@@ -381,6 +395,8 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
   Buffer<cl_float4> clusters_;  // area lights: each IZB_CLUSTER casters' ball (izb_soft_clusters)
   Buffer<uint32_t> order_;      // area lights: the slots' triangles (selectCasters)
   uint32_t casterCount_ = 0;    // area lights: the casters in order_
+  uint32_t farSides_ = 0;       // area lights: triangles left out as solids' far sides (facesAwayFromLight)
+  uint32_t castsNothing_ = 0;   // and as shadowing no point of the scene (raster::CasterTest)
   const Scene* orderedScene_ = nullptr;
   size_t orderedTriangles_ = 0;
   std::vector<uint32_t> mortonOrder_;  // every triangle, in the order of its centroid's Morton code

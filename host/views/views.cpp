@@ -6,6 +6,8 @@
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "host/scene/solids.h"
+
 namespace penumbra {
 namespace {
 
@@ -87,12 +89,11 @@ RasterView cameraView(const Camera& camera, const Bounds& sceneBounds) {
 }
 
 RasterLight rasterLightOf(const Light& light) {
+  const LightExtent e = lightExtent(light);
   RasterLight r;
-  r.directional = light.type == LightType::Directional;
-  r.position = light.position;
-  r.radius = std::max(light.radius, 0.0f);
-  r.towards = -light.direction;
-  r.angularRadius = glm::radians(std::max(light.angularRadiusDeg, 0.0f));
+  r.directional = e.sun;
+  r.position = e.centre, r.radius = std::max(e.radius, 0.0f);
+  r.towards = e.towardSun, r.angularRadius = std::max(e.angularRadius, 0.0f);
   return r;
 }
 
