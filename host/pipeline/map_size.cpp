@@ -61,6 +61,7 @@ DrawnNeeds drawnNeeds(ShadowFrame& frame, const Params& params, MapProbe& probe,
   MapDetailMeter meter;
   for (LightView& view : probeViews(frame, params, kMapProbeSize)) {
     view.raster.writeTriangleIds = false;  // depths are what it measures
+    view.raster.casterLight = rasterLightOf(frame.light);  // it measures casters and shadowed pixels: no ground
     frame.raster.draw(view.raster, probe.targets);
     if (probe.view.empty()) probe.view.allocate(frame.ctx, 1, CL_MEM_READ_ONLY);
     probe.view.upload(frame.ctx, std::span<const LightViewGpu>(&view.gpu, 1));
