@@ -251,6 +251,7 @@ RasterTileLists Rasterizer::drawTileLists(const RasterView& view) {
   raster::Plan plan =
       raster::makePlan(view, impl_->scene.triangleCount, impl_->scene.vertexCount, impl_->scene.materials);
   plan.params.conservative = 1;
+  impl_->chooseCasters(view, plan);
   Context& ctx = impl_->ctx;
   if (impl_->noDepth.empty()) impl_->noDepth.allocate(ctx, 1), impl_->noIds.allocate(ctx, 1);
   impl_->run(plan, impl_->noDepth, impl_->noIds);

@@ -76,12 +76,13 @@ struct RasterView {
   // draw() only: false leaves RasterTargets::triangleId alone (not written, not even sized): a depth-only map, for the
   // techniques that read no ID buffer (a 4096^2 map writes 64 MiB less).
   bool writeTriangleIds = true;
-  // draw() only: the light a shadow map of depth comparisons is drawn for, whose draw may leave out every triangle
-  // that cannot hide any part of it from any point of the uploaded geometry's bounding box: the triangle's plane has
-  // the whole light strictly on one side and the box on that side too (up to 10^-5 of the box's size, far below any
-  // depth bias). Receivers lie in that box, so no comparison a receiver makes changes; the texels such a triangle held
-  // (a ground under everything, the walls of a room around its light) stay empty. Not for maps whose texels are
-  // filtered as values (moments), which need the receivers' own depths.
+  // draw() and drawTileLists(): the light a shadow map of depth comparisons (or izb's tile lists) is drawn for, whose
+  // draw may leave out every triangle that cannot hide any part of it from any point of the uploaded geometry's
+  // bounding box: the triangle's plane has the whole light strictly on one side and the box on that side too (up to
+  // 10^-5 of the box's size, far below any depth bias). Receivers lie in that box, so no comparison a receiver makes
+  // changes; the texels such a triangle held (a ground under everything, the walls of a room around its light) stay
+  // empty, and no tile lists it. Not for maps whose texels are filtered as values (moments), which need the
+  // receivers' own depths.
   std::optional<RasterLight> casterLight;
 };
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <optional>
+#include <set>
 #include <span>
 #include <vector>
 
@@ -291,10 +292,10 @@ TEST_F(RasterTest, SolidsFarSidesAreLeftOutWithTheSameDepthAndIds) {
 }
 
 // RasterView::casterLight (and Rasterizer::casterTest on the host): a ground quad under a box and a floating plate,
-// drawn from above. Under a light above the
-// ground (a ball, a sun's cone) the triangles in the ground's plane (the ground and the box's bottom) are left out and
-// their texels stay empty, while every other texel keeps its depth and id; a light below the ground, a ball or a cone
-// that the plane cuts, or geometry below the ground keeps every triangle. A degenerate light is refused.
+// drawn from above. Under a light above the ground (a ball, a sun's cone) the triangles in the ground's plane (the
+// ground and the box's bottom) are left out and their texels stay empty, while every other texel keeps its depth and
+// id; a light below the ground, a ball or a cone that the plane cuts, or geometry below the ground keeps every
+// triangle. Conservative tile lists leave the same ones out. A degenerate light is refused.
 TEST_F(RasterTest, CasterTestLeavesOutOnlyWhatShadowsNoPointOfTheScene) {
   Scene scene = makeScene({{-6, 0, -6}, {-6, 0, 6}, {6, 0, 6}, {6, 0, -6}}, {{0, 1, 2}, {0, 2, 3}});
   detail::addBox(scene, 0, {-2.0f, 0.0f, -1.0f}, {-0.5f, 1.5f, 0.5f});
@@ -375,6 +376,22 @@ TEST_F(RasterTest, CasterTestLeavesOutOnlyWhatShadowsNoPointOfTheScene) {
   Rasterizer raster(ctx());
   uploadScene(raster, scene);
   RasterView view = top;
+  // Conservative tile lists (izb's) leave the same triangles out of every tile.
+  auto listedTriangles = [&](const RasterView& v) {
+    const RasterTileLists lists = raster.drawTileLists(v);
+    const std::vector<uint32_t> count = lists.count->download(ctx()), offset = lists.offset->download(ctx());
+    const std::vector<uint32_t> entries = lists.entries->download(ctx());
+    std::set<uint32_t> listed;
+    for (int tile = 0; tile < lists.tilesX * lists.tilesY; ++tile)
+      for (uint32_t e = offset[tile]; e < offset[tile] + count[tile]; ++e) listed.insert(entries[e]);
+    return listed;
+  };
+  const std::set<uint32_t> all = listedTriangles(view);
+  view.casterLight = ball({1, 8, 2}, 0.5f);
+  const std::set<uint32_t> casters = listedTriangles(view);
+  EXPECT_EQ(all.size(), scene.triangles.size());
+  for (uint32_t t = 0; t < scene.triangles.size(); ++t)
+    EXPECT_EQ(casters.count(t), inPlane(scene, t, 0.0f) ? 0u : 1u) << t;
   RasterTargets targets;
   view.casterLight = cone({0, 1, 0}, 90.0f);
   EXPECT_THROW(raster.draw(view, targets), std::invalid_argument);
