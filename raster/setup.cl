@@ -271,7 +271,7 @@ static uint setupAlphaFlags(uint bits) {
              : 0u;
 }
 
-// Whether the triangle (q0, q1, q2) can shade no point of the view's receiver box from any point of its light
+// Whether the triangle (q0, q1, q2) can shadow no point of the view's receiver box from any point of its light
 // (RasterView::casterLight): its plane has the whole light strictly on one side and every point of the box on the
 // same side, or behind the plane by at most casterTolerance. A segment from such a point to a point of the light then
 // stays on that side and crosses the triangle nowhere (beyond the tolerance, which depth comparisons' bias ignores

@@ -31,7 +31,7 @@ struct ShadowMap {
   Buffer<LightViewGpu> gpu;  // view.gpu on the device (one element) for __constant arguments
   bool triangleIds = false;  // renderShadowMap draws targets.triangleId too (an ID buffer reads them)
   // renderShadowMap leaves out the triangles that can shadow no point of the scene (RasterView::casterLight): for
-  // techniques that only compare depths with the map's texels (sm, pcf, pcss), never for filtered moments.
+  // techniques that only compare depths with the map's texels (sm, pcf, pcss, jittered), never for filtered moments.
   bool castersOnly = false;
 };
 
