@@ -54,10 +54,12 @@ __kernel void pcf_visibility(__global const float4* position, __global const flo
   if (poissonTaps > 0) {
     float angle = rot_angle(i % width, i / width);
     float2 cs = (float2)(cos(angle), sin(angle));
+    const int sparse = sc_sparse_taps((float)poissonTaps, M_PI_F * reach * reach);
     for (int k = 0; k < poissonTaps; ++k) {
       float2 offset = reach * rot_apply(cs, poisson[k]);
-      sum += id_visibility(mapIds, objectIds, lv->width, lv->height, idUv + offset, ownTriangle, ownObject, idMode,
-                           sc_tap(map, lv, r, rp, planeBias, offset));
+      sum += id_visibility(
+          mapIds, objectIds, lv->width, lv->height, idUv + offset, ownTriangle, ownObject, idMode,
+          sparse ? sc_tap_texel(map, lv, r, rp, planeBias, offset) : sc_tap(map, lv, r, rp, planeBias, offset));
     }
     taps = poissonTaps;
   } else if (rp.valid && idMode == ID_BUFFER_OFF && reach == (float)radius) {
@@ -66,11 +68,13 @@ __kernel void pcf_visibility(__global const float4* position, __global const flo
     taps = (2 * radius + 1) * (2 * radius + 1);
   } else {
     float step = radius > 0 ? reach / (float)radius : 0.0f;
+    const int sparse = sc_sparse_taps(1.0f, step * step);  // each tap of the grid stands for step^2 texels
     for (int dy = -radius; dy <= radius; ++dy)
       for (int dx = -radius; dx <= radius; ++dx) {
         float2 offset = step * (float2)(dx, dy);
-        sum += id_visibility(mapIds, objectIds, lv->width, lv->height, idUv + offset, ownTriangle, ownObject, idMode,
-                             sc_tap(map, lv, r, rp, planeBias, offset));
+        sum += id_visibility(
+            mapIds, objectIds, lv->width, lv->height, idUv + offset, ownTriangle, ownObject, idMode,
+            sparse ? sc_tap_texel(map, lv, r, rp, planeBias, offset) : sc_tap(map, lv, r, rp, planeBias, offset));
       }
     taps = (2 * radius + 1) * (2 * radius + 1);
   }

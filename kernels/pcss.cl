@@ -146,10 +146,18 @@ __kernel void pcss_visibility(__global const float4* position, __global const fl
   int filterSide;
   const float filterCount = pcss_tap_count(s.autoTaps & PCSS_AUTO_FILTER, filterTaps, PCSS_FILTER_DENSITY,
                                            PCSS_FILTER_FEWEST, radius, pattern, &filterSide);
+  const int sparse =
+      s.sparseTaps && sc_sparse_taps(filterCount, (pattern == SHADE_PATTERN_POISSON ? M_PI_F : 4.0f) * radius * radius);
   float sum = 0.0f;
-  for (int k = 0; (float)k < filterCount; ++k)
-    sum += pcss_tap_weight(k, filterCount) *
-           sc_tap(map, lv, r, rp, planeBias, pcss_offset(pattern, filterDisk, cs, filterSide, k, radius));
+  if (sparse) {
+    for (int k = 0; (float)k < filterCount; ++k)
+      sum += pcss_tap_weight(k, filterCount) *
+             sc_tap_texel(map, lv, r, rp, planeBias, pcss_offset(pattern, filterDisk, cs, filterSide, k, radius));
+  } else {
+    for (int k = 0; (float)k < filterCount; ++k)
+      sum += pcss_tap_weight(k, filterCount) *
+             sc_tap(map, lv, r, rp, planeBias, pcss_offset(pattern, filterDisk, cs, filterSide, k, radius));
+  }
   float lit = sum / filterCount;
   // Beyond the paper: blockers at several depths (the average more than PCSS_STACKED_SPREAD of the way from the nearest
   // to the receiver, vssm's --vssm-stacked test) size the filter from a depth between them, which lets light into the

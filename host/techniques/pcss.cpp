@@ -39,6 +39,7 @@ struct PcssSettings {
   bool adaptive = false;                // pcss-search adaptive
   bool umbra = true;                    // pcss-umbra on
   bool stackedTrace = true;             // pcss-stacked-trace on
+  bool sparseTaps = true;               // pcss-sparse-taps on
   static PcssSettings from(const Params& params, int mapSize) {
     const MapSettings map = MapSettings::from(params, mapSize);
     return {map,
@@ -51,7 +52,8 @@ struct PcssSettings {
             params.getInt("pcss-pattern"),
             params.getInt("pcss-search") == kSearchAdaptive,
             params.getInt("pcss-umbra") == 1,
-            params.getInt("pcss-stacked-trace") == 1};
+            params.getInt("pcss-stacked-trace") == 1,
+            params.getInt("pcss-sparse-taps") == 1};
   }
   bool operator==(const PcssSettings&) const = default;
 };
@@ -94,7 +96,8 @@ class PercentageCloserSoft final : public TechniqueOf<PcssSettings> {
                          adaptive ? pyramid_.count() : 0u,
                          s.autoTaps,
                          static_cast<int>(s.umbra),
-                         static_cast<int>(s.stackedTrace)};
+                         static_cast<int>(s.stackedTrace),
+                         static_cast<int>(s.sparseTaps)};
     launchVisibility(frame, map_, shade, "kernels/pcss.cl", "pcss_visibility", visibility, pcss, searchDisk_,
                      filterDisk_, pyramid_.pyramid(), pyramid_.levels(), blocker_);
   }
@@ -162,6 +165,13 @@ TechniqueInfo pcssTechnique() {
                     "Beyond the paper: a pixel whose search taps find blockers at several depths also traces its "
                     "segments to 32 light points through the map and keeps the darker result (stacked casters fuse, "
                     "where one average blocker depth lets light into the umbra)",
+                    {"off", "on"}});
+  params.push_back({"pcss-sparse-taps",
+                    1,
+                    0,
+                    1,
+                    "A filter whose taps each stand for 64 texels or more compares the texel under each tap instead "
+                    "of four bilinearly (off: bilinear everywhere)",
                     {"off", "on"}});
   TechniqueInfo info{"pcss", "Percentage-closer soft shadows (blocker search + PCF) for area lights", params,
                      makeTechnique<PercentageCloserSoft>};

@@ -52,12 +52,13 @@ typedef struct PcssShade {
   int umbra;     // 1: with the pyramid, a pixel whose every search tap blocks is tested for umbra before the filter
   int stackedTrace;  // 1: a search whose blockers lie at several depths also traces the pixel
                      // (kernels/shared/map_trace.h)
+  int sparseTaps;    // 1: a filter whose taps are sparse compares the texel under each (sc_sparse_taps)
 } PcssShade;
 
 #if PENUMBRA_HOST
 static_assert(sizeof(ShadeFrame) == 28 && offsetof(ShadeFrame, idMode) == 24, "ShadeFrame is shared with OpenCL C");
 static_assert(sizeof(PcfShade) == 20 && offsetof(PcfShade, width) == 16, "PcfShade is shared with OpenCL C");
-static_assert(sizeof(PcssShade) == 36 && offsetof(PcssShade, stackedTrace) == 32, "PcssShade is shared with OpenCL C");
+static_assert(sizeof(PcssShade) == 40 && offsetof(PcssShade, sparseTaps) == 36, "PcssShade is shared with OpenCL C");
 #endif
 
 #endif  // PENUMBRA_KERNELS_SHARED_SHADE_H

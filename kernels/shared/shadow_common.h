@@ -280,6 +280,29 @@ inline float sc_grid_plane_sum(__global const float* map, int width, int height,
   return sum;
 }
 
+// Sparse taps. A bilinear comparison smooths a tap's indicator over one texel, which is what a filter with a tap in
+// every texel or two needs to move continuously. Where a kernel's taps each stand for SC_SPARSE_TAP_AREA texels or
+// more (8 texels apart and wider), what its estimate misses is the shadow's shape between the taps, not that one
+// texel's smoothing, and the four fetches cost four cache lines of a map much larger than the caches for one:
+// sc_sparse_taps tells, and the filters then compare the texel under each tap (sc_compare_texel, sc_tap_texel).
+// Measured (pcss, `--pcss-sparse-taps on,off`, 256-spp references; docs/techniques/sm-pcf-pcss.md, "Sparse taps"):
+// scenes/default.json at 640x360, MAE 0.001315 -> 0.001320 and its shading 2-3 ms (8 %) faster; at 16 texels a tap
+// 3 ms for 0.001321, but the staircase at 4096^2 then lost 2.3 % (at 64: 0.7 %).
+#define SC_SPARSE_TAP_AREA 64.0f
+
+// Whether `taps` taps over a kernel of `area` texels are sparse (above).
+inline int sc_sparse_taps(float taps, float area) { return taps * SC_SPARSE_TAP_AREA <= area; }
+
+// The comparison of the texel under continuous texel coordinate `uv` (1 lit, 0 blocked): against the receiver's plane
+// at the texel's centre (`depth` the biased receiver depth at map position `origin`, g its gradient) where `plane`,
+// else against `depth` itself.
+inline float sc_compare_texel(__global const float* map, int width, int height, float2 uv, float2 origin, float depth,
+                              float2 g, int plane) {
+  const float2 texel = pn_floor2(uv);
+  const float occluder = sc_fetch(map, width, height, (int)texel.x, (int)texel.y);
+  return sc_lit(occluder, plane ? depth + dot(g, texel + 0.5f - origin) : depth);
+}
+
 // One filter tap at texel offset `offset` from the receiver: against the receiver's plane where it is known
 // (planeBias: the constant bias, world units), else with the slope-scaled bias growing with the offset.
 inline float sc_tap(__global const float* map, __constant const LightViewGpu* lv, Receiver r, ReceiverPlane rp,
@@ -288,6 +311,17 @@ inline float sc_tap(__global const float* map, __constant const LightViewGpu* lv
     return sc_compare_bilinear_plane(map, lv->width, lv->height, r.uv + offset, r.uv, r.depth - planeBias,
                                      rp.gradient);
   return sc_compare_bilinear(map, lv->width, lv->height, r.uv + offset, r.depth - r.bias - r.biasSlope * length(offset));
+}
+
+// sc_tap where the kernel's taps are sparse (sc_sparse_taps): the texel under the tap alone. Filters choose between
+// the two once per pixel and loop over one of them: a choice per tap costs PoCL's vectorized work-groups about half
+// of what the texel saves (pcss on scenes/default.json, 2.5 against 5.5 ms).
+inline float sc_tap_texel(__global const float* map, __constant const LightViewGpu* lv, Receiver r, ReceiverPlane rp,
+                          float planeBias, float2 offset) {
+  if (rp.valid)
+    return sc_compare_texel(map, lv->width, lv->height, r.uv + offset, r.uv, r.depth - planeBias, rp.gradient, 1);
+  return sc_compare_texel(map, lv->width, lv->height, r.uv + offset, r.uv,
+                          r.depth - r.bias - r.biasSlope * length(offset), (float2)(0.0f), 0);
 }
 
 #endif
