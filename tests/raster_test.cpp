@@ -212,6 +212,96 @@ TEST_F(RasterTest, FreshTargetsHoldTheBackgroundWhereTheDrawLeavesThem) {
   EXPECT_GT(outside, 1000u);
 }
 
+// RasterTargets::keepEmptyTiles: targets drawn again and again keep a record of the tiles that hold only the
+// background and skip rewriting them. Whatever the sequence of draws (the casters moving so that drawn tiles empty and
+// empty ones fill, ids written or not, a scissor, a tile mask, another size, a write from outside that is announced),
+// the kept targets must hold exactly what a fresh draw leaves in the pixels it writes, and their earlier content
+// elsewhere. On the CPU layout most tiles of these views are empty, and the record says so.
+TEST_F(RasterTest, KeptEmptyTilesLeaveEveryDrawAsAFreshOne) {
+  const Scene scene = triangleSoup(60, 91, 0.6f, 0.3f);  // a small cluster: most of each view's tiles stay empty
+  Rasterizer raster(ctx());
+  uploadScene(raster, scene);
+  const int tilesX = (96 + RASTER_TILE_SIZE - 1) / RASTER_TILE_SIZE,
+            tilesY = (80 + RASTER_TILE_SIZE - 1) / RASTER_TILE_SIZE;
+  std::vector<uint32_t> mask(static_cast<size_t>(tilesX) * tilesY, 0u);
+  for (size_t t = 0; t < mask.size(); t += 3) mask[t] = 1u;
+  Buffer<uint32_t> maskBuffer(ctx(), std::span<const uint32_t>(mask));
+  struct Step {
+    const char* what;
+    glm::vec3 target;  // where the view looks: the cluster moves across the frame
+    int width, height;
+    bool ids;
+    std::optional<Scissor> scissor;
+    const Buffer<uint32_t>* mask;
+    bool foreignWrite;  // the depth filled with NaN from outside, then forgetEmptyTiles()
+  };
+  const std::optional<Scissor> none;
+  const std::vector<Step> steps = {
+      {"left", {1.5f, 0, 0}, 96, 80, true, none, nullptr, false},
+      {"again", {1.5f, 0, 0}, 96, 80, true, none, nullptr, false},
+      {"right", {-1.5f, 0, 0}, 96, 80, true, none, nullptr, false},
+      {"centre, depth only", {0, 0.5f, 0}, 96, 80, false, none, nullptr, false},
+      {"left, ids again", {1.5f, 0, 0}, 96, 80, true, none, nullptr, false},
+      {"scissor", {-1.0f, -0.5f, 0}, 96, 80, true, Scissor{20, 13, 77, 60}, nullptr, false},
+      {"tile mask", {0.5f, 1.0f, 0}, 96, 80, true, none, &maskBuffer, false},
+      {"after the mask", {-1.5f, 0, 0}, 96, 80, true, none, nullptr, false},
+      {"outside write", {1.5f, 0.5f, 0}, 96, 80, true, none, nullptr, true},
+      {"another size", {0, 0, 0}, 120, 72, true, none, nullptr, false},
+      {"back", {1.5f, 0, 0}, 120, 72, true, none, nullptr, false},
+  };
+  RasterTargets kept;
+  kept.keepEmptyTiles = true;
+  std::vector<float> depth;  // what the kept targets must hold
+  std::vector<uint32_t> ids;
+  int lastWidth = 0, lastHeight = 0;
+  size_t recordedEmpty = 0;
+  for (const Step& step : steps) {
+    RasterView view = perspectiveView(step.width, step.height, {0, 0, 6}, step.target, 60.0f, 0.5f, 20.0f);
+    view.writeTriangleIds = step.ids;
+    view.scissor = step.scissor;
+    view.tileMask = step.mask;
+    const size_t pixels = static_cast<size_t>(step.width) * step.height;
+    if (step.width != lastWidth || step.height != lastHeight)  // reallocated: the background where nothing is drawn
+      depth.assign(pixels, INFINITY), ids.assign(pixels, kNoTriangle);
+    lastWidth = step.width, lastHeight = step.height;
+    if (step.foreignWrite) {
+      kept.depth.fill(ctx(), std::nanf(""));
+      kept.forgetEmptyTiles();
+      std::fill(depth.begin(), depth.end(), std::nanf(""));
+    }
+    raster.draw(view, kept);
+    RasterTargets fresh;
+    raster.draw(view, fresh);
+    const std::vector<float> freshDepth = fresh.depth.download(ctx()), keptDepth = kept.depth.download(ctx());
+    const std::vector<uint32_t> freshIds = step.ids ? fresh.triangleId.download(ctx()) : std::vector<uint32_t>{};
+    const std::vector<uint32_t> keptIds = step.ids ? kept.triangleId.download(ctx()) : std::vector<uint32_t>{};
+    size_t covered = 0;
+    for (int y = 0; y < step.height; ++y)
+      for (int x = 0; x < step.width; ++x) {
+        const size_t i = static_cast<size_t>(y) * step.width + x;
+        const bool inScissor = !step.scissor || (x >= step.scissor->x0 && x < step.scissor->x1 &&
+                                                 y >= step.scissor->y0 && y < step.scissor->y1);
+        const bool inMask = step.mask == nullptr || mask[(y / RASTER_TILE_SIZE) * tilesX + x / RASTER_TILE_SIZE] != 0;
+        if (inScissor && inMask) {
+          depth[i] = freshDepth[i];
+          if (step.ids) ids[i] = freshIds[i];
+        }
+        ASSERT_EQ(std::memcmp(&keptDepth[i], &depth[i], sizeof(float)), 0)
+            << step.what << " " << x << "," << y << ": " << keptDepth[i] << " against " << depth[i];
+        if (step.ids) {
+          ASSERT_EQ(keptIds[i], ids[i]) << step.what << " " << x << "," << y;
+        }
+        covered += std::isfinite(depth[i]);
+      }
+    EXPECT_GT(covered, 100u) << step.what;
+    if (!kept.emptyTiles.empty() && kept.emptyTiles.size() > 1)
+      for (uint32_t flag : kept.emptyTiles.download(ctx())) recordedEmpty += flag != 0u;
+  }
+  if (ctx().info().cpuLayouts()) {
+    EXPECT_GT(recordedEmpty, 200u);  // the CPU layout keeps the record
+  }
+}
+
 TEST_F(RasterTest, BackFaceCullingOnClosedMeshKeepsTheVisibleSurface) {
   const Scene sphere = sphereScene(12, 20, 1.2f, {0.1f, -0.2f, 0.0f});
   for (bool cull : {false, true}) {

@@ -226,8 +226,9 @@ class FittedVirtualShadowMap final : public TechniqueOf<FvsmSettings> {
       atlasDepth_.allocate(ctx, leaves.size() * tileTexels);
       atlasIds_.allocate(ctx, ids ? leaves.size() * tileTexels : 1);
       for (size_t k = 0; k < leaves.size(); ++k) {
-        RasterTargets slot{atlasDepth_.region(ctx, k * tileTexels, tileTexels),
-                           ids ? atlasIds_.region(ctx, k * tileTexels, tileTexels) : atlasIds_.region(ctx, 0, 1)};
+        RasterTargets slot;  // a fresh region of the atlas each frame: no empty tiles kept (RasterTargets)
+        slot.depth = atlasDepth_.region(ctx, k * tileTexels, tileTexels);
+        slot.triangleId = ids ? atlasIds_.region(ctx, k * tileTexels, tileTexels) : atlasIds_.region(ctx, 0, 1);
         views[k].raster.writeTriangleIds = ids;
         views[k].raster.casterLight = rasterLightOf(frame.light);  // depth comparisons only (ShadowMap::castersOnly)
         frame.raster.draw(views[k].raster, slot);

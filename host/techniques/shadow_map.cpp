@@ -264,12 +264,14 @@ void renderShadowMap(ShadowFrame& frame, const MapSettings& settings, ShadowMap&
                                          map.view.gpu.width, map.view.gpu.height, size));
     map.targets.depth.allocate(frame.ctx, static_cast<size_t>(size) * size);
     map.targets.triangleId.allocate(frame.ctx, 1);  // an argument the kernels read only with an ID buffer
+    map.targets.forgetEmptyTiles();                 // written here, not drawn
     frame.callerMap->writeDepth(map.targets.depth);
   } else {
     const float margin = reachTexels + settings.normalOffset + 1.0f;
     map.view = fitWarpedLightView(frame, settings.fit, size, margin);
     map.view.raster.writeTriangleIds = map.triangleIds;
     if (map.castersOnly) map.view.raster.casterLight = rasterLightOf(frame.light);
+    map.targets.keepEmptyTiles = true;  // drawn frame after frame, and only drawn (RasterTargets)
     frame.raster.draw(map.view.raster, map.targets);
   }
   if (near == MapNear::Drawn)
