@@ -50,13 +50,17 @@ static inline void fineStore(const RasterViewParams* p, int x, int y, float best
 // scalar stores (pcss's 4096^2 map on scenes/default.json at 640x360, 96 % of its tiles empty: the fine stage
 // 7.3-7.7 -> 5.6-6.0 ms in alternated runs; the same bits).
 #if RASTER_TILE_SIZE != 8
-#error "fineStoreEmptyTile stores a tile row as one float8"
+#error "fineStoreEmptyTile and the CPU layout's row stores store a tile row as one float8"
 #endif
+// Whether the tile at `origin` lies wholly inside the scissor: every pixel of its rows is written.
+static inline bool fineTileInside(const RasterViewParams* p, int2 origin) {
+  return origin.x >= p->rectX0 && origin.x + RASTER_TILE_SIZE <= p->rectX1 && origin.y >= p->rectY0 &&
+         origin.y + RASTER_TILE_SIZE <= p->rectY1;
+}
+
 static inline bool fineStoreEmptyTile(const RasterViewParams* p, int2 origin, __global float* depth,
                                       __global uint* triangleId) {
-  if (origin.x < p->rectX0 || origin.x + RASTER_TILE_SIZE > p->rectX1 || origin.y < p->rectY0 ||
-      origin.y + RASTER_TILE_SIZE > p->rectY1)
-    return false;
+  if (!fineTileInside(p, origin)) return false;
   for (int r = 0; r < RASTER_TILE_SIZE; ++r) {
     const size_t row = (size_t)(origin.y + r) * p->width + (size_t)origin.x;
     vstore8((float8)(INFINITY), 0, depth + row);
@@ -239,12 +243,10 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_FINE, 1, 1))) void fine_r
     alpha.fragment = rasterAlphaFragment(&p, alphaTriangles, alphaMaterials, flags >> RASTER_FLAG_ALPHA_SHIFT);
     fineTestRows(t, origin, r0, r1, p.farViewZ, &alpha, best, bestId);
   }
-  const int live0 = max(p.rectX0 - origin.x, 0), live1 = min(p.rectX1 - origin.x, RASTER_TILE_SIZE);
   // A tile wholly inside the scissor whose depth is the view depth itself (the light maps): 8-wide rows, the
   // background selected per lane (vssm's 4096^2 map on scenes/default.json, every tile under the ground: the fine
   // stage 12.1 -> 10.5 ms; the same bits).
-  if (p.depthMode == RASTER_DEPTH_VIEW_Z && live0 == 0 && live1 == RASTER_TILE_SIZE && origin.y >= p.rectY0 &&
-      origin.y + RASTER_TILE_SIZE <= p.rectY1) {
+  if (p.depthMode == RASTER_DEPTH_VIEW_Z && fineTileInside(&p, origin)) {
     for (int r = 0; r < RASTER_TILE_SIZE; ++r) {
       const size_t row = (size_t)(origin.y + r) * p.width + (size_t)origin.x;
       const float8 b = vload8(r, best);
@@ -254,6 +256,7 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_FINE, 1, 1))) void fine_r
     }
     return;
   }
+  const int live0 = max(p.rectX0 - origin.x, 0), live1 = min(p.rectX1 - origin.x, RASTER_TILE_SIZE);
   for (int r = 0; r < RASTER_TILE_SIZE; ++r) {  // the row's pixels inside the scissor: [live0, live1)
     const int y = origin.y + r;
     if (y < p.rectY0 || y >= p.rectY1) continue;

@@ -250,16 +250,17 @@ void Rasterizer::draw(const RasterView& view, RasterTargets& targets) {
     plan.params.skipIds = 1;
     if (targets.triangleId.empty()) targets.triangleId.allocate(impl_->ctx, 1);  // an argument fine never writes
   }
-  // RasterTargets::keepEmptyTiles: the record is valid for the buffers, size and id writing it was made with; fresh
-  // (all tiles unknown) otherwise. Queue overflow reruns fine within run(), which keeps the record true round by round.
+  // RasterTargets::keepEmptyTiles: the record is valid for the buffers, viewport and id writing it was made with;
+  // fresh (all tiles unknown) otherwise. Queue overflow reruns fine within run(), which keeps the record true round by
+  // round.
   if (!targets.keepEmptyTiles || !impl_->stages.keepsEmptyTiles()) {
     targets.forgetEmptyTiles();
     impl_->run(plan, targets.depth, targets.triangleId);
     return;
   }
-  const RasterTargets::EmptyTilesKey key{targets.depth.get()(),
-                                         view.writeTriangleIds ? targets.triangleId.get()() : nullptr, plan.pixels};
-  if (!(targets.emptyTilesKey == key) || targets.emptyTiles.size() != plan.tiles) {
+  const RasterTargets::EmptyTilesKey key{
+      targets.depth.get()(), view.writeTriangleIds ? targets.triangleId.get()() : nullptr, view.width, view.height};
+  if (!(targets.emptyTilesKey == key)) {
     targets.emptyTiles.allocate(impl_->ctx, plan.tiles);
     targets.emptyTiles.fill(impl_->ctx, 0u);
     targets.emptyTilesKey = key;

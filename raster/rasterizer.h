@@ -95,14 +95,14 @@ struct RasterTargets {
   // 8x8 tiles that hold only the background and does not rewrite a tile that has no triangle now and held only the
   // background before. On CPU devices (Stages::keepsEmptyTiles) the fine stage otherwise stores every empty tile each
   // frame (64 MiB for a 4096^2 map). Whoever writes or replaces the buffers other than through draw() calls
-  // forgetEmptyTiles(); draw() notices by itself only a change of size, of id writing, or of buffer handle.
+  // forgetEmptyTiles(); draw() notices by itself only a change of width or height, of id writing, or of buffer handle.
   bool keepEmptyTiles = false;
   void forgetEmptyTiles() { emptyTilesKey = {}; }
   // draw()'s record, per tile of the viewport (row-major from the bottom row): nonzero where the targets hold only the
-  // background; valid for the buffers and size in emptyTilesKey.
+  // background; valid for the buffers and viewport in emptyTilesKey.
   struct EmptyTilesKey {
     cl_mem depth = nullptr, triangleId = nullptr;  // triangleId: null where the draws write no ids
-    size_t pixels = 0;
+    int width = 0, height = 0;                     // the viewport: a tile's index names the same 8x8 pixels
     bool operator==(const EmptyTilesKey&) const = default;
   };
   Buffer<uint32_t> emptyTiles;

@@ -214,7 +214,8 @@ TEST_F(RasterTest, FreshTargetsHoldTheBackgroundWhereTheDrawLeavesThem) {
 
 // RasterTargets::keepEmptyTiles: targets drawn again and again keep a record of the tiles that hold only the
 // background and skip rewriting them. Whatever the sequence of draws (the casters moving so that drawn tiles empty and
-// empty ones fill, ids written or not, a scissor, a tile mask, another size, a write from outside that is announced),
+// empty ones fill, ids written or not, a scissor, a tile mask, another size and its transpose, a write from outside
+// that is announced),
 // the kept targets must hold exactly what a fresh draw leaves in the pixels it writes, and their earlier content
 // elsewhere. On the CPU layout most tiles of these views are empty, and the record says so.
 TEST_F(RasterTest, KeptEmptyTilesLeaveEveryDrawAsAFreshOne) {
@@ -248,6 +249,7 @@ TEST_F(RasterTest, KeptEmptyTilesLeaveEveryDrawAsAFreshOne) {
       {"outside write", {1.5f, 0.5f, 0}, 96, 80, true, none, nullptr, true},
       {"another size", {0, 0, 0}, 120, 72, true, none, nullptr, false},
       {"back", {1.5f, 0, 0}, 120, 72, true, none, nullptr, false},
+      {"transposed", {-1.5f, 0, 0}, 72, 120, true, none, nullptr, false},  // as many pixels and tiles, laid otherwise
   };
   RasterTargets kept;
   kept.keepEmptyTiles = true;

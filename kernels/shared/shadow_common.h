@@ -313,9 +313,10 @@ inline float sc_tap(__global const float* map, __constant const LightViewGpu* lv
   return sc_compare_bilinear(map, lv->width, lv->height, r.uv + offset, r.depth - r.bias - r.biasSlope * length(offset));
 }
 
-// sc_tap where the kernel's taps are sparse (sc_sparse_taps): the texel under the tap alone. Filters choose between
-// the two once per pixel and loop over one of them: a choice per tap costs PoCL's vectorized work-groups about half
-// of what the texel saves (pcss on scenes/default.json at one tap per 16 texels: 2.5 against 5.5 ms of shading).
+// sc_tap where the kernel's taps are sparse (sc_sparse_taps): the texel under the tap alone. pcss chooses between the
+// two once per pixel and loops over one of them: a choice per tap costs PoCL's vectorized work-groups about half of
+// what the texel saves (pcss on scenes/default.json at one tap per 16 texels: 2.5 against 5.5 ms of shading). pcf,
+// whose defaults never reach sparse taps, chooses per tap.
 inline float sc_tap_texel(__global const float* map, __constant const LightViewGpu* lv, Receiver r, ReceiverPlane rp,
                           float planeBias, float2 offset) {
   if (rp.valid)
