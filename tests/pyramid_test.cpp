@@ -1,14 +1,17 @@
 // Pyramid stage (the default, batched schedule) against the double reference: moment mip chains (1/2/4
 // channels, odd, prime, thin and 1x1 sizes; every level keeps the mean) and the min-max depth pyramid with
 // background and NaN texels; the levels-only min-max pyramid's rows schedule against its batched one. The batched
-// schedule against the per-level one: pyramid_schedule_test.cpp.
+// schedule against the per-level one: pyramid_schedule_test.cpp. The farthest depth over a disk (pcss's umbra test)
+// against the texels the disk meets.
 #include "host/stages/pyramid.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <glm/glm.hpp>
 #include <random>
 #include <span>
 #include <string>
@@ -16,6 +19,7 @@
 #include <vector>
 
 #include "host/cl/buffer.h"
+#include "host/cl/kernel.h"
 #include "tests/support/cl_test.h"
 #include "tests/support/compare.h"
 #include "tests/support/random_images.h"
@@ -109,6 +113,78 @@ TEST_P(PyramidMinMax, LevelsRowsEqualBatched) {
 
 // channels == 0 marks an all-background map.
 INSTANTIATE_TEST_SUITE_P(Pyramid, PyramidMinMax, ::testing::ValuesIn(ref::minMaxCases()), caseName);
+
+class PyramidDisk : public test::ClTest {};
+
+// pyramid_far_in_disk (kernels/shared/pyramid.h) on maps of odd, thin and square sizes holding depths with background
+// rectangles and scattered NaN over a slope: never nearer than the farthest texel whose square meets the disk (a nearer
+// answer would make pcss write a false umbra), never farther than the square's lookup (pyramid_depth_range_of),
+// `outside` where the square leaves the map, -inf for a disk of radius 0; and tighter than the square on many disks.
+TEST_F(PyramidDisk, FarthestDepthHoldsEveryTexelTheDiskMeets) {
+  Context& ctx = this->ctx();
+  constexpr float kOutside = 1e30f;
+  for (const auto& [width, height] : {std::pair<uint32_t, uint32_t>{1, 1}, {7, 5}, {97, 61}, {300, 7}, {512, 512}}) {
+    std::mt19937 rng(width * 131 + height);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    std::vector<float> map(size_t{width} * height);
+    for (uint32_t y = 0; y < height; ++y)
+      for (uint32_t x = 0; x < width; ++x) {
+        const bool background = (x / 37 + y / 23) % 11 == 10, nan = unit(rng) < 5e-5f;
+        // A slope, so that a wider region holds a farther texel.
+        const float ramp = static_cast<float>(x + 2 * y) / static_cast<float>(width + 2 * height);
+        map[size_t{y} * width + x] = background ? INFINITY : nan ? NAN : 1.0f + 48.0f * ramp + unit(rng);
+      }
+    std::vector<cl_float4> disks;
+    const std::vector<float> fixedRadii = {0.0f, 0.3f, 1.0f, 2.5f, 1000.0f};
+    for (int k = 0; k < 400; ++k) {
+      const float radius = k < 5 ? fixedRadii[static_cast<size_t>(k)] : unit(rng) * unit(rng) * 60.0f;
+      disks.push_back({{-4.0f + unit(rng) * (static_cast<float>(width) + 8.0f),
+                        -4.0f + unit(rng) * (static_cast<float>(height) + 8.0f), radius, 0.0f}});
+    }
+    MinMaxLevels pyramid;
+    pyramid.build(ctx, Buffer<float>(ctx, std::span<const float>(map)), width, height);
+    Buffer<float> depth(ctx, std::span<const float>(map));
+    Buffer<cl_float4> diskBuffer(ctx, std::span<const cl_float4>(disks));
+    Buffer<float> out(ctx, 2 * disks.size());
+    out.fill(ctx, test::kPoison);
+    Kernel(ctx, "tools/selftest/kernels/pyramid_probe.cl", "pyramid_disk_test", "test")
+        .args(depth, pyramid.pyramid(), pyramid.levels(), pyramid.count(), width, height, diskBuffer,
+              static_cast<uint32_t>(disks.size()), kOutside, out)
+        .launch(disks.size(), 64);
+    const std::vector<float> got = out.download(ctx);
+    size_t inside = 0, finite = 0, tighter = 0;  // finite: the disk meets no background
+    for (size_t i = 0; i < disks.size(); ++i) {
+      const glm::vec2 c(disks[i].s[0], disks[i].s[1]);
+      const float r = disks[i].s[2], disk = got[2 * i], square = got[2 * i + 1];
+      const std::string where = fmt::format("{}x{} disk ({}, {}) radius {}", width, height, c.x, c.y, r);
+      if (c.x - r < 0.0f || c.y - r < 0.0f || c.x + r > static_cast<float>(width) ||
+          c.y + r > static_cast<float>(height)) {
+        EXPECT_EQ(disk, kOutside) << where;
+        continue;
+      }
+      if (r == 0.0f) {
+        EXPECT_EQ(disk, -INFINITY) << where;
+        continue;
+      }
+      ++inside;
+      float farthest = -INFINITY;  // over the base texels whose square meets the disk; background and NaN +inf
+      for (uint32_t y = 0; y < height; ++y)
+        for (uint32_t x = 0; x < width; ++x) {
+          const glm::vec2 near = glm::clamp(c, glm::vec2(x, y), glm::vec2(x + 1, y + 1)) - c;
+          if (glm::dot(near, near) > r * r) continue;
+          const float z = map[size_t{y} * width + x];
+          farthest = std::max(farthest, std::isfinite(z) ? z : INFINITY);
+        }
+      EXPECT_GE(disk, farthest) << where;
+      EXPECT_LE(disk, square) << where;
+      finite += std::isfinite(farthest), tighter += std::isfinite(farthest) && disk < square;
+    }
+    if (width * height >= 512 * 512) {
+      EXPECT_GT(finite, 100u);
+      EXPECT_GT(tighter, finite / 2) << width << "x" << height;
+    }
+  }
+}
 
 TEST(PyramidLayoutTest, LevelsAndOffsets) {
   const PyramidLayout full = pyramidLayout(97, 61, 0);

@@ -159,6 +159,35 @@ inline float2 pyramid_depth_range_of(__global const float* base, __global const 
     }
   return range;
 }
+
+// The farthest depth over every base texel that meets the disk of radius `radius` (texels) around `centre`, from the
+// same map and pyramid as pyramid_depth_range_of, at the finest level where the disk's square spans at most 4 x 4
+// texels, less those whose nominal square (pyramid_cover_span's [x W0/Wl, (x+1) W0/Wl] a side) lies wholly outside
+// the disk: a base texel meeting the disk lies inside the footprint of every level texel whose nominal square it meets
+// (pyramid_taps footprints hold their nominal interval and every texel it touches), so one of the texels kept holds
+// it. `outside` where the square reaches beyond the map; -inf for an empty disk. Tighter than the square's range: a
+// coarse level's 2 x 2 texels can hold twice the square a side, and the square's corners lie outside the disk.
+inline float pyramid_far_in_disk(__global const float* base, __global const float2* pyramid,
+                                 __constant const PyramidLevel* levels, uint levelCount, uint width, uint height,
+                                 float2 centre, float radius, float outside) {
+  const float2 size = (float2)((float)width, (float)height), lo = centre - radius, hi = centre + radius;
+  if (any(lo < (float2)(0.0f)) || any(hi > size)) return outside;
+  if (!(hi.x > lo.x && hi.y > lo.y)) return -INFINITY;
+  int2 sx, sy;
+  const uint l = pyramid_cover_level(levels, levelCount, width, height, lo, hi, 3, &sx, &sy);
+  const uint2 levelSize = pyramid_level_size(levels, l, width, height);
+  const float2 step = size / convert_float2(levelSize);  // base texels per level texel, a side
+  const float reach2 = (radius + 1e-3f) * (radius + 1e-3f);
+  float far = -INFINITY;
+  for (int y = sy.x; y <= sy.y; ++y)
+    for (int x = sx.x; x <= sx.y; ++x) {
+      const float2 a = (float2)((float)x, (float)y) * step, d = clamp(centre, a, a + step) - centre;
+      if (dot(d, d) > reach2) continue;  // its nominal square lies outside the disk
+      far = fmax(far, l == 0 ? pyramid_far_range(base[(size_t)y * width + x]).y
+                             : pyramid[levels[l - 1].offset + (size_t)y * levels[l - 1].width + x].y);
+    }
+  return far;
+}
 #endif
 
 #endif
