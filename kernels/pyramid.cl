@@ -225,12 +225,31 @@ __kernel void pyramid_minmax_rows(__global const PyramidInput* src, PyramidLevel
 // Two levels per launch where both halvings are exact (the source's width a multiple of 32, its height of 4; the host
 // checks): a work-item takes 8 texels of the second level `d2`, the 2 x 16 texels of the first `d1` over them and the
 // 4 x 32 source texels under those, so the first level is written and not read back (a 4096^2 map's level 1 is 32 MiB).
-// The same minima and maxima of the same texels as two pyramid_minmax_rows launches, bit for bit.
+// The same minima and maxima of the same texels as two pyramid_minmax_rows launches, bit for bit. From the depth map,
+// with `tilesX` > 0: backgroundTiles[ty * tilesX + tx] nonzero where the map's 8 x 8 tile (tx, ty) holds only
+// background (host/stages/pyramid.h computeMinMaxLevels); a work-item's 32 x 4 texels lie in 4 tiles of one row, and
+// where all four hold background its texels are written as the background's (+inf, +inf) without reading them.
 __kernel void pyramid_minmax_rows2(__global const PyramidInput* src, PyramidLevel s, __global float2* dst,
-                                   PyramidLevel d1, PyramidLevel d2) {
+                                   PyramidLevel d1, PyramidLevel d2, __global const uint* backgroundTiles,
+                                   uint tilesX) {
   const uint x2 = get_global_id(0) * PYRAMID_ROW_TEXELS, y2 = get_global_id(1);
   if (x2 >= d2.width || y2 >= d2.height) return;
   src += s.offset;
+#if PYRAMID_FROM_DEPTH == 2
+  if (tilesX != 0u) {
+    __global const uint* tile = backgroundTiles + (size_t)(y2 / 2) * tilesX + x2 / 2;  // 4 x2 / 8, 4 y2 / 8
+    if (tile[0] != 0u && tile[1] != 0u && tile[2] != 0u && tile[3] != 0u) {
+      const float16 far = (float16)(INFINITY);  // (min, max) pairs of background texels
+      for (uint r = 0; r < 2; ++r) {
+        __global float* out = (__global float*)(dst + d1.offset + (size_t)(2 * y2 + r) * d1.width + 2 * x2);
+        vstore16(far, 0, out);
+        vstore16(far, 1, out);
+      }
+      vstore16(far, 0, (__global float*)(dst + d2.offset + (size_t)y2 * d2.width + x2));
+      return;
+    }
+  }
+#endif
   float16 lo2 = (float16)(INFINITY), hi2 = (float16)(-INFINITY);  // the first level's 16 texels, over both its rows
   for (uint r = 0; r < 2; ++r) {
     const uint y1 = 2 * y2 + r;

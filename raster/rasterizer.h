@@ -107,6 +107,14 @@ struct RasterTargets {
   };
   Buffer<uint32_t> emptyTiles;
   EmptyTilesKey emptyTilesKey;
+  // The record where it is kept and describes a width x height viewport of these targets' depth (the last draw's):
+  // nonzero per 8x8 tile that holds only the background (+INFINITY), row-major from the bottom row; null otherwise.
+  // What a min-max pyramid over the map need not read (host/stages/pyramid.h).
+  const Buffer<uint32_t>* backgroundTiles(int width, int height) const {
+    const bool valid = keepEmptyTiles && emptyTilesKey.depth != nullptr && emptyTilesKey.depth == depth.get()() &&
+                       emptyTilesKey.width == width && emptyTilesKey.height == height;
+    return valid ? &emptyTiles : nullptr;
+  }
 };
 
 // The camera's G-buffer, reconstructed exactly from the visible triangle per pixel.

@@ -2,7 +2,7 @@
 // channels, odd, prime, thin and 1x1 sizes; every level keeps the mean) and the min-max depth pyramid with
 // background and NaN texels; the levels-only min-max pyramid's rows schedule against its batched one. The batched
 // schedule against the per-level one: pyramid_schedule_test.cpp. The farthest depth over a disk (pcss's umbra test)
-// against the texels the disk meets.
+// against the texels the disk meets; the levels with a record of the map's background tiles.
 #include "host/stages/pyramid.h"
 
 #include <fmt/format.h>
@@ -113,6 +113,46 @@ TEST_P(PyramidMinMax, LevelsRowsEqualBatched) {
 
 // channels == 0 marks an all-background map.
 INSTANTIATE_TEST_SUITE_P(Pyramid, PyramidMinMax, ::testing::ValuesIn(ref::minMaxCases()), caseName);
+
+class PyramidBackground : public test::ClTest {};
+
+// computeMinMaxLevels with a record of the map's background tiles (RasterTargets::backgroundTiles) gives the levels it
+// gives without one, bit for bit, on maps whose first launch takes two levels (sides multiples of 32 and 4) and on one
+// whose does not; the record is used: a tile with content marked as background changes the levels.
+TEST_F(PyramidBackground, LevelsSkipTheBackgroundTilesTheSameBitForBit) {
+  Context& ctx = this->ctx();
+  for (const auto& [width, height] : {std::pair<uint32_t, uint32_t>{256, 128}, {32, 4}, {96, 200}, {100, 60}}) {
+    std::vector<float> map = test::randomDepthMap(width, height, width + 3 * height);
+    const uint32_t tilesX = (width + 7) / 8, tilesY = (height + 7) / 8;
+    std::vector<uint32_t> record(size_t{tilesX} * tilesY, 0u);
+    std::mt19937 rng(width * 7 + height);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    for (uint32_t ty = 0; ty < tilesY; ++ty)
+      for (uint32_t tx = 0; tx < tilesX; ++tx) {
+        if (unit(rng) < 0.4f) continue;  // a tile with content
+        for (uint32_t y = 8 * ty; y < std::min(8 * ty + 8, height); ++y)
+          for (uint32_t x = 8 * tx; x < std::min(8 * tx + 8, width); ++x) map[size_t{y} * width + x] = INFINITY;
+        record[size_t{ty} * tilesX + tx] = unit(rng) < 0.9f ? 1u : 0u;  // a background tile the record may not know
+      }
+    const Buffer<float> depth(ctx, std::span<const float>(map));
+    const PyramidLayout layout = pyramidLayout(width, height, 1);
+    const auto levels = [&](const std::vector<uint32_t>* tiles) {
+      Buffer<cl_float2> out(ctx, layout.texels);
+      out.fill(ctx, {{test::kPoison, test::kPoison}});
+      const Buffer<uint32_t> tileBuffer(ctx, std::span<const uint32_t>(tiles != nullptr ? *tiles : record));
+      computeMinMaxLevels(ctx, depth, width, height, out, {PyramidSchedule::Rows},
+                          tiles != nullptr ? &tileBuffer : nullptr);
+      return out.download(ctx);
+    };
+    const std::vector<cl_float2> plain = levels(nullptr), skipped = levels(&record);
+    EXPECT_EQ(std::memcmp(plain.data(), skipped.data(), plain.size() * sizeof(cl_float2)), 0) << width << "x" << height;
+    if (width % 32 == 0 && height % 4 == 0) {  // the two-level launch reads the record
+      std::vector<uint32_t> wrong(record.size(), 1u);
+      const std::vector<cl_float2> lied = levels(&wrong);
+      EXPECT_NE(std::memcmp(plain.data(), lied.data(), plain.size() * sizeof(cl_float2)), 0) << width << "x" << height;
+    }
+  }
+}
 
 class PyramidDisk : public test::ClTest {};
 

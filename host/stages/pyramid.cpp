@@ -23,6 +23,7 @@ const Range kLevelGroup(16, 8);  // per-level kernels
 // texels of a row (PYRAMID_ROW_TEXELS), up to kRowGroup of a row's work-items per group (PoCL runs them one after
 // another: the source rows stream through).
 constexpr uint32_t kRowTexels = 8, kRowGroup = 32;
+constexpr uint32_t kBackgroundTile = 8;  // computeMinMaxLevels' backgroundTiles: texels a side (the rasterizer's tiles)
 
 // Batched schedule per device type; a row counts only after tests/pyramid_schedule_test.cpp passes with it.
 struct PyramidTuning {
@@ -309,7 +310,8 @@ std::vector<cl::Event> computeMinMaxPyramid(Context& ctx, const Buffer<float>& d
 }
 
 cl_float2 computeMinMaxLevels(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
-                              Buffer<cl_float2>& out, const PyramidConfig& config) {
+                              Buffer<cl_float2>& out, const PyramidConfig& config,
+                              const Buffer<uint32_t>* backgroundTiles) {
   if (config.schedule == PyramidSchedule::PerLevel)
     throw std::invalid_argument("pyramid: levels-only min-max pyramids have the batched schedule only");
   const PyramidLayout layout = pyramidLayout(width, height, 1);
@@ -338,10 +340,19 @@ cl_float2 computeMinMaxLevels(Context& ctx, const Buffer<float>& depth, uint32_t
       if (i + 1 < chain.size() && source.width % (4 * kRowTexels) == 0 && source.height % 4 == 0) {
         Kernel& k = i == 1 ? kernel(first2, "pyramid_minmax_rows2", fromDepth)
                            : kernel(rest2, "pyramid_minmax_rows2", fromLevels);
-        if (i == 1)
-          k.args(depth, source, out, chain[i], chain[i + 1]);
+        // The first launch skips the background tiles' reads; tilesX 0: no record, and the depth map stands in for
+        // its argument, unread.
+        const uint32_t tilesX =
+            i == 1 && backgroundTiles != nullptr ? (width + kBackgroundTile - 1) / kBackgroundTile : 0u;
+        if (tilesX != 0)
+          checkBufferSize(backgroundTiles->size(), size_t{tilesX} * ((height + kBackgroundTile - 1) / kBackgroundTile),
+                          "pyramid", "background tiles");
+        if (i == 1 && tilesX != 0)
+          k.args(depth, source, out, chain[i], chain[i + 1], *backgroundTiles, tilesX);
+        else if (i == 1)
+          k.args(depth, source, out, chain[i], chain[i + 1], depth, tilesX);
         else
-          k.args(out, source, out, chain[i], chain[i + 1]);
+          k.args(out, source, out, chain[i], chain[i + 1], depth, tilesX);
         const uint32_t items = chain[i + 1].width / kRowTexels;
         k.moves(sourceBytes + (texels(chain[i]) + texels(chain[i + 1])) * texelBytes)
             .launch(Range(items, chain[i + 1].height), Range(std::min(kRowGroup, std::bit_ceil(items)), 1));
@@ -381,9 +392,10 @@ void MinMaxLevels::allocate(Context& ctx, uint32_t width, uint32_t height) {
   width_ = width, height_ = height;
 }
 
-cl_float2 MinMaxLevels::build(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height) {
+cl_float2 MinMaxLevels::build(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
+                              const Buffer<uint32_t>* backgroundTiles) {
   allocate(ctx, width, height);
-  return computeMinMaxLevels(ctx, depth, width, height, pyramid_);
+  return computeMinMaxLevels(ctx, depth, width, height, pyramid_, {}, backgroundTiles);
 }
 
 }  // namespace penumbra

@@ -104,9 +104,14 @@ std::vector<cl::Event> computeMinMaxPyramid(Context& ctx, const Buffer<float>& d
 // the first pass writes half the bytes computeMinMaxPyramid's does. Background and NaN texels are the farthest depth
 // (+INFINITY, +INFINITY): a minimum ignores them, a maximum says nothing occludes there. Batched only (a PerLevel
 // config throws std::invalid_argument). Returns the last level, 1x1: (min, max) over the whole map, waiting for it
-// (a 1x1 map: its texel). Launches "pyramid/pyramid_minmax_batch".
+// (a 1x1 map: its texel). Launches "pyramid/pyramid_minmax_batch". `backgroundTiles` (optional; the rasterizer's
+// RasterTargets::backgroundTiles): nonzero per 8x8 tile of the map, row-major from row 0, that holds only background;
+// the rows schedule's first launch writes their levels' texels without reading them (a shadow map of casters alone is
+// mostly background: scenes/default.json's 4096^2 map for pcss, 96 % of its tiles). The levels are the same bit for
+// bit.
 cl_float2 computeMinMaxLevels(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
-                              Buffer<cl_float2>& out, const PyramidConfig& config = {});
+                              Buffer<cl_float2>& out, const PyramidConfig& config = {},
+                              const Buffer<uint32_t>* backgroundTiles = nullptr);
 
 // computeMinMaxLevels' output with its layout on the device, reallocated only when the map's size changes: what a
 // kernel's pyramid_depth_range_of reads beside the map (pcss's adaptive search, vssm's HSM). Before the first
@@ -116,8 +121,9 @@ class MinMaxLevels {
   // Buffers for a width x height map (at least one element each, so that a 1x1 map, which has no level above it,
   // still passes kernel arguments).
   void allocate(Context& ctx, uint32_t width, uint32_t height);
-  // allocate, then computeMinMaxLevels: the map's (min, max).
-  cl_float2 build(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height);
+  // allocate, then computeMinMaxLevels (with the map's background tiles where known): the map's (min, max).
+  cl_float2 build(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
+                  const Buffer<uint32_t>* backgroundTiles = nullptr);
   const Buffer<cl_float2>& pyramid() const { return pyramid_; }
   const Buffer<PyramidLevel>& levels() const { return levels_; }
   uint32_t count() const { return count_; }  // levels above the map

@@ -83,7 +83,9 @@ class PercentageCloserSoft final : public TechniqueOf<PcssSettings> {
     }
     if (adaptive) {  // the map's min-max pyramid above the map: the nearest caster over any region
       const uint32_t size = static_cast<uint32_t>(map_.view.gpu.width);
-      tightenMapNear(frame, s.map, map_, pyramid_.build(frame.ctx, map_.targets.depth, size, size).s[0]);
+      tightenMapNear(
+          frame, s.map, map_,
+          pyramid_.build(frame.ctx, map_.targets.depth, size, size, map_.targets.backgroundTiles(size, size)).s[0]);
     } else {
       pyramid_.allocate(frame.ctx, 1, 1);  // unused arguments still need buffers
     }
