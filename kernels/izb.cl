@@ -449,9 +449,9 @@ __kernel void izb_soft_list_bounds(const IzbFrame f, __constant const LightViewG
 }
 
 // Per cell holding samples: the clusters of its tile (izb_soft_tiles) that it needs, those whose box dilated by the
-// reach towards the cell's own farthest sample meets its square (izb_soft_listed), written in the tile's order to
-// entries[listStart[cell] ...] (room for its whole tile: izb_soft_list_bounds) and counted into listCount[cell] (0 for
-// a cell without samples). No atomics: each work-item owns its cell's list.
+// reach towards the cell's own farthest sample meets its square (izb_soft_listed), those over the cell first, each
+// group in the tile's order, to entries[listStart[cell] ...] (room for its whole tile: izb_soft_list_bounds) and
+// counted into listCount[cell] (0 for a cell without samples). No atomics: each work-item owns its cell's list.
 __kernel void izb_soft_lists(const IzbFrame f, __constant const LightViewGpu* lv, __global const uint* cellCount,
                              __global const uint* cellDepth, __global const float8* boxes,
                              __global const uint* tileCount, __global const uint* tileStart,
@@ -468,14 +468,30 @@ __kernel void izb_soft_lists(const IzbFrame f, __constant const LightViewGpu* lv
   const uint tile = (uint)(y / IZB_TILE_CELLS) * izb_tiles_of(cellsX) + (uint)(x / IZB_TILE_CELLS);
   const float zCell = as_float(cellDepth[cell]);
   const uint begin = tileStart[tile], end = begin + tileCount[tile], out = listStart[cell];
-  uint n = 0;
+  // The clusters whose own box lies over the cell first (those towards the light's centre from its samples), at the
+  // front of the room, the others from its back in reverse, then moved down behind them in the tile's order: an umbra
+  // sample stops once its light points are all hidden, and the casters over it hide the most of them.
+  const float x0 = (float)(x * IZB_CELL_TEXELS), y0 = (float)(y * IZB_CELL_TEXELS);
+  const float x1 = x0 + (float)IZB_CELL_TEXELS, y1 = y0 + (float)IZB_CELL_TEXELS;
+  const uint room = end - begin;
+  uint over = 0, beside = 0;
   for (uint j = begin; j < end; ++j) {
     const uint k = tileEntries[j];
     int members;
     const IzbCaster c = izb_box_unpack(boxes[k], &members);
-    if (izb_soft_listed(&f, lv, &c, x, y, zCell)) entries[out + n++] = k;
+    if (!izb_soft_listed(&f, lv, &c, x, y, zCell)) continue;
+    if (!c.unbounded && c.lo.x <= x1 && c.hi.x >= x0 && c.lo.y <= y1 && c.hi.y >= y0)
+      entries[out + over++] = k;
+    else
+      entries[out + room - 1u - beside++] = k;
   }
-  listCount[cell] = n;
+  const uint tail = out + room - beside;  // the others, reversed there: back into order, then down behind the first
+  for (uint j = 0; j < beside / 2u; ++j) {
+    const uint a = entries[tail + j];
+    entries[tail + j] = entries[out + room - 1u - j], entries[out + room - 1u - j] = a;
+  }
+  for (uint j = 0; j < beside; ++j) entries[out + over + j] = entries[tail + j];  // downwards: no entry read is lost
+  listCount[cell] = over + beside;
 }
 
 // The cone from a receiver sample around every segment it can send to the light: unit `axis` towards the light's
