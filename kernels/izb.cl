@@ -98,10 +98,15 @@ __kernel void izb_bin(__global const float4* position, __global const float4* no
   if (f.lightSamples > 0) atomic_max(&cellDepth[cell], as_uint(fmax(t.z, 0.0f)));
 }
 
-// depthMax: the farthest sample's light depth of the pass, the largest of the cells' (zero on entry).
+// depthMax: the farthest sample's light depth of the pass, the largest of the cells' (zero on entry). A work-item per
+// IZB_DEPTH_MAX_SPAN cells, one atomic each: an atomic per cell holding samples, all at one address, took 0.5 ms on
+// default.json at 640x360 (64 k cells).
 __kernel void izb_depth_max(__global const uint* cellDepth, uint cells, __global uint* depthMax) {
-  const uint c = get_global_id(0);
-  if (c < cells && cellDepth[c] > 0u) atomic_max(depthMax, cellDepth[c]);
+  const uint first = get_global_id(0) * IZB_DEPTH_MAX_SPAN;
+  if (first >= cells) return;
+  uint farthest = 0u;
+  for (uint c = first; c < min(first + IZB_DEPTH_MAX_SPAN, cells); ++c) farthest = max(farthest, cellDepth[c]);
+  if (farthest > 0u) atomic_max(depthMax, farthest);
 }
 
 // ---- Exclusive scan of the cell counts: blocks, the blocks' sums, then the sums added ----------------------------

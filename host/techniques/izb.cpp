@@ -275,7 +275,9 @@ class IrregularZBuffer final : public TechniqueOf<IzbSettings> {
     const uint32_t tiles = izb_tiles_of(cellsX) * izb_tiles_of(cellsY);
     depthMax_.fill(ctx, 0u);
     Kernel depthMax(ctx, "kernels/izb.cl", "izb_depth_max", "izb");
-    depthMax.args(cellDepth_, cells, depthMax_).moves(uint64_t{cells} * 4).launch(cells, kIzbGroup);
+    depthMax.args(cellDepth_, cells, depthMax_)
+        .moves(uint64_t{cells} * 4)
+        .launch((cells + IZB_DEPTH_MAX_SPAN - 1) / IZB_DEPTH_MAX_SPAN, kIzbGroup);
     Kernel binTiles(ctx, "kernels/izb.cl", "izb_soft_tiles", "izb");
     boxes_.allocate(ctx, std::max<size_t>(clusters, 1));
     tileCount_.allocate(ctx, tiles);

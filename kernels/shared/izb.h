@@ -11,6 +11,7 @@
 #define IZB_SCAN_WG 256               // work-items of a scan block
 #define IZB_SCAN_ITEMS 4              // cells per scan work-item
 #define IZB_SCAN_BLOCK (IZB_SCAN_WG * IZB_SCAN_ITEMS)  // cells per scan block (1024)
+#define IZB_DEPTH_MAX_SPAN 64  // cells per work-item of izb_depth_max: one atomic each, not one per cell
 #define IZB_MAX_SAMPLES 32
 #define IZB_CELL_TEXELS 8  // cell side in texels: the rasterizer's tile (RASTER_TILE_SIZE; the host asserts them equal)
 #define IZB_CHUNK_SAMPLES (1u << 24)  // default --izb-chunk: samples binned and tested per pass, 8 bytes each
