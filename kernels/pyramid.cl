@@ -228,17 +228,21 @@ __kernel void pyramid_minmax_rows(__global const PyramidInput* src, PyramidLevel
 // The same minima and maxima of the same texels as two pyramid_minmax_rows launches, bit for bit. From the depth map,
 // with `tilesX` > 0: backgroundTiles[ty * tilesX + tx] nonzero where the map's 8 x 8 tile (tx, ty) holds only
 // background (host/stages/pyramid.h computeMinMaxLevels); a work-item's 32 x 4 texels lie in 4 tiles of one row, and
-// where all four hold background its texels are written as the background's (+inf, +inf) without reading them.
+// where all four hold background its texels are written as the background's (+inf, +inf) without reading them. With
+// `keep`: kept[item] (one per work-item, row by row) nonzero where the levels already hold its background from a build
+// before (MinMaxLevels, which alone writes them), and then it writes nothing either; each work-item sets its own.
 __kernel void pyramid_minmax_rows2(__global const PyramidInput* src, PyramidLevel s, __global float2* dst,
-                                   PyramidLevel d1, PyramidLevel d2, __global const uint* backgroundTiles,
-                                   uint tilesX) {
+                                   PyramidLevel d1, PyramidLevel d2, __global const uint* backgroundTiles, uint tilesX,
+                                   __global uint* kept, int keep) {
   const uint x2 = get_global_id(0) * PYRAMID_ROW_TEXELS, y2 = get_global_id(1);
   if (x2 >= d2.width || y2 >= d2.height) return;
   src += s.offset;
 #if PYRAMID_FROM_DEPTH == 2
+  const size_t item = (size_t)y2 * (d2.width / PYRAMID_ROW_TEXELS) + x2 / PYRAMID_ROW_TEXELS;
   if (tilesX != 0u) {
     __global const uint* tile = backgroundTiles + (size_t)(y2 / 2) * tilesX + x2 / 2;  // 4 x2 / 8, 4 y2 / 8
     if (tile[0] != 0u && tile[1] != 0u && tile[2] != 0u && tile[3] != 0u) {
+      if (keep && kept[item] != 0u) return;
       const float16 far = (float16)(INFINITY);  // (min, max) pairs of background texels
       for (uint r = 0; r < 2; ++r) {
         __global float* out = (__global float*)(dst + d1.offset + (size_t)(2 * y2 + r) * d1.width + 2 * x2);
@@ -246,9 +250,11 @@ __kernel void pyramid_minmax_rows2(__global const PyramidInput* src, PyramidLeve
         vstore16(far, 1, out);
       }
       vstore16(far, 0, (__global float*)(dst + d2.offset + (size_t)y2 * d2.width + x2));
+      if (keep) kept[item] = 1u;
       return;
     }
   }
+  if (keep) kept[item] = 0u;
 #endif
   float16 lo2 = (float16)(INFINITY), hi2 = (float16)(-INFINITY);  // the first level's 16 texels, over both its rows
   for (uint r = 0; r < 2; ++r) {

@@ -154,6 +154,41 @@ TEST_F(PyramidBackground, LevelsSkipTheBackgroundTilesTheSameBitForBit) {
   }
 }
 
+// MinMaxLevels keeps which blocks of its levels hold background between builds and writes them only when they change:
+// a map whose tiles go from background to content and back (and a build without a record between) gives, build after
+// build, the levels a fresh build gives, bit for bit.
+TEST_F(PyramidBackground, KeptBackgroundFollowsTheMapFromBuildToBuild) {
+  Context& ctx = this->ctx();
+  constexpr uint32_t kWidth = 256, kHeight = 128, kTilesX = kWidth / 8, kTilesY = kHeight / 8;
+  const std::vector<float> content = test::randomDepthMap(kWidth, kHeight, 11);
+  const auto frame = [&](uint32_t seed, std::vector<uint32_t>& record) {
+    std::vector<float> map = content;
+    std::mt19937 rng(seed);
+    record.assign(size_t{kTilesX} * kTilesY, 0u);
+    for (uint32_t t = 0; t < kTilesX * kTilesY; ++t) {
+      if (rng() % 3 == 0) continue;  // content
+      for (uint32_t y = 8 * (t / kTilesX); y < 8 * (t / kTilesX) + 8; ++y)
+        for (uint32_t x = 8 * (t % kTilesX); x < 8 * (t % kTilesX) + 8; ++x) map[size_t{y} * kWidth + x] = INFINITY;
+      record[t] = 1u;
+    }
+    return map;
+  };
+  MinMaxLevels levels;
+  const PyramidLayout layout = pyramidLayout(kWidth, kHeight, 1);
+  for (const auto& [seed, withRecord] :
+       std::vector<std::pair<uint32_t, bool>>{{1, true}, {2, true}, {1, true}, {3, false}, {1, true}, {1, true}}) {
+    std::vector<uint32_t> record;
+    const std::vector<float> map = frame(seed, record);
+    const Buffer<float> depth(ctx, std::span<const float>(map));
+    const Buffer<uint32_t> tiles(ctx, std::span<const uint32_t>(record));
+    levels.build(ctx, depth, kWidth, kHeight, withRecord ? &tiles : nullptr);
+    Buffer<cl_float2> fresh(ctx, layout.texels);
+    computeMinMaxLevels(ctx, depth, kWidth, kHeight, fresh, {PyramidSchedule::Rows});
+    const std::vector<cl_float2> a = levels.pyramid().download(ctx), b = fresh.download(ctx);
+    EXPECT_EQ(std::memcmp(a.data(), b.data(), b.size() * sizeof(cl_float2)), 0) << "map " << seed;
+  }
+}
+
 class PyramidDisk : public test::ClTest {};
 
 // pyramid_far_in_disk (kernels/shared/pyramid.h) on maps of odd, thin and square sizes holding depths with background

@@ -311,7 +311,7 @@ std::vector<cl::Event> computeMinMaxPyramid(Context& ctx, const Buffer<float>& d
 
 cl_float2 computeMinMaxLevels(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
                               Buffer<cl_float2>& out, const PyramidConfig& config,
-                              const Buffer<uint32_t>* backgroundTiles) {
+                              const Buffer<uint32_t>* backgroundTiles, Buffer<uint32_t>* kept) {
   if (config.schedule == PyramidSchedule::PerLevel)
     throw std::invalid_argument("pyramid: levels-only min-max pyramids have the batched schedule only");
   const PyramidLayout layout = pyramidLayout(width, height, 1);
@@ -340,20 +340,26 @@ cl_float2 computeMinMaxLevels(Context& ctx, const Buffer<float>& depth, uint32_t
       if (i + 1 < chain.size() && source.width % (4 * kRowTexels) == 0 && source.height % 4 == 0) {
         Kernel& k = i == 1 ? kernel(first2, "pyramid_minmax_rows2", fromDepth)
                            : kernel(rest2, "pyramid_minmax_rows2", fromLevels);
-        // The first launch skips the background tiles' reads; tilesX 0: no record, and the depth map stands in for
-        // its argument, unread.
+        // The first launch skips the background tiles' reads, and their writes where `kept` says the levels hold
+        // them; tilesX 0 or keep 0: no record or state, and the depth map stands in for its argument, unread.
         const uint32_t tilesX =
             i == 1 && backgroundTiles != nullptr ? (width + kBackgroundTile - 1) / kBackgroundTile : 0u;
         if (tilesX != 0)
           checkBufferSize(backgroundTiles->size(), size_t{tilesX} * ((height + kBackgroundTile - 1) / kBackgroundTile),
                           "pyramid", "background tiles");
-        if (i == 1 && tilesX != 0)
-          k.args(depth, source, out, chain[i], chain[i + 1], *backgroundTiles, tilesX);
-        else if (i == 1)
-          k.args(depth, source, out, chain[i], chain[i + 1], depth, tilesX);
-        else
-          k.args(out, source, out, chain[i], chain[i + 1], depth, tilesX);
         const uint32_t items = chain[i + 1].width / kRowTexels;
+        const int keep = i == 1 && kept != nullptr ? 1 : 0;
+        if (keep) checkBufferSize(kept->size(), size_t{items} * chain[i + 1].height, "pyramid", "kept background");
+        if (i != 1)
+          k.args(out, source, out, chain[i], chain[i + 1], depth, tilesX, depth, keep);
+        else if (tilesX != 0 && keep)
+          k.args(depth, source, out, chain[i], chain[i + 1], *backgroundTiles, tilesX, *kept, keep);
+        else if (tilesX != 0)
+          k.args(depth, source, out, chain[i], chain[i + 1], *backgroundTiles, tilesX, depth, keep);
+        else if (keep)
+          k.args(depth, source, out, chain[i], chain[i + 1], depth, tilesX, *kept, keep);
+        else
+          k.args(depth, source, out, chain[i], chain[i + 1], depth, tilesX, depth, keep);
         k.moves(sourceBytes + (texels(chain[i]) + texels(chain[i + 1])) * texelBytes)
             .launch(Range(items, chain[i + 1].height), Range(std::min(kRowGroup, std::bit_ceil(items)), 1));
         i += 2;
@@ -390,12 +396,16 @@ void MinMaxLevels::allocate(Context& ctx, uint32_t width, uint32_t height) {
                 : Buffer<PyramidLevel>(ctx, std::span<const PyramidLevel>(layout.levels), CL_MEM_READ_ONLY);
   count_ = static_cast<uint32_t>(layout.levels.size());
   width_ = width, height_ = height;
+  // The first two-level launch's work-items (a map whose sides take it; one entry otherwise), none holding a kept
+  // background yet.
+  kept_.allocate(ctx, width % 32 == 0 && height % 4 == 0 ? std::max<size_t>(size_t{width / 32} * (height / 4), 1) : 1);
+  kept_.fill(ctx, 0u);
 }
 
 cl_float2 MinMaxLevels::build(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
                               const Buffer<uint32_t>* backgroundTiles) {
   allocate(ctx, width, height);
-  return computeMinMaxLevels(ctx, depth, width, height, pyramid_, {}, backgroundTiles);
+  return computeMinMaxLevels(ctx, depth, width, height, pyramid_, {}, backgroundTiles, &kept_);
 }
 
 }  // namespace penumbra

@@ -108,10 +108,12 @@ std::vector<cl::Event> computeMinMaxPyramid(Context& ctx, const Buffer<float>& d
 // RasterTargets::backgroundTiles): nonzero per 8x8 tile of the map, row-major from row 0, that holds only background;
 // the rows schedule's first launch writes their levels' texels without reading them (a shadow map of casters alone is
 // mostly background: scenes/default.json's 4096^2 map for pcss, 96 % of its tiles). The levels are the same bit for
-// bit.
+// bit. `kept` (optional, with it): state between builds into the same `out`, which nothing else may write, one entry
+// per work-item of that launch ((width / 32) x (height / 4), zero before the first build): nonzero where `out` already
+// holds its 32 x 4 texels' background, which is then not written again either.
 cl_float2 computeMinMaxLevels(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
                               Buffer<cl_float2>& out, const PyramidConfig& config = {},
-                              const Buffer<uint32_t>* backgroundTiles = nullptr);
+                              const Buffer<uint32_t>* backgroundTiles = nullptr, Buffer<uint32_t>* kept = nullptr);
 
 // computeMinMaxLevels' output with its layout on the device, reallocated only when the map's size changes: what a
 // kernel's pyramid_depth_range_of reads beside the map (pcss's adaptive search, vssm's HSM). Before the first
@@ -121,7 +123,8 @@ class MinMaxLevels {
   // Buffers for a width x height map (at least one element each, so that a 1x1 map, which has no level above it,
   // still passes kernel arguments).
   void allocate(Context& ctx, uint32_t width, uint32_t height);
-  // allocate, then computeMinMaxLevels (with the map's background tiles where known): the map's (min, max).
+  // allocate, then computeMinMaxLevels (with the map's background tiles where known, and what the builds before left
+  // as background): the map's (min, max).
   cl_float2 build(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
                   const Buffer<uint32_t>* backgroundTiles = nullptr);
   const Buffer<cl_float2>& pyramid() const { return pyramid_; }
@@ -131,6 +134,7 @@ class MinMaxLevels {
  private:
   Buffer<cl_float2> pyramid_;
   Buffer<PyramidLevel> levels_;
+  Buffer<uint32_t> kept_;  // computeMinMaxLevels' `kept`, zeroed whenever pyramid_ is allocated
   uint32_t count_ = 0, width_ = 0, height_ = 0;
 };
 
