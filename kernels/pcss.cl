@@ -161,7 +161,8 @@ __kernel void pcss_visibility(__global const float4* position, __global const fl
     // (bilinear: within 1.5 texels of its point a side) lie within `reach` of the receiver, every comparison is at
     // least as strict as the plane's lowest point on that disk (or the slope-scaled bias at its rim), and the pyramid's
     // farthest texel on the disk (pyramid_far_in_disk: no square's corners, a finer level) must lie in front of it.
-    // default.json at 640x360: the square above leaves 4.5 k of its 8.7 k pixels at 0 to the taps; this takes them.
+    // default.json at 640x360: of the 4.9 k pixels whose every search tap blocked and which the square left to the
+    // taps, this settles 3.0 k.
     const float reach = radius * (pattern == SHADE_PATTERN_POISSON ? 1.0f : M_SQRT2_F) + 1.5f * M_SQRT2_F + 0.1f;
     const float fall = rp.valid ? length(rp.gradient) * reach : r.biasSlope * reach;
     const float strictest = (rp.valid ? r.depth - planeBias : r.depth - r.bias) - fall;

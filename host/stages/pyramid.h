@@ -108,9 +108,10 @@ std::vector<cl::Event> computeMinMaxPyramid(Context& ctx, const Buffer<float>& d
 // RasterTargets::backgroundTiles): nonzero per 8x8 tile of the map, row-major from row 0, that holds only background;
 // the rows schedule's first launch writes their levels' texels without reading them (a shadow map of casters alone is
 // mostly background: scenes/default.json's 4096^2 map for pcss, 96 % of its tiles). The levels are the same bit for
-// bit. `kept` (optional, with it): state between builds into the same `out`, which nothing else may write, one entry
-// per work-item of that launch ((width / 32) x (height / 4), zero before the first build): nonzero where `out` already
-// holds its 32 x 4 texels' background, which is then not written again either.
+// bit. `kept` (optional): state between builds into the same `out`, which nothing else may write, one entry per
+// work-item of that launch ((width / 32) x (height / 4), zero before the first build): nonzero where `out` already
+// holds its 32 x 4 texels' background, which is then not written again either; a build without `backgroundTiles`
+// writes every block and clears it.
 cl_float2 computeMinMaxLevels(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
                               Buffer<cl_float2>& out, const PyramidConfig& config = {},
                               const Buffer<uint32_t>* backgroundTiles = nullptr, Buffer<uint32_t>* kept = nullptr);
