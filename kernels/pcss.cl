@@ -106,17 +106,12 @@ __kernel void pcss_visibility(__global const float4* position, __global const fl
     const float nearest = pyramid_depth_range_of(map, pyramid, levels, s.levelCount, lv->width, lv->height,
                                                  r.uv - search, r.uv + search, INFINITY)
                               .x;
-    // No tap can block: each compares against depth - bias or less (bias >= texel * base).
-    if (!(nearest < r.depth - (sloped ? r.bias : r.texel * bias.base))) {
+    // No tap can block: each compares against depth - bias or less (bias >= texel * base, so an unsloped receiver
+    // whose region passes depth - texel * base is lit without its slope).
+    if (!sloped && nearest < r.depth - r.texel * bias.base) r = sc_receiver_sloped(lv, r, p.xyz, n, bias), sloped = 1;
+    if (!sloped || !(nearest < r.depth - r.bias)) {
       blockerOut[i] = -1.0f;
       return;
-    }
-    if (!sloped) {
-      r = sc_receiver_sloped(lv, r, p.xyz, n, bias), sloped = 1;
-      if (!(nearest < r.depth - r.bias)) {
-        blockerOut[i] = -1.0f;
-        return;
-      }
     }
     if (step == PCSS_ADAPTIVE_STEPS) break;  // the last narrowed region tested too
     const float narrowed = clamp(lv_penumbra_texels(lv, r.depth, fmax(nearest, lv->zNear)), 0.5f, maxRadius);

@@ -56,6 +56,13 @@ namespace {
 
 uint64_t texels(const PyramidLevel& l) { return uint64_t{l.width} * l.height; }
 
+// A buffer of any element type as a kernel argument (Kernel::args takes what has get()): where one argument is one
+// buffer or another, or a stand-in the kernel does not read.
+struct AnyBuffer {
+  const cl::Buffer& buffer;
+  const cl::Buffer& get() const { return buffer; }
+};
+
 void checkNotRows(const PyramidConfig& config, const char* what) {
   if (config.schedule == PyramidSchedule::Rows)
     throw std::invalid_argument(
@@ -350,16 +357,10 @@ cl_float2 computeMinMaxLevels(Context& ctx, const Buffer<float>& depth, uint32_t
         const uint32_t items = chain[i + 1].width / kRowTexels;
         const int keep = i == 1 && kept != nullptr ? 1 : 0;
         if (keep) checkBufferSize(kept->size(), size_t{items} * chain[i + 1].height, "pyramid", "kept background");
-        if (i != 1)
-          k.args(out, source, out, chain[i], chain[i + 1], depth, tilesX, depth, keep);
-        else if (tilesX != 0 && keep)
-          k.args(depth, source, out, chain[i], chain[i + 1], *backgroundTiles, tilesX, *kept, keep);
-        else if (tilesX != 0)
-          k.args(depth, source, out, chain[i], chain[i + 1], *backgroundTiles, tilesX, depth, keep);
-        else if (keep)
-          k.args(depth, source, out, chain[i], chain[i + 1], depth, tilesX, *kept, keep);
-        else
-          k.args(depth, source, out, chain[i], chain[i + 1], depth, tilesX, depth, keep);
+        const AnyBuffer input{i == 1 ? depth.get() : out.get()};
+        const AnyBuffer tiles{tilesX != 0 ? backgroundTiles->get() : depth.get()};
+        const AnyBuffer keptState{keep ? kept->get() : depth.get()};
+        k.args(input, source, out, chain[i], chain[i + 1], tiles, tilesX, keptState, keep);
         k.moves(sourceBytes + (texels(chain[i]) + texels(chain[i + 1])) * texelBytes)
             .launch(Range(items, chain[i + 1].height), Range(std::min(kRowGroup, std::bit_ceil(items)), 1));
         i += 2;
@@ -396,9 +397,10 @@ void MinMaxLevels::allocate(Context& ctx, uint32_t width, uint32_t height) {
                 : Buffer<PyramidLevel>(ctx, std::span<const PyramidLevel>(layout.levels), CL_MEM_READ_ONLY);
   count_ = static_cast<uint32_t>(layout.levels.size());
   width_ = width, height_ = height;
-  // The first two-level launch's work-items (a map whose sides take it; one entry otherwise), none holding a kept
-  // background yet.
-  kept_.allocate(ctx, width % 32 == 0 && height % 4 == 0 ? std::max<size_t>(size_t{width / 32} * (height / 4), 1) : 1);
+  // The first two-level launch's work-items (a map whose sides take it: computeMinMaxLevels' test; one entry
+  // otherwise), none holding a kept background yet.
+  const bool twoLevels = width % (4 * kRowTexels) == 0 && height % 4 == 0;
+  kept_.allocate(ctx, twoLevels ? std::max<size_t>(size_t{width / (4 * kRowTexels)} * (height / 4), 1) : 1);
   kept_.fill(ctx, 0u);
 }
 
