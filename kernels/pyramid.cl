@@ -91,6 +91,33 @@ inline PyramidTexel pyramid_reduce_local(__local const PyramidTexel* src, uint p
   PYRAMID_REDUCE(src, pitch, t, PYRAMID_LOAD_LOCAL)
 }
 
+#if PYRAMID_FROM_DEPTH == 2
+// Levels-only min-max from the depth map, with `tilesX` > 0: the texels of the map's 8 x 8 tiles (tx, ty) whose
+// tiles[ty * tilesX + tx] is nonzero count as background (host/stages/pyramid.h computeMinMaxLevels: the rasterizer's
+// empty tiles, or the tiles no caster reaches). PYRAMID_TILE_BITS: the tile's texel-column lanes of a 16-texel row
+// that starts on a tile's first column (two tiles: lanes 0-7 the first, 8-15 the second).
+#define PYRAMID_TILE_LOG2 3
+inline bool pyramid_tile_background(__global const uint* tiles, uint tilesX, uint x, uint y) {
+  return tilesX != 0u && tiles[(size_t)(y >> PYRAMID_TILE_LOG2) * tilesX + (x >> PYRAMID_TILE_LOG2)] != 0u;
+}
+
+inline float2 pyramid_reduce_depth(__global const float* src, uint pitch, PyramidTaps t, __global const uint* tiles,
+                                   uint tilesX) {
+  float2 range = (float2)(INFINITY, -INFINITY);
+  for (int j = 0; j < t.ny; ++j)
+    for (int i = 0; i < t.nx; ++i) {
+      const uint x = (uint)(t.x0 + i), y = (uint)(t.y0 + j);
+      const float z = pyramid_tile_background(tiles, tilesX, x, y) ? INFINITY : src[(size_t)y * pitch + x];
+      const float2 v = pyramid_far_range(z);
+      range = (float2)(fmin(range.x, v.x), fmax(range.y, v.y));
+    }
+  return range;
+}
+#define PYRAMID_TILE_PARAMS , __global const uint *tiles, uint tilesX
+#else
+#define PYRAMID_TILE_PARAMS
+#endif
+
 // Reference schedule: one level per launch, one work-item per destination texel.
 inline void pyramid_level(__global const PyramidInput* src, PyramidLevel s, __global PyramidStored* dst,
                           PyramidLevel d) {
@@ -132,7 +159,7 @@ inline PyramidSpan pyramid_span(uint group, uint groups, uint tile, uint shift, 
 // spans is kept in local memory (`even` or `odd` by the parity of j) for level j + 1; the first level reads
 // the input in global memory. Every barrier is reached by the whole group (the level loop is uniform).
 inline void pyramid_batch(__global const PyramidInput* src, __global PyramidStored* dst, const PyramidBatch b,
-                          __local PyramidTexel* even, __local PyramidTexel* odd) {
+                          __local PyramidTexel* even, __local PyramidTexel* odd PYRAMID_TILE_PARAMS) {
   const uint gx = get_group_id(0), gy = get_group_id(1), ngx = get_num_groups(0), ngy = get_num_groups(1);
   PyramidSpan px = {0, 0, 0}, py = {0, 0, 0};  // the previous level's spans (its origin and pitch in local memory)
   for (uint j = 0; j < b.count; ++j) {
@@ -147,7 +174,11 @@ inline void pyramid_batch(__global const PyramidInput* src, __global PyramidStor
         PyramidTaps t = pyramid_footprint(x, y, s, d);
         PyramidTexel v;
         if (j == 0) {
+#if PYRAMID_FROM_DEPTH == 2
+          v = pyramid_reduce_depth(src, s.width, t, tiles, tilesX);  // level 0: the map itself, offset 0
+#else
           v = pyramid_reduce_global(src + (size_t)s.offset * PYRAMID_STRIDE, s.width, t);
+#endif
         } else {
           t.x0 -= px.lo, t.y0 -= py.lo;
           v = pyramid_reduce_local(in, px.end - px.lo, t);
@@ -173,21 +204,30 @@ inline void pyramid_batch(__global const PyramidInput* src, __global PyramidStor
 #define PYRAMID_ROW_TEXELS 8
 
 // (min, max) of the 8 destination texels of one source row whose footprints start at `row` (2 source texels each,
-// and a third, the next pair's first, where the source width is odd).
+// and a third, the next pair's first, where the source width is odd). From the depth map, `kept` (lanes -1 or 0) and
+// `keptNext` (the third texel) say which of the 16 + 1 texels are not taken as background (pyramid_row_kept); the
+// levels' variant ignores them (the first level already took them).
 #if PYRAMID_FROM_DEPTH == 2
-inline void pyramid_row_range(__global const float* row, int odd, float8* lo, float8* hi) {
+// `kept` of a 16-texel row starting at texel (x, y), x on a tile's first column: its two tiles' lanes.
+inline int16 pyramid_row_kept(__global const uint* tiles, uint tilesX, uint x, uint y) {
+  const int a = pyramid_tile_background(tiles, tilesX, x, y) ? 0 : -1;
+  const int b = pyramid_tile_background(tiles, tilesX, x + 8u, y) ? 0 : -1;
+  return (int16)((int8)(a), (int8)(b));
+}
+
+inline void pyramid_row_range(__global const float* row, int odd, int16 kept, int keptNext, float8* lo, float8* hi) {
   const float16 a = vload16(0, row);
-  const float16 v = select((float16)(INFINITY), a, isfinite(a));  // pyramid_far_range: background the farthest
+  const float16 v = select((float16)(INFINITY), a, isfinite(a) & kept);  // pyramid_far_range: background the farthest
   float8 mn = fmin(v.even, v.odd), mx = fmax(v.even, v.odd);
   if (odd) {
-    const float next = pyramid_far_range(row[16]).x;
+    const float next = keptNext ? pyramid_far_range(row[16]).x : INFINITY;
     const float8 e = v.even, third = (float8)(e.s1234, e.s567, next);
     mn = fmin(mn, third), mx = fmax(mx, third);
   }
   *lo = fmin(*lo, mn), *hi = fmax(*hi, mx);
 }
 #else
-inline void pyramid_row_range(__global const float2* row, int odd, float8* lo, float8* hi) {
+inline void pyramid_row_range(__global const float2* row, int odd, int16 kept, int keptNext, float8* lo, float8* hi) {
   const float16 a = vload16(0, (__global const float*)row), b = vload16(1, (__global const float*)row);
   const float16 mins = (float16)(a.even, b.even), maxs = (float16)(a.odd, b.odd);  // of the 16 source texels
   float8 mn = fmin(mins.even, mins.odd), mx = fmax(maxs.even, maxs.odd);
@@ -200,8 +240,9 @@ inline void pyramid_row_range(__global const float2* row, int odd, float8* lo, f
 }
 #endif
 
+// From the depth map, tiles and tilesX as pyramid_reduce_depth's; levels ignore them.
 __kernel void pyramid_minmax_rows(__global const PyramidInput* src, PyramidLevel s, __global float2* dst,
-                                  PyramidLevel d) {
+                                  PyramidLevel d, __global const uint* tiles, uint tilesX) {
   const uint x0 = get_global_id(0) * PYRAMID_ROW_TEXELS, y = get_global_id(1);
   if (x0 >= d.width || y >= d.height) return;
   src += s.offset;
@@ -211,24 +252,37 @@ __kernel void pyramid_minmax_rows(__global const PyramidInput* src, PyramidLevel
   const int rows = pyramid_taps(y, s.height, d.height, &firstRow, w);
   if (s.width > 1 && x0 + PYRAMID_ROW_TEXELS <= d.width) {  // the footprints start at 2 x0 and lie in the row
     float8 lo = (float8)(INFINITY), hi = (float8)(-INFINITY);
-    for (int j = 0; j < rows; ++j)
-      pyramid_row_range(src + (size_t)(firstRow + j) * s.width + 2 * x0, s.width & 1, &lo, &hi);
+    for (int j = 0; j < rows; ++j) {
+      const uint y = (uint)(firstRow + j);
+#if PYRAMID_FROM_DEPTH == 2
+      const int16 kept = pyramid_row_kept(tiles, tilesX, 2 * x0, y);
+      const int keptNext = (s.width & 1) && !pyramid_tile_background(tiles, tilesX, 2 * x0 + 16u, y);
+#else
+      const int16 kept = (int16)(-1);
+      const int keptNext = 1;
+#endif
+      pyramid_row_range(src + (size_t)y * s.width + 2 * x0, s.width & 1, kept, keptNext, &lo, &hi);
+    }
     float16 both;
     both.even = lo, both.odd = hi;
     vstore16(both, 0, (__global float*)(out + x0));
     return;
   }
   for (uint x = x0; x < min(x0 + PYRAMID_ROW_TEXELS, d.width); ++x)  // the row's last texels; a 1-wide source
+#if PYRAMID_FROM_DEPTH == 2
+    out[x] = pyramid_reduce_depth(src, s.width, pyramid_footprint(x, y, s, d), tiles, tilesX);
+#else
     out[x] = pyramid_reduce_global(src, s.width, pyramid_footprint(x, y, s, d));
+#endif
 }
 
 // Two levels per launch where both halvings are exact (the source's width a multiple of 32, its height of 4; the host
 // checks): a work-item takes 8 texels of the second level `d2`, the 2 x 16 texels of the first `d1` over them and the
 // 4 x 32 source texels under those, so the first level is written and not read back (a 4096^2 map's level 1 is 32 MiB).
 // The same minima and maxima of the same texels as two pyramid_minmax_rows launches, bit for bit. From the depth map,
-// with `tilesX` > 0: backgroundTiles[ty * tilesX + tx] nonzero where the map's 8 x 8 tile (tx, ty) holds only
-// background (host/stages/pyramid.h computeMinMaxLevels); a work-item's 32 x 4 texels lie in 4 tiles of one row, and
-// where all four hold background its texels are written as the background's (+inf, +inf) without reading them. With
+// with `tilesX` > 0: backgroundTiles[ty * tilesX + tx] nonzero where the map's 8 x 8 tile (tx, ty) is taken as
+// background (pyramid_reduce_depth); a work-item's 32 x 4 texels lie in 4 tiles of one row, and where all four are
+// its texels are written as the background's (+inf, +inf) without reading them, else the others' texels read. With
 // `keep`: kept[item] (one per work-item, row by row) nonzero where the levels already hold its background from a build
 // before (MinMaxLevels, which alone writes them), and then it writes nothing either; each work-item sets its own.
 __kernel void pyramid_minmax_rows2(__global const PyramidInput* src, PyramidLevel s, __global float2* dst,
@@ -255,6 +309,11 @@ __kernel void pyramid_minmax_rows2(__global const PyramidInput* src, PyramidLeve
     }
   }
   if (keep) kept[item] = 0u;
+  // Its 4 tiles, the texels of those taken as background left out (the same tile row for its 4 source rows).
+  const int16 keptA = pyramid_row_kept(backgroundTiles, tilesX, 4 * x2, 4 * y2);
+  const int16 keptB = pyramid_row_kept(backgroundTiles, tilesX, 4 * x2 + 16u, 4 * y2);
+#else
+  const int16 keptA = (int16)(-1), keptB = keptA;
 #endif
   float16 lo2 = (float16)(INFINITY), hi2 = (float16)(-INFINITY);  // the first level's 16 texels, over both its rows
   for (uint r = 0; r < 2; ++r) {
@@ -262,8 +321,8 @@ __kernel void pyramid_minmax_rows2(__global const PyramidInput* src, PyramidLeve
     float8 loA = (float8)(INFINITY), hiA = (float8)(-INFINITY), loB = loA, hiB = hiA;
     for (uint j = 0; j < 2; ++j) {
       __global const PyramidInput* row = src + (size_t)(2 * y1 + j) * s.width + 4 * x2;
-      pyramid_row_range(row, 0, &loA, &hiA);
-      pyramid_row_range(row + 2 * PYRAMID_ROW_TEXELS, 0, &loB, &hiB);
+      pyramid_row_range(row, 0, keptA, 0, &loA, &hiA);
+      pyramid_row_range(row + 2 * PYRAMID_ROW_TEXELS, 0, keptB, 0, &loB, &hiB);
     }
     __global float* out = (__global float*)(dst + d1.offset + (size_t)y1 * d1.width + 2 * x2);
     float16 both;
@@ -289,10 +348,17 @@ __kernel void pyramid_minmax_base(__global const float* depth, __global float2* 
 }
 #endif
 
+#if PYRAMID_FROM_DEPTH == 2
+__kernel void pyramid_minmax_batch(__global const float* depth, __global float2* dst, PyramidBatch b,
+                                   __local float2* even, __local float2* odd, __global const uint* tiles, uint tilesX) {
+  pyramid_batch(depth, dst, b, even, odd, tiles, tilesX);
+}
+#else
 __kernel void pyramid_minmax_batch(__global const float* depth, __global float2* dst, PyramidBatch b,
                                    __local float2* even, __local float2* odd) {
   pyramid_batch(depth, dst, b, even, odd);
 }
+#endif
 #elif PYRAMID_MINMAX
 __kernel void pyramid_minmax_down(__global const float2* src, PyramidLevel s, __global float2* dst, PyramidLevel d) {
   pyramid_level(src, s, dst, d);

@@ -3,7 +3,8 @@
 // triangle id): nearest wins, ties go to the smaller triangle id. That order is total, so the result depends
 // neither on queue order nor on the layout below (no atomics, deterministic). The winner's depth is then stored in
 // the view's DepthMode; every pixel of the tile inside the scissor is written (background: +INFINITY, no id), except
-// in tiles the view's tile mask leaves out.
+// in tiles the view's tile mask leaves out. With RasterViewParams::casterTiles it also records per tile whether its
+// queue holds no caster (RasterView::recordCasterTiles).
 // Two layouts of the same per-pixel math, chosen by RASTER_WG_FINE (raster/constants.h):
 //   0 (GPUs): one work-group per tile, one work-item per pixel, the queue staged in local memory RASTER_FINE_WG
 //     records at a time;
@@ -121,13 +122,15 @@ __kernel __attribute__((reqd_work_group_size(RASTER_FINE_WG, 1, 1))) void fine_r
     __global const RasterTriangle* tris, __global const uint* tileEntries, __global const uint* tileCount,
     __global const uint* tileOffset, __global const uint* tileMask, __global const AlphaTriangle* alphaTriangles,
     __global const AlphaMaterial* alphaMaterials, __global const uchar* alphaTexels, __global float* depth,
-    __global uint* triangleId, __global uint* emptyTiles, const RasterViewParams p) {
+    __global uint* triangleId, __global uint* emptyTiles, __global uint* casterFree, const RasterViewParams p) {
   __local RasterTriangle staged[RASTER_FINE_WG];
+  __local int casters;  // p.casterTiles: whether a queue entry of the tile is a caster
   const FineAlpha alpha = {alphaTriangles, alphaMaterials, alphaTexels};
   const int lid = get_local_id(0);
   if (!fineDraws(&p, get_group_id(0), tileMask)) return;  // the whole work-group: no barrier is reached
   uint offset, count;
   const int2 origin = fineTile(&p, get_group_id(0), tileCount, tileOffset, &offset, &count);
+  if (lid == 0) casters = 0;  // ordered before the atomics and the read below by the barriers after it
   const int x = origin.x + (lid & (RASTER_TILE_SIZE - 1)), y = origin.y + (lid >> RASTER_TILE_LOG2);
   const bool live = x >= p.rectX0 && x < p.rectX1 && y >= p.rectY0 && y < p.rectY1;
   const int sx = rasterSample(x), sy = rasterSample(y);
@@ -135,13 +138,20 @@ __kernel __attribute__((reqd_work_group_size(RASTER_FINE_WG, 1, 1))) void fine_r
   uint bestId = RASTER_NO_TRIANGLE;
   for (uint base = 0; base < count; base += RASTER_FINE_WG) {
     barrier(CLK_LOCAL_MEM_FENCE);  // the previous batch is no longer read
-    if (base + lid < count) staged[lid] = tris[tileEntries[offset + base + lid]];
+    if (base + lid < count) {
+      staged[lid] = tris[tileEntries[offset + base + lid]];
+      if (p.casterTiles && (staged[lid].flags & RASTER_FLAG_NONCASTER) == 0u) atomic_or(&casters, 1);
+    }
     barrier(CLK_LOCAL_MEM_FENCE);
     const uint n = min((uint)RASTER_FINE_WG, count - base);
     if (live)
       for (uint j = 0; j < n; ++j) fineTest(&staged[j], x, y, sx, sy, &p, &alpha, &best, &bestId);
   }
   if (live) fineStore(&p, x, y, best, bestId, depth, triangleId);
+  if (p.casterTiles) {  // uniform: the whole group reaches the barrier
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (lid == 0) casterFree[(origin.y >> RASTER_TILE_LOG2) * p.tilesX + (origin.x >> RASTER_TILE_LOG2)] = casters == 0;
+  }
 }
 
 #else
@@ -210,7 +220,7 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_FINE, 1, 1))) void fine_r
     __global const RasterTriangle* tris, __global const uint* tileEntries, __global const uint* tileCount,
     __global const uint* tileOffset, __global const uint* tileMask, __global const AlphaTriangle* alphaTriangles,
     __global const AlphaMaterial* alphaMaterials, __global const uchar* alphaTexels, __global float* depth,
-    __global uint* triangleId, __global uint* emptyTiles, const RasterViewParams p) {
+    __global uint* triangleId, __global uint* emptyTiles, __global uint* casterFree, const RasterViewParams p) {
   const int index = get_global_id(0);
   const int tileRows = (p.rectY1 - 1) / RASTER_TILE_SIZE - p.tileY0 + 1;
   if (index >= p.tilesAcross * tileRows) return;  // padding of the last work-group
@@ -220,6 +230,7 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_FINE, 1, 1))) void fine_r
   // RasterTargets::keepEmptyTiles: a tile with no entries that held only the background at the last draw still does
   // (pcss on scenes/default.json at 640x360, 96 % of its 4096^2 map's tiles: the fine stage 6.9 -> 5.3 ms).
   const int tile = (origin.y >> RASTER_TILE_LOG2) * p.tilesX + (origin.x >> RASTER_TILE_LOG2);
+  if (count == 0 && p.casterTiles) casterFree[tile] = 1u;
   if (count == 0 && p.emptyTiles && emptyTiles[tile] != 0u) return;
   if (count == 0 && fineStoreEmptyTile(&p, origin, depth, triangleId)) {
     if (p.emptyTiles) emptyTiles[tile] = 1u;
@@ -229,11 +240,13 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_FINE, 1, 1))) void fine_r
   float best[RASTER_TILE_PIXELS];
   uint bestId[RASTER_TILE_PIXELS];
   for (int i = 0; i < RASTER_TILE_PIXELS; ++i) best[i] = INFINITY, bestId[i] = RASTER_NO_TRIANGLE;
+  uint casters = 0u;  // RASTER_FLAG_NONCASTER where a queue entry is a caster
   for (uint j = 0; j < count; ++j) {
     if (j + RASTER_FINE_PREFETCH < count) RASTER_PREFETCH_RECORD(&tris[tileEntries[offset + j + RASTER_FINE_PREFETCH]]);
     __global const RasterTriangle* t = &tris[tileEntries[offset + j]];
     const int r0 = max((int)t->bbox[1] - origin.y, 0), r1 = min((int)t->bbox[3] - origin.y, RASTER_TILE_SIZE - 1);
     const uint flags = t->flags;
+    casters |= ~flags & RASTER_FLAG_NONCASTER;
     if ((flags & RASTER_FLAG_ALPHA) == 0) {
       fineTestRows(t, origin, r0, r1, p.farViewZ, (const FineAlphaRows*)0, best, bestId);
       continue;
@@ -243,6 +256,7 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_FINE, 1, 1))) void fine_r
     alpha.fragment = rasterAlphaFragment(&p, alphaTriangles, alphaMaterials, flags >> RASTER_FLAG_ALPHA_SHIFT);
     fineTestRows(t, origin, r0, r1, p.farViewZ, &alpha, best, bestId);
   }
+  if (p.casterTiles) casterFree[tile] = casters == 0u;
   // A tile wholly inside the scissor whose depth is the view depth itself (the light maps): 8-wide rows, the
   // background selected per lane (vssm's 4096^2 map on scenes/default.json, every tile under the ground: the fine
   // stage 12.1 -> 10.5 ms; the same bits).

@@ -69,7 +69,7 @@ struct Rasterizer::Impl {
   void chooseCasters(const RasterView& view, raster::Plan& plan) const;
   raster::CasterTest casterTest(const RasterLight& light) const { return {light, boundsLo, boundsHi}; }
   void run(const raster::Plan& plan, Buffer<float>& depth, Buffer<uint32_t>& triangleIds,
-           Buffer<uint32_t>* emptyTiles = nullptr);
+           Buffer<uint32_t>* emptyTiles = nullptr, Buffer<uint32_t>* casterFree = nullptr);
   void sizeQueues(const raster::Plan& plan);
   bool grow(const char* queue, const char* kernel, uint32_t& capacity, uint64_t requested, size_t recordBytes,
             uint64_t indexLimit);
@@ -85,7 +85,7 @@ struct Rasterizer::Impl {
   glm::vec3 boundsLo{INFINITY}, boundsHi{-INFINITY};  // the finite positions' box (RasterView::casterLight)
   Buffer<float> noDepth;  // the depth and id targets of conservative draws, which write neither
   Buffer<uint32_t> noIds;
-  Buffer<uint32_t> noEmptyTiles;  // fine's empty-tile record argument where the draw keeps none
+  Buffer<uint32_t> noEmptyTiles;  // fine's empty-tile and caster-tile record arguments where the draw keeps none
 };
 
 void Rasterizer::Impl::upload(const RasterGeometry& s) {
@@ -197,19 +197,18 @@ bool Rasterizer::Impl::grow(const char* queue, const char* kernel, uint32_t& cap
 }
 
 void Rasterizer::Impl::run(const raster::Plan& plan, Buffer<float>& depth, Buffer<uint32_t>& triangleIds,
-                           Buffer<uint32_t>* emptyTiles) {
+                           Buffer<uint32_t>* emptyTiles, Buffer<uint32_t>* casterFree) {
   stats = RasterStats{};
   stats.trianglesIn = scene.triangleCount;
   if (plan.empty()) return;
-  if (emptyTiles == nullptr) {
-    if (noEmptyTiles.empty()) noEmptyTiles.allocate(ctx, 1);
-    emptyTiles = &noEmptyTiles;
-  }
+  if (noEmptyTiles.empty()) noEmptyTiles.allocate(ctx, 1);
+  if (emptyTiles == nullptr) emptyTiles = &noEmptyTiles;
+  if (casterFree == nullptr) casterFree = &noEmptyTiles;
   for (int round = 0;; ++round) {
     if (round == kMaxRounds)
       throw std::logic_error(fmt::format("raster: queues still overflow after {} rounds", kMaxRounds));
     sizeQueues(plan);
-    stages.record(plan, scene, queues, depth, triangleIds, *emptyTiles);
+    stages.record(plan, scene, queues, depth, triangleIds, *emptyTiles, *casterFree);
     const RasterCounters counters = queues.counters.download(ctx).front();
     stats.trianglesSetUp = counters.setUp;
     stats.binEntries = counters.binEntries;
@@ -244,6 +243,23 @@ void Rasterizer::draw(const RasterView& view, RasterTargets& targets) {
   impl_->chooseSolidSides(view, plan);
   impl_->chooseCasters(view, plan);
   ensureTarget(impl_->ctx, targets.depth, plan, std::numeric_limits<float>::infinity());
+  // RasterView::recordCasterTiles: the record names this draw once it is made.
+  targets.casterFreeKey = {};
+  Buffer<uint32_t>* casterFree = nullptr;
+  if (view.recordCasterTiles) {
+    if (!view.casterLight || view.scissor || view.tileMask != nullptr)
+      throw std::invalid_argument(
+          "raster view: caster tiles are recorded for a light's whole viewport (casterLight, "
+          "no scissor, no tile mask)");
+    if (!plan.empty()) {
+      targets.casterFree.allocate(impl_->ctx, plan.tiles);
+      plan.params.casterTiles = 1;
+      casterFree = &targets.casterFree;
+    }
+  }
+  const auto recorded = [&] {
+    if (casterFree != nullptr) targets.casterFreeKey = {targets.depth.get()(), nullptr, view.width, view.height};
+  };
   if (view.writeTriangleIds) {
     ensureTarget(impl_->ctx, targets.triangleId, plan, kNoTriangle);
   } else {
@@ -255,7 +271,8 @@ void Rasterizer::draw(const RasterView& view, RasterTargets& targets) {
   // round.
   if (!targets.keepEmptyTiles || !impl_->stages.keepsEmptyTiles()) {
     targets.forgetEmptyTiles();
-    impl_->run(plan, targets.depth, targets.triangleId);
+    impl_->run(plan, targets.depth, targets.triangleId, nullptr, casterFree);
+    recorded();
     return;
   }
   const RasterTargets::EmptyTilesKey key{
@@ -266,7 +283,8 @@ void Rasterizer::draw(const RasterView& view, RasterTargets& targets) {
     targets.emptyTilesKey = key;
   }
   plan.params.emptyTiles = 1;
-  impl_->run(plan, targets.depth, targets.triangleId, &targets.emptyTiles);
+  impl_->run(plan, targets.depth, targets.triangleId, &targets.emptyTiles, casterFree);
+  recorded();
 }
 
 RasterTileLists Rasterizer::drawTileLists(const RasterView& view) {

@@ -84,6 +84,10 @@ struct RasterView {
   // empty, and no tile lists it. Not for maps whose texels are filtered as values (moments), which need the
   // receivers' own depths.
   std::optional<RasterLight> casterLight;
+  // draw() with casterLight, no scissor and no tile mask: draw every triangle (the ones casterLight's test leaves out
+  // too: a map whose texels are filtered as values) and record which 8x8 tiles no caster reaches
+  // (RasterTargets::casterFreeTiles): where a min-max pyramid of the map's casters may take the texels as background.
+  bool recordCasterTiles = false;
 };
 
 // Depth-only targets (shadow maps): width * height each, row-major, row 0 at the bottom (y up in NDC).
@@ -97,7 +101,7 @@ struct RasterTargets {
   // frame (64 MiB for a 4096^2 map). Whoever writes or replaces the buffers other than through draw() calls
   // forgetEmptyTiles(); draw() notices by itself only a change of width or height, of id writing, or of buffer handle.
   bool keepEmptyTiles = false;
-  void forgetEmptyTiles() { emptyTilesKey = {}; }
+  void forgetEmptyTiles() { emptyTilesKey = {}, casterFreeKey = {}; }  // and casterFreeTiles' record
   // draw()'s record, per tile of the viewport (row-major from the bottom row): nonzero where the targets hold only the
   // background; valid for the buffers and viewport in emptyTilesKey.
   struct EmptyTilesKey {
@@ -114,6 +118,16 @@ struct RasterTargets {
     const bool valid = keepEmptyTiles && emptyTilesKey.depth != nullptr && emptyTilesKey.depth == depth.get()() &&
                        emptyTilesKey.width == width && emptyTilesKey.height == height;
     return valid ? &emptyTiles : nullptr;
+  }
+  // The record of a draw with RasterView::recordCasterTiles, per 8x8 tile as backgroundTiles: nonzero where no triangle
+  // that can cast a shadow reaches the tile (its queue holds none: the tile's texels are background or non-casters,
+  // which no light ray meets in front of a caster), valid while casterFreeKey names the last draw (ids not counted).
+  Buffer<uint32_t> casterFree;
+  EmptyTilesKey casterFreeKey;
+  const Buffer<uint32_t>* casterFreeTiles(int width, int height) const {
+    const bool valid = casterFreeKey.depth != nullptr && casterFreeKey.depth == depth.get()() &&
+                       casterFreeKey.width == width && casterFreeKey.height == height;
+    return valid ? &casterFree : nullptr;
   }
 };
 

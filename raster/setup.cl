@@ -149,8 +149,8 @@ static RasterTriangle setupRejected(uint id) {
 
 // Builds the record of one clip-space triangle; returns false (record invalid) when it is dropped: w <= 0,
 // zero snapped area (not in conservative draws), wound the way `cull` drops (RASTER_CULL_*), or no pixel centre of the
-// scissor inside its bounds. `alpha`: the RASTER_FLAG_ALPHA bits of an alpha-tested triangle (0 for others), added to
-// the flags of a drawn record.
+// scissor inside its bounds. `alpha`: the RASTER_FLAG_ALPHA bits of an alpha-tested triangle and
+// RASTER_FLAG_NONCASTER (0 for others), added to the flags of a drawn record.
 static bool setupEmit(real4 v0, real4 v1, real4 v2, const RasterViewParams* p, uint id, uint cull, uint alpha,
                       RasterTriangle* r) {
   *r = setupRejected(id);
@@ -304,7 +304,8 @@ static uint setupTriangle(__global const float* positions, __global const uint* 
     out[t] = r;
     return 0;
   }
-  if (p->casterSource != RASTER_CASTERS_ALL && setupCastsNothing(p, q0, q1, q2)) {
+  const bool castsNothing = p->casterSource != RASTER_CASTERS_ALL && setupCastsNothing(p, q0, q1, q2);
+  if (castsNothing && !p->casterTiles) {
     out[t] = r;
     return 0;
   }
@@ -326,7 +327,7 @@ static uint setupTriangle(__global const float* positions, __global const uint* 
            setupPlaneDistance(c2, plane, gx, gy) < 0;
   const uint bits = p->triangleBits ? triangleBits[t] : 0u;
   const uint cull = setupCulls(p, bits, solidSides, t);
-  const uint alpha = setupAlphaFlags(bits);
+  const uint alpha = setupAlphaFlags(bits) | (castsNothing ? RASTER_FLAG_NONCASTER : 0u);  // the record's own flags
   if (clip) return setupClipped(c0, c1, c2, p, t, cull, alpha, out, counters);
   bool drawn = setupEmit(c0, c1, c2, p, t, cull, alpha, &r);
   out[t] = r;

@@ -42,7 +42,7 @@ RasterViewParams Stages::params(const Plan& plan, const Queues& queues) const {
 }
 
 void Stages::record(const Plan& plan, const SceneBuffers& scene, Queues& q, Buffer<float>& depth,
-                    Buffer<uint32_t>& triangleIds, Buffer<uint32_t>& emptyTiles) {
+                    Buffer<uint32_t>& triangleIds, Buffer<uint32_t>& emptyTiles, Buffer<uint32_t>& casterFree) {
   const RasterViewParams p = params(plan, q);
   const size_t records = size_t{scene.triangleCount} + q.extraCapacity;
   const size_t binItems = (records + groups_.binRun - 1) / groups_.binRun;  // groups_.binRun records per item
@@ -67,7 +67,7 @@ void Stages::record(const Plan& plan, const SceneBuffers& scene, Queues& q, Buff
   if (p.conservative) return;  // tile lists only (Rasterizer::drawTileLists)
   fine_
       .args(q.records, q.tileEntries, q.tileCount, q.tileOffset, mask, scene.alphaTriangles, scene.alphaMaterials,
-            scene.alphaTexels, depth, triangleIds, emptyTiles, p)
+            scene.alphaTexels, depth, triangleIds, emptyTiles, casterFree, p)
       .moves(uint64_t{plan.scissorPixels} * (sizeof(float) + sizeof(uint32_t)))
       .launch(groups_.fine == 0 ? plan.launchedTiles * RASTER_FINE_WG : plan.launchedTiles,
               groups_.fine == 0 ? size_t{RASTER_FINE_WG} : groups_.fine);

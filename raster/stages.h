@@ -51,9 +51,10 @@ class Stages {
 
   // Clears the counters, then: setup, bin (count, scan, fill), coarse (count, scan, fill), fine into depth/ids (not
   // for conservative plans, which leave depth and ids untouched and end with the tile queue). emptyTiles: fine's
-  // per-tile record where plan.params.emptyTiles is set (RasterTargets::keepEmptyTiles), else any buffer.
+  // per-tile record where plan.params.emptyTiles is set (RasterTargets::keepEmptyTiles), casterFree where
+  // plan.params.casterTiles is (RasterView::recordCasterTiles); else any buffer.
   void record(const Plan& plan, const SceneBuffers& scene, Queues& queues, Buffer<float>& depth,
-              Buffer<uint32_t>& triangleIds, Buffer<uint32_t>& emptyTiles);
+              Buffer<uint32_t>& triangleIds, Buffer<uint32_t>& emptyTiles, Buffer<uint32_t>& casterFree);
   // Whether fine keeps RasterTargets::emptyTiles on this device: its CPU layout, whose empty tiles are stored by a
   // core (a GPU's store them at its bandwidth, microseconds for a 4096^2 map).
   bool keepsEmptyTiles() const { return groups_.fine != 0; }

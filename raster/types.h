@@ -30,7 +30,8 @@ typedef struct {
   float invW[3];          // 1 / w_clip of the vertex opposite edge k
   float viewZOverW[3];    // -z_eye / w_clip of the vertex opposite edge k (eye units)
   uint triangleId;        // index into RasterGeometry::triangles
-  uint flags;             // RASTER_FLAG_VALID | RASTER_FLAG_OWNS_EDGE0 << k | RASTER_FLAG_ALPHA | alpha index << 5
+  uint flags;  // RASTER_FLAG_VALID | RASTER_FLAG_OWNS_EDGE0 << k | RASTER_FLAG_NONCASTER | RASTER_FLAG_ALPHA | alpha
+               // index << 6
   raster_ushort bbox[4];  // candidate pixels: x0, y0, x1, y1 inclusive, inside the scissor
 } RasterTriangle;
 
@@ -94,7 +95,10 @@ typedef struct {
   float casterBoxHalf[4];              // and half-extent xyz
   int emptyTiles;  // 1 (fine, CPU layout): emptyTiles[tile] records whether the tile holds only the background, and
                    // a tile with no entries that held only the background is not rewritten (RasterTargets)
-  uint padEnd[3];
+  int casterTiles;  // 1 (with casterSource): setup keeps what casts nothing, flagged RASTER_FLAG_NONCASTER, and fine
+                    // records casterFree[tile]: whether the tile's queue holds no caster
+                    // (RasterView::recordCasterTiles)
+  uint padEnd[2];
 } RasterViewParams;
 
 #if PENUMBRA_HOST
@@ -108,7 +112,7 @@ static_assert(offsetof(RasterViewParams, width) == 192 && offsetof(RasterViewPar
 static_assert(offsetof(RasterViewParams, tileMasked) == 288 && offsetof(RasterViewParams, cullSingleSided) == 296);
 static_assert(offsetof(RasterViewParams, conservative) == 300 && offsetof(RasterViewParams, solidSides) == 304);
 static_assert(offsetof(RasterViewParams, casterSource) == 312 && offsetof(RasterViewParams, casterBoxHalf) == 352);
-static_assert(offsetof(RasterViewParams, emptyTiles) == 368);
+static_assert(offsetof(RasterViewParams, emptyTiles) == 368 && offsetof(RasterViewParams, casterTiles) == 372);
 static_assert(sizeof(RasterViewParams) == 384, "RasterViewParams layout must match OpenCL C");
 #endif
 

@@ -106,6 +106,8 @@ Params fixedParams(const TechniqueInfo& info) {
   Params params(info.params);
   params.set("map-size", std::to_string(kMapSize));
   params.set("fit", "scene");
+  // A caller's map has no record of the tiles no caster reaches: vssm's HSM is the whole map's (docs/library.md).
+  if (info.name == "vssm") params.set("vssm-hsm", "all");
   return params;
 }
 

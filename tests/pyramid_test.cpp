@@ -189,6 +189,75 @@ TEST_F(PyramidBackground, KeptBackgroundFollowsTheMapFromBuildToBuild) {
   }
 }
 
+// A record whose tiles hold content (RasterTargets::casterFreeTiles: receivers no caster reaches) takes their texels
+// as background in every schedule: the levels and the top equal those of the map with those texels made background,
+// bit for bit, for the rows schedule (two levels a launch, one, and the last texels of a row), the batched one on this
+// device and on a small GPU, on exact, odd, thin and 1x1 maps; and MinMaxLevels' kept blocks follow records that change
+// on the same map. A record read for the wrong tile, or only where all four tiles of a block agree, fails it.
+TEST_F(PyramidBackground, TilesTakenAsBackgroundInEverySchedule) {
+  Context& ctx = this->ctx();
+  const std::unique_ptr<Context> gpu = test::smallGpuContext(ctx, 16 * 1024);
+  for (const auto& [width, height] :
+       {std::pair<uint32_t, uint32_t>{256, 128}, {32, 4}, {96, 200}, {100, 60}, {37, 9}, {300, 7}, {1, 1}}) {
+    const std::vector<float> map = test::randomDepthMap(width, height, width * 5 + height);
+    const uint32_t tilesX = (width + 7) / 8, tilesY = (height + 7) / 8;
+    const auto recordOf = [&](uint32_t seed) {
+      std::mt19937 rng(seed);
+      std::vector<uint32_t> record(size_t{tilesX} * tilesY);
+      for (uint32_t& r : record) r = rng() % 2;
+      return record;
+    };
+    const auto levels = [&](Context& c, const std::vector<float>& m, const std::vector<uint32_t>* record,
+                            PyramidSchedule schedule, cl_float2* top) {
+      const PyramidLayout layout = pyramidLayout(width, height, 1);
+      Buffer<cl_float2> out(c, std::max<size_t>(layout.texels, 1));
+      out.fill(c, {{test::kPoison, test::kPoison}});
+      const Buffer<float> depth(c, std::span<const float>(m));
+      const Buffer<uint32_t> tiles(c, std::span<const uint32_t>(record != nullptr ? *record : recordOf(0)));
+      *top = computeMinMaxLevels(c, depth, width, height, out, {schedule}, record != nullptr ? &tiles : nullptr);
+      std::vector<cl_float2> all = out.download(c);
+      all.resize(layout.texels);
+      return all;
+    };
+    const auto same = [](const std::vector<cl_float2>& a, const std::vector<cl_float2>& b) {
+      return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(cl_float2)) == 0;
+    };
+    for (uint32_t seed : {1u, 2u}) {
+      const std::vector<uint32_t> record = recordOf(seed);
+      std::vector<float> masked = map;
+      for (uint32_t y = 0; y < height; ++y)
+        for (uint32_t x = 0; x < width; ++x)
+          if (record[size_t{y / 8} * tilesX + x / 8] != 0) masked[size_t{y} * width + x] = INFINITY;
+      cl_float2 expectedTop, top;
+      const std::vector<cl_float2> expected = levels(ctx, masked, nullptr, PyramidSchedule::Rows, &expectedTop);
+      const std::string name = fmt::format("{}x{} record {}", width, height, seed);
+      EXPECT_TRUE(same(levels(ctx, map, &record, PyramidSchedule::Rows, &top), expected)) << name << " rows";
+      EXPECT_EQ(std::memcmp(&top, &expectedTop, sizeof top), 0) << name << " rows";
+      EXPECT_TRUE(same(levels(ctx, map, &record, PyramidSchedule::Batched, &top), expected)) << name << " batched";
+      EXPECT_EQ(std::memcmp(&top, &expectedTop, sizeof top), 0) << name << " batched";
+      EXPECT_TRUE(same(levels(*gpu, map, &record, PyramidSchedule::Auto, &top), expected)) << name << " small GPU";
+      if (width * height > 1) {
+        EXPECT_FALSE(same(levels(ctx, map, nullptr, PyramidSchedule::Rows, &top), expected)) << name;  // it matters
+      }
+    }
+    // Kept blocks between builds of one map whose records change (and a build without one).
+    MinMaxLevels kept;
+    const Buffer<float> depth(ctx, std::span<const float>(map));
+    for (const auto& [seed, withRecord] :
+         std::vector<std::pair<uint32_t, bool>>{{1, true}, {2, true}, {1, true}, {3, false}, {1, true}}) {
+      const std::vector<uint32_t> record = recordOf(seed);
+      const Buffer<uint32_t> tiles(ctx, std::span<const uint32_t>(record));
+      kept.build(ctx, depth, width, height, withRecord ? &tiles : nullptr);
+      cl_float2 top;
+      const std::vector<cl_float2> fresh =
+          levels(ctx, map, withRecord ? &record : nullptr, PyramidSchedule::Rows, &top);
+      std::vector<cl_float2> built = kept.pyramid().download(ctx);
+      built.resize(fresh.size());
+      EXPECT_TRUE(same(built, fresh)) << width << "x" << height << " build with record " << seed << withRecord;
+    }
+  }
+}
+
 class PyramidDisk : public test::ClTest {};
 
 // pyramid_far_in_disk (kernels/shared/pyramid.h) on maps of odd, thin and square sizes holding depths with background

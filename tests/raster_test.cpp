@@ -3,6 +3,7 @@
 // every depth mode, perspective and orthographic views, scissors, tile masks and back-face culling.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <optional>
@@ -388,11 +389,18 @@ TEST_F(RasterTest, SolidsFarSidesAreLeftOutWithTheSameDepthAndIds) {
 // ground and the box's bottom) are left out and their texels stay empty, while every other texel keeps its depth and
 // id; a light below the ground, a ball or a cone that the plane cuts, or geometry below the ground keeps every
 // triangle. Conservative tile lists leave the same ones out. A degenerate light is refused.
-TEST_F(RasterTest, CasterTestLeavesOutOnlyWhatShadowsNoPointOfTheScene) {
+// A ground (y = 0, 12 x 12) under a box and a tilted plate; the caster tests' scene, drawn from above.
+Scene groundBoxPlate() {
   Scene scene = makeScene({{-6, 0, -6}, {-6, 0, 6}, {6, 0, 6}, {6, 0, -6}}, {{0, 1, 2}, {0, 2, 3}});
   detail::addBox(scene, 0, {-2.0f, 0.0f, -1.0f}, {-0.5f, 1.5f, 0.5f});
   detail::addTriangle(scene, 0, {0.5f, 2.0f, 0.5f}, {2.5f, 2.2f, 0.5f}, {1.5f, 2.1f, 2.5f});  // the plate
   scene.objectIds.assign(scene.triangles.size(), 0);
+  return scene;
+}
+const RasterView kFromAbove = orthoView(96, 96, {0, 10, 0.01f}, {0, 0, 0}, {-7, 7, -7, 7}, 1.0f, 20.0f);
+
+TEST_F(RasterTest, CasterTestLeavesOutOnlyWhatShadowsNoPointOfTheScene) {
+  const Scene scene = groundBoxPlate();
   Scene below = scene;  // a sliver under the ground: the box of the scene then reaches under the ground's plane
   detail::addTriangle(below, 0, {3, -0.01f, 3}, {4, -0.01f, 3}, {3, -0.01f, 4});
   // The triangles lying in the plane y = h, which the caster test may leave out.
@@ -433,7 +441,7 @@ TEST_F(RasterTest, CasterTestLeavesOutOnlyWhatShadowsNoPointOfTheScene) {
       // The ground then shadows the sliver, which shadows nothing.
       {"geometry below the ground", &below, ball({1, 8, 2}, 0.5f), -0.01f},
   };
-  const RasterView top = orthoView(96, 96, {0, 10, 0.01f}, {0, 0, 0}, {-7, 7, -7, 7}, 1.0f, 20.0f);
+  const RasterView top = kFromAbove;
   for (const Case& c : cases) {
     Rasterizer raster(ctx());
     uploadScene(raster, *c.scene);
@@ -489,6 +497,79 @@ TEST_F(RasterTest, CasterTestLeavesOutOnlyWhatShadowsNoPointOfTheScene) {
   EXPECT_THROW(raster.draw(view, targets), std::invalid_argument);
   view.casterLight = ball({0, NAN, 0}, 1.0f);
   EXPECT_THROW(raster.draw(view, targets), std::invalid_argument);
+}
+
+// RasterView::recordCasterTiles: every triangle drawn, the same depths and ids as without a caster light, and a record
+// per 8 x 8 tile that no tile holding a caster's texel is called caster-free, in both fine layouts alike; the ground's
+// tiles away from the box and the plate are. A wrong tile index, a record of the last triangle only or one never
+// cleared fails it.
+TEST_F(RasterTest, CasterTilesDrawEverythingAndRecordTheTilesNoCasterReaches) {
+  Scene scene = groundBoxPlate();
+  ASSERT_TRUE(scene.materialIds.empty());
+  std::rotate(scene.triangles.begin(), scene.triangles.begin() + 2, scene.triangles.end());  // the ground queued last
+  RasterLight light;
+  light.position = {1, 8, 2}, light.radius = 0.5f;
+  const RasterView all = kFromAbove;
+  RasterView view = all;
+  view.casterLight = light;
+  view.recordCasterTiles = true;
+  const int tilesX = view.width / RASTER_TILE_SIZE, tilesY = view.height / RASTER_TILE_SIZE;
+  auto record = [&](Context& ctx) {
+    Rasterizer raster(ctx);
+    uploadScene(raster, scene);
+    const RasterOutput reference = drawPoisoned(ctx, raster, all);
+    RasterTargets targets;
+    targets.keepEmptyTiles = true;  // both records at once
+    targets.casterFree.allocate(ctx, size_t(tilesX) * tilesY);
+    targets.casterFree.fill(ctx, 7u);  // poisoned: every tile must be written
+    raster.draw(view, targets);
+    EXPECT_EQ(targets.depth.download(ctx), reference.depth);
+    EXPECT_EQ(targets.triangleId.download(ctx), reference.ids);
+    const Buffer<uint32_t>* tiles = targets.casterFreeTiles(view.width, view.height);
+    EXPECT_EQ(targets.casterFreeTiles(view.width + 8, view.height), nullptr);
+    EXPECT_NE(tiles, nullptr);
+    std::vector<uint32_t> out = tiles != nullptr ? tiles->download(ctx) : std::vector<uint32_t>{};
+    const raster::CasterTest host = raster.casterTest(light);
+    int casterTiles = 0, freeTiles = 0;
+    for (int ty = 0; ty < tilesY; ++ty)
+      for (int tx = 0; tx < tilesX; ++tx) {
+        bool caster = false;
+        for (int y = 0; y < RASTER_TILE_SIZE; ++y)
+          for (int x = 0; x < RASTER_TILE_SIZE; ++x) {
+            const uint32_t id =
+                reference.ids[size_t(ty * RASTER_TILE_SIZE + y) * view.width + tx * RASTER_TILE_SIZE + x];
+            if (id == kNoTriangle) continue;
+            const glm::uvec3 t = scene.triangles[id];
+            caster |= !host.castsNothing(scene.positions[t.x], scene.positions[t.y], scene.positions[t.z]);
+          }
+        const uint32_t entry = out.empty() ? 7u : out[size_t(ty) * tilesX + tx];
+        EXPECT_TRUE(entry == 0u || entry == 1u) << tx << "," << ty << ": " << entry;
+        if (caster) {
+          EXPECT_EQ(entry, 0u) << "tile " << tx << "," << ty << " holds a caster";
+        }
+        casterTiles += caster, freeTiles += entry == 1u;
+      }
+    EXPECT_GT(casterTiles, 4);
+    EXPECT_GT(freeTiles, tilesX * tilesY / 2);  // the ground's
+    EXPECT_LE(freeTiles, tilesX * tilesY - casterTiles);
+    // A draw without the record forgets it.
+    raster.draw(all, targets);
+    EXPECT_EQ(targets.casterFreeTiles(view.width, view.height), nullptr);
+    return out;
+  };
+  const std::vector<uint32_t> cpu = record(ctx());
+  const std::unique_ptr<Context> gpu = smallGpuContext(ctx(), 16 * 1024);
+  EXPECT_EQ(record(*gpu), cpu);  // the other fine layout where ctx() has the CPU one, and the same one elsewhere
+
+  Rasterizer raster(ctx());
+  uploadScene(raster, scene);
+  RasterTargets targets;
+  RasterView bad = view;
+  bad.casterLight.reset();
+  EXPECT_THROW(raster.draw(bad, targets), std::invalid_argument);  // nothing to tell casters by
+  bad = view;
+  bad.scissor = Scissor{0, 0, 8, 8};
+  EXPECT_THROW(raster.draw(bad, targets), std::invalid_argument);  // not the whole viewport
 }
 
 // RasterView::writeTriangleIds false: the same depths, and the id target left as it was (poisoned ids stay; fresh

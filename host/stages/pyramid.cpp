@@ -175,11 +175,12 @@ PyramidBatch batchArgs(const std::vector<PyramidLevel>& chain, const PyramidPass
 // Records the passes over `chain`: the first with `first` reading `input` (level 0; min-max also writes
 // level 0 to `out`), the others with `rest` reading `out`. Floor of a pass: its input level read once (at
 // `inputBytes` per texel for the first), every level it writes written once.
-template <class In, class Out>
+// `firstExtra`: the first pass's arguments after those (computeMinMaxLevels' tiles).
+template <class In, class Out, class... Extra>
 std::vector<cl::Event> recordPasses(Context& ctx, Kernel& first, Kernel& rest, const Buffer<In>& input,
                                     Buffer<Out>& out, const std::vector<PyramidLevel>& chain,
                                     const std::vector<PyramidPass>& passes, uint32_t inputBytes, uint32_t texelBytes,
-                                    bool writesLevel0, const PyramidConfig& config) {
+                                    bool writesLevel0, const PyramidConfig& config, const Extra&... firstExtra) {
   const PyramidTuning& row = tuning(ctx.info());
   const uint32_t groupX = std::bit_floor(config.groupX ? config.groupX : row.groupX);
   const uint32_t groupY = std::bit_floor(config.groupY ? config.groupY : row.groupY);
@@ -192,7 +193,7 @@ std::vector<cl::Event> recordPasses(Context& ctx, Kernel& first, Kernel& rest, c
     for (uint32_t j = 0; j < p.count; ++j) bytes += texels(b.level[j]) * texelBytes;
     const LocalMem even{std::max<uint64_t>(p.evenBytes, texelBytes)}, odd{std::max<uint64_t>(p.oddBytes, texelBytes)};
     if (p.first == 1)
-      kernel.args(input, out, b, even, odd);
+      kernel.args(input, out, b, even, odd, firstExtra...);
     else
       kernel.args(out, out, b, even, odd);
     const Range group = passGroup(groupX, groupY, kernel.maxWorkGroupSize(),
@@ -324,9 +325,17 @@ cl_float2 computeMinMaxLevels(Context& ctx, const Buffer<float>& depth, uint32_t
   const PyramidLayout layout = pyramidLayout(width, height, 1);
   checkBufferSize(depth.size(), size_t(width) * height, "pyramid", "depth");
   checkBufferSize(out.size(), std::max<size_t>(layout.texels, 1), "pyramid", "min-max levels");
+  // The first launch's tiles taken as background (kernels/pyramid.cl pyramid_reduce_depth); 0: none, and the depth map
+  // stands in for the argument, unread.
+  const uint32_t tilesX = backgroundTiles != nullptr ? (width + kBackgroundTile - 1) / kBackgroundTile : 0u;
+  if (tilesX != 0)
+    checkBufferSize(backgroundTiles->size(), size_t{tilesX} * ((height + kBackgroundTile - 1) / kBackgroundTile),
+                    "pyramid", "background tiles");
+  const AnyBuffer tiles{tilesX != 0 ? backgroundTiles->get() : depth.get()};
   if (layout.levels.empty()) {  // 1x1: the map is the whole pyramid
     const float z = depth.download(ctx)[0];
-    return std::isfinite(z) ? cl_float2{{z, z}} : cl_float2{{INFINITY, INFINITY}};
+    const bool background = tilesX != 0 && backgroundTiles->download(ctx, 0, 1)[0] != 0;
+    return std::isfinite(z) && !background ? cl_float2{{z, z}} : cl_float2{{INFINITY, INFINITY}};
   }
   std::vector<PyramidLevel> chain{{0, width, height, 0}};  // level 0 in `depth`, the rest in `out`
   chain.insert(chain.end(), layout.levels.begin(), layout.levels.end());
@@ -348,19 +357,13 @@ cl_float2 computeMinMaxLevels(Context& ctx, const Buffer<float>& depth, uint32_t
         Kernel& k = i == 1 ? kernel(first2, "pyramid_minmax_rows2", fromDepth)
                            : kernel(rest2, "pyramid_minmax_rows2", fromLevels);
         // The first launch skips the background tiles' reads, and their writes where `kept` says the levels hold
-        // them; tilesX 0 or keep 0: no record or state, and the depth map stands in for its argument, unread.
-        const uint32_t tilesX =
-            i == 1 && backgroundTiles != nullptr ? (width + kBackgroundTile - 1) / kBackgroundTile : 0u;
-        if (tilesX != 0)
-          checkBufferSize(backgroundTiles->size(), size_t{tilesX} * ((height + kBackgroundTile - 1) / kBackgroundTile),
-                          "pyramid", "background tiles");
+        // them; keep 0: no state, and the depth map stands in for its argument, unread.
         const uint32_t items = chain[i + 1].width / kRowTexels;
         const int keep = i == 1 && kept != nullptr ? 1 : 0;
         if (keep) checkBufferSize(kept->size(), size_t{items} * chain[i + 1].height, "pyramid", "kept background");
         const AnyBuffer input{i == 1 ? depth.get() : out.get()};
-        const AnyBuffer tiles{tilesX != 0 ? backgroundTiles->get() : depth.get()};
         const AnyBuffer keptState{keep ? kept->get() : depth.get()};
-        k.args(input, source, out, chain[i], chain[i + 1], tiles, tilesX, keptState, keep);
+        k.args(input, source, out, chain[i], chain[i + 1], tiles, i == 1 ? tilesX : 0u, keptState, keep);
         k.moves(sourceBytes + (texels(chain[i]) + texels(chain[i + 1])) * texelBytes)
             .launch(Range(items, chain[i + 1].height), Range(std::min(kRowGroup, std::bit_ceil(items)), 1));
         i += 2;
@@ -369,9 +372,9 @@ cl_float2 computeMinMaxLevels(Context& ctx, const Buffer<float>& depth, uint32_t
       Kernel& k =
           i == 1 ? kernel(first, "pyramid_minmax_rows", fromDepth) : kernel(rest, "pyramid_minmax_rows", fromLevels);
       if (i == 1)
-        k.args(depth, source, out, chain[i]);
+        k.args(depth, source, out, chain[i], tiles, tilesX);
       else
-        k.args(out, source, out, chain[i]);
+        k.args(out, source, out, chain[i], tiles, 0u);
       const uint32_t items = (chain[i].width + kRowTexels - 1) / kRowTexels;
       k.moves(sourceBytes + texels(chain[i]) * texelBytes)
           .launch(Range(items, chain[i].height), Range(std::min(kRowGroup, std::bit_ceil(items)), 1));
@@ -383,7 +386,7 @@ cl_float2 computeMinMaxLevels(Context& ctx, const Buffer<float>& depth, uint32_t
     std::optional<Kernel> rest;
     if (passes.size() > 1) rest.emplace(ctx, "kernels/pyramid.cl", "pyramid_minmax_batch", "pyramid", fromLevels);
     recordPasses(ctx, first, rest ? *rest : first, depth, out, chain, passes, uint32_t(sizeof(float)), texelBytes,
-                 false, config);
+                 false, config, tiles, tilesX);
   }
   return out.download(ctx, layout.levels.back().offset, 1)[0];
 }

@@ -104,11 +104,13 @@ std::vector<cl::Event> computeMinMaxPyramid(Context& ctx, const Buffer<float>& d
 // the first pass writes half the bytes computeMinMaxPyramid's does. Background and NaN texels are the farthest depth
 // (+INFINITY, +INFINITY): a minimum ignores them, a maximum says nothing occludes there. Batched only (a PerLevel
 // config throws std::invalid_argument). Returns the last level, 1x1: (min, max) over the whole map, waiting for it
-// (a 1x1 map: its texel). Launches "pyramid/pyramid_minmax_batch". `backgroundTiles` (optional; the rasterizer's
-// RasterTargets::backgroundTiles): nonzero per 8x8 tile of the map, row-major from row 0, that holds only background;
-// the rows schedule's first launch writes their levels' texels without reading them (a shadow map of casters alone is
-// mostly background: scenes/default.json's 4096^2 map for pcss, 96 % of its tiles). The levels are the same bit for
-// bit. `kept` (optional): state between builds into the same `out`, which nothing else may write, one entry per
+// (a 1x1 map: its texel). Launches "pyramid/pyramid_minmax_batch". `backgroundTiles` (optional): nonzero per 8x8 tile
+// of the map, row-major from row 0, whose texels the levels take as background, in every schedule: the rasterizer's
+// RasterTargets::backgroundTiles, which hold only background (the levels are then the same bit for bit as without
+// them), or its RasterTargets::casterFreeTiles, which no caster reaches (a min-max pyramid of the casters alone over
+// a map that keeps its receivers). The rows schedule's first launch writes blocks of such tiles without reading them
+// (a shadow map of casters alone is mostly background: scenes/default.json's 4096^2 map for pcss, 96 % of its tiles).
+// `kept` (optional): state between builds into the same `out`, which nothing else may write, one entry per
 // work-item of that launch ((width / 32) x (height / 4), zero before the first build): nonzero where `out` already
 // holds its 32 x 4 texels' background, which is then not written again either; a build without `backgroundTiles`
 // writes every block and clears it.
@@ -124,8 +126,8 @@ class MinMaxLevels {
   // Buffers for a width x height map (at least one element each, so that a 1x1 map, which has no level above it,
   // still passes kernel arguments).
   void allocate(Context& ctx, uint32_t width, uint32_t height);
-  // allocate, then computeMinMaxLevels (with the map's background tiles where known, and what the builds before left
-  // as background): the map's (min, max).
+  // allocate, then computeMinMaxLevels (with the tiles taken as background where given, and what the builds before
+  // left as background): the map's (min, max), of the texels not taken as background.
   cl_float2 build(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
                   const Buffer<uint32_t>* backgroundTiles = nullptr);
   const Buffer<cl_float2>& pyramid() const { return pyramid_; }

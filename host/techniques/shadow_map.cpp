@@ -270,7 +270,8 @@ void renderShadowMap(ShadowFrame& frame, const MapSettings& settings, ShadowMap&
     const float margin = reachTexels + settings.normalOffset + 1.0f;
     map.view = fitWarpedLightView(frame, settings.fit, size, margin);
     map.view.raster.writeTriangleIds = map.triangleIds;
-    if (map.castersOnly) map.view.raster.casterLight = rasterLightOf(frame.light);
+    if (map.castersOnly || map.casterTiles) map.view.raster.casterLight = rasterLightOf(frame.light);
+    map.view.raster.recordCasterTiles = map.casterTiles && !map.castersOnly;
     map.targets.keepEmptyTiles = true;  // drawn frame after frame, and only drawn (RasterTargets)
     frame.raster.draw(map.view.raster, map.targets);
   }

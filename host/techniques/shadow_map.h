@@ -33,6 +33,10 @@ struct ShadowMap {
   // renderShadowMap leaves out the triangles that can shadow no point of the scene (RasterView::casterLight): for
   // techniques that only compare depths with the map's texels (sm, pcf, pcss, jittered), never for filtered moments.
   bool castersOnly = false;
+  // renderShadowMap draws every triangle and records the tiles no caster reaches (RasterView::recordCasterTiles,
+  // targets.casterFreeTiles): for maps of filtered moments, which keep their receivers, whose min-max pyramid holds the
+  // casters alone (vssm's HSM).
+  bool casterTiles = false;
 };
 
 // map-size (auto: chosen per frame by the renderer from the camera's pixels, host/views/light_fit.h neededMapSize),

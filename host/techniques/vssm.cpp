@@ -32,11 +32,15 @@ class VarianceSoftShadows final : public TechniqueOf<VssmTechniqueSettings> {
 
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     VssmMapConfig config = settings_.vssm.maps;
+    map_.casterTiles = settings_.vssm.castersHsm;  // the moments keep the receivers; the HSM the casters (below)
     renderShadowMap(frame, settings_.map, map_, config.maxRadius, MapNear::Fitted);
     const LightViewGpu& lv = map_.view.gpu;
     const auto width = static_cast<uint32_t>(lv.width), height = static_cast<uint32_t>(lv.height);
-    // The HSM first: its top is the nearest caster drawn, which the moments are normalised from.
-    const cl_float2 drawn = maps_.buildHsm(frame.ctx, map_.targets.depth, width, height);
+    // The HSM first, of the casters (--vssm-hsm casters): the tiles no caster reaches hold only receivers (a ground
+    // under everything), which can block no light, and its tests read them as empty. Its top is the nearest caster
+    // drawn, which the moments are normalised from (receivers nearer the light than every caster are lit: t < 0).
+    const cl_float2 drawn =
+        maps_.buildHsm(frame.ctx, map_.targets.depth, width, height, map_.targets.casterFreeTiles(width, height));
     tightenMapNear(frame, settings_.map, map_, drawn.s[0]);
     if (settings_.vssm.satReduceAuto) config.satReduce = autoSatReduce(frame);
     maps_.buildMoments(frame.ctx, map_.targets.depth, width, height, lv.zNear, lv.zFar, config);
@@ -106,6 +110,7 @@ VssmSettings VssmSettings::from(const Params& params) {
   s.stackedSpread = static_cast<float>(params.get("vssm-stacked"));
   s.stackedTaps = static_cast<uint32_t>(params.getInt("vssm-stacked-taps"));
   s.stackedTrace = params.getInt("vssm-stacked-trace") == 1;
+  s.castersHsm = params.getInt("vssm-hsm") == 1;
   s.searchNarrowings = params.getInt("vssm-search") == kSearchAdaptive ? kSearchNarrowings : 0;
   s.satReduceAuto = params.isAuto("vssm-sat-reduce");
   s.maps.satReduce = s.satReduceAuto ? 1 : static_cast<uint32_t>(params.getInt("vssm-sat-reduce"));
@@ -194,6 +199,14 @@ std::vector<ParamSpec> vssmParamSpecs() {
        "32 points of the light through the depth map, and keeps the darker of the two (occluders stacked inside the "
        "kernel fuse, where the blocker average lets light into the umbra)",
        {"off", "on"}},
+      {"vssm-hsm",
+       1,
+       0,
+       1,
+       "Beyond the paper: the min-max HSM of the whole map (all, the paper's) or of the casters alone (casters: the "
+       "rasterizer's tiles that no caster reaches read as empty, so a receiver that shadows nothing, such as a ground "
+       "tilted to the light, fails no lit test)",
+       {"all", "casters"}},
       {"vssm-sat", 0, 0, 3, "SAT storage of the moments", {"fixed64", "fixed32", "fp32", "fp64"}},
   };
   ParamSpec reduce{"vssm-sat-reduce", 0, 1, 16,

@@ -79,10 +79,11 @@ void VssmMaps::build(Context& ctx, const Buffer<float>& depth, uint32_t width, u
   buildMoments(ctx, depth, width, height, zNear, zFar, config);
 }
 
-cl_float2 VssmMaps::buildHsm(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height) {
+cl_float2 VssmMaps::buildHsm(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
+                             const Buffer<uint32_t>* casterFree) {
   checkShape({width, height, 1}, "vssm");
   checkBufferSize(depth.size(), size_t{width} * height, "vssm", "depth");
-  return hsm_.build(ctx, depth, width, height);
+  return hsm_.build(ctx, depth, width, height, casterFree);
 }
 
 void VssmMaps::buildMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height, float zNear,

@@ -52,10 +52,12 @@ class VssmMaps {
   // buildHsm, then buildMoments.
   void build(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height, float zNear, float zFar,
              const VssmMapConfig& config);
-  // The "pyramid/pyramid_minmax_batch" passes for a width x height map of linear light depth (+INFINITY empty).
-  // Returns the drawn depth range (min, max over the map; +INFINITY where nothing is drawn), waiting for it: what
-  // MapNear::Drawn would have reduced the map for.
-  cl_float2 buildHsm(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height);
+  // The "pyramid/pyramid_minmax_batch" passes for a width x height map of linear light depth (+INFINITY empty), the
+  // texels of `casterFree`'s tiles (RasterTargets::casterFreeTiles, optional) taken as empty: levels of the casters
+  // alone. Returns the drawn depth range of what they hold (min, max; +INFINITY where nothing is drawn), waiting for
+  // it: what MapNear::Drawn would have reduced the map for.
+  cl_float2 buildHsm(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
+                     const Buffer<uint32_t>* casterFree = nullptr);
   // "moments/moments_vsm" over [zNear, zFar] (moments_vsm_reduced with a satReduce above 1: the SAT then has
   // ceil(width / satReduce) x ceil(height / satReduce) texels) and the "sat/..." passes, and the quad-tree's links.
   // Throws std::runtime_error for fp64 on a device without it.
