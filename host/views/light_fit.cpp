@@ -245,7 +245,8 @@ Histogram withTotal(const std::vector<uint64_t>& bins) {
 void MapDetailMeter::add(Context& ctx, const GBuffer& gbuffer, const Buffer<float>& depth, int size,
                          const Buffer<LightViewGpu>& view, const ReceiverBias& bias, bool penumbrae) {
   if (penumbrae) addBins(penumbra_, penumbraBins(ctx, gbuffer, depth, view, bias, kHalfWidth, 1.0f));
-  const size_t lines = 2 * static_cast<size_t>(size);
+  // Rows one a work-item, columns FIT_DETAIL_COLUMNS (8) a work-item and the last few together (kernels/fit.cl).
+  const size_t lines = static_cast<size_t>(size) + static_cast<size_t>(size) / 8 + 1;
   const size_t groups = (lines + kFitGroup - 1) / kFitGroup;
   Buffer<uint32_t> partial(ctx, groups * kDetailBins);
   Kernel kernel(ctx, "kernels/fit.cl", "fit_detail_partial", "fit");
