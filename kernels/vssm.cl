@@ -303,11 +303,22 @@ inline VssmReceiver vssm_receiver(const VssmMaps* m, float2 uv, float depth, flo
   return r;
 }
 
+// L7: the search kernel's half-width, the light seen from the receiver cut by the map plane (the near plane).
+inline float vssm_search_width(const VssmMaps* m, float depth) {
+  return clamp(lv_penumbra_texels(m->lv, depth, m->lv->zNear), 0.5f, m->p.maxRadius);
+}
+
+// L8's lit test on L7's kernel, the first test vssm_pixel makes: exactly its answer for a receiver whose t is at least
+// as strict (a smaller bias).
+inline bool vssm_lit_at_once(const VssmMaps* m, const VssmReceiver* r) {
+  const float wi = vssm_search_width(m, r->depth);
+  return vssm_hsm_range(m, r->uv - wi, r->uv + wi).x >= r->t;
+}
+
 inline VssmResult vssm_pixel(const VssmMaps* m, VssmReceiver r) {
   VssmResult out = {1.0f, 0.0f, 0.0f, 0, VSSM_PATH_LIT};
   __constant const LightViewGpu* lv = m->lv;
-  // L7: the light seen from the receiver, cut by the map plane (the near plane).
-  float wi = clamp(lv_penumbra_texels(lv, r.depth, lv->zNear), 0.5f, m->p.maxRadius);
+  float wi = vssm_search_width(m, r.depth);
   float2 range;
   for (uint step = 0;; ++step) {
     range = vssm_hsm_range(m, r.uv - wi, r.uv + wi);
@@ -376,8 +387,18 @@ __kernel void vssm_visibility(__global const float4* position, __global const fl
   const float4 p = position[i];
   if (p.w == 0.0f) return;
   const ShadowBias bias = {f.biasConstant, f.biasSlope, f.normalOffset};
-  const Receiver rc = sc_receiver(lv, p.xyz, normal[i].xyz, bias);
-  if (!rc.valid) return;
+  const float3 n = normal[i].xyz;
+  const Receiver flat = sc_receiver_unsloped(lv, p.xyz, n, bias);
+  if (!flat.valid) return;
   const VssmMaps m = {sat, satOffset, depth, hsm, levels, nodes, strips, lv, desc, params};
+  // Beyond the paper, as pcss: L8's first lit test against the constant bias alone, which the slope-scaled bias can
+  // only make more lenient. A pixel it lets go is lit whatever its slope (most of a frame: the casters' HSM holds
+  // nothing near it) and skips the slope's four projections; the others take sc_receiver's receiver, the same results.
+  const VssmReceiver unsloped = vssm_receiver(&m, flat.uv, flat.depth, flat.texel * bias.base, 0.0f, i);
+  if (vssm_lit_at_once(&m, &unsloped)) {
+    debug[i] = (float4)(0.0f, 0.0f, 0.0f, (float)VSSM_PATH_LIT);
+    return;  // visibility 1, written above
+  }
+  const Receiver rc = sc_receiver_sloped(lv, flat, p.xyz, n, bias);
   vssm_store(vssm_pixel(&m, vssm_receiver(&m, rc.uv, rc.depth, rc.bias, rc.biasSlope, i)), i, debug, visibility);
 }
