@@ -8,40 +8,44 @@
 #define Stored2 PN_STORED(2)  // a 2-channel texel as stored (float2, or half with -DSTORE_HALF)
 #define Stored4 PN_STORED(4)
 
+// Depth texel (x, y) of the window the moments are made over (MomentsParams: origin and pitch in the map).
+#define MOMENTS_DEPTH(depth, p, x, y) ((depth) + (size_t)((p).originY + (y)) * (p).pitch + (size_t)((p).originX + (x)))
+
 #define MOMENTS_TEXEL(p)                           \
   uint x = get_global_id(0), y = get_global_id(1); \
   if (x >= (p).width || y >= (p).height) return;   \
-  uint texel = y * (p).width + x
+  uint texel = y * (p).width + x;                  \
+  const float source = *MOMENTS_DEPTH(depth, p, x, y)
 
 // VSM (Donnelly & Lauritzen 2006): (d, d^2).
 __kernel void moments_vsm(__global const float* depth, __global Stored2* out, MomentsParams p) {
   MOMENTS_TEXEL(p);
-  PN_STORE(2, out, texel, moments_encode(depth[texel], p, MOMENTS_KIND_VSM).xy);
+  PN_STORE(2, out, texel, moments_encode(source, p, MOMENTS_KIND_VSM).xy);
 }
 
 // ESM, one channel: e^(c (d - 1)), or in log space the normalised depth d (moments_encode).
 __kernel void moments_esm(__global const float* depth, __global PN_STORED(1) * out, MomentsParams p) {
   MOMENTS_TEXEL(p);
-  PN_STORE(1, out, texel, moments_encode(depth[texel], p, MOMENTS_KIND_ESM).x);
+  PN_STORE(1, out, texel, moments_encode(source, p, MOMENTS_KIND_ESM).x);
 }
 
 // EVSM2: the positive warp only, (e^(c+ x), e^(2 c+ x)).
 __kernel void moments_evsm2(__global const float* depth, __global Stored2* out, MomentsParams p) {
   MOMENTS_TEXEL(p);
-  PN_STORE(2, out, texel, moments_encode(depth[texel], p, MOMENTS_KIND_EVSM2).xy);
+  PN_STORE(2, out, texel, moments_encode(source, p, MOMENTS_KIND_EVSM2).xy);
 }
 
 // EVSM4: both warps, (pos, pos^2, neg, neg^2).
 __kernel void moments_evsm4(__global const float* depth, __global Stored4* out, MomentsParams p) {
   MOMENTS_TEXEL(p);
-  PN_STORE(4, out, texel, moments_encode(depth[texel], p, MOMENTS_KIND_EVSM4));
+  PN_STORE(4, out, texel, moments_encode(source, p, MOMENTS_KIND_EVSM4));
 }
 
 // LVSM: plane `l` holds (phi_l(d), phi_l(d)^2) for the layer [p_l, q_l] given in normalised depth.
 __kernel void moments_lvsm(__global const float* depth, __global float2* out, __constant float2* layers,
                            MomentsParams p) {
   MOMENTS_TEXEL(p);
-  float d = moments_normalize(depth[texel], p.depthNear, p.depthInvRange);
+  float d = moments_normalize(source, p.depthNear, p.depthInvRange);
   uint plane = p.width * p.height;
   for (uint l = 0; l < p.layerCount; ++l) {
     float w = moments_layer_warp(d, layers[l]);
@@ -52,13 +56,14 @@ __kernel void moments_lvsm(__global const float* depth, __global float2* out, __
 // MSM: four power moments through the quantization transform.
 __kernel void moments_msm(__global const float* depth, __global Stored4* out, MomentsParams p) {
   MOMENTS_TEXEL(p);
-  PN_STORE(4, out, texel, moments_encode(depth[texel], p, MOMENTS_KIND_MSM));
+  PN_STORE(4, out, texel, moments_encode(source, p, MOMENTS_KIND_MSM));
 }
 
 // Moments of factor x factor blocks (fp32): output texel (x, y) of ceil(width / factor) x ceil(height / factor) is
 // the mean of the encoded moments of map texels [x f, x f + f) x [y f, y f + f), those beyond the map counting as
 // empty (the far value, as the filters' borders do). The encodings are linear in what they average, so a box over
-// whole blocks of this grid has the moments of the same box over the map. p.width, p.height: the map's size.
+// whole blocks of this grid has the moments of the same box over the map. p.width, p.height: the window's size (the
+// map's, or a window of it: MOMENTS_DEPTH), beyond which texels count as empty.
 // moments_block_sum: the sum over block (x, y), texel by texel.
 inline float4 moments_block_sum(__global const float* depth, MomentsParams p, int kind, uint factor, uint x, uint y) {
   float4 sum = (float4)(0.0f);
@@ -66,7 +71,7 @@ inline float4 moments_block_sum(__global const float* depth, MomentsParams p, in
     const uint sy = y * factor + j;
     for (uint i = 0; i < factor; ++i) {
       const uint sx = x * factor + i;
-      const float d = sx < p.width && sy < p.height ? depth[(size_t)sy * p.width + sx] : INFINITY;
+      const float d = sx < p.width && sy < p.height ? *MOMENTS_DEPTH(depth, p, sx, sy) : INFINITY;
       sum += moments_encode(d, p, kind);
     }
   }
@@ -98,7 +103,7 @@ __kernel void moments_vsm_reduced(__global const float* depth, __global float2* 
   const bool inside = (x + 1u) * factor <= p.width && (y + 1u) * factor <= p.height;
   if (inside && (factor == 2u || factor % 4u == 0u)) {
     for (uint j = 0; j < factor; ++j) {
-      __global const float* row = depth + (size_t)(y * factor + j) * p.width + x * factor;
+      __global const float* row = MOMENTS_DEPTH(depth, p, x * factor, y * factor + j);
       if (factor == 2u) {
         const float2 d = vload2(0, row);
         const float2 z = select((float2)(1.0f), clamp((d - p.depthNear) * p.depthInvRange, 0.0f, 1.0f), isfinite(d));
@@ -129,7 +134,7 @@ __kernel void moments_vsm_reduced2_rows(__global const float* depth, __global fl
   if ((x0 + 8u) * 2u <= p.width && (y + 1u) * 2u <= p.height) {
     float8 mean = (float8)(0.0f), square = (float8)(0.0f);
     for (uint j = 0; j < 2u; ++j) {
-      const float16 d = vload16(0, depth + (size_t)(2u * y + j) * p.width + 2u * x0);
+      const float16 d = vload16(0, MOMENTS_DEPTH(depth, p, 2u * x0, 2u * y + j));
       const float16 z = select((float16)(1.0f), clamp((d - p.depthNear) * p.depthInvRange, 0.0f, 1.0f), isfinite(d));
       mean += z.even + z.odd, square += z.even * z.even + z.odd * z.odd;
     }

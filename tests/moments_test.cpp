@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <span>
@@ -83,6 +84,54 @@ TEST_F(MomentsReducedLayouts, VsmRowsOfBlocksEqualThePerBlockKernel) {
     if (cpu->info().isCpu()) {
       EXPECT_EQ(results[0], results[1]) << width << "x" << height;
     }
+  }
+}
+
+// A window of the map (TexelWindow: vssm's SAT around its casters) has the moments of the map cropped to it, bit for
+// bit: per texel and over blocks (2 x 2 through the CPU rows kernel, 3 x 3 with blocks past the window's edge), for VSM
+// and EVSM4, inside the map and at its edges, on both layouts; a window that leaves the map is refused.
+TEST_F(MomentsReducedLayouts, WindowsHaveTheMomentsOfTheCroppedMap) {
+  auto gpu = test::smallGpuContext(ctx(), ctx().info().localMemBytes);
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<float> uniform(1.0f, 9.0f);
+  for (const auto& [width, height] : {std::pair<uint32_t, uint32_t>{97, 61}, {64, 32}, {130, 9}}) {
+    std::vector<float> depth(size_t(width) * height);
+    for (size_t i = 0; i < depth.size(); ++i)
+      depth[i] = i % 11 == 3 ? std::numeric_limits<float>::infinity() : i % 13 == 5 ? std::nanf("") : uniform(rng);
+    const TexelWindow windows[] = {
+        {8, 4, 40, 5}, {0, 0, width, height}, {width - 13, height - 7, 13, 7}, {2, 1, 1, 1}, {16, 0, 34, height}};
+    for (MomentKind kind : {MomentKind::Vsm, MomentKind::Evsm4})
+      for (uint32_t factor : {1u, 2u, 3u})
+        for (const TexelWindow& w : windows)
+          for (Context* c : {&ctx(), gpu.get()}) {
+            MomentsConfig config = ref::momentsCaseConfig(kind);
+            config.depthNear = 2.0f, config.depthFar = 8.0f;
+            std::vector<float> cropped(size_t(w.width) * w.height);
+            for (uint32_t y = 0; y < w.height; ++y)
+              std::copy_n(&depth[size_t(w.y + y) * width + w.x], w.width, &cropped[size_t(y) * w.width]);
+            const size_t count =
+                size_t(reducedExtent(w.width, factor)) * reducedExtent(w.height, factor) * momentChannels(kind);
+            const auto run = [&](const std::vector<float>& map, uint32_t mw, uint32_t mh, const TexelWindow& window) {
+              Buffer<float> in(*c, std::span<const float>(map)), out(*c, count);
+              out.fill(*c, test::kPoison);
+              if (factor == 1)
+                computeMoments(*c, in, mw, mh, config, out, window);
+              else
+                computeMomentsReduced(*c, in, mw, mh, config, factor, out, window);
+              return out.download(*c);
+            };
+            const std::vector<float> want = run(cropped, w.width, w.height, {});
+            const std::vector<float> got = run(depth, width, height, w);
+            ASSERT_EQ(want.size(), got.size());
+            EXPECT_EQ(std::memcmp(want.data(), got.data(), want.size() * sizeof(float)), 0)
+                << width << "x" << height << " window " << w.width << "x" << w.height << " at " << w.x << "," << w.y
+                << " factor " << factor << " kind " << int(kind);
+          }
+    Buffer<float> in(ctx(), std::span<const float>(depth)), out(ctx(), depth.size() * 4);
+    const MomentsConfig vsm = ref::momentsCaseConfig(MomentKind::Vsm);
+    for (const TexelWindow& bad :
+         {TexelWindow{width - 4, 0, 5, 1}, TexelWindow{0, height, 1, 1}, TexelWindow{0, 0, 3, 0}})
+      EXPECT_THROW(computeMomentsReduced(ctx(), in, width, height, vsm, 2, out, bad), std::invalid_argument);
   }
 }
 

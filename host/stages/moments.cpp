@@ -105,9 +105,31 @@ MomentsParams momentsParams(const MomentsConfig& config, uint32_t width, uint32_
     params.esmLogSpace = esmLogSpace(params.expPositive) ? 1u : 0u;
   }
   params.expNegative = evsmClampExponent(config.evsmNegative, config.storage);
+  params.pitch = width;
   if (!std::isfinite(params.depthInvRange)) throw std::invalid_argument("moments: depth range too small for fp32");
   return params;
 }
+
+TexelWindow windowOf(const TexelWindow& window, uint32_t width, uint32_t height) {
+  if (window.width == 0) return {0, 0, width, height};
+  if (window.height == 0 || window.x >= width || window.y >= height || window.width > width - window.x ||
+      window.height > height - window.y)
+    throw std::invalid_argument(fmt::format("moments: window {}x{} at ({}, {}) outside the {}x{} map", window.width,
+                                            window.height, window.x, window.y, width, height));
+  return window;
+}
+
+namespace {
+
+// momentsParams over `window` of the map: its size, read from its origin in rows of the map's width.
+MomentsParams windowParams(const MomentsConfig& config, uint32_t width, uint32_t height, const TexelWindow& window) {
+  MomentsParams params = momentsParams(config, width, height);
+  params.width = window.width, params.height = window.height;
+  params.originX = window.x, params.originY = window.y;
+  return params;
+}
+
+}  // namespace
 
 int momentsKindId(MomentKind kind) {
   switch (kind) {
@@ -132,14 +154,17 @@ namespace {
 // Moments of `depth` into `out`, whose element type is the storage (float, or cl_half built with STORE_HALF).
 template <class T>
 cl::Event launchMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
-                        const MomentsConfig& config, Buffer<T>& out) {
-  const MomentsParams params = momentsParams(config, width, height);
-  const size_t texels = size_t(width) * height;
-  checkBufferSize(depth.size(), texels, "moments", "depth");
+                        const MomentsConfig& config, Buffer<T>& out, const TexelWindow& area) {
+  if (area.width != 0 && config.kind == MomentKind::Lvsm)
+    throw std::invalid_argument("moments: LVSM layers cover the whole map (no window)");
+  const TexelWindow window = windowOf(area, width, height);
+  const MomentsParams params = windowParams(config, width, height, window);
+  checkBufferSize(depth.size(), size_t(width) * height, "moments", "depth");
+  const size_t texels = size_t(window.width) * window.height;
   checkBufferSize(out.size(), texels * momentChannels(config.kind) * momentPlanes(config), "moments", "output");
 
   Kernel kernel(ctx, "kernels/moments.cl", entryPoint(config.kind), "moments", storageOptions(storageOf<T>()));
-  const Range global(width, height), local(16, 8);
+  const Range global(window.width, window.height), local(16, 8);
   // Floor: read each depth texel and write each moment once.
   const uint64_t bytes = texels * (sizeof(float) + momentChannels(config.kind) * momentPlanes(config) * sizeof(T));
   if (config.kind != MomentKind::Lvsm) return kernel.args(depth, out, params).moves(bytes).launch(global, local);
@@ -153,8 +178,8 @@ cl::Event launchMoments(Context& ctx, const Buffer<float>& depth, uint32_t width
 }  // namespace
 
 cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
-                         const MomentsConfig& config, Buffer<float>& out) {
-  return launchMoments(ctx, depth, width, height, config, out);
+                         const MomentsConfig& config, Buffer<float>& out, const TexelWindow& window) {
+  return launchMoments(ctx, depth, width, height, config, out, window);
 }
 
 cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
@@ -162,7 +187,7 @@ cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t widt
   if (config.kind == MomentKind::Lvsm)
     throw std::invalid_argument("moments: LVSM layers are fp32 or unorm16, not half");
   checkHalfMoments(config, "moments");
-  return launchMoments(ctx, depth, width, height, config, out);
+  return launchMoments(ctx, depth, width, height, config, out, TexelWindow{});
 }
 
 uint32_t reducedExtent(uint32_t extent, uint32_t factor) {
@@ -171,21 +196,23 @@ uint32_t reducedExtent(uint32_t extent, uint32_t factor) {
 }
 
 cl::Event computeMomentsReduced(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
-                                const MomentsConfig& config, uint32_t factor, Buffer<float>& out) {
+                                const MomentsConfig& config, uint32_t factor, Buffer<float>& out,
+                                const TexelWindow& area) {
   if (factor < 1 || factor > kMaxMomentsReduction)
     throw std::invalid_argument(
         fmt::format("moments: reduction factor {} outside 1..{}", factor, kMaxMomentsReduction));
   if (config.kind == MomentKind::Lvsm)
     throw std::invalid_argument("moments: LVSM layers are not reduced (one plane per layer)");
   if (config.storage != MomentStorage::Float32) throw std::invalid_argument("moments: reduced moments are fp32");
-  const MomentsParams params = momentsParams(config, width, height);
+  const TexelWindow window = windowOf(area, width, height);
+  const MomentsParams params = windowParams(config, width, height, window);
   if (config.kind == MomentKind::Esm && params.esmLogSpace != 0)
     throw std::invalid_argument(
         fmt::format("moments: ESM with exponent {} is filtered in log space, which a block mean does not reduce",
                     params.expPositive));
-  const uint32_t outWidth = reducedExtent(width, factor), outHeight = reducedExtent(height, factor);
-  const size_t texels = size_t(width) * height, outTexels = size_t(outWidth) * outHeight;
-  checkBufferSize(depth.size(), texels, "moments", "depth");
+  const uint32_t outWidth = reducedExtent(window.width, factor), outHeight = reducedExtent(window.height, factor);
+  const size_t texels = size_t(window.width) * window.height, outTexels = size_t(outWidth) * outHeight;
+  checkBufferSize(depth.size(), size_t(width) * height, "moments", "depth");
   checkBufferSize(out.size(), outTexels * momentChannels(config.kind), "moments", "output");
   // Floor: read each depth texel once, write each block's moments once.
   const uint64_t bytes = texels * sizeof(float) + outTexels * momentChannels(config.kind) * sizeof(float);

@@ -67,13 +67,24 @@ void checkHalfMoments(const MomentsConfig& config, const char* stage);
 
 // The kernel arguments of `config` over a width x height map (validates; throws std::invalid_argument).
 MomentsParams momentsParams(const MomentsConfig& config, uint32_t width, uint32_t height);
+
+// A window of a depth map: width x height texels from (x, y). The moments of a window have its size and read the map
+// inside it only; the empty window (width 0) is the whole map.
+struct TexelWindow {
+  uint32_t x = 0, y = 0, width = 0, height = 0;
+  bool operator==(const TexelWindow&) const = default;
+};
+// `window` of a width x height map as it is read (the whole map for the empty window); throws std::invalid_argument
+// for one that leaves the map.
+TexelWindow windowOf(const TexelWindow& window, uint32_t width, uint32_t height);
 // MOMENTS_KIND_* of a single-plane encoding (throws for LVSM).
 int momentsKindId(MomentKind kind);
 
 // Writes momentPlanes * width * height * momentChannels floats to `out` (texel-interleaved; LVSM plane-major).
-// `depth` holds width*height light depths. Launch named "moments/moments_<kind>".
+// `depth` holds width*height light depths. Launch named "moments/moments_<kind>". With a `window` (not LVSM): the
+// moments of those texels, window.width * window.height of them.
 cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
-                         const MomentsConfig& config, Buffer<float>& out);
+                         const MomentsConfig& config, Buffer<float>& out, const TexelWindow& window = {});
 // The same moments stored as half (rounded to nearest even): any kind but LVSM, config.storage Float16 (so that
 // EVSM exponents keep e^(2c) finite in half).
 cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
@@ -87,8 +98,11 @@ cl::Event computeMoments(Context& ctx, const Buffer<float>& depth, uint32_t widt
 // d is not averaged linearly); factor 1..kMaxMomentsReduction. Launch named "moments/moments_<kind>_reduced".
 inline constexpr uint32_t kMaxMomentsReduction = 64;
 uint32_t reducedExtent(uint32_t extent, uint32_t factor);  // ceil(extent / factor)
+// With a `window`: the blocks of the window, from its origin (beyond its edge texels count as empty, as beyond the
+// map).
 cl::Event computeMomentsReduced(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
-                                const MomentsConfig& config, uint32_t factor, Buffer<float>& out);
+                                const MomentsConfig& config, uint32_t factor, Buffer<float>& out,
+                                const TexelWindow& window = {});
 
 // 16-bit unorm storage for moments in [0, 1] (LVSM layers): out[outOffset + i] = round(clamp(in[i], 0, 1)
 // * 65535) (to nearest even; NaN -> 0) for i < count; read back as value / 65535. Launch named

@@ -23,6 +23,7 @@ MomentsParams mapParams(uint32_t width, uint32_t height, float depthNear, float 
   MomentsParams p{};
   p.width = width;
   p.height = height;
+  p.pitch = width;
   p.layerCount = 1;
   p.depthNear = depthNear;
   p.depthInvRange = 1.0f / (depthFar - depthNear);

@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 #include "host/techniques/registry.h"
 #include "host/techniques/shadow_map.h"
 #include "host/techniques/vssm_maps.h"
@@ -43,6 +45,18 @@ class VarianceSoftShadows final : public TechniqueOf<VssmTechniqueSettings> {
         maps_.buildHsm(frame.ctx, map_.targets.depth, width, height, map_.targets.casterFreeTiles(width, height));
     tightenMapNear(frame, settings_.map, map_, drawn.s[0]);
     if (settings_.vssm.satReduceAuto) config.satReduce = autoSatReduce(frame);
+    // The moments and their SAT around the casters only (--vssm-sat-window casters, with the HSM of the casters): every
+    // box a pixel reads that meets a caster lies within 2 maxRadius (its widest side) of one, plus the block reads'
+    // rounding.
+    if (settings_.vssm.castersWindow && map_.targets.casterFreeTiles(width, height) != nullptr) {
+      const auto reach = static_cast<uint32_t>(std::ceil(2.0f * config.maxRadius)) + 2 * config.satReduce + 2;
+      config.window = maps_.castersWindow(frame.ctx, width, height, reach, config.satReduce);
+      frame.attributes["penumbra:vssm-sat-window"] =
+          fmt::format("{}x{} texels at ({}, {}) of the {}x{} map: its casters and {} texels around them",
+                      config.window.width, config.window.height, config.window.x, config.window.y, width, height, reach);
+    } else {
+      config.window = {};
+    }
     maps_.buildMoments(frame.ctx, map_.targets.depth, width, height, lv.zNear, lv.zFar, config);
     const VssmParams shade = vssmParams(settings_.vssm, maps_, frame.scene.bounds().radius());
     const GBuffer& g = frame.gbuffer;
@@ -111,6 +125,7 @@ VssmSettings VssmSettings::from(const Params& params) {
   s.stackedTaps = static_cast<uint32_t>(params.getInt("vssm-stacked-taps"));
   s.stackedTrace = params.getInt("vssm-stacked-trace") == 1;
   s.castersHsm = params.getInt("vssm-hsm") == 1;
+  s.castersWindow = params.getInt("vssm-sat-window") == 1;
   s.searchNarrowings = params.getInt("vssm-search") == kSearchAdaptive ? kSearchNarrowings : 0;
   s.satReduceAuto = params.isAuto("vssm-sat-reduce");
   s.maps.satReduce = s.satReduceAuto ? 1 : static_cast<uint32_t>(params.getInt("vssm-sat-reduce"));
@@ -147,6 +162,8 @@ VssmParams vssmParams(const VssmSettings& settings, const VssmMaps& maps, float 
   p.stackedTrace = settings.stackedTrace ? 1u : 0u;
   p.searchNarrowings = settings.searchNarrowings;
   p.satReduce = maps.satReduce();
+  p.satX = maps.window().x, p.satY = maps.window().y;
+  p.satWidth = maps.window().width, p.satHeight = maps.window().height;
   return p;
 }
 
@@ -207,6 +224,13 @@ std::vector<ParamSpec> vssmParamSpecs() {
        "rasterizer's tiles that no caster reaches read as empty, so a receiver that shadows nothing, such as a ground "
        "tilted to the light, fails no lit test)",
        {"all", "casters"}},
+      {"vssm-sat-window",
+       1,
+       0,
+       1,
+       "Beyond the paper: the moments and their SAT over the whole map (map) or, with --vssm-hsm casters, over the "
+       "window that holds the casters and the widest kernel around them (casters: the same images, fewer texels)",
+       {"map", "casters"}},
       {"vssm-sat", 0, 0, 3, "SAT storage of the moments", {"fixed64", "fixed32", "fp32", "fp64"}},
   };
   ParamSpec reduce{"vssm-sat-reduce", 0, 1, 16,

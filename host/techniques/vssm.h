@@ -27,6 +27,7 @@ struct VssmSettings {
   uint32_t stackedTaps = 0;  // vssm-stacked-taps
   bool stackedTrace = true;  // vssm-stacked-trace
   bool castersHsm = true;    // vssm-hsm casters: the HSM of the casters alone
+  bool castersWindow = true;      // vssm-sat-window casters: the moments and their SAT around the casters only
   uint32_t searchNarrowings = 0;  // vssm-search: 0 full, 2 adaptive
   bool satReduceAuto = false;     // vssm-sat-reduce auto (maps.satReduce is then chosen per frame)
   double satPenumbra = 0;         // vssm-sat-penumbra: SAT texels across the narrow end of the penumbrae under auto

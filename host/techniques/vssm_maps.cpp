@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
+#include <vector>
 
 #include "host/cl/kernel.h"
 #include "host/stages/image_shape.h"
@@ -86,6 +88,43 @@ cl_float2 VssmMaps::buildHsm(Context& ctx, const Buffer<float>& depth, uint32_t 
   return hsm_.build(ctx, depth, width, height, casterFree);
 }
 
+TexelWindow VssmMaps::castersWindow(Context& ctx, uint32_t width, uint32_t height, uint32_t reach,
+                                    uint32_t block) const {
+  if (block == 0) throw std::invalid_argument("vssm: a window of blocks of 0 texels");
+  const PyramidLayout layout = pyramidLayout(width, height, 1);
+  if (layout.levels.empty()) return {0, 0, width, height};  // a 1x1 map
+  size_t l = 0;  // the finest level of at most kWindowLevelTexels texels (or the top)
+  while (l + 1 < layout.levels.size() && size_t{layout.levels[l].width} * layout.levels[l].height > kWindowLevelTexels)
+    ++l;
+  const PyramidLevel& level = layout.levels[l];
+  const std::vector<cl_float2> texels = hsm_.pyramid().download(ctx, level.offset, size_t{level.width} * level.height);
+  int64_t x0 = INT64_MAX, y0 = INT64_MAX, x1 = -1, y1 = -1;  // level texels holding something
+  for (uint32_t y = 0; y < level.height; ++y)
+    for (uint32_t x = 0; x < level.width; ++x)
+      if (std::isfinite(texels[size_t{y} * level.width + x].s[0]))
+        x0 = std::min<int64_t>(x0, x), x1 = std::max<int64_t>(x1, x), y0 = std::min<int64_t>(y0, y),
+        y1 = std::max<int64_t>(y1, y);
+  if (x1 < 0) return {0, 0, std::min(block, width), std::min(block, height)};  // no caster: nothing is read
+  // A level texel's share of the map, widened by one of its texels where a halving was not exact (its footprint
+  // reaches a texel further: kernels/shared/pyramid.h), then by the reach, aligned outwards to whole blocks.
+  const int shift = static_cast<int>(l) + 1;
+  const bool exact = (level.width << shift) == width && (level.height << shift) == height;
+  const double sx = double(width) / level.width, sy = double(height) / level.height;
+  const double slackX = exact ? 0.0 : sx, slackY = exact ? 0.0 : sy;
+  const auto lo = [&](int64_t t, double s, double slack) {
+    const double v = std::floor(double(t) * s - slack) - reach;
+    return static_cast<int64_t>(std::max(0.0, std::floor(v / block) * block));
+  };
+  const auto hi = [&](int64_t t, double s, double slack, uint32_t size) {
+    const double v = std::ceil(double(t + 1) * s + slack) + reach;
+    return static_cast<int64_t>(std::min<double>(size, std::ceil(v / block) * block));
+  };
+  const int64_t ax = lo(x0, sx, slackX), ay = lo(y0, sy, slackY);
+  const int64_t bx = hi(x1, sx, slackX, width), by = hi(y1, sy, slackY, height);
+  return {static_cast<uint32_t>(ax), static_cast<uint32_t>(ay), static_cast<uint32_t>(bx - ax),
+          static_cast<uint32_t>(by - ay)};
+}
+
 void VssmMaps::buildMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height, float zNear,
                             float zFar, const VssmMapConfig& config) {
   // Plan: sizes, link table.
@@ -95,7 +134,8 @@ void VssmMaps::buildMoments(Context& ctx, const Buffer<float>& depth, uint32_t w
     throw std::invalid_argument(
         fmt::format("vssm: SAT reduction {} outside 1..{}", config.satReduce, kMaxMomentsReduction));
   satReduce_ = config.satReduce;
-  const ImageShape shape{reducedExtent(width, satReduce_), reducedExtent(height, satReduce_), 2};
+  window_ = windowOf(config.window, width, height);
+  const ImageShape shape{reducedExtent(window_.width, satReduce_), reducedExtent(window_.height, satReduce_), 2};
   if (moments_.size() != shape.count()) moments_.allocate(ctx, shape.count());
   if (satOffset_.empty()) satOffset_.allocate(ctx, 4);
   if (treeHeight_ != config.treeHeight || nodes_.empty()) {
@@ -121,9 +161,9 @@ void VssmMaps::buildMoments(Context& ctx, const Buffer<float>& depth, uint32_t w
   moments.depthNear = zNear;
   moments.depthFar = zFar;
   if (satReduce_ == 1)
-    computeMoments(ctx, depth, width, height, moments, moments_);
+    computeMoments(ctx, depth, width, height, moments, moments_, window_);
   else
-    computeMomentsReduced(ctx, depth, width, height, moments, satReduce_, moments_);
+    computeMomentsReduced(ctx, depth, width, height, moments, satReduce_, moments_, window_);
   switch (config.sat) {
     case VssmSatMode::Fixed64:
       buildSat<uint64_t>(ctx, bits);

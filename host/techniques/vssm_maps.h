@@ -14,6 +14,7 @@
 
 #include "host/cl/buffer.h"
 #include "host/cl/context.h"
+#include "host/stages/moments.h"
 #include "host/stages/pyramid.h"
 #include "kernels/shared/pyramid.h"
 #include "kernels/shared/sat.h"
@@ -33,6 +34,8 @@ struct VssmMapConfig {
   // Beyond the paper: the moments and their SAT over blocks of satReduce x satReduce texels
   // (computeMomentsReduced), 1..kMaxMomentsReduction; 1 = one SAT texel per map texel (the paper's).
   uint32_t satReduce = 1;
+  // Beyond the paper: the window of the map the moments and their SAT cover (empty: the whole map; castersWindow).
+  TexelWindow window;
   bool operator==(const VssmMapConfig&) const = default;
 };
 
@@ -58,8 +61,16 @@ class VssmMaps {
   // it: what MapNear::Drawn would have reduced the map for.
   cl_float2 buildHsm(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
                      const Buffer<uint32_t>* casterFree = nullptr);
+  // After buildHsm: the window of the width x height map that holds every texel the HSM holds (those of its tiles no
+  // caster reaches left out, with them), widened by `reach` texels each way and aligned to blocks of `block` texels,
+  // from a coarse level read back (at most kWindowLevelTexels texels); the smallest window, one block, where the HSM
+  // holds nothing. A kernel box that meets a caster lies inside it when its side is at most `reach` less the block
+  // reads' rounding, so the moments of the texels outside are never wanted for one (kernels/shared/vssm_lookup.h).
+  static constexpr uint32_t kWindowLevelTexels = 16384;
+  TexelWindow castersWindow(Context& ctx, uint32_t width, uint32_t height, uint32_t reach, uint32_t block) const;
   // "moments/moments_vsm" over [zNear, zFar] (moments_vsm_reduced with a satReduce above 1: the SAT then has
-  // ceil(width / satReduce) x ceil(height / satReduce) texels) and the "sat/..." passes, and the quad-tree's links.
+  // ceil(width / satReduce) x ceil(height / satReduce) texels) and the "sat/..." passes, and the quad-tree's links;
+  // over config.window of the map where it is not empty (then of its size).
   // Throws std::runtime_error for fp64 on a device without it.
   void buildMoments(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height, float zNear, float zFar,
                     const VssmMapConfig& config);
@@ -73,6 +84,7 @@ class VssmMaps {
   const Buffer<float>& diskStrips() const { return strips_; }  // vssmDiskStripTable
   uint32_t levelCount() const { return hsm_.count(); }
   uint32_t satReduce() const { return satReduce_; }
+  const TexelWindow& window() const { return window_; }  // the map texels the SAT covers (buildMoments)
   uint32_t nodeCount() const { return nodeCount_; }
   float depthNear() const { return zNear_; }
   float depthInvRange() const { return invRange_; }
@@ -90,6 +102,7 @@ class VssmMaps {
   Buffer<VssmNode> nodes_;
   Buffer<float> strips_;
   uint32_t nodeCount_ = 0, treeHeight_ = 0, satReduce_ = 1;
+  TexelWindow window_;
   float zNear_ = 0.0f, invRange_ = 1.0f;
 };
 

@@ -46,12 +46,15 @@ typedef struct MomentsParams {
   float depthInvRange;  // 1 / (depthFar - depthNear), finite and > 0
   float expPositive;    // EVSM c+ (already clamped on the host; the kernel clamps again); ESM's c
   float expNegative;    // EVSM c-
+  // The window of the depth map the moments stage reads (kernels/moments.cl MOMENTS_DEPTH): width x height texels
+  // from (originX, originY) of a map `pitch` texels wide; (0, 0) and width for the whole map.
+  uint pitch, originX, originY, padEnd;
 } MomentsParams;
 
 #if PENUMBRA_HOST
-static_assert(sizeof(MomentsParams) == 32, "MomentsParams layout is shared with OpenCL C");
+static_assert(sizeof(MomentsParams) == 48, "MomentsParams layout is shared with OpenCL C");
 static_assert(offsetof(MomentsParams, depthNear) == 16 && offsetof(MomentsParams, expNegative) == 28);
-static_assert(offsetof(MomentsParams, esmLogSpace) == 12);
+static_assert(offsetof(MomentsParams, esmLogSpace) == 12 && offsetof(MomentsParams, pitch) == 32);
 #else
 
 // Normalised depth in [0, 1]; every invalid depth is the far value 1 (handled before any warp, so NaN

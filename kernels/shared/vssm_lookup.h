@@ -40,9 +40,14 @@ typedef struct VssmReceiver {
 // Mean (E(x), E(x^2)) over [lo, hi] (map texels). Texels outside the map hold no occluder: normalised depth 1, as
 // sc_fetch's +INFINITY is for the PCF taps, so a kernel that leaves the map is not darkened by its inside part. The
 // SAT may hold blocks of satReduce^2 texels (moments_vsm_reduced): the box is then read in block units, exact for
-// boxes of whole blocks and the block means' bilinear integral between them.
+// boxes of whole blocks and the block means' bilinear integral between them. It covers the window p.sat* of the map
+// (VssmMaps::castersWindow: every caster texel and the widest box around it), and texels outside the window count as
+// outside the map: a box that reaches past it meets no caster, so its moments are its receivers' own surface, which
+// blocks nothing.
 inline float2 vssm_box_moments(const VssmMaps* m, float2 lo, float2 hi) {
-  const float2 size = (float2)((float)m->lv->width, (float)m->lv->height);
+  const float2 origin = (float2)((float)m->p.satX, (float)m->p.satY);
+  const float2 size = (float2)((float)m->p.satWidth, (float)m->p.satHeight);
+  lo -= origin, hi -= origin;
   const float2 a = clamp(lo, (float2)(0.0f), size), b = clamp(hi, a, size);
   const float inside = (b.x - a.x) * (b.y - a.y), area = (hi.x - lo.x) * (hi.y - lo.y);
   const float block = (float)m->p.satReduce;

@@ -101,7 +101,7 @@ KernelOut runKernel(Context& ctx, const VssmCase& c, const std::vector<float>& m
   Buffer<LightViewGpu> lvBuffer(ctx, std::span<const LightViewGpu>(&lv, 1), CL_MEM_READ_ONLY);
   VssmMaps maps;
   maps.build(ctx, depth, c.width, c.height, c.zNear, c.zFar,
-             {c.sat, float(s.maxRadius), uint32_t(s.levels), uint32_t(s.satReduce)});
+             {c.sat, float(s.maxRadius), uint32_t(s.levels), uint32_t(s.satReduce), TexelWindow{}});
   VssmParams p{};
   p.depthNear = maps.depthNear(), p.depthInvRange = maps.depthInvRange();
   p.litVariance = float(s.litVariance), p.contactDepth = float(s.contactDepth), p.maxRadius = float(s.maxRadius);
@@ -114,6 +114,8 @@ KernelOut runKernel(Context& ctx, const VssmCase& c, const std::vector<float>& m
   p.stackedSpread = float(s.stackedSpread), p.stackedTaps = uint32_t(s.stackedTaps);
   p.searchNarrowings = uint32_t(s.searchNarrowings);
   p.satReduce = maps.satReduce();
+  p.satX = maps.window().x, p.satY = maps.window().y;
+  p.satWidth = maps.window().width, p.satHeight = maps.window().height;
   std::vector<cl_float4> rx(receivers.size());
   std::vector<float> slopes(receivers.size());
   for (size_t i = 0; i < receivers.size(); ++i) {
