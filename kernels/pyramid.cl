@@ -94,8 +94,7 @@ inline PyramidTexel pyramid_reduce_local(__local const PyramidTexel* src, uint p
 #if PYRAMID_FROM_DEPTH == 2
 // Levels-only min-max from the depth map, with `tilesX` > 0: the texels of the map's 8 x 8 tiles (tx, ty) whose
 // tiles[ty * tilesX + tx] is nonzero count as background (host/stages/pyramid.h computeMinMaxLevels: the rasterizer's
-// empty tiles, or the tiles no caster reaches). PYRAMID_TILE_BITS: the tile's texel-column lanes of a 16-texel row
-// that starts on a tile's first column (two tiles: lanes 0-7 the first, 8-15 the second).
+// empty tiles, or the tiles no caster reaches).
 #define PYRAMID_TILE_LOG2 3
 inline bool pyramid_tile_background(__global const uint* tiles, uint tilesX, uint x, uint y) {
   return tilesX != 0u && tiles[(size_t)(y >> PYRAMID_TILE_LOG2) * tilesX + (x >> PYRAMID_TILE_LOG2)] != 0u;
@@ -293,25 +292,22 @@ __kernel void pyramid_minmax_rows2(__global const PyramidInput* src, PyramidLeve
   src += s.offset;
 #if PYRAMID_FROM_DEPTH == 2
   const size_t item = (size_t)y2 * (d2.width / PYRAMID_ROW_TEXELS) + x2 / PYRAMID_ROW_TEXELS;
-  if (tilesX != 0u) {
-    __global const uint* tile = backgroundTiles + (size_t)(y2 / 2) * tilesX + x2 / 2;  // 4 x2 / 8, 4 y2 / 8
-    if (tile[0] != 0u && tile[1] != 0u && tile[2] != 0u && tile[3] != 0u) {
-      if (keep && kept[item] != 0u) return;
-      const float16 far = (float16)(INFINITY);  // (min, max) pairs of background texels
-      for (uint r = 0; r < 2; ++r) {
-        __global float* out = (__global float*)(dst + d1.offset + (size_t)(2 * y2 + r) * d1.width + 2 * x2);
-        vstore16(far, 0, out);
-        vstore16(far, 1, out);
-      }
-      vstore16(far, 0, (__global float*)(dst + d2.offset + (size_t)y2 * d2.width + x2));
-      if (keep) kept[item] = 1u;
-      return;
-    }
-  }
-  if (keep) kept[item] = 0u;
-  // Its 4 tiles, the texels of those taken as background left out (the same tile row for its 4 source rows).
+  // Its 4 tiles (the same tile row for its 4 source rows), the texels of those taken as background left out.
   const int16 keptA = pyramid_row_kept(backgroundTiles, tilesX, 4 * x2, 4 * y2);
   const int16 keptB = pyramid_row_kept(backgroundTiles, tilesX, 4 * x2 + 16u, 4 * y2);
+  if (!any(keptA | keptB)) {  // all four taken as background
+    if (keep && kept[item] != 0u) return;
+    const float16 far = (float16)(INFINITY);  // (min, max) pairs of background texels
+    for (uint r = 0; r < 2; ++r) {
+      __global float* out = (__global float*)(dst + d1.offset + (size_t)(2 * y2 + r) * d1.width + 2 * x2);
+      vstore16(far, 0, out);
+      vstore16(far, 1, out);
+    }
+    vstore16(far, 0, (__global float*)(dst + d2.offset + (size_t)y2 * d2.width + x2));
+    if (keep) kept[item] = 1u;
+    return;
+  }
+  if (keep) kept[item] = 0u;
 #else
   const int16 keptA = (int16)(-1), keptB = keptA;
 #endif

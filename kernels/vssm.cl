@@ -315,8 +315,14 @@ inline bool vssm_lit_at_once(const VssmMaps* m, const VssmReceiver* r) {
   return vssm_hsm_range(m, r->uv - wi, r->uv + wi).x >= r->t;
 }
 
+// A lit pixel's result (L8's early-out).
+inline VssmResult vssm_lit(void) {
+  const VssmResult lit = {1.0f, 0.0f, 0.0f, 0, VSSM_PATH_LIT};
+  return lit;
+}
+
 inline VssmResult vssm_pixel(const VssmMaps* m, VssmReceiver r) {
-  VssmResult out = {1.0f, 0.0f, 0.0f, 0, VSSM_PATH_LIT};
+  VssmResult out = vssm_lit();
   __constant const LightViewGpu* lv = m->lv;
   float wi = vssm_search_width(m, r.depth);
   float2 range;
@@ -396,8 +402,8 @@ __kernel void vssm_visibility(__global const float4* position, __global const fl
   // nothing near it) and skips the slope's four projections; the others take sc_receiver's receiver, the same results.
   const VssmReceiver unsloped = vssm_receiver(&m, flat.uv, flat.depth, flat.texel * bias.base, 0.0f, i);
   if (vssm_lit_at_once(&m, &unsloped)) {
-    debug[i] = (float4)(0.0f, 0.0f, 0.0f, (float)VSSM_PATH_LIT);
-    return;  // visibility 1, written above
+    vssm_store(vssm_lit(), i, debug, visibility);
+    return;
   }
   const Receiver rc = sc_receiver_sloped(lv, flat, p.xyz, n, bias);
   vssm_store(vssm_pixel(&m, vssm_receiver(&m, rc.uv, rc.depth, rc.bias, rc.biasSlope, i)), i, debug, visibility);

@@ -71,9 +71,8 @@
 #define RASTER_FLAG_VALID 1u            // RasterTriangle.flags: the record is drawn
 #define RASTER_FLAG_OWNS_EDGE0 2u       // edge k owns its samples (top-left): bit 1 << (k+1)
 #define RASTER_FLAG_ALPHA 16u           // alpha-tested: the fine stage samples its material's alpha before the depth test
-#define RASTER_FLAG_NONCASTER \
-  32u  // a triangle RasterView::casterLight's test finds casts nothing, drawn to record tiles
-#define RASTER_FLAG_ALPHA_SHIFT 6  // flags >> 6: its AlphaTriangle (so at most 2^26 alpha-tested triangles)
+#define RASTER_FLAG_NONCASTER 32u       // casts nothing (RasterView::casterLight), drawn for recordCasterTiles
+#define RASTER_FLAG_ALPHA_SHIFT 6       // flags >> 6: its AlphaTriangle (so at most 2^26 alpha-tested triangles)
 // Per-triangle material bits (SceneBuffers::triangleBits, read by setup when RasterViewParams::triangleBits is set).
 #define RASTER_TRI_SINGLE_SIDED 1u  // culled when back-facing in views that cull single-sided triangles
 #define RASTER_TRI_ALPHA 2u         // alpha-tested; bits >> RASTER_TRI_ALPHA_SHIFT: its AlphaTriangle

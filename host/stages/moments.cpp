@@ -119,18 +119,6 @@ TexelWindow windowOf(const TexelWindow& window, uint32_t width, uint32_t height)
   return window;
 }
 
-namespace {
-
-// momentsParams over `window` of the map: its size, read from its origin in rows of the map's width.
-MomentsParams windowParams(const MomentsConfig& config, uint32_t width, uint32_t height, const TexelWindow& window) {
-  MomentsParams params = momentsParams(config, width, height);
-  params.width = window.width, params.height = window.height;
-  params.originX = window.x, params.originY = window.y;
-  return params;
-}
-
-}  // namespace
-
 int momentsKindId(MomentKind kind) {
   switch (kind) {
     case MomentKind::Vsm:
@@ -150,6 +138,14 @@ int momentsKindId(MomentKind kind) {
 }
 
 namespace {
+
+// momentsParams over `window` of the map: its size, read from its origin in rows of the map's width.
+MomentsParams windowParams(const MomentsConfig& config, uint32_t width, uint32_t height, const TexelWindow& window) {
+  MomentsParams params = momentsParams(config, width, height);
+  params.width = window.width, params.height = window.height;
+  params.originX = window.x, params.originY = window.y;
+  return params;
+}
 
 // Moments of `depth` into `out`, whose element type is the storage (float, or cl_half built with STORE_HALF).
 template <class T>

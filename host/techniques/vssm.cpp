@@ -41,21 +41,19 @@ class VarianceSoftShadows final : public TechniqueOf<VssmTechniqueSettings> {
     // The HSM first, of the casters (--vssm-hsm casters): the tiles no caster reaches hold only receivers (a ground
     // under everything), which can block no light, and its tests read them as empty. Its top is the nearest caster
     // drawn, which the moments are normalised from (receivers nearer the light than every caster are lit: t < 0).
-    const cl_float2 drawn =
-        maps_.buildHsm(frame.ctx, map_.targets.depth, width, height, map_.targets.casterFreeTiles(width, height));
+    const Buffer<uint32_t>* casterFree = map_.targets.casterFreeTiles(width, height);
+    const cl_float2 drawn = maps_.buildHsm(frame.ctx, map_.targets.depth, width, height, casterFree);
     tightenMapNear(frame, settings_.map, map_, drawn.s[0]);
     if (settings_.vssm.satReduceAuto) config.satReduce = autoSatReduce(frame);
     // The moments and their SAT around the casters only (--vssm-sat-window casters, with the HSM of the casters): every
     // box a pixel reads that meets a caster lies within 2 maxRadius (its widest side) of one, plus the block reads'
     // rounding.
-    if (settings_.vssm.castersWindow && map_.targets.casterFreeTiles(width, height) != nullptr) {
+    if (settings_.vssm.castersWindow && casterFree != nullptr) {
       const auto reach = static_cast<uint32_t>(std::ceil(2.0f * config.maxRadius)) + 2 * config.satReduce + 2;
       config.window = maps_.castersWindow(frame.ctx, width, height, reach, config.satReduce);
-      frame.attributes["penumbra:vssm-sat-window"] =
-          fmt::format("{}x{} texels at ({}, {}) of the {}x{} map: its casters and {} texels around them",
-                      config.window.width, config.window.height, config.window.x, config.window.y, width, height, reach);
-    } else {
-      config.window = {};
+      frame.attributes["penumbra:vssm-sat-window"] = fmt::format(
+          "{}x{} texels at ({}, {}) of the {}x{} map: its casters and {} texels around them", config.window.width,
+          config.window.height, config.window.x, config.window.y, width, height, reach);
     }
     maps_.buildMoments(frame.ctx, map_.targets.depth, width, height, lv.zNear, lv.zFar, config);
     const VssmParams shade = vssmParams(settings_.vssm, maps_, frame.scene.bounds().radius());
