@@ -42,29 +42,50 @@ static uint binRecordCount(const RasterViewParams* p, __global const RasterCount
       }                                                                                           \
   } while (0)
 
+// RasterViewParams::casterTiles: a valid record's box joins `box` (RasterCounters::casterBox's encoding) when the
+// record is a caster's.
+static inline void binJoinCasterBox(const RasterViewParams* p, const RasterTriangle* t, uint* box) {
+  if (!p->casterTiles || (t->flags & RASTER_FLAG_NONCASTER) != 0u) return;
+  box[0] = max(box[0], RASTER_CASTER_BOX_FLIP - t->bbox[0]), box[1] = max(box[1], RASTER_CASTER_BOX_FLIP - t->bbox[1]);
+  box[2] = max(box[2], (uint)t->bbox[2] + 1u), box[3] = max(box[3], (uint)t->bbox[3] + 1u);
+}
+
+// A work-item's joined box into counters->casterBox (nothing when it holds no caster).
+static inline void binStoreCasterBox(__global RasterCounters* counters, const uint* box) {
+  if (box[2] == 0u) return;
+  for (int k = 0; k < 4; ++k) atomic_max(&counters->casterBox[k], box[k]);
+}
+
 #if RASTER_BIN_RUN == 1
-// binCount[binsX * binsY] must be zero on entry.
-__kernel __attribute__((reqd_work_group_size(RASTER_WG_BIN, 1, 1))) void bin_count(
-    __global const RasterTriangle* tris, __global const RasterCounters* counters, __global uint* binCount,
-    const RasterViewParams p) {
+// binCount[binsX * binsY] must be zero on entry, and counters->casterBox when p.casterTiles is set.
+__kernel __attribute__((reqd_work_group_size(RASTER_WG_BIN, 1, 1))) void bin_count(__global const RasterTriangle* tris,
+                                                                                   __global RasterCounters* counters,
+                                                                                   __global uint* binCount,
+                                                                                   const RasterViewParams p) {
   const uint i = get_global_id(0);
   if (i >= binRecordCount(&p, counters)) return;
   const RasterTriangle t = tris[i];
   if ((t.flags & RASTER_FLAG_VALID) == 0) return;
+  uint box[4] = {0u, 0u, 0u, 0u};
+  binJoinCasterBox(&p, &t, box);
+  binStoreCasterBox(counters, box);
 #define BIN_COUNT_ONE(bin) atomic_inc(&binCount[bin])
   BIN_FOR_EACH(t, p, BIN_COUNT_ONE);
 #undef BIN_COUNT_ONE
 }
 #else
-// The same counts, from RASTER_BIN_RUN records per work-item: one atomic per run of entries into the same bin.
-__kernel __attribute__((reqd_work_group_size(RASTER_WG_BIN, 1, 1))) void bin_count(
-    __global const RasterTriangle* tris, __global const RasterCounters* counters, __global uint* binCount,
-    const RasterViewParams p) {
+// The same counts, from RASTER_BIN_RUN records per work-item: one atomic per run of entries into the same bin (and
+// the run's casters' box joined once).
+__kernel __attribute__((reqd_work_group_size(RASTER_WG_BIN, 1, 1))) void bin_count(__global const RasterTriangle* tris,
+                                                                                   __global RasterCounters* counters,
+                                                                                   __global uint* binCount,
+                                                                                   const RasterViewParams p) {
   const uint records = binRecordCount(&p, counters);
   if (records == 0 || get_global_id(0) > (records - 1) / RASTER_BIN_RUN) return;
   const uint first = get_global_id(0) * RASTER_BIN_RUN, end = first + min((uint)RASTER_BIN_RUN, records - first);
   int runBin = -1;
   uint run = 0;
+  uint box[4] = {0u, 0u, 0u, 0u};
 #define BIN_COUNT_RUN(bin)                                 \
   do {                                                     \
     if ((bin) != runBin) {                                 \
@@ -75,10 +96,13 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_BIN, 1, 1))) void bin_cou
   } while (0)
   for (uint i = first; i < end; ++i) {
     const RasterTriangle t = tris[i];
-    if ((t.flags & RASTER_FLAG_VALID) != 0) BIN_FOR_EACH(t, p, BIN_COUNT_RUN);
+    if ((t.flags & RASTER_FLAG_VALID) == 0) continue;
+    binJoinCasterBox(&p, &t, box);
+    BIN_FOR_EACH(t, p, BIN_COUNT_RUN);
   }
 #undef BIN_COUNT_RUN
   if (run != 0) atomic_add(&binCount[runBin], run);
+  binStoreCasterBox(counters, box);
 }
 #endif
 

@@ -4,7 +4,8 @@
 // neither on queue order nor on the layout below (no atomics, deterministic). The winner's depth is then stored in
 // the view's DepthMode; every pixel of the tile inside the scissor is written (background: +INFINITY, no id), except
 // in tiles the view's tile mask leaves out. With RasterViewParams::casterTiles it also records per tile whether its
-// queue holds no caster (RasterView::recordCasterTiles).
+// queue holds no caster (RasterView::recordCasterTiles), and with receiverReach leaves such a tile beyond the reach
+// of the casters' box as the background (RasterView::receiverReach).
 // Two layouts of the same per-pixel math, chosen by RASTER_WG_FINE (raster/constants.h):
 //   0 (GPUs): one work-group per tile, one work-item per pixel, the queue staged in local memory RASTER_FINE_WG
 //     records at a time;
@@ -76,6 +77,21 @@ static inline bool fineDraws(const RasterViewParams* p, int index, __global cons
   return p->tileMasked == 0 || tileMask[ty * p->tilesX + tx] != 0;
 }
 
+// RasterViewParams::receiverReach: whether the tile at `origin` lies farther than the reach from the casters' box
+// (RasterCounters::casterBox widened to whole tiles, as Rasterizer::draw publishes it in RasterTargets::casterBox), or
+// no caster was drawn: there a tile whose queue holds no caster is left as the background.
+static inline bool fineBeyondCasters(const RasterViewParams* p, __global const RasterCounters* counters, int2 origin) {
+  if (!p->casterTiles || p->receiverReach < 0) return false;
+  if (counters->casterBox[2] == 0u) return true;
+  const int mask = ~(RASTER_TILE_SIZE - 1), r = p->receiverReach;
+  const int x0 = (int)(RASTER_CASTER_BOX_FLIP - counters->casterBox[0]) & mask;
+  const int y0 = (int)(RASTER_CASTER_BOX_FLIP - counters->casterBox[1]) & mask;
+  const int x1 = ((int)counters->casterBox[2] + RASTER_TILE_SIZE - 1) & mask;
+  const int y1 = ((int)counters->casterBox[3] + RASTER_TILE_SIZE - 1) & mask;
+  return origin.x + RASTER_TILE_SIZE <= x0 - r || origin.x >= x1 + r || origin.y + RASTER_TILE_SIZE <= y0 - r ||
+         origin.y >= y1 + r;
+}
+
 // The tile a work-group (layout 0) or work-item (layout N) works on, and its queue range cut to the capacity.
 static inline int2 fineTile(const RasterViewParams* p, int index, __global const uint* tileCount,
                             __global const uint* tileOffset, uint* offset, uint* count) {
@@ -122,7 +138,8 @@ __kernel __attribute__((reqd_work_group_size(RASTER_FINE_WG, 1, 1))) void fine_r
     __global const RasterTriangle* tris, __global const uint* tileEntries, __global const uint* tileCount,
     __global const uint* tileOffset, __global const uint* tileMask, __global const AlphaTriangle* alphaTriangles,
     __global const AlphaMaterial* alphaMaterials, __global const uchar* alphaTexels, __global float* depth,
-    __global uint* triangleId, __global uint* emptyTiles, __global uint* casterFree, const RasterViewParams p) {
+    __global uint* triangleId, __global uint* emptyTiles, __global uint* casterFree,
+    __global const RasterCounters* counters, const RasterViewParams p) {
   __local RasterTriangle staged[RASTER_FINE_WG];
   __local int casters;  // p.casterTiles: whether a queue entry of the tile is a caster
   const FineAlpha alpha = {alphaTriangles, alphaMaterials, alphaTexels};
@@ -131,6 +148,13 @@ __kernel __attribute__((reqd_work_group_size(RASTER_FINE_WG, 1, 1))) void fine_r
   uint offset, count;
   const int2 origin = fineTile(&p, get_group_id(0), tileCount, tileOffset, &offset, &count);
   if (lid == 0) casters = 0;  // ordered before the atomics and the read below by the barriers after it
+  if (fineBeyondCasters(&p, counters, origin)) {  // uniform: the whole group reaches the barriers
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (uint k = lid; k < count; k += RASTER_FINE_WG)
+      if ((tris[tileEntries[offset + k]].flags & RASTER_FLAG_NONCASTER) == 0u) atomic_or(&casters, 1);
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (casters == 0) count = 0;  // only receivers, out of the casters' reach: the background
+  }
   const int x = origin.x + (lid & (RASTER_TILE_SIZE - 1)), y = origin.y + (lid >> RASTER_TILE_LOG2);
   const bool live = x >= p.rectX0 && x < p.rectX1 && y >= p.rectY0 && y < p.rectY1;
   const int sx = rasterSample(x), sy = rasterSample(y);
@@ -220,7 +244,8 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_FINE, 1, 1))) void fine_r
     __global const RasterTriangle* tris, __global const uint* tileEntries, __global const uint* tileCount,
     __global const uint* tileOffset, __global const uint* tileMask, __global const AlphaTriangle* alphaTriangles,
     __global const AlphaMaterial* alphaMaterials, __global const uchar* alphaTexels, __global float* depth,
-    __global uint* triangleId, __global uint* emptyTiles, __global uint* casterFree, const RasterViewParams p) {
+    __global uint* triangleId, __global uint* emptyTiles, __global uint* casterFree,
+    __global const RasterCounters* counters, const RasterViewParams p) {
   const int index = get_global_id(0);
   const int tileRows = (p.rectY1 - 1) / RASTER_TILE_SIZE - p.tileY0 + 1;
   if (index >= p.tilesAcross * tileRows) return;  // padding of the last work-group
@@ -230,6 +255,12 @@ __kernel __attribute__((reqd_work_group_size(RASTER_WG_FINE, 1, 1))) void fine_r
   // RasterTargets::keepEmptyTiles: a tile with no entries that held only the background at the last draw still does
   // (pcss on scenes/default.json at 640x360, 96 % of its 4096^2 map's tiles: the fine stage 6.9 -> 5.3 ms).
   const int tile = (origin.y >> RASTER_TILE_LOG2) * p.tilesX + (origin.x >> RASTER_TILE_LOG2);
+  if (count != 0 && fineBeyondCasters(&p, counters, origin)) {  // only receivers there: the background
+    uint casters = 0u;
+    for (uint j = 0; j < count && casters == 0u; ++j)
+      casters = ~tris[tileEntries[offset + j]].flags & RASTER_FLAG_NONCASTER;
+    if (casters == 0u) count = 0;
+  }
   if (count == 0 && p.casterTiles) casterFree[tile] = 1u;
   if (count == 0 && p.emptyTiles && emptyTiles[tile] != 0u) return;
   if (count == 0 && fineStoreEmptyTile(&p, origin, depth, triangleId)) {

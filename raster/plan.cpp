@@ -147,6 +147,7 @@ Plan makePlan(const RasterView& view, uint32_t triangleCount, uint32_t vertexCou
   p.cullSingleSided = !p.cullBackFaces && view.cullSingleSided && materials.anySingleSided ? 1 : 0;
   p.triangleBits = materials.alphaTested || p.cullSingleSided ? 1 : 0;
   p.triangleCount = triangleCount, p.vertexCount = vertexCount;
+  p.receiverReach = -1;  // every tile drawn (Rasterizer::draw sets RasterView::receiverReach)
   plan.pixels = static_cast<size_t>(view.width) * view.height;
   if (view.tileMask != nullptr) {
     if (view.tileMask->size() < plan.tiles)

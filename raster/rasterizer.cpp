@@ -58,6 +58,14 @@ void validateGeometry(const RasterGeometry& scene) {
                                                 scene.triangles[t][k], scene.positions.size()));
 }
 
+// RasterCounters::casterBox decoded and widened to whole tiles, as fine.cl's fineBeyondCasters reads it.
+std::array<int, 4> casterTilesBox(const uint32_t (&box)[4]) {
+  if (box[2] == 0) return {};
+  const auto down = [](uint32_t v) { return static_cast<int>(v) & ~(RASTER_TILE_SIZE - 1); };
+  const auto up = [](uint32_t v) { return (static_cast<int>(v) + RASTER_TILE_SIZE - 1) & ~(RASTER_TILE_SIZE - 1); };
+  return {down(RASTER_CASTER_BOX_FLIP - box[0]), down(RASTER_CASTER_BOX_FLIP - box[1]), up(box[2]), up(box[3])};
+}
+
 }  // namespace
 
 struct Rasterizer::Impl {
@@ -213,6 +221,7 @@ void Rasterizer::Impl::run(const raster::Plan& plan, Buffer<float>& depth, Buffe
     stats.trianglesSetUp = counters.setUp;
     stats.binEntries = counters.binEntries;
     stats.tileEntries = counters.tileEntries;
+    std::copy(std::begin(counters.casterBox), std::end(counters.casterBox), std::begin(stats.casterBox));
     const uint64_t indexLimit = RASTER_SATURATED - 1;  // record and queue positions are 32-bit
     bool grew = grow("extra triangle", "setup_triangles", queues.extraCapacity, counters.extraTriangles,
                      sizeof(RasterTriangle), indexLimit - scene.triangleCount);
@@ -254,11 +263,16 @@ void Rasterizer::draw(const RasterView& view, RasterTargets& targets) {
     if (!plan.empty()) {
       targets.casterFree.allocate(impl_->ctx, plan.tiles);
       plan.params.casterTiles = 1;
+      plan.params.receiverReach = std::max(view.receiverReach, -1);
       casterFree = &targets.casterFree;
     }
+  } else if (view.receiverReach >= 0) {
+    throw std::invalid_argument("raster view: a receiver reach needs the caster tiles recorded (recordCasterTiles)");
   }
   const auto recorded = [&] {
-    if (casterFree != nullptr) targets.casterFreeKey = {targets.depth.get()(), nullptr, view.width, view.height};
+    if (casterFree == nullptr) return;
+    targets.casterFreeKey = {targets.depth.get()(), nullptr, view.width, view.height};
+    targets.casterBox = casterTilesBox(impl_->stats.casterBox);
   };
   if (view.writeTriangleIds) {
     ensureTarget(impl_->ctx, targets.triangleId, plan, kNoTriangle);

@@ -4,11 +4,11 @@
 // MASK, BLEND drawn as MASK) discard fragments below their cutoff in every draw; opaque triangles draw as before.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <memory>
 #include <optional>
-
-#include <glm/glm.hpp>
 
 #include "host/cl/buffer.h"
 #include "host/cl/context.h"
@@ -88,6 +88,11 @@ struct RasterView {
   // too: a map whose texels are filtered as values) and record which 8x8 tiles no caster reaches
   // (RasterTargets::casterFreeTiles): where a min-max pyramid of the map's casters may take the texels as background.
   bool recordCasterTiles = false;
+  // With recordCasterTiles, >= 0: a tile whose queue holds no caster and that lies farther than this many pixels from
+  // the casters' box (RasterTargets::casterBox) is left as the background, undrawn, and recorded as caster-free: for a
+  // map whose receivers are read only near its casters (vssm's moments and SAT over the window around them). -1: every
+  // tile is drawn.
+  int receiverReach = -1;
 };
 
 // Depth-only targets (shadow maps): width * height each, row-major, row 0 at the bottom (y up in NDC).
@@ -124,6 +129,10 @@ struct RasterTargets {
   // which no light ray meets in front of a caster), valid while casterFreeKey names the last draw (ids not counted).
   Buffer<uint32_t> casterFree;
   EmptyTilesKey casterFreeKey;
+  // With that record: the casters' box, the union of their triangles' candidate pixels widened to whole 8x8 tiles,
+  // [x0, x1) x [y0, y1) as {x0, y0, x1, y1}; all 0 when no caster was drawn. With RasterView::receiverReach r, the
+  // tiles no caster reaches outside the box widened by r pixels on every side hold the background.
+  std::array<int, 4> casterBox{};
   const Buffer<uint32_t>* casterFreeTiles(int width, int height) const {
     const bool valid = casterFreeKey.depth != nullptr && casterFreeKey.depth == depth.get()() &&
                        casterFreeKey.width == width && casterFreeKey.height == height;
@@ -158,6 +167,7 @@ struct RasterStats {
   uint64_t trianglesIn = 0, trianglesSetUp = 0;  // after clipping, culling and dropping degenerates
   uint64_t binEntries = 0, tileEntries = 0;
   int retries = 0;  // grow-and-retry rounds after a capacity overflow
+  uint32_t casterBox[4] = {0, 0, 0, 0};  // RasterCounters::casterBox (RasterViewParams::casterTiles draws)
 };
 
 // Queue capacities in entries. The rasterizer starts from `initial` (0: sized from the scene and view), grows a

@@ -67,7 +67,7 @@ void Stages::record(const Plan& plan, const SceneBuffers& scene, Queues& q, Buff
   if (p.conservative) return;  // tile lists only (Rasterizer::drawTileLists)
   fine_
       .args(q.records, q.tileEntries, q.tileCount, q.tileOffset, mask, scene.alphaTriangles, scene.alphaMaterials,
-            scene.alphaTexels, depth, triangleIds, emptyTiles, casterFree, p)
+            scene.alphaTexels, depth, triangleIds, emptyTiles, casterFree, q.counters, p)
       .moves(uint64_t{plan.scissorPixels} * (sizeof(float) + sizeof(uint32_t)))
       .launch(groups_.fine == 0 ? plan.launchedTiles * RASTER_FINE_WG : plan.launchedTiles,
               groups_.fine == 0 ? size_t{RASTER_FINE_WG} : groups_.fine);

@@ -54,8 +54,15 @@ typedef struct {
   raster_ulong tileEntries;  // tile queue entries requested (sum over tiles, from the scan)
   uint extraTriangles;       // set-up records requested beyond one per input triangle (clipping fans)
   uint setUp;                // records that are drawn (valid) after clipping, culling and dropping
-  uint pad[2];
+  // RasterViewParams::casterTiles: the union of the casters' records' candidate boxes (bin_count), kept so that zero
+  // is empty and every update is an atomic_max: [0] RASTER_CASTER_BOX_FLIP - x0, [1] RASTER_CASTER_BOX_FLIP - y0,
+  // [2] x1 + 1, [3] y1 + 1 (pixels, x1 and y1 inclusive); all 0 while no caster is drawn (rasterCasterBox).
+  uint casterBox[4];
+  uint pad[6];  // 64 bytes: a size clEnqueueFillBuffer takes as its pattern
 } RasterCounters;
+
+// casterBox's flipped minima: above every pixel coordinate (bbox entries are 16 bits).
+#define RASTER_CASTER_BOX_FLIP 0x10000u
 
 // Everything a draw's kernels need, passed by value. Pixel rectangles are [x0, x1) x [y0, y1).
 typedef struct {
@@ -98,7 +105,10 @@ typedef struct {
   int casterTiles;  // 1 (with casterSource): setup keeps what casts nothing, flagged RASTER_FLAG_NONCASTER, and fine
                     // records casterFree[tile]: whether the tile's queue holds no caster
                     // (RasterView::recordCasterTiles)
-  uint padEnd[2];
+  int receiverReach;  // >= 0 (with casterTiles): fine leaves a tile whose queue holds no caster and that lies farther
+                      // than this many pixels from the casters' box (RasterCounters::casterBox, widened to whole tiles)
+                      // as the background, undrawn (RasterView::receiverReach); -1: every tile is drawn
+  uint padEnd;
 } RasterViewParams;
 
 #if PENUMBRA_HOST
@@ -106,13 +116,15 @@ typedef struct {
 static_assert(sizeof(RasterTriangle) == 64, "RasterTriangle layout must match OpenCL C (and fill one cache line)");
 static_assert(offsetof(RasterTriangle, y) == 12 && offsetof(RasterTriangle, invW) == 24);
 static_assert(offsetof(RasterTriangle, triangleId) == 48 && offsetof(RasterTriangle, bbox) == 56);
-static_assert(sizeof(RasterCounters) == 32 && offsetof(RasterCounters, extraTriangles) == 16);
+static_assert(sizeof(RasterCounters) == 64 && offsetof(RasterCounters, extraTriangles) == 16);
+static_assert(offsetof(RasterCounters, casterBox) == 24);
 static_assert(offsetof(RasterViewParams, p00) == 112 && offsetof(RasterViewParams, viewZGeneral) == 168);
 static_assert(offsetof(RasterViewParams, width) == 192 && offsetof(RasterViewParams, generalProjection) == 284);
 static_assert(offsetof(RasterViewParams, tileMasked) == 288 && offsetof(RasterViewParams, cullSingleSided) == 296);
 static_assert(offsetof(RasterViewParams, conservative) == 300 && offsetof(RasterViewParams, solidSides) == 304);
 static_assert(offsetof(RasterViewParams, casterSource) == 312 && offsetof(RasterViewParams, casterBoxHalf) == 352);
 static_assert(offsetof(RasterViewParams, emptyTiles) == 368 && offsetof(RasterViewParams, casterTiles) == 372);
+static_assert(offsetof(RasterViewParams, receiverReach) == 376);
 static_assert(sizeof(RasterViewParams) == 384, "RasterViewParams layout must match OpenCL C");
 #endif
 

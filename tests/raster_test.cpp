@@ -572,6 +572,87 @@ TEST_F(RasterTest, CasterTilesDrawEverythingAndRecordTheTilesNoCasterReaches) {
   EXPECT_THROW(raster.draw(bad, targets), std::invalid_argument);  // not the whole viewport
 }
 
+// RasterView::receiverReach: RasterTargets::casterBox holds every tile a caster reaches, and a tile no caster reaches
+// that lies beyond the reach of that box is the background while every other tile is drawn as without the reach, in
+// both fine layouts alike; a later draw with every tile over the kept empty-tile record draws them again. A reach
+// ignored (everything drawn), a box read as pixels instead of whole tiles or taken from the last record only, or a
+// skipped tile recorded as empty that a later draw leaves alone fails it.
+TEST_F(RasterTest, ReceiverReachLeavesTheReceiversBeyondItAsTheBackground) {
+  Scene scene = groundBoxPlate();
+  RasterLight light;
+  light.position = {1, 8, 2}, light.radius = 0.5f;
+  RasterView view = kFromAbove;
+  view.casterLight = light;
+  view.recordCasterTiles = true;
+  const int tilesX = view.width / RASTER_TILE_SIZE, tilesY = view.height / RASTER_TILE_SIZE;
+  constexpr int kReach = 5;  // pixels: less than a tile, so the tiles beyond are those a whole tile away
+  auto draw = [&](Context& ctx) {
+    Rasterizer raster(ctx);
+    uploadScene(raster, scene);
+    RasterTargets full;
+    raster.draw(view, full);  // every tile (receiverReach -1)
+    const std::vector<float> depth = full.depth.download(ctx);
+    const std::vector<uint32_t> ids = full.triangleId.download(ctx);
+    const std::vector<uint32_t> freeTiles = full.casterFree.download(ctx);
+    const std::array<int, 4> box = full.casterBox;
+    EXPECT_LT(box[0], box[2]);
+    EXPECT_LT(box[1], box[3]);
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(box[k] % RASTER_TILE_SIZE, 0) << k;
+    RasterTargets targets;
+    targets.keepEmptyTiles = true;
+    RasterView reach = view;
+    reach.receiverReach = kReach;
+    raster.draw(reach, targets);
+    EXPECT_EQ(targets.casterBox, box);
+    EXPECT_EQ(targets.casterFree.download(ctx), freeTiles);
+    const std::vector<float> near = targets.depth.download(ctx);
+    const std::vector<uint32_t> nearIds = targets.triangleId.download(ctx);
+    int skipped = 0, drawnFree = 0;
+    for (int ty = 0; ty < tilesY; ++ty)
+      for (int tx = 0; tx < tilesX; ++tx) {
+        const int x = tx * RASTER_TILE_SIZE, y = ty * RASTER_TILE_SIZE;
+        const bool free = freeTiles[size_t(ty) * tilesX + tx] != 0u;
+        if (!free) {
+          EXPECT_TRUE(x >= box[0] && x + RASTER_TILE_SIZE <= box[2] && y >= box[1] && y + RASTER_TILE_SIZE <= box[3])
+              << "caster tile " << tx << "," << ty << " outside the box";
+        }
+        const bool beyond = x + RASTER_TILE_SIZE <= box[0] - kReach || x >= box[2] + kReach ||
+                            y + RASTER_TILE_SIZE <= box[1] - kReach || y >= box[3] + kReach;
+        bool held = false;  // the full draw has a triangle in the tile
+        for (int j = 0; j < RASTER_TILE_SIZE; ++j)
+          for (int i = 0; i < RASTER_TILE_SIZE; ++i) {
+            const size_t pixel = size_t(y + j) * view.width + x + i;
+            held |= ids[pixel] != kNoTriangle;
+            if (free && beyond) {
+              EXPECT_EQ(near[pixel], std::numeric_limits<float>::infinity()) << tx << "," << ty;
+              EXPECT_EQ(nearIds[pixel], kNoTriangle) << tx << "," << ty;
+            } else {
+              EXPECT_EQ(near[pixel], depth[pixel]) << tx << "," << ty;
+              EXPECT_EQ(nearIds[pixel], ids[pixel]) << tx << "," << ty;
+            }
+          }
+        skipped += free && beyond && held, drawnFree += free && !beyond && held;
+      }
+    EXPECT_GT(skipped, tilesX * tilesY / 4);  // the ground away from the box and the plate
+    EXPECT_GT(drawnFree, 4);                  // the ground around them
+    raster.draw(view, targets);               // every tile again, over the empty-tile record
+    EXPECT_EQ(targets.depth.download(ctx), depth);
+    EXPECT_EQ(targets.triangleId.download(ctx), ids);
+    return near;
+  };
+  const std::vector<float> cpu = draw(ctx());
+  const std::unique_ptr<Context> gpu = smallGpuContext(ctx(), 16 * 1024);
+  EXPECT_EQ(draw(*gpu), cpu);
+
+  Rasterizer raster(ctx());
+  uploadScene(raster, scene);
+  RasterTargets targets;
+  RasterView bad = view;
+  bad.recordCasterTiles = false;
+  bad.receiverReach = 0;
+  EXPECT_THROW(raster.draw(bad, targets), std::invalid_argument);  // no caster tiles to reach from
+}
+
 // RasterView::writeTriangleIds false: the same depths, and the id target left as it was (poisoned ids stay; fresh
 // targets get one unused entry).
 TEST_F(RasterTest, DepthOnlyDrawsLeaveTheIdsAlone) {

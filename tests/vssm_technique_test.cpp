@@ -325,12 +325,13 @@ TEST_F(VssmTechnique, NoNanAndVisibilityInRangeOnEveryBuiltinScene) {
   }
 }
 
-// The moments and their SAT over the window around the casters (--vssm-sat-window casters, the default) give the
-// images of the whole map's, bit for bit: every box a pixel reads that meets a caster lies inside the window, and one
-// that reaches past it meets none. On every built-in scene under its light, the default scene under a radius-2 spot
+// The moments and their SAT over the window around the casters (--vssm-sat-window casters, the default), from a map
+// that draws its receivers only within the window's reach of them (RasterView::receiverReach), give the images of the
+// whole map's, bit for bit: every box a pixel reads that meets a caster lies inside the window, and one that reaches
+// past it meets none. On every built-in scene under its light, the default scene under a radius-2 spot
 // and a sun disk (SAT over 1, 2 and 4 texel blocks, fixed64 and fp32 tables), with a narrow reach so that the window
 // is smaller than the map (its size is in the header). A window that left out a caster's neighbourhood (the reach
-// less the kernels' width) changes them.
+// less the kernels' width), or receivers drawn within a quarter of the reach, changes them.
 // fp32 tables: 99 % of the pixels within their kernel tests' 2e-2 (tools/selftest/vssm_check.cpp), and the mean.
 constexpr double kFp32WindowP99 = 0.02, kFp32WindowMean = 1e-3;
 TEST_F(VssmTechnique, SatWindowAroundTheCastersGivesTheSameImages) {

@@ -67,5 +67,41 @@ TEST(VssmQuadTree, ChildAndNextLinksWalkTheTreeDepthFirst) {
   EXPECT_THROW(vssmQuadTree(VSSM_MAX_LEVELS + 1), std::invalid_argument);
 }
 
+// vssmCastersWindow: the casters' box widened by the reach and aligned outwards to whole blocks, within the map; one
+// block at the origin without casters. Non-power-of-two maps, boxes at the map's edges, and a 1x1 map.
+TEST(VssmCastersWindow, CoversTheBoxAndItsReachInWholeBlocksWithinTheMap) {
+  EXPECT_EQ(vssmWindowReach(24.0f, 2), 48u + 4u + 2u);
+  EXPECT_EQ(vssmWindowReach(0.3f, 1), 1u + 2u + 2u);
+  EXPECT_EQ(vssmCastersWindow({0, 0, 0, 0}, 768, 500, 10, 4), (TexelWindow{0, 0, 4, 4}));  // no caster
+  EXPECT_EQ(vssmCastersWindow({0, 0, 0, 0}, 3, 2, 10, 4), (TexelWindow{0, 0, 3, 2}));
+  EXPECT_EQ(vssmCastersWindow({0, 0, 8, 8}, 1, 1, 10, 4), (TexelWindow{0, 0, 1, 1}));
+  std::mt19937 random(7);
+  for (int i = 0; i < 500; ++i) {
+    const uint32_t width = 1 + random() % 700, height = 1 + random() % 700, block = 1u << (random() % 4);
+    const uint32_t reach = random() % 80;
+    const int x0 = int(random() % width) & ~7, y0 = int(random() % height) & ~7;
+    const int x1 = x0 + 8 * (1 + int(random() % 20)), y1 = y0 + 8 * (1 + int(random() % 20));
+    const TexelWindow w = vssmCastersWindow({x0, y0, x1, y1}, width, height, reach, block);
+    const std::string at =
+        fmt::format("{}x{} box {},{}..{},{} reach {} block {}", width, height, x0, y0, x1, y1, reach, block);
+    EXPECT_GT(w.width, 0u) << at;
+    EXPECT_GT(w.height, 0u) << at;
+    EXPECT_LE(w.x + w.width, width) << at;
+    EXPECT_LE(w.y + w.height, height) << at;
+    EXPECT_EQ(w.x % block, 0u) << at;
+    EXPECT_EQ(w.y % block, 0u) << at;
+    EXPECT_TRUE(w.x + w.width == width || (w.x + w.width) % block == 0) << at;
+    EXPECT_TRUE(w.y + w.height == height || (w.y + w.height) % block == 0) << at;
+    // Every texel of the box and its reach that lies in the map, and no more than a block beyond.
+    EXPECT_LE(int64_t{w.x}, std::max<int64_t>(0, x0 - int64_t{reach})) << at;
+    EXPECT_LE(int64_t{w.y}, std::max<int64_t>(0, y0 - int64_t{reach})) << at;
+    EXPECT_GE(int64_t{w.x} + w.width, std::min<int64_t>(width, x1 + int64_t{reach})) << at;
+    EXPECT_GE(int64_t{w.y} + w.height, std::min<int64_t>(height, y1 + int64_t{reach})) << at;
+    EXPECT_GT(int64_t{w.x} + block, int64_t{x0} - reach) << at;
+    EXPECT_LT(int64_t{w.x} + w.width, int64_t{x1} + reach + block) << at;
+  }
+  EXPECT_THROW(vssmCastersWindow({0, 0, 8, 8}, 64, 64, 4, 0), std::invalid_argument);
+}
+
 }  // namespace vssm_test
 }  // namespace penumbra

@@ -35,6 +35,11 @@ class VarianceSoftShadows final : public TechniqueOf<VssmTechniqueSettings> {
   void render(ShadowFrame& frame, Buffer<float>& visibility) override {
     VssmMapConfig config = settings_.vssm.maps;
     map_.casterTiles = settings_.vssm.castersHsm;  // the moments keep the receivers; the HSM the casters (below)
+    // With the window around the casters (below), the receivers beyond it are never read: the map draws them only
+    // within the reach of its widest blocks, plus one block of the window's alignment.
+    const bool window = settings_.vssm.castersHsm && settings_.vssm.castersWindow;
+    const uint32_t widestBlock = settings_.vssm.satReduceAuto ? kMaxAutoSatReduce : config.satReduce;
+    map_.receiverReach = window ? static_cast<int>(vssmWindowReach(config.maxRadius, widestBlock) + widestBlock) : -1;
     renderShadowMap(frame, settings_.map, map_, config.maxRadius, MapNear::Fitted);
     const LightViewGpu& lv = map_.view.gpu;
     const auto width = static_cast<uint32_t>(lv.width), height = static_cast<uint32_t>(lv.height);
@@ -45,12 +50,11 @@ class VarianceSoftShadows final : public TechniqueOf<VssmTechniqueSettings> {
     const cl_float2 drawn = maps_.buildHsm(frame.ctx, map_.targets.depth, width, height, casterFree);
     tightenMapNear(frame, settings_.map, map_, drawn.s[0]);
     if (settings_.vssm.satReduceAuto) config.satReduce = autoSatReduce(frame);
-    // The moments and their SAT around the casters only (--vssm-sat-window casters, with the HSM of the casters): every
-    // box a pixel reads that meets a caster lies within 2 maxRadius (its widest side) of one, plus the block reads'
-    // rounding.
-    if (settings_.vssm.castersWindow && casterFree != nullptr) {
-      const auto reach = static_cast<uint32_t>(std::ceil(2.0f * config.maxRadius)) + 2 * config.satReduce + 2;
-      config.window = maps_.castersWindow(frame.ctx, width, height, reach, config.satReduce);
+    // The moments and their SAT around the casters only (--vssm-sat-window casters, with the HSM of the casters):
+    // vssmWindowReach around the tiles a caster reaches.
+    if (window && casterFree != nullptr) {
+      const uint32_t reach = vssmWindowReach(config.maxRadius, config.satReduce);
+      config.window = vssmCastersWindow(map_.targets.casterBox, width, height, reach, config.satReduce);
       frame.attributes["penumbra:vssm-sat-window"] = fmt::format(
           "{}x{} texels at ({}, {}) of the {}x{} map: its casters and {} texels around them", config.window.width,
           config.window.height, config.window.x, config.window.y, width, height, reach);

@@ -88,39 +88,23 @@ cl_float2 VssmMaps::buildHsm(Context& ctx, const Buffer<float>& depth, uint32_t 
   return hsm_.build(ctx, depth, width, height, casterFree);
 }
 
-TexelWindow VssmMaps::castersWindow(Context& ctx, uint32_t width, uint32_t height, uint32_t reach,
-                                    uint32_t block) const {
+uint32_t vssmWindowReach(float maxRadius, uint32_t block) {
+  return static_cast<uint32_t>(std::ceil(2.0f * maxRadius)) + 2 * block + 2;
+}
+
+TexelWindow vssmCastersWindow(const std::array<int, 4>& casterBox, uint32_t width, uint32_t height, uint32_t reach,
+                              uint32_t block) {
   if (block == 0) throw std::invalid_argument("vssm: a window of blocks of 0 texels");
-  const PyramidLayout layout = pyramidLayout(width, height, 1);
-  if (layout.levels.empty()) return {0, 0, width, height};  // a 1x1 map
-  size_t l = 0;  // the finest level of at most kWindowLevelTexels texels (or the top)
-  while (l + 1 < layout.levels.size() && size_t{layout.levels[l].width} * layout.levels[l].height > kWindowLevelTexels)
-    ++l;
-  const PyramidLevel& level = layout.levels[l];
-  const std::vector<cl_float2> texels = hsm_.pyramid().download(ctx, level.offset, size_t{level.width} * level.height);
-  int64_t x0 = INT64_MAX, y0 = INT64_MAX, x1 = -1, y1 = -1;  // level texels holding something
-  for (uint32_t y = 0; y < level.height; ++y)
-    for (uint32_t x = 0; x < level.width; ++x)
-      if (std::isfinite(texels[size_t{y} * level.width + x].s[0]))
-        x0 = std::min<int64_t>(x0, x), x1 = std::max<int64_t>(x1, x), y0 = std::min<int64_t>(y0, y),
-        y1 = std::max<int64_t>(y1, y);
-  if (x1 < 0) return {0, 0, std::min(block, width), std::min(block, height)};  // no caster: nothing is read
-  // A level texel's share of the map, widened by one of its texels where a halving was not exact (its footprint
-  // reaches a texel further: kernels/shared/pyramid.h), then by the reach, aligned outwards to whole blocks.
-  const int shift = static_cast<int>(l) + 1;
-  const bool exact = (level.width << shift) == width && (level.height << shift) == height;
-  const double sx = double(width) / level.width, sy = double(height) / level.height;
-  const double slackX = exact ? 0.0 : sx, slackY = exact ? 0.0 : sy;
-  const auto lo = [&](int64_t t, double s, double slack) {
-    const double v = std::floor(double(t) * s - slack) - reach;
-    return static_cast<int64_t>(std::max(0.0, std::floor(v / block) * block));
+  if (casterBox[0] >= casterBox[2] || casterBox[1] >= casterBox[3])
+    return {0, 0, std::min(block, width), std::min(block, height)};
+  const auto lo = [&](int64_t edge) { return std::max<int64_t>(0, (edge - int64_t{reach}) / block * block); };
+  const auto hi = [&](int64_t edge, uint32_t size) {
+    const int64_t widened = edge + reach;
+    return std::min<int64_t>(size, (widened + block - 1) / block * block);
   };
-  const auto hi = [&](int64_t t, double s, double slack, uint32_t size) {
-    const double v = std::ceil(double(t + 1) * s + slack) + reach;
-    return static_cast<int64_t>(std::min<double>(size, std::ceil(v / block) * block));
-  };
-  const int64_t ax = lo(x0, sx, slackX), ay = lo(y0, sy, slackY);
-  const int64_t bx = hi(x1, sx, slackX, width), by = hi(y1, sy, slackY, height);
+  const int64_t ax = std::min<int64_t>(lo(casterBox[0]), width - 1),
+                ay = std::min<int64_t>(lo(casterBox[1]), height - 1);
+  const int64_t bx = std::max(hi(casterBox[2], width), ax + 1), by = std::max(hi(casterBox[3], height), ay + 1);
   return {static_cast<uint32_t>(ax), static_cast<uint32_t>(ay), static_cast<uint32_t>(bx - ax),
           static_cast<uint32_t>(by - ay)};
 }

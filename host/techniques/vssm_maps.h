@@ -7,6 +7,7 @@
 #pragma once
 
 #include <CL/opencl.hpp>
+#include <array>
 #include <cstdint>
 #include <string>
 #include <variant>
@@ -34,7 +35,7 @@ struct VssmMapConfig {
   // Beyond the paper: the moments and their SAT over blocks of satReduce x satReduce texels
   // (computeMomentsReduced), 1..kMaxMomentsReduction; 1 = one SAT texel per map texel (the paper's).
   uint32_t satReduce = 1;
-  // Beyond the paper: the window of the map the moments and their SAT cover (empty: the whole map; castersWindow).
+  // Beyond the paper: the window of the map the moments and their SAT cover (empty: the whole map; vssmCastersWindow).
   TexelWindow window;
   bool operator==(const VssmMapConfig&) const = default;
 };
@@ -47,6 +48,18 @@ std::vector<VssmNode> vssmQuadTree(uint32_t height);
 // half-width is the mean of the half chord sqrt(1 - y^2) over them, so the strips have the disk's area row by row.
 // Entry K (K - 1) / 2 + k, for K = 1 .. VSSM_MAX_DISK_STRIPS.
 std::vector<float> vssmDiskStripTable();
+
+// Beyond the paper: how far around the casters the moments and their SAT are wanted. With the HSM of the casters a
+// pixel reads the SAT only for a box whose square held a texel of a tile a caster reaches; such a box lies within 2
+// maxRadius (its widest side) of that tile, plus the block reads' rounding: ceil(2 maxRadius) + 2 block + 2 texels.
+uint32_t vssmWindowReach(float maxRadius, uint32_t block);
+// The window of a width x height map that covers `casterBox` (RasterTargets::casterBox: the tiles the casters reach,
+// [x0, x1) x [y0, y1) as {x0, y0, x1, y1}) widened by `reach` texels each way and aligned outwards to blocks of `block`
+// texels, within the map; the smallest window, one block, where the box is empty (no caster drawn: nothing is read).
+// A kernel box that meets a caster's tile lies inside it when `reach` is vssmWindowReach's for its block, so the
+// moments of the texels outside are never wanted for one (kernels/shared/vssm_lookup.h).
+TexelWindow vssmCastersWindow(const std::array<int, 4>& casterBox, uint32_t width, uint32_t height, uint32_t reach,
+                              uint32_t block);
 
 class VssmMaps {
  public:
@@ -61,13 +74,6 @@ class VssmMaps {
   // it: what MapNear::Drawn would have reduced the map for.
   cl_float2 buildHsm(Context& ctx, const Buffer<float>& depth, uint32_t width, uint32_t height,
                      const Buffer<uint32_t>* casterFree = nullptr);
-  // After buildHsm: the window of the width x height map that holds every texel the HSM holds (those of its tiles no
-  // caster reaches left out, with them), widened by `reach` texels each way and aligned to blocks of `block` texels,
-  // from a coarse level read back (at most kWindowLevelTexels texels); the smallest window, one block, where the HSM
-  // holds nothing. A kernel box that meets a caster lies inside it when its side is at most `reach` less the block
-  // reads' rounding, so the moments of the texels outside are never wanted for one (kernels/shared/vssm_lookup.h).
-  static constexpr uint32_t kWindowLevelTexels = 16384;
-  TexelWindow castersWindow(Context& ctx, uint32_t width, uint32_t height, uint32_t reach, uint32_t block) const;
   // "moments/moments_vsm" over [zNear, zFar] (moments_vsm_reduced with a satReduce above 1: the SAT then has
   // ceil(width / satReduce) x ceil(height / satReduce) texels) and the "sat/..." passes, and the quad-tree's links;
   // over config.window of the map where it is not empty (then of its size).

@@ -59,7 +59,7 @@ typedef struct VssmParams {
   uint searchNarrowings;  // beyond the paper: narrowings of the search kernel by its nearest texel (0: L7's kernel)
   uint satReduce;         // beyond the paper: map texels per SAT texel along each side (1: the paper's, one per texel)
   uint stackedTrace;      // beyond the paper: a stacked search kernel's receiver also traced through the map (1)
-  uint satX, satY;        // beyond the paper: the window of map texels the SAT covers (VssmMaps::castersWindow): its
+  uint satX, satY;        // beyond the paper: the window of map texels the SAT covers (vssmCastersWindow): its
   uint satWidth, satHeight;  // origin and size; (0, 0) and the map's size for the whole map
 } VssmParams;
 

@@ -41,7 +41,7 @@ typedef struct VssmReceiver {
 // sc_fetch's +INFINITY is for the PCF taps, so a kernel that leaves the map is not darkened by its inside part. The
 // SAT may hold blocks of satReduce^2 texels (moments_vsm_reduced): the box is then read in block units, exact for
 // boxes of whole blocks and the block means' bilinear integral between them. It covers the window p.sat* of the map
-// (VssmMaps::castersWindow: every caster texel and the widest box around it), and texels outside the window count as
+// (vssmCastersWindow: every caster texel and the widest box around it), and texels outside the window count as
 // outside the map: a box that reaches past it meets no caster, so its moments are its receivers' own surface, which
 // blocks nothing.
 inline float2 vssm_box_moments(const VssmMaps* m, float2 lo, float2 hi) {
