@@ -331,7 +331,8 @@ TEST_F(VssmTechnique, NoNanAndVisibilityInRangeOnEveryBuiltinScene) {
 // past it meets none. On every built-in scene under its light, the default scene under a radius-2 spot
 // and a sun disk (SAT over 1, 2 and 4 texel blocks, fixed64 and fp32 tables), with a narrow reach so that the window
 // is smaller than the map (its size is in the header). A window that left out a caster's neighbourhood (the reach
-// less the kernels' width), or receivers drawn within a quarter of the reach, changes them.
+// less the kernels' width), receivers drawn within a quarter of the reach, or a widest kernel half the light's
+// (cards, and the staircase under a sun, with the reach's cap above it), changes them.
 // fp32 tables: 99 % of the pixels within their kernel tests' 2e-2 (tools/selftest/vssm_check.cpp), and the mean.
 constexpr double kFp32WindowP99 = 0.02, kFp32WindowMean = 1e-3;
 TEST_F(VssmTechnique, SatWindowAroundTheCastersGivesTheSameImages) {
@@ -356,13 +357,20 @@ TEST_F(VssmTechnique, SatWindowAroundTheCastersGivesTheSameImages) {
                     makeProcedural("stacked-planes"),
                     parseLight("spot:0.3,6,0.2:0,0,0:90:2"),
                     {{"vssm-sat-reduce", "1"}}});
+  // The widest kernel the light can give (vssmWidestKernel) below the reach's cap, under a spot and a sun.
+  frames.push_back({"cards widest kernel",
+                    makeProcedural("cards"),
+                    makeProcedural("cards").lights.front(),
+                    {{"vssm-max-radius", "128"}}});
+  frames.push_back(
+      {"staircase sun widest kernel", staircase, parseLight("dir:0.8,-1,0.3:3"), {{"vssm-max-radius", "128"}}});
   size_t smaller = 0;
   for (const Frame& f : frames) {
     Camera cam = f.scene.cameras.front();
     cam.width = 120, cam.height = 68;
     Values values = f.values;
     values["map-size"] = "768";
-    values["vssm-max-radius"] = "24";
+    values.emplace("vssm-max-radius", "24");
     values["vssm-sat-window"] = "map";
     const RenderResult whole = renderWith(ctx(), f.scene, cam, f.light, "vssm", values);
     values["vssm-sat-window"] = "casters";

@@ -103,5 +103,44 @@ TEST(VssmCastersWindow, CoversTheBoxAndItsReachInWholeBlocksWithinTheMap) {
   EXPECT_THROW(vssmCastersWindow({0, 0, 8, 8}, 64, 64, 4, 0), std::invalid_argument);
 }
 
+// vssmWidestKernel: no kernel kernels/vssm.cl can take is wider (its widths are lv_penumbra_texels, replicated here,
+// of a receiver and an occluder inside the map's depth range, clamped to [0.5, maxRadius]), and the bound is that of
+// the widest pair (a caster at the near plane over a receiver at the far plane), for spot and sun views. A view
+// without a usable range falls back to maxRadius.
+TEST(VssmWidestKernel, BoundsEveryKernelOfTheMapsDepthRangeTightly) {
+  const auto penumbra = [](const LightViewGpu& lv, double receiver, double occluder) {  // lv_penumbra_texels
+    const double world = lv.kind == LIGHT_KIND_SPOT ? lv.lightSize * (receiver - occluder) / occluder
+                                                    : lv.lightSize * (receiver - occluder);
+    return std::max(world, 0.0) / (lv.kind == LIGHT_KIND_SPOT ? lv.texelScale * receiver : lv.texelScale);
+  };
+  std::mt19937 random(11);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int i = 0; i < 200; ++i) {
+    LightViewGpu lv{};
+    lv.kind = i % 2 == 0 ? LIGHT_KIND_SPOT : LIGHT_KIND_DIRECTIONAL;
+    lv.zNear = 0.05f + 5.0f * unit(random);
+    lv.zFar = lv.zNear * (1.01f + 20.0f * unit(random));
+    lv.texelScale = lv.kind == LIGHT_KIND_SPOT ? 2e-4f + 2e-3f * unit(random) : 1e-3f + 1e-2f * unit(random);
+    lv.lightSize = lv.kind == LIGHT_KIND_SPOT ? 0.01f + 2.0f * unit(random) : 0.001f + 0.1f * unit(random);
+    const float maxRadius = 4.0f + 200.0f * unit(random);
+    const float bound = vssmWidestKernel(lv, maxRadius);
+    double widest = 0.0;
+    for (int r = 0; r <= 32; ++r)
+      for (int o = 0; o <= r; ++o) {
+        const double receiver = lv.zNear + (lv.zFar - lv.zNear) * r / 32.0;
+        const double occluder = lv.zNear + (lv.zFar - lv.zNear) * o / 32.0;
+        const float kernel = std::clamp(static_cast<float>(penumbra(lv, receiver, occluder)), 0.5f, maxRadius);
+        EXPECT_LE(kernel, bound) << i << " receiver " << receiver << " occluder " << occluder;
+        widest = std::max(widest, double{kernel});
+      }
+    EXPECT_LE(bound, widest * 1.002 + 0.02) << i;  // the corner pair is sampled
+  }
+  LightViewGpu bad{};
+  bad.kind = LIGHT_KIND_SPOT, bad.zNear = 0.0f, bad.zFar = 10.0f, bad.texelScale = 1e-3f, bad.lightSize = 1.0f;
+  EXPECT_EQ(vssmWidestKernel(bad, 64.0f), 64.0f);
+  bad.zNear = 1.0f, bad.texelScale = NAN;
+  EXPECT_EQ(vssmWidestKernel(bad, 64.0f), 64.0f);
+}
+
 }  // namespace vssm_test
 }  // namespace penumbra

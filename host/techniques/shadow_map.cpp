@@ -272,7 +272,8 @@ void renderShadowMap(ShadowFrame& frame, const MapSettings& settings, ShadowMap&
     map.view.raster.writeTriangleIds = map.triangleIds;
     if (map.castersOnly || map.casterTiles) map.view.raster.casterLight = rasterLightOf(frame.light);
     map.view.raster.recordCasterTiles = map.casterTiles && !map.castersOnly;
-    map.view.raster.receiverReach = map.view.raster.recordCasterTiles ? map.receiverReach : -1;
+    map.view.raster.receiverReach =
+        map.view.raster.recordCasterTiles && map.receiverReach ? map.receiverReach(map.view.gpu) : -1;
     map.targets.keepEmptyTiles = true;  // drawn frame after frame, and only drawn (RasterTargets)
     frame.raster.draw(map.view.raster, map.targets);
   }

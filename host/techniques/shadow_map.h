@@ -37,10 +37,10 @@ struct ShadowMap {
   // targets.casterFreeTiles): for maps of filtered moments, which keep their receivers, whose min-max pyramid holds the
   // casters alone (vssm's HSM).
   bool casterTiles = false;
-  // With casterTiles, >= 0: the receivers are drawn only within this many texels of the casters' box, the tiles no
-  // caster reaches beyond it left as the background (RasterView::receiverReach): for maps whose filtered texels are
-  // read only around their casters (vssm's window). -1: every tile is drawn.
-  int receiverReach = -1;
+  // With casterTiles, given the fitted view: >= 0 draws the receivers only within that many texels of the casters'
+  // box, the tiles no caster reaches beyond it left as the background (RasterView::receiverReach), for maps whose
+  // filtered texels are read only around their casters (vssm's window); -1 (or none) draws every tile.
+  std::function<int(const LightViewGpu&)> receiverReach;
 };
 
 // map-size (auto: chosen per frame by the renderer from the camera's pixels, host/views/light_fit.h neededMapSize),

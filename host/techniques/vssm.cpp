@@ -36,10 +36,14 @@ class VarianceSoftShadows final : public TechniqueOf<VssmTechniqueSettings> {
     VssmMapConfig config = settings_.vssm.maps;
     map_.casterTiles = settings_.vssm.castersHsm;  // the moments keep the receivers; the HSM the casters (below)
     // With the window around the casters (below), the receivers beyond it are never read: the map draws them only
-    // within the reach of its widest blocks, plus one block of the window's alignment.
+    // within its reach at the widest blocks, plus one block of the window's alignment. The fitted near plane lies in
+    // front of every caster (the moments' is tightened to the nearest below), so its widest kernel is at least theirs.
     const bool window = settings_.vssm.castersHsm && settings_.vssm.castersWindow;
     const uint32_t widestBlock = settings_.vssm.satReduceAuto ? kMaxAutoSatReduce : config.satReduce;
-    map_.receiverReach = window ? static_cast<int>(vssmWindowReach(config.maxRadius, widestBlock) + widestBlock) : -1;
+    map_.receiverReach = [window, widestBlock, maxRadius = config.maxRadius](const LightViewGpu& fitted) {
+      return window ? static_cast<int>(vssmWindowReach(vssmWidestKernel(fitted, maxRadius), widestBlock) + widestBlock)
+                    : -1;
+    };
     renderShadowMap(frame, settings_.map, map_, config.maxRadius, MapNear::Fitted);
     const LightViewGpu& lv = map_.view.gpu;
     const auto width = static_cast<uint32_t>(lv.width), height = static_cast<uint32_t>(lv.height);
@@ -53,7 +57,7 @@ class VarianceSoftShadows final : public TechniqueOf<VssmTechniqueSettings> {
     // The moments and their SAT around the casters only (--vssm-sat-window casters, with the HSM of the casters):
     // vssmWindowReach around the tiles a caster reaches.
     if (window && casterFree != nullptr) {
-      const uint32_t reach = vssmWindowReach(config.maxRadius, config.satReduce);
+      const uint32_t reach = vssmWindowReach(vssmWidestKernel(lv, config.maxRadius), config.satReduce);
       config.window = vssmCastersWindow(map_.targets.casterBox, width, height, reach, config.satReduce);
       frame.attributes["penumbra:vssm-sat-window"] = fmt::format(
           "{}x{} texels at ({}, {}) of the {}x{} map: its casters and {} texels around them", config.window.width,

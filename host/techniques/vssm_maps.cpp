@@ -92,6 +92,14 @@ uint32_t vssmWindowReach(float maxRadius, uint32_t block) {
   return static_cast<uint32_t>(std::ceil(2.0f * maxRadius)) + 2 * block + 2;
 }
 
+float vssmWidestKernel(const LightViewGpu& lv, float maxRadius) {
+  const double texel = lv.texelScale, near = lv.zNear, far = lv.zFar, size = lv.lightSize;
+  const double widest =
+      lv.kind == LIGHT_KIND_SPOT ? size * (1.0 / near - 1.0 / far) / texel : size * (far - near) / texel;
+  if (!(near > 0.0 || lv.kind != LIGHT_KIND_SPOT) || !(widest >= 0.0) || !std::isfinite(widest)) return maxRadius;
+  return std::clamp(static_cast<float>(widest * 1.001 + 0.01), 0.5f, maxRadius);
+}
+
 TexelWindow vssmCastersWindow(const std::array<int, 4>& casterBox, uint32_t width, uint32_t height, uint32_t reach,
                               uint32_t block) {
   if (block == 0) throw std::invalid_argument("vssm: a window of blocks of 0 texels");

@@ -17,6 +17,7 @@
 #include "host/cl/context.h"
 #include "host/stages/moments.h"
 #include "host/stages/pyramid.h"
+#include "kernels/shared/light_view.h"
 #include "kernels/shared/pyramid.h"
 #include "kernels/shared/sat.h"
 #include "kernels/shared/vssm.h"
@@ -53,6 +54,11 @@ std::vector<float> vssmDiskStripTable();
 // pixel reads the SAT only for a box whose square held a texel of a tile a caster reaches; such a box lies within 2
 // maxRadius (its widest side) of that tile, plus the block reads' rounding: ceil(2 maxRadius) + 2 block + 2 texels.
 uint32_t vssmWindowReach(float maxRadius, uint32_t block);
+// The widest half-width in texels any kernel of a map with view `lv` can take: kernels/vssm.cl clamps
+// lv_penumbra_texels to [0.5, maxRadius], and by similar triangles that penumbra is widest for a receiver at the far
+// plane under a caster at the near plane (a spot's R (1 / z_o - 1 / z_r) / texelScale grows with z_r and shrinks as
+// z_o grows; a sun's R (z_r - z_o) / texelScale likewise), with a little slack for the kernel's float rounding.
+float vssmWidestKernel(const LightViewGpu& lv, float maxRadius);
 // The window of a width x height map that covers `casterBox` (RasterTargets::casterBox: the tiles the casters reach,
 // [x0, x1) x [y0, y1) as {x0, y0, x1, y1}) widened by `reach` texels each way and aligned outwards to blocks of `block`
 // texels, within the map; the smallest window, one block, where the box is empty (no caster drawn: nothing is read).
