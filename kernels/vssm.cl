@@ -251,13 +251,27 @@ inline float vssm_blocker_depth(const VssmMaps* m, const VssmReceiver* r, float2
   return blocked > 0.0f ? depthSum / blocked : -1.0f;
 }
 
+// The lit share of a shading kernel whose moments are `e` (L20), beyond the paper with p.firstMoment: the smaller of
+// Chebyshev's one-sided bound and the first moment's two-depth share with the blocker search's depth zocc (both
+// normalised). Write the kernel's texels as a share p at depth t or behind (lit, mean m_l >= t) and 1 - p in front of
+// it (blockers, mean m_b): E(x) = (1 - p) m_b + p m_l, so p = (E(x) - m_b) / (m_l - m_b) <= (E(x) - m_b) / (t - m_b),
+// which grows as m_b falls while E(x) < t. Taking the search's average blocker depth (eq. 4) for m_b assumes the
+// penumbra kernel's blockers lie at least that far on average; then it is another upper bound, equal to Chebyshev's
+// for two depths. Where the blockers spread in depth, Chebyshev's bound admits more light (the variance they add reads
+// as lit texels) and this one less. Measured in docs/techniques/vssm.md, "The first moment's bound".
+inline float vssm_lit_share(const VssmMaps* m, const VssmReceiver* r, float2 e, float zocc) {
+  const float chebyshev = cheb_upper_bound(e, r->t, m->p.minVariance);
+  if (!m->p.firstMoment || !(zocc < r->t)) return chebyshev;
+  return fmin(chebyshev, clamp((e.x - zocc) / (r->t - zocc), 0.0f, 1.0f));
+}
+
 // Alg. 1 L17-L20 and Alg. 2 L28-L31: visibility over the penumbra kernel of half-width w at c: the Chebyshev bound
 // L of the normal group weighted by VSMArea, 1 by LitArea and the PCF result L1 by PCFArea.
 // Beyond the paper, first: the HSM's range over the penumbra kernel, as L8-L10 over the search kernel (lit, or umbra
 // whatever the moments say, which blockers at several depths spread), then vssm_stacked_taps where they do.
 // `path`: VSSM_PATH_LIT, VSSM_PATH_UMBRA or VSSM_PATH_STACKED where the range decided, else unchanged.
-inline float vssm_shade(const VssmMaps* m, const VssmReceiver* r, float2 c, float w, int* subdivided, int* visited,
-                        int* path) {
+inline float vssm_shade(const VssmMaps* m, const VssmReceiver* r, float2 c, float w, float zocc, int* subdivided,
+                        int* visited, int* path) {
   const float2 range = vssm_hsm_range(m, c - w, c + w);
   if (range.x >= r->t) {
     *path = VSSM_PATH_LIT;
@@ -273,7 +287,7 @@ inline float vssm_shade(const VssmMaps* m, const VssmReceiver* r, float2 c, floa
       *path = VSSM_PATH_STACKED;
       return vssm_stacked_taps(m, r, c, w, 0);
     }
-    return cheb_upper_bound(e, r->t, m->p.minVariance);
+    return vssm_lit_share(m, r, e, zocc);
   }
   if (m->p.shadeScheme == VSSM_SCHEME_NONE) return 1.0f;
   *subdivided = 1;
@@ -281,8 +295,7 @@ inline float vssm_shade(const VssmMaps* m, const VssmReceiver* r, float2 c, floa
   vssm_kernel_subdivide(m, r, c, w, 0, &acc);
   *visited += acc.visited;
   float lit = acc.litArea + (acc.pcfArea - acc.pcfBlocked);
-  if (acc.vsmArea > 0.0f)
-    lit += cheb_upper_bound((float2)(acc.m1, acc.m2) / acc.vsmArea, r->t, m->p.minVariance) * acc.vsmArea;
+  if (acc.vsmArea > 0.0f) lit += vssm_lit_share(m, r, (float2)(acc.m1, acc.m2) / acc.vsmArea, zocc) * acc.vsmArea;
   return clamp(lit / (acc.litArea + acc.vsmArea + acc.pcfArea), 0.0f, 1.0f);
 }
 
@@ -363,7 +376,7 @@ inline VssmResult vssm_pixel(const VssmMaps* m, VssmReceiver r) {
     return out;
   }
   int path = -1;
-  out.visibility = vssm_shade(m, &r, r.uv, wp, &subdivided, &out.visited, &path);
+  out.visibility = vssm_shade(m, &r, r.uv, wp, zocc, &subdivided, &out.visited, &path);
   out.path = path >= 0 ? path : subdivided ? VSSM_PATH_SUBDIVIDED : VSSM_PATH_PLANAR;
   // A search kernel of stacked blockers: its segments traced as well, where they hide more
   // (kernels/shared/map_trace.h).

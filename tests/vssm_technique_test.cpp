@@ -236,6 +236,35 @@ TEST_F(VssmTechnique, CastersHsmRemovesTheTiltedFloorsNonPlanarityError) {
   }
 }
 
+// --vssm-first-moment on (the default): a shading kernel's lit share is the smaller of Chebyshev's bound and its first
+// moment's share with the search's blocker depth. It only darkens (the smaller of two bounds), only on the moments'
+// paths (planar and subdivided), and on the sunlit staircase, whose steps put blockers at several depths into a
+// kernel, it brings the light-facing pixels closer to brute-force PCSS (mean error measured 0.00450 -> 0.00414).
+// Taking the larger of the two, or the first moment's share alone where Chebyshev's is smaller, fails it.
+constexpr double kMinFirstMomentGain = 0.05;
+TEST_F(VssmTechnique, FirstMomentBoundOnlyDarkensTheMomentsPathsAndBringsTheStaircaseCloser) {
+  const SunlitStaircase s(ctx());
+  const auto facing = [&](size_t i) { return bool(s.front[i]); };
+  Values on = {{"map-size", "512"}, {"vssm-max-radius", "64"}}, off = on;
+  off["vssm-first-moment"] = "off";
+  const RenderResult withBound = s.vssm(ctx(), on), without = s.vssm(ctx(), off);
+  const auto &a = channel(withBound, "visibility.Y"), &b = channel(without, "visibility.Y");
+  const auto &pathA = channel(withBound, "path.Z"), &pathB = channel(without, "path.Z");
+  size_t darker = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(pathA[i], pathB[i]) << i;
+    EXPECT_LE(a[i], b[i]) << i;
+    if (a[i] < b[i]) {
+      ++darker;
+      EXPECT_TRUE(pathA[i] == VSSM_PATH_PLANAR || pathA[i] == VSSM_PATH_SUBDIVIDED) << i << " path " << pathA[i];
+    }
+  }
+  const ErrorStats e = compare(withBound, s.ref, facing), e0 = compare(without, s.ref, facing);
+  SCOPED_TRACE(fmt::format("{} pixels darker; mean error {:.5f} -> {:.5f}", darker, e0.mean, e.mean));
+  EXPECT_GT(darker, 50u);
+  EXPECT_LE(e.mean, (1.0 - kMinFirstMomentGain) * e0.mean);
+}
+
 // Floor pixels within kContactBand of a box face's base, on the side facing away from the light (in the box's
 // shadow) and on the lit side.
 constexpr float kContactBand = 0.05f;  // world units: ~4 texels of the fitted 512^2 map

@@ -130,6 +130,7 @@ VssmSettings VssmSettings::from(const Params& params) {
   s.stackedSpread = static_cast<float>(params.get("vssm-stacked"));
   s.stackedTaps = static_cast<uint32_t>(params.getInt("vssm-stacked-taps"));
   s.stackedTrace = params.getInt("vssm-stacked-trace") == 1;
+  s.firstMoment = params.getInt("vssm-first-moment") == 1;
   s.castersHsm = params.getInt("vssm-hsm") == 1;
   s.castersWindow = params.getInt("vssm-sat-window") == 1;
   s.searchNarrowings = params.getInt("vssm-search") == kSearchAdaptive ? kSearchNarrowings : 0;
@@ -166,6 +167,7 @@ VssmParams vssmParams(const VssmSettings& settings, const VssmMaps& maps, float 
   p.stackedSpread = settings.stackedSpread;
   p.stackedTaps = settings.stackedTaps;
   p.stackedTrace = settings.stackedTrace ? 1u : 0u;
+  p.firstMoment = settings.firstMoment ? 1u : 0u;
   p.searchNarrowings = settings.searchNarrowings;
   p.satReduce = maps.satReduce();
   p.satX = maps.window().x, p.satY = maps.window().y;
@@ -221,6 +223,15 @@ std::vector<ParamSpec> vssmParamSpecs() {
        "Beyond the paper: a receiver whose search kernel holds blockers at several depths also traces its segments to "
        "32 points of the light through the depth map, and keeps the darker of the two (occluders stacked inside the "
        "kernel fuse, where the blocker average lets light into the umbra)",
+       {"off", "on"}},
+      {"vssm-first-moment",
+       1,
+       0,
+       1,
+       "Beyond the paper: a shading kernel's lit share is the smaller of Chebyshev's bound and its first moment's "
+       "share with the blocker search's depth (blockers there on average, the rest at the receiver or behind: also an "
+       "upper bound), which Chebyshev's overestimates where the blockers spread in depth (off: Chebyshev's alone, the "
+       "paper's)",
        {"off", "on"}},
       {"vssm-hsm",
        1,

@@ -61,11 +61,13 @@ typedef struct VssmParams {
   uint stackedTrace;      // beyond the paper: a stacked search kernel's receiver also traced through the map (1)
   uint satX, satY;        // beyond the paper: the window of map texels the SAT covers (vssmCastersWindow): its
   uint satWidth, satHeight;  // origin and size; (0, 0) and the map's size for the whole map
+  uint firstMoment;          // beyond the paper: a shading kernel's Chebyshev bound also capped by its first moment (1)
+  uint pad[3];
 } VssmParams;
 
 #if PENUMBRA_HOST
 static_assert(sizeof(VssmNode) == 16, "VssmNode layout is shared with OpenCL C");
-static_assert(sizeof(VssmParams) == 96, "VssmParams layout is shared with OpenCL C");
+static_assert(sizeof(VssmParams) == 112, "VssmParams layout is shared with OpenCL C");
 static_assert(offsetof(VssmParams, searchScheme) == 24 && offsetof(VssmParams, pyramidLevels) == 48);
 #endif
 
