@@ -75,6 +75,7 @@ ref::VssmSettings settingsFor(const VssmCase& c) {
   s.stackedSpread = c.stacked, s.stackedTaps = 8;
   s.searchNarrowings = c.narrowings;
   s.satReduce = c.satReduce;
+  s.firstMoment = c.firstMoment;
   s.litVariance = 2.5e-5, s.contactDepth = 0.02 * (c.zFar - c.zNear), s.maxRadius = 24, s.minVariance = 1e-6;
   return s;
 }
@@ -114,6 +115,7 @@ KernelOut runKernel(Context& ctx, const VssmCase& c, const std::vector<float>& m
   p.stackedSpread = float(s.stackedSpread), p.stackedTaps = uint32_t(s.stackedTaps);
   p.searchNarrowings = uint32_t(s.searchNarrowings);
   p.satReduce = maps.satReduce();
+  p.firstMoment = s.firstMoment ? 1u : 0u;
   p.satX = maps.window().x, p.satY = maps.window().y;
   p.satWidth = maps.window().width, p.satHeight = maps.window().height;
   std::vector<cl_float4> rx(receivers.size());
@@ -174,7 +176,11 @@ std::vector<VssmCase> vssmCases() {
       {"reduce3_disk8_uniform_50x47", 50, 47, 2.0f, 12.0f, kU, kU, k64, true, 0.05f, kTol, 8, 0.1, 2, 3},
       {"reduce2_disk8_fixed32", 48, 48, 2.0f, 12.0f, kU, kA, VssmSatMode::Fixed32, true, 0.05f, 2e-2, 8, 0.1, 2, 2},
       {"reduce4_disk8_directional", 50, 50, 5.0f, 25.0f, kU, kA, k64, false, 0.05f, kTol, 8, 0.1, 2, 4},
-      {"reduce2_mixed_1x1", 1, 1, 2.0f, 12.0f, kU, kA, k64, true, 0.05f, kTol, 8, 0.1, 2, 2}};
+      {"reduce2_mixed_1x1", 1, 1, 2.0f, 12.0f, kU, kA, k64, true, 0.05f, kTol, 8, 0.1, 2, 2},
+      // Chebyshev's bound alone (--vssm-first-moment off, the paper's shading).
+      {"chebyshev_mixed_61x37", 61, 37, 2.0f, 12.0f, kU, kA, k64, true, 0.05f, kTol, 0, 0.1, 2, 1, false},
+      {"chebyshev_reduce2_disk8_directional", 50, 50, 5.0f, 25.0f, kU, kA, k64, false, 0.05f, kTol, 8, 0.1, 2, 2,
+       false}};
   // Quick: the defaults' shape (adaptive shading, disks, the SAT over blocks) and the paper's uniform subdivision.
   for (VssmCase& c : out) c.quick = c.name == "mixed_61x37" || c.name == "reduce2_disk8_mixed_61x37";
   return out;

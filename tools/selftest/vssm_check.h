@@ -33,6 +33,7 @@ struct VssmCase {
   double stacked = 0.1;  // beyond the paper: the stacked-blocker PCF fallback's threshold (the default; 0 = never)
   int narrowings = 2;    // beyond the paper: search-kernel narrowings (vssm-search adaptive, the default; 0 = full)
   int satReduce = 1;     // beyond the paper: the moments' SAT over blocks of satReduce^2 texels
+  bool firstMoment = true;  // beyond the paper: the shading's Chebyshev bound capped by the first moment (the default)
   bool quick = false;
 };
 std::vector<VssmCase> vssmCases();

@@ -358,7 +358,14 @@ double VssmReference::blocker(const Rx& r, double w, double zmin, bool& subdivid
   return blocked > 0 ? depthSum / blocked : -1;
 }
 
-double VssmReference::shade(const Rx& r, double w, bool& subdivided, int& visited, int& path) const {
+// vssm.cl vssm_lit_share: Chebyshev's bound, with firstMoment capped by (E(x) - zocc) / (t - zocc).
+double VssmReference::litShare(const Rx& r, double mean, double variance, double zocc) const {
+  const double bound = chebyshev(mean, variance, r.t);
+  if (!settings_.firstMoment || !(zocc < r.t)) return bound;
+  return std::min(bound, std::clamp((mean - zocc) / (r.t - zocc), 0.0, 1.0));
+}
+
+double VssmReference::shade(const Rx& r, double w, double zocc, bool& subdivided, int& visited, int& path) const {
   const auto [zmin, zmax] = hsmRange(r.u - w, r.v - w, r.u + w, r.v + w);  // the penumbra kernel's square
   if (zmin >= r.t) {
     path = 0;
@@ -376,7 +383,7 @@ double VssmReference::shade(const Rx& r, double w, bool& subdivided, int& visite
       path = 6;
       return stackedTaps(r, w, false);
     }
-    return chebyshev(e1, var, r.t);
+    return litShare(r, e1, var, zocc);
   }
   if (settings_.shadeScheme == 0) return 1;
   subdivided = true;
@@ -386,7 +393,7 @@ double VssmReference::shade(const Rx& r, double w, bool& subdivided, int& visite
   double lit = s.litArea + s.pcfArea - s.pcfBlocked;
   if (s.vsmArea > 0) {
     const double mean = s.m1 / s.vsmArea;
-    lit += chebyshev(mean, std::max(s.m2 / s.vsmArea - mean * mean, minVar), r.t) * s.vsmArea;
+    lit += litShare(r, mean, std::max(s.m2 / s.vsmArea - mean * mean, minVar), zocc) * s.vsmArea;
   }
   return std::clamp(lit / (s.litArea + s.vsmArea + s.pcfArea), 0.0, 1.0);
 }
@@ -463,7 +470,7 @@ VssmResult VssmReference::pixel(const VssmReceiverIn& in) const {
     return out;
   }
   int path = -1;
-  out.visibility = shade(r, wp, subdivided, out.visited, path);
+  out.visibility = shade(r, wp, zocc, subdivided, out.visited, path);
   out.path = path >= 0 ? path : subdivided ? 3 : 2;
   return out;
 }

@@ -32,6 +32,7 @@ struct VssmSettings {
   int stackedTaps = 8;        // its jittered taps per side
   int searchNarrowings = 0;   // beyond the paper: narrowings of the search kernel by its nearest texel
   int satReduce = 1;          // beyond the paper: the moments' table over blocks of satReduce^2 texels
+  bool firstMoment = false;   // beyond the paper: the shading's Chebyshev bound capped by the first moment's share
 };
 
 struct VssmReceiverIn {
@@ -79,7 +80,8 @@ class VssmReference {
   double blocker(const Rx& r, double w, double zmin, bool& subdivided, int& visited) const;
   // path: 0 (lit) or 1 (umbra) where the min-max range over the kernel's square decided, 6 for the stacked-blocker
   // fallback, else unchanged.
-  double shade(const Rx& r, double w, bool& subdivided, int& visited, int& path) const;
+  double shade(const Rx& r, double w, double zocc, bool& subdivided, int& visited, int& path) const;
+  double litShare(const Rx& r, double mean, double variance, double zocc) const;
   double contact(const Rx& r, double lo[2], double hi[2]) const;
   bool stacked(double zocc, double zmin, double t) const;
   // search: the mean normalised depth of the taps that block (-1: none); else the lit share (vssm.cl).
