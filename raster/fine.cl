@@ -83,11 +83,9 @@ static inline bool fineDraws(const RasterViewParams* p, int index, __global cons
 static inline bool fineBeyondCasters(const RasterViewParams* p, __global const RasterCounters* counters, int2 origin) {
   if (!p->casterTiles || p->receiverReach < 0) return false;
   if (counters->casterBox[2] == 0u) return true;
-  const int mask = ~(RASTER_TILE_SIZE - 1), r = p->receiverReach;
-  const int x0 = (int)(RASTER_CASTER_BOX_FLIP - counters->casterBox[0]) & mask;
-  const int y0 = (int)(RASTER_CASTER_BOX_FLIP - counters->casterBox[1]) & mask;
-  const int x1 = ((int)counters->casterBox[2] + RASTER_TILE_SIZE - 1) & mask;
-  const int y1 = ((int)counters->casterBox[3] + RASTER_TILE_SIZE - 1) & mask;
+  const int r = p->receiverReach;
+  const int x0 = rasterCasterBoxEdge(counters->casterBox[0], 0), y0 = rasterCasterBoxEdge(counters->casterBox[1], 1);
+  const int x1 = rasterCasterBoxEdge(counters->casterBox[2], 2), y1 = rasterCasterBoxEdge(counters->casterBox[3], 3);
   return origin.x + RASTER_TILE_SIZE <= x0 - r || origin.x >= x1 + r || origin.y + RASTER_TILE_SIZE <= y0 - r ||
          origin.y >= y1 + r;
 }

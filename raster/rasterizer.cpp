@@ -58,12 +58,11 @@ void validateGeometry(const RasterGeometry& scene) {
                                                 scene.triangles[t][k], scene.positions.size()));
 }
 
-// RasterCounters::casterBox decoded and widened to whole tiles, as fine.cl's fineBeyondCasters reads it.
+// RasterCounters::casterBox decoded and widened to whole tiles (rasterCasterBoxEdge, as fine.cl reads it).
 std::array<int, 4> casterTilesBox(const uint32_t (&box)[4]) {
   if (box[2] == 0) return {};
-  const auto down = [](uint32_t v) { return static_cast<int>(v) & ~(RASTER_TILE_SIZE - 1); };
-  const auto up = [](uint32_t v) { return (static_cast<int>(v) + RASTER_TILE_SIZE - 1) & ~(RASTER_TILE_SIZE - 1); };
-  return {down(RASTER_CASTER_BOX_FLIP - box[0]), down(RASTER_CASTER_BOX_FLIP - box[1]), up(box[2]), up(box[3])};
+  return {rasterCasterBoxEdge(box[0], 0), rasterCasterBoxEdge(box[1], 1), rasterCasterBoxEdge(box[2], 2),
+          rasterCasterBoxEdge(box[3], 3)};
 }
 
 }  // namespace

@@ -64,6 +64,14 @@ typedef struct {
 // casterBox's flipped minima: above every pixel coordinate (bbox entries are 16 bits).
 #define RASTER_CASTER_BOX_FLIP 0x10000u
 
+// Edge k of RasterCounters::casterBox decoded (`stored` its entry k) and widened to whole tiles: x0, y0 rounded down,
+// x1, y1 (exclusive) up; the box is empty (all 0) where entry 2 is 0. Shared by fine.cl and Rasterizer::draw
+// (RasterTargets::casterBox), so that both read the same box.
+static inline int rasterCasterBoxEdge(uint stored, int k) {
+  const int tileMask = ~(RASTER_TILE_SIZE - 1);
+  return k < 2 ? (int)(RASTER_CASTER_BOX_FLIP - stored) & tileMask : ((int)stored + RASTER_TILE_SIZE - 1) & tileMask;
+}
+
 // Everything a draw's kernels need, passed by value. Pixel rectangles are [x0, x1) x [y0, y1).
 typedef struct {
   float clip[16];     // world -> clip, column-major (the float matrix the snapping spec starts from)
