@@ -269,7 +269,15 @@ inline float vssm_lit_share(const VssmMaps* m, const VssmReceiver* r, float2 e, 
 // L of the normal group weighted by VSMArea, 1 by LitArea and the PCF result L1 by PCFArea.
 // Beyond the paper, first: the HSM's range over the penumbra kernel, as L8-L10 over the search kernel (lit, or umbra
 // whatever the moments say, which blockers at several depths spread), then vssm_stacked_taps where they do.
-// `path`: VSSM_PATH_LIT, VSSM_PATH_UMBRA or VSSM_PATH_STACKED where the range decided, else unchanged.
+// Beyond the paper, too: a tilted receiver (--vssm-tilt). L20 reads a planar kernel (E(x) < t) as blockers and a
+// receiver at the one depth t (sec. 4's planar receiver); a receiver whose own plane moves across the kernel by its
+// slope-scaled bias per texel times w (sc_receiver_sloped: the plane's depth step per texel of offset; under a sun
+// tan(theta) tan(alpha) of the gap) by more than p.tiltShare of the gap t - z_occ is no such receiver, and there the
+// bound failed most: on default.json at 640x360 the 834 pixels it selects (the camera's sides lit at grazing, N.L
+// 0.18-0.26, among them) had 3.6x the mean error of the pixels that reach the moments. Their kernel is filtered by
+// vssm_stacked_taps, whose taps compare with the slope-scaled bias at their own offsets, as pcss's do. A kernel whose
+// mean lies behind t is subdivided, as the paper does (docs/techniques/vssm.md, "Tilted receivers").
+// `path`: VSSM_PATH_LIT, VSSM_PATH_UMBRA, VSSM_PATH_TILTED or VSSM_PATH_STACKED where those decided, else unchanged.
 inline float vssm_shade(const VssmMaps* m, const VssmReceiver* r, float2 c, float w, float zocc, int* subdivided,
                         int* visited, int* path) {
   const float2 range = vssm_hsm_range(m, c - w, c + w);
@@ -283,6 +291,10 @@ inline float vssm_shade(const VssmMaps* m, const VssmReceiver* r, float2 c, floa
   }
   const float2 e = vssm_kernel_moments(m, c, w);
   if (e.x < r->t) {
+    if (m->p.tiltShare > 0.0f && r->tSlope * w > m->p.tiltShare * (r->t - zocc)) {
+      *path = VSSM_PATH_TILTED;
+      return vssm_stacked_taps(m, r, c, w, 0);
+    }
     if (vssm_stacked(m, vssm_occluder(e, r->t, m->p.minVariance), range.x, r->t)) {
       *path = VSSM_PATH_STACKED;
       return vssm_stacked_taps(m, r, c, w, 0);

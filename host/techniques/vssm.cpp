@@ -131,6 +131,7 @@ VssmSettings VssmSettings::from(const Params& params) {
   s.stackedTaps = static_cast<uint32_t>(params.getInt("vssm-stacked-taps"));
   s.stackedTrace = params.getInt("vssm-stacked-trace") == 1;
   s.firstMoment = params.getInt("vssm-first-moment") == 1;
+  s.tiltShare = static_cast<float>(params.get("vssm-tilt"));
   s.castersHsm = params.getInt("vssm-hsm") == 1;
   s.castersWindow = params.getInt("vssm-sat-window") == 1;
   s.searchNarrowings = params.getInt("vssm-search") == kSearchAdaptive ? kSearchNarrowings : 0;
@@ -168,6 +169,7 @@ VssmParams vssmParams(const VssmSettings& settings, const VssmMaps& maps, float 
   p.stackedTaps = settings.stackedTaps;
   p.stackedTrace = settings.stackedTrace ? 1u : 0u;
   p.firstMoment = settings.firstMoment ? 1u : 0u;
+  p.tiltShare = settings.tiltShare;
   p.searchNarrowings = settings.searchNarrowings;
   p.satReduce = maps.satReduce();
   p.satX = maps.window().x, p.satY = maps.window().y;
@@ -233,6 +235,11 @@ std::vector<ParamSpec> vssmParamSpecs() {
        "upper bound), which Chebyshev's overestimates where the blockers spread in depth (off: Chebyshev's alone, the "
        "paper's)",
        {"off", "on"}},
+      {"vssm-tilt", 0.05, 0, 16,
+       "Beyond the paper: a penumbra kernel across which the receiver's own plane moves (its slope-scaled bias per "
+       "texel times the half-width) by more than this share of the gap between the blocker depth and the receiver is "
+       "filtered by jittered taps with the slope-scaled bias, not by its moments, which read one receiver depth; 0 = "
+       "never"},
       {"vssm-hsm",
        1,
        0,

@@ -12,7 +12,7 @@ namespace penumbra {
 
 // vssm-subdivision, vssm-m, vssm-n, vssm-levels, vssm-leaf-taps, vssm-lit-threshold, vssm-contact,
 // vssm-max-radius, vssm-p-guard, vssm-min-variance, vssm-disk-strips, vssm-search, vssm-stacked, vssm-stacked-taps,
-// vssm-stacked-trace, vssm-first-moment, vssm-hsm, vssm-sat-window,
+// vssm-stacked-trace, vssm-first-moment, vssm-tilt, vssm-hsm, vssm-sat-window,
 // vssm-sat, vssm-sat-reduce, vssm-sat-penumbra, vssm-sat-quantile (the shadow-map parameters come on top).
 std::vector<ParamSpec> vssmParamSpecs();
 
@@ -28,6 +28,7 @@ struct VssmSettings {
   uint32_t stackedTaps = 0;  // vssm-stacked-taps
   bool stackedTrace = true;  // vssm-stacked-trace
   bool firstMoment = true;   // vssm-first-moment
+  float tiltShare = 0;       // vssm-tilt
   bool castersHsm = true;    // vssm-hsm casters: the HSM of the casters alone
   bool castersWindow = true;      // vssm-sat-window casters: the moments and their SAT around the casters only
   uint32_t searchNarrowings = 0;  // vssm-search: 0 full, 2 adaptive

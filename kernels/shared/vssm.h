@@ -20,6 +20,7 @@
 #define VSSM_PATH_CONTACT 4     // contact shadow: 3x3 jittered bilinear PCF (sec. 6.4)
 #define VSSM_PATH_NO_BLOCKER 5  // the blocker search found no blocker: lit
 #define VSSM_PATH_STACKED 6     // the penumbra kernel's blockers lie at several depths: jittered PCF (vssm.cl)
+#define VSSM_PATH_TILTED 7      // the receiver's plane spans too much of the kernel's depth gap: jittered PCF (vssm.cl)
 
 // Beyond the paper: a disk kernel as at most this many strips (--vssm-disk-strips); the strips' half-widths, as shares
 // of the disk's half-width, are a table of K (K - 1) / 2 + k for strip k of K (vssmDiskStripTable).
@@ -62,7 +63,9 @@ typedef struct VssmParams {
   uint satX, satY;        // beyond the paper: the window of map texels the SAT covers (vssmCastersWindow): its
   uint satWidth, satHeight;  // origin and size; (0, 0) and the map's size for the whole map
   uint firstMoment;          // beyond the paper: a shading kernel's Chebyshev bound also capped by its first moment (1)
-  uint pad[3];
+  float tiltShare;  // beyond the paper: a penumbra kernel over which the receiver's plane moves by more than this share
+                    // of t - z_occ is filtered by the jittered taps (0: never)
+  uint pad[2];
 } VssmParams;
 
 #if PENUMBRA_HOST

@@ -60,7 +60,7 @@ std::vector<ref::VssmReceiverIn> randomReceivers(const VssmCase& c, const std::v
     const bool inside = x >= 0 && y >= 0 && x < int(c.width) && y < int(c.height);
     if (i % 2 == 1 && inside && std::isfinite(map[size_t(y) * c.width + x]))
       r.depth = map[size_t(y) * c.width + x] * (1.0 + 1e-4 * unit(rng));
-    r.bias = range * 2e-3 * unit(rng), r.biasSlope = range * 1e-4 * unit(rng);
+    r.bias = range * 2e-3 * unit(rng), r.biasSlope = range * (c.steep && i % 3 == 2 ? 2e-2 : 1e-4) * unit(rng);
     r.seed = static_cast<uint32_t>(i);
   }
   return out;
@@ -76,6 +76,7 @@ ref::VssmSettings settingsFor(const VssmCase& c) {
   s.searchNarrowings = c.narrowings;
   s.satReduce = c.satReduce;
   s.firstMoment = c.firstMoment;
+  s.tiltShare = c.tilt;
   s.litVariance = 2.5e-5, s.contactDepth = 0.02 * (c.zFar - c.zNear), s.maxRadius = 24, s.minVariance = 1e-6;
   return s;
 }
@@ -116,6 +117,7 @@ KernelOut runKernel(Context& ctx, const VssmCase& c, const std::vector<float>& m
   p.searchNarrowings = uint32_t(s.searchNarrowings);
   p.satReduce = maps.satReduce();
   p.firstMoment = s.firstMoment ? 1u : 0u;
+  p.tiltShare = float(s.tiltShare);
   p.satX = maps.window().x, p.satY = maps.window().y;
   p.satWidth = maps.window().width, p.satHeight = maps.window().height;
   std::vector<cl_float4> rx(receivers.size());
@@ -180,7 +182,13 @@ std::vector<VssmCase> vssmCases() {
       // Chebyshev's bound alone (--vssm-first-moment off, the paper's shading).
       {"chebyshev_mixed_61x37", 61, 37, 2.0f, 12.0f, kU, kA, k64, true, 0.05f, kTol, 0, 0.1, 2, 1, false},
       {"chebyshev_reduce2_disk8_directional", 50, 50, 5.0f, 25.0f, kU, kA, k64, false, 0.05f, kTol, 8, 0.1, 2, 2,
-       false}};
+       false},
+      // Receivers on planes steep in the map: the tilted receivers' taps (--vssm-tilt), and without them.
+      {"tilted_disk8_mixed_61x37", 61, 37, 2.0f, 12.0f, kU, kA, k64, true, 0.05f, kTol, 8, 0.1, 2, 1, true, 0.05, true},
+      {"tilted_reduce2_directional", 50, 50, 5.0f, 25.0f, kU, kA, k64, false, 0.05f, kTol, 0, 0.1, 2, 2, true, 0.05,
+       true},
+      {"untilted_disk8_mixed_61x37", 61, 37, 2.0f, 12.0f, kU, kA, k64, true, 0.05f, kTol, 8, 0.1, 2, 1, true, 0.0,
+       true}};
   // Quick: the defaults' shape (adaptive shading, disks, the SAT over blocks) and the paper's uniform subdivision.
   for (VssmCase& c : out) c.quick = c.name == "mixed_61x37" || c.name == "reduce2_disk8_mixed_61x37";
   return out;
@@ -206,6 +214,8 @@ std::string VssmOutcome::failure(const VssmCase& c) const {
   // The random maps' blocks overlap at several depths: some penumbra kernels hold stacked blockers.
   if (c.stacked > 0 && c.width * c.height > 1 && stacked == 0) out += "; no receiver took the stacked-blocker fallback";
   if (c.stacked == 0 && stacked != 0) out += fmt::format("; {} receivers took the fallback switched off", stacked);
+  if (c.tilt > 0 && c.steep && tilted == 0) out += "; no steep receiver took the tilted receivers' taps";
+  if (c.tilt == 0 && tilted != 0) out += fmt::format("; {} receivers took the tilted taps switched off", tilted);
   return out.empty() ? out : out.substr(2) + report;
 }
 
@@ -235,6 +245,7 @@ VssmOutcome runVssmCase(Context& ctx, const VssmCase& c) {
     sum += diff, o.worstDifference = std::max(o.worstDifference, diff);
     o.subdivided += want.path == VSSM_PATH_SUBDIVIDED;
     o.stacked += want.path == VSSM_PATH_STACKED;
+    o.tilted += want.path == VSSM_PATH_TILTED;
     o.noBlocker += want.path == VSSM_PATH_NO_BLOCKER && want.visited == 0;
     if (diff > c.visTol && ++o.flips <= 5)
       o.report += fmt::format("\n  receiver {} ({:.3f}, {:.3f}, d {:.4g}): {} vs {} (paths {} / {})", i, receivers[i].u,

@@ -34,20 +34,24 @@ struct VssmCase {
   int narrowings = 2;    // beyond the paper: search-kernel narrowings (vssm-search adaptive, the default; 0 = full)
   int satReduce = 1;     // beyond the paper: the moments' SAT over blocks of satReduce^2 texels
   bool firstMoment = true;  // beyond the paper: the shading's Chebyshev bound capped by the first moment (the default)
+  double tilt = 0.05;  // beyond the paper: a tilted receiver's kernel filtered by the taps (the default; 0 = never)
+  bool steep = false;  // a third of the receivers on planes steep in the map (slope-scaled biases up to 200x larger)
   bool quick = false;
 };
 std::vector<VssmCase> vssmCases();
 
 // What one case measured: receivers compared, flips (beyond the case's visTol), receivers on another path, the
-// receivers the reference sent down the subdivision and stacked-blocker paths and those whose search the HSM ended
-// with no blocker instead of subdividing (vssm.cl vssm_no_blocker), the mean and the worst difference.
+// receivers the reference sent down the subdivision, stacked-blocker and tilted-receiver paths and those whose search
+// the HSM ended with no blocker instead of subdividing (vssm.cl vssm_no_blocker), the mean and the worst difference.
 struct VssmOutcome {
-  size_t receivers = 0, flips = 0, paths = 0, subdivided = 0, stacked = 0, noBlocker = 0, descents = 0, outOfRange = 0;
+  size_t receivers = 0, flips = 0, paths = 0, subdivided = 0, stacked = 0, tilted = 0, noBlocker = 0, descents = 0,
+         outOfRange = 0;
   double meanDifference = 0.0, worstDifference = 0.0;
   std::string report;  // the first flips
   // The suite's verdict: visibility in [0, 1], paths and mean within their margins, the subdivision path taken where
   // the case subdivides, the HSM's no-blocker test where it narrows the search, and the stacked fallback where it is
-  // on (and never where it is off). Empty when it passes.
+  // on (and never where it is off), and the tilted receivers' taps where it has steep receivers (never where they are
+  // off). Empty when it passes.
   std::string failure(const VssmCase& c) const;
 };
 

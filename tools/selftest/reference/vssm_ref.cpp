@@ -378,6 +378,12 @@ double VssmReference::shade(const Rx& r, double w, double zocc, bool& subdivided
   const auto [e1, e2] = kernelMoments(r, w);
   const double minVar = settings_.minVariance;
   if (e1 < r.t) {
+    // A receiver whose own plane moves across the kernel by more than tiltShare of the gap between the blocker depth
+    // and t is no receiver at one depth t, which L20's bound reads (vssm.cl): the jittered taps instead.
+    if (settings_.tiltShare > 0 && r.tSlope * w > settings_.tiltShare * (r.t - zocc)) {
+      path = 7;
+      return stackedTaps(r, w, false);
+    }
     const double var = std::max(e2 - e1 * e1, minVar);
     if (stacked(occluderDepth(e1, var, r.t), zmin, r.t)) {
       path = 6;

@@ -33,6 +33,7 @@ struct VssmSettings {
   int searchNarrowings = 0;   // beyond the paper: narrowings of the search kernel by its nearest texel
   int satReduce = 1;          // beyond the paper: the moments' table over blocks of satReduce^2 texels
   bool firstMoment = false;   // beyond the paper: the shading's Chebyshev bound capped by the first moment's share
+  double tiltShare = 0;       // beyond the paper: a tilted receiver's penumbra kernel filtered by the taps (0: never)
 };
 
 struct VssmReceiverIn {
@@ -78,8 +79,8 @@ class VssmReference {
   std::pair<double, double> kernelMoments(const Rx& r, double w) const;
   void subdivide(const Rx& r, double w, bool search, Sums& s) const;
   double blocker(const Rx& r, double w, double zmin, bool& subdivided, int& visited) const;
-  // path: 0 (lit) or 1 (umbra) where the min-max range over the kernel's square decided, 6 for the stacked-blocker
-  // fallback, else unchanged.
+  // path: 0 (lit) or 1 (umbra) where the min-max range over the kernel's square decided, 7 for a tilted receiver's
+  // taps, 6 for the stacked-blocker fallback, else unchanged.
   double shade(const Rx& r, double w, double zocc, bool& subdivided, int& visited, int& path) const;
   double litShare(const Rx& r, double mean, double variance, double zocc) const;
   double contact(const Rx& r, double lo[2], double hi[2]) const;
