@@ -191,6 +191,17 @@ struct SunlitStaircase {
   }
 };
 
+// vssm on the sunlit staircase at `values`, and again with `param` set to `offValue`: both images, their visibility and
+// their paths.
+struct VssmOnOff {
+  RenderResult on, off;
+  const std::vector<float>&visOn = channel(on, "visibility.Y"), &visOff = channel(off, "visibility.Y");
+  const std::vector<float>&pathOn = channel(on, "path.Z"), &pathOff = channel(off, "path.Z");
+  VssmOnOff(Context& ctx, const SunlitStaircase& s, Values values, const std::string& param,
+            const std::string& offValue)
+      : on(s.vssm(ctx, values)), off(s.vssm(ctx, (values[param] = offValue, values))) {}
+};
+
 TEST_F(VssmTechnique, SubdivisionRemovesTheNonPlanarityErrorOnTheStaircase) {
   const SunlitStaircase s(ctx());
   const RenderResult& ref = s.ref;
@@ -248,11 +259,9 @@ TEST_F(VssmTechnique, FirstMomentBoundOnlyDarkensTheMomentsPathsAndBringsTheStai
   const SunlitStaircase s(ctx());
   const auto facing = [&](size_t i) { return bool(s.front[i]); };
   // The moments' paths alone: the tilted receivers' taps (on by default) take most of this sun's sloped pixels.
-  Values on = {{"map-size", "512"}, {"vssm-max-radius", "64"}, {"vssm-tilt", "0"}}, off = on;
-  off["vssm-first-moment"] = "off";
-  const RenderResult withBound = s.vssm(ctx(), on), without = s.vssm(ctx(), off);
-  const auto &a = channel(withBound, "visibility.Y"), &b = channel(without, "visibility.Y");
-  const auto &pathA = channel(withBound, "path.Z"), &pathB = channel(without, "path.Z");
+  const VssmOnOff r(ctx(), s, {{"map-size", "512"}, {"vssm-max-radius", "64"}, {"vssm-tilt", "0"}}, "vssm-first-moment",
+                    "off");
+  const auto &a = r.visOn, &b = r.visOff, &pathA = r.pathOn, &pathB = r.pathOff;
   size_t darker = 0;
   for (size_t i = 0; i < a.size(); ++i) {
     ASSERT_EQ(pathA[i], pathB[i]) << i;
@@ -262,7 +271,7 @@ TEST_F(VssmTechnique, FirstMomentBoundOnlyDarkensTheMomentsPathsAndBringsTheStai
       EXPECT_TRUE(pathA[i] == VSSM_PATH_PLANAR || pathA[i] == VSSM_PATH_SUBDIVIDED) << i << " path " << pathA[i];
     }
   }
-  const ErrorStats e = compare(withBound, s.ref, facing), e0 = compare(without, s.ref, facing);
+  const ErrorStats e = compare(r.on, s.ref, facing), e0 = compare(r.off, s.ref, facing);
   SCOPED_TRACE(fmt::format("{} pixels darker; mean error {:.5f} -> {:.5f}", darker, e0.mean, e.mean));
   EXPECT_GT(darker, 50u);
   EXPECT_LE(e.mean, (1.0 - kMinFirstMomentGain) * e0.mean);
@@ -277,11 +286,8 @@ TEST_F(VssmTechnique, FirstMomentBoundOnlyDarkensTheMomentsPathsAndBringsTheStai
 constexpr double kMinTiltGain = 0.15;  // the tilted pixels' mean error at least 15 % lower (measured 25 %)
 TEST_F(VssmTechnique, TiltedReceiversTakeTheTapsAndComeCloser) {
   const SunlitStaircase s(ctx());
-  Values on = {{"map-size", "512"}, {"vssm-max-radius", "64"}}, off = on;
-  off["vssm-tilt"] = "0";
-  const RenderResult tilted = s.vssm(ctx(), on), moments = s.vssm(ctx(), off);
-  const auto &a = channel(tilted, "visibility.Y"), &b = channel(moments, "visibility.Y");
-  const auto &pathA = channel(tilted, "path.Z"), &pathB = channel(moments, "path.Z");
+  const VssmOnOff r(ctx(), s, {{"map-size", "512"}, {"vssm-max-radius", "64"}}, "vssm-tilt", "0");
+  const auto &a = r.visOn, &b = r.visOff, &pathA = r.pathOn, &pathB = r.pathOff;
   size_t taken = 0;
   for (size_t i = 0; i < a.size(); ++i) {
     ASSERT_NE(pathB[i], VSSM_PATH_TILTED) << i;
@@ -293,7 +299,7 @@ TEST_F(VssmTechnique, TiltedReceiversTakeTheTapsAndComeCloser) {
     ASSERT_EQ(a[i], b[i]) << i;
   }
   const auto took = [&](size_t i) { return pathA[i] == VSSM_PATH_TILTED; };
-  const ErrorStats with = compare(tilted, s.ref, took), without = compare(moments, s.ref, took);
+  const ErrorStats with = compare(r.on, s.ref, took), without = compare(r.off, s.ref, took);
   SCOPED_TRACE(fmt::format("{} tilted pixels; mean error {:.5f} -> {:.5f}", taken, without.mean, with.mean));
   EXPECT_GT(taken, 50u);
   EXPECT_LE(with.mean, (1.0 - kMinTiltGain) * without.mean);
