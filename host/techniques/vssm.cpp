@@ -236,10 +236,10 @@ std::vector<ParamSpec> vssmParamSpecs() {
        "paper's)",
        {"off", "on"}},
       {"vssm-tilt", 0.05, 0, 16,
-       "Beyond the paper: a penumbra kernel across which the receiver's own plane moves (its slope-scaled bias per "
-       "texel times the half-width) by more than this share of the gap between the blocker depth and the receiver is "
-       "filtered by jittered taps with the slope-scaled bias, not by its moments, which read one receiver depth; 0 = "
-       "never"},
+       "Beyond the paper: a planar penumbra kernel (its mean in front of the receiver) across which the receiver's own "
+       "plane moves (its slope-scaled bias per texel times the half-width) by more than this share of the gap between "
+       "the blocker depth and the receiver is filtered by jittered taps with the slope-scaled bias, not by Chebyshev's "
+       "bound, which reads one receiver depth; 0 = never"},
       {"vssm-hsm",
        1,
        0,

@@ -63,8 +63,8 @@ typedef struct VssmParams {
   uint satX, satY;        // beyond the paper: the window of map texels the SAT covers (vssmCastersWindow): its
   uint satWidth, satHeight;  // origin and size; (0, 0) and the map's size for the whole map
   uint firstMoment;          // beyond the paper: a shading kernel's Chebyshev bound also capped by its first moment (1)
-  float tiltShare;  // beyond the paper: a penumbra kernel over which the receiver's plane moves by more than this share
-                    // of t - z_occ is filtered by the jittered taps (0: never)
+  float tiltShare;  // beyond the paper: a planar penumbra kernel over which the receiver's plane moves by more than
+                    // this share of t - z_occ is filtered by the jittered taps (0: never)
   uint pad[2];
 } VssmParams;
 
